@@ -1,0 +1,3 @@
+from diffbot.cli import main
+
+main(prog_name="diffbot")

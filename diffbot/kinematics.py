@@ -1,0 +1,291 @@
+"""Stateless differential-drive kinematics.
+
+Conventions (REP-103): x forward, y left, positive angular velocity counter-clockwise. Wheel
+speeds are *wheel-ground* angular speeds in rad/s: positive means the wheel rolls the robot
+forward, whatever the direction of its joint axis in the description. :func:`joint_from_wheel`
+applies the description's direction signs to turn them into joint velocity commands.
+
+Every function takes plain floats or NumPy arrays (broadcast together); NumPy is imported only when
+an array is given, so scalar use stays cheap.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any, NamedTuple, overload
+
+from diffbot.errors import ParameterError
+
+if TYPE_CHECKING:
+    from typing import TypeAlias
+
+    import numpy as np
+    from numpy.typing import NDArray
+
+    FloatOrArray: TypeAlias = float | NDArray[np.float64]
+
+__all__ = [
+    "LIMIT_TOLERANCE",
+    "DiffDriveParams",
+    "Pose",
+    "Twist",
+    "WheelSpeeds",
+    "forward",
+    "inverse",
+    "joint_from_wheel",
+    "limit_fraction",
+    "norm_angle",
+    "rad_s_from_rpm",
+    "rpm_from_rad_s",
+    "saturate",
+    "wheel_from_joint",
+    "within_limit",
+]
+
+#: Relative slack of the limit check, so a wheel run *exactly* at the limit by a computation that
+#: rounds in the last bit (``--fastest``) still counts as within it.
+LIMIT_TOLERANCE = 1e-9
+
+_RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
+
+
+class Twist(NamedTuple):
+    """A planar body velocity: geometry_msgs/Twist's linear.x (m/s) and angular.z (rad/s)."""
+
+    linear: FloatOrArray
+    angular: FloatOrArray
+
+
+class WheelSpeeds(NamedTuple):
+    """Angular speeds of the left and right drive wheels (rad/s)."""
+
+    left: FloatOrArray
+    right: FloatOrArray
+
+
+class Pose(NamedTuple):
+    """A planar pose in the odom frame: x, y (m) and heading theta (rad)."""
+
+    x: float
+    y: float
+    theta: float
+
+
+def _check_positive(name: str, value: float) -> float:
+    value = float(value)
+    if not math.isfinite(value) or value <= 0.0:
+        raise ParameterError(f"{name} must be a positive finite number, got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class DiffDriveParams:
+    """Geometry and limits of a differential-drive robot.
+
+    Attributes:
+        wheel_radius: radius of the drive wheels (m).
+        wheel_separation: distance between the two drive wheel centres (m).
+        left_joint: name of the left (+y) drive wheel joint.
+        right_joint: name of the right (-y) drive wheel joint.
+        left_sign: +1 when a positive velocity of the left joint rolls the robot forward, else -1.
+        right_sign: the same for the right joint.
+        max_wheel_speed: motor limit (rad/s), or None when the description has none.
+        source: where the parameters came from (a file path, or a description of it).
+        warnings: things worth telling the user about the description, one sentence each.
+    """
+
+    wheel_radius: float
+    wheel_separation: float
+    left_joint: str = "front_left_wheel_joint"
+    right_joint: str = "front_right_wheel_joint"
+    left_sign: int = 1
+    right_sign: int = 1
+    max_wheel_speed: float | None = None
+    source: str = "(given)"
+    warnings: tuple[str, ...] = field(default=(), compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "wheel_radius", _check_positive("wheel radius", self.wheel_radius))
+        object.__setattr__(
+            self, "wheel_separation", _check_positive("wheel separation", self.wheel_separation)
+        )
+        if self.max_wheel_speed is not None:
+            limit = float(self.max_wheel_speed)
+            if not math.isfinite(limit) or limit < 0.0:
+                raise ParameterError(
+                    f"max wheel speed must be a finite number >= 0, got {self.max_wheel_speed!r}"
+                )
+            object.__setattr__(self, "max_wheel_speed", limit)
+        for name, sign in (("left_sign", self.left_sign), ("right_sign", self.right_sign)):
+            if sign not in (1, -1):
+                raise ParameterError(f"{name} must be +1 or -1, got {sign!r}")
+        if not self.left_joint or not self.right_joint:
+            raise ParameterError("wheel joint names must not be empty")
+        if self.left_joint == self.right_joint:
+            raise ParameterError(f"left and right joints are the same joint {self.left_joint!r}")
+        object.__setattr__(self, "warnings", tuple(self.warnings))
+
+    @property
+    def max_wheel_rpm(self) -> float | None:
+        """The motor limit in rpm, or None."""
+        if self.max_wheel_speed is None:
+            return None
+        return rpm_from_rad_s(self.max_wheel_speed)
+
+    def replace(self, **changes: Any) -> DiffDriveParams:
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)
+
+
+@overload
+def rpm_from_rad_s(speed: float) -> float: ...
+@overload
+def rpm_from_rad_s(speed: NDArray[np.float64]) -> NDArray[np.float64]: ...
+@overload
+def rpm_from_rad_s(speed: FloatOrArray) -> FloatOrArray: ...
+def rpm_from_rad_s(speed: FloatOrArray) -> FloatOrArray:
+    """Convert an angular speed from rad/s to revolutions per minute."""
+    return speed * _RPM_PER_RAD_S
+
+
+@overload
+def rad_s_from_rpm(speed: float) -> float: ...
+@overload
+def rad_s_from_rpm(speed: NDArray[np.float64]) -> NDArray[np.float64]: ...
+@overload
+def rad_s_from_rpm(speed: FloatOrArray) -> FloatOrArray: ...
+def rad_s_from_rpm(speed: FloatOrArray) -> FloatOrArray:
+    """Convert an angular speed from revolutions per minute to rad/s."""
+    return speed / _RPM_PER_RAD_S
+
+
+def norm_angle(angle: float) -> float:
+    """Map an angle (rad) to (-pi, pi]."""
+    wrapped = math.remainder(angle, 2.0 * math.pi)  # in [-pi, pi]
+    return math.pi if wrapped == -math.pi else wrapped
+
+
+def inverse(params: DiffDriveParams, linear: FloatOrArray, angular: FloatOrArray) -> WheelSpeeds:
+    """Wheel speeds (rad/s) that produce a body velocity.
+
+    Args:
+        params: the robot.
+        linear: forward speed (m/s).
+        angular: yaw rate (rad/s), positive counter-clockwise.
+
+    Returns:
+        Wheel-ground angular speeds (rad/s): ``(v -+ w b/2) / r``.
+    """
+    half_track = 0.5 * params.wheel_separation * angular
+    return WheelSpeeds(
+        (linear - half_track) / params.wheel_radius,
+        (linear + half_track) / params.wheel_radius,
+    )
+
+
+def forward(params: DiffDriveParams, left: FloatOrArray, right: FloatOrArray) -> Twist:
+    """Body velocity from wheel speeds.
+
+    Args:
+        params: the robot.
+        left: left wheel-ground angular speed (rad/s).
+        right: right wheel-ground angular speed (rad/s).
+
+    Returns:
+        ``Twist(r (wl + wr) / 2, r (wr - wl) / b)`` in m/s and rad/s.
+    """
+    r = params.wheel_radius
+    return Twist(0.5 * r * (left + right), r * (right - left) / params.wheel_separation)
+
+
+def joint_from_wheel(params: DiffDriveParams, speeds: WheelSpeeds) -> WheelSpeeds:
+    """Joint velocity commands (rad/s) from wheel-ground speeds, applying the direction signs."""
+    return WheelSpeeds(params.left_sign * speeds.left, params.right_sign * speeds.right)
+
+
+def wheel_from_joint(params: DiffDriveParams, speeds: WheelSpeeds) -> WheelSpeeds:
+    """Wheel-ground speeds (rad/s) from joint velocities (or positions), undoing the signs."""
+    # The signs are +-1, so the map is its own inverse; the name says which way it is used.
+    return joint_from_wheel(params, speeds)
+
+
+def _limit_of(params: DiffDriveParams, limit: float | None) -> float | None:
+    return params.max_wheel_speed if limit is None else float(limit)
+
+
+def _peak(speeds: WheelSpeeds) -> FloatOrArray:
+    left, right = speeds
+    if isinstance(left, (int, float)) and isinstance(right, (int, float)):
+        return max(abs(left), abs(right))
+    import numpy as np
+
+    return np.maximum(np.abs(left), np.abs(right))
+
+
+def limit_fraction(
+    params: DiffDriveParams, speeds: WheelSpeeds, limit: float | None = None
+) -> FloatOrArray | None:
+    """How much of the motor limit the faster wheel uses (1.0 = exactly at the limit).
+
+    Args:
+        params: the robot; its ``max_wheel_speed`` is the limit unless ``limit`` is given.
+        speeds: wheel speeds (rad/s).
+        limit: a limit (rad/s) to use instead of the robot's.
+
+    Returns:
+        ``max(|left|, |right|) / limit``, ``inf`` for motion under a zero limit, or None when there
+        is no limit.
+    """
+    lim = _limit_of(params, limit)
+    if lim is None:
+        return None
+    peak = _peak(speeds)
+    if lim == 0.0:
+        if isinstance(peak, float | int):
+            return math.inf if peak > 0 else 0.0
+        import numpy as np
+
+        return np.where(peak > 0, np.inf, 0.0)
+    return peak / lim
+
+
+def within_limit(params: DiffDriveParams, speeds: WheelSpeeds, limit: float | None = None) -> bool:
+    """True when both wheels (every sample, for arrays) stay within the limit (or there is none)."""
+    fraction = limit_fraction(params, speeds, limit)
+    if fraction is None:
+        return True
+    if isinstance(fraction, float | int):
+        return fraction <= 1.0 + LIMIT_TOLERANCE
+    return bool((fraction <= 1.0 + LIMIT_TOLERANCE).all())
+
+
+def saturate(
+    params: DiffDriveParams, speeds: WheelSpeeds, limit: float | None = None
+) -> WheelSpeeds:
+    """Scale both wheels by one factor so the faster one is within the limit.
+
+    Scaling both wheels alike keeps their ratio, so the robot keeps its turning radius and only
+    slows down along the same curve (limiting v and w separately, as some controllers do, bends
+    the path instead).
+
+    Args:
+        params: the robot; its ``max_wheel_speed`` is the limit unless ``limit`` is given.
+        speeds: wheel speeds (rad/s).
+        limit: a limit (rad/s) to use instead of the robot's.
+
+    Returns:
+        The scaled wheel speeds (rad/s); unchanged when within the limit or there is none.
+    """
+    lim = _limit_of(params, limit)
+    if lim is None:
+        return speeds
+    peak = _peak(speeds)
+    if isinstance(peak, float | int):
+        scale = 1.0 if peak <= lim else lim / peak
+        return WheelSpeeds(speeds.left * scale, speeds.right * scale)
+    import numpy as np
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        factor = np.where(peak > lim, lim / np.where(peak > 0, peak, 1.0), 1.0)
+    return WheelSpeeds(speeds.left * factor, speeds.right * factor)
