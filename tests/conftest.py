@@ -1,0 +1,47 @@
+"""Shared fixtures: an isolated parameter cache, the bundled robot, a CLI runner."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import diffbot
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _isolated_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """Keep the parameter cache of the tests out of the user's home."""
+    mp = pytest.MonkeyPatch()
+    mp.setenv("DIFFBOT_CACHE_DIR", str(tmp_path_factory.mktemp("cache")))
+    mp.delenv("DIFFBOT_NO_CACHE", raising=False)
+    mp.delenv("AMENT_PREFIX_PATH", raising=False)
+    yield
+    mp.undo()
+
+
+@pytest.fixture(scope="session")
+def params() -> diffbot.DiffDriveParams:
+    """The bundled diffbot: r = 0.035 m, b = 0.135 m, 50 rpm."""
+    return diffbot.load_params()
+
+
+@pytest.fixture
+def runner() -> CliRunner:
+    """A click test runner (stdout and stderr kept apart)."""
+    return CliRunner()
+
+
+@pytest.fixture
+def write(tmp_path: Path) -> object:
+    """Write a text file under tmp_path and return its path."""
+
+    def _write(name: str, text: str) -> Path:
+        path = tmp_path / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+        return path
+
+    return _write
