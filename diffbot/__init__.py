@@ -36,6 +36,7 @@ from diffbot.kinematics import (
     wheel_from_joint,
     within_limit,
 )
+from diffbot.odometry import Odometry, OdometryMessage, PoseSeries, TransformStamped, integrate
 from diffbot.urdf import BUNDLED_DESCRIPTION, derive_params, expand, load_params
 
 __version__ = "0.1.0"
@@ -46,12 +47,16 @@ __all__ = [
     "DiffDriveParams",
     "DiffbotError",
     "DriveWheelError",
+    "Odometry",
+    "OdometryMessage",
     "OutputExistsError",
     "PackageNotFoundError",
     "ParameterError",
     "PlanError",
     "Pose",
+    "PoseSeries",
     "RecordingError",
+    "TransformStamped",
     "Twist",
     "WheelSpeeds",
     "XacroError",
@@ -59,6 +64,7 @@ __all__ = [
     "derive_params",
     "expand",
     "forward",
+    "integrate",
     "inverse",
     "joint_from_wheel",
     "limit_fraction",

@@ -1,0 +1,533 @@
+"""Wheel odometry: an incremental integrator for streams and a vectorised batch integrator.
+
+Both integrate each step *exactly* along its arc, not with Euler's rule. Over one step the wheels
+turn through displacements that give a path length ``ds`` and a heading change ``dθ``; with the
+wheel speeds constant over the step the robot moves along a circular arc, whose chord has length
+``ds·sinc(dθ/2)`` and points along ``θ + dθ/2``. A path made of constant-velocity segments (a
+plan of straights, arcs and spins) is thus reproduced exactly, whatever the sampling rate, as
+long as each segment boundary falls on a sample.
+
+Wheel positions are absolute joint angles (rad), as in sensor_msgs/JointState; the description's
+direction signs are applied, so a positive wheel-ground angle always rolls the robot forward.
+Nothing is lost across a skipped sample: the next good one is integrated from the last good one.
+
+The streaming path (:class:`Odometry`) uses plain floats and :mod:`math` only; NumPy is imported by
+:func:`integrate` alone.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Final, NamedTuple
+
+from diffbot.errors import ParameterError
+from diffbot.kinematics import DiffDriveParams, Pose, Twist, norm_angle
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "DEFAULT_POSE_COVARIANCE",
+    "DEFAULT_TWIST_COVARIANCE",
+    "SKIP_MISSING_JOINT",
+    "SKIP_NOT_FINITE",
+    "SKIP_STAMP_NOT_AFTER",
+    "Header",
+    "Odometry",
+    "OdometryMessage",
+    "PoseSeries",
+    "PoseWithCovariance",
+    "Quaternion",
+    "TransformStamped",
+    "TwistWithCovariance",
+    "Vector3",
+    "covariance_matrix",
+    "integrate",
+    "quaternion_from_yaw",
+]
+
+#: Why a sample was skipped: the sample lacks one of the two wheel joints.
+SKIP_MISSING_JOINT: Final = "missing joint"
+#: Why a sample was skipped: a wheel position or the stamp is NaN or infinite.
+SKIP_NOT_FINITE: Final = "not finite"
+#: Why a sample was skipped: its stamp is not after the previous used sample's (duplicate, late).
+SKIP_STAMP_NOT_AFTER: Final = "stamp not after previous"
+
+#: Diagonal (x, y, z, roll, pitch, yaw) of the pose covariance, as in ros2_controllers'
+#: diff_drive_controller example configuration (m², rad²).
+DEFAULT_POSE_COVARIANCE: Final = (0.001, 0.001, 0.001, 0.001, 0.001, 0.01)
+#: Diagonal of the twist covariance, likewise ((m/s)², (rad/s)²).
+DEFAULT_TWIST_COVARIANCE: Final = (0.001, 0.001, 0.001, 0.001, 0.001, 0.01)
+
+
+class Vector3(NamedTuple):
+    """geometry_msgs/Vector3 (or Point): x, y, z in m, m/s or rad/s depending on use."""
+
+    x: float
+    y: float
+    z: float
+
+
+class Quaternion(NamedTuple):
+    """geometry_msgs/Quaternion: a unit quaternion (x, y, z, w)."""
+
+    x: float
+    y: float
+    z: float
+    w: float
+
+
+class Header(NamedTuple):
+    """std_msgs/Header: stamp (s) and frame_id."""
+
+    stamp: float
+    frame_id: str
+
+
+class PoseWithCovariance(NamedTuple):
+    """geometry_msgs/PoseWithCovariance: position (m), orientation, 6x6 covariance (row-major)."""
+
+    position: Vector3
+    orientation: Quaternion
+    covariance: tuple[float, ...]
+
+
+class TwistWithCovariance(NamedTuple):
+    """geometry_msgs/TwistWithCovariance: linear (m/s), angular (rad/s), 6x6 covariance."""
+
+    linear: Vector3
+    angular: Vector3
+    covariance: tuple[float, ...]
+
+
+class OdometryMessage(NamedTuple):
+    """nav_msgs/Odometry: the pose in ``header.frame_id``, the twist in ``child_frame_id``."""
+
+    header: Header
+    child_frame_id: str
+    pose: PoseWithCovariance
+    twist: TwistWithCovariance
+
+
+class TransformStamped(NamedTuple):
+    """geometry_msgs/TransformStamped: the transform from ``header.frame_id`` to the child."""
+
+    header: Header
+    child_frame_id: str
+    translation: Vector3
+    rotation: Quaternion
+
+
+class PoseSeries(NamedTuple):
+    """Poses along a recording, one per sample: x, y (m) and the *unwrapped* heading (rad).
+
+    Each field is a float64 array of shape (n,).
+    """
+
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    theta: NDArray[np.float64]
+
+
+def quaternion_from_yaw(yaw: float) -> Quaternion:
+    """The quaternion of a rotation by ``yaw`` (rad) about z; w >= 0 for yaw in [-pi, pi]."""
+    half = 0.5 * yaw
+    return Quaternion(0.0, 0.0, math.sin(half), math.cos(half))
+
+
+def covariance_matrix(diagonal: Sequence[float], what: str = "covariance") -> tuple[float, ...]:
+    """A 6x6 row-major covariance matrix (36 values) with the given diagonal.
+
+    Args:
+        diagonal: six variances for x, y, z, rotation about x, y, z.
+        what: a name for the values in error messages.
+
+    Returns:
+        36 floats, zero off the diagonal.
+
+    Raises:
+        ParameterError: not six values, or one is negative, NaN or infinite.
+    """
+    values = [float(v) for v in diagonal]
+    if len(values) != 6:
+        raise ParameterError(f"{what} diagonal needs 6 values, got {len(values)}")
+    for value in values:
+        if not math.isfinite(value) or value < 0.0:
+            raise ParameterError(f"{what} diagonal values must be finite and >= 0, got {value!r}")
+    matrix = [0.0] * 36
+    for i, value in enumerate(values):
+        matrix[7 * i] = value
+    return tuple(matrix)
+
+
+def _sinc(h: float) -> float:
+    # sin(h)/h has no cancellation: libm's sin is within an ulp of the true value for every h, so
+    # the quotient is within about 1.5 ulp of sinc(h). For |h| < 2**-26, sin(h) rounds to h and the
+    # quotient is exactly 1.0, which is also the correctly rounded sinc (1 - h²/6 rounds to 1), so
+    # tiny angles need no series branch; only h == 0 itself needs the limit.
+    return math.sin(h) / h if h != 0.0 else 1.0
+
+
+class Odometry:
+    """Dead reckoning from the wheel joint positions of a differential-drive robot.
+
+    Feed it samples of absolute wheel joint angles (rad) with increasing stamps (s), through
+    :meth:`update` or :meth:`update_joint_state`. The first usable sample sets the encoder
+    baseline and does not move the robot. Every later one moves the pose exactly along the arc the
+    wheels describe since the previous used sample.
+
+    A sample is skipped, counted in :attr:`skipped` under its reason and otherwise ignored when it
+    lacks a wheel joint, holds a NaN or infinite value, or is not stamped after the previous used
+    sample. Wheel positions are absolute, so the motion during skipped samples is still accounted
+    for by the next used one.
+
+    Example::
+
+        odom = Odometry(params)
+        odom.update_joint_state(msg.name, msg.position, stamp)
+        odom.pose  # Pose(x, y, theta)
+
+    Args:
+        params: the robot (radius, separation, joint names, direction signs).
+        x: initial x (m) in the odom frame.
+        y: initial y (m).
+        theta: initial heading (rad).
+        frame_id: the fixed frame of the pose (REP-105 ``odom``).
+        child_frame_id: the robot's frame (``base_link``).
+        pose_covariance: diagonal of the pose covariance (x, y, z, roll, pitch, yaw).
+        twist_covariance: diagonal of the twist covariance.
+
+    Raises:
+        ParameterError: a non-finite initial pose or a bad covariance diagonal.
+    """
+
+    def __init__(
+        self,
+        params: DiffDriveParams,
+        x: float = 0.0,
+        y: float = 0.0,
+        theta: float = 0.0,
+        *,
+        frame_id: str = "odom",
+        child_frame_id: str = "base_link",
+        pose_covariance: Sequence[float] = DEFAULT_POSE_COVARIANCE,
+        twist_covariance: Sequence[float] = DEFAULT_TWIST_COVARIANCE,
+    ) -> None:
+        self.params = params
+        self.frame_id = frame_id
+        self.child_frame_id = child_frame_id
+        self.pose_covariance = covariance_matrix(pose_covariance, "pose covariance")
+        self.twist_covariance = covariance_matrix(twist_covariance, "twist covariance")
+        self._left_joint = params.left_joint
+        self._right_joint = params.right_joint
+        self._left_scale = params.left_sign * params.wheel_radius
+        self._right_scale = params.right_sign * params.wheel_radius
+        self._turn = 1.0 / params.wheel_separation
+        self._half_turn = 0.5 / params.wheel_separation
+        self._names: list[str] | tuple[str, ...] | None = None
+        self._left_index = -1
+        self._right_index = -1
+        self._samples = 0
+        self._skipped: dict[str, int] = {}
+        self.reset(x, y, theta)
+
+    def reset(self, x: float = 0.0, y: float = 0.0, theta: float = 0.0) -> None:
+        """Put the robot at a pose; the next sample sets a new encoder baseline.
+
+        The pose, twist and distance start afresh; the sample counters keep counting.
+
+        Args:
+            x: x (m) in the odom frame.
+            y: y (m).
+            theta: heading (rad).
+
+        Raises:
+            ParameterError: a value is NaN or infinite.
+        """
+        x, y, theta = float(x), float(y), float(theta)
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(theta)):
+            raise ParameterError(f"initial pose must be finite, got ({x!r}, {y!r}, {theta!r})")
+        self._x = x
+        self._y = y
+        self._heading = theta
+        self._linear = 0.0
+        self._angular = 0.0
+        self._distance = 0.0
+        self._heading0 = theta
+        self._left = self._left0 = 0.0
+        self._right = self._right0 = 0.0
+        self._stamp: float | None = None
+
+    def update(self, left_position: float, right_position: float, stamp: float) -> bool:
+        """Integrate one sample of absolute wheel joint angles.
+
+        Args:
+            left_position: the left wheel joint's angle (rad), as the joint reports it.
+            right_position: the right wheel joint's angle (rad).
+            stamp: the sample's time (s).
+
+        Returns:
+            True when the sample was used (the first one only sets the baseline), False when it
+            was skipped (NaN or infinite value, or a stamp not after the previous used one).
+        """
+        left = float(left_position)
+        right = float(right_position)
+        stamp = float(stamp)
+        if not (math.isfinite(left) and math.isfinite(right) and math.isfinite(stamp)):
+            self._skip(SKIP_NOT_FINITE)
+            return False
+        last = self._stamp
+        if last is None:
+            self._left0 = self._left = left
+            self._right0 = self._right = right
+            self._heading0 = self._heading
+            self._stamp = stamp
+            self._samples += 1
+            return True
+        if stamp <= last:
+            self._skip(SKIP_STAMP_NOT_AFTER)
+            return False
+        # The same formulas as integrate(), so both agree to the last bit wherever math and NumPy
+        # agree on sin and cos. The heading is linear in the wheel angles, so it is computed from
+        # the angles travelled since the baseline rather than summed step by step: its rounding
+        # error then stays at an ulp instead of growing with the number of samples.
+        dl = (left - self._left) * self._left_scale
+        dr = (right - self._right) * self._right_scale
+        ds = (dl + dr) * 0.5
+        half = (dr - dl) * self._half_turn
+        chord = ds * _sinc(half)
+        along = self._heading + half
+        self._x += chord * math.cos(along)
+        self._y += chord * math.sin(along)
+        self._heading = (
+            (right - self._right0) * self._right_scale - (left - self._left0) * self._left_scale
+        ) * self._turn + self._heading0
+        self._distance += abs(ds)
+        dt = stamp - last
+        self._linear = ds / dt
+        self._angular = 2.0 * half / dt
+        self._left, self._right, self._stamp = left, right, stamp
+        self._samples += 1
+        return True
+
+    def update_joint_state(
+        self, names: Sequence[str], positions: Sequence[float], stamp: float
+    ) -> bool:
+        """Integrate one sensor_msgs/JointState message.
+
+        The wheel joints are found by name, in any order, among any other joints. The lookup is
+        cached, so a stream whose messages list the same names costs one list comparison.
+
+        Args:
+            names: the message's ``name`` field.
+            positions: its ``position`` field (rad), parallel to ``names``.
+            stamp: its header stamp (s).
+
+        Returns:
+            True when the sample was used, False when it was skipped (a wheel joint missing or
+            without a position, a NaN or infinite value, a stamp not after the previous one).
+        """
+        if not isinstance(names, (list, tuple)):
+            names = list(names)
+        cached = self._names
+        if names is not cached and names != cached:
+            try:
+                left_index = names.index(self._left_joint)
+                right_index = names.index(self._right_joint)
+            except ValueError:
+                self._skip(SKIP_MISSING_JOINT)
+                return False
+            # A list may be changed in place after this call: keep a copy to compare against.
+            self._names = names if isinstance(names, tuple) else list(names)
+            self._left_index = left_index
+            self._right_index = right_index
+        left_index = self._left_index
+        right_index = self._right_index
+        if left_index >= len(positions) or right_index >= len(positions):
+            self._skip(SKIP_MISSING_JOINT)
+            return False
+        return self.update(positions[left_index], positions[right_index], stamp)
+
+    def _skip(self, reason: str) -> None:
+        self._skipped[reason] = self._skipped.get(reason, 0) + 1
+
+    @property
+    def pose(self) -> Pose:
+        """The pose in the odom frame: x, y (m) and theta (rad) in (-pi, pi]."""
+        return Pose(self._x, self._y, norm_angle(self._heading))
+
+    @property
+    def heading(self) -> float:
+        """The unwrapped heading (rad): counts whole turns, unlike ``pose.theta``."""
+        return self._heading
+
+    @property
+    def twist(self) -> Twist:
+        """Body velocity over the last step: linear (m/s) and angular (rad/s); zero before one."""
+        return Twist(self._linear, self._angular)
+
+    @property
+    def distance(self) -> float:
+        """Path length travelled (m): the sum of |ds| over all steps, so reversing adds to it."""
+        return self._distance
+
+    @property
+    def stamp(self) -> float | None:
+        """Stamp (s) of the last used sample, or None before the first."""
+        return self._stamp
+
+    @property
+    def samples(self) -> int:
+        """How many samples were used, the baseline included."""
+        return self._samples
+
+    @property
+    def skipped(self) -> Mapping[str, int]:
+        """How many samples were skipped, by reason (see the ``SKIP_*`` constants)."""
+        return dict(self._skipped)
+
+    def transform(self) -> TransformStamped:
+        """The odom -> base_link transform (as published on /tf), stamped with the last sample."""
+        return TransformStamped(
+            Header(self._stamp if self._stamp is not None else 0.0, self.frame_id),
+            self.child_frame_id,
+            Vector3(self._x, self._y, 0.0),
+            quaternion_from_yaw(norm_angle(self._heading)),
+        )
+
+    def message(self) -> OdometryMessage:
+        """A nav_msgs/Odometry record of the pose and twist, stamped with the last used sample."""
+        return OdometryMessage(
+            Header(self._stamp if self._stamp is not None else 0.0, self.frame_id),
+            self.child_frame_id,
+            PoseWithCovariance(
+                Vector3(self._x, self._y, 0.0),
+                quaternion_from_yaw(norm_angle(self._heading)),
+                self.pose_covariance,
+            ),
+            TwistWithCovariance(
+                Vector3(self._linear, 0.0, 0.0),
+                Vector3(0.0, 0.0, self._angular),
+                self.twist_covariance,
+            ),
+        )
+
+
+#: Steps integrated per block by :func:`integrate`: small enough that the work arrays stay in the
+#: CPU cache, large enough that NumPy's per-call overhead vanishes.
+_BLOCK = 32768
+
+
+def integrate(
+    params: DiffDriveParams,
+    left_positions: ArrayLike,
+    right_positions: ArrayLike,
+    x0: float = 0.0,
+    y0: float = 0.0,
+    theta0: float = 0.0,
+) -> PoseSeries:
+    """Integrate a whole recording of wheel joint angles at once (vectorised).
+
+    Equal to feeding the samples one by one to :class:`Odometry`: the same formulas, with sums
+    in the same order; any difference comes from NumPy's and libm's sin and cos (an ulp or so).
+
+    Args:
+        params: the robot.
+        left_positions: the left wheel joint's absolute angles (rad), shape (n,).
+        right_positions: the right wheel joint's angles (rad), shape (n,).
+        x0: x (m) at the first sample, which sets the encoder baseline.
+        y0: y (m) at the first sample.
+        theta0: heading (rad) at the first sample.
+
+    Returns:
+        The pose at every sample, as float64 arrays of shape (n,). ``theta`` is the *unwrapped*
+        heading (it counts whole turns); wrap it with :func:`diffbot.norm_angle` if needed.
+
+    Raises:
+        ParameterError: the arrays are not one-dimensional and of equal length, or a value is NaN
+            or infinite (or so large that a displacement overflows).
+    """
+    import numpy as np
+
+    left = np.asarray(left_positions, dtype=np.float64)
+    right = np.asarray(right_positions, dtype=np.float64)
+    if left.ndim != 1 or right.ndim != 1 or left.shape != right.shape:
+        raise ParameterError(
+            f"wheel positions must be two 1-D arrays of equal length, got shapes "
+            f"{left.shape} and {right.shape}"
+        )
+    start = (float(x0), float(y0), float(theta0))
+    if not all(math.isfinite(v) for v in start):
+        raise ParameterError(f"initial pose must be finite, got {start!r}")
+    n = left.shape[0]
+    x = np.empty(n)
+    y = np.empty(n)
+    theta = np.empty(n)
+    if n == 0:
+        return PoseSeries(x, y, theta)
+    left_scale = params.left_sign * params.wheel_radius
+    right_scale = params.right_sign * params.wheel_radius
+    turn = 1.0 / params.wheel_separation
+    half_turn = 0.5 / params.wheel_separation
+    left0 = float(left[0])
+    right0 = float(right[0])
+
+    block = max(1, min(_BLOCK, n - 1))
+    dl = np.empty(block)
+    dr = np.empty(block)
+    along = np.empty(block)
+    zero = np.empty(block, dtype=bool)
+    # x + iy: one cumulative sum moves both coordinates (each sum is as in the streaming order).
+    xy = np.empty(block + 1, dtype=np.complex128)
+    with np.errstate(all="ignore"):
+        x[0], y[0], theta[0] = start
+        for i in range(0, n - 1, block):
+            j = min(i + block, n - 1)
+            m = j - i
+            dl_, dr_, along_, zero_ = dl[:m], dr[:m], along[:m], zero[:m]
+            xy_ = xy[: m + 1]
+            chord = xy_.real[1:]
+            dy = xy_.imag[1:]
+            # The heading is linear in the wheel angles, so it comes from them directly (as in
+            # Odometry.update): no cumulative sum, no rounding error growing with the length.
+            th = theta[i + 1 : j + 1]
+            np.subtract(right[i + 1 : j + 1], right0, out=th)
+            th *= right_scale
+            np.subtract(left[i + 1 : j + 1], left0, out=along_)
+            along_ *= left_scale
+            th -= along_
+            th *= turn
+            th += start[2]
+            np.subtract(left[i + 1 : j + 1], left[i:j], out=dl_)
+            dl_ *= left_scale
+            np.subtract(right[i + 1 : j + 1], right[i:j], out=dr_)
+            dr_ *= right_scale
+            np.add(dl_, dr_, out=chord)
+            chord *= 0.5  # ds
+            half = dr_
+            half -= dl_
+            half *= half_turn
+            np.add(theta[i:j], half, out=along_)
+            # chord = ds * sinc(half), with sinc(0) = 1 (see _sinc for why sin(h)/h is accurate).
+            np.equal(half, 0.0, out=zero_)
+            sinc = dl_
+            np.sin(half, out=sinc)
+            sinc /= half
+            np.copyto(sinc, 1.0, where=zero_)
+            chord *= sinc
+            np.sin(along_, out=dy)
+            dy *= chord
+            dx = chord
+            np.cos(along_, out=along_)
+            dx *= along_
+            xy_[0] = complex(x[i], y[i])
+            np.cumsum(xy_, out=xy_)
+            x[i + 1 : j + 1] = xy_.real[1:]
+            y[i + 1 : j + 1] = xy_.imag[1:]
+    if not (math.isfinite(x[-1]) and math.isfinite(y[-1]) and math.isfinite(theta[-1])):
+        raise ParameterError(
+            "wheel positions must be finite: found NaN or infinite values (or an overflow)"
+        )
+    return PoseSeries(x, y, theta)

@@ -1,0 +1,561 @@
+"""Odometry: exact arc integration, skipped samples, the message records, batch integration."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import diffbot
+from diffbot.kinematics import DiffDriveParams, Pose, norm_angle
+from diffbot.odometry import (
+    SKIP_MISSING_JOINT,
+    SKIP_NOT_FINITE,
+    SKIP_STAMP_NOT_AFTER,
+    Odometry,
+    _sinc,
+    covariance_matrix,
+    integrate,
+)
+
+BOT = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
+LEFT, RIGHT = BOT.left_joint, BOT.right_joint
+
+
+def angle_error(a: float, b: float) -> float:
+    """The smallest rotation (rad) between two headings, whole turns ignored."""
+    return abs(norm_angle(a - b))
+
+
+def assert_pose_close(pose: Pose, expected: Pose, tol: float = 1e-9) -> None:
+    assert pose.x == pytest.approx(expected.x, abs=tol)
+    assert pose.y == pytest.approx(expected.y, abs=tol)
+    assert angle_error(pose.theta, expected.theta) <= tol
+
+
+def closed_form(pose: Pose, linear: float, angular: float, duration: float) -> Pose:
+    """Where a constant body velocity for ``duration`` s takes the robot (an arc or a line)."""
+    x, y, theta = pose
+    if angular == 0.0:
+        return Pose(
+            x + linear * duration * math.cos(theta),
+            y + linear * duration * math.sin(theta),
+            theta,
+        )
+    radius = linear / angular
+    end = theta + angular * duration
+    return Pose(
+        x + radius * (math.sin(end) - math.sin(theta)),
+        y - radius * (math.cos(end) - math.cos(theta)),
+        end,
+    )
+
+
+Segment = tuple[float, float, float, int]  # linear (m/s), angular (rad/s), duration (s), steps
+
+
+def wheel_samples(
+    params: DiffDriveParams, segments: Sequence[Segment], start: tuple[float, float] = (0.0, 0.0)
+) -> tuple[list[float], list[float], list[float]]:
+    """Stamps and joint angles of constant-velocity segments, a sample on every boundary."""
+    left, right = start
+    stamp = 0.0
+    stamps, lefts, rights = [stamp], [left], [right]
+    for linear, angular, duration, steps in segments:
+        speeds = diffbot.inverse(params, linear, angular)
+        joint_left = params.left_sign * float(speeds.left)
+        joint_right = params.right_sign * float(speeds.right)
+        for k in range(1, steps + 1):
+            t = duration * k / steps
+            stamps.append(stamp + t)
+            lefts.append(left + joint_left * t)
+            rights.append(right + joint_right * t)
+        stamp += duration
+        left += joint_left * duration
+        right += joint_right * duration
+    return stamps, lefts, rights
+
+
+def run(
+    odom: Odometry, stamps: Sequence[float], lefts: Sequence[float], rights: Sequence[float]
+) -> Pose:
+    """Feed samples to ``odom`` one by one; its pose at the end."""
+    for stamp, left, right in zip(stamps, lefts, rights, strict=True):
+        odom.update(left, right, stamp)
+    return odom.pose
+
+
+linears = st.one_of(st.just(0.0), st.floats(-0.5, 0.5))
+angulars = st.one_of(st.just(0.0), st.floats(-3.0, -1e-3), st.floats(1e-3, 3.0))
+segments_st = st.lists(
+    st.tuples(linears, angulars, st.floats(0.05, 10.0), st.integers(1, 40)), min_size=1, max_size=6
+)
+robots = st.builds(
+    DiffDriveParams,
+    wheel_radius=st.floats(0.01, 0.5),
+    wheel_separation=st.floats(0.05, 2.0),
+    left_sign=st.sampled_from([1, -1]),
+    right_sign=st.sampled_from([1, -1]),
+)
+
+
+# --------------------------------------------------------------------------------------------
+# Exact integration
+
+
+def test_first_sample_sets_the_baseline_without_moving() -> None:
+    odom = Odometry(BOT)
+    assert odom.update(123.4, -56.7, 10.0) is True
+    assert odom.pose == Pose(0.0, 0.0, 0.0)
+    assert odom.twist == (0.0, 0.0)
+    assert odom.samples == 1
+    odom.update(123.4 + 1.0, -56.7 + 1.0, 11.0)
+    assert odom.pose.x == pytest.approx(0.035, abs=1e-15)
+
+
+def test_straight_line_moves_along_the_heading() -> None:
+    odom = Odometry(BOT, 1.0, 2.0, 0.5)
+    run(odom, [0.0, 1.0, 2.5], [0.0, 10.0, 20.0], [0.0, 10.0, 20.0])
+    assert_pose_close(odom.pose, Pose(1.0 + 0.7 * math.cos(0.5), 2.0 + 0.7 * math.sin(0.5), 0.5))
+    assert odom.heading == 0.5
+
+
+def test_spin_in_place_turns_without_moving() -> None:
+    odom = Odometry(BOT)
+    # Opposite wheel angles of b*pi/(4r) each: a quarter turn about the axle's midpoint.
+    angle = math.pi * BOT.wheel_separation / 2 / 2 / BOT.wheel_radius
+    run(odom, [0.0, 1.0, 2.0], [0.0, -angle / 2, -angle], [0.0, angle / 2, angle])
+    assert odom.pose.x == 0.0
+    assert odom.pose.y == 0.0
+    assert odom.heading == pytest.approx(math.pi / 2, abs=1e-15)
+
+
+def test_half_circle_counter_clockwise_ends_at_the_closed_form_pose() -> None:
+    # The seed's first arc: radius 0.25 m, 180 degrees in 10 s, sampled coarsely on purpose.
+    for steps in (1, 2, 7, 100):
+        stamps, lefts, rights = wheel_samples(BOT, [(0.025 * math.pi, math.pi / 10, 10.0, steps)])
+        odom = Odometry(BOT)
+        assert_pose_close(run(odom, stamps, lefts, rights), Pose(0.0, 0.5, math.pi), 1e-12)
+
+
+def test_trajectory_a_at_10_hz_ends_exactly_where_the_plan_does() -> None:
+    arc = 0.025 * math.pi
+    segments = [
+        (arc, math.pi / 10, 10.0, 100),
+        (0.1, 0.0, 10.0, 100),
+        (arc, -math.pi / 10, 10.0, 100),
+        (0.1, 0.0, 10.0, 100),
+    ]
+    odom = Odometry(BOT)
+    pose = run(odom, *wheel_samples(BOT, segments))
+    assert_pose_close(pose, Pose(0.0, 1.0, 0.0), 1e-9)
+    assert odom.distance == pytest.approx(2.0 + 0.5 * math.pi, rel=1e-12)
+
+
+def test_euler_integration_of_the_seed_misses_trajectory_a_where_exact_arcs_do_not() -> None:
+    # A guard on the test above: the seed's rule (move along the old heading) is off by ~1e-4 m.
+    arc = 0.025 * math.pi
+    segments = [(arc, math.pi / 10, 10.0, 100), (0.1, 0.0, 10.0, 100)]
+    _, lefts, rights = wheel_samples(BOT, segments)
+    x = y = theta = 0.0
+    for k in range(1, len(lefts)):
+        dl = (lefts[k] - lefts[k - 1]) * BOT.wheel_radius
+        dr = (rights[k] - rights[k - 1]) * BOT.wheel_radius
+        x += (dl + dr) / 2 * math.cos(theta)
+        y += (dl + dr) / 2 * math.sin(theta)
+        theta += (dr - dl) / BOT.wheel_separation
+    assert math.hypot(x - (-1.0), y - 0.5) > 1e-5
+
+
+@settings(max_examples=200, deadline=None)
+@given(robots, segments_st, st.floats(-5, 5), st.floats(-5, 5), st.floats(-math.pi, math.pi))
+def test_constant_velocity_segments_end_at_the_closed_form_pose(
+    params: DiffDriveParams,
+    segments: list[Segment],
+    x0: float,
+    y0: float,
+    theta0: float,
+) -> None:
+    expected = Pose(x0, y0, theta0)
+    for linear, angular, duration, _ in segments:
+        expected = closed_form(expected, linear, angular, duration)
+    odom = Odometry(params, x0, y0, theta0)
+    pose = run(odom, *wheel_samples(params, segments, start=(3.0, -7.0)))
+    assert_pose_close(pose, expected, 1e-9)
+    assert odom.heading == pytest.approx(expected.theta, abs=1e-9)
+
+
+@settings(max_examples=100, deadline=None)
+@given(robots, segments_st)
+def test_playing_the_samples_backwards_returns_to_the_start(
+    params: DiffDriveParams, segments: list[Segment]
+) -> None:
+    stamps, lefts, rights = wheel_samples(params, segments)
+    odom = Odometry(params, 0.5, -0.25, 1.0)
+    run(odom, stamps, lefts, rights)
+    later = [stamps[-1] + stamp for stamp in stamps[1:]]
+    run(odom, later, lefts[-2::-1], rights[-2::-1])
+    assert_pose_close(odom.pose, Pose(0.5, -0.25, 1.0), 1e-9)
+
+
+def test_direction_signs_of_the_description_are_applied() -> None:
+    # A left joint whose axis points the other way reports negative angles when rolling forward.
+    flipped = BOT.replace(left_sign=-1)
+    odom = Odometry(flipped)
+    run(odom, [0.0, 1.0], [0.0, -10.0], [0.0, 10.0])
+    assert_pose_close(odom.pose, Pose(0.35, 0.0, 0.0), 1e-15)
+
+
+def test_twist_is_estimated_from_the_stamps_of_the_last_step() -> None:
+    stamps, lefts, rights = wheel_samples(BOT, [(0.2, 0.5, 2.0, 8)])
+    odom = Odometry(BOT)
+    run(odom, stamps, lefts, rights)
+    assert odom.twist.linear == pytest.approx(0.2, rel=1e-12)
+    assert odom.twist.angular == pytest.approx(0.5, rel=1e-12)
+
+
+# --------------------------------------------------------------------------------------------
+# Singular cases
+
+
+def test_sinc_is_one_at_zero_and_exact_for_tiny_angles() -> None:
+    assert _sinc(0.0) == 1.0
+    assert _sinc(-0.0) == 1.0
+    assert _sinc(5e-324) == 1.0
+    assert _sinc(1e-9) == 1.0  # 1 - 1.7e-19 rounds to 1
+    h = 1e-4
+    assert _sinc(h) == pytest.approx(1 - h * h / 6 + h**4 / 120, rel=1e-16)
+    assert _sinc(math.pi / 2) == pytest.approx(2 / math.pi, rel=1e-15)
+
+
+def test_heading_wraps_at_plus_minus_pi_while_the_unwrapped_heading_counts_turns() -> None:
+    half_turn = math.pi * BOT.wheel_separation / 2 / BOT.wheel_radius  # joint angle for pi rad
+    odom = Odometry(BOT)
+    run(odom, [0.0, 1.0], [0.0, -half_turn / 2], [0.0, half_turn / 2])
+    assert odom.pose.theta == pytest.approx(math.pi / 2, abs=1e-12)
+    odom.update(-half_turn, half_turn, 2.0)
+    assert angle_error(odom.pose.theta, math.pi) <= 1e-12
+    assert -math.pi < odom.pose.theta <= math.pi
+    odom.update(-1.5 * half_turn, 1.5 * half_turn, 3.0)
+    assert odom.pose.theta == pytest.approx(-math.pi / 2, abs=1e-12)
+    assert odom.heading == pytest.approx(3 * math.pi / 2, abs=1e-12)
+    # The quaternion describes the wrapped heading, with w >= 0.
+    q = odom.message().pose.orientation
+    assert (q.z, q.w) == pytest.approx((-math.sqrt(0.5), math.sqrt(0.5)), abs=1e-12)
+
+
+def test_heading_of_exactly_minus_pi_is_reported_as_pi() -> None:
+    odom = Odometry(BOT, theta=-math.pi)
+    assert odom.pose.theta == math.pi
+    assert odom.heading == -math.pi
+
+
+def test_tiny_steps_add_up_without_loss() -> None:
+    odom = Odometry(BOT)
+    step = 1e-9  # rad of wheel per sample: 35 pm of travel
+    for k in range(1001):
+        odom.update(k * step, k * step * 1.000001, k * 1e-3)
+    distance = 1000 * step * BOT.wheel_radius * (1 + 1.000001) / 2
+    turn = 1000 * step * 1e-6 * BOT.wheel_radius / BOT.wheel_separation
+    assert odom.pose.x == pytest.approx(distance, rel=1e-9)
+    assert odom.pose.y == pytest.approx(distance * turn / 2, rel=1e-6)
+    assert odom.heading == pytest.approx(turn, rel=1e-6)
+
+
+def test_encoders_far_from_zero_still_integrate_exactly() -> None:
+    # After days of running, joint angles are large; only their differences matter.
+    offset = 1e7
+    stamps, lefts, rights = wheel_samples(BOT, [(0.1, 0.3, 5.0, 50)], start=(offset, -offset))
+    odom = Odometry(BOT)
+    run(odom, stamps, lefts, rights)
+    assert_pose_close(odom.pose, closed_form(Pose(0, 0, 0), 0.1, 0.3, 5.0), 1e-7)
+
+
+def test_one_huge_step_follows_its_arc_exactly() -> None:
+    # 50 full turns in one step: the chord of an arc that wraps around many times.
+    stamps, lefts, rights = wheel_samples(BOT, [(0.3, 2 * math.pi * 50 / 100, 100.0, 1)])
+    odom = Odometry(BOT)
+    run(odom, stamps, lefts, rights)
+    assert_pose_close(odom.pose, Pose(0.0, 0.0, 0.0), 1e-9)
+    assert odom.heading == pytest.approx(100 * math.pi, rel=1e-12)
+
+
+# --------------------------------------------------------------------------------------------
+# Skipped samples
+
+
+def test_a_sample_without_a_wheel_joint_is_skipped_not_read_as_zero() -> None:
+    odom = Odometry(BOT)
+    odom.update_joint_state([LEFT, RIGHT], [10.0, 10.0], 0.0)
+    assert odom.update_joint_state([LEFT], [11.0], 1.0) is False
+    assert odom.pose == Pose(0.0, 0.0, 0.0)
+    odom.update_joint_state([LEFT, RIGHT], [12.0, 12.0], 2.0)
+    # The motion during the gap is still counted: the angles are absolute.
+    assert_pose_close(odom.pose, Pose(2 * BOT.wheel_radius, 0.0, 0.0), 1e-15)
+    assert odom.skipped == {SKIP_MISSING_JOINT: 1}
+    assert odom.samples == 2
+
+
+def test_a_joint_state_with_fewer_positions_than_names_is_skipped() -> None:
+    odom = Odometry(BOT)
+    assert odom.update_joint_state(["caster", LEFT, RIGHT], [0.0, 1.0], 0.0) is False
+    assert odom.skipped == {SKIP_MISSING_JOINT: 1}
+    assert odom.samples == 0
+
+
+@pytest.mark.parametrize(
+    ("left", "right", "stamp"),
+    [
+        (math.nan, 1.0, 1.0),
+        (1.0, math.inf, 1.0),
+        (1.0, 1.0, math.nan),
+        (-math.inf, 1.0, 1.0),
+        (1.0, 1.0, math.inf),
+    ],
+)
+def test_non_finite_samples_are_skipped(left: float, right: float, stamp: float) -> None:
+    odom = Odometry(BOT)
+    odom.update(0.0, 0.0, 0.0)
+    assert odom.update(left, right, stamp) is False
+    assert odom.skipped == {SKIP_NOT_FINITE: 1}
+    assert odom.pose == Pose(0.0, 0.0, 0.0)
+    assert odom.stamp == 0.0
+
+
+def test_a_non_finite_first_sample_does_not_set_the_baseline() -> None:
+    odom = Odometry(BOT)
+    odom.update(math.nan, 5.0, 0.0)
+    odom.update(1.0, 1.0, 1.0)
+    odom.update(2.0, 2.0, 2.0)
+    assert odom.pose.x == pytest.approx(BOT.wheel_radius, abs=1e-15)
+
+
+@pytest.mark.parametrize("stamp", [1.0, 0.5, -3.0])
+def test_duplicate_and_backward_stamps_are_skipped(stamp: float) -> None:
+    odom = Odometry(BOT)
+    odom.update(0.0, 0.0, 0.0)
+    odom.update(1.0, 1.0, 1.0)
+    before = odom.pose
+    assert odom.update(5.0, 5.0, stamp) is False
+    assert odom.pose == before
+    assert odom.skipped == {SKIP_STAMP_NOT_AFTER: 1}
+    assert odom.twist.linear == pytest.approx(BOT.wheel_radius, rel=1e-12)
+
+
+def test_skip_counters_add_up_by_reason() -> None:
+    odom = Odometry(BOT)
+    odom.update_joint_state(["other"], [1.0], 0.0)
+    odom.update_joint_state([LEFT, RIGHT], [0.0, 0.0], 0.0)
+    odom.update_joint_state([RIGHT], [0.0], 1.0)
+    odom.update(math.nan, 0.0, 2.0)
+    odom.update(1.0, 1.0, 0.0)
+    assert odom.skipped == {SKIP_MISSING_JOINT: 2, SKIP_NOT_FINITE: 1, SKIP_STAMP_NOT_AFTER: 1}
+    assert odom.samples == 1
+
+
+# --------------------------------------------------------------------------------------------
+# Joint states
+
+
+@settings(max_examples=100, deadline=None)
+@given(
+    st.lists(
+        st.tuples(st.floats(-50, 50), st.floats(-50, 50), st.permutations(range(5))),
+        min_size=1,
+        max_size=20,
+    ),
+    st.integers(0, 3),
+)
+def test_joint_order_and_extra_joints_do_not_change_the_result(
+    samples: list[tuple[float, float, list[int]]], extras: int
+) -> None:
+    plain = Odometry(BOT)
+    named = Odometry(BOT)
+    for k, (left, right, order) in enumerate(samples):
+        plain.update(left, right, float(k))
+        joints = [(LEFT, left), (RIGHT, right)] + [(f"extra_{e}", 99.0) for e in range(extras)]
+        shuffled = [joints[i] for i in order if i < len(joints)]
+        named.update_joint_state([n for n, _ in shuffled], [p for _, p in shuffled], float(k))
+    assert named.pose == plain.pose
+    assert named.samples == plain.samples == len(samples)
+
+
+def test_a_names_list_changed_in_place_is_looked_up_again() -> None:
+    odom = Odometry(BOT)
+    names = [LEFT, RIGHT]
+    odom.update_joint_state(names, [0.0, 0.0], 0.0)
+    names.reverse()  # the same list object, now right first
+    odom.update_joint_state(names, [2.0, 1.0], 1.0)
+    assert odom.heading == pytest.approx(BOT.wheel_radius / BOT.wheel_separation, rel=1e-12)
+
+
+def test_joint_states_with_numpy_positions_and_tuple_names_are_accepted() -> None:
+    odom = Odometry(BOT)
+    names = ("caster_wheel_joint", RIGHT, LEFT)
+    odom.update_joint_state(names, np.array([0.0, 0.0, 0.0]), 0.0)
+    odom.update_joint_state(names, np.array([7.0, 1.0, 1.0]), 1.0)
+    assert type(odom.pose.x) is float
+    assert odom.pose.x == pytest.approx(BOT.wheel_radius, rel=1e-15)
+
+
+# --------------------------------------------------------------------------------------------
+# Reset, messages, transform
+
+
+def test_reset_moves_the_robot_and_sets_a_new_baseline() -> None:
+    odom = Odometry(BOT)
+    run(odom, [0.0, 1.0], [0.0, 3.0], [0.0, 5.0])
+    odom.reset(1.0, 2.0, 3.0)
+    assert odom.pose == Pose(1.0, 2.0, 3.0)
+    assert odom.twist == (0.0, 0.0)
+    assert odom.distance == 0.0
+    odom.update(100.0, 100.0, 0.5)  # earlier than before the reset, far from the old baseline
+    assert odom.pose == Pose(1.0, 2.0, 3.0)
+    odom.update(101.0, 101.0, 1.5)
+    assert odom.pose.x == pytest.approx(1.0 + BOT.wheel_radius * math.cos(3.0), abs=1e-15)
+    assert odom.samples == 4
+
+
+def test_a_non_finite_initial_pose_is_refused() -> None:
+    with pytest.raises(diffbot.ParameterError, match="initial pose must be finite"):
+        Odometry(BOT, x=math.nan)
+
+
+def test_message_has_the_shape_of_nav_msgs_odometry() -> None:
+    odom = Odometry(BOT, theta=0.5)
+    stamps, lefts, rights = wheel_samples(BOT, [(0.1, 0.2, 1.0, 4)])
+    run(odom, [s + 100.0 for s in stamps], lefts, rights)
+    msg = odom.message()
+    assert msg.header.stamp == 101.0
+    assert msg.header.frame_id == "odom"
+    assert msg.child_frame_id == "base_link"
+    pose = odom.pose
+    assert msg.pose.position == (pose.x, pose.y, 0.0)
+    q = msg.pose.orientation
+    assert (q.x, q.y, q.z, q.w) == (0.0, 0.0, math.sin(pose.theta / 2), math.cos(pose.theta / 2))
+    assert msg.twist.linear == pytest.approx((0.1, 0.0, 0.0), rel=1e-12)
+    assert msg.twist.angular == pytest.approx((0.0, 0.0, 0.2), rel=1e-12)
+    assert len(msg.pose.covariance) == 36
+    assert msg.pose.covariance[0] == 0.001
+    assert msg.pose.covariance[35] == 0.01
+    assert sum(msg.twist.covariance) == pytest.approx(0.015, rel=1e-12)
+
+
+def test_frames_and_covariances_are_configurable() -> None:
+    odom = Odometry(
+        BOT,
+        frame_id="world",
+        child_frame_id="base_footprint",
+        pose_covariance=[1, 2, 3, 4, 5, 6],
+        twist_covariance=[0] * 6,
+    )
+    msg = odom.message()
+    assert (msg.header.frame_id, msg.child_frame_id) == ("world", "base_footprint")
+    matrix = np.array(msg.pose.covariance).reshape(6, 6)
+    assert np.array_equal(matrix, np.diag([1.0, 2, 3, 4, 5, 6]))
+    assert not any(msg.twist.covariance)
+    tf = odom.transform()
+    assert (tf.header.frame_id, tf.child_frame_id) == ("world", "base_footprint")
+
+
+@pytest.mark.parametrize(
+    ("diagonal", "match"),
+    [([1.0] * 5, "needs 6 values, got 5"), ([1, 1, 1, 1, 1, -1], "finite and >= 0")],
+)
+def test_bad_covariance_diagonals_are_refused(diagonal: list[float], match: str) -> None:
+    with pytest.raises(diffbot.ParameterError, match=match):
+        covariance_matrix(diagonal)
+
+
+def test_transform_is_odom_to_base_link_at_the_pose() -> None:
+    odom = Odometry(BOT, 1.0, -2.0, -2.5)
+    odom.update(0.0, 0.0, 7.0)
+    tf = odom.transform()
+    assert tf.header == (7.0, "odom")
+    assert tf.child_frame_id == "base_link"
+    assert tf.translation == (1.0, -2.0, 0.0)
+    assert tf.rotation == pytest.approx((0.0, 0.0, math.sin(-1.25), math.cos(-1.25)), abs=1e-15)
+
+
+# --------------------------------------------------------------------------------------------
+# Batch integration
+
+
+@settings(max_examples=100, deadline=None)
+@given(
+    robots,
+    st.lists(st.tuples(st.floats(-1e3, 1e3), st.floats(-1e3, 1e3)), min_size=1, max_size=60),
+    st.floats(-10, 10),
+    st.floats(-10, 10),
+    st.floats(-10, 10),
+)
+def test_batch_integration_equals_streaming(
+    params: DiffDriveParams,
+    samples: list[tuple[float, float]],
+    x0: float,
+    y0: float,
+    theta0: float,
+) -> None:
+    lefts = [left for left, _ in samples]
+    rights = [right for _, right in samples]
+    series = integrate(params, lefts, rights, x0, y0, theta0)
+    odom = Odometry(params, x0, y0, theta0)
+    for k, (left, right) in enumerate(samples):
+        odom.update(left, right, float(k))
+        # Rounding scales with the path travelled (metres) and the angles (radians) involved.
+        tol = 1e-12 * (1.0 + odom.distance)
+        assert series.x[k] == pytest.approx(odom.pose.x, abs=tol)
+        assert series.y[k] == pytest.approx(odom.pose.y, abs=tol)
+        assert series.theta[k] == pytest.approx(odom.heading, abs=1e-12 * (1.0 + abs(left)))
+
+
+def test_batch_integration_spans_several_blocks_like_streaming(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import diffbot.odometry as module
+
+    monkeypatch.setattr(module, "_BLOCK", 7)
+    segments = [(0.1, 0.4, 3.0, 30), (0.0, -1.0, 1.0, 11), (0.2, 0.0, 1.0, 5)]
+    stamps, lefts, rights = wheel_samples(BOT, segments)
+    series = integrate(BOT, lefts, rights)
+    odom = Odometry(BOT)
+    run(odom, stamps, lefts, rights)
+    assert series.x[-1] == pytest.approx(odom.pose.x, abs=1e-15)
+    assert series.y[-1] == pytest.approx(odom.pose.y, abs=1e-15)
+    assert series.theta[-1] == pytest.approx(odom.heading, abs=1e-15)
+    assert len(series.x) == 47
+
+
+def test_batch_heading_is_unwrapped() -> None:
+    _, lefts, rights = wheel_samples(BOT, [(0.0, 2.0, 10.0, 100)])
+    series = integrate(BOT, lefts, rights)
+    assert series.theta[-1] == pytest.approx(20.0, rel=1e-12)
+    assert np.all(np.diff(series.theta) > 0)
+
+
+def test_batch_of_one_sample_is_the_start_pose_and_of_none_is_empty() -> None:
+    one = integrate(BOT, [5.0], [6.0], 1.0, 2.0, 3.0)
+    assert (one.x.tolist(), one.y.tolist(), one.theta.tolist()) == ([1.0], [2.0], [3.0])
+    none = integrate(BOT, np.array([]), np.array([]))
+    assert none.x.shape == none.y.shape == none.theta.shape == (0,)
+
+
+@pytest.mark.parametrize(
+    ("left", "right", "match"),
+    [
+        ([0.0, 1.0], [0.0], r"equal length, got shapes \(2,\) and \(1,\)"),
+        ([[0.0, 1.0]], [[0.0, 1.0]], r"1-D arrays"),
+        ([0.0, math.nan, 2.0], [0.0, 1.0, 2.0], "must be finite"),
+        ([0.0, 1.0, 2.0], [0.0, 1.0, math.inf], "must be finite"),
+        ([0.0, 1e308, -1e308], [0.0, 0.0, 0.0], "overflow"),
+    ],
+)
+def test_batch_integration_refuses_bad_arrays(
+    left: list[float], right: list[float], match: str
+) -> None:
+    with pytest.raises(diffbot.ParameterError, match=match):
+        integrate(BOT, left, right)
