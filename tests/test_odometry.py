@@ -9,9 +9,17 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from wheel_motion import (
+    TRAJECTORY_A,
+    Segment,
+    angle_error,
+    assert_pose_close,
+    closed_form,
+    wheel_samples,
+)
 
 import diffbot
-from diffbot.kinematics import DiffDriveParams, Pose, norm_angle
+from diffbot.kinematics import DiffDriveParams, Pose
 from diffbot.odometry import (
     SKIP_MISSING_JOINT,
     SKIP_NOT_FINITE,
@@ -24,60 +32,6 @@ from diffbot.odometry import (
 
 BOT = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
 LEFT, RIGHT = BOT.left_joint, BOT.right_joint
-
-
-def angle_error(a: float, b: float) -> float:
-    """The smallest rotation (rad) between two headings, whole turns ignored."""
-    return abs(norm_angle(a - b))
-
-
-def assert_pose_close(pose: Pose, expected: Pose, tol: float = 1e-9) -> None:
-    assert pose.x == pytest.approx(expected.x, abs=tol)
-    assert pose.y == pytest.approx(expected.y, abs=tol)
-    assert angle_error(pose.theta, expected.theta) <= tol
-
-
-def closed_form(pose: Pose, linear: float, angular: float, duration: float) -> Pose:
-    """Where a constant body velocity for ``duration`` s takes the robot (an arc or a line)."""
-    x, y, theta = pose
-    if angular == 0.0:
-        return Pose(
-            x + linear * duration * math.cos(theta),
-            y + linear * duration * math.sin(theta),
-            theta,
-        )
-    radius = linear / angular
-    end = theta + angular * duration
-    return Pose(
-        x + radius * (math.sin(end) - math.sin(theta)),
-        y - radius * (math.cos(end) - math.cos(theta)),
-        end,
-    )
-
-
-Segment = tuple[float, float, float, int]  # linear (m/s), angular (rad/s), duration (s), steps
-
-
-def wheel_samples(
-    params: DiffDriveParams, segments: Sequence[Segment], start: tuple[float, float] = (0.0, 0.0)
-) -> tuple[list[float], list[float], list[float]]:
-    """Stamps and joint angles of constant-velocity segments, a sample on every boundary."""
-    left, right = start
-    stamp = 0.0
-    stamps, lefts, rights = [stamp], [left], [right]
-    for linear, angular, duration, steps in segments:
-        speeds = diffbot.inverse(params, linear, angular)
-        joint_left = params.left_sign * float(speeds.left)
-        joint_right = params.right_sign * float(speeds.right)
-        for k in range(1, steps + 1):
-            t = duration * k / steps
-            stamps.append(stamp + t)
-            lefts.append(left + joint_left * t)
-            rights.append(right + joint_right * t)
-        stamp += duration
-        left += joint_left * duration
-        right += joint_right * duration
-    return stamps, lefts, rights
 
 
 def run(
@@ -143,24 +97,15 @@ def test_half_circle_counter_clockwise_ends_at_the_closed_form_pose() -> None:
 
 
 def test_trajectory_a_at_10_hz_ends_exactly_where_the_plan_does() -> None:
-    arc = 0.025 * math.pi
-    segments = [
-        (arc, math.pi / 10, 10.0, 100),
-        (0.1, 0.0, 10.0, 100),
-        (arc, -math.pi / 10, 10.0, 100),
-        (0.1, 0.0, 10.0, 100),
-    ]
     odom = Odometry(BOT)
-    pose = run(odom, *wheel_samples(BOT, segments))
+    pose = run(odom, *wheel_samples(BOT, TRAJECTORY_A))
     assert_pose_close(pose, Pose(0.0, 1.0, 0.0), 1e-9)
     assert odom.distance == pytest.approx(2.0 + 0.5 * math.pi, rel=1e-12)
 
 
 def test_euler_integration_of_the_seed_misses_trajectory_a_where_exact_arcs_do_not() -> None:
     # A guard on the test above: the seed's rule (move along the old heading) is off by ~1e-4 m.
-    arc = 0.025 * math.pi
-    segments = [(arc, math.pi / 10, 10.0, 100), (0.1, 0.0, 10.0, 100)]
-    _, lefts, rights = wheel_samples(BOT, segments)
+    _, lefts, rights = wheel_samples(BOT, TRAJECTORY_A[:2])
     x = y = theta = 0.0
     for k in range(1, len(lefts)):
         dl = (lefts[k] - lefts[k - 1]) * BOT.wheel_radius

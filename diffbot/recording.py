@@ -1,0 +1,625 @@
+"""Recordings of wheel joint states in, odometry out: CSV files and ROS 2 bags.
+
+Input is a sequence of :class:`JointSample` (a sensor_msgs/JointState's stamp, names and
+positions), read from
+
+- a CSV file with a time column (``time``, ``stamp``, ``t`` or ``__time``, in seconds) and one
+  position column per wheel, named by the joint or ending with ``/<joint>/position`` (as bag
+  export tools name the fields of a JointState); other columns are ignored and an empty cell means
+  the joint is missing from that row;
+- a rosbag2 recording (a directory with sqlite3 or mcap storage, or a single ``.mcap`` file),
+  through the ``rosbags`` library (``pip install 'diffbot-kinematics[bag]'``): the
+  sensor_msgs/msg/JointState messages of one topic, stamped by their header (or by the bag when
+  the header stamp is zero).
+
+Stamps are kept as integer nanoseconds, like ROS time, so outputs carry the inputs' stamps
+unchanged. Outputs (a CSV of poses, a bag of nav_msgs/Odometry and tf2_msgs/TFMessage, a bag or CSV
+of joint states) are written whole or not at all, and never over an existing file unless asked.
+Inputs are only ever opened for reading.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import io
+import os
+import shutil
+import tempfile
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from decimal import Decimal, InvalidOperation
+from pathlib import Path
+from typing import TYPE_CHECKING, Final, NamedTuple, cast
+
+from diffbot.errors import DiffbotError, OutputExistsError, RecordingError
+from diffbot.kinematics import DiffDriveParams, Pose, Twist
+from diffbot.odometry import SKIP_NOT_FINITE, Odometry, quaternion_from_yaw
+
+if TYPE_CHECKING:
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys.store import Typestore
+    from rosbags.typesys.stores.ros2_humble import sensor_msgs__msg__JointState as JointState
+
+__all__ = [
+    "BAG_INSTALL_HINT",
+    "DEFAULT_TOPIC",
+    "JOINT_STATE",
+    "SKIP_MISSING_STAMP",
+    "SKIP_UNREADABLE",
+    "TIME_COLUMNS",
+    "JointSample",
+    "OdometryRow",
+    "OdometryRun",
+    "Recording",
+    "format_joint_states_csv",
+    "format_odometry_csv",
+    "is_bag",
+    "read_bag",
+    "read_csv",
+    "read_recording",
+    "run_odometry",
+    "seconds_text",
+    "write_joint_states_bag",
+    "write_odometry_bag",
+]
+
+#: Names a CSV time column may have (seconds), case-insensitive, in order of preference.
+TIME_COLUMNS: Final = ("time", "stamp", "t", "__time")
+#: The JointState topic read from bags unless another is asked for.
+DEFAULT_TOPIC: Final = "/joint_states"
+#: The message type read from bags.
+JOINT_STATE: Final = "sensor_msgs/msg/JointState"
+#: What to install for bag support.
+BAG_INSTALL_HINT: Final = "pip install 'diffbot-kinematics[bag]'"
+#: Why a CSV row was skipped: its time cell is empty.
+SKIP_MISSING_STAMP: Final = "missing stamp"
+#: Why a CSV row or bag message was skipped: a value (or the message) cannot be read.
+SKIP_UNREADABLE: Final = "unreadable value"
+
+_NS_PER_S: Final = 1_000_000_000
+_BAG_SUFFIXES: Final = (".mcap", ".db3")
+_MAX_LISTED: Final = 30
+#: rosbag2 format version written: read by ROS 2 Iron and later.
+_BAG_VERSION: Final = 8
+
+
+class JointSample(NamedTuple):
+    """One JointState: stamp (ns), joint names and positions (rad), parallel sequences."""
+
+    stamp_ns: int
+    names: Sequence[str]
+    positions: Sequence[float]
+
+
+@dataclass(frozen=True)
+class Recording:
+    """Joint samples read from a file, in file order.
+
+    Attributes:
+        source: the path read, for messages.
+        kind: ``"csv"`` or ``"rosbag2"``.
+        samples: the samples, stamps in ns.
+        skipped: rows or messages that could not be turned into a sample, by reason.
+    """
+
+    source: str
+    kind: str
+    samples: list[JointSample]
+    skipped: Mapping[str, int] = field(default_factory=dict)
+
+
+def seconds_text(stamp_ns: int) -> str:
+    """A stamp (ns) as exact decimal seconds without trailing zeros (1500000000 -> ``"1.5"``)."""
+    sign = "-" if stamp_ns < 0 else ""
+    whole, frac = divmod(abs(stamp_ns), _NS_PER_S)
+    if frac == 0:
+        return f"{sign}{whole}"
+    return f"{sign}{whole}.{frac:09d}".rstrip("0")
+
+
+def _ns_from_seconds(text: str) -> int | None:
+    """Decimal seconds -> ns (nearest); None if NaN or infinite; ValueError if not a number."""
+    try:
+        seconds = Decimal(text)
+    except InvalidOperation:
+        raise ValueError(text) from None
+    if not seconds.is_finite():
+        return None
+    return int((seconds * _NS_PER_S).to_integral_value())
+
+
+def is_bag(path: str | os.PathLike[str]) -> bool:
+    """Whether a path is read as a rosbag2 recording (a directory, ``.mcap`` or ``.db3``)."""
+    p = Path(path)
+    return p.is_dir() or p.suffix.lower() in _BAG_SUFFIXES
+
+
+def read_recording(
+    path: str | os.PathLike[str], params: DiffDriveParams, topic: str = DEFAULT_TOPIC
+) -> Recording:
+    """Read wheel joint samples from a CSV file or a rosbag2 recording.
+
+    Args:
+        path: a CSV file, a rosbag2 directory, or a ``.mcap`` file.
+        params: the robot, whose wheel joint names select the CSV columns.
+        topic: the JointState topic of a bag.
+
+    Returns:
+        The samples.
+
+    Raises:
+        RecordingError: missing, empty or unreadable input; missing columns or topic.
+    """
+    p = Path(path)
+    if not p.exists():
+        raise RecordingError(f"{p}: no such file or directory")
+    if is_bag(p):
+        return read_bag(p, topic)
+    return read_csv(p, params.left_joint, params.right_joint)
+
+
+def _listing(names: Iterable[str]) -> str:
+    names = list(names)
+    if not names:
+        return "none"
+    shown = ", ".join(repr(n) for n in names[:_MAX_LISTED])
+    more = len(names) - _MAX_LISTED
+    return f"{shown}, and {more} more" if more > 0 else shown
+
+
+def _column(headers: Sequence[str], joint: str, side: str, source: str) -> int:
+    suffix = f"/{joint}/position"
+    found = [i for i, h in enumerate(headers) if h == joint or h.endswith(suffix)]
+    if not found:
+        raise RecordingError(
+            f"{source}: no column for the {side} wheel joint {joint!r} (named {joint!r} or "
+            f"ending with '{suffix}'); columns found: {_listing(headers)}"
+        )
+    if len(found) > 1:
+        raise RecordingError(
+            f"{source}: several columns for the {side} wheel joint {joint!r}: "
+            f"{_listing(headers[i] for i in found)}"
+        )
+    return found[0]
+
+
+def read_csv(path: str | os.PathLike[str], left_joint: str, right_joint: str) -> Recording:
+    """Read wheel joint samples from a CSV file.
+
+    Args:
+        path: the file; the first row names the columns.
+        left_joint: the left wheel joint's name.
+        right_joint: the right wheel joint's name.
+
+    Returns:
+        One sample per data row, holding the wheel joints whose cells are not empty. Rows whose
+        time is empty or whose cells cannot be read as numbers are counted in ``skipped``.
+
+    Raises:
+        RecordingError: missing, empty or non-text file, no time column, no (or several)
+            columns for a wheel.
+    """
+    p = Path(path)
+    source = str(p)
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise RecordingError(f"{source}: no such file or directory") from None
+    except UnicodeDecodeError:
+        raise RecordingError(f"{source}: not a text (UTF-8) CSV file") from None
+    except OSError as err:
+        raise RecordingError(f"{source}: cannot read: {err.strerror or err}") from None
+    if not text.strip():
+        raise RecordingError(f"{source}: empty file")
+    try:
+        rows = csv.reader(io.StringIO(text, newline=""))
+        headers = [h.strip() for h in next(rows)]
+        lowered = [h.lower() for h in headers]
+        time_index = next((lowered.index(n) for n in TIME_COLUMNS if n in lowered), None)
+        if time_index is None:
+            raise RecordingError(
+                f"{source}: no time column ({', '.join(TIME_COLUMNS)}, in seconds); "
+                f"columns found: {_listing(headers)}"
+            )
+        left_index = _column(headers, left_joint, "left", source)
+        right_index = _column(headers, right_joint, "right", source)
+        samples: list[JointSample] = []
+        skipped: dict[str, int] = {}
+        both = (left_joint, right_joint)
+        for row in rows:
+            if not row or not any(cell.strip() for cell in row):
+                continue
+            reason, sample = _csv_sample(row, time_index, left_index, right_index, both)
+            if sample is None:
+                skipped[reason] = skipped.get(reason, 0) + 1
+            else:
+                samples.append(sample)
+    except csv.Error as err:
+        raise RecordingError(f"{source}: malformed CSV: {err}") from None
+    return Recording(source, "csv", samples, skipped)
+
+
+def _csv_sample(
+    row: Sequence[str], time_index: int, left_index: int, right_index: int, joints: tuple[str, str]
+) -> tuple[str, JointSample | None]:
+    def cell(i: int) -> str:
+        return row[i].strip() if i < len(row) else ""
+
+    stamp_text = cell(time_index)
+    if not stamp_text:
+        return SKIP_MISSING_STAMP, None
+    try:
+        stamp = _ns_from_seconds(stamp_text)
+        if stamp is None:
+            return SKIP_NOT_FINITE, None
+        names: list[str] = []
+        positions: list[float] = []
+        for joint, index in zip(joints, (left_index, right_index), strict=True):
+            value = cell(index)
+            if value:
+                names.append(joint)
+                positions.append(float(value))
+    except ValueError:
+        return SKIP_UNREADABLE, None
+    return "", JointSample(stamp, names, positions)
+
+
+def _require_rosbags() -> None:
+    """Raise a RecordingError saying what to install when rosbags is missing."""
+    try:
+        import rosbags.typesys  # noqa: F401
+    except ImportError:
+        raise RecordingError(
+            f"reading and writing ROS 2 bags needs the rosbags library: {BAG_INSTALL_HINT}"
+        ) from None
+
+
+def _typestore() -> Typestore:
+    from rosbags.typesys import Stores, get_typestore
+
+    return get_typestore(Stores.ROS2_HUMBLE)
+
+
+def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Recording:
+    """Read the sensor_msgs/msg/JointState messages of one topic from a rosbag2 recording.
+
+    Args:
+        path: a rosbag2 directory (sqlite3 or mcap storage) or a single ``.mcap`` file.
+        topic: the topic to read; other topics are ignored.
+
+    Returns:
+        One sample per message, stamped by the header stamp, or by the bag's receive time (ns)
+        when the header stamp is zero. Messages that cannot be decoded are counted in ``skipped``.
+
+    Raises:
+        RecordingError: rosbags is missing, the path is not a readable bag, the topic is absent
+            or does not carry JointState messages.
+    """
+    _require_rosbags()
+    from rosbags.highlevel import AnyReader
+
+    p = Path(path)
+    source = str(p)
+    if not p.exists():
+        raise RecordingError(f"{source}: no such file or directory")
+    if p.is_file() and p.stat().st_size == 0:
+        raise RecordingError(f"{source}: empty file")
+    samples: list[JointSample] = []
+    skipped: dict[str, int] = {}
+    try:
+        with AnyReader([p], default_typestore=_typestore()) as reader:
+            connections = [c for c in reader.connections if c.topic == topic]
+            if not connections:
+                topics = sorted({c.topic for c in reader.connections})
+                raise RecordingError(
+                    f"{source}: no topic {topic!r} in the bag; topics found: {_listing(topics)}"
+                )
+            types = sorted({c.msgtype for c in connections})
+            if types != [JOINT_STATE]:
+                raise RecordingError(
+                    f"{source}: topic {topic!r} carries {', '.join(types)}, not {JOINT_STATE}"
+                )
+            for connection, timestamp, raw in reader.messages(connections=connections):
+                try:
+                    msg = cast("JointState", reader.deserialize(raw, connection.msgtype))
+                    stamp = msg.header.stamp
+                    stamp_ns = int(stamp.sec) * _NS_PER_S + int(stamp.nanosec)
+                    names = list(msg.name)
+                    positions: list[float] = msg.position.tolist()
+                except Exception:  # a corrupt message is one bad sample, not a bad bag
+                    skipped[SKIP_UNREADABLE] = skipped.get(SKIP_UNREADABLE, 0) + 1
+                    continue
+                samples.append(JointSample(stamp_ns or int(timestamp), names, positions))
+    except DiffbotError:
+        raise
+    except Exception as err:
+        # rosbags raises assorted errors (its own, sqlite3, struct, OSError) on files that are
+        # not bags or are damaged; all of them mean the same thing to the user.
+        detail = " ".join(str(err).split()) or type(err).__name__
+        raise RecordingError(f"{source}: not a readable rosbag2 recording: {detail}") from None
+    return Recording(source, "rosbag2", samples, skipped)
+
+
+# --------------------------------------------------------------------------------------------
+# Odometry over a recording
+
+
+class OdometryRow(NamedTuple):
+    """The odometry after one used sample: its stamp (ns), the pose and the twist."""
+
+    stamp_ns: int
+    pose: Pose
+    twist: Twist
+
+
+@dataclass(frozen=True)
+class OdometryRun:
+    """The odometry of a whole recording.
+
+    Attributes:
+        rows: one row per used sample (the baseline first).
+        samples: how many samples were used.
+        skipped: how many were skipped, by reason (reading and odometry together).
+        distance: path length travelled (m), the sum of |ds|.
+        duration: time (s) from the first to the last used sample.
+    """
+
+    rows: list[OdometryRow]
+    samples: int
+    skipped: Mapping[str, int]
+    distance: float
+    duration: float
+
+    @property
+    def final_pose(self) -> Pose:
+        """The pose after the last used sample."""
+        return self.rows[-1].pose
+
+
+def run_odometry(recording: Recording, odom: Odometry) -> OdometryRun:
+    """Feed every sample of a recording to an odometry integrator.
+
+    The integrator sees stamps in seconds relative to the first sample, so the differences it
+    divides by keep full precision even for stamps since 1970.
+
+    Args:
+        recording: the samples.
+        odom: the integrator, at its start pose.
+
+    Returns:
+        The run.
+
+    Raises:
+        RecordingError: no sample could be used.
+    """
+    rows: list[OdometryRow] = []
+    samples = recording.samples
+    origin = samples[0].stamp_ns if samples else 0
+    for stamp_ns, names, positions in samples:
+        if odom.update_joint_state(names, positions, (stamp_ns - origin) / _NS_PER_S):
+            rows.append(OdometryRow(stamp_ns, odom.pose, odom.twist))
+    skipped = dict(recording.skipped)
+    for reason, count in odom.skipped.items():
+        skipped[reason] = skipped.get(reason, 0) + count
+    if not rows:
+        reasons = ", ".join(f"{reason}: {n}" for reason, n in sorted(skipped.items()))
+        raise RecordingError(
+            f"{recording.source}: no usable sample"
+            + (f" (skipped: {reasons})" if reasons else " (the recording holds no samples)")
+        )
+    duration = (rows[-1].stamp_ns - rows[0].stamp_ns) / _NS_PER_S
+    return OdometryRun(rows, odom.samples, skipped, odom.distance, duration)
+
+
+# --------------------------------------------------------------------------------------------
+# Outputs
+
+
+def format_odometry_csv(rows: Iterable[OdometryRow]) -> str:
+    """Poses as CSV text: ``time,x,y,theta,linear,angular`` (s, m, m, rad in (-pi, pi], m/s,
+    rad/s); floats printed so that they read back exactly."""
+    out = io.StringIO()
+    out.write("time,x,y,theta,linear,angular\n")
+    for stamp_ns, (x, y, theta), (linear, angular) in rows:
+        out.write(f"{seconds_text(stamp_ns)},{x!r},{y!r},{theta!r},{linear!r},{angular!r}\n")
+    return out.getvalue()
+
+
+def format_joint_states_csv(
+    stamps_ns: Sequence[int], names: Sequence[str], positions: Sequence[Sequence[float]]
+) -> str:
+    """Joint positions as CSV text: ``time`` (s) then one column (rad) per joint, by name.
+
+    Args:
+        stamps_ns: the stamps (ns), one per row.
+        names: the joint names, the column headers.
+        positions: one sequence per joint, each as long as ``stamps_ns``.
+    """
+    out = io.StringIO()
+    out.write(",".join(["time", *names]) + "\n")
+    for k, stamp_ns in enumerate(stamps_ns):
+        values = ",".join(repr(float(column[k])) for column in positions)
+        out.write(f"{seconds_text(stamp_ns)},{values}\n")
+    return out.getvalue()
+
+
+def _check_output(path: Path, force: bool) -> None:
+    if (path.exists() or path.is_symlink()) and not force:
+        raise OutputExistsError(f"{path} exists: use --force to overwrite it")
+    if path.is_dir() and any(path.iterdir()) and not (path / "metadata.yaml").exists():
+        # --force replaces files and earlier bags, never a directory of something else.
+        raise OutputExistsError(f"{path} is a directory that is not a rosbag2 recording")
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise RecordingError(f"{path}: directory {parent} does not exist")
+
+
+@contextlib.contextmanager
+def _bag_writer(path: Path, force: bool) -> Iterator[Writer]:
+    """A rosbags Writer on a temporary directory beside ``path``, renamed to it on success."""
+    _check_output(path, force)
+    _require_rosbags()
+    from rosbags.rosbag2 import Writer
+
+    parent = path.parent if str(path.parent) else Path(".")
+    staging = Path(tempfile.mkdtemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp"))
+    try:
+        # Written under the final name so the storage file inside is named after it.
+        with Writer(staging / path.name, version=_BAG_VERSION) as writer:
+            yield writer
+        _replace(staging / path.name, path, force)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _replace(new: Path, path: Path, force: bool) -> None:
+    if not (path.exists() or path.is_symlink()):
+        os.replace(new, path)
+        return
+    if not force:
+        raise OutputExistsError(f"{path} exists: use --force to overwrite it")
+    old = Path(tempfile.mkdtemp(dir=new.parent, prefix="old."))
+    os.replace(path, old / path.name)
+    try:
+        os.replace(new, path)
+    except BaseException:
+        os.replace(old / path.name, path)
+        raise
+
+
+def _check_stamps(stamps_ns: Iterable[int], path: Path) -> None:
+    for stamp_ns in stamps_ns:
+        if not 0 <= stamp_ns < 2**31 * _NS_PER_S:
+            raise RecordingError(
+                f"{path}: cannot stamp a bag at {seconds_text(stamp_ns)} s: ROS time must be "
+                f"between 0 and 2**31 s"
+            )
+
+
+def write_odometry_bag(
+    path: str | os.PathLike[str],
+    rows: Sequence[OdometryRow],
+    odom: Odometry,
+    *,
+    force: bool = False,
+    odom_topic: str = "/odom",
+    tf_topic: str = "/tf",
+) -> None:
+    """Write poses as a rosbag2 of nav_msgs/msg/Odometry and tf2_msgs/msg/TFMessage.
+
+    Args:
+        path: the bag directory to create.
+        rows: the poses and twists, stamped (ns) from the input.
+        odom: the integrator that produced them: its frame ids and covariances are used.
+        force: replace an existing file or bag at ``path``.
+        odom_topic: the Odometry topic.
+        tf_topic: the transform topic (odom -> base_link).
+
+    Raises:
+        OutputExistsError: ``path`` exists and ``force`` is false, or it is a directory that is
+            not a bag.
+        RecordingError: rosbags is missing, or a stamp is outside ROS time.
+    """
+    import numpy as np
+
+    p = Path(path)
+    _check_stamps((row.stamp_ns for row in rows), p)
+    _require_rosbags()
+    from rosbags.typesys.stores import ros2_humble as m
+
+    typestore = _typestore()
+    pose_cov = np.array(odom.pose_covariance, dtype=np.float64)
+    twist_cov = np.array(odom.twist_covariance, dtype=np.float64)
+    odom_type = m.nav_msgs__msg__Odometry.__msgtype__
+    tf_type = m.tf2_msgs__msg__TFMessage.__msgtype__
+    with _bag_writer(p, force) as writer:
+        odom_conn = writer.add_connection(odom_topic, odom_type, typestore=typestore)
+        tf_conn = writer.add_connection(tf_topic, tf_type, typestore=typestore)
+        for stamp_ns, (x, y, theta), (linear, angular) in rows:
+            sec, nanosec = divmod(stamp_ns, _NS_PER_S)
+            header = m.std_msgs__msg__Header(
+                stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec),
+                frame_id=odom.frame_id,
+            )
+            q = quaternion_from_yaw(theta)
+            orientation = m.geometry_msgs__msg__Quaternion(x=q.x, y=q.y, z=q.z, w=q.w)
+            message = m.nav_msgs__msg__Odometry(
+                header=header,
+                child_frame_id=odom.child_frame_id,
+                pose=m.geometry_msgs__msg__PoseWithCovariance(
+                    pose=m.geometry_msgs__msg__Pose(
+                        position=m.geometry_msgs__msg__Point(x=x, y=y, z=0.0),
+                        orientation=orientation,
+                    ),
+                    covariance=pose_cov,
+                ),
+                twist=m.geometry_msgs__msg__TwistWithCovariance(
+                    twist=m.geometry_msgs__msg__Twist(
+                        linear=m.geometry_msgs__msg__Vector3(x=float(linear), y=0.0, z=0.0),
+                        angular=m.geometry_msgs__msg__Vector3(x=0.0, y=0.0, z=float(angular)),
+                    ),
+                    covariance=twist_cov,
+                ),
+            )
+            transform = m.geometry_msgs__msg__TransformStamped(
+                header=header,
+                child_frame_id=odom.child_frame_id,
+                transform=m.geometry_msgs__msg__Transform(
+                    translation=m.geometry_msgs__msg__Vector3(x=x, y=y, z=0.0),
+                    rotation=orientation,
+                ),
+            )
+            tf_message = m.tf2_msgs__msg__TFMessage(transforms=[transform])
+            writer.write(odom_conn, stamp_ns, typestore.serialize_cdr(message, odom_type))
+            writer.write(tf_conn, stamp_ns, typestore.serialize_cdr(tf_message, tf_type))
+
+
+def write_joint_states_bag(
+    path: str | os.PathLike[str],
+    stamps_ns: Sequence[int],
+    names: Sequence[str],
+    positions: Sequence[Sequence[float]],
+    *,
+    force: bool = False,
+    topic: str = DEFAULT_TOPIC,
+) -> None:
+    """Write joint positions as a rosbag2 of sensor_msgs/msg/JointState.
+
+    Args:
+        path: the bag directory to create.
+        stamps_ns: the stamps (ns), one per message.
+        names: the joint names of every message.
+        positions: one sequence of positions (rad) per joint, each as long as ``stamps_ns``.
+        force: replace an existing file or bag at ``path``.
+        topic: the topic.
+
+    Raises:
+        OutputExistsError: ``path`` exists and ``force`` is false, or it is a directory that is
+            not a bag.
+        RecordingError: rosbags is missing, or a stamp is outside ROS time.
+    """
+    import numpy as np
+
+    p = Path(path)
+    _check_stamps(stamps_ns, p)
+    _require_rosbags()
+    from rosbags.typesys.stores import ros2_humble as m
+
+    typestore = _typestore()
+    columns = np.array(positions, dtype=np.float64).reshape(len(names), len(stamps_ns))
+    empty = np.empty(0, dtype=np.float64)
+    with _bag_writer(p, force) as writer:
+        conn = writer.add_connection(topic, JOINT_STATE, typestore=typestore)
+        for k, stamp_ns in enumerate(stamps_ns):
+            sec, nanosec = divmod(stamp_ns, _NS_PER_S)
+            message = m.sensor_msgs__msg__JointState(
+                header=m.std_msgs__msg__Header(
+                    stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id=""
+                ),
+                name=list(names),
+                position=np.ascontiguousarray(columns[:, k]),
+                velocity=empty,
+                effort=empty,
+            )
+            writer.write(conn, stamp_ns, typestore.serialize_cdr(message, JOINT_STATE))

@@ -1,0 +1,56 @@
+"""Write small rosbag2 recordings with rosbags itself, as test inputs."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.typesys import Stores, get_typestore
+from rosbags.typesys.stores import ros2_humble as m
+
+TYPESTORE = get_typestore(Stores.ROS2_HUMBLE)
+JOINT_STATE = "sensor_msgs/msg/JointState"
+
+#: One message: header stamp (ns), bag receive time (ns), joint names, positions (rad).
+Message = tuple[int, int, Sequence[str], Sequence[float]]
+
+
+def joint_state(stamp_ns: int, names: Sequence[str], positions: Sequence[float]) -> bytes:
+    sec, nanosec = divmod(stamp_ns, 1_000_000_000)
+    msg = m.sensor_msgs__msg__JointState(
+        header=m.std_msgs__msg__Header(
+            stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id=""
+        ),
+        name=list(names),
+        position=np.array(positions, dtype=np.float64),
+        velocity=np.empty(0),
+        effort=np.empty(0),
+    )
+    return bytes(TYPESTORE.serialize_cdr(msg, JOINT_STATE))
+
+
+def write_bag(
+    path: Path,
+    messages: Sequence[Message],
+    *,
+    topic: str = "/joint_states",
+    storage: str = "sqlite3",
+    chatter: bool = True,
+) -> Path:
+    """A rosbag2 directory with JointState messages on ``topic`` (and a String on /chatter)."""
+    plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
+    with Writer(path, version=9, storage_plugin=plugin) as writer:
+        conn = writer.add_connection(topic, JOINT_STATE, typestore=TYPESTORE)
+        other = None
+        if chatter:
+            other = writer.add_connection("/chatter", "std_msgs/msg/String", typestore=TYPESTORE)
+        for stamp_ns, received_ns, names, positions in messages:
+            writer.write(conn, received_ns, joint_state(stamp_ns, names, positions))
+            if other is not None:
+                text = TYPESTORE.serialize_cdr(
+                    m.std_msgs__msg__String(data="hi"), "std_msgs/msg/String"
+                )
+                writer.write(other, received_ns, bytes(text))
+    return path

@@ -1,0 +1,370 @@
+"""Recordings: CSV and rosbag2 input, odometry over them, CSV and bag output."""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from bags import write_bag
+from rosbags.highlevel import AnyReader
+from wheel_motion import TRAJECTORY_A, assert_pose_close, wheel_samples
+
+import diffbot
+from diffbot.kinematics import DiffDriveParams, Pose
+from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry
+from diffbot.recording import (
+    SKIP_MISSING_STAMP,
+    SKIP_UNREADABLE,
+    OdometryRow,
+    format_joint_states_csv,
+    format_odometry_csv,
+    read_bag,
+    read_csv,
+    read_recording,
+    run_odometry,
+    seconds_text,
+    write_joint_states_bag,
+    write_odometry_bag,
+)
+
+BOT = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
+LEFT, RIGHT = BOT.left_joint, BOT.right_joint
+EPOCH = 1_700_000_000_000_000_000  # ns: stamps of a recording made in 2023
+
+
+def trajectory_a_csv(path: Path, left_column: str = LEFT, right_column: str = RIGHT) -> Path:
+    stamps, lefts, rights = wheel_samples(BOT, TRAJECTORY_A)
+    lines = [f"time,{left_column},battery,{right_column}"]
+    lines += [
+        f"{stamp!r},{left!r},12.1,{right!r}"
+        for stamp, left, right in zip(stamps, lefts, rights, strict=True)
+    ]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def trajectory_a_messages() -> list[tuple[int, int, list[str], list[float]]]:
+    stamps, lefts, rights = wheel_samples(BOT, TRAJECTORY_A)
+    return [
+        (
+            EPOCH + round(stamp * 1e9),
+            EPOCH + round(stamp * 1e9) + 1000,
+            [RIGHT, "caster", LEFT],
+            [right, 0.5, left],
+        )
+        for stamp, left, right in zip(stamps, lefts, rights, strict=True)
+    ]
+
+
+# --------------------------------------------------------------------------------------------
+# CSV input
+
+
+def test_csv_of_trajectory_a_gives_the_plans_final_pose(tmp_path: Path) -> None:
+    recording = read_recording(trajectory_a_csv(tmp_path / "a.csv"), BOT)
+    assert recording.kind == "csv"
+    assert len(recording.samples) == 401
+    run = run_odometry(recording, Odometry(BOT))
+    assert_pose_close(run.final_pose, Pose(0.0, 1.0, 0.0), 1e-9)
+    assert run.samples == 401
+    assert run.skipped == {}
+    assert run.duration == 40.0
+    assert run.distance == pytest.approx(2 + 0.5 * math.pi, rel=1e-12)
+
+
+@pytest.mark.parametrize("time_column", ["time", "stamp", "t", "__time", " Time "])
+def test_csv_time_column_may_have_any_of_the_usual_names(tmp_path: Path, time_column: str) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text(f"{time_column},{LEFT},{RIGHT}\n0,0,0\n1.5,1,1\n", encoding="utf-8")
+    samples = read_csv(path, LEFT, RIGHT).samples
+    assert [s.stamp_ns for s in samples] == [0, 1_500_000_000]
+
+
+def test_csv_columns_exported_from_joint_states_are_recognised(tmp_path: Path) -> None:
+    path = trajectory_a_csv(
+        tmp_path / "a.csv",
+        f"/joint_states/{LEFT}/position",
+        f"/joint_states/{RIGHT}/position",
+    )
+    run = run_odometry(read_csv(path, LEFT, RIGHT), Odometry(BOT))
+    assert_pose_close(run.final_pose, Pose(0.0, 1.0, 0.0), 1e-9)
+
+
+def test_csv_velocity_columns_of_the_wheels_are_not_taken_for_positions(tmp_path: Path) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text(
+        f"__time,/js/{LEFT}/velocity,/js/{LEFT}/position,/js/{RIGHT}/position\n0,9,0,0\n1,9,2,2\n",
+        encoding="utf-8",
+    )
+    samples = read_csv(path, LEFT, RIGHT).samples
+    assert samples[1].positions == [2.0, 2.0]
+
+
+def test_csv_stamps_are_read_exactly_to_the_nanosecond(tmp_path: Path) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text(
+        f"\ufefftime,{LEFT},{RIGHT}\n1700000000.123456789,0,0\n1.7e9,1,1\n-0.5,1,1\n",
+        encoding="utf-8",
+    )
+    stamps = [s.stamp_ns for s in read_csv(path, LEFT, RIGHT).samples]
+    assert stamps == [1_700_000_000_123_456_789, 1_700_000_000_000_000_000, -500_000_000]
+
+
+def test_empty_csv_cells_are_missing_joints_and_bad_cells_are_skipped(tmp_path: Path) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text(
+        f"time,{LEFT},{RIGHT}\n"
+        "0,0,0\n"
+        "1,1,\n"  # right missing
+        ",2,2\n"  # no stamp
+        "nan,2,2\n"  # stamp not finite
+        "2,abc,2\n"  # not a number
+        "\n"  # blank line: not a sample
+        "3,inf,3\n"  # reaches the odometry, which skips it
+        "4,4\n"  # short row: right missing
+        "5,5,5\n",
+        encoding="utf-8",
+    )
+    recording = read_csv(path, LEFT, RIGHT)
+    assert recording.skipped == {SKIP_MISSING_STAMP: 1, SKIP_NOT_FINITE: 1, SKIP_UNREADABLE: 1}
+    assert [s.names for s in recording.samples] == [
+        [LEFT, RIGHT],
+        [LEFT],
+        [LEFT, RIGHT],
+        [LEFT],
+        [LEFT, RIGHT],
+    ]
+    run = run_odometry(recording, Odometry(BOT))
+    assert run.samples == 2
+    assert run.skipped == {
+        SKIP_MISSING_STAMP: 1,
+        SKIP_NOT_FINITE: 2,
+        SKIP_UNREADABLE: 1,
+        SKIP_MISSING_JOINT: 2,
+    }
+    assert_pose_close(run.final_pose, Pose(5 * BOT.wheel_radius, 0.0, 0.0), 1e-15)
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("", r"a\.csv: empty file"),
+        ("  \n\n", "empty file"),
+        (f"when,{LEFT},{RIGHT}\n0,0,0\n", rf"no time column .*columns found: 'when', '{LEFT}'"),
+        (f"time,{LEFT},wheel\n0,0,0\n", rf"no column for the right wheel joint '{RIGHT}'.*'wheel'"),
+        (f"time,{RIGHT}\n0,0\n", rf"left wheel joint '{LEFT}'.*columns found: 'time'"),
+        (f"time,{LEFT},a/{LEFT}/position,{RIGHT}\n", "several columns for the left wheel"),
+        (f"time,{LEFT},{RIGHT}\n0,{'9' * 200_000},0\n", "malformed CSV: field larger than"),
+    ],
+)
+def test_unusable_csv_files_are_refused_naming_what_was_found(
+    tmp_path: Path, text: str, match: str
+) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(diffbot.RecordingError, match=match):
+        read_recording(path, BOT)
+
+
+def test_binary_file_is_not_taken_for_a_csv(tmp_path: Path) -> None:
+    path = tmp_path / "a.csv"
+    path.write_bytes(b"\x89PNG\r\n\x1a\n\xff\xfe\x00")
+    with pytest.raises(diffbot.RecordingError, match="not a text"):
+        read_recording(path, BOT)
+
+
+def test_missing_input_is_refused(tmp_path: Path) -> None:
+    with pytest.raises(diffbot.RecordingError, match=r"nope\.csv: no such file"):
+        read_recording(tmp_path / "nope.csv", BOT)
+
+
+def test_a_recording_without_a_usable_sample_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text(f"time,{LEFT},{RIGHT}\n0,,1\n1,nan,1\n", encoding="utf-8")
+    with pytest.raises(diffbot.RecordingError, match=r"no usable sample \(skipped: missing"):
+        run_odometry(read_csv(path, LEFT, RIGHT), Odometry(BOT))
+    path.write_text(f"time,{LEFT},{RIGHT}\n", encoding="utf-8")
+    with pytest.raises(diffbot.RecordingError, match="holds no samples"):
+        run_odometry(read_csv(path, LEFT, RIGHT), Odometry(BOT))
+
+
+# --------------------------------------------------------------------------------------------
+# Bag input
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_bag_of_trajectory_a_gives_the_plans_final_pose(tmp_path: Path, storage: str) -> None:
+    bag = write_bag(tmp_path / "bag", trajectory_a_messages(), storage=storage)
+    recording = read_recording(bag, BOT)
+    assert recording.kind == "rosbag2"
+    assert len(recording.samples) == 401  # the /chatter messages are ignored
+    assert recording.samples[0].stamp_ns == EPOCH
+    run = run_odometry(recording, Odometry(BOT))
+    assert_pose_close(run.final_pose, Pose(0.0, 1.0, 0.0), 1e-9)
+    assert run.duration == 40.0
+
+
+def test_a_single_mcap_file_is_read_as_a_bag(tmp_path: Path) -> None:
+    bag = write_bag(tmp_path / "run", trajectory_a_messages()[:50], storage="mcap")
+    single = bag / "run.mcap"
+    assert single.is_file()
+    assert len(read_recording(single, BOT).samples) == 50
+
+
+def test_bag_header_stamps_of_zero_fall_back_to_the_bag_time(tmp_path: Path) -> None:
+    bag = write_bag(
+        tmp_path / "bag",
+        [(0, 5_000_000_000, [LEFT, RIGHT], [0.0, 0.0]), (0, 6_000_000_000, [LEFT, RIGHT], [1, 1])],
+    )
+    assert [s.stamp_ns for s in read_bag(bag).samples] == [5_000_000_000, 6_000_000_000]
+
+
+def test_bag_topic_can_be_chosen(tmp_path: Path) -> None:
+    bag = write_bag(tmp_path / "bag", trajectory_a_messages()[:3], topic="/robot/joint_states")
+    assert len(read_bag(bag, "/robot/joint_states").samples) == 3
+    with pytest.raises(
+        diffbot.RecordingError,
+        match=r"no topic '/joint_states' in the bag; topics found: '/chatter', '/robot/joint_st",
+    ):
+        read_bag(bag)
+
+
+def test_bag_topic_of_another_type_is_refused(tmp_path: Path) -> None:
+    bag = write_bag(tmp_path / "bag", trajectory_a_messages()[:3])
+    with pytest.raises(diffbot.RecordingError, match="'/chatter' carries std_msgs/msg/String"):
+        read_bag(bag, "/chatter")
+
+
+@pytest.mark.parametrize("make", ["empty dir", "junk dir", "empty mcap", "junk mcap"])
+def test_things_that_are_not_bags_are_refused(tmp_path: Path, make: str) -> None:
+    path = tmp_path / ("x.mcap" if "mcap" in make else "x")
+    if make == "empty dir":
+        path.mkdir()
+    elif make == "junk dir":
+        path.mkdir()
+        (path / "notes.txt").write_text("hello", encoding="utf-8")
+    else:
+        path.write_bytes(b"" if make == "empty mcap" else b"not an mcap file at all" * 10)
+    with pytest.raises(diffbot.RecordingError, match=r"x(\.mcap)?: (empty file|not a readable)"):
+        read_recording(path, BOT)
+
+
+def test_reading_a_bag_leaves_it_untouched(tmp_path: Path) -> None:
+    bag = write_bag(tmp_path / "bag", trajectory_a_messages()[:20])
+    before = {p.name: (p.stat().st_mtime_ns, p.read_bytes()) for p in bag.iterdir()}
+    read_bag(bag)
+    assert {p.name: (p.stat().st_mtime_ns, p.read_bytes()) for p in bag.iterdir()} == before
+
+
+def test_missing_rosbags_gives_the_install_hint(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    bag = write_bag(tmp_path / "bag", trajectory_a_messages()[:2])
+    monkeypatch.setitem(sys.modules, "rosbags.typesys", None)
+    with pytest.raises(diffbot.RecordingError, match=r"pip install 'diffbot-kinematics\[bag\]'"):
+        read_bag(bag)
+    with pytest.raises(diffbot.RecordingError, match="needs the rosbags library"):
+        write_joint_states_bag(tmp_path / "out", [0], ["a"], [[0.0]])
+
+
+# --------------------------------------------------------------------------------------------
+# Outputs
+
+
+def test_seconds_text_is_exact_and_short() -> None:
+    assert seconds_text(1_500_000_000) == "1.5"
+    assert seconds_text(0) == "0"
+    assert seconds_text(-1) == "-0.000000001"
+    assert seconds_text(EPOCH + 123) == "1700000000.000000123"
+
+
+def test_odometry_csv_reads_back_exactly() -> None:
+    rows = [
+        OdometryRow(EPOCH, Pose(0.1, -1 / 3, math.pi), diffbot.Twist(1e-300, -2.5)),
+        OdometryRow(EPOCH + 20_000_000, Pose(1e6, 2.0, -0.5), diffbot.Twist(0.0, 0.0)),
+    ]
+    lines = format_odometry_csv(rows).splitlines()
+    assert lines[0] == "time,x,y,theta,linear,angular"
+    values = [float(v) for v in lines[1].split(",")[1:]]
+    assert values == [0.1, -1 / 3, math.pi, 1e-300, -2.5]
+    assert lines[2].startswith("1700000000.02,1000000.0,2.0,-0.5,")
+
+
+def test_odometry_bag_holds_odom_and_tf_stamped_from_the_input(tmp_path: Path) -> None:
+    bag = write_bag(tmp_path / "in", trajectory_a_messages())
+    odom = Odometry(BOT, child_frame_id="base_footprint")
+    run = run_odometry(read_bag(bag), odom)
+    out = tmp_path / "odom"
+    write_odometry_bag(out, run.rows, odom)
+    with AnyReader([out]) as reader:
+        assert {c.topic: (c.msgtype, c.msgcount) for c in reader.connections} == {
+            "/odom": ("nav_msgs/msg/Odometry", 401),
+            "/tf": ("tf2_msgs/msg/TFMessage", 401),
+        }
+        stamps = []
+        messages = {}
+        for connection, timestamp, raw in reader.messages():
+            msg = reader.deserialize(raw, connection.msgtype)
+            messages[connection.topic] = msg
+            stamps.append(timestamp)
+    assert stamps[::2] == [row.stamp_ns for row in run.rows]
+    last = messages["/odom"]
+    assert (last.header.frame_id, last.child_frame_id) == ("odom", "base_footprint")
+    assert last.header.stamp.sec == EPOCH // 10**9 + 40
+    assert last.pose.pose.position.x == pytest.approx(0.0, abs=1e-9)
+    assert last.pose.pose.position.y == pytest.approx(1.0, abs=1e-9)
+    assert last.pose.pose.orientation.w == pytest.approx(1.0, abs=1e-12)
+    assert last.twist.twist.linear.x == pytest.approx(0.1, rel=1e-9)
+    assert np.array_equal(last.pose.covariance, np.array(odom.pose_covariance))
+    tf = messages["/tf"].transforms[0]
+    assert (tf.header.frame_id, tf.child_frame_id) == ("odom", "base_footprint")
+    assert tf.transform.translation.y == last.pose.pose.position.y
+
+
+def test_joint_states_bag_and_csv_round_trip_through_the_readers(tmp_path: Path) -> None:
+    stamps = [EPOCH, EPOCH + 10**7, EPOCH + 2 * 10**7]
+    names = [LEFT, RIGHT, "caster_wheel_joint"]
+    positions = [[0.0, 0.1, 0.2], [0.0, 0.3, 0.6], [0.0, -1.0, -2.0]]
+    write_joint_states_bag(tmp_path / "js", stamps, names, positions)
+    samples = read_bag(tmp_path / "js").samples
+    assert [s.stamp_ns for s in samples] == stamps
+    assert [list(s.names) for s in samples] == [names] * 3
+    assert [list(s.positions) for s in samples] == [
+        list(col) for col in zip(*positions, strict=True)
+    ]
+    (tmp_path / "js.csv").write_text(format_joint_states_csv(stamps, names, positions))
+    from_csv = read_csv(tmp_path / "js.csv", LEFT, RIGHT).samples
+    assert [s.stamp_ns for s in from_csv] == stamps
+    assert [list(s.positions) for s in from_csv] == [[0.0, 0.0], [0.1, 0.3], [0.2, 0.6]]
+
+
+def test_bag_outputs_never_replace_without_force_and_leave_no_debris(tmp_path: Path) -> None:
+    out = tmp_path / "js"
+    write_joint_states_bag(out, [1], [LEFT], [[1.0]])
+    with pytest.raises(diffbot.OutputExistsError, match="exists: use --force"):
+        write_joint_states_bag(out, [2, 3], [LEFT], [[2.0, 3.0]])
+    assert [s.stamp_ns for s in read_bag(out).samples] == [1]
+    write_joint_states_bag(out, [2, 3], [LEFT], [[2.0, 3.0]], force=True)
+    assert [s.stamp_ns for s in read_bag(out).samples] == [2, 3]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["js"]
+
+
+def test_force_never_replaces_a_directory_that_is_not_a_bag(tmp_path: Path) -> None:
+    precious = tmp_path / "home"
+    precious.mkdir()
+    (precious / "thesis.tex").write_text("years of work", encoding="utf-8")
+    with pytest.raises(diffbot.OutputExistsError, match="not a rosbag2 recording"):
+        write_joint_states_bag(precious, [1], [LEFT], [[1.0]], force=True)
+    assert (precious / "thesis.tex").read_text(encoding="utf-8") == "years of work"
+
+
+def test_a_failed_bag_write_leaves_nothing_behind(tmp_path: Path) -> None:
+    with pytest.raises(diffbot.RecordingError, match="ROS time must be between"):
+        write_joint_states_bag(tmp_path / "js", [-1], [LEFT], [[1.0]])
+    # A failure while messages are written, after the temporary bag was created.
+    with pytest.raises(AttributeError, match="encode"):
+        write_joint_states_bag(tmp_path / "js", [1], [123], [[1.0]])  # type: ignore[list-item]
+    assert list(tmp_path.iterdir()) == []
