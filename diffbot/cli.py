@@ -581,3 +581,137 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
     click.echo(f"radius   {radius}")
     if not within_limit(p, wheels):
         warn(f"the wheel speeds exceed the motor limit of {limit_text(p)}")
+
+
+# --------------------------------------------------------------------------------------------
+# odom: odometry from recorded wheel joint states
+
+
+def _check_out(out: str | None, inputs: Sequence[str], force: bool) -> Path | None:
+    """The --out path, refused early when it exists (without --force) or is an input."""
+    if out is None:
+        return None
+    path = Path(out)
+    for given in inputs:
+        if path.resolve() == Path(given).resolve():
+            fail(f"--out {out} is the input: inputs are never overwritten")
+    if (path.exists() or path.is_symlink()) and not force:
+        fail(f"{out} exists: use --force to overwrite it")
+    return path
+
+
+def _skipped_text(skipped: Mapping[str, int]) -> str:
+    return ", ".join(f"{count} {reason}" for reason, count in sorted(skipped.items()))
+
+
+@main.command()
+@click.argument("tokens", nargs=-1, metavar="INPUT [NAME:=VALUE]...")
+@robot_options
+@click.option(
+    "--topic",
+    default="/joint_states",
+    show_default=True,
+    help="The sensor_msgs/JointState topic of a bag.",
+)
+@click.option(
+    "--out",
+    metavar="PATH",
+    help="Write the poses: a CSV file (time,x,y,theta,linear,angular), or a bag with --bag.",
+)
+@click.option(
+    "--bag",
+    "as_bag",
+    is_flag=True,
+    help="Write --out as a rosbag2 directory: nav_msgs/Odometry on /odom, TF on /tf.",
+)
+@click.option("--force", is_flag=True, help="Overwrite --out if it exists.")
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable summary.")
+def odom(
+    robot: RobotOptions,
+    tokens: tuple[str, ...],
+    topic: str,
+    out: str | None,
+    as_bag: bool,
+    force: bool,
+    as_json: bool,
+) -> None:
+    """Odometry from recorded wheel joint positions.
+
+    INPUT is a CSV file (a time column `time`, `stamp`, `t` or `__time` in seconds, and one
+    position column per wheel named by its joint or ending with `/<joint>/position`), a rosbag2
+    directory (sqlite3 or mcap) or a .mcap file holding sensor_msgs/JointState on --topic. Each
+    step is integrated exactly along its arc; the first sample sets the encoder baseline. Samples
+    without both wheel joints, with NaN/inf or with a stamp not after the previous one are
+    skipped and reported. Reading bags needs: pip install 'diffbot-kinematics[bag]'.
+
+    \b
+    Examples:
+      diffbot odom joints.csv
+      diffbot odom my_bag/ --topic /joint_states --out odom.csv
+      diffbot odom run.mcap --out odom_bag --bag --json
+    """
+    from diffbot.odometry import Odometry
+    from diffbot.recording import (
+        format_odometry_csv,
+        read_recording,
+        run_odometry,
+        write_odometry_bag,
+    )
+
+    rest, xacro_args = split_xacro_args(tokens)
+    if len(rest) != 1:
+        fail(f"expected one INPUT (a CSV file, a rosbag2 directory or a .mcap file), got {rest}")
+    source = rest[0]
+    if not Path(source).exists():
+        fail(f"{source}: no such file or directory")
+    if as_bag and out is None:
+        fail("--bag writes the --out directory: give --out DIR")
+    out_path = _check_out(out, [source], force)
+    p = robot.with_path(None, xacro_args).load()
+    recording = read_recording(source, p, topic)
+    integrator = Odometry(p)
+    run = run_odometry(recording, integrator)
+    if out_path is not None:
+        if as_bag:
+            write_odometry_bag(out_path, run.rows, integrator, force=force)
+        else:
+            write_text_atomic(out_path, format_odometry_csv(run.rows), force=force)
+    skipped_total = sum(run.skipped.values())
+    if skipped_total:
+        warn(
+            f"skipped {skipped_total} of {run.samples + skipped_total} samples: "
+            f"{_skipped_text(run.skipped)}"
+        )
+    pose = run.final_pose
+    if as_json:
+        emit_json(
+            {
+                "input": source,
+                "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},
+                "distance": run.distance,
+                "samples": run.samples,
+                "skipped": dict(sorted(run.skipped.items())),
+                "duration": run.duration,
+                "output": out,
+            }
+        )
+        return
+    kind = "CSV" if recording.kind == "csv" else f"rosbag2, topic {topic}"
+    rows = [
+        ("input", f"{source} ({kind})"),
+        ("samples", f"{run.samples} used, {skipped_total} skipped"),
+        ("duration", f"{fmt(run.duration)} s"),
+        ("distance", f"{fmt(run.distance)} m"),
+        (
+            # Rounded to the nanometre (nanoradian) so rounding noise reads as 0; --json has all.
+            "final pose",
+            f"x {fmt(round(pose.x, 9))} m, y {fmt(round(pose.y, 9))} m, "
+            f"theta {fmt(round(pose.theta, 9))} rad "
+            f"({fmt(round(math.degrees(pose.theta), 7), 5)} deg)",
+        ),
+    ]
+    if out is not None:
+        what = "rosbag2: /odom, /tf" if as_bag else "CSV"
+        rows.append(("output", f"{out} ({what}, {len(run.rows)} poses)"))
+    for label, value in rows:
+        click.echo(f"{label:<11} {value}")

@@ -1,0 +1,209 @@
+"""``diffbot odom``: summaries, outputs, and every kind of bad input."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+from bags import write_bag
+from click.testing import CliRunner
+from rosbags.highlevel import AnyReader
+from wheel_motion import TRAJECTORY_A, wheel_samples
+
+import diffbot
+from diffbot.cli import main
+
+BOT = diffbot.DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
+LEFT, RIGHT = BOT.left_joint, BOT.right_joint
+
+
+@pytest.fixture
+def trajectory_a(tmp_path: Path) -> Path:
+    """Trajectory A's wheel angles at 10 Hz as CSV, with one row lacking the right wheel."""
+    stamps, lefts, rights = wheel_samples(BOT, TRAJECTORY_A)
+    lines = [f"time,{LEFT},{RIGHT}"]
+    for k, (stamp, left, right) in enumerate(zip(stamps, lefts, rights, strict=True)):
+        lines.append(f"{stamp!r},{left!r},{'' if k == 7 else repr(right)}")
+    path = tmp_path / "a.csv"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def odom_json(runner: CliRunner, *args: str) -> dict[str, object]:
+    result = runner.invoke(main, ["odom", *args, "--json"])
+    assert result.exit_code == 0, result.output
+    data: dict[str, object] = json.loads(result.stdout)
+    return data
+
+
+def test_odom_summary_shows_the_final_pose_and_warns_about_skips(
+    runner: CliRunner, trajectory_a: Path
+) -> None:
+    result = runner.invoke(main, ["odom", str(trajectory_a)])
+    assert result.exit_code == 0, result.output
+    assert "samples     400 used, 1 skipped" in result.stdout
+    assert "duration    40 s" in result.stdout
+    assert "final pose  x 0 m, y 1 m, theta 0 rad (0 deg)" in result.stdout
+    assert result.stderr.strip() == "warning: skipped 1 of 401 samples: 1 missing joint"
+
+
+def test_odom_json_reports_pose_distance_samples_skips_and_duration(
+    runner: CliRunner, trajectory_a: Path
+) -> None:
+    data = odom_json(runner, str(trajectory_a))
+    pose = data["final_pose"]
+    assert isinstance(pose, dict)
+    assert pose["x"] == pytest.approx(0.0, abs=1e-9)
+    assert pose["y"] == pytest.approx(1.0, abs=1e-9)
+    assert pose["theta"] == pytest.approx(0.0, abs=1e-9)
+    assert data["distance"] == pytest.approx(2 + 0.5 * math.pi, rel=1e-12)
+    assert data["samples"] == 400
+    assert data["skipped"] == {"missing joint": 1}
+    assert data["duration"] == 40.0
+
+
+def test_odom_uses_the_robot_options(runner: CliRunner, trajectory_a: Path) -> None:
+    bigger = odom_json(runner, str(trajectory_a), "--wheel-radius", "0.07")
+    assert bigger["distance"] == pytest.approx(2 * (2 + 0.5 * math.pi), rel=1e-12)
+    by_xacro = odom_json(runner, str(trajectory_a), "wheel_radius:=0.07")
+    assert by_xacro["distance"] == bigger["distance"]
+
+
+def test_odom_writes_the_pose_series_as_csv(
+    runner: CliRunner, trajectory_a: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "poses.csv"
+    result = runner.invoke(main, ["odom", str(trajectory_a), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert f"output      {out} (CSV, 400 poses)" in result.stdout
+    lines = out.read_text(encoding="utf-8").splitlines()
+    assert lines[0] == "time,x,y,theta,linear,angular"
+    assert len(lines) == 401
+    time, x, y, theta, linear, angular = map(float, lines[-1].split(","))
+    assert (time, linear, angular) == (40.0, pytest.approx(0.1), pytest.approx(0.0, abs=1e-9))
+    assert (x, y, theta) == pytest.approx((0.0, 1.0, 0.0), abs=1e-9)
+
+
+def test_odom_never_overwrites_an_output_without_force(
+    runner: CliRunner, trajectory_a: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "poses.csv"
+    out.write_text("keep me", encoding="utf-8")
+    result = runner.invoke(main, ["odom", str(trajectory_a), "--out", str(out)])
+    assert result.exit_code == 2
+    assert result.stderr == f"error: {out} exists: use --force to overwrite it\n"
+    assert out.read_text(encoding="utf-8") == "keep me"
+    result = runner.invoke(main, ["odom", str(trajectory_a), "--out", str(out), "--force"])
+    assert result.exit_code == 0, result.output
+    assert out.read_text(encoding="utf-8").startswith("time,x,y,theta")
+
+
+def test_odom_refuses_to_write_over_its_input(runner: CliRunner, trajectory_a: Path) -> None:
+    before = trajectory_a.read_bytes()
+    args = ["odom", str(trajectory_a), "--out", str(trajectory_a), "--force"]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 2
+    assert "is the input: inputs are never overwritten" in result.stderr
+    assert trajectory_a.read_bytes() == before
+
+
+def test_odom_reads_a_bag_and_writes_a_bag_of_odometry_and_tf(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    stamps, lefts, rights = wheel_samples(BOT, TRAJECTORY_A)
+    epoch = 1_700_000_000 * 10**9
+    messages = [
+        (epoch + round(s * 1e9), epoch + round(s * 1e9), ["caster", LEFT, RIGHT], [9.0, lt, rt])
+        for s, lt, rt in zip(stamps, lefts, rights, strict=True)
+    ]
+    bag = write_bag(tmp_path / "in", messages, topic="/bot/joint_states", storage="mcap")
+    out = tmp_path / "odom_bag"
+    args = ["odom", str(bag), "--topic", "/bot/joint_states", "--out", str(out), "--bag"]
+    result = runner.invoke(main, [*args, "--json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["final_pose"]["y"] == pytest.approx(1.0, abs=1e-9)
+    assert data["skipped"] == {}
+    with AnyReader([out]) as reader:
+        counts = {c.topic: (c.msgtype, c.msgcount) for c in reader.connections}
+        assert reader.start_time == epoch
+    assert counts == {
+        "/odom": ("nav_msgs/msg/Odometry", 401),
+        "/tf": ("tf2_msgs/msg/TFMessage", 401),
+    }
+    again = runner.invoke(main, args)
+    assert again.exit_code == 2
+    assert "exists: use --force" in again.stderr
+
+
+def test_odom_bag_output_needs_a_directory_name(runner: CliRunner, trajectory_a: Path) -> None:
+    result = runner.invoke(main, ["odom", str(trajectory_a), "--bag"])
+    assert result.exit_code == 2
+    assert result.stderr == "error: --bag writes the --out directory: give --out DIR\n"
+
+
+def test_odom_lists_the_topics_of_a_bag_without_the_topic(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    bag = write_bag(tmp_path / "in", [(1, 1, [LEFT, RIGHT], [0.0, 0.0])], topic="/js")
+    result = runner.invoke(main, ["odom", str(bag)])
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"error: {bag}: no topic '/joint_states' in the bag; topics found: '/chatter', '/js'\n"
+    )
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "message"),
+    [
+        ("empty.csv", "", "empty.csv: empty file"),
+        ("notime.csv", f"secs,{LEFT},{RIGHT}\n0,0,0\n", "no time column"),
+        ("nowheel.csv", "time,a,b\n0,0,0\n", "columns found: 'time', 'a', 'b'"),
+        ("nothing.csv", f"time,{LEFT},{RIGHT}\n0,nan,0\n1,,1\n", "no usable sample"),
+        ("header.csv", f"time,{LEFT},{RIGHT}\n", "no usable sample"),
+    ],
+)
+def test_odom_refuses_bad_csv_with_one_error_line(
+    runner: CliRunner, tmp_path: Path, name: str, text: str, message: str
+) -> None:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    result = runner.invoke(main, ["odom", str(path)])
+    assert result.exit_code == 2
+    assert result.stderr.startswith("error: ")
+    assert message in result.stderr
+    assert result.stderr.count("\n") == 1
+    assert "Traceback" not in result.output
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["missing.csv"], "missing.csv: no such file or directory"),
+        ([], "expected one INPUT"),
+        (["a.csv", "b.csv"], "expected one INPUT"),
+        (["emptydir"], "not a readable rosbag2 recording"),
+        (["bad.mcap"], "not a readable rosbag2 recording"),
+        (["a.csv", "--wheel-radius", "-1"], "'-1' must be > 0"),
+        (["a.csv", "--robot", "nope.urdf"], "nope.urdf: no such file"),
+    ],
+)
+def test_odom_refuses_bad_arguments_with_exit_code_2(
+    runner: CliRunner,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    args: list[str],
+    message: str,
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "a.csv").write_text(f"time,{LEFT},{RIGHT}\n0,0,0\n", encoding="utf-8")
+    (tmp_path / "b.csv").write_text(f"time,{LEFT},{RIGHT}\n0,0,0\n", encoding="utf-8")
+    (tmp_path / "emptydir").mkdir()
+    (tmp_path / "bad.mcap").write_bytes(b"\x00" * 64)
+    result = runner.invoke(main, ["odom", *args])
+    assert result.exit_code == 2
+    assert result.stderr.startswith("error: ")
+    assert message in result.stderr
+    assert "Traceback" not in result.output
