@@ -609,6 +609,7 @@ def _skipped_text(skipped: Mapping[str, int]) -> str:
 @robot_options
 @click.option(
     "--topic",
+    metavar="TOPIC",
     default="/joint_states",
     show_default=True,
     help="The sensor_msgs/JointState topic of a bag.",
@@ -642,7 +643,11 @@ def odom(
     directory (sqlite3 or mcap) or a .mcap file holding sensor_msgs/JointState on --topic. Each
     step is integrated exactly along its arc; the first sample sets the encoder baseline. Samples
     without both wheel joints, with NaN/inf or with a stamp not after the previous one are
-    skipped and reported. Reading bags needs: pip install 'diffbot-kinematics[bag]'.
+    skipped and reported.
+
+    \b
+    Reading bags needs the optional rosbags dependency:
+      pip install 'diffbot-kinematics[bag]'
 
     \b
     Examples:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 from pathlib import Path
 
 import pytest
@@ -207,3 +208,16 @@ def test_odom_refuses_bad_arguments_with_exit_code_2(
     assert result.stderr.startswith("error: ")
     assert message in result.stderr
     assert "Traceback" not in result.output
+
+
+def test_odom_without_rosbags_says_what_to_install(
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    bag = write_bag(tmp_path / "in", [(1, 1, [LEFT, RIGHT], [0.0, 0.0])])
+    monkeypatch.setitem(sys.modules, "rosbags.typesys", None)
+    result = runner.invoke(main, ["odom", str(bag)])
+    assert result.exit_code == 2
+    assert result.stderr == (
+        "error: reading and writing ROS 2 bags needs the rosbags library: "
+        "pip install 'diffbot-kinematics[bag]'\n"
+    )
