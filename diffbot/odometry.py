@@ -292,7 +292,7 @@ class Odometry:
         # The same formulas as integrate(), so both agree to the last bit wherever math and NumPy
         # agree on sin and cos. The heading is linear in the wheel angles, so it is computed from
         # the angles travelled since the baseline rather than summed step by step: its rounding
-        # error then stays at an ulp instead of growing with the number of samples.
+        # error then stays at a few ulps of those angles instead of growing with every sample.
         dl = (left - self._left) * self._left_scale
         dr = (right - self._right) * self._right_scale
         ds = (dl + dr) * 0.5
