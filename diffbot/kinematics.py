@@ -128,10 +128,11 @@ class DiffDriveParams:
 
     @property
     def max_wheel_rpm(self) -> float | None:
-        """The motor limit in rpm, or None."""
+        """The motor limit in rpm (12 significant digits), or None."""
         if self.max_wheel_speed is None:
             return None
-        return rpm_from_rad_s(self.max_wheel_speed)
+        # rpm is for people: drop the last-bit noise of the rpm -> rad/s -> rpm round trip.
+        return float(f"{rpm_from_rad_s(self.max_wheel_speed):.12g}")
 
     def replace(self, **changes: Any) -> DiffDriveParams:
         """A copy with some fields changed (validated again)."""

@@ -491,6 +491,10 @@ def _pick(
             "(--left-joint/--right-joint)"
         )
 
+    if candidates:
+        for side, given in (("left", left_joint), ("right", right_joint)):
+            if not given and not by_side[side]:
+                auto(side)  # raises: nothing on that side is worse than a choice on the other
     left = chosen(left_joint, "left") if left_joint else auto("left")
     right = chosen(right_joint, "right") if right_joint else auto("right")
     return left, right
