@@ -51,8 +51,20 @@ def fail(message: str) -> NoReturn:
     raise InputError(message)
 
 
+class _PipeClosedError(Exception):
+    """The reader of stdout went away (click would turn the EPIPE into exit code 1)."""
+
+
 class DiffbotGroup(click.Group):
     """The command group; turns every error into one ``error:`` line and an exit code."""
+
+    def invoke(self, ctx: click.Context) -> Any:
+        try:
+            result = super().invoke(ctx)
+            sys.stdout.flush()
+        except BrokenPipeError:
+            raise _PipeClosedError from None
+        return result
 
     def main(
         self,
@@ -64,6 +76,9 @@ class DiffbotGroup(click.Group):
     ) -> Any:
         try:
             code = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
+        except click.exceptions.NoArgsIsHelpError as err:
+            click.echo(err.ctx.get_help() if err.ctx else err.format_message())
+            code = 0
         except click.UsageError as err:
             hint = ""
             if err.ctx is not None:
@@ -75,21 +90,19 @@ class DiffbotGroup(click.Group):
             _error(str(err), EXIT_BAD_INPUT)
         except click.Abort:
             _error("aborted", 130)
-        except BrokenPipeError:
-            # The reader of our output went away (``| head``): nothing more to say.
-            sys.stderr = open(_devnull(), "w")  # noqa: SIM115 - silence the flush at exit
-            sys.exit(EXIT_CHECK_FAILED)
+        except (BrokenPipeError, _PipeClosedError):
+            # The reader went away (``| head``). Exit as a process killed by SIGPIPE would, and
+            # point stdout at /dev/null so the flush at exit cannot fail again.
+            import os
+
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            sys.exit(128 + 13)
         except OSError as err:
             _error(f"{err.filename + ': ' if err.filename else ''}{err.strerror or err}", 2)
         if not standalone_mode:
             return code
         sys.exit(code if isinstance(code, int) else 0)
-
-
-def _devnull() -> str:
-    import os
-
-    return os.devnull
 
 
 def _error(message: str, code: int) -> NoReturn:
@@ -145,22 +158,46 @@ NON_NEGATIVE = FiniteFloat(0.0)
 FINITE = FiniteFloat()
 
 
+def check_finite(what: str, *values: float) -> None:
+    """Bad input when a result overflows to inf or NaN (inputs too large to compute with)."""
+    if not all(math.isfinite(v) for v in values):
+        fail(f"the {what} overflow: the inputs are too large to compute with")
+
+
 def parse_number(token: str, what: str) -> float:
     """A finite float from a command-line token, or a bad-input error naming it."""
     try:
         number = float(token)
     except ValueError:
+        if token.startswith("-"):
+            fail(f"no such option: {token!r}")
         fail(f"{what}: {token!r} is not a number")
     if not math.isfinite(number):
         fail(f"{what}: {token!r} is not a finite number")
     return number
 
 
+def _looks_like_option(token: str) -> bool:
+    if not token.startswith("-") or token == "-":
+        return False
+    try:
+        float(token)
+    except ValueError:
+        return True
+    return False
+
+
 def split_xacro_args(tokens: Sequence[str]) -> tuple[list[str], dict[str, str]]:
-    """Separate ``NAME:=VALUE`` xacro arguments from the other positional tokens."""
+    """Separate ``NAME:=VALUE`` xacro arguments from the other positional tokens.
+
+    Commands that take negative numbers let unknown options through as tokens; a token that
+    looks like an option but is no number is reported here as the unknown option it is.
+    """
     rest: list[str] = []
     args: dict[str, str] = {}
     for token in tokens:
+        if _looks_like_option(token) and ":=" not in token:
+            fail(f"no such option: {token!r}")
         if ":=" in token:
             name, _, value = token.partition(":=")
             if not name or not name.replace("_", "a").replace("-", "a").isalnum():
@@ -396,12 +433,7 @@ def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
 @click.argument("tokens", nargs=-1, metavar="[PATH] [NAME:=VALUE]...")
 @click.option("--robot", metavar="PATH", help="Robot description (same as PATH).")
 @click.option("--package", "packages", metavar="NAME=DIR", multiple=True, help="Package directory.")
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False, writable=True),
-    help="Write to this file instead of stdout.",
-)
+@click.option("-o", "--output", metavar="FILE", help="Write to this file instead of stdout.")
 @click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
 def urdf(
     tokens: tuple[str, ...],
@@ -419,7 +451,7 @@ def urdf(
     Example:
       diffbot urdf robot.urdf.xacro wheel_radius:=0.04 --package my_robot=./my_robot -o robot.urdf
     """
-    from diffbot.urdf import expand
+    from diffbot.urdf import BUNDLED_DESCRIPTION, expand
 
     rest, xacro_args = split_xacro_args(tokens)
     if len(rest) > 1:
@@ -433,24 +465,52 @@ def urdf(
     if output is None:
         click.echo(expansion.urdf, nl=False)
     else:
-        write_text_atomic(Path(output), expansion.urdf, force=force)
+        source = Path(path) if path is not None else BUNDLED_DESCRIPTION
+        write_text_atomic(Path(output), expansion.urdf, force=force, inputs=[source])
 
 
-def write_text_atomic(path: Path, text: str, *, force: bool) -> None:
-    """Write a whole file or nothing: a temporary file beside it, then a rename."""
+def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Path:
+    """Check where an output may go; return the real path to replace (links followed).
+
+    Raises a bad-input error when the path exists and ``force`` is not given, is not a regular
+    file (a directory, a device), lies in a missing directory, or is one of the ``inputs``.
+    """
+    target = path.resolve() if path.is_symlink() else path
+    if path.exists() or path.is_symlink():
+        if not force:
+            fail(f"{path} exists: use --force to overwrite it")
+        if target.exists() and not target.is_file():
+            fail(f"{path} is not a regular file: refusing to replace it")
+    if not target.parent.is_dir():
+        fail(f"{path}: directory {target.parent} does not exist")
+    for source in inputs:
+        if source.exists() and target.exists() and source.resolve() == target.resolve():
+            fail(f"{path} is an input: refusing to overwrite it")
+    return target
+
+
+def write_text_atomic(path: Path, text: str, *, force: bool, inputs: Sequence[Path] = ()) -> None:
+    """Write a whole file or nothing: a temporary file beside it, then a rename.
+
+    The file gets the permissions of the file it replaces, or the usual ones (umask applied).
+    """
     import os
+    import stat
     import tempfile
 
-    if path.exists() and not force:
-        fail(f"{path} exists: use --force to overwrite it")
-    directory = path.parent if str(path.parent) else Path(".")
-    if not directory.is_dir():
-        fail(f"{path}: directory {directory} does not exist")
-    fd, tmp = tempfile.mkstemp(dir=directory, prefix=f".{path.name}.", suffix=".tmp")
+    target = output_target(path, force=force, inputs=inputs)
+    if target.exists():
+        mode = stat.S_IMODE(target.stat().st_mode)
+    else:
+        umask = os.umask(0)
+        os.umask(umask)
+        mode = 0o666 & ~umask
+    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as out:
             out.write(text)
-        os.replace(tmp, path)
+        os.chmod(tmp, mode)
+        os.replace(tmp, target)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -495,6 +555,10 @@ def ik(robot: RobotOptions, tokens: tuple[str, ...], do_saturate: bool, as_json:
     angular = parse_number(rest[1], "ANGULAR")
     p = robot.with_path(None, xacro_args).load()
     wheels = inverse(p, linear, angular)
+    check_finite(
+        "wheel speeds", float(wheels.left), float(wheels.right), float(rpm_from_rad_s(wheels.left))
+    )
+    check_finite("wheel speeds", float(rpm_from_rad_s(wheels.right)))
     saturated = False
     if do_saturate and not within_limit(p, wheels):
         wheels = saturate(p, wheels)
@@ -565,6 +629,7 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
     wheels = wheel_from_joint(p, WheelSpeeds(left, right))
     twist = forward(p, wheels.left, wheels.right)
     linear, angular = float(twist.linear), float(twist.angular)
+    check_finite("body velocity", linear, angular)
     if as_json:
         emit_json({"linear": linear, "angular": angular})
         return

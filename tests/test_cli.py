@@ -311,3 +311,67 @@ def test_bad_input_from_a_real_process_has_no_traceback(tmp_path: Path) -> None:
     assert result.stderr.startswith("error: ")
     assert result.stderr.count("\n") == 1
     assert result.stdout == ""
+
+
+def test_no_arguments_prints_the_help(runner: CliRunner) -> None:
+    result = run(runner)
+    assert result.exit_code == 0
+    assert result.stdout.startswith("Usage: diffbot")
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (["ik", "1e308", "0", "--json"], "overflow"),
+        (["ik", "1e306", "0"], "overflow"),
+        (["fk", "1e308", "-1e308", "--json"], "overflow"),
+        (["ik", "0.1", "0", "--saturat"], "no such option: '--saturat'"),
+        (["fk", "-x", "1"], "no such option: '-x'"),
+        (["params", "max_wheel_rpm:=nan"], "non-finite velocity limit"),
+        (["params", "wheel_separation:=inf"], "non-finite origin"),
+    ],
+)
+def test_overflow_mistyped_options_and_bad_limits_are_one_error_line(
+    runner: CliRunner, args: list[str], fragment: str
+) -> None:
+    assert_one_line_error(run(runner, *args), fragment)
+
+
+def test_urdf_output_gets_ordinary_permissions_and_keeps_existing_ones(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    import os
+
+    out = tmp_path / "a.urdf"
+    old = os.umask(0o022)
+    try:
+        assert run(runner, "urdf", "-o", str(out)).exit_code == 0
+        assert out.stat().st_mode & 0o777 == 0o644
+        out.chmod(0o640)
+        assert run(runner, "urdf", "-o", str(out), "--force").exit_code == 0
+        assert out.stat().st_mode & 0o777 == 0o640
+    finally:
+        os.umask(old)
+
+
+def test_urdf_output_writes_through_a_link_and_never_over_the_input(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    from diffbot.urdf import BUNDLED_DESCRIPTION
+
+    real = tmp_path / "real.urdf"
+    real.write_text("old")
+    link = tmp_path / "link.urdf"
+    link.symlink_to(real)
+    assert_one_line_error(run(runner, "urdf", "-o", str(link)), "exists: use --force")
+    assert run(runner, "urdf", "-o", str(link), "--force").exit_code == 0
+    assert link.is_symlink()
+    assert real.read_text().startswith("<?xml")
+    dangling = tmp_path / "dangling.urdf"
+    dangling.symlink_to(tmp_path / "nowhere.urdf")
+    assert_one_line_error(run(runner, "urdf", "-o", str(dangling)), "exists: use --force")
+    copy = tmp_path / "copy.urdf.xacro"
+    copy.write_text(BUNDLED_DESCRIPTION.read_text())
+    assert_one_line_error(run(runner, "urdf", str(copy), "-o", str(copy), "--force"), "is an input")
+    assert copy.read_text() == BUNDLED_DESCRIPTION.read_text()
+    assert_one_line_error(run(runner, "urdf", "-o", str(tmp_path), "--force"), "not a regular file")

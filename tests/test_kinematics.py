@@ -230,3 +230,38 @@ def test_params_are_immutable_and_report_rpm() -> None:
     assert params.max_wheel_rpm == pytest.approx(50.0, rel=1e-12)
     with pytest.raises(AttributeError, match="cannot assign"):
         params.wheel_radius = 1.0  # type: ignore[misc]
+
+
+def test_a_nan_wheel_speed_is_never_within_a_limit() -> None:
+    limited = SEED.replace(max_wheel_speed=5.0)
+    for speeds in (WheelSpeeds(1.0, math.nan), WheelSpeeds(math.nan, 1.0)):
+        assert not diffbot.within_limit(limited, speeds)
+        assert not diffbot.within_limit(limited, speeds, limit=0.0)
+    assert not diffbot.within_limit(limited, WheelSpeeds(np.array([1.0, np.nan]), np.zeros(2)))
+
+
+def test_a_negative_limit_is_rejected() -> None:
+    with pytest.raises(diffbot.ParameterError, match="limit must be a finite number >= 0"):
+        diffbot.saturate(SEED, WheelSpeeds(1.0, 2.0), limit=-1.0)
+
+
+def test_saturating_an_infinite_speed_is_rejected() -> None:
+    with pytest.raises(diffbot.ParameterError, match="cannot saturate non-finite"):
+        diffbot.saturate(SEED.replace(max_wheel_speed=1.0), WheelSpeeds(math.inf, 1.0))
+
+
+def test_norm_angle_works_on_arrays_like_on_floats() -> None:
+    angles = np.array([-7.0, -math.pi, 0.0, math.pi, 3 * math.pi, 7.0])
+    expected = [diffbot.norm_angle(float(a)) for a in angles]
+    np.testing.assert_allclose(diffbot.norm_angle(angles), expected, atol=1e-12)
+
+
+@pytest.mark.parametrize("sign", [1.0, True])
+def test_direction_signs_must_be_integers(sign: object) -> None:
+    with pytest.raises(diffbot.ParameterError, match="left_sign must be"):
+        SEED.replace(left_sign=sign)
+
+
+def test_a_missing_radius_is_a_parameter_error() -> None:
+    with pytest.raises(diffbot.ParameterError, match="wheel radius must be"):
+        DiffDriveParams(None, 0.1)  # type: ignore[arg-type]
