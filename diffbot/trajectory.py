@@ -552,6 +552,11 @@ def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> 
         )
     signature = _SIGNATURES[kind]
     args = tokens[1:]
+    for token in args:
+        if token.text.lower() in _ALL_UNITS:
+            raise error(
+                token, f"{token.text!r} is a unit: write it attached to its number, as in 25cm"
+            )
     if len(args) < len(signature):
         missing = " and ".join(role.upper() for role, _, _ in signature[len(args) :])
         last = args[-1] if args else head
@@ -559,11 +564,6 @@ def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> 
     if len(args) > len(signature) + 1:
         extra = args[len(signature) + 1]
         raise error(extra, f"unexpected {extra.text!r}: {_USAGE[kind]}")
-    for token in args:
-        if token.text.lower() in _ALL_UNITS:
-            raise error(
-                token, f"{token.text!r} is a unit: write it attached to its number, as in 25cm"
-            )
     values: list[float] = []
     for token, (role, dimension, rule) in zip(args, signature, strict=False):
         try:
