@@ -80,8 +80,18 @@ EXAMPLES: dict[str, str] = {
 }
 
 
+def _as_float(value: object) -> float:
+    """``float(value)``, or NaN for what is not a number (a string, None, an int too large)."""
+    if isinstance(value, bool):
+        return math.nan
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):
+        return math.nan
+
+
 def _positive(value: float, what: str) -> float:
-    number = float(value)
+    number = _as_float(value)
     if not math.isfinite(number) or number <= 0.0:
         raise PlanError(f"{what} must be a positive finite number, got {value!r}")
     return number
@@ -145,7 +155,7 @@ class Spin:
     duration: float | None = None
 
     def __post_init__(self) -> None:
-        angle = float(self.angle)
+        angle = _as_float(self.angle)
         if not math.isfinite(angle) or angle == 0.0:
             raise PlanError(f"a spin's angle (rad) must be finite and not zero, got {self.angle!r}")
         object.__setattr__(self, "angle", angle)
@@ -286,13 +296,6 @@ def _advance(x: float, y: float, heading: float, ds: float, turn: float) -> Pose
     return Pose(x + chord * math.cos(mean), y + chord * math.sin(mean), heading + turn)
 
 
-def _check_rate(value: float, what: str) -> float:
-    try:
-        return _positive(value, what)
-    except (TypeError, ValueError):
-        raise PlanError(f"{what} must be a positive finite number, got {value!r}") from None
-
-
 def plan(
     segments: Iterable[Segment],
     params: DiffDriveParams,
@@ -326,9 +329,9 @@ def plan(
     for item in items:
         if not isinstance(item, Straight | Arc | Spin):
             raise PlanError(f"not a plan segment: {item!r}")
-    speed = _check_rate(speed, "the cruise speed (m/s)")
-    spin_rate = _check_rate(spin_rate, "the spin rate (rad/s)")
-    lim = params.max_wheel_speed if limit is None else float(limit)
+    speed = _positive(speed, "the cruise speed (m/s)")
+    spin_rate = _positive(spin_rate, "the spin rate (rad/s)")
+    lim = params.max_wheel_speed if limit is None else _as_float(limit)
     if lim is not None and (not math.isfinite(lim) or lim < 0.0):
         raise PlanError(f"the motor limit must be a finite number >= 0 (rad/s), got {limit!r}")
     if lim == 0.0:
@@ -691,7 +694,7 @@ def _entry_value(value: object, dimension: Dimension, what: str) -> float:
             return _quantity(value, dimension)
         except _BadValueError as err:
             raise _BadValueError(f"{what} {value!r}: {err}") from None
-    number = float(value)
+    number = _as_float(value)
     if not math.isfinite(number):
         raise _BadValueError(f"{what} {value!r}: not a finite number")
     return math.radians(number) if dimension == "angle" else number

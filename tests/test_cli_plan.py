@@ -26,7 +26,8 @@ from diffbot import EXAMPLES, DiffDriveParams, parse_plan, plan
 from diffbot.cli import _ceil_text, _yaml_float, main
 
 Write = Callable[[str, str], Path]
-SH = shutil.which("sh")
+SH = shutil.which("sh") or "sh"
+HAS_SH = shutil.which("sh") is not None
 
 
 def run(runner: CliRunner, *args: str) -> Result:
@@ -59,11 +60,11 @@ def test_default_is_trajectory_A_as_a_table(runner: CliRunner) -> None:
     assert rows[0][1:6] == ["ccw", "arc", "r", "0.25", "m"]
     # v, w, left rad/s, rpm, right rad/s, rpm, %, time, x, y, theta
     assert rows[0][8:] == [
-        "0.07854",
+        "0.0785",
         "0.3142",
         "1.638",
         "15.64",
-        "2.85",
+        "2.850",
         "27.21",
         "54.4",
         "10",
@@ -72,8 +73,8 @@ def test_default_is_trajectory_A_as_a_table(runner: CliRunner) -> None:
         "180.00",
     ]
     assert rows[1][4:] == [
-        "0.1",
-        "0",
+        "0.1000",
+        "0.0000",
         "2.857",
         "27.28",
         "2.857",
@@ -261,7 +262,7 @@ def ros2_script(runner: CliRunner, tmp_path: Path, *args: str) -> Path:
     return script
 
 
-@pytest.mark.skipif(SH is None, reason="needs a POSIX sh")
+@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
 def test_ros2_script_is_valid_sh_and_publishes_each_twist_then_zero(
     runner: CliRunner, tmp_path: Path
 ) -> None:
@@ -285,7 +286,7 @@ def test_ros2_script_is_valid_sh_and_publishes_each_twist_then_zero(
     ]
 
 
-@pytest.mark.skipif(SH is None, reason="needs a POSIX sh")
+@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
 def test_ros2_script_holds_each_segment_for_exactly_its_duration(
     runner: CliRunner, tmp_path: Path
 ) -> None:
@@ -303,7 +304,7 @@ def test_ros2_script_holds_each_segment_for_exactly_its_duration(
     assert calls[-1][2] == "--once"
 
 
-@pytest.mark.skipif(SH is None, reason="needs a POSIX sh")
+@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
 def test_ros2_script_with_wheels_publishes_both_wheels_together_then_zero(
     runner: CliRunner, tmp_path: Path
 ) -> None:
@@ -331,7 +332,7 @@ def test_ros2_script_with_wheels_publishes_both_wheels_together_then_zero(
     ]
 
 
-@pytest.mark.skipif(SH is None, reason="needs a POSIX sh")
+@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
 @pytest.mark.parametrize(
     ("wheels", "signum", "code"),
     [
@@ -347,7 +348,7 @@ def test_ros2_script_stops_the_robot_when_interrupted(
     log = tmp_path / "log"
     env = make_fake_ros2(tmp_path, log, sleep=0.5)
     process = subprocess.Popen(
-        [SH or "sh", str(script)],
+        [SH, str(script)],
         env=env,
         # A shell that starts with SIGINT ignored cannot trap it: give it the default.
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),

@@ -7,6 +7,7 @@ import json
 import math
 from collections.abc import Callable
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
 import pytest
@@ -31,7 +32,12 @@ from diffbot import (
     pose_at,
     wheel_positions,
 )
-from diffbot.trajectory import DEFAULT_SPIN_RATE, describe_segment, format_segment
+from diffbot.trajectory import (
+    DEFAULT_SPIN_RATE,
+    describe_segment,
+    format_segment,
+    segments_from_data,
+)
 
 Write = Callable[[str, str], Path]
 
@@ -363,13 +369,9 @@ def test_wheel_positions_integrate_the_joint_commands(params: DiffDriveParams) -
     times = np.array([[-1.0, 0.0, 5.0], [10.0, 15.0, 99.0]])
     left, right = wheel_positions(p, times)
     assert left.shape == right.shape == (2, 3)
-    first, second = p.segments[0].joints, p.segments[1].joints
-    expected_left = [
-        [0.0, 0.0, 5 * first.left],
-        [10 * first.left, 10 * first.left + 5 * second.left, None],
-    ]
-    assert left[0].tolist() == pytest.approx(expected_left[0], rel=1e-12)
-    assert left[1, :2].tolist() == pytest.approx(expected_left[1][:2], rel=1e-12)
+    first, second = float(p.segments[0].joints.left), float(p.segments[1].joints.left)
+    assert left[0].tolist() == pytest.approx([0.0, 0.0, 5 * first], rel=1e-12)
+    assert left[1, :2].tolist() == pytest.approx([10 * first, 10 * first + 5 * second], rel=1e-12)
     total = sum(float(s.joints.left) * s.duration for s in p.segments)
     assert left[1, 2] == pytest.approx(total, rel=1e-12)
     # Trajectory A turns as much left as right: both wheels travel the same.
@@ -402,7 +404,7 @@ robots = st.builds(
 
 def mirror(segment: Segment) -> Segment:
     if isinstance(segment, Arc):
-        other = "cw" if segment.direction == "ccw" else "ccw"
+        other: Literal["cw", "ccw"] = "cw" if segment.direction == "ccw" else "ccw"
         return Arc(segment.radius, segment.angle, other, segment.duration)
     if isinstance(segment, Spin):
         return Spin(-segment.angle, segment.duration)
@@ -708,3 +710,60 @@ def test_missing_file_and_directory_are_plan_errors(tmp_path: Path) -> None:
         load_plan(tmp_path / "absent.yaml")
     with pytest.raises(PlanError, match="is a directory"):
         load_plan(tmp_path)
+
+
+# --------------------------------------------------------------------------------------------
+# Robustness: whatever comes in, a segment list or a PlanError, never another exception
+
+
+def attempt(read: Callable[[], list[Segment]]) -> list[Segment] | str:
+    """The segments read, or the message of the PlanError raised instead."""
+    try:
+        return read()
+    except PlanError as err:
+        return str(err)
+
+
+@given(st.text(max_size=60))
+def test_any_text_either_parses_or_raises_a_plan_error(text: str) -> None:
+    outcome = attempt(lambda: parse_plan(text))
+    if isinstance(outcome, str):
+        assert "\n" not in outcome
+    else:
+        assert outcome
+        assert all(isinstance(s, Straight | Arc | Spin) for s in outcome)
+
+
+keys = st.sampled_from(["straight", "arc", "spin", "radius", "angle", "duration", "segments"])
+scalars = (
+    st.none()
+    | st.booleans()
+    | st.integers()
+    | st.floats()
+    | st.sampled_from(["ccw", "cw", "25cm", "90deg", "10s", "x", "straight 1"])
+)
+documents = st.recursive(
+    scalars,
+    lambda children: (
+        st.lists(children, max_size=4)
+        | st.dictionaries(keys | st.text(max_size=4), children, max_size=4)
+    ),
+    max_leaves=12,
+)
+
+
+@given(documents)
+def test_any_parsed_document_either_gives_segments_or_a_plan_error(data: object) -> None:
+    outcome = attempt(lambda: segments_from_data(data, "doc"))
+    if isinstance(outcome, str):
+        assert outcome.startswith("doc: ")
+    else:
+        assert outcome
+        assert all(isinstance(s, Straight | Arc | Spin) for s in outcome)
+
+
+def test_integers_too_large_for_a_float_are_not_finite() -> None:
+    with pytest.raises(PlanError, match=r"entry 1: straight 1000.*not a finite number"):
+        segments_from_data([{"straight": 10**400}])
+    with pytest.raises(PlanError, match="length"):
+        Straight(10**400)
