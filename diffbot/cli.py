@@ -489,10 +489,18 @@ def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Pa
     return target
 
 
-def write_text_atomic(path: Path, text: str, *, force: bool, inputs: Sequence[Path] = ()) -> None:
+def write_text_atomic(
+    path: Path,
+    text: str,
+    *,
+    force: bool,
+    inputs: Sequence[Path] = (),
+    executable: bool = False,
+) -> None:
     """Write a whole file or nothing: a temporary file beside it, then a rename.
 
-    The file gets the permissions of the file it replaces, or the usual ones (umask applied).
+    The file gets the permissions of the file it replaces, or the usual ones (umask applied;
+    executable ones for scripts).
     """
     import os
     import stat
@@ -505,6 +513,8 @@ def write_text_atomic(path: Path, text: str, *, force: bool, inputs: Sequence[Pa
         umask = os.umask(0)
         os.umask(umask)
         mode = 0o666 & ~umask
+    if executable:
+        mode |= (mode & 0o444) >> 2  # x wherever r
     fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as out:
@@ -789,7 +799,7 @@ def _plan_json(p: Plan, label: str) -> dict[str, Any]:
         "final_pose": _pose_json(p.final_pose),
         "within_limit": p.within_limit,
         "limit": p.limit,
-        "limit_rpm": None if p.limit is None else rpm_from_rad_s(p.limit),
+        "limit_rpm": None if p.limit is None else float(f"{rpm_from_rad_s(p.limit):.12g}"),
         "violations": [
             {
                 "segment": v.index + 1,
@@ -1099,15 +1109,6 @@ def _check_topic(option: str, name: str) -> str:
     return name
 
 
-def _set_file_mode(path: Path, executable: bool) -> None:
-    """Give a written file the usual mode (the temporary file it came from was private)."""
-    import os
-
-    mask = os.umask(0)
-    os.umask(mask)
-    os.chmod(path, (0o777 if executable else 0o666) & ~mask)
-
-
 @main.command("plan", context_settings=NUMBERS)
 @click.argument("tokens", nargs=-1, metavar="[SPEC | FILE] [NAME:=VALUE]...")
 @robot_options
@@ -1286,8 +1287,13 @@ def plan_command(
     if output is None:
         click.echo(text, nl=False)
     else:
-        write_text_atomic(Path(output), text, force=force)
-        _set_file_mode(Path(output), executable=output_format == "ros2")
+        write_text_atomic(
+            Path(output),
+            text,
+            force=force,
+            inputs=[Path(source.path)] if source.path is not None else [],
+            executable=output_format == "ros2",
+        )
     if not p.within_limit:
         for line in _violation_lines(p):
             click.echo(line, err=True)

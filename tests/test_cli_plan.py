@@ -493,7 +493,7 @@ def test_example_and_a_spec_together_are_bad_input(runner: CliRunner) -> None:
 
 
 def test_unknown_option_is_bad_input_not_a_plan_token(runner: CliRunner) -> None:
-    assert_bad_input(run(runner, "--formt", "json"), "no such option: --formt")
+    assert_bad_input(run(runner, "--formt", "json"), "no such option: '--formt'")
 
 
 @pytest.mark.parametrize(
