@@ -5,6 +5,8 @@ Quick use::
     import diffbot
     params = diffbot.load_params()                 # the bundled robot
     diffbot.inverse(params, 0.1, 0.0)              # WheelSpeeds(left=2.857..., right=2.857...)
+    p = diffbot.plan(diffbot.parse_plan("ccw 0.25 180 10s; straight 1 10s"), params)
+    p.final_pose                                   # Pose(x=-1.0, y=0.5..., theta=3.14159...)
 
 SI units throughout: metres, seconds, radians, rad/s.
 """
@@ -37,12 +39,30 @@ from diffbot.kinematics import (
     within_limit,
 )
 from diffbot.odometry import Odometry, OdometryMessage, PoseSeries, TransformStamped, integrate
+from diffbot.trajectory import (
+    EXAMPLES,
+    Arc,
+    Plan,
+    PlannedSegment,
+    Segment,
+    Spin,
+    Straight,
+    Violation,
+    format_plan,
+    load_plan,
+    parse_plan,
+    plan,
+    pose_at,
+    wheel_positions,
+)
 from diffbot.urdf import BUNDLED_DESCRIPTION, derive_params, expand, load_params
 
 __version__ = "0.1.0"
 
 __all__ = [
     "BUNDLED_DESCRIPTION",
+    "EXAMPLES",
+    "Arc",
     "DescriptionError",
     "DiffDriveParams",
     "DiffbotError",
@@ -52,27 +72,39 @@ __all__ = [
     "OutputExistsError",
     "PackageNotFoundError",
     "ParameterError",
+    "Plan",
     "PlanError",
+    "PlannedSegment",
     "Pose",
     "PoseSeries",
     "RecordingError",
+    "Segment",
+    "Spin",
+    "Straight",
     "TransformStamped",
     "Twist",
+    "Violation",
     "WheelSpeeds",
     "XacroError",
     "__version__",
     "derive_params",
     "expand",
+    "format_plan",
     "forward",
     "integrate",
     "inverse",
     "joint_from_wheel",
     "limit_fraction",
     "load_params",
+    "load_plan",
     "norm_angle",
+    "parse_plan",
+    "plan",
+    "pose_at",
     "rad_s_from_rpm",
     "rpm_from_rad_s",
     "saturate",
     "wheel_from_joint",
+    "wheel_positions",
     "within_limit",
 ]

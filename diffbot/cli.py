@@ -13,7 +13,7 @@ import sys
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NoReturn, TypeVar
+from typing import TYPE_CHECKING, Any, NoReturn, TypeVar
 
 import click
 
@@ -51,8 +51,20 @@ def fail(message: str) -> NoReturn:
     raise InputError(message)
 
 
+class _PipeClosedError(Exception):
+    """The reader of stdout went away (click would turn the EPIPE into exit code 1)."""
+
+
 class DiffbotGroup(click.Group):
     """The command group; turns every error into one ``error:`` line and an exit code."""
+
+    def invoke(self, ctx: click.Context) -> Any:
+        try:
+            result = super().invoke(ctx)
+            sys.stdout.flush()
+        except BrokenPipeError:
+            raise _PipeClosedError from None
+        return result
 
     def main(
         self,
@@ -64,6 +76,9 @@ class DiffbotGroup(click.Group):
     ) -> Any:
         try:
             code = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
+        except click.exceptions.NoArgsIsHelpError as err:
+            click.echo(err.ctx.get_help() if err.ctx else err.format_message())
+            code = 0
         except click.UsageError as err:
             hint = ""
             if err.ctx is not None:
@@ -75,21 +90,19 @@ class DiffbotGroup(click.Group):
             _error(str(err), EXIT_BAD_INPUT)
         except click.Abort:
             _error("aborted", 130)
-        except BrokenPipeError:
-            # The reader of our output went away (``| head``): nothing more to say.
-            sys.stderr = open(_devnull(), "w")  # noqa: SIM115 - silence the flush at exit
-            sys.exit(EXIT_CHECK_FAILED)
+        except (BrokenPipeError, _PipeClosedError):
+            # The reader went away (``| head``). Exit as a process killed by SIGPIPE would, and
+            # point stdout at /dev/null so the flush at exit cannot fail again.
+            import os
+
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            sys.exit(128 + 13)
         except OSError as err:
             _error(f"{err.filename + ': ' if err.filename else ''}{err.strerror or err}", 2)
         if not standalone_mode:
             return code
         sys.exit(code if isinstance(code, int) else 0)
-
-
-def _devnull() -> str:
-    import os
-
-    return os.devnull
 
 
 def _error(message: str, code: int) -> NoReturn:
@@ -145,22 +158,46 @@ NON_NEGATIVE = FiniteFloat(0.0)
 FINITE = FiniteFloat()
 
 
+def check_finite(what: str, *values: float) -> None:
+    """Bad input when a result overflows to inf or NaN (inputs too large to compute with)."""
+    if not all(math.isfinite(v) for v in values):
+        fail(f"the {what} overflow: the inputs are too large to compute with")
+
+
 def parse_number(token: str, what: str) -> float:
     """A finite float from a command-line token, or a bad-input error naming it."""
     try:
         number = float(token)
     except ValueError:
+        if token.startswith("-"):
+            fail(f"no such option: {token!r}")
         fail(f"{what}: {token!r} is not a number")
     if not math.isfinite(number):
         fail(f"{what}: {token!r} is not a finite number")
     return number
 
 
+def _looks_like_option(token: str) -> bool:
+    if not token.startswith("-") or token == "-":
+        return False
+    try:
+        float(token)
+    except ValueError:
+        return True
+    return False
+
+
 def split_xacro_args(tokens: Sequence[str]) -> tuple[list[str], dict[str, str]]:
-    """Separate ``NAME:=VALUE`` xacro arguments from the other positional tokens."""
+    """Separate ``NAME:=VALUE`` xacro arguments from the other positional tokens.
+
+    Commands that take negative numbers let unknown options through as tokens; a token that
+    looks like an option but is no number is reported here as the unknown option it is.
+    """
     rest: list[str] = []
     args: dict[str, str] = {}
     for token in tokens:
+        if _looks_like_option(token) and ":=" not in token:
+            fail(f"no such option: {token!r}")
         if ":=" in token:
             name, _, value = token.partition(":=")
             if not name or not name.replace("_", "a").replace("-", "a").isalnum():
@@ -396,12 +433,7 @@ def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
 @click.argument("tokens", nargs=-1, metavar="[PATH] [NAME:=VALUE]...")
 @click.option("--robot", metavar="PATH", help="Robot description (same as PATH).")
 @click.option("--package", "packages", metavar="NAME=DIR", multiple=True, help="Package directory.")
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False, writable=True),
-    help="Write to this file instead of stdout.",
-)
+@click.option("-o", "--output", metavar="FILE", help="Write to this file instead of stdout.")
 @click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
 def urdf(
     tokens: tuple[str, ...],
@@ -419,7 +451,7 @@ def urdf(
     Example:
       diffbot urdf robot.urdf.xacro wheel_radius:=0.04 --package my_robot=./my_robot -o robot.urdf
     """
-    from diffbot.urdf import expand
+    from diffbot.urdf import BUNDLED_DESCRIPTION, expand
 
     rest, xacro_args = split_xacro_args(tokens)
     if len(rest) > 1:
@@ -433,24 +465,62 @@ def urdf(
     if output is None:
         click.echo(expansion.urdf, nl=False)
     else:
-        write_text_atomic(Path(output), expansion.urdf, force=force)
+        source = Path(path) if path is not None else BUNDLED_DESCRIPTION
+        write_text_atomic(Path(output), expansion.urdf, force=force, inputs=[source])
 
 
-def write_text_atomic(path: Path, text: str, *, force: bool) -> None:
-    """Write a whole file or nothing: a temporary file beside it, then a rename."""
+def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Path:
+    """Check where an output may go; return the real path to replace (links followed).
+
+    Raises a bad-input error when the path exists and ``force`` is not given, is not a regular
+    file (a directory, a device), lies in a missing directory, or is one of the ``inputs``.
+    """
+    target = path.resolve() if path.is_symlink() else path
+    if path.exists() or path.is_symlink():
+        if not force:
+            fail(f"{path} exists: use --force to overwrite it")
+        if target.exists() and not target.is_file():
+            fail(f"{path} is not a regular file: refusing to replace it")
+    if not target.parent.is_dir():
+        fail(f"{path}: directory {target.parent} does not exist")
+    for source in inputs:
+        if source.exists() and target.exists() and source.resolve() == target.resolve():
+            fail(f"{path} is an input: refusing to overwrite it")
+    return target
+
+
+def write_text_atomic(
+    path: Path,
+    text: str,
+    *,
+    force: bool,
+    inputs: Sequence[Path] = (),
+    executable: bool = False,
+) -> None:
+    """Write a whole file or nothing: a temporary file beside it, then a rename.
+
+    The file gets the permissions of the file it replaces, or the usual ones (umask applied;
+    executable ones for scripts).
+    """
     import os
+    import stat
     import tempfile
 
-    if path.exists() and not force:
-        fail(f"{path} exists: use --force to overwrite it")
-    directory = path.parent if str(path.parent) else Path(".")
-    if not directory.is_dir():
-        fail(f"{path}: directory {directory} does not exist")
-    fd, tmp = tempfile.mkstemp(dir=directory, prefix=f".{path.name}.", suffix=".tmp")
+    target = output_target(path, force=force, inputs=inputs)
+    if target.exists():
+        mode = stat.S_IMODE(target.stat().st_mode)
+    else:
+        umask = os.umask(0)
+        os.umask(umask)
+        mode = 0o666 & ~umask
+    if executable:
+        mode |= (mode & 0o444) >> 2  # x wherever r
+    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as out:
             out.write(text)
-        os.replace(tmp, path)
+        os.chmod(tmp, mode)
+        os.replace(tmp, target)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -495,6 +565,10 @@ def ik(robot: RobotOptions, tokens: tuple[str, ...], do_saturate: bool, as_json:
     angular = parse_number(rest[1], "ANGULAR")
     p = robot.with_path(None, xacro_args).load()
     wheels = inverse(p, linear, angular)
+    check_finite(
+        "wheel speeds", float(wheels.left), float(wheels.right), float(rpm_from_rad_s(wheels.left))
+    )
+    check_finite("wheel speeds", float(rpm_from_rad_s(wheels.right)))
     saturated = False
     if do_saturate and not within_limit(p, wheels):
         wheels = saturate(p, wheels)
@@ -565,6 +639,7 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
     wheels = wheel_from_joint(p, WheelSpeeds(left, right))
     twist = forward(p, wheels.left, wheels.right)
     linear, angular = float(twist.linear), float(twist.angular)
+    check_finite("body velocity", linear, angular)
     if as_json:
         emit_json({"linear": linear, "angular": angular})
         return
@@ -581,6 +656,648 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
     click.echo(f"radius   {radius}")
     if not within_limit(p, wheels):
         warn(f"the wheel speeds exceed the motor limit of {limit_text(p)}")
+
+
+# --------------------------------------------------------------------------------------------
+# diffbot plan: motion plans (see diffbot.trajectory)
+
+if TYPE_CHECKING:
+    from diffbot.kinematics import Pose
+    from diffbot.trajectory import Plan, PlannedSegment, Segment, Violation
+
+#: File name endings read as plan files rather than plan text.
+PLAN_SUFFIXES = (".yaml", ".yml", ".json", ".txt")
+PLAN_FORMATS = ("table", "json", "csv", "twist", "wheels", "ros2")
+_TOPIC_NAME = r"(~/|/)?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*"
+
+
+def _yaml_float(value: float) -> str:
+    """A float for a YAML 1.1 reader (``ros2 topic pub``): every digit, and always a dot.
+
+    PyYAML reads ``1e-05`` as a string, so an exponent gets a ``.0`` mantissa.
+    """
+    text = repr(float(value))
+    if "e" in text and "." not in text:
+        mantissa, _, exponent = text.partition("e")
+        text = f"{mantissa}.0e{exponent}"
+    return text
+
+
+def _twist_yaml(linear: float, angular: float) -> str:
+    return f"{{linear: {{x: {_yaml_float(linear)}}}, angular: {{z: {_yaml_float(angular)}}}}}"
+
+
+def _array_yaml(value: float) -> str:
+    return f"{{data: [{_yaml_float(value)}]}}"
+
+
+def _fixed(value: float, decimals: int) -> str:
+    text = f"{value:.{decimals}f}"
+    return text.lstrip("-") if float(text) == 0.0 else text
+
+
+def _ceil_text(value: float, digits: int = 4) -> str:
+    """``value`` rounded up to ``digits`` significant digits (a duration that still fits)."""
+    from decimal import ROUND_CEILING, Decimal
+
+    exponent = math.floor(math.log10(value)) if value > 0 else 0
+    decimals = max(0, digits - 1 - exponent)
+    return str(Decimal(value).quantize(Decimal(1).scaleb(-decimals), rounding=ROUND_CEILING))
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+@dataclass(frozen=True)
+class _PlanInput:
+    segments: list[Segment]
+    label: str
+    path: Path | None
+
+
+def _plan_input(tokens: Sequence[str], example: str | None) -> _PlanInput:
+    from diffbot.trajectory import EXAMPLES, load_plan, parse_plan
+
+    for token in tokens:
+        if token.startswith("--") or (
+            token.startswith("-") and len(token) > 1 and not token[1].isdigit() and token[1] != "."
+        ):
+            fail(f"no such option: {token}")
+    if example is not None:
+        if tokens:
+            fail(f"give a plan (SPEC or FILE) or --example, not both (got {' '.join(tokens)!r})")
+        return _PlanInput(
+            parse_plan(EXAMPLES[example.upper()]), f"Trajectory {example.upper()}", None
+        )
+    if not tokens:
+        return _PlanInput(parse_plan(EXAMPLES["A"]), "Trajectory A", None)
+    if len(tokens) == 1:
+        token = tokens[0]
+        path = Path(token)
+        named_file = bool(token.strip()) and path.exists()
+        file_like = path.suffix.lower() in PLAN_SUFFIXES and not any(c.isspace() for c in token)
+        if named_file or file_like:
+            return _PlanInput(load_plan(path), str(path), path)
+    return _PlanInput(parse_plan(" ".join(tokens)), "plan", None)
+
+
+def _plan_limit_text(p: Plan) -> str:
+    if p.limit is None:
+        return "none"
+    origin = "" if p.limit == p.params.max_wheel_speed else ", from --rpm-limit"
+    return f"{fmt(rpm_from_rad_s(p.limit), 5)} rpm ({fmt(p.limit)} rad/s{origin})"
+
+
+def _plan_robot_json(params: DiffDriveParams) -> dict[str, Any]:
+    return {
+        "wheel_radius": params.wheel_radius,
+        "wheel_separation": params.wheel_separation,
+        "left_joint": params.left_joint,
+        "right_joint": params.right_joint,
+        "left_sign": params.left_sign,
+        "right_sign": params.right_sign,
+        "max_wheel_speed": params.max_wheel_speed,
+        "max_wheel_rpm": params.max_wheel_rpm,
+        "source": params.source,
+    }
+
+
+def _pose_json(pose: Pose) -> dict[str, float]:
+    return {"x": pose.x, "y": pose.y, "theta": pose.theta}
+
+
+def _plan_json(p: Plan, label: str) -> dict[str, Any]:
+    from diffbot.trajectory import describe_segment, format_plan, format_segment
+
+    segments = []
+    for s in p.segments:
+        segments.append(
+            {
+                "segment": s.index + 1,
+                "kind": s.kind,
+                "spec": format_segment(s.segment),
+                "description": describe_segment(s.segment),
+                "duration": s.duration,
+                "linear": float(s.twist.linear),
+                "angular": float(s.twist.angular),
+                "left": float(s.joints.left),
+                "right": float(s.joints.right),
+                "left_rpm": float(rpm_from_rad_s(s.joints.left)),
+                "right_rpm": float(rpm_from_rad_s(s.joints.right)),
+                "fraction": s.fraction,
+                "start_pose": _pose_json(s.start_pose),
+                "end_pose": _pose_json(s.end_pose),
+                "end_heading": s.end_heading,
+            }
+        )
+    return {
+        "source": label,
+        "plan": format_plan(s.segment for s in p.segments),
+        "segments": segments,
+        "duration": p.duration,
+        "final_pose": _pose_json(p.final_pose),
+        "within_limit": p.within_limit,
+        "limit": p.limit,
+        "limit_rpm": None if p.limit is None else float(f"{rpm_from_rad_s(p.limit):.12g}"),
+        "violations": [
+            {
+                "segment": v.index + 1,
+                "wheel": v.wheel,
+                "rpm": v.rpm,
+                "shortest_duration": v.shortest_duration,
+            }
+            for v in p.violations()
+        ],
+        "robot": _plan_robot_json(p.params),
+    }
+
+
+def _plan_table(p: Plan, label: str) -> str:
+    from diffbot.trajectory import describe_segment, format_plan
+
+    params = p.params
+    header = [
+        "#",
+        "segment",
+        "v m/s",
+        "w rad/s",
+        "left rad/s",
+        "rpm",
+        "right rad/s",
+        "rpm",
+        "limit %",
+        "time s",
+        "x m",
+        "y m",
+        "theta deg",
+    ]
+    rows = [header]
+    for s in p.segments:
+        left, right = float(s.joints.left), float(s.joints.right)
+        rows.append(
+            [
+                str(s.index + 1),
+                describe_segment(s.segment),
+                _fixed(float(s.twist.linear), 4),
+                _fixed(float(s.twist.angular), 4),
+                _fixed(left, 3),
+                _fixed(rpm_from_rad_s(left), 2),
+                _fixed(right, 3),
+                _fixed(rpm_from_rad_s(right), 2),
+                "-" if s.fraction is None else f"{100 * s.fraction:.1f}",
+                fmt(s.duration, 6),
+                _fixed(s.end_pose.x, 4),
+                _fixed(s.end_pose.y, 4),
+                _fixed(math.degrees(s.end_pose.theta), 2),
+            ]
+        )
+    widths = [max(len(row[i]) for row in rows) for i in range(len(header))]
+    lines = [
+        f"{label}: {format_plan(s.segment for s in p.segments)}",
+        f"robot: {params.source} (wheel radius {fmt(params.wheel_radius)} m, "
+        f"separation {fmt(params.wheel_separation)} m); motor limit {_plan_limit_text(p)}",
+        "",
+    ]
+    for row in rows:
+        cells = [
+            cell.ljust(widths[i]) if i == 1 else cell.rjust(widths[i]) for i, cell in enumerate(row)
+        ]
+        lines.append("  ".join(cells).rstrip())
+    final = p.final_pose
+    lines.append("")
+    lines.append(
+        f"total {fmt(p.duration, 6)} s; final pose x {_fixed(final.x, 4)} m, "
+        f"y {_fixed(final.y, 4)} m, theta {_fixed(math.degrees(final.theta), 2)} deg"
+    )
+    if p.limit is None:
+        lines.append("motor limit: none in the description, not checked")
+    else:
+        peak = max(p.segments, key=lambda s: s.fraction or 0.0)
+        if p.within_limit:
+            lines.append(
+                f"motor limit {_plan_limit_text(p)}: within, peak "
+                f"{100 * (peak.fraction or 0.0):.1f}% in segment {peak.index + 1}"
+            )
+        else:
+            over = sorted({v.index + 1 for v in p.violations()})
+            lines.append(
+                f"motor limit {_plan_limit_text(p)}: OVER in segment"
+                f"{'s' if len(over) > 1 else ''} {', '.join(map(str, over))}"
+            )
+    return "\n".join(lines) + "\n"
+
+
+def _plan_csv(p: Plan) -> str:
+    import csv
+    import io
+
+    from diffbot.trajectory import format_segment
+
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(
+        [
+            "segment",
+            "kind",
+            "spec",
+            "duration",
+            "linear",
+            "angular",
+            "left",
+            "right",
+            "left_rpm",
+            "right_rpm",
+            "fraction",
+            "x",
+            "y",
+            "theta",
+        ]
+    )
+    for s in p.segments:
+        values = [
+            s.duration,
+            s.twist.linear,
+            s.twist.angular,
+            s.joints.left,
+            s.joints.right,
+            rpm_from_rad_s(s.joints.left),
+            rpm_from_rad_s(s.joints.right),
+        ]
+        writer.writerow(
+            [
+                s.index + 1,
+                s.kind,
+                format_segment(s.segment),
+                *(repr(float(v)) for v in values),
+                "" if s.fraction is None else repr(s.fraction),
+                repr(s.end_pose.x),
+                repr(s.end_pose.y),
+                repr(s.end_pose.theta),
+            ]
+        )
+    return out.getvalue()
+
+
+def _segment_note(s: PlannedSegment, count: int) -> str:
+    from diffbot.trajectory import describe_segment
+
+    return f"{s.index + 1}/{count} {describe_segment(s.segment)}, {fmt(s.duration, 6)} s"
+
+
+def _plan_twist(p: Plan, label: str, topic: str) -> str:
+    count = len(p.segments)
+    lines = [
+        f"# {_one_line(label)} on {_one_line(p.params.source)}: geometry_msgs/msg/Twist commands "
+        f"for {topic}, each held for its duration (m/s, rad/s)",
+        f"# publish one with: ros2 topic pub -r 10 {topic} geometry_msgs/msg/Twist "
+        "'{linear: {x: ...}, angular: {z: ...}}'",
+    ]
+    for s in p.segments:
+        twist = _twist_yaml(float(s.twist.linear), float(s.twist.angular))
+        lines.append(f"{twist}  # {_segment_note(s, count)}")
+    lines.append(f"{_twist_yaml(0.0, 0.0)}  # stop")
+    return "\n".join(lines) + "\n"
+
+
+def _plan_wheels(p: Plan, label: str, left_topic: str, right_topic: str) -> str:
+    params = p.params
+    count = len(p.segments)
+    width = max(len(left_topic), len(right_topic))
+    lines = [
+        f"# {_one_line(label)} on {_one_line(params.source)}: std_msgs/msg/Float64MultiArray "
+        "joint velocity commands (rad/s), each held for its duration",
+        f"# left: {left_topic} ({params.left_joint}, direction {params.left_sign:+d})",
+        f"# right: {right_topic} ({params.right_joint}, direction {params.right_sign:+d})",
+    ]
+    for s in p.segments:
+        lines.append(f"# {_segment_note(s, count)}")
+        lines.append(f"{left_topic.ljust(width)}  {_array_yaml(float(s.joints.left))}")
+        lines.append(f"{right_topic.ljust(width)}  {_array_yaml(float(s.joints.right))}")
+    lines.append("# stop")
+    lines.append(f"{left_topic.ljust(width)}  {_array_yaml(0.0)}")
+    lines.append(f"{right_topic.ljust(width)}  {_array_yaml(0.0)}")
+    return "\n".join(lines) + "\n"
+
+
+def _publish_count(duration: float, rate: float) -> tuple[int, float]:
+    """Messages and the rate (Hz) that hold a command for exactly ``duration`` (s).
+
+    ``ros2 topic pub -r R -t N`` publishes N messages one period apart, so it lasts N / R; R is
+    nudged from the asked rate so that N / R is the duration.
+    """
+    count = max(1, round(duration * rate))
+    return count, count / duration
+
+
+def _plan_ros2(
+    p: Plan,
+    label: str,
+    *,
+    wheels: bool,
+    rate: float,
+    cmd_vel: str,
+    left_topic: str,
+    right_topic: str,
+) -> str:
+    import shlex
+
+    from diffbot import __version__
+    from diffbot.trajectory import format_plan
+
+    q = shlex.quote
+    twist_type = "geometry_msgs/msg/Twist"
+    array_type = "std_msgs/msg/Float64MultiArray"
+    count = len(p.segments)
+    lines = [
+        "#!/bin/sh",
+        f"# {_one_line(label)}: {format_plan(s.segment for s in p.segments)}",
+        f"# robot: {_one_line(p.params.source)} (wheel radius {fmt(p.params.wheel_radius)} m, "
+        f"separation {fmt(p.params.wheel_separation)} m); {count} segments, "
+        f"{fmt(p.duration, 6)} s; generated by diffbot {__version__}",
+        "#",
+        f"# Each command is published about {fmt(rate)} times a second for its duration with",
+        "# 'ros2 topic pub -r RATE -t N': N messages one period apart last exactly N / RATE s, and",
+        "# RATE is adjusted per segment so that this is the segment's duration. The controllers",
+        "# hold the last command, so the start-up of each 'ros2 topic pub' (well under a second)",
+        "# adds to the segment before it; use a node for tighter timing.",
+        "# The robot is always stopped at the end, also on Ctrl-C, kill or a failed command: one",
+        "# zero command is published with --once.",
+        "set -e",
+        "",
+    ]
+    if wheels:
+        zero = _array_yaml(0.0)
+        lines += [
+            "pids=''",
+            "stop() {",
+            "    trap - EXIT INT TERM",
+            '    if [ -n "$pids" ]; then kill $pids 2>/dev/null || true; fi',
+            f"    ros2 topic pub --once {q(left_topic)} {array_type} {q(zero)} &",
+            "    left=$!",
+            f"    ros2 topic pub --once {q(right_topic)} {array_type} {q(zero)} &",
+            '    wait "$left"',
+            '    wait "$!"',
+            "}",
+        ]
+    else:
+        lines += [
+            "stop() {",
+            "    trap - EXIT INT TERM",
+            f"    ros2 topic pub --once {q(cmd_vel)} {twist_type} {q(_twist_yaml(0.0, 0.0))}",
+            "}",
+        ]
+    lines += ["trap stop EXIT", "trap 'exit 130' INT", "trap 'exit 143' TERM", ""]
+    for s in p.segments:
+        n, seg_rate = _publish_count(s.duration, rate)
+        timing = f"-r {_number_text_plain(seg_rate)} -t {n}"
+        lines.append(f"# {_segment_note(s, count)} ({n} messages)")
+        if wheels:
+            left = _array_yaml(float(s.joints.left))
+            right = _array_yaml(float(s.joints.right))
+            lines += [
+                f"ros2 topic pub {timing} {q(left_topic)} {array_type} {q(left)} &",
+                'pids="$!"',
+                f"ros2 topic pub {timing} {q(right_topic)} {array_type} {q(right)} &",
+                'pids="$pids $!"',
+                'for pid in $pids; do wait "$pid"; done',
+                "pids=''",
+            ]
+        else:
+            twist = _twist_yaml(float(s.twist.linear), float(s.twist.angular))
+            lines.append(f"ros2 topic pub {timing} {q(cmd_vel)} {twist_type} {q(twist)}")
+        lines.append("")
+    lines += ["stop"]
+    return "\n".join(lines) + "\n"
+
+
+def _number_text_plain(value: float) -> str:
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
+
+
+def _violation_lines(p: Plan) -> list[str]:
+    from diffbot.trajectory import describe_segment
+
+    limit_rpm = fmt(rpm_from_rad_s(p.limit), 5) if p.limit is not None else "?"
+    by_segment: dict[int, list[Violation]] = {}
+    for v in p.violations():
+        by_segment.setdefault(v.index, []).append(v)
+    lines = []
+    for index, found in by_segment.items():
+        s = p.segments[index]
+        parts = [(v.wheel, fmt(v.rpm, 4)) for v in found]
+        if len(parts) == 2 and parts[0][1] == parts[1][1]:
+            what = f"left and right wheels at {parts[0][1]} rpm exceed"
+        elif len(parts) == 2:
+            what = f"left wheel at {parts[0][1]} rpm and right wheel at {parts[1][1]} rpm exceed"
+        else:
+            what = f"{parts[0][0]} wheel at {parts[0][1]} rpm exceeds"
+        lines.append(
+            f"error: segment {index + 1} ({describe_segment(s.segment)}, {fmt(s.duration, 6)} s): "
+            f"{what} the {limit_rpm} rpm limit; shortest duration that fits: "
+            f"{_ceil_text(found[0].shortest_duration)} s"
+        )
+    return lines
+
+
+def _check_topic(option: str, name: str) -> str:
+    import re
+
+    if not re.fullmatch(_TOPIC_NAME, name):
+        fail(f"{option} {name!r} is not a valid ROS topic name")
+    return name
+
+
+@main.command("plan", context_settings=NUMBERS)
+@click.argument("tokens", nargs=-1, metavar="[SPEC | FILE] [NAME:=VALUE]...")
+@robot_options
+@click.option(
+    "--example",
+    type=click.Choice(["A", "B"], case_sensitive=False),
+    metavar="A|B",
+    help="Plan one of the seed's Figure 1 paths (A is planned when nothing is given).",
+)
+@click.option(
+    "--speed",
+    type=POSITIVE,
+    default=0.1,
+    show_default=True,
+    metavar="M/S",
+    help="Cruise path speed of straights and arcs without a duration (m/s).",
+)
+@click.option(
+    "--spin-rate",
+    type=POSITIVE,
+    default=0.5,
+    show_default=True,
+    metavar="RAD/S",
+    help="Turn rate of spins without a duration (rad/s; 0.5 rad/s = 28.6 deg/s).",
+)
+@click.option(
+    "--fastest",
+    is_flag=True,
+    help="Give every segment the shortest duration that keeps its wheels within the limit.",
+)
+@click.option(
+    "--rpm-limit",
+    type=POSITIVE,
+    metavar="RPM",
+    help="Motor limit to check against (rpm), instead of the description's (or --max-rpm).",
+)
+@click.option(
+    "--format",
+    "output_format",
+    type=click.Choice(PLAN_FORMATS),
+    default="table",
+    show_default=True,
+    help="table: for people; json, csv: for programs; twist, wheels: ROS message lines; "
+    "ros2: a shell script that publishes the plan.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Same as --format json.")
+@click.option(
+    "--wheels",
+    "per_wheel",
+    is_flag=True,
+    help="ros2 script: publish per-wheel controller commands instead of cmd_vel Twists.",
+)
+@click.option(
+    "--rate",
+    type=POSITIVE,
+    default=10.0,
+    show_default=True,
+    metavar="HZ",
+    help="ros2 script: publishing rate (Hz).",
+)
+@click.option(
+    "--cmd-vel-topic",
+    default="cmd_vel",
+    show_default=True,
+    metavar="TOPIC",
+    help="Twist topic (twist and ros2 formats).",
+)
+@click.option(
+    "--left-topic",
+    default="left_wheel_velocity_controller/commands",
+    show_default=True,
+    metavar="TOPIC",
+    help="Left wheel Float64MultiArray topic (wheels format, ros2 --wheels).",
+)
+@click.option(
+    "--right-topic",
+    default="right_wheel_velocity_controller/commands",
+    show_default=True,
+    metavar="TOPIC",
+    help="Right wheel topic, likewise.",
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    help="Write to this file instead of stdout (whole or not at all).",
+)
+@click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
+def plan_command(
+    robot: RobotOptions,
+    tokens: tuple[str, ...],
+    example: str | None,
+    speed: float,
+    spin_rate: float,
+    fastest: bool,
+    rpm_limit: float | None,
+    output_format: str,
+    as_json: bool,
+    per_wheel: bool,
+    rate: float,
+    cmd_vel_topic: str,
+    left_topic: str,
+    right_topic: str,
+    output: str | None,
+    force: bool,
+) -> None:
+    """Velocity commands, wheel speeds and exact poses of a path.
+
+    SPEC is a plan in text form, segments separated by ';' or newlines ('#' comments):
+
+    \b
+      straight LENGTH [DURATION]
+      ccw RADIUS ANGLE [DURATION]     counter-clockwise (left) arc
+      cw RADIUS ANGLE [DURATION]      clockwise (right) arc
+      spin ANGLE [DURATION]           turn in place, positive = counter-clockwise
+
+    Lengths are in m (or 25cm, 250mm), angles in degrees (or 1.57rad), durations in s (10s).
+    FILE is a .yaml/.yml/.json list such as [{straight: 1, duration: 10}, {arc: ccw, radius:
+    0.25, angle: 180}, {spin: 90}], or a .txt file in text form. Without either, the seed's
+    Trajectory A is planned (--example A).
+
+    Segments without a duration run at --speed (spins at --spin-rate). The robot starts at
+    (0, 0) heading along x. Exit code 1 when a wheel exceeds the motor limit (the output is still
+    printed); the message names the segment, the wheel and the shortest duration that fits.
+
+    \b
+    Examples:
+      diffbot plan                                    the seed's Trajectory A
+      diffbot plan "straight 1 10s; ccw 25cm 90; spin -90 2s"
+      diffbot plan --example B --fastest
+      diffbot plan path.yaml --format ros2 -o run.sh  a script of 'ros2 topic pub' commands
+    """
+    from diffbot.trajectory import plan as make_plan
+
+    rest, xacro_args = split_xacro_args(tokens)
+    if as_json and output_format not in ("table", "json"):
+        fail(f"--json and --format {output_format} ask for two formats: give one")
+    if as_json:
+        output_format = "json"
+    if per_wheel and output_format != "ros2":
+        warn("--wheels only changes --format ros2 (the wheels format is always per wheel)")
+    _check_topic("--cmd-vel-topic", cmd_vel_topic)
+    _check_topic("--left-topic", left_topic)
+    _check_topic("--right-topic", right_topic)
+    source = _plan_input(rest, example)
+    if output is not None and source.path is not None:
+        import os
+
+        if os.path.realpath(output) == os.path.realpath(source.path):
+            fail(f"{output} is the plan file itself: write the output elsewhere")
+    params = robot.with_path(None, xacro_args).load()
+    limit = None if rpm_limit is None else rad_s_from_rpm(rpm_limit)
+    p = make_plan(
+        source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest, limit=limit
+    )
+    if output_format == "json":
+        text = json.dumps(_plan_json(p, source.label), indent=2, allow_nan=False) + "\n"
+    elif output_format == "csv":
+        text = _plan_csv(p)
+    elif output_format == "twist":
+        text = _plan_twist(p, source.label, cmd_vel_topic)
+    elif output_format == "wheels":
+        text = _plan_wheels(p, source.label, left_topic, right_topic)
+    elif output_format == "ros2":
+        text = _plan_ros2(
+            p,
+            source.label,
+            wheels=per_wheel,
+            rate=rate,
+            cmd_vel=cmd_vel_topic,
+            left_topic=left_topic,
+            right_topic=right_topic,
+        )
+    else:
+        text = _plan_table(p, source.label)
+    if output is None:
+        click.echo(text, nl=False)
+    else:
+        write_text_atomic(
+            Path(output),
+            text,
+            force=force,
+            inputs=[Path(source.path)] if source.path is not None else [],
+            executable=output_format == "ros2",
+        )
+    if not p.within_limit:
+        for line in _violation_lines(p):
+            click.echo(line, err=True)
+        sys.exit(EXIT_CHECK_FAILED)
 
 
 # --------------------------------------------------------------------------------------------

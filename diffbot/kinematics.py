@@ -73,7 +73,10 @@ class Pose(NamedTuple):
 
 
 def _check_positive(name: str, value: float) -> float:
-    value = float(value)
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a positive finite number, got {value!r}") from None
     if not math.isfinite(value) or value <= 0.0:
         raise ParameterError(f"{name} must be a positive finite number, got {value!r}")
     return value
@@ -111,14 +114,14 @@ class DiffDriveParams:
             self, "wheel_separation", _check_positive("wheel separation", self.wheel_separation)
         )
         if self.max_wheel_speed is not None:
-            limit = float(self.max_wheel_speed)
+            limit = _to_float(self.max_wheel_speed)
             if not math.isfinite(limit) or limit < 0.0:
                 raise ParameterError(
                     f"max wheel speed must be a finite number >= 0, got {self.max_wheel_speed!r}"
                 )
             object.__setattr__(self, "max_wheel_speed", limit)
         for name, sign in (("left_sign", self.left_sign), ("right_sign", self.right_sign)):
-            if sign not in (1, -1):
+            if type(sign) is not int or sign not in (1, -1):
                 raise ParameterError(f"{name} must be +1 or -1, got {sign!r}")
         if not self.left_joint or not self.right_joint:
             raise ParameterError("wheel joint names must not be empty")
@@ -128,10 +131,11 @@ class DiffDriveParams:
 
     @property
     def max_wheel_rpm(self) -> float | None:
-        """The motor limit in rpm, or None."""
+        """The motor limit in rpm (12 significant digits), or None."""
         if self.max_wheel_speed is None:
             return None
-        return rpm_from_rad_s(self.max_wheel_speed)
+        # rpm is for people: drop the last-bit noise of the rpm -> rad/s -> rpm round trip.
+        return float(f"{rpm_from_rad_s(self.max_wheel_speed):.12g}")
 
     def replace(self, **changes: Any) -> DiffDriveParams:
         """A copy with some fields changed (validated again)."""
@@ -160,10 +164,19 @@ def rad_s_from_rpm(speed: FloatOrArray) -> FloatOrArray:
     return speed / _RPM_PER_RAD_S
 
 
-def norm_angle(angle: float) -> float:
-    """Map an angle (rad) to (-pi, pi]."""
-    wrapped = math.remainder(angle, 2.0 * math.pi)  # in [-pi, pi]
-    return math.pi if wrapped == -math.pi else wrapped
+@overload
+def norm_angle(angle: float) -> float: ...
+@overload
+def norm_angle(angle: NDArray[np.float64]) -> NDArray[np.float64]: ...
+def norm_angle(angle: FloatOrArray) -> FloatOrArray:
+    """Map an angle (rad), or each angle of an array, to (-pi, pi]."""
+    if isinstance(angle, float | int):
+        wrapped = math.remainder(angle, 2.0 * math.pi)  # exact, in [-pi, pi]
+        return math.pi if wrapped == -math.pi else wrapped
+    import numpy as np
+
+    # pi - ((pi - a) mod 2 pi) lies in (-pi, pi] since the mod lies in [0, 2 pi)
+    return np.pi - np.mod(np.pi - np.asarray(angle, dtype=float), 2.0 * np.pi)
 
 
 def inverse(params: DiffDriveParams, linear: FloatOrArray, angular: FloatOrArray) -> WheelSpeeds:
@@ -210,17 +223,32 @@ def wheel_from_joint(params: DiffDriveParams, speeds: WheelSpeeds) -> WheelSpeed
     return joint_from_wheel(params, speeds)
 
 
+def _to_float(value: Any) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"expected a number, got {value!r}") from None
+
+
 def _limit_of(params: DiffDriveParams, limit: float | None) -> float | None:
-    return params.max_wheel_speed if limit is None else float(limit)
+    if limit is None:
+        return params.max_wheel_speed
+    value = _to_float(limit)
+    if not math.isfinite(value) or value < 0.0:
+        raise ParameterError(f"a wheel speed limit must be a finite number >= 0, got {limit!r}")
+    return value
 
 
 def _peak(speeds: WheelSpeeds) -> FloatOrArray:
+    """The faster wheel's absolute speed; NaN when either wheel is NaN."""
     left, right = speeds
     if isinstance(left, (int, float)) and isinstance(right, (int, float)):
+        if math.isnan(left) or math.isnan(right):
+            return math.nan
         return max(abs(left), abs(right))
     import numpy as np
 
-    return np.maximum(np.abs(left), np.abs(right))
+    return np.maximum(np.abs(left), np.abs(right))  # propagates NaN
 
 
 def limit_fraction(
@@ -243,15 +271,18 @@ def limit_fraction(
     peak = _peak(speeds)
     if lim == 0.0:
         if isinstance(peak, float | int):
-            return math.inf if peak > 0 else 0.0
+            return peak if math.isnan(peak) else (math.inf if peak > 0 else 0.0)
         import numpy as np
 
-        return np.where(peak > 0, np.inf, 0.0)
+        return np.where(peak > 0, np.inf, peak)  # keeps 0 and NaN
     return peak / lim
 
 
 def within_limit(params: DiffDriveParams, speeds: WheelSpeeds, limit: float | None = None) -> bool:
-    """True when both wheels (every sample, for arrays) stay within the limit (or there is none)."""
+    """True when both wheels (every sample, for arrays) stay within the limit (or there is none).
+
+    A NaN speed is never within a limit.
+    """
     fraction = limit_fraction(params, speeds, limit)
     if fraction is None:
         return True
@@ -282,10 +313,14 @@ def saturate(
         return speeds
     peak = _peak(speeds)
     if isinstance(peak, float | int):
+        if not math.isfinite(peak):
+            raise ParameterError(f"cannot saturate non-finite wheel speeds {tuple(speeds)!r}")
         scale = 1.0 if peak <= lim else lim / peak
         return WheelSpeeds(speeds.left * scale, speeds.right * scale)
     import numpy as np
 
+    # Samples with a non-finite speed come out NaN: there is no direction to keep for them.
     with np.errstate(divide="ignore", invalid="ignore"):
         factor = np.where(peak > lim, lim / np.where(peak > 0, peak, 1.0), 1.0)
-    return WheelSpeeds(speeds.left * factor, speeds.right * factor)
+        factor = np.where(np.isfinite(peak), factor, np.nan)
+        return WheelSpeeds(speeds.left * factor, speeds.right * factor)

@@ -120,7 +120,7 @@ def _package_resolver(packages: Mapping[str, str | os.PathLike[str]]) -> Any:
 
 
 def _is_xacro(path: Path, text: str) -> bool:
-    return path.suffix == ".xacro" or "ros.org/wiki/xacro" in text or "xacro:" in text
+    return path.suffix == ".xacro" or re.search(r"xmlns:xacro\s*=", text) is not None
 
 
 def _check_file(path: Path) -> str:
@@ -260,6 +260,8 @@ class _Joint:
     origin: NDArray[np.float64]  # 4x4, parent frame -> joint frame
     axis: NDArray[np.float64]  # unit, joint frame
     velocity_limit: float | None
+    mimic: bool = False
+    full_turn: bool = False  # revolute with a range of at least one turn: a wheel all the same
 
 
 @dataclass(frozen=True)
@@ -307,10 +309,22 @@ def _joints_of(robot: Any, source: str) -> dict[str, _Joint]:
         if norm == 0.0 and j.type in ("continuous", "revolute", "prismatic"):
             raise DescriptionError(f"{source}: joint {j.name!r} has a zero axis")
         velocity = None
-        if j.limit is not None and j.limit.velocity is not None:
-            velocity = float(j.limit.velocity)
+        full_turn = False
+        if j.limit is not None:
+            if j.limit.velocity is not None:
+                velocity = float(j.limit.velocity)
+            if j.limit.lower is not None and j.limit.upper is not None:
+                full_turn = float(j.limit.upper) - float(j.limit.lower) >= 2.0 * math.pi
         joints[j.name] = _Joint(
-            j.name, str(j.type), j.parent, j.child, origin, axis / (norm or 1.0), velocity
+            j.name,
+            str(j.type),
+            j.parent,
+            j.child,
+            origin,
+            axis / (norm or 1.0),
+            velocity,
+            mimic=j.mimic is not None,
+            full_turn=full_turn,
         )
     return joints
 
@@ -322,12 +336,33 @@ class _Tree:
         import numpy as np
 
         self.joints = joints
-        self.parent_joint = {j.child: j for j in joints.values()}
+        self.parent_joint: dict[str, _Joint] = {}
+        for joint in joints.values():
+            if joint.child in self.parent_joint:
+                other = self.parent_joint[joint.child].name
+                raise DescriptionError(
+                    f"{source}: link {joint.child!r} has two parent joints "
+                    f"({other!r} and {joint.name!r})"
+                )
+            self.parent_joint[joint.child] = joint
         links = [link.name for link in robot.links]
+        duplicates = sorted({name for name in links if links.count(name) > 1})
+        if duplicates:
+            raise DescriptionError(f"{source}: links defined more than once: {duplicates}")
         roots = [name for name in links if name not in self.parent_joint]
         if len(roots) != 1:
             what = "no root link (a cycle)" if not roots else f"several root links {roots}"
             raise DescriptionError(f"{source}: the links do not form one tree: {what}")
+        for name in links:
+            seen = {name}
+            node = name
+            while node in self.parent_joint:
+                node = self.parent_joint[node].parent
+                if node in seen:
+                    raise DescriptionError(
+                        f"{source}: the links do not form one tree: a cycle through {node!r}"
+                    )
+                seen.add(node)
         self.links = {link.name: link for link in robot.links}
         self.base = "base_link" if "base_link" in self.links else roots[0]
         self._from_root: dict[str, NDArray[np.float64]] = {roots[0]: np.eye(4)}
@@ -432,6 +467,20 @@ def _named_side(name: str) -> str | None:
     return "left" if left else "right"
 
 
+def _why_not_a_wheel(tree: _Tree, joint: _Joint) -> str | None:
+    """Why a joint cannot be a drive wheel, or None when it can."""
+    if joint.type != "continuous" and not (joint.type == "revolute" and joint.full_turn):
+        return f"it is {joint.type}, not continuous"
+    between = [j.name for j in tree.joints_between(joint.parent, tree.base) if j.type != "fixed"]
+    if between:
+        return f"it hangs from {tree.base!r} through the moving joint(s) {between}"
+    return None
+
+
+def _is_rotary(joint: _Joint) -> bool:
+    return joint.type == "continuous" or (joint.type == "revolute" and joint.full_turn)
+
+
 def _pick(
     tree: _Tree,
     source: str,
@@ -440,9 +489,8 @@ def _pick(
 ) -> tuple[_Wheel, _Wheel]:
     candidates: list[_Wheel] = []
     for joint in tree.joints.values():
-        if joint.type != "continuous":
-            continue
-        if any(j.type != "fixed" for j in tree.joints_between(joint.parent, tree.base)):
+        # a mimic joint follows another one: it is driven, not a drive
+        if joint.mimic or _why_not_a_wheel(tree, joint) is not None:
             continue
         wheel = _wheel(tree, joint, source)
         if abs(float(wheel.axis[1])) >= _LATERAL_MIN:
@@ -451,6 +499,9 @@ def _pick(
     def chosen(name: str, side: str) -> _Wheel:
         if name not in tree.joints:
             raise DriveWheelError(f"{source}: no joint named {name!r} (the {side} wheel joint)")
+        why = _why_not_a_wheel(tree, tree.joints[name])
+        if why is not None:
+            raise DriveWheelError(f"{source}: joint {name!r} cannot drive a wheel: {why}")
         wheel = _wheel(tree, tree.joints[name], source)
         if abs(float(wheel.axis[1])) < _LATERAL_MIN:
             raise DriveWheelError(
@@ -474,7 +525,7 @@ def _pick(
             return found[0]
         names = [w.joint.name for w in candidates]
         if not candidates:
-            continuous = [j.name for j in tree.joints.values() if j.type == "continuous"]
+            continuous = [j.name for j in tree.joints.values() if _is_rotary(j)]
             raise DriveWheelError(
                 f"{source}: no drive wheels: no continuous joint with a lateral axis hangs from "
                 f"{tree.base!r} through fixed joints (continuous joints: {continuous or 'none'})"
@@ -491,6 +542,10 @@ def _pick(
             "(--left-joint/--right-joint)"
         )
 
+    if candidates:
+        for side, given in (("left", left_joint), ("right", right_joint)):
+            if not given and not by_side[side]:
+                auto(side)  # raises: nothing on that side is worse than a choice on the other
     left = chosen(left_joint, "left") if left_joint else auto("left")
     right = chosen(right_joint, "right") if right_joint else auto("right")
     return left, right
@@ -506,7 +561,6 @@ def _derive(
     robot: Any, source: str, left_joint: str | None, right_joint: str | None
 ) -> dict[str, Any]:
     """Everything derivable from the URDF alone, as JSON-ready fields (radius may be None)."""
-    import numpy as np
 
     joints = _joints_of(robot, source)
     tree = _Tree(robot, joints, source)
@@ -546,15 +600,23 @@ def _derive(
             )
 
     offset = left.centre - right.centre
-    separation = float(np.linalg.norm(offset))
+    # A rigid body's forward velocity at a point depends on the point's lateral offset only
+    # (v_x = v - w y), so the kinematic track is the lateral distance, whatever x and z differ by.
+    separation = abs(float(offset[1]))
     if abs(float(offset[0])) > 1e-6 or abs(float(offset[2])) > 1e-6:
         warnings.append(
             "the drive wheels are not on one lateral axle "
-            f"(offset x {offset[0]:+.4g} m, z {offset[2]:+.4g} m): separation is their distance"
+            f"(offset x {offset[0]:+.4g} m, z {offset[2]:+.4g} m): "
+            "separation is their lateral distance"
         )
 
     limits = [w.joint.velocity_limit for w in (left, right)]
-    usable = [v for v in limits if v is not None and v > 0 and math.isfinite(v)]
+    for wheel, value in zip((left, right), limits, strict=True):
+        if value is not None and not math.isfinite(value):
+            raise DescriptionError(
+                f"{source}: joint {wheel.joint.name!r} has a non-finite velocity limit {value!r}"
+            )
+    usable = [v for v in limits if v is not None and v > 0]
     for wheel, value in zip((left, right), limits, strict=True):
         if value is not None and value not in usable:
             warnings.append(f"joint {wheel.joint.name!r} has velocity limit {value!r}: ignored")
@@ -640,7 +702,7 @@ def derive_params(
     Returns:
         The parameters, with warnings about the description.
     """
-    fields = _derive(_parse_urdf(urdf, source), source, left_joint, right_joint)
+    fields = _derive_text(urdf, source, left_joint, right_joint)
     return _finish(fields, source, (), wheel_radius, wheel_separation, max_wheel_speed)
 
 
@@ -658,19 +720,73 @@ def _quiet_oserror() -> contextlib.suppress:
     return contextlib.suppress(OSError, ValueError, TypeError, KeyError)
 
 
+_FIELD_TYPES: dict[str, tuple[type, ...]] = {
+    "wheel_radius": (float, int, type(None)),
+    "wheel_separation": (float, int),
+    "left_joint": (str,),
+    "right_joint": (str,),
+    "left_sign": (int,),
+    "right_sign": (int,),
+    "max_wheel_speed": (float, int, type(None)),
+    "warnings": (list,),
+    "base_link": (str,),
+    "left_child": (str,),
+    "right_child": (str,),
+}
+
+
+def _valid_fields(data: Any) -> bool:
+    """True when a cache entry has exactly the fields :func:`_derive` writes, well typed."""
+    if not isinstance(data, dict) or set(data) != set(_FIELD_TYPES):
+        return False
+    for name, types in _FIELD_TYPES.items():
+        value = data[name]
+        if not isinstance(value, types) or isinstance(value, bool):
+            return False
+        if isinstance(value, float) and not math.isfinite(value):
+            return False
+    return all(isinstance(w, str) for w in data["warnings"]) and all(
+        data[s] in (1, -1) for s in ("left_sign", "right_sign")
+    )
+
+
+def _code_fingerprint() -> str:
+    # Entries are keyed by this module's own text, so a change to the derivation is never
+    # hidden behind results the old code cached.
+    try:
+        return hashlib.sha256(Path(__file__).read_bytes()).hexdigest()
+    except OSError:
+        return _CACHE_VERSION
+
+
+def _derive_text(
+    urdf: str, source: str, left_joint: str | None, right_joint: str | None
+) -> dict[str, Any]:
+    import warnings
+
+    import numpy as np
+
+    # Overflowing numbers in a description end in a clear error below; numpy's and trimesh's
+    # RuntimeWarnings on the way there would only add noise to it.
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        return _derive(_parse_urdf(urdf, source), source, left_joint, right_joint)
+
+
 def _cached_fields(
     urdf: str, source: str, left_joint: str | None, right_joint: str | None
 ) -> dict[str, Any]:
     key = hashlib.sha256(
-        json.dumps([_CACHE_VERSION, urdf, left_joint, right_joint]).encode("utf-8")
+        json.dumps([_code_fingerprint(), urdf, left_joint, right_joint]).encode("utf-8")
     ).hexdigest()
     directory = _cache_dir()
     path = directory / f"params-{key}.json" if directory else None
     if path is not None:
         with _quiet_oserror():
-            cached: dict[str, Any] = json.loads(path.read_text(encoding="utf-8"))
-            return cached
-    fields = _derive(_parse_urdf(urdf, source), source, left_joint, right_joint)
+            cached = json.loads(path.read_text(encoding="utf-8"))
+            if _valid_fields(cached):
+                return dict(cached)
+    fields = _derive_text(urdf, source, left_joint, right_joint)
     if path is not None:
         with _quiet_oserror():
             path.parent.mkdir(parents=True, exist_ok=True)

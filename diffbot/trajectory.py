@@ -1,0 +1,841 @@
+"""Motion plans: straight lines, arcs and turns in place, as velocity commands and exact poses.
+
+A plan is a list of segments (:class:`Straight`, :class:`Arc`, :class:`Spin`), each held at one
+constant body velocity for its duration. :func:`plan` turns them into a :class:`Plan`: per segment
+the Twist (m/s, rad/s), both wheel speeds (rad/s), the share of the motor limit the faster wheel
+uses, and the pose at its end, in closed form (no numerical integration). The robot starts at the
+origin of the odom frame, heading along x (REP-103/105).
+
+Plans are written as text (:func:`parse_plan`, :func:`format_plan`)::
+
+    ccw 0.25 180 10s; straight 1 10s; cw 0.25 180 10s; straight 1 10s
+
+or as YAML/JSON files (:func:`load_plan`). Lengths are in metres and angles in degrees unless a
+unit says otherwise (``25cm``, ``250mm``, ``3.14rad``); durations are in seconds (``10s``).
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+import os
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Literal
+
+from diffbot.errors import PlanError
+from diffbot.kinematics import (
+    LIMIT_TOLERANCE,
+    DiffDriveParams,
+    Pose,
+    Twist,
+    WheelSpeeds,
+    inverse,
+    joint_from_wheel,
+    limit_fraction,
+    norm_angle,
+    rpm_from_rad_s,
+)
+
+if TYPE_CHECKING:
+    from typing import TypeAlias
+
+    import numpy as np
+    from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "DEFAULT_SPEED",
+    "DEFAULT_SPIN_RATE",
+    "EXAMPLES",
+    "Arc",
+    "Plan",
+    "PlannedSegment",
+    "Segment",
+    "Spin",
+    "Straight",
+    "Violation",
+    "describe_segment",
+    "format_plan",
+    "format_segment",
+    "load_plan",
+    "parse_plan",
+    "plan",
+    "pose_at",
+    "segments_from_data",
+    "wheel_positions",
+]
+
+#: Cruise path speed (m/s) of segments without a duration: the seed's 1 m in 10 s.
+DEFAULT_SPEED = 0.1
+#: Turn rate (rad/s) of spins without a duration. 0.5 rad/s (about 28.6 deg/s) turns the bundled
+#: robot's wheels at 0.96 rad/s (9.2 rpm): a quarter turn takes about 3.1 s.
+DEFAULT_SPIN_RATE = 0.5
+
+#: The seed's Figure 1 paths. A: a counter-clockwise half circle of radius 0.25 m, 1 m, a clockwise
+#: half circle, 1 m; B: the same pieces starting with a straight. Both end at (0, 1) heading x.
+EXAMPLES: dict[str, str] = {
+    "A": "ccw 0.25 180 10s; straight 1 10s; cw 0.25 180 10s; straight 1 10s",
+    "B": "straight 1 10s; ccw 0.25 180 10s; straight 1 10s; cw 0.25 180 10s",
+}
+
+
+def _as_float(value: object) -> float:
+    """``float(value)``, or NaN for what is not a number (a string, None, an int too large)."""
+    if isinstance(value, bool):
+        return math.nan
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):
+        return math.nan
+
+
+def _positive(value: float, what: str) -> float:
+    number = _as_float(value)
+    if not math.isfinite(number) or number <= 0.0:
+        raise PlanError(f"{what} must be a positive finite number, got {value!r}")
+    return number
+
+
+def _optional_duration(value: float | None) -> float | None:
+    return None if value is None else _positive(value, "a segment duration (s)")
+
+
+@dataclass(frozen=True)
+class Straight:
+    """Drive straight ahead.
+
+    Attributes:
+        length: distance (m), > 0.
+        duration: time to take (s), > 0; None to run at the plan's cruise speed.
+    """
+
+    length: float
+    duration: float | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "length", _positive(self.length, "a straight's length (m)"))
+        object.__setattr__(self, "duration", _optional_duration(self.duration))
+
+
+@dataclass(frozen=True)
+class Arc:
+    """Drive along a circular arc.
+
+    Attributes:
+        radius: radius of the path of the robot's centre (m), > 0.
+        angle: heading change along the arc (rad), > 0; the direction says which way.
+        direction: ``"ccw"`` turns left (positive angular.z), ``"cw"`` turns right.
+        duration: time to take (s), > 0; None to run at the plan's cruise speed.
+    """
+
+    radius: float
+    angle: float
+    direction: Literal["cw", "ccw"]
+    duration: float | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "radius", _positive(self.radius, "an arc's radius (m)"))
+        object.__setattr__(self, "angle", _positive(self.angle, "an arc's angle (rad)"))
+        if self.direction not in ("cw", "ccw"):
+            raise PlanError(f"an arc's direction must be 'cw' or 'ccw', got {self.direction!r}")
+        object.__setattr__(self, "duration", _optional_duration(self.duration))
+
+
+@dataclass(frozen=True)
+class Spin:
+    """Turn in place.
+
+    Attributes:
+        angle: heading change (rad), positive counter-clockwise, not zero.
+        duration: time to take (s), > 0; None to turn at the plan's spin rate.
+    """
+
+    angle: float
+    duration: float | None = None
+
+    def __post_init__(self) -> None:
+        angle = _as_float(self.angle)
+        if not math.isfinite(angle) or angle == 0.0:
+            raise PlanError(f"a spin's angle (rad) must be finite and not zero, got {self.angle!r}")
+        object.__setattr__(self, "angle", angle)
+        object.__setattr__(self, "duration", _optional_duration(self.duration))
+
+
+Segment: TypeAlias = Straight | Arc | Spin
+
+
+def _geometry(segment: Segment) -> tuple[float, float]:
+    """Path length of the robot's centre (m, >= 0) and signed heading change (rad)."""
+    if isinstance(segment, Straight):
+        return segment.length, 0.0
+    if isinstance(segment, Arc):
+        turn = segment.angle if segment.direction == "ccw" else -segment.angle
+        return segment.radius * segment.angle, turn
+    return 0.0, segment.angle
+
+
+def _kind(segment: Segment) -> str:
+    if isinstance(segment, Arc):
+        return segment.direction
+    return "straight" if isinstance(segment, Straight) else "spin"
+
+
+# --------------------------------------------------------------------------------------------
+# Planning
+
+
+@dataclass(frozen=True)
+class Violation:
+    """A wheel over the motor limit in one segment.
+
+    Attributes:
+        index: position of the segment in the plan (0-based).
+        wheel: ``"left"`` or ``"right"``.
+        rpm: the wheel's speed (rpm, magnitude).
+        shortest_duration: the shortest duration of the segment that keeps both wheels within the
+            limit (s).
+    """
+
+    index: int
+    wheel: Literal["left", "right"]
+    rpm: float
+    shortest_duration: float
+
+
+@dataclass(frozen=True)
+class PlannedSegment:
+    """One segment of a plan with its commands and poses.
+
+    Attributes:
+        segment: the segment as given.
+        index: its position in the plan (0-based).
+        twist: the body velocity held during it (m/s, rad/s).
+        duration: how long it is held (s).
+        wheels: wheel-ground speeds (rad/s; positive rolls the robot forward).
+        joints: joint velocity commands (rad/s), the description's direction signs applied.
+        fraction: the share of the motor limit the faster wheel uses (1.0 = at the limit), or None
+            without a limit.
+        start_pose: pose at its start (m, m, rad in (-pi, pi]).
+        end_pose: pose at its end (m, m, rad in (-pi, pi]).
+        end_heading: heading at its end, not wrapped (rad): the total turn since the start.
+    """
+
+    segment: Segment
+    index: int
+    twist: Twist
+    duration: float
+    wheels: WheelSpeeds
+    joints: WheelSpeeds
+    fraction: float | None
+    start_pose: Pose
+    end_pose: Pose
+    end_heading: float
+
+    @property
+    def kind(self) -> str:
+        """``"straight"``, ``"ccw"``, ``"cw"`` or ``"spin"``."""
+        return _kind(self.segment)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A planned sequence of constant body velocities, starting at pose (0, 0, 0).
+
+    Attributes:
+        segments: the planned segments, in order.
+        params: the robot planned for.
+        limit: the motor limit checked against (rad/s), or None.
+        duration: total time (s).
+        final_pose: pose at the end (m, m, rad in (-pi, pi]).
+        within_limit: True when no wheel of any segment exceeds the limit (or there is none).
+    """
+
+    segments: tuple[PlannedSegment, ...]
+    params: DiffDriveParams
+    limit: float | None
+    duration: float
+    final_pose: Pose
+    within_limit: bool
+
+    def violations(self) -> list[Violation]:
+        """Every wheel over the limit, segment by segment (left before right)."""
+        found: list[Violation] = []
+        if self.limit is None:
+            return found
+        bound = self.limit * (1.0 + LIMIT_TOLERANCE)
+        for planned in self.segments:
+            fraction = planned.fraction or 0.0
+            for wheel, speed in (("left", planned.wheels.left), ("right", planned.wheels.right)):
+                if abs(float(speed)) > bound:
+                    found.append(
+                        Violation(
+                            planned.index,
+                            "left" if wheel == "left" else "right",
+                            abs(rpm_from_rad_s(float(speed))),
+                            # speeds scale as 1/duration, so this brings the faster wheel to 1.0
+                            planned.duration * fraction,
+                        )
+                    )
+        return found
+
+
+def _sinc(x: float) -> float:
+    return 1.0 if x == 0.0 else math.sin(x) / x
+
+
+def _advance(x: float, y: float, heading: float, ds: float, turn: float) -> Pose:
+    """Move along an arc of length ``ds`` (m) turning by ``turn`` (rad); heading not wrapped.
+
+    The chord of the arc is ``ds sinc(turn / 2)`` long and points along the mean heading; this
+    form has no singularity at ``turn = 0`` (a straight line), unlike ``R (sin(th + dth) - ...)``.
+    """
+    half = 0.5 * turn
+    chord = ds * _sinc(half)
+    mean = heading + half
+    return Pose(x + chord * math.cos(mean), y + chord * math.sin(mean), heading + turn)
+
+
+def plan(
+    segments: Iterable[Segment],
+    params: DiffDriveParams,
+    speed: float = DEFAULT_SPEED,
+    spin_rate: float = DEFAULT_SPIN_RATE,
+    fastest: bool = False,
+    limit: float | None = None,
+) -> Plan:
+    """Plan the velocity commands of a sequence of segments.
+
+    Args:
+        segments: the path, starting at pose (0, 0, 0).
+        params: the robot.
+        speed: cruise path speed (m/s) of straights and arcs without a duration.
+        spin_rate: turn rate (rad/s) of spins without a duration (default 0.5 rad/s).
+        fastest: give every segment the shortest duration that keeps its wheels within the limit
+            (its faster wheel then runs exactly at the limit); given durations are ignored.
+        limit: motor limit (rad/s) to check against instead of ``params.max_wheel_speed``.
+
+    Returns:
+        The plan. A wheel over the limit is not an error: see :attr:`Plan.within_limit` and
+        :meth:`Plan.violations`.
+
+    Raises:
+        PlanError: no segments, a cruise speed or spin rate that is not positive, a negative or
+            zero limit (no duration satisfies it), or ``fastest`` without a limit.
+    """
+    items = list(segments)
+    if not items:
+        raise PlanError("empty plan: no segments")
+    for item in items:
+        if not isinstance(item, Straight | Arc | Spin):
+            raise PlanError(f"not a plan segment: {item!r}")
+    speed = _positive(speed, "the cruise speed (m/s)")
+    spin_rate = _positive(spin_rate, "the spin rate (rad/s)")
+    lim = params.max_wheel_speed if limit is None else _as_float(limit)
+    if lim is not None and (not math.isfinite(lim) or lim < 0.0):
+        raise PlanError(f"the motor limit must be a finite number >= 0 (rad/s), got {limit!r}")
+    if lim == 0.0:
+        raise PlanError("the motor limit is zero: no duration keeps a moving wheel within it")
+    if fastest and lim is None:
+        raise PlanError(
+            "a fastest plan needs a motor limit, and the robot has none "
+            "(give one with limit=, or --rpm-limit / --max-rpm)"
+        )
+
+    planned: list[PlannedSegment] = []
+    x, y, heading = 0.0, 0.0, 0.0
+    for index, segment in enumerate(items):
+        ds, turn = _geometry(segment)
+        if fastest:
+            assert lim is not None
+            # Wheel angles travelled (rad) over the segment; their peak at the limit sets the time.
+            travel = inverse(params, ds, turn)
+            duration = max(abs(float(travel.left)), abs(float(travel.right))) / lim
+        elif segment.duration is not None:
+            duration = segment.duration
+        elif isinstance(segment, Spin):
+            duration = abs(turn) / spin_rate
+        else:
+            duration = ds / speed
+        twist = Twist(ds / duration, turn / duration)
+        wheels = inverse(params, twist.linear, twist.angular)
+        wheels = WheelSpeeds(float(wheels.left), float(wheels.right))
+        joints = joint_from_wheel(params, wheels)
+        fraction = limit_fraction(params, wheels, lim)
+        start = Pose(x, y, norm_angle(heading))
+        x, y, heading = _advance(x, y, heading, ds, turn)
+        planned.append(
+            PlannedSegment(
+                segment=segment,
+                index=index,
+                twist=twist,
+                duration=duration,
+                wheels=wheels,
+                joints=WheelSpeeds(float(joints.left), float(joints.right)),
+                fraction=None if fraction is None else float(fraction),
+                start_pose=start,
+                end_pose=Pose(x, y, norm_angle(heading)),
+                end_heading=heading,
+            )
+        )
+    within = lim is None or all((p.fraction or 0.0) <= 1.0 + LIMIT_TOLERANCE for p in planned)
+    return Plan(
+        segments=tuple(planned),
+        params=params,
+        limit=lim,
+        duration=math.fsum(p.duration for p in planned),
+        final_pose=planned[-1].end_pose,
+        within_limit=within,
+    )
+
+
+def _start_times(p: Plan) -> list[float]:
+    starts = [0.0]
+    for planned in p.segments[:-1]:
+        starts.append(starts[-1] + planned.duration)
+    return starts
+
+
+def pose_at(p: Plan, t: float) -> Pose:
+    """The pose (m, m, rad in (-pi, pi]) that the plan reaches at time ``t`` (s), in closed form.
+
+    Times before 0 give the start pose, times after the plan's duration its final pose.
+    """
+    t = float(t)
+    if math.isnan(t):
+        raise PlanError("pose_at: the time is NaN")
+    starts = _start_times(p)
+    i = max(0, bisect.bisect_right(starts, t) - 1)
+    planned = p.segments[i]
+    heading = p.segments[i - 1].end_heading if i > 0 else 0.0
+    elapsed = min(max(t - starts[i], 0.0), planned.duration)
+    if i == len(p.segments) - 1 and elapsed >= planned.duration:
+        return p.final_pose
+    start = planned.start_pose
+    pose = _advance(
+        start.x,
+        start.y,
+        heading,
+        float(planned.twist.linear) * elapsed,
+        float(planned.twist.angular) * elapsed,
+    )
+    return Pose(pose.x, pose.y, norm_angle(pose.theta))
+
+
+def wheel_positions(p: Plan, times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Joint positions the plan commands: the integral of its joint velocity commands.
+
+    Args:
+        p: the plan.
+        times: times since the start of the plan (s), any shape; clamped to [0, duration].
+
+    Returns:
+        Left and right joint angles (rad, the description's direction signs applied, both 0 at
+        the start), each shaped like ``times``.
+    """
+    import numpy as np
+
+    t = np.clip(np.asarray(times, dtype=np.float64), 0.0, p.duration)
+    durations = np.array([s.duration for s in p.segments], dtype=np.float64)
+    starts = np.concatenate(([0.0], np.cumsum(durations)[:-1]))
+    index = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(durations) - 1)
+    elapsed = t - starts[index]
+    out: list[NDArray[np.float64]] = []
+    for side in ("left", "right"):
+        rates = np.array([float(getattr(s.joints, side)) for s in p.segments], dtype=np.float64)
+        at_start = np.concatenate(([0.0], np.cumsum(rates * durations)[:-1]))
+        out.append(at_start[index] + rates[index] * elapsed)
+    return out[0], out[1]
+
+
+# --------------------------------------------------------------------------------------------
+# Text form
+
+_KINDS = ("straight", "ccw", "cw", "spin")
+_NUMBER = re.compile(r"([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*)", re.DOTALL)
+_DIVISORS: dict[str, dict[str, float]] = {
+    # Dividing by an exact power of ten rounds once, so 25cm is exactly 0.25.
+    "length": {"": 1.0, "m": 1.0, "cm": 100.0, "mm": 1000.0},
+    "duration": {"": 1.0, "s": 1.0},
+}
+_ANGLE_UNITS = {"": True, "deg": True, "rad": False}
+_ALL_UNITS = {unit for units in _DIVISORS.values() for unit in units if unit} | {"deg", "rad"}
+_UNIT_HELP = {"length": "m, cm or mm", "angle": "deg or rad", "duration": "s"}
+
+Dimension = Literal["length", "angle", "duration"]
+
+
+class _BadValueError(Exception):
+    """A value that cannot be read; the caller adds where it was."""
+
+
+def _quantity(text: str, dimension: Dimension) -> float:
+    """An SI value (m, rad or s) from a number with an optional unit (default m, deg, s)."""
+    match = _NUMBER.fullmatch(text.strip())
+    if match is None:
+        try:
+            float(text)
+        except ValueError:
+            raise _BadValueError("not a number") from None
+        raise _BadValueError("not a finite number")
+    number = float(match.group(1))
+    if not math.isfinite(number):
+        raise _BadValueError("not a finite number")
+    unit = match.group(2).lower()
+    if dimension == "angle":
+        if unit not in _ANGLE_UNITS:
+            raise _BadValueError(f"unknown unit {match.group(2)!r} for an angle (use deg or rad)")
+        value = math.radians(number) if _ANGLE_UNITS[unit] else number
+    else:
+        divisors = _DIVISORS[dimension]
+        if unit not in divisors:
+            raise _BadValueError(
+                f"unknown unit {match.group(2)!r} for a {dimension} (use {_UNIT_HELP[dimension]})"
+            )
+        value = number / divisors[unit]
+    if not math.isfinite(value):
+        raise _BadValueError("not a finite number")
+    return value
+
+
+@dataclass(frozen=True)
+class _Token:
+    text: str
+    line: int
+    column: int
+
+
+# One entry per argument: (role, dimension, rule) where rule is "positive" or "nonzero".
+_SIGNATURES: dict[str, tuple[tuple[str, Dimension, str], ...]] = {
+    "straight": (("length", "length", "positive"),),
+    "ccw": (("radius", "length", "positive"), ("angle", "angle", "positive")),
+    "cw": (("radius", "length", "positive"), ("angle", "angle", "positive")),
+    "spin": (("angle", "angle", "nonzero"),),
+}
+_USAGE = {
+    "straight": "straight LENGTH [DURATION]",
+    "ccw": "ccw RADIUS ANGLE [DURATION]",
+    "cw": "cw RADIUS ANGLE [DURATION]",
+    "spin": "spin ANGLE [DURATION]",
+}
+
+
+def _segments_of(text: str) -> list[list[_Token]]:
+    """Split plan text into segments of tokens, dropping comments and empty segments."""
+    segments: list[list[_Token]] = []
+    for line_number, line in enumerate(text.splitlines() or [""], start=1):
+        code = line.split("#", 1)[0]
+        start = 0
+        for piece in code.split(";"):
+            tokens = [
+                _Token(m.group(), line_number, start + m.start() + 1)
+                for m in re.finditer(r"\S+", piece)
+            ]
+            if tokens:
+                segments.append(tokens)
+            start += len(piece) + 1
+    return segments
+
+
+def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> Segment:
+    def where(token: _Token) -> str:
+        if multiline:
+            return f"line {token.line}, column {token.column}"
+        return f"column {token.column}"
+
+    def error(token: _Token, message: str) -> PlanError:
+        return PlanError(f"segment {number}: {message} ({where(token)})")
+
+    head = tokens[0]
+    kind = head.text.lower()
+    if kind not in _SIGNATURES:
+        hint = " (arcs are written ccw/cw RADIUS ANGLE)" if kind == "arc" else ""
+        raise error(
+            head, f"unknown segment kind {head.text!r}: expected straight, ccw, cw or spin{hint}"
+        )
+    signature = _SIGNATURES[kind]
+    args = tokens[1:]
+    for token in args:
+        if token.text.lower() in _ALL_UNITS:
+            raise error(
+                token, f"{token.text!r} is a unit: write it attached to its number, as in 25cm"
+            )
+    if len(args) < len(signature):
+        missing = " and ".join(role.upper() for role, _, _ in signature[len(args) :])
+        last = args[-1] if args else head
+        raise error(last, f"{head.text!r} needs {missing} after {last.text!r}: {_USAGE[kind]}")
+    if len(args) > len(signature) + 1:
+        extra = args[len(signature) + 1]
+        raise error(extra, f"unexpected {extra.text!r}: {_USAGE[kind]}")
+    values: list[float] = []
+    for token, (role, dimension, rule) in zip(args, signature, strict=False):
+        try:
+            value = _quantity(token.text, dimension)
+        except _BadValueError as err:
+            raise error(token, f"{role} {token.text!r}: {err}") from None
+        if rule == "positive" and value <= 0.0:
+            hint = ""
+            if kind in ("ccw", "cw") and role == "angle":
+                hint = f" (the direction is in the kind: {'cw' if kind == 'ccw' else 'ccw'})"
+            raise error(token, f"{role} {token.text!r} must be > 0{hint}")
+        if rule == "nonzero" and value == 0.0:
+            raise error(token, f"{role} {token.text!r} must not be zero")
+        values.append(value)
+    duration: float | None = None
+    if len(args) > len(signature):
+        token = args[-1]
+        try:
+            duration = _quantity(token.text, "duration")
+        except _BadValueError as err:
+            raise error(token, f"duration {token.text!r}: {err}") from None
+        if duration <= 0.0:
+            raise error(token, f"duration {token.text!r} must be > 0")
+    if kind == "straight":
+        return Straight(values[0], duration)
+    if kind == "spin":
+        return Spin(values[0], duration)
+    return Arc(values[0], values[1], "ccw" if kind == "ccw" else "cw", duration)
+
+
+def parse_plan(text: str) -> list[Segment]:
+    """Read a plan written as text.
+
+    Segments are separated by ``;`` or newlines; ``#`` starts a comment. Each is one of
+    ``straight LENGTH [DURATION]``, ``ccw RADIUS ANGLE [DURATION]``, ``cw RADIUS ANGLE
+    [DURATION]``, ``spin ANGLE [DURATION]`` (positive = counter-clockwise). Lengths are in m
+    unless suffixed ``cm``/``mm``/``m``, angles in degrees unless suffixed ``rad``/``deg``,
+    durations in s (suffix ``s``).
+
+    Args:
+        text: the plan, e.g. ``"ccw 0.25 180 10s; straight 1 10s"``.
+
+    Returns:
+        The segments (SI units).
+
+    Raises:
+        PlanError: empty plan, unknown kind or unit, missing or extra values, a value that is not
+            a finite number, or not positive (not zero, for spins); the message quotes the token
+            and gives the segment number and column.
+    """
+    pieces = _segments_of(text)
+    if not pieces:
+        raise PlanError("empty plan: no segments (write for example 'straight 1 10s')")
+    multiline = len(text.strip().splitlines()) > 1
+    return [
+        _segment_from_tokens(tokens, number, multiline)
+        for number, tokens in enumerate(pieces, start=1)
+    ]
+
+
+def _number_text(value: float) -> str:
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
+
+
+def _angle_text(angle: float) -> str:
+    degrees = math.degrees(angle)
+    if math.isfinite(degrees) and math.radians(degrees) == angle:
+        return _number_text(degrees)
+    return f"{_number_text(angle)}rad"
+
+
+def format_segment(segment: Segment) -> str:
+    """The text form of one segment; :func:`parse_plan` reads it back exactly."""
+    if isinstance(segment, Straight):
+        words = ["straight", _number_text(segment.length)]
+    elif isinstance(segment, Arc):
+        words = [segment.direction, _number_text(segment.radius), _angle_text(segment.angle)]
+    else:
+        words = ["spin", _angle_text(segment.angle)]
+    if segment.duration is not None:
+        words.append(f"{_number_text(segment.duration)}s")
+    return " ".join(words)
+
+
+def format_plan(segments: Iterable[Segment]) -> str:
+    """The text form of a plan (one line, ``;``-separated); :func:`parse_plan` reads it back
+    exactly: numbers keep every digit, and angles are written in degrees only when that converts
+    back to the same radians (otherwise in ``rad``)."""
+    return "; ".join(format_segment(segment) for segment in segments)
+
+
+def describe_segment(segment: Segment) -> str:
+    """A short description of a segment for people (6 significant digits, degrees)."""
+
+    def short(value: float) -> str:
+        text = f"{value:.6g}"
+        return "0" if text == "-0" else text
+
+    if isinstance(segment, Straight):
+        return f"straight {short(segment.length)} m"
+    if isinstance(segment, Arc):
+        return (
+            f"{segment.direction} arc r {short(segment.radius)} m "
+            f"{short(math.degrees(segment.angle))} deg"
+        )
+    return f"spin {short(math.degrees(segment.angle))} deg"
+
+
+# --------------------------------------------------------------------------------------------
+# Files
+
+_ENTRY_KEYS = {
+    "straight": {"straight", "duration"},
+    "arc": {"arc", "radius", "angle", "duration"},
+    "spin": {"spin", "duration"},
+}
+
+
+def _entry_value(value: object, dimension: Dimension, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | str):
+        raise _BadValueError(f"{what} {value!r}: expected a number or a string such as '25cm'")
+    if isinstance(value, str):
+        try:
+            return _quantity(value, dimension)
+        except _BadValueError as err:
+            raise _BadValueError(f"{what} {value!r}: {err}") from None
+    number = _as_float(value)
+    if not math.isfinite(number):
+        raise _BadValueError(f"{what} {value!r}: not a finite number")
+    return math.radians(number) if dimension == "angle" else number
+
+
+def _segment_from_entry(entry: object) -> Segment:
+    if isinstance(entry, str):
+        segments = parse_plan(entry)
+        if len(segments) != 1:
+            raise _BadValueError(f"{entry!r} holds {len(segments)} segments, expected one")
+        return segments[0]
+    if not isinstance(entry, Mapping):
+        raise _BadValueError(
+            f"expected a mapping such as {{straight: 1.0, duration: 10}}, got {entry!r}"
+        )
+    kinds = [kind for kind in _ENTRY_KEYS if kind in entry]
+    if len(kinds) != 1:
+        found = "none" if not kinds else " and ".join(kinds)
+        raise _BadValueError(
+            f"expected exactly one of 'straight', 'arc', 'spin' as a key, got {found}"
+        )
+    kind = kinds[0]
+    unknown = [str(key) for key in entry if key not in _ENTRY_KEYS[kind]]
+    if unknown:
+        allowed = ", ".join(sorted(_ENTRY_KEYS[kind]))
+        raise _BadValueError(f"unknown key {unknown[0]!r} for a {kind} (allowed: {allowed})")
+
+    def get(key: str, dimension: Dimension, rule: str = "positive") -> float:
+        if key not in entry:
+            raise _BadValueError(f"a {kind} needs {key!r}")
+        value = _entry_value(entry[key], dimension, key)
+        if rule == "positive" and value <= 0.0:
+            raise _BadValueError(f"{key} {entry[key]!r} must be > 0")
+        if rule == "nonzero" and value == 0.0:
+            raise _BadValueError(f"{key} {entry[key]!r} must not be zero")
+        return value
+
+    duration = get("duration", "duration") if entry.get("duration") is not None else None
+    if kind == "straight":
+        return Straight(get("straight", "length"), duration)
+    if kind == "spin":
+        return Spin(get("spin", "angle", "nonzero"), duration)
+    direction = entry["arc"]
+    if direction not in ("ccw", "cw"):
+        raise _BadValueError(f"arc {direction!r}: expected 'ccw' or 'cw'")
+    return Arc(get("radius", "length"), get("angle", "angle"), direction, duration)
+
+
+def _looks_structured(text: str) -> bool:
+    for line in text.splitlines():
+        stripped = line.strip()
+        if stripped and not stripped.startswith("#"):
+            return stripped[0] in "[{-"
+    return False
+
+
+def segments_from_data(data: object, source: str = "plan") -> list[Segment]:
+    """Segments from parsed YAML/JSON: a list of entries, or a mapping with a ``segments`` list.
+
+    Entries are mappings such as ``{straight: 1.0, duration: 10}``, ``{arc: ccw, radius: 0.25,
+    angle: 180, duration: 10}`` or ``{spin: 90}`` (numbers in m, degrees and s; strings may carry
+    a unit: ``"25cm"``, ``"1.5rad"``, ``"10s"``), or text segments such as ``"straight 1 10s"``.
+
+    Raises:
+        PlanError: naming the source and the entry (counted from 1).
+    """
+    if isinstance(data, Mapping) and "segments" in data:
+        data = data["segments"]
+    if not isinstance(data, list):
+        raise PlanError(f"{source}: expected a list of segments, got {type(data).__name__}")
+    if not data:
+        raise PlanError(f"{source}: empty plan: no segments")
+    segments: list[Segment] = []
+    for number, entry in enumerate(data, start=1):
+        try:
+            segments.append(_segment_from_entry(entry))
+        except (_BadValueError, PlanError) as err:
+            raise PlanError(f"{source}: entry {number}: {err}") from None
+    return segments
+
+
+def load_plan(path: str | os.PathLike[str]) -> list[Segment]:
+    """Read a plan file.
+
+    ``.json`` files are JSON, ``.yaml``/``.yml`` files YAML (see :func:`segments_from_data` for
+    the entries), ``.txt`` files the text form (see :func:`parse_plan`); other files are read as
+    YAML when they start with ``[``, ``{`` or ``-``, else as text.
+
+    Args:
+        path: the file.
+
+    Returns:
+        The segments (SI units).
+
+    Raises:
+        PlanError: the file cannot be read or parsed, or an entry is bad (the message names it).
+    """
+    source = os.fspath(path)
+    try:
+        with open(source, encoding="utf-8") as handle:
+            text = handle.read()
+    except FileNotFoundError:
+        raise PlanError(f"{source}: no such file") from None
+    except IsADirectoryError:
+        raise PlanError(f"{source}: is a directory, not a plan file") from None
+    except UnicodeDecodeError as err:
+        raise PlanError(f"{source}: not a text file ({err.reason})") from None
+    except OSError as err:
+        raise PlanError(f"{source}: cannot read ({err.strerror})") from None
+    suffix = os.path.splitext(source)[1].lower()
+    if suffix == ".json":
+        return segments_from_data(_load_json(text, source), source)
+    if suffix in (".yaml", ".yml") or (suffix != ".txt" and _looks_structured(text)):
+        return segments_from_data(_load_yaml(text, source), source)
+    try:
+        return parse_plan(text)
+    except PlanError as err:
+        raise PlanError(f"{source}: {err}") from None
+
+
+def _load_json(text: str, source: str) -> Any:
+    import json
+
+    def reject(constant: str) -> float:
+        raise PlanError(f"{source}: {constant} is not a finite number")
+
+    try:
+        return json.loads(text, parse_constant=reject)
+    except json.JSONDecodeError as err:
+        raise PlanError(
+            f"{source}: malformed JSON: {err.msg} (line {err.lineno}, column {err.colno})"
+        ) from None
+
+
+def _load_yaml(text: str, source: str) -> Any:
+    import yaml
+
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        problem = getattr(err, "problem", None) or "malformed YAML"
+        where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark is not None else ""
+        raise PlanError(f"{source}: malformed YAML: {problem}{where}") from None

@@ -1,0 +1,557 @@
+"""`diffbot plan`: every output format, the limit check, files, and bad input."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import shutil
+import signal
+import stat
+import subprocess
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+from click.testing import CliRunner, Result
+from hypothesis import given
+from hypothesis import strategies as st
+
+from diffbot import EXAMPLES, DiffDriveParams, parse_plan, plan
+from diffbot.cli import _ceil_text, _yaml_float, main
+
+Write = Callable[[str, str], Path]
+SH = shutil.which("sh") or "sh"
+HAS_SH = shutil.which("sh") is not None
+
+
+def run(runner: CliRunner, *args: str) -> Result:
+    return runner.invoke(main, ["plan", *args])
+
+
+def assert_bad_input(result: Result, *fragments: str) -> None:
+    """Exit 2, one ``error:`` line on stderr holding every fragment, no traceback."""
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("error: ")
+    for fragment in fragments:
+        assert fragment in lines[0]
+    assert "Traceback" not in result.output
+
+
+# --------------------------------------------------------------------------------------------
+# table
+
+
+def test_default_is_trajectory_A_as_a_table(runner: CliRunner) -> None:
+    result = run(runner)
+    assert result.exit_code == 0, result.output
+    out = result.stdout
+    assert out.startswith(f"Trajectory A: {EXAMPLES['A']}\n")
+    assert "motor limit 50 rpm (5.23599 rad/s)" in out
+    rows = [line.split() for line in out.splitlines() if line[:1].isdigit()]
+    assert [row[0] for row in rows] == ["1", "2", "3", "4"]
+    assert rows[0][1:6] == ["ccw", "arc", "r", "0.25", "m"]
+    # v, w, left rad/s, rpm, right rad/s, rpm, %, time, x, y, theta
+    assert rows[0][8:] == [
+        "0.0785",
+        "0.3142",
+        "1.638",
+        "15.64",
+        "2.850",
+        "27.21",
+        "54.4",
+        "10",
+        "0.0000",
+        "0.5000",
+        "180.00",
+    ]
+    assert rows[1][4:] == [
+        "0.1000",
+        "0.0000",
+        "2.857",
+        "27.28",
+        "2.857",
+        "27.28",
+        "54.6",
+        "10",
+        "-1.0000",
+        "0.5000",
+        "180.00",
+    ]
+    assert "total 40 s; final pose x 0.0000 m, y 1.0000 m, theta 0.00 deg" in out
+    assert "within, peak 54.6% in segment 2" in out
+    assert result.stderr == ""
+
+
+def test_example_B_table(runner: CliRunner) -> None:
+    result = run(runner, "--example", "b")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith(f"Trajectory B: {EXAMPLES['B']}\n")
+    assert "final pose x 0.0000 m, y 1.0000 m, theta 0.00 deg" in result.stdout
+
+
+def test_fastest_table_runs_every_segment_at_the_limit(runner: CliRunner) -> None:
+    result = run(runner, "--fastest")
+    assert result.exit_code == 0, result.output
+    rows = [line.split() for line in result.stdout.splitlines() if line[:1].isdigit()]
+    assert [row[-5] for row in rows] == ["100.0"] * 4
+    assert "total 21.7992 s" in result.stdout
+
+
+def test_fastest_without_a_limit_is_bad_input(runner: CliRunner, write: Write) -> None:
+    urdf = write(
+        "nolimit.urdf",
+        """<robot name="r">
+  <link name="base_link"/>
+  <link name="l"><collision><origin rpy="1.5707963 0 0"/>
+    <geometry><cylinder radius="0.05" length="0.02"/></geometry></collision></link>
+  <link name="r"><collision><origin rpy="1.5707963 0 0"/>
+    <geometry><cylinder radius="0.05" length="0.02"/></geometry></collision></link>
+  <joint name="left_joint" type="continuous"><parent link="base_link"/><child link="l"/>
+    <origin xyz="0 0.1 0"/><axis xyz="0 1 0"/></joint>
+  <joint name="right_joint" type="continuous"><parent link="base_link"/><child link="r"/>
+    <origin xyz="0 -0.1 0"/><axis xyz="0 1 0"/></joint>
+</robot>
+""",
+    )
+    result = run(runner, "--robot", str(urdf), "--fastest")
+    assert_bad_input(result, "needs a motor limit")
+    result = run(runner, "--robot", str(urdf), "straight 1 1s")
+    assert result.exit_code == 0, result.output
+    assert "motor limit: none in the description, not checked" in result.stdout
+
+
+# --------------------------------------------------------------------------------------------
+# json and csv
+
+
+def plan_json(runner: CliRunner, *args: str) -> dict[str, Any]:
+    result = run(runner, "--json", *args)
+    assert result.exit_code == 0, result.output
+    data: dict[str, Any] = json.loads(result.stdout)
+    return data
+
+
+def test_json_holds_every_segment_and_the_robot(runner: CliRunner, params: DiffDriveParams) -> None:
+    data = plan_json(runner)
+    expected = plan(parse_plan(EXAMPLES["A"]), params)
+    assert data["plan"] == EXAMPLES["A"]
+    assert data["duration"] == 40.0
+    assert data["within_limit"] is True
+    assert data["violations"] == []
+    assert data["final_pose"]["y"] == pytest.approx(1.0, abs=1e-12)
+    assert data["limit_rpm"] == pytest.approx(50.0, rel=1e-12)
+    assert data["robot"] == {
+        "wheel_radius": 0.035,
+        "wheel_separation": 0.135,
+        "left_joint": "front_left_wheel_joint",
+        "right_joint": "front_right_wheel_joint",
+        "left_sign": 1,
+        "right_sign": 1,
+        "max_wheel_speed": params.max_wheel_speed,
+        "max_wheel_rpm": params.max_wheel_rpm,
+        "source": "bundled diffbot",
+    }
+    assert [s["kind"] for s in data["segments"]] == ["ccw", "straight", "cw", "straight"]
+    for got, want in zip(data["segments"], expected.segments, strict=True):
+        assert got["duration"] == want.duration
+        assert got["linear"] == want.twist.linear
+        assert got["angular"] == want.twist.angular
+        assert got["left"] == want.joints.left
+        assert got["right"] == want.joints.right
+        assert got["left_rpm"] == pytest.approx(float(want.joints.left) * 60 / (2 * math.pi))
+        assert got["end_pose"] == {
+            "x": want.end_pose.x,
+            "y": want.end_pose.y,
+            "theta": want.end_pose.theta,
+        }
+        assert got["fraction"] == want.fraction
+    assert data["segments"][0]["description"] == "ccw arc r 0.25 m 180 deg"
+
+
+def test_json_flag_and_format_json_agree(runner: CliRunner) -> None:
+    flag, option = run(runner, "--json"), run(runner, "--format", "json")
+    assert flag.exit_code == option.exit_code == 0
+    assert flag.stdout == option.stdout
+
+
+def test_json_and_another_format_conflict(runner: CliRunner) -> None:
+    assert_bad_input(run(runner, "--json", "--format", "csv"), "--json", "csv")
+
+
+def test_csv_has_a_header_and_one_row_per_segment(runner: CliRunner) -> None:
+    result = run(runner, "--format", "csv", "--example", "B")
+    assert result.exit_code == 0, result.output
+    rows = list(csv.DictReader(io.StringIO(result.stdout)))
+    assert [row["kind"] for row in rows] == ["straight", "ccw", "straight", "cw"]
+    assert [row["spec"] for row in rows] == [s.strip() for s in EXAMPLES["B"].split(";")]
+    assert float(rows[0]["left"]) == pytest.approx(0.1 / 0.035, rel=1e-15)
+    assert float(rows[3]["angular"]) == pytest.approx(-math.pi / 10, rel=1e-15)
+    assert float(rows[3]["y"]) == pytest.approx(1.0, abs=1e-12)
+    assert float(rows[1]["fraction"]) == pytest.approx(0.5442857142857142, rel=1e-12)
+
+
+# --------------------------------------------------------------------------------------------
+# twist and wheels
+
+
+def test_twist_lines_are_the_seeds_messages_with_durations(runner: CliRunner) -> None:
+    result = run(runner, "--format", "twist")
+    assert result.exit_code == 0, result.output
+    lines = [line for line in result.stdout.splitlines() if not line.startswith("#")]
+    messages = [yaml.safe_load(line.split("  #")[0]) for line in lines]
+    assert messages[0] == {"linear": {"x": math.pi / 40}, "angular": {"z": math.pi / 10}}
+    assert messages[1] == {"linear": {"x": 0.1}, "angular": {"z": 0.0}}
+    assert messages[2]["angular"]["z"] == -math.pi / 10
+    assert messages[-1] == {"linear": {"x": 0.0}, "angular": {"z": 0.0}}
+    assert len(messages) == 5
+    assert lines[0].endswith("# 1/4 ccw arc r 0.25 m 180 deg, 10 s")
+    assert lines[-1].endswith("# stop")
+    assert "cmd_vel" in result.stdout
+
+
+def test_wheels_lines_name_the_topics(runner: CliRunner) -> None:
+    result = run(runner, "--format", "wheels", "--left-topic", "/l/commands")
+    assert result.exit_code == 0, result.output
+    commands = [line.split(None, 1) for line in result.stdout.splitlines() if line[:1] != "#"]
+    assert [topic for topic, _ in commands] == [
+        "/l/commands",
+        "right_wheel_velocity_controller/commands",
+    ] * 5
+    values = [yaml.safe_load(message)["data"][0] for _, message in commands]
+    assert [round(v, 2) for v in values[:8]] == [1.64, 2.85, 2.86, 2.86, 2.85, 1.64, 2.86, 2.86]
+    assert values[8:] == [0.0, 0.0]
+    assert "# 2/4 straight 1 m, 10 s" in result.stdout
+    assert "std_msgs/msg/Float64MultiArray" in result.stdout
+
+
+@given(st.floats(allow_nan=False, allow_infinity=False))
+def test_yaml_floats_are_read_back_as_the_same_float(value: float) -> None:
+    assert yaml.safe_load(_yaml_float(value)) == value
+    assert isinstance(yaml.safe_load(_yaml_float(value)), float)
+
+
+# --------------------------------------------------------------------------------------------
+# ros2 script
+
+
+def make_fake_ros2(directory: Path, log: Path, sleep: float = 0.0) -> dict[str, str]:
+    """A ``ros2`` that logs its arguments (one line per call) and optionally takes its time."""
+    fake = directory / "ros2"
+    fake.write_text(
+        "#!/bin/sh\n"
+        f'printf "%s\\n" "$*" >> {log}\n'
+        f'case "$*" in *--once*) ;; *) sleep {sleep} ;; esac\n',
+        encoding="utf-8",
+    )
+    fake.chmod(0o755)
+    return {**os.environ, "PATH": f"{directory}{os.pathsep}{os.environ['PATH']}"}
+
+
+def ros2_script(runner: CliRunner, tmp_path: Path, *args: str) -> Path:
+    script = tmp_path / "run.sh"
+    result = run(runner, "--format", "ros2", "-o", str(script), *args)
+    assert result.exit_code == 0, result.output
+    return script
+
+
+@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+def test_ros2_script_is_valid_sh_and_publishes_each_twist_then_zero(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    script = ros2_script(runner, tmp_path)
+    assert script.read_text().startswith("#!/bin/sh\n")
+    assert os.stat(script).st_mode & stat.S_IXUSR
+    subprocess.run([SH, "-n", str(script)], check=True)
+    log = tmp_path / "log"
+    env = make_fake_ros2(tmp_path, log)
+    subprocess.run([SH, str(script)], check=True, env=env, timeout=30)
+    calls = log.read_text().splitlines()
+    twist = "cmd_vel geometry_msgs/msg/Twist"
+    assert calls == [
+        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.07853981633974483}}, "
+        "angular: {z: 0.3141592653589793}}",
+        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.1}}, angular: {{z: 0.0}}}}",
+        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.07853981633974483}}, "
+        "angular: {z: -0.3141592653589793}}",
+        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.1}}, angular: {{z: 0.0}}}}",
+        f"topic pub --once {twist} {{linear: {{x: 0.0}}, angular: {{z: 0.0}}}}",
+    ]
+
+
+@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+def test_ros2_script_holds_each_segment_for_exactly_its_duration(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    script = ros2_script(
+        runner, tmp_path, "straight 1; spin 90 0.01s", "--rate", "20", "--rpm-limit", "1e5"
+    )
+    log = tmp_path / "log"
+    subprocess.run([SH, str(script)], check=True, env=make_fake_ros2(tmp_path, log), timeout=30)
+    calls = [line.split() for line in log.read_text().splitlines()]
+    for call, duration in zip(calls, [10.0, 0.01], strict=False):
+        rate, times = float(call[call.index("-r") + 1]), int(call[call.index("-t") + 1])
+        assert times >= 1
+        assert times / rate == pytest.approx(duration, rel=1e-12)
+    assert int(calls[0][calls[0].index("-t") + 1]) == 200
+    assert calls[-1][2] == "--once"
+
+
+@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+def test_ros2_script_with_wheels_publishes_both_wheels_together_then_zero(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    script = ros2_script(
+        runner, tmp_path, "straight 1 10s; spin -90 2s", "--wheels", "--right-topic", "/r/cmd"
+    )
+    subprocess.run([SH, "-n", str(script)], check=True)
+    log = tmp_path / "log"
+    subprocess.run([SH, str(script)], check=True, env=make_fake_ros2(tmp_path, log), timeout=30)
+    calls = log.read_text().splitlines()
+    array = "std_msgs/msg/Float64MultiArray"
+    left, right = "left_wheel_velocity_controller/commands", "/r/cmd"
+    spin = math.pi / 4 * 0.135 / 2 / 0.035
+    assert sorted(calls[:2]) == [
+        f"topic pub -r 10 -t 100 {right} {array} {{data: [2.857142857142857]}}",
+        f"topic pub -r 10 -t 100 {left} {array} {{data: [2.857142857142857]}}",
+    ]
+    assert sorted(calls[2:4]) == [
+        f"topic pub -r 10 -t 20 {right} {array} {{data: [{-spin!r}]}}",
+        f"topic pub -r 10 -t 20 {left} {array} {{data: [{spin!r}]}}",
+    ]
+    assert sorted(calls[4:]) == [
+        f"topic pub --once {right} {array} {{data: [0.0]}}",
+        f"topic pub --once {left} {array} {{data: [0.0]}}",
+    ]
+
+
+@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+@pytest.mark.parametrize(
+    ("wheels", "signum", "code"),
+    [
+        (False, signal.SIGINT, 130),
+        (False, signal.SIGTERM, 143),
+        (True, signal.SIGINT, 130),
+    ],
+)
+def test_ros2_script_stops_the_robot_when_interrupted(
+    runner: CliRunner, tmp_path: Path, wheels: bool, signum: signal.Signals, code: int
+) -> None:
+    script = ros2_script(runner, tmp_path, *(["--wheels"] if wheels else []))
+    log = tmp_path / "log"
+    env = make_fake_ros2(tmp_path, log, sleep=0.5)
+    process = subprocess.Popen(
+        [SH, str(script)],
+        env=env,
+        # A shell that starts with SIGINT ignored cannot trap it: give it the default.
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    started = 2 if wheels else 1  # commands of the first segment
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline and (
+        not log.exists() or len(log.read_text().splitlines()) < started
+    ):
+        time.sleep(0.02)
+    process.send_signal(signum)
+    assert process.wait(timeout=30) == code
+    calls = log.read_text().splitlines()
+    assert all("--once" not in call for call in calls[: -2 if wheels else -1])
+    zeros = calls[-2:] if wheels else calls[-1:]
+    assert all("--once" in call and ("0.0]" in call or "z: 0.0" in call) for call in zeros)
+    assert len(calls) == (4 if wheels else 2)
+
+
+def test_ros2_script_quotes_nothing_unsafe_and_rejects_bad_topics(runner: CliRunner) -> None:
+    assert_bad_input(run(runner, "--format", "ros2", "--cmd-vel-topic", "a;rm -rf /"), "'a;rm")
+    assert_bad_input(run(runner, "--left-topic", "1abc"), "--left-topic", "'1abc'")
+
+
+def test_wheels_flag_outside_ros2_format_warns(runner: CliRunner) -> None:
+    result = run(runner, "--wheels")
+    assert result.exit_code == 0, result.output
+    assert result.stderr.startswith("warning: --wheels only changes --format ros2")
+
+
+# --------------------------------------------------------------------------------------------
+# Limit check
+
+
+def test_plan_over_the_limit_prints_the_results_then_fails_with_exit_1(
+    runner: CliRunner,
+) -> None:
+    result = run(runner, "straight 1 10s; straight 1 5s; ccw 0.1 90 1s")
+    assert result.exit_code == 1
+    assert "OVER in segments 2, 3" in result.stdout
+    errors = result.stderr.splitlines()
+    assert errors == [
+        "error: segment 2 (straight 1 m, 5 s): left and right wheels at 54.57 rpm exceed the "
+        "50 rpm limit; shortest duration that fits: 5.457 s",
+        "error: segment 3 (ccw arc r 0.1 m 90 deg, 1 s): right wheel at 71.79 rpm exceeds the "
+        "50 rpm limit; shortest duration that fits: 1.436 s",
+    ]
+
+
+def test_suggested_shortest_duration_does_fit(runner: CliRunner) -> None:
+    assert run(runner, "straight 1 5.457s; ccw 0.1 90 1.436s").exit_code == 0
+    assert run(runner, "straight 1 5.456s").exit_code == 1
+
+
+@pytest.mark.parametrize("value", [1e-7, 0.9, 5.4567409060078, 1234.5678, 99999.2])
+def test_rounded_up_durations_are_never_below_the_value(value: float) -> None:
+    text = _ceil_text(value)
+    assert float(text) >= value
+    assert float(text) <= value * (1 + 1e-3)
+
+
+def test_over_the_limit_json_still_printed_with_violations(runner: CliRunner) -> None:
+    result = run(runner, "--json", "straight 1 5s")
+    assert result.exit_code == 1
+    data = json.loads(result.stdout)
+    assert data["within_limit"] is False
+    assert [(v["segment"], v["wheel"]) for v in data["violations"]] == [(1, "left"), (1, "right")]
+    assert data["violations"][0]["shortest_duration"] == pytest.approx(5.45674090600784)
+    assert result.stderr.startswith("error: segment 1")
+
+
+def test_rpm_limit_overrides_the_description(runner: CliRunner) -> None:
+    result = run(runner, "straight 1 5s", "--rpm-limit", "60")
+    assert result.exit_code == 0, result.output
+    assert "motor limit 60 rpm (6.28319 rad/s, from --rpm-limit): within" in result.stdout
+    assert run(runner, "--rpm-limit", "20").exit_code == 1
+    data = plan_json(runner, "--fastest", "--rpm-limit", "25", "straight 1")
+    assert data["segments"][0]["left_rpm"] == pytest.approx(25.0, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("option", "fragment"),
+    [("--rpm-limit", "'0' must be > 0"), ("--max-rpm", "the motor limit is zero")],
+)
+def test_zero_limit_is_bad_input(runner: CliRunner, option: str, fragment: str) -> None:
+    assert_bad_input(run(runner, option, "0"), fragment)
+
+
+# --------------------------------------------------------------------------------------------
+# Input: text, files, xacro arguments
+
+
+def test_spec_may_be_split_over_several_arguments_with_negative_numbers(
+    runner: CliRunner,
+) -> None:
+    data = plan_json(runner, "straight", "1", "10s;", "spin", "-90", "1s")
+    assert data["plan"] == "straight 1 10s; spin -90 1s"
+    assert data["final_pose"]["theta"] == pytest.approx(-math.pi / 2, abs=1e-15)
+
+
+def test_speed_and_spin_rate_options(runner: CliRunner) -> None:
+    data = plan_json(runner, "straight 1.5; spin 90", "--speed", "0.15", "--spin-rate", "1")
+    assert [s["duration"] for s in data["segments"]] == pytest.approx([10.0, math.pi / 2])
+
+
+def test_xacro_arguments_may_follow_the_spec(runner: CliRunner) -> None:
+    data = plan_json(runner, "straight 1 10s", "wheel_radius:=0.05")
+    assert data["robot"]["wheel_radius"] == 0.05
+    assert data["segments"][0]["left"] == pytest.approx(2.0, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("p.yaml", "- {straight: 1, duration: 10}\n- {arc: ccw, radius: 25cm, angle: 90}\n"),
+        (
+            "p.json",
+            '[{"straight": 1, "duration": 10}, {"arc": "ccw", "radius": 0.25, "angle": 90}]',
+        ),
+        ("p.txt", "straight 1 10s\nccw 0.25 90  # a quarter circle\n"),
+    ],
+)
+def test_plan_files_are_read(runner: CliRunner, write: Write, name: str, text: str) -> None:
+    path = write(name, text)
+    data = plan_json(runner, str(path))
+    assert data["plan"] == "straight 1 10s; ccw 0.25 90"
+    assert data["source"] == str(path)
+    assert path.read_text() == text
+
+
+def test_missing_plan_file_is_bad_input(runner: CliRunner, tmp_path: Path) -> None:
+    assert_bad_input(run(runner, str(tmp_path / "nope.yaml")), "nope.yaml: no such file")
+
+
+def test_bad_plan_file_names_the_entry(runner: CliRunner, write: Write) -> None:
+    path = write("p.yaml", "- {straight: 1}\n- {spin: 90, speed: 3}\n")
+    assert_bad_input(run(runner, str(path)), "entry 2", "'speed'")
+
+
+def test_example_and_a_spec_together_are_bad_input(runner: CliRunner) -> None:
+    assert_bad_input(run(runner, "--example", "A", "straight 1"), "--example")
+
+
+def test_unknown_option_is_bad_input_not_a_plan_token(runner: CliRunner) -> None:
+    assert_bad_input(run(runner, "--formt", "json"), "no such option: '--formt'")
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["strait 1"], ["'strait'", "segment 1", "column 1"]),
+        (["straight 1; ccw 0.25"], ["segment 2", "'ccw' needs ANGLE", "'0.25'"]),
+        (["straight 1km"], ["'1km'", "unknown unit 'km'"]),
+        (["straight -1"], ["'-1'", "must be > 0"]),
+        (["ccw 0 90"], ["radius '0'"]),
+        (["straight 1 0s"], ["duration '0s'"]),
+        (["straight nan"], ["'nan'", "not a finite number"]),
+        (["spin inf"], ["'inf'", "not a finite number"]),
+        (["spin 0"], ["'0'", "must not be zero"]),
+        (["straight 1 2 3"], ["unexpected '3'"]),
+        (["straight 1 10 rad"], ["'rad' is a unit"]),
+        (["  ;  "], ["empty plan"]),
+        (["--speed", "nan"], ["--speed", "'nan'"]),
+        (["--rate", "0"], ["--rate"]),
+        (["--format", "yaml"], ["--format", "'yaml'"]),
+        (["--example", "C"], ["--example", "'C'"]),
+    ],
+)
+def test_every_bad_plan_gives_exit_2_quoting_the_token(
+    runner: CliRunner, args: list[str], fragments: list[str]
+) -> None:
+    assert_bad_input(run(runner, *args), *fragments)
+
+
+# --------------------------------------------------------------------------------------------
+# Output files
+
+
+def test_output_file_is_written_whole_and_not_overwritten_without_force(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    out = tmp_path / "plan.json"
+    result = run(runner, "--json", "-o", str(out))
+    assert result.exit_code == 0, result.output
+    assert result.stdout == ""
+    assert json.loads(out.read_text())["plan"] == EXAMPLES["A"]
+    assert not os.stat(out).st_mode & stat.S_IXUSR
+    assert_bad_input(run(runner, "--example", "B", "--json", "-o", str(out)), "--force")
+    assert json.loads(out.read_text())["plan"] == EXAMPLES["A"]
+    result = run(runner, "--example", "B", "--json", "-o", str(out), "--force")
+    assert result.exit_code == 0, result.output
+    assert json.loads(out.read_text())["plan"] == EXAMPLES["B"]
+    assert [p.name for p in tmp_path.iterdir()] == ["plan.json"]
+
+
+def test_output_over_the_plan_file_is_refused(runner: CliRunner, write: Write) -> None:
+    path = write("p.txt", "straight 1\n")
+    assert_bad_input(run(runner, str(path), "-o", str(path), "--force"), "plan file itself")
+    assert path.read_text() == "straight 1\n"
+
+
+def test_help_describes_the_grammar(runner: CliRunner) -> None:
+    result = run(runner, "--help")
+    assert result.exit_code == 0
+    for fragment in ("straight LENGTH [DURATION]", "--fastest", "--rpm-limit", "ros2"):
+        assert fragment in result.stdout
