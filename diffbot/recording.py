@@ -37,6 +37,7 @@ from diffbot.kinematics import DiffDriveParams, Pose, Twist
 from diffbot.odometry import SKIP_NOT_FINITE, Odometry, quaternion_from_yaw
 
 if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
     from rosbags.rosbag2 import Writer
     from rosbags.typesys.store import Typestore
     from rosbags.typesys.stores.ros2_humble import sensor_msgs__msg__JointState as JointState
@@ -427,20 +428,22 @@ def format_odometry_csv(rows: Iterable[OdometryRow]) -> str:
 
 
 def format_joint_states_csv(
-    stamps_ns: Sequence[int], names: Sequence[str], positions: Sequence[Sequence[float]]
+    stamps_ns: Sequence[int], names: Sequence[str], positions: ArrayLike
 ) -> str:
     """Joint positions as CSV text: ``time`` (s) then one column (rad) per joint, by name.
 
     Args:
         stamps_ns: the stamps (ns), one per row.
         names: the joint names, the column headers.
-        positions: one sequence per joint, each as long as ``stamps_ns``.
+        positions: joint angles (rad), shape (len(names), len(stamps_ns)): one row per joint.
     """
+    import numpy as np
+
+    rows = np.asarray(positions, dtype=np.float64).reshape(len(names), len(stamps_ns)).T
     out = io.StringIO()
     out.write(",".join(["time", *names]) + "\n")
-    for k, stamp_ns in enumerate(stamps_ns):
-        values = ",".join(repr(float(column[k])) for column in positions)
-        out.write(f"{seconds_text(stamp_ns)},{values}\n")
+    for stamp_ns, values in zip(stamps_ns, rows.tolist(), strict=True):
+        out.write(f"{seconds_text(stamp_ns)},{','.join(map(repr, values))}\n")
     return out.getvalue()
 
 
@@ -579,7 +582,7 @@ def write_joint_states_bag(
     path: str | os.PathLike[str],
     stamps_ns: Sequence[int],
     names: Sequence[str],
-    positions: Sequence[Sequence[float]],
+    positions: ArrayLike,
     *,
     force: bool = False,
     topic: str = DEFAULT_TOPIC,
@@ -590,7 +593,7 @@ def write_joint_states_bag(
         path: the bag directory to create.
         stamps_ns: the stamps (ns), one per message.
         names: the joint names of every message.
-        positions: one sequence of positions (rad) per joint, each as long as ``stamps_ns``.
+        positions: joint angles (rad), shape (len(names), len(stamps_ns)): one row per joint.
         force: replace an existing file or bag at ``path``.
         topic: the topic.
 

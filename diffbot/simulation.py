@@ -1,0 +1,159 @@
+"""Simulated wheel encoders: the joint states that executing a plan would produce.
+
+The drive wheel joints follow the plan's commands exactly (their angles are the integral of the
+joint velocity commands, direction signs applied, both 0 at the start), sampled at a fixed rate
+and at every segment boundary. Optionally the angles get Gaussian noise and are then quantised to
+an encoder's resolution. The caster joints (``caster_rotation_joint``, ``caster_wheel_joint`` on
+the bundled robot) are reported at 0: the caster is not modelled.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Final
+
+from diffbot.errors import ParameterError
+from diffbot.kinematics import DiffDriveParams
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
+    from diffbot.trajectory import Plan
+
+__all__ = ["CASTER_JOINTS", "JointStates", "quantise", "sample_times", "simulate"]
+
+#: The bundled robot's caster joints, reported at 0 next to the drive wheels.
+CASTER_JOINTS: Final = ("caster_rotation_joint", "caster_wheel_joint")
+
+#: Grid times closer than this to a segment boundary (s) give way to the boundary: stamps are in
+#: nanoseconds, and two samples within one would share a stamp.
+_SAME_TIME = 1e-9
+
+
+@dataclass(frozen=True)
+class JointStates:
+    """A series of joint states.
+
+    Attributes:
+        times: sample times (s) since the start of the plan, increasing, shape (n,).
+        names: the joint names.
+        positions: joint angles (rad), one row per joint, shape (len(names), n).
+    """
+
+    times: NDArray[np.float64]
+    names: tuple[str, ...]
+    positions: NDArray[np.float64]
+
+
+def sample_times(
+    duration: float, rate: float, boundaries: tuple[float, ...] = ()
+) -> NDArray[np.float64]:
+    """Times (s) from 0 to ``duration``: every 1/rate s, at each boundary, and at the end.
+
+    Args:
+        duration: the end time (s), >= 0.
+        rate: samples per second (Hz), > 0.
+        boundaries: extra times (s) to sample at, such as segment ends.
+
+    Returns:
+        Increasing times, shape (n,), starting at 0 and ending at ``duration`` (just 0 for a
+        duration under 1 ns). A grid time within 1 ns of a boundary or of the end is replaced by
+        it, so that no two samples share a nanosecond stamp.
+
+    Raises:
+        ParameterError: a non-finite or negative duration, or a rate that is not positive.
+    """
+    import numpy as np
+
+    if not math.isfinite(duration) or duration < 0.0:
+        raise ParameterError(f"duration must be finite and >= 0, got {duration!r}")
+    if not math.isfinite(rate) or rate <= 0.0:
+        raise ParameterError(f"rate must be a positive finite number (Hz), got {rate!r}")
+    exact = [0.0]
+    for boundary in sorted(b for b in boundaries if 0.0 < b < duration - _SAME_TIME):
+        if boundary - exact[-1] > _SAME_TIME:
+            exact.append(boundary)
+    if duration > _SAME_TIME:
+        if duration - exact[-1] <= _SAME_TIME:
+            exact.pop()  # the end replaces a boundary within a nanosecond of it
+        exact.append(duration)
+    fixed = np.array(exact)
+    grid = np.arange(math.ceil(duration * rate) + 1, dtype=np.float64) / rate
+    grid = grid[grid < duration]
+    after = np.searchsorted(fixed, grid).clip(max=fixed.size - 1)
+    before = (after - 1).clip(min=0)
+    distance = np.minimum(np.abs(fixed[after] - grid), np.abs(grid - fixed[before]))
+    return np.sort(np.concatenate((grid[distance > _SAME_TIME], fixed)))
+
+
+def quantise(angles: NDArray[np.float64], ticks: int) -> NDArray[np.float64]:
+    """Angles (rad) as an encoder with ``ticks`` counts per revolution reports them.
+
+    Args:
+        angles: joint angles (rad).
+        ticks: counts per revolution, > 0.
+
+    Returns:
+        Each angle rounded to the nearest multiple of 2 pi / ticks.
+    """
+    import numpy as np
+
+    if ticks <= 0:
+        raise ParameterError(f"ticks per revolution must be a positive integer, got {ticks!r}")
+    step = 2.0 * math.pi / ticks
+    return np.round(angles / step) * step
+
+
+def simulate(
+    plan: Plan,
+    params: DiffDriveParams,
+    rate: float = 50.0,
+    *,
+    ticks: int | None = None,
+    noise: float = 0.0,
+    seed: int | None = None,
+    extra_joints: tuple[str, ...] = CASTER_JOINTS,
+) -> JointStates:
+    """The joint states a robot executing ``plan`` would report.
+
+    Args:
+        plan: the plan (from :func:`diffbot.trajectory.plan`).
+        params: the robot, for the wheel joint names.
+        rate: sampling rate (Hz); a sample is added at every segment boundary and at the end, so
+            that odometry of the result reproduces the plan exactly.
+        ticks: encoder resolution (counts per revolution), or None for exact angles.
+        noise: standard deviation (rad) of Gaussian noise added to each wheel angle (before
+            quantisation), 0 for none.
+        seed: seed of the noise generator, for reproducible runs.
+        extra_joints: joints reported at 0 after the wheels (the caster by default).
+
+    Returns:
+        Times (s) from 0 to the plan's duration, and the joint angles (rad): left wheel, right
+        wheel, then ``extra_joints``.
+
+    Raises:
+        ParameterError: a bad rate, resolution or noise level.
+    """
+    import numpy as np
+
+    from diffbot.trajectory import wheel_positions
+
+    if not math.isfinite(noise) or noise < 0.0:
+        raise ParameterError(f"noise must be a finite number >= 0 (rad), got {noise!r}")
+    ends: list[float] = []
+    elapsed = 0.0
+    for planned in plan.segments:
+        elapsed += planned.duration
+        ends.append(elapsed)
+    times = sample_times(plan.duration, rate, tuple(ends))
+    left, right = wheel_positions(plan, times)
+    wheels = np.vstack((left, right))
+    if noise > 0.0:
+        wheels += np.random.default_rng(seed).normal(0.0, noise, wheels.shape)
+    if ticks is not None:
+        wheels = quantise(wheels, ticks)
+    positions = np.vstack((wheels, np.zeros((len(extra_joints), times.size))))
+    names = (params.left_joint, params.right_joint, *extra_joints)
+    return JointStates(times, names, positions)

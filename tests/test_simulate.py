@@ -1,0 +1,292 @@
+"""Simulated joint states of a plan, and ``diffbot simulate``: odometry of them ends where the plan
+does."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from wheel_motion import angle_error
+
+import diffbot
+from diffbot.cli import main
+from diffbot.kinematics import DiffDriveParams
+from diffbot.odometry import integrate
+from diffbot.recording import read_bag, read_csv, run_odometry
+from diffbot.simulation import CASTER_JOINTS, quantise, sample_times, simulate
+from diffbot.trajectory import EXAMPLES, Arc, Segment, Spin, Straight, parse_plan, plan
+
+BOT = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, max_wheel_speed=5.235987755982989)
+
+durations = st.one_of(st.none(), st.floats(0.05, 20.0))
+segments_st = st.lists(
+    st.one_of(
+        st.builds(Straight, st.floats(0.001, 3.0), durations),
+        st.builds(
+            Arc,
+            st.floats(0.01, 2.0),
+            st.floats(0.01, 2 * math.pi),
+            st.sampled_from(["cw", "ccw"]),
+            durations,
+        ),
+        st.builds(Spin, st.floats(0.01, 7.0) | st.floats(-7.0, -0.01), durations),
+    ),
+    min_size=1,
+    max_size=6,
+)
+robots = st.builds(
+    DiffDriveParams,
+    wheel_radius=st.floats(0.01, 0.3),
+    wheel_separation=st.floats(0.05, 1.0),
+    left_sign=st.sampled_from([1, -1]),
+    right_sign=st.sampled_from([1, -1]),
+)
+
+
+def odometry_end(states: diffbot.simulation.JointStates, params: DiffDriveParams) -> diffbot.Pose:
+    series = integrate(params, states.positions[0], states.positions[1])
+    return diffbot.Pose(float(series.x[-1]), float(series.y[-1]), float(series.theta[-1]))
+
+
+# --------------------------------------------------------------------------------------------
+# Library
+
+
+def test_samples_are_at_the_rate_and_include_the_end() -> None:
+    assert sample_times(1.0, 4.0).tolist() == [0.0, 0.25, 0.5, 0.75, 1.0]
+    assert sample_times(0.9, 4.0).tolist() == [0.0, 0.25, 0.5, 0.75, 0.9]
+    assert sample_times(0.0, 50.0).tolist() == [0.0]
+    assert sample_times(1e-12, 50.0).tolist() == [0.0]  # shorter than a stamp's resolution
+
+
+def test_segment_boundaries_are_sampled_and_replace_grid_times_a_nanosecond_away() -> None:
+    times = sample_times(1.0, 4.0, (0.3, 0.5 + 1e-12, 0.3 + 1e-13, 1.0 - 1e-14))
+    assert times.tolist() == [0.0, 0.25, 0.3, 0.5 + 1e-12, 0.75, 1.0]
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.floats(1e-6, 100.0),
+    st.floats(0.5, 200.0),
+    st.lists(st.floats(0.0, 100.0), max_size=10),
+)
+def test_sample_times_increase_by_at_most_one_period_and_never_share_a_stamp(
+    duration: float, rate: float, boundaries: list[float]
+) -> None:
+    times = sample_times(duration, rate, tuple(boundaries))
+    assert times[0] == 0.0
+    assert times[-1] == duration
+    gaps = np.diff(times)
+    assert np.all(gaps > 1e-9)
+    assert np.all(gaps <= 1.0 / rate + 1e-9)
+    for boundary in boundaries:
+        if 0.0 < boundary < duration:
+            assert np.min(np.abs(times - boundary)) <= 1e-9
+
+
+def test_quantised_angles_are_whole_encoder_counts_within_half_a_count() -> None:
+    angles = np.linspace(-10.0, 10.0, 1001)
+    counts = quantise(angles, 1024) / (2 * math.pi / 1024)
+    assert np.allclose(counts, np.round(counts), atol=1e-9)
+    assert np.max(np.abs(quantise(angles, 1024) - angles)) <= math.pi / 1024 + 1e-15
+    with pytest.raises(diffbot.ParameterError, match="positive integer, got 0"):
+        quantise(angles, 0)
+
+
+def test_trajectory_a_at_50_hz_has_2001_samples_of_four_joints() -> None:
+    p = plan(parse_plan(EXAMPLES["A"]), BOT)
+    states = simulate(p, BOT, 50.0)
+    assert states.times.size == 2001
+    assert states.times[-1] == 40.0
+    assert states.names == (BOT.left_joint, BOT.right_joint, *CASTER_JOINTS)
+    assert states.positions.shape == (4, 2001)
+    assert not states.positions[2:].any()
+    assert states.positions[:2, 0].tolist() == [0.0, 0.0]
+    # 2 m of straights and two half circles of 0.25 m: 2 + pi/2 m per wheel on average.
+    mean = (states.positions[0, -1] + states.positions[1, -1]) / 2 * BOT.wheel_radius
+    assert mean == pytest.approx(2 + math.pi / 4 * 2, rel=1e-12)
+
+
+@settings(max_examples=150, deadline=None)
+@given(robots, segments_st, st.sampled_from([1.0, 3.0, 7.5, 10.0, 50.0, 200.0]))
+def test_odometry_of_a_simulated_plan_ends_at_the_plans_final_pose(
+    params: DiffDriveParams, segments: list[Segment], rate: float
+) -> None:
+    p = plan(segments, params)
+    end = odometry_end(simulate(p, params, rate), params)
+    assert end.x == pytest.approx(p.final_pose.x, abs=1e-9)
+    assert end.y == pytest.approx(p.final_pose.y, abs=1e-9)
+    assert angle_error(end.theta, p.final_pose.theta) <= 1e-9
+
+
+def test_fastest_plans_with_odd_durations_are_reproduced_exactly() -> None:
+    p = plan(parse_plan(EXAMPLES["B"]), BOT, fastest=True)
+    assert p.segments[1].duration % 0.02 != 0.0  # boundaries off the 50 Hz grid
+    end = odometry_end(simulate(p, BOT, 50.0), BOT)
+    assert (end.x, end.y) == pytest.approx((0.0, 1.0), abs=1e-9)
+
+
+def test_noise_is_gaussian_and_reproducible_with_a_seed() -> None:
+    p = plan(parse_plan("straight 1 100s"), BOT)
+    clean = simulate(p, BOT, 50.0).positions
+    noisy = simulate(p, BOT, 50.0, noise=0.01, seed=3).positions
+    again = simulate(p, BOT, 50.0, noise=0.01, seed=3).positions
+    other = simulate(p, BOT, 50.0, noise=0.01, seed=4).positions
+    assert np.array_equal(noisy, again)
+    assert not np.array_equal(noisy, other)
+    error = noisy[:2] - clean[:2]
+    assert np.std(error) == pytest.approx(0.01, rel=0.05)
+    assert abs(np.mean(error)) < 0.001
+    assert not noisy[2:].any()  # the casters stay still
+
+
+def test_ticks_quantise_the_wheels_after_the_noise() -> None:
+    p = plan(parse_plan("ccw 0.5 90 5s"), BOT)
+    states = simulate(p, BOT, 10.0, ticks=360, noise=0.001, seed=1)
+    degrees = np.degrees(states.positions[:2])
+    assert np.allclose(degrees, np.round(degrees), atol=1e-9)
+
+
+def test_bad_simulation_settings_are_refused() -> None:
+    p = plan(parse_plan("straight 1"), BOT)
+    with pytest.raises(diffbot.ParameterError, match="noise must be a finite number >= 0"):
+        simulate(p, BOT, noise=-1.0)
+    with pytest.raises(diffbot.ParameterError, match=r"rate must be a positive .* got 0"):
+        simulate(p, BOT, rate=0.0)
+
+
+# --------------------------------------------------------------------------------------------
+# CLI
+
+
+def test_simulate_prints_trajectory_a_as_csv_by_default(runner: CliRunner) -> None:
+    result = runner.invoke(main, ["simulate"])
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert lines[0] == (
+        "time,front_left_wheel_joint,front_right_wheel_joint,"
+        "caster_rotation_joint,caster_wheel_joint"
+    )
+    assert len(lines) == 2002
+    assert lines[1] == "0,0.0,0.0,0.0,0.0"
+    assert lines[-1].startswith("40,")
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        [],
+        ["--example", "B", "--fastest"],
+        ["straight 1 5.555s; ccw 0.2 97 4.7s; spin -45; cw 0.3 33", "--rate", "7"],
+        ["--example", "a", "--rate", "10", "wheel_radius:=0.05"],
+    ],
+)
+def test_simulate_then_odom_ends_exactly_at_the_plans_final_pose(
+    runner: CliRunner, tmp_path: Path, args: list[str]
+) -> None:
+    out = tmp_path / "joints.csv"
+    result = runner.invoke(main, ["simulate", *args, "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert f"output      {out} (CSV)" in result.stdout
+    robot = [a for a in args if ":=" in a]
+    planned = runner.invoke(main, ["plan", *args, "--json"])
+    assert planned.exit_code == 0, planned.output
+    expected = json.loads(planned.stdout)["final_pose"]
+    odom = runner.invoke(main, ["odom", str(out), *robot, "--json"])
+    assert odom.exit_code == 0, odom.output
+    final = json.loads(odom.stdout)["final_pose"]
+    assert final["x"] == pytest.approx(expected["x"], abs=1e-9)
+    assert final["y"] == pytest.approx(expected["y"], abs=1e-9)
+    assert angle_error(final["theta"], expected["theta"]) <= 1e-9
+    assert json.loads(odom.stdout)["skipped"] == {}
+
+
+def test_simulate_writes_a_bag_of_joint_states_that_odom_reads(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    out = tmp_path / "bag"
+    args = ["simulate", "--out", str(out), "--bag", "--start", "1700000000.5", "--json"]
+    result = runner.invoke(main, [*args, "--topic", "/bot/joint_states"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    assert summary["samples"] == 2001
+    assert summary["joints"] == [
+        "front_left_wheel_joint",
+        "front_right_wheel_joint",
+        "caster_rotation_joint",
+        "caster_wheel_joint",
+    ]
+    samples = read_bag(out, "/bot/joint_states").samples
+    assert samples[0].stamp_ns == 1_700_000_000_500_000_000
+    assert samples[-1].stamp_ns == 1_700_000_040_500_000_000
+    assert list(samples[5].names) == summary["joints"]
+    odom = runner.invoke(main, ["odom", str(out), "--topic", "/bot/joint_states", "--json"])
+    assert odom.exit_code == 0, odom.output
+    assert json.loads(odom.stdout)["final_pose"]["y"] == pytest.approx(1.0, abs=1e-9)
+
+
+def test_simulate_with_ticks_and_noise_is_reproducible(runner: CliRunner, tmp_path: Path) -> None:
+    args = ["simulate", "straight 0.5 5s", "--ticks", "4096", "--noise", "0.002", "--seed", "9"]
+    first = runner.invoke(main, args)
+    second = runner.invoke(main, args)
+    assert first.exit_code == 0, first.output
+    assert first.stdout == second.stdout
+    (tmp_path / "j.csv").write_text(first.stdout, encoding="utf-8")
+    samples = read_csv(tmp_path / "j.csv", BOT.left_joint, BOT.right_joint).samples
+    counts = np.array([s.positions for s in samples]) / (2 * math.pi / 4096)
+    assert np.allclose(counts, np.round(counts), atol=1e-6)
+    run = run_odometry(
+        read_csv(tmp_path / "j.csv", BOT.left_joint, BOT.right_joint), diffbot.Odometry(BOT)
+    )
+    assert run.final_pose.x == pytest.approx(0.5, abs=0.01)  # close, no longer exact
+
+
+def test_simulate_of_a_plan_over_the_limit_writes_it_and_exits_1(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    out = tmp_path / "fast.csv"
+    result = runner.invoke(main, ["simulate", "straight 1 1s", "--out", str(out)])
+    assert result.exit_code == 1
+    assert "exceed the 50 rpm limit; shortest duration that fits: 5.457 s" in result.stderr
+    assert out.read_text(encoding="utf-8").splitlines()[-1].startswith("1,")
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["straight"], "error: "),
+        (["straight 1", "--rate", "0"], "'0' must be > 0"),
+        (["straight 1", "--ticks", "0"], "0 is not in the range x>=1"),
+        (["straight 1", "--noise", "-1"], "'-1' must be >= 0"),
+        (["straight 1", "--noise", "nan"], "not a finite number"),
+        (["straight 1", "--bag"], "--bag writes the --out directory"),
+        (["straight 1", "--json"], "--json prints a summary, so the samples need --out"),
+        (["--example", "C"], "Invalid value for '--example': 'C' is not one of"),
+        (["nope.yaml"], "nope.yaml"),
+    ],
+)
+def test_simulate_refuses_bad_input_with_exit_code_2(
+    runner: CliRunner, tmp_path: Path, args: list[str], message: str
+) -> None:
+    result = runner.invoke(main, ["simulate", *args])
+    assert result.exit_code == 2, result.output
+    assert result.stderr.startswith("error: ")
+    assert message in result.stderr
+    assert "Traceback" not in result.output
+
+
+def test_simulate_never_overwrites_without_force(runner: CliRunner, tmp_path: Path) -> None:
+    out = tmp_path / "j.csv"
+    out.write_text("keep", encoding="utf-8")
+    result = runner.invoke(main, ["simulate", "--out", str(out)])
+    assert result.exit_code == 2
+    assert result.stderr == f"error: {out} exists: use --force to overwrite it\n"
+    assert out.read_text(encoding="utf-8") == "keep"
+    assert runner.invoke(main, ["simulate", "--out", str(out), "--force"]).exit_code == 0
+    assert out.read_text(encoding="utf-8").startswith("time,")
