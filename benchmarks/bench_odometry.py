@@ -28,6 +28,7 @@ import numpy as np
 
 import diffbot
 from diffbot.odometry import Odometry, integrate
+from diffbot.trajectory import EXAMPLES, parse_plan, plan, wheel_positions
 
 PARAMS = diffbot.DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
 NAMES = ("caster_rotation_joint", "caster_wheel_joint", PARAMS.left_joint, PARAMS.right_joint)
@@ -251,23 +252,10 @@ def bench_batch(n: int) -> None:
 
 
 def trajectory_a_wheels(rate: float) -> tuple[np.ndarray, np.ndarray]:
-    """Wheel joint angles (rad) of Trajectory A sampled at ``rate`` Hz, in closed form."""
-    segments = [
-        (0.025 * math.pi, math.pi / 10, 10.0),
-        (0.1, 0.0, 10.0),
-        (0.025 * math.pi, -math.pi / 10, 10.0),
-        (0.1, 0.0, 10.0),
-    ]
-    left, right = [0.0], [0.0]
-    for linear, angular, duration in segments:
-        speeds = diffbot.inverse(PARAMS, linear, angular)
-        steps = round(duration * rate)
-        base_l, base_r = left[-1], right[-1]
-        for k in range(1, steps + 1):
-            t = duration * k / steps
-            left.append(base_l + float(speeds.left) * t)
-            right.append(base_r + float(speeds.right) * t)
-    return np.array(left), np.array(right)
+    """Wheel joint angles (rad) of the planned Trajectory A, sampled at ``rate`` Hz."""
+    p = plan(parse_plan(EXAMPLES["A"]), PARAMS)
+    times = np.arange(round(p.duration * rate) + 1) / rate
+    return wheel_positions(p, times)
 
 
 def euler(left: Sequence[float], right: Sequence[float]) -> tuple[float, float]:
