@@ -296,6 +296,23 @@ def _advance(x: float, y: float, heading: float, ds: float, turn: float) -> Pose
     return Pose(x + chord * math.cos(mean), y + chord * math.sin(mean), heading + turn)
 
 
+def _finite(*values: float) -> bool:
+    return all(math.isfinite(value) for value in values)
+
+
+def _overflow(segment: Segment, index: int, what: str) -> PlanError:
+    given = "" if segment.duration is None else f", {segment.duration:.6g} s"
+    return PlanError(
+        f"segment {index + 1} ({describe_segment(segment)}{given}): its {what} cannot be "
+        "computed: the numbers are too large (or the duration too short) for floating point"
+    )
+
+
+def _pose(x: float, y: float, heading: float) -> Pose:
+    """A reported pose: heading wrapped to (-pi, pi], and no ``-0.0``."""
+    return Pose(x + 0.0, y + 0.0, norm_angle(heading) + 0.0)
+
+
 def plan(
     segments: Iterable[Segment],
     params: DiffDriveParams,
@@ -321,7 +338,9 @@ def plan(
 
     Raises:
         PlanError: no segments, a cruise speed or spin rate that is not positive, a negative or
-            zero limit (no duration satisfies it), or ``fastest`` without a limit.
+            zero limit (no duration satisfies it), ``fastest`` without a limit, or a segment whose
+            duration, velocity, wheel speeds, end pose or end time overflow (not finite, or a
+            duration that rounds to zero); the message names the segment.
     """
     items = list(segments)
     if not items:
@@ -343,7 +362,7 @@ def plan(
         )
 
     planned: list[PlannedSegment] = []
-    x, y, heading = 0.0, 0.0, 0.0
+    x, y, heading, elapsed = 0.0, 0.0, 0.0, 0.0
     for index, segment in enumerate(items):
         ds, turn = _geometry(segment)
         if fastest:
@@ -357,13 +376,26 @@ def plan(
             duration = abs(turn) / spin_rate
         else:
             duration = ds / speed
+        if not (math.isfinite(duration) and duration > 0.0):
+            raise _overflow(segment, index, f"duration ({duration:g} s)")
         twist = Twist(ds / duration, turn / duration)
         wheels = inverse(params, twist.linear, twist.angular)
         wheels = WheelSpeeds(float(wheels.left), float(wheels.right))
         joints = joint_from_wheel(params, wheels)
         fraction = limit_fraction(params, wheels, lim)
-        start = Pose(x, y, norm_angle(heading))
+        if not _finite(float(twist.linear), float(twist.angular)):
+            raise _overflow(segment, index, "velocity")
+        if not _finite(*(rpm_from_rad_s(float(w)) * duration for w in wheels)):
+            raise _overflow(segment, index, "wheel speeds or wheel turns")
+        if fraction is not None and not _finite(float(fraction) * duration):
+            raise _overflow(segment, index, "share of the motor limit")
+        elapsed += duration
+        if not _finite(elapsed, heading + turn):
+            raise _overflow(segment, index, "end time or heading")
+        start = _pose(x, y, heading)
         x, y, heading = _advance(x, y, heading, ds, turn)
+        if not _finite(x, y):
+            raise _overflow(segment, index, "end pose")
         planned.append(
             PlannedSegment(
                 segment=segment,
@@ -374,16 +406,22 @@ def plan(
                 joints=WheelSpeeds(float(joints.left), float(joints.right)),
                 fraction=None if fraction is None else float(fraction),
                 start_pose=start,
-                end_pose=Pose(x, y, norm_angle(heading)),
-                end_heading=heading,
+                end_pose=_pose(x, y, heading),
+                end_heading=heading + 0.0,
             )
         )
     within = lim is None or all((p.fraction or 0.0) <= 1.0 + LIMIT_TOLERANCE for p in planned)
+    try:
+        total = math.fsum(p.duration for p in planned)
+    except OverflowError:
+        total = math.inf
+    if not math.isfinite(total):
+        raise _overflow(items[-1], len(items) - 1, "end time")
     return Plan(
         segments=tuple(planned),
         params=params,
         limit=lim,
-        duration=math.fsum(p.duration for p in planned),
+        duration=total,
         final_pose=planned[-1].end_pose,
         within_limit=within,
     )
@@ -419,7 +457,7 @@ def pose_at(p: Plan, t: float) -> Pose:
         float(planned.twist.linear) * elapsed,
         float(planned.twist.angular) * elapsed,
     )
-    return Pose(pose.x, pose.y, norm_angle(pose.theta))
+    return _pose(pose.x, pose.y, pose.theta)
 
 
 def wheel_positions(p: Plan, times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -668,12 +706,14 @@ def describe_segment(segment: Segment) -> str:
 
     if isinstance(segment, Straight):
         return f"straight {short(segment.length)} m"
+
+    def angle(value: float) -> str:
+        degrees = math.degrees(value)
+        return f"{short(degrees)} deg" if math.isfinite(degrees) else f"{short(value)} rad"
+
     if isinstance(segment, Arc):
-        return (
-            f"{segment.direction} arc r {short(segment.radius)} m "
-            f"{short(math.degrees(segment.angle))} deg"
-        )
-    return f"spin {short(math.degrees(segment.angle))} deg"
+        return f"{segment.direction} arc r {short(segment.radius)} m {angle(segment.angle)}"
+    return f"spin {angle(segment.angle)}"
 
 
 # --------------------------------------------------------------------------------------------

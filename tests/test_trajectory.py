@@ -7,7 +7,7 @@ import json
 import math
 from collections.abc import Callable
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import pytest
@@ -32,6 +32,7 @@ from diffbot import (
     pose_at,
     wheel_positions,
 )
+from diffbot.kinematics import rpm_from_rad_s
 from diffbot.trajectory import (
     DEFAULT_SPIN_RATE,
     describe_segment,
@@ -347,6 +348,52 @@ def test_cruise_speed_and_spin_rate_must_be_positive(
         plan([Straight(1.0)], params, speed=speed, spin_rate=spin_rate)
 
 
+HUGE_WHEELS = DiffDriveParams(wheel_radius=1e10, wheel_separation=1e-10, max_wheel_speed=1.0)
+
+
+@pytest.mark.parametrize(
+    ("segments", "options", "pattern"),
+    [
+        (
+            [Spin(1e300, 1e-300)],
+            {},
+            r"segment 1 \(spin 5.72958e\+301 deg, 1e-300 s\): its velocity",
+        ),
+        ([Straight(1e308)], {}, r"segment 1 \(straight 1e\+308 m\): its duration \(inf s\)"),
+        ([Straight(1.0, 1e-320)], {}, r"segment 1 .*: its velocity"),
+        ([Spin(math.radians(1e308), 1e-308)], {}, r"segment 1 .*: its velocity"),
+        ([Straight(1.0), Straight(1e308, 1e300)], {}, r"segment 2 .*: its wheel speeds"),
+        ([Straight(1e-300, 1e308)] * 2, {}, r"segment 2 .*: its end time"),
+        ([Straight(1.0, 1.0)], {"limit": 1e-320}, r"its share of the motor limit"),
+        ([Straight(1e-300)], {"speed": 1e300}, r"its duration \(0 s\)"),
+        ([Straight(1e-320)], {"fastest": True, "limit": 1e300}, r"its duration \(0 s\)"),
+    ],
+)
+def test_numbers_that_overflow_are_a_plan_error_naming_the_segment(
+    params: DiffDriveParams, segments: list[Segment], options: dict[str, Any], pattern: str
+) -> None:
+    with pytest.raises(PlanError, match=pattern):
+        plan(segments, params, **options)
+
+
+@pytest.mark.parametrize(
+    ("segments", "pattern"),
+    [
+        ([Straight(1e308, 1e300)] * 2, r"segment 2 .*: its end pose"),
+        ([Spin(1.7e308, 1e300)] * 2, r"segment 2 .*: its end time or heading"),
+    ],
+)
+def test_poses_that_overflow_are_a_plan_error(segments: list[Segment], pattern: str) -> None:
+    with pytest.raises(PlanError, match=pattern):
+        plan(segments, HUGE_WHEELS)
+
+
+def test_headings_of_minus_zero_are_reported_as_zero(params: DiffDriveParams) -> None:
+    p = plan([Spin(-4 * math.pi)], params)
+    assert math.copysign(1.0, p.final_pose.theta) == 1.0
+    assert math.copysign(1.0, pose_at(p, p.duration / 2).theta) == 1.0
+
+
 # --------------------------------------------------------------------------------------------
 # pose_at and wheel_positions
 
@@ -529,6 +576,40 @@ any_segments: st.SearchStrategy[Segment] = st.one_of(
 )
 
 
+@settings(deadline=None)
+@given(
+    segments=st.lists(any_segments, min_size=1, max_size=4),
+    speed=finite_positive,
+    fastest=st.booleans(),
+    limit=st.none() | finite_positive,
+)
+def test_any_plan_is_finite_or_a_plan_error(
+    params: DiffDriveParams,
+    segments: list[Segment],
+    speed: float,
+    fastest: bool,
+    limit: float | None,
+) -> None:
+    try:
+        p = plan(segments, params, speed=speed, spin_rate=speed, fastest=fastest, limit=limit)
+    except PlanError as err:
+        message = str(err)
+    else:
+        message = ""
+    if message:
+        assert message.startswith("segment ")
+        return
+    assert math.isfinite(p.duration)
+    for s in p.segments:
+        values = [s.duration, *s.twist, *s.wheels, *s.joints, *s.end_pose, s.end_heading]
+        assert all(math.isfinite(v) for v in values)
+        assert s.duration > 0.0
+        assert all(math.isfinite(rpm_from_rad_s(v) * s.duration) for v in s.wheels)
+    for v in p.violations():
+        assert math.isfinite(v.rpm)
+        assert math.isfinite(v.shortest_duration)
+
+
 @given(segments=st.lists(any_segments, min_size=1, max_size=6))
 def test_format_plan_is_read_back_exactly_by_parse_plan(segments: list[Segment]) -> None:
     text = format_plan(segments)
@@ -604,6 +685,7 @@ def test_describe_segment_is_short_and_in_degrees() -> None:
     assert describe_segment(Arc(0.25, math.pi, "cw", 10.0)) == "cw arc r 0.25 m 180 deg"
     assert describe_segment(Straight(1.0)) == "straight 1 m"
     assert describe_segment(Spin(-math.pi / 2)) == "spin -90 deg"
+    assert describe_segment(Spin(1.7e308)) == "spin 1.7e+308 rad"  # too large in degrees
 
 
 @pytest.mark.parametrize(
