@@ -125,13 +125,16 @@ def emit_json(data: Any) -> None:
 
 
 class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
-    """A finite float, optionally bounded below; rejects NaN and infinities."""
+    """A finite float, optionally bounded; rejects NaN and infinities."""
 
     name = "number"
 
-    def __init__(self, minimum: float | None = None, open_min: bool = False) -> None:
+    def __init__(
+        self, minimum: float | None = None, open_min: bool = False, maximum: float | None = None
+    ) -> None:
         self.minimum = minimum
         self.open_min = open_min
+        self.maximum = maximum
 
     def convert(
         self, value: Any, param: click.Parameter | None, ctx: click.Context | None
@@ -150,12 +153,16 @@ class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
                 self.fail(f"{value!r} must be > {self.minimum:g}", param, ctx)
             if not self.open_min and number < self.minimum:
                 self.fail(f"{value!r} must be >= {self.minimum:g}", param, ctx)
+        if self.maximum is not None and number > self.maximum:
+            self.fail(f"{value!r} must be <= {self.maximum:g}", param, ctx)
         return number
 
 
 POSITIVE = FiniteFloat(0.0, open_min=True)
 NON_NEGATIVE = FiniteFloat(0.0)
 FINITE = FiniteFloat()
+#: Highest --rate of the ros2 script (Hz): 'ros2 topic pub' is a Python loop, far from this fast.
+MAX_PUBLISH_RATE = 1000.0
 
 
 def check_finite(what: str, *values: float) -> None:
@@ -697,12 +704,23 @@ def _fixed(value: float, decimals: int) -> str:
 
 
 def _ceil_text(value: float, digits: int = 4) -> str:
-    """``value`` rounded up to ``digits`` significant digits (a duration that still fits)."""
+    """``value`` (> 0) rounded up to ``digits`` significant digits (a duration that still fits).
+
+    Written like ``%g``: plainly from 1e-4 to 10**digits (``5.457``, ``1235``), in scientific
+    notation beyond (``5.457e+05``); trailing zeros are kept, so every result shows ``digits``.
+    """
     from decimal import ROUND_CEILING, Decimal
 
-    exponent = math.floor(math.log10(value)) if value > 0 else 0
-    decimals = max(0, digits - 1 - exponent)
-    return str(Decimal(value).quantize(Decimal(1).scaleb(-decimals), rounding=ROUND_CEILING))
+    shortest = Decimal(repr(float(value)))  # reads back as value, so rounding it up still fits
+    if not shortest.is_finite() or shortest <= 0:
+        return fmt(value)
+    quantum = Decimal(1).scaleb(shortest.adjusted() - digits + 1)
+    rounded = shortest.quantize(quantum, rounding=ROUND_CEILING)  # at most digits + 1 digits
+    exponent = rounded.adjusted()
+    if -4 <= exponent < digits:
+        return f"{rounded:.{max(0, digits - 1 - exponent)}f}"
+    mantissa, _, power = f"{rounded:.{digits - 1}e}".partition("e")
+    return f"{mantissa}e{int(power):+03d}"
 
 
 def _one_line(text: str) -> str:
@@ -1163,11 +1181,11 @@ def _check_topic(option: str, name: str) -> str:
 )
 @click.option(
     "--rate",
-    type=POSITIVE,
+    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
     default=10.0,
     show_default=True,
     metavar="HZ",
-    help="ros2 script: publishing rate (Hz).",
+    help=f"ros2 script: publishing rate (Hz, at most {MAX_PUBLISH_RATE:g}).",
 )
 @click.option(
     "--cmd-vel-topic",

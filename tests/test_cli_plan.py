@@ -23,7 +23,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from diffbot import EXAMPLES, DiffDriveParams, parse_plan, plan
-from diffbot.cli import _ceil_text, _yaml_float, main
+from diffbot.cli import PLAN_FORMATS, _ceil_text, _yaml_float, main
 
 Write = Callable[[str, str], Path]
 SH = shutil.which("sh") or "sh"
@@ -403,11 +403,64 @@ def test_suggested_shortest_duration_does_fit(runner: CliRunner) -> None:
     assert run(runner, "straight 1 5.456s").exit_code == 1
 
 
-@pytest.mark.parametrize("value", [1e-7, 0.9, 5.4567409060078, 1234.5678, 99999.2])
+@pytest.mark.parametrize(
+    "value", [1e-7, 0.9, 5.4567409060078, 1234.5678, 9999.5, 99999.2, 1e29, 1e308, 5e-324]
+)
 def test_rounded_up_durations_are_never_below_the_value(value: float) -> None:
     text = _ceil_text(value)
     assert float(text) >= value
     assert float(text) <= value * (1 + 1e-3)
+
+
+@pytest.mark.parametrize(
+    ("value", "text"),
+    [
+        (0.9, "0.9000"),
+        (5.4567409060078, "5.457"),
+        (1234.5678, "1235"),
+        (9999.5, "1.000e+04"),
+        (545674.9, "5.457e+05"),
+        (1e-7, "1.000e-07"),
+        (1e29, "1.000e+29"),
+        (1.7976931348623157e308, "1.798e+308"),
+    ],
+)
+def test_rounded_up_durations_show_four_significant_digits(value: float, text: str) -> None:
+    assert _ceil_text(value) == text
+
+
+def test_huge_shortest_duration_is_reported_not_a_traceback(runner: CliRunner) -> None:
+    result = run(runner, "straight 1e29 1s")
+    assert result.exit_code == 1
+    assert result.stderr.strip().endswith("shortest duration that fits: 5.457e+29 s")
+    assert "Traceback" not in result.output
+
+
+@pytest.mark.parametrize("output_format", PLAN_FORMATS)
+@pytest.mark.parametrize(
+    ("spec", "fragment"),
+    [
+        ("spin 1e300rad 1e-300s", "its velocity"),
+        ("straight 1e308", "its duration (inf s)"),
+        ("straight 1 1e-320s", "its velocity"),
+    ],
+)
+def test_plans_that_overflow_are_bad_input_in_every_format(
+    runner: CliRunner, output_format: str, spec: str, fragment: str
+) -> None:
+    result = run(runner, spec, "--format", output_format)
+    assert_bad_input(result, "segment 1 (", fragment)
+    assert result.stdout == ""
+
+
+def test_plan_file_that_overflows_is_bad_input(runner: CliRunner, write: Write) -> None:
+    path = write("p.yaml", "[{spin: 1e308, duration: 1e-308}]\n")
+    assert_bad_input(run(runner, str(path)), "segment 1 (spin 1e+308 deg, 1e-308 s)", "velocity")
+
+
+@pytest.mark.parametrize("rate", ["1e308", "1001", "inf"])
+def test_rate_must_be_finite_and_sane(runner: CliRunner, rate: str) -> None:
+    assert_bad_input(run(runner, "--format", "ros2", "--rate", rate), "--rate", repr(rate))
 
 
 def test_over_the_limit_json_still_printed_with_violations(runner: CliRunner) -> None:
