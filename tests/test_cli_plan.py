@@ -13,6 +13,7 @@ import stat
 import subprocess
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -26,8 +27,6 @@ from diffbot import EXAMPLES, DiffDriveParams, parse_plan, plan
 from diffbot.cli import PLAN_FORMATS, _ceil_text, _yaml_float, main
 
 Write = Callable[[str, str], Path]
-SH = shutil.which("sh") or "sh"
-HAS_SH = shutil.which("sh") is not None
 
 
 def run(runner: CliRunner, *args: str) -> Result:
@@ -241,18 +240,62 @@ def test_yaml_floats_are_read_back_as_the_same_float(value: float) -> None:
 # --------------------------------------------------------------------------------------------
 # ros2 script
 
+SHELLS = [shell for shell in ("sh", "bash") if shutil.which(shell)]
+REAL_SLEEP = shutil.which("sleep") or "sleep"
 
-def make_fake_ros2(directory: Path, log: Path, sleep: float = 0.0) -> dict[str, str]:
-    """A ``ros2`` that logs its arguments (one line per call) and optionally takes its time."""
-    fake = directory / "ros2"
-    fake.write_text(
+
+@dataclass(frozen=True)
+class Fakes:
+    """Logs of the fake ``ros2`` and ``sleep`` a script ran with."""
+
+    env: dict[str, str]
+    calls: Path
+    sleeps: Path
+    pids: Path
+
+    def call_lines(self) -> list[str]:
+        return self.calls.read_text().splitlines() if self.calls.exists() else []
+
+
+def make_fakes(directory: Path, *, fail: bool = False, sleep_for: float | None = None) -> Fakes:
+    """A ``ros2`` that logs its arguments (one line per call) and, when it publishes at a rate,
+    runs until killed like the real one (or fails at once with ``fail``); and a ``sleep`` that
+    logs its argument and sleeps ``sleep_for`` s instead (the real duration when None)."""
+    bin_dir = directory / "bin"
+    bin_dir.mkdir()
+    fakes = Fakes(
+        {**os.environ, "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}"},
+        directory / "calls",
+        directory / "sleeps",
+        directory / "pids",
+    )
+    ros2 = bin_dir / "ros2"
+    ros2.write_text(
         "#!/bin/sh\n"
-        f'printf "%s\\n" "$*" >> {log}\n'
-        f'case "$*" in *--once*) ;; *) sleep {sleep} ;; esac\n',
+        f'printf "%s\\n" "$*" >> {fakes.calls}\n'
+        'case "$*" in *--once*) exit 0 ;; esac\n'
+        + ("exit 3\n" if fail else f'echo "$$" >> {fakes.pids}\nexec {REAL_SLEEP} 60\n'),
         encoding="utf-8",
     )
-    fake.chmod(0o755)
-    return {**os.environ, "PATH": f"{directory}{os.pathsep}{os.environ['PATH']}"}
+    sleep = bin_dir / "sleep"
+    sleep.write_text(
+        "#!/bin/sh\n"
+        f'printf "%s\\n" "$1" >> {fakes.sleeps}\n'
+        f"exec {REAL_SLEEP} {'$1' if sleep_for is None else sleep_for}\n",
+        encoding="utf-8",
+    )
+    for fake in (ros2, sleep):
+        fake.chmod(0o755)
+    return fakes
+
+
+def running(pid: int) -> bool:
+    """Whether a process runs (a zombie does not), from /proc."""
+    try:
+        stat_line = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat_line.rsplit(")", 1)[1].split()[0] != "Z"
 
 
 def ros2_script(runner: CliRunner, tmp_path: Path, *args: str) -> Path:
@@ -262,110 +305,172 @@ def ros2_script(runner: CliRunner, tmp_path: Path, *args: str) -> Path:
     return script
 
 
-@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+TWIST = "cmd_vel geometry_msgs/msg/Twist"
+ARRAY = "std_msgs/msg/Float64MultiArray"
+
+
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
+@pytest.mark.parametrize("shell", SHELLS)
 def test_ros2_script_is_valid_sh_and_publishes_each_twist_then_zero(
-    runner: CliRunner, tmp_path: Path
+    runner: CliRunner, tmp_path: Path, shell: str
 ) -> None:
     script = ros2_script(runner, tmp_path)
     assert script.read_text().startswith("#!/bin/sh\n")
     assert os.stat(script).st_mode & stat.S_IXUSR
-    subprocess.run([SH, "-n", str(script)], check=True)
-    log = tmp_path / "log"
-    env = make_fake_ros2(tmp_path, log)
-    subprocess.run([SH, str(script)], check=True, env=env, timeout=30)
-    calls = log.read_text().splitlines()
-    twist = "cmd_vel geometry_msgs/msg/Twist"
-    assert calls == [
-        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.07853981633974483}}, "
+    subprocess.run([shell, "-n", str(script)], check=True)
+    fakes = make_fakes(tmp_path, sleep_for=0.2)
+    subprocess.run([shell, str(script)], check=True, env=fakes.env, timeout=30)
+    assert fakes.call_lines() == [
+        f"topic pub -r 10 {TWIST} {{linear: {{x: 0.07853981633974483}}, "
         "angular: {z: 0.3141592653589793}}",
-        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.1}}, angular: {{z: 0.0}}}}",
-        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.07853981633974483}}, "
+        f"topic pub -r 10 {TWIST} {{linear: {{x: 0.1}}, angular: {{z: 0.0}}}}",
+        f"topic pub -r 10 {TWIST} {{linear: {{x: 0.07853981633974483}}, "
         "angular: {z: -0.3141592653589793}}",
-        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.1}}, angular: {{z: 0.0}}}}",
-        f"topic pub --once {twist} {{linear: {{x: 0.0}}, angular: {{z: 0.0}}}}",
+        f"topic pub -r 10 {TWIST} {{linear: {{x: 0.1}}, angular: {{z: 0.0}}}}",
+        f"topic pub --once {TWIST} {{linear: {{x: 0.0}}, angular: {{z: 0.0}}}}",
     ]
+    assert fakes.sleeps.read_text().split() == ["10"] * 4
+    publishers = [int(pid) for pid in fakes.pids.read_text().split()]
+    assert len(publishers) == 4
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and any(running(pid) for pid in publishers):
+        time.sleep(0.02)
+    assert not any(running(pid) for pid in publishers)
 
 
-@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
 def test_ros2_script_holds_each_segment_for_exactly_its_duration(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     script = ros2_script(
-        runner, tmp_path, "straight 1; spin 90 0.01s", "--rate", "20", "--rpm-limit", "1e5"
+        runner,
+        tmp_path,
+        "straight 1; spin 90 0.01s; straight 1 5.4567409060078s; spin 0.01 1e-10s",
+        "--rate",
+        "20",
+        "--rpm-limit",
+        "1e9",
     )
-    log = tmp_path / "log"
-    subprocess.run([SH, str(script)], check=True, env=make_fake_ros2(tmp_path, log), timeout=30)
-    calls = [line.split() for line in log.read_text().splitlines()]
-    for call, duration in zip(calls, [10.0, 0.01], strict=False):
-        rate, times = float(call[call.index("-r") + 1]), int(call[call.index("-t") + 1])
-        assert times >= 1
-        assert times / rate == pytest.approx(duration, rel=1e-12)
-    assert int(calls[0][calls[0].index("-t") + 1]) == 200
+    text = script.read_text()
+    assert " -t " not in text
+    assert "for exactly the segment's duration, timed by 'sleep'" in text
+    fakes = make_fakes(tmp_path, sleep_for=0.2)
+    subprocess.run([SHELLS[0], str(script)], check=True, env=fakes.env, timeout=30)
+    # the sleep's resolution is a nanosecond: durations are written to 9 decimals, no exponent
+    assert fakes.sleeps.read_text().split() == ["10", "0.01", "5.456740906", "0"]
+    calls = [line.split() for line in fakes.call_lines()]
+    assert [call[2:4] for call in calls[:-1]] == [["-r", "20"]] * 4
     assert calls[-1][2] == "--once"
 
 
-@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
+def test_ros2_script_takes_the_plans_time(runner: CliRunner, tmp_path: Path) -> None:
+    script = ros2_script(runner, tmp_path, "straight 0.05 0.6s; spin 10 0.3s")
+    fakes = make_fakes(tmp_path)
+    start = time.monotonic()
+    subprocess.run([SHELLS[0], str(script)], check=True, env=fakes.env, timeout=30)
+    assert 0.9 <= time.monotonic() - start < 3.0
+    assert len(fakes.call_lines()) == 3
+
+
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
 def test_ros2_script_with_wheels_publishes_both_wheels_together_then_zero(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     script = ros2_script(
         runner, tmp_path, "straight 1 10s; spin -90 2s", "--wheels", "--right-topic", "/r/cmd"
     )
-    subprocess.run([SH, "-n", str(script)], check=True)
-    log = tmp_path / "log"
-    subprocess.run([SH, str(script)], check=True, env=make_fake_ros2(tmp_path, log), timeout=30)
-    calls = log.read_text().splitlines()
-    array = "std_msgs/msg/Float64MultiArray"
+    subprocess.run([SHELLS[0], "-n", str(script)], check=True)
+    fakes = make_fakes(tmp_path, sleep_for=0.2)
+    subprocess.run([SHELLS[0], str(script)], check=True, env=fakes.env, timeout=30)
+    calls = fakes.call_lines()
     left, right = "left_wheel_velocity_controller/commands", "/r/cmd"
     spin = math.pi / 4 * 0.135 / 2 / 0.035
     assert sorted(calls[:2]) == [
-        f"topic pub -r 10 -t 100 {right} {array} {{data: [2.857142857142857]}}",
-        f"topic pub -r 10 -t 100 {left} {array} {{data: [2.857142857142857]}}",
+        f"topic pub -r 10 {right} {ARRAY} {{data: [2.857142857142857]}}",
+        f"topic pub -r 10 {left} {ARRAY} {{data: [2.857142857142857]}}",
     ]
     assert sorted(calls[2:4]) == [
-        f"topic pub -r 10 -t 20 {right} {array} {{data: [{-spin!r}]}}",
-        f"topic pub -r 10 -t 20 {left} {array} {{data: [{spin!r}]}}",
+        f"topic pub -r 10 {right} {ARRAY} {{data: [{-spin!r}]}}",
+        f"topic pub -r 10 {left} {ARRAY} {{data: [{spin!r}]}}",
     ]
     assert sorted(calls[4:]) == [
-        f"topic pub --once {right} {array} {{data: [0.0]}}",
-        f"topic pub --once {left} {array} {{data: [0.0]}}",
+        f"topic pub --once {right} {ARRAY} {{data: [0.0]}}",
+        f"topic pub --once {left} {ARRAY} {{data: [0.0]}}",
     ]
+    assert fakes.sleeps.read_text().split() == ["10", "2"]
 
 
-@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
+@pytest.mark.parametrize("wheels", [False, True])
+def test_ros2_script_stops_the_robot_when_a_publisher_fails(
+    runner: CliRunner, tmp_path: Path, wheels: bool
+) -> None:
+    script = ros2_script(runner, tmp_path, *(["--wheels"] if wheels else []))
+    fakes = make_fakes(tmp_path, fail=True, sleep_for=0.2)
+    result = subprocess.run(
+        [SHELLS[0], str(script)], env=fakes.env, timeout=30, capture_output=True, text=True
+    )
+    assert result.returncode == 1
+    assert "ros2 topic pub stopped before the end of its segment" in result.stderr
+    calls = fakes.call_lines()
+    assert len(calls) == (4 if wheels else 2)  # the first segment's, then the zero commands
+    assert all("--once" in call for call in calls[-2 if wheels else -1 :])
+
+
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
+@pytest.mark.parametrize("shell", SHELLS)
 @pytest.mark.parametrize(
     ("wheels", "signum", "code"),
     [
         (False, signal.SIGINT, 130),
         (False, signal.SIGTERM, 143),
         (True, signal.SIGINT, 130),
+        (True, signal.SIGTERM, 143),
     ],
 )
-def test_ros2_script_stops_the_robot_when_interrupted(
-    runner: CliRunner, tmp_path: Path, wheels: bool, signum: signal.Signals, code: int
+def test_ros2_script_stops_the_robot_at_once_when_interrupted(
+    runner: CliRunner,
+    tmp_path: Path,
+    shell: str,
+    wheels: bool,
+    signum: signal.Signals,
+    code: int,
 ) -> None:
-    script = ros2_script(runner, tmp_path, *(["--wheels"] if wheels else []))
-    log = tmp_path / "log"
-    env = make_fake_ros2(tmp_path, log, sleep=0.5)
+    script = ros2_script(
+        runner, tmp_path, "straight 0.5 5s; straight 0.5 5s", *(["--wheels"] if wheels else [])
+    )
+    fakes = make_fakes(tmp_path)
     process = subprocess.Popen(
-        [SH, str(script)],
-        env=env,
+        [shell, str(script)],
+        env=fakes.env,
         # A shell that starts with SIGINT ignored cannot trap it: give it the default.
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
-    started = 2 if wheels else 1  # commands of the first segment
+    started = 2 if wheels else 1  # publishers of the first segment
     deadline = time.monotonic() + 10
-    while time.monotonic() < deadline and (
-        not log.exists() or len(log.read_text().splitlines()) < started
-    ):
+    while time.monotonic() < deadline and len(fakes.call_lines()) < started:
         time.sleep(0.02)
+    time.sleep(0.5)  # well inside the first segment's 5 s
     process.send_signal(signum)
+    signalled = time.monotonic()
+    zeros = 2 if wheels else 1
+    while time.monotonic() < signalled + 10 and len(fakes.call_lines()) < started + zeros:
+        time.sleep(0.01)
+    stopped_after = time.monotonic() - signalled
     assert process.wait(timeout=30) == code
-    calls = log.read_text().splitlines()
-    assert all("--once" not in call for call in calls[: -2 if wheels else -1])
-    zeros = calls[-2:] if wheels else calls[-1:]
-    assert all("--once" in call and ("0.0]" in call or "z: 0.0" in call) for call in zeros)
-    assert len(calls) == (4 if wheels else 2)
+    assert stopped_after < 1.5
+    calls = fakes.call_lines()
+    assert len(calls) == started + zeros
+    assert all("--once" not in call for call in calls[:started])
+    assert all(
+        "--once" in call and ("0.0]" in call or "z: 0.0" in call) for call in calls[started:]
+    )
+    publishers = [int(pid) for pid in fakes.pids.read_text().split()]
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and any(running(pid) for pid in publishers):
+        time.sleep(0.02)
+    assert not any(running(pid) for pid in publishers)
 
 
 def test_ros2_script_quotes_nothing_unsafe_and_rejects_bad_topics(runner: CliRunner) -> None:
