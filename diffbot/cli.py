@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import json
 import math
+import re
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -185,7 +186,9 @@ def parse_number(token: str, what: str) -> float:
 
 
 def _looks_like_option(token: str) -> bool:
-    if not token.startswith("-") or token == "-":
+    """``-x`` or ``--xyz``; not ``-``, nor a negative value such as ``-90``, ``-.5`` or
+    ``-90deg`` (a sign and a digit or a dot: commands give those their own messages)."""
+    if not token.startswith("-") or token == "-" or token[1] in "0123456789.":
         return False
     try:
         float(token)
@@ -757,7 +760,18 @@ def _plan_input(tokens: Sequence[str], example: str | None) -> _PlanInput:
         file_like = path.suffix.lower() in PLAN_SUFFIXES and not any(c.isspace() for c in token)
         if named_file or file_like:
             return _PlanInput(load_plan(path), str(path), path)
-    return _PlanInput(parse_plan(" ".join(tokens)), "plan", None)
+    return _PlanInput(parse_plan(join_plan_arguments(tokens)), "plan", None)
+
+
+def join_plan_arguments(tokens: Sequence[str]) -> str:
+    """One plan text from several arguments: each starts a new segment (``'straight 1' 'spin
+    90'`` is ``straight 1; spin 90``), unless it starts with a number, which continues the
+    segment before it (``straight 1 10s`` typed unquoted, ``spin -90deg``)."""
+    text = ""
+    for token in tokens:
+        continues = re.match(r"\s*[+-]?[0-9.]", token) is not None
+        text = token if not text else f"{text}{' ' if continues else '; '}{token}"
+    return text
 
 
 def _plan_limit_text(p: Plan) -> str:
@@ -1145,8 +1159,6 @@ def _violation_lines(p: Plan) -> list[str]:
 
 
 def _check_topic(option: str, name: str) -> str:
-    import re
-
     if not re.fullmatch(_TOPIC_NAME, name):
         fail(f"{option} {name!r} is not a valid ROS topic name")
     return name
@@ -1269,6 +1281,9 @@ def plan_command(
       spin ANGLE [DURATION]           turn in place, positive = counter-clockwise
 
     Lengths are in m (or 25cm, 250mm), angles in degrees (or 1.57rad), durations in s (10s).
+    Several arguments are joined: each starts a segment ('straight 1' 'spin 90' is 'straight 1;
+    spin 90'), except one that starts with a number, which continues the segment before it (so
+    straight 1 10s and spin -90deg need no quotes).
     FILE is a .yaml/.yml/.json list such as [{straight: 1, duration: 10}, {arc: ccw, radius:
     0.25, angle: 180}, {spin: 90}], or a .txt file in text form. Without either, the seed's
     Trajectory A is planned (--example A).

@@ -607,6 +607,33 @@ def test_spec_may_be_split_over_several_arguments_with_negative_numbers(
     assert data["final_pose"]["theta"] == pytest.approx(-math.pi / 2, abs=1e-15)
 
 
+@pytest.mark.parametrize(
+    ("args", "spec"),
+    [
+        (["spin", "-90deg"], "spin -90"),
+        (["--", "spin", "-1.5rad"], "spin -85.94366926962348"),
+        (["ccw", ".5", "-.5rad"], None),
+        (["straight", "1", "-5s"], None),
+    ],
+)
+def test_negative_values_with_a_unit_are_values_not_options(
+    runner: CliRunner, args: list[str], spec: str | None
+) -> None:
+    if spec is not None:
+        assert plan_json(runner, *args)["plan"] == spec
+    else:
+        assert_bad_input(run(runner, *args), "must be > 0")
+        assert "no such option" not in run(runner, *args).stderr
+
+
+def test_several_arguments_are_joined_as_segments(runner: CliRunner) -> None:
+    data = plan_json(runner, "straight 1", "spin 90", "straight", "2", "50s")
+    assert data["plan"] == "straight 1; spin 90; straight 2 50s"
+    assert_bad_input(run(runner, "straight 1", "spin 90x"), "segment 2", "'90x'", "column 18")
+    help_text = run(runner, "--help").stdout
+    assert "'straight 1' 'spin 90' is 'straight 1;" in " ".join(help_text.split())
+
+
 def test_speed_and_spin_rate_options(runner: CliRunner) -> None:
     data = plan_json(runner, "straight 1.5; spin 90", "--speed", "0.15", "--spin-rate", "1")
     assert [s["duration"] for s in data["segments"]] == pytest.approx([10.0, math.pi / 2])
@@ -652,6 +679,8 @@ def test_example_and_a_spec_together_are_bad_input(runner: CliRunner) -> None:
 
 def test_unknown_option_is_bad_input_not_a_plan_token(runner: CliRunner) -> None:
     assert_bad_input(run(runner, "--formt", "json"), "no such option: '--formt'")
+    assert_bad_input(run(runner, "spin", "90", "--bogus"), "no such option: '--bogus'")
+    assert_bad_input(run(runner, "spin", "-x"), "no such option: '-x'")
 
 
 @pytest.mark.parametrize(
