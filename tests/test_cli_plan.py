@@ -673,6 +673,30 @@ def test_bad_plan_file_names_the_entry(runner: CliRunner, write: Write) -> None:
     assert_bad_input(run(runner, str(path)), "entry 2", "'speed'")
 
 
+def test_yaml_alias_bomb_is_one_short_error_line(runner: CliRunner, write: Write) -> None:
+    levels = ["- &a0 [x, x, x, x, x, x, x, x, x]"]
+    levels += [f"- &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]" for i in range(1, 9)]
+    path = write("bomb.yaml", "\n".join(levels) + "\n")
+    result = run(runner, str(path))
+    assert_bad_input(result, "YAML aliases (*name) are not allowed in a plan file")
+    assert len(result.stderr) < 200
+
+
+def test_duplicate_keys_and_unknown_top_level_keys_are_bad_input(
+    runner: CliRunner, write: Write
+) -> None:
+    path = write("p.json", '[{"straight": 1, "duration": 10, "duration": 20}]')
+    assert_bad_input(run(runner, str(path)), "duplicate key 'duration'")
+    path = write("p.yaml", "segments: [straight 1]\nspeed: 5\n")
+    assert_bad_input(run(runner, str(path)), "unknown top-level key 'speed'")
+
+
+def test_headings_are_never_reported_as_minus_zero(runner: CliRunner) -> None:
+    result = run(runner, "--json", "spin -720")
+    assert '"theta": -0.0' not in result.stdout
+    assert plan_json(runner, "spin -720")["final_pose"]["theta"] == 0.0
+
+
 def test_example_and_a_spec_together_are_bad_input(runner: CliRunner) -> None:
     assert_bad_input(run(runner, "--example", "A", "straight 1"), "--example")
 

@@ -787,6 +787,64 @@ def test_bad_files_name_the_entry(write: Write, name: str, text: str, pattern: s
         load_plan(write(name, text))
 
 
+def test_yaml_aliases_are_refused_before_they_expand(write: Write) -> None:
+    levels = ["- &a0 [x, x, x, x, x, x, x, x, x]"]
+    levels += [f"- &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]" for i in range(1, 9)]
+    path = write("bomb.yaml", "\n".join(levels) + "\n")
+    with pytest.raises(PlanError, match=r"bomb.yaml: YAML aliases .* not allowed .*\(line 2, "):
+        load_plan(path)
+
+
+def test_errors_show_at_most_a_short_excerpt_of_an_entry(write: Write) -> None:
+    path = write("long.yaml", f"- {{straight: [{', '.join(['1'] * 100_000)}]}}\n")
+    with pytest.raises(PlanError, match=r"entry 1: straight \[1, 1, .*\.\.\.") as info:
+        load_plan(path)
+    assert len(str(info.value)) < 200
+    with pytest.raises(PlanError, match=r"straight <an integer too long to show>: not a finite"):
+        segments_from_data([{"straight": 10**5000}])
+    with pytest.raises(PlanError, match=r"segment 1: unknown segment kind 'xxxx.*\.\.\.") as info:
+        parse_plan("x" * 100_000)
+    assert len(str(info.value)) < 200
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "pattern"),
+    [
+        ("p.yaml", "- {straight: 1, duration: 10, duration: 20}\n", r"duplicate key 'duration'"),
+        ("p.yaml", "segments:\n  - straight 1\nsegments: []\n", r"duplicate key 'segments'"),
+        (
+            "p.json",
+            '[{"straight": 1, "duration": 10, "duration": 20}]',
+            r"duplicate key 'duration'",
+        ),
+        ("p.yaml", "segments: [straight 1]\nspeed: 5\n", r"unknown top-level key 'speed'"),
+        ("p.yaml", f"- {{straight: 1{'0' * 5000}}}\n", r"a value cannot be read: Exceeds"),
+        ("p.json", f'[{{"straight": 1{"0" * 5000}}}]', r"a value cannot be read: Exceeds"),
+        ("p.yaml", "- {straight: 1, duration: 10 s}\n", r"'10 s': write the unit attached .* 10s"),
+        ("p.yaml", "- {straight: 25 cm}\n", r"'25 cm': write the unit attached .* 25cm"),
+    ],
+)
+def test_files_are_as_strict_as_text(write: Write, name: str, text: str, pattern: str) -> None:
+    with pytest.raises(PlanError, match=pattern):
+        load_plan(write(name, text))
+
+
+def test_arc_direction_is_case_insensitive_in_files_as_in_text(write: Write) -> None:
+    path = write(
+        "p.yaml", "- {arc: CCW, radius: 1, angle: 90}\n- {arc: Cw, radius: 1, angle: 90}\n"
+    )
+    assert load_plan(path) == parse_plan("CCW 1 90; Cw 1 90")
+    assert load_plan(path) == [Arc(1.0, math.pi / 2, "ccw"), Arc(1.0, math.pi / 2, "cw")]
+
+
+@pytest.mark.parametrize("number", ["\u0661", "\uff11", "1\u0660", "1_0"])
+def test_only_ascii_digits_are_numbers(number: str) -> None:
+    with pytest.raises(PlanError, match=r"length .*: (not a number|unknown unit)"):
+        parse_plan(f"straight {number}")
+    with pytest.raises(PlanError, match=r"straight .*: (not a number|unknown unit)"):
+        segments_from_data([{"straight": number}])
+
+
 def test_missing_file_and_directory_are_plan_errors(tmp_path: Path) -> None:
     with pytest.raises(PlanError, match="no such file"):
         load_plan(tmp_path / "absent.yaml")
