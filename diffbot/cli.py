@@ -1345,11 +1345,12 @@ def plan_command(
     if output is None:
         click.echo(text, nl=False)
     else:
+        inputs = [path for path in (source.path, robot.robot) if path is not None]
         write_text_atomic(
             Path(output),
             text,
             force=force,
-            inputs=[Path(source.path)] if source.path is not None else [],
+            inputs=[Path(path) for path in inputs],
             executable=output_format == "ros2",
         )
     if not p.within_limit:

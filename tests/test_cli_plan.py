@@ -761,6 +761,20 @@ def test_output_over_the_plan_file_is_refused(runner: CliRunner, write: Write) -
     assert path.read_text() == "straight 1\n"
 
 
+def test_output_over_the_robot_description_is_refused(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = tmp_path / "r.urdf"
+    assert runner.invoke(main, ["urdf", "-o", str(urdf)]).exit_code == 0
+    before = urdf.read_text()
+    result = run(runner, "straight 1", "--robot", str(urdf), "-o", str(urdf), "--force")
+    assert_bad_input(result, "is an input: refusing to overwrite it")
+    assert urdf.read_text() == before
+    link = tmp_path / "link.txt"
+    link.symlink_to(urdf)
+    result = run(runner, "straight 1", "--robot", str(urdf), "-o", str(link), "--force")
+    assert_bad_input(result, "is an input")
+    assert urdf.read_text() == before
+
+
 def test_help_describes_the_grammar(runner: CliRunner) -> None:
     result = run(runner, "--help")
     assert result.exit_code == 0
