@@ -689,15 +689,18 @@ def parse_plan(text: str) -> list[Segment]:
     Raises:
         PlanError: empty plan, unknown kind or unit, missing or extra values, a value that is not
             a finite number, or not positive (not zero, for spins); the message quotes the token
-            and gives the segment number and column.
+            and gives the segment number and column (and line, when the text has several).
     """
+    return _parse_text(text, lines=len(text.splitlines()) > 1)
+
+
+def _parse_text(text: str, *, lines: bool) -> list[Segment]:
+    """:func:`parse_plan`; ``lines``: give line numbers in errors (not only columns)."""
     pieces = _segments_of(text)
     if not pieces:
         raise PlanError("empty plan: no segments (write for example 'straight 1 10s')")
-    multiline = len(text.strip().splitlines()) > 1
     return [
-        _segment_from_tokens(tokens, number, multiline)
-        for number, tokens in enumerate(pieces, start=1)
+        _segment_from_tokens(tokens, number, lines) for number, tokens in enumerate(pieces, start=1)
     ]
 
 
@@ -900,7 +903,7 @@ def load_plan(path: str | os.PathLike[str]) -> list[Segment]:
     if suffix in (".yaml", ".yml") or (suffix != ".txt" and _looks_structured(text)):
         return segments_from_data(_load_yaml(text, source), source)
     try:
-        return parse_plan(text)
+        return _parse_text(text, lines=True)
     except PlanError as err:
         raise PlanError(f"{source}: {err}") from None
 

@@ -664,6 +664,13 @@ def test_plan_files_are_read(runner: CliRunner, write: Write, name: str, text: s
     assert path.read_text() == text
 
 
+def test_errors_after_blank_lines_give_the_line(runner: CliRunner, write: Write) -> None:
+    path = write("f.txt", "\n\n\nstraight x\n")
+    assert_bad_input(run(runner, str(path)), "f.txt: segment 1", "(line 4, column 10)")
+    path = write("bom.txt", "\ufeffstraight 1 10s\n")
+    assert plan_json(runner, str(path))["plan"] == "straight 1 10s"
+
+
 def test_missing_plan_file_is_bad_input(runner: CliRunner, tmp_path: Path) -> None:
     assert_bad_input(run(runner, str(tmp_path / "nope.yaml")), "nope.yaml: no such file")
 

@@ -845,6 +845,43 @@ def test_only_ascii_digits_are_numbers(number: str) -> None:
         segments_from_data([{"straight": number}])
 
 
+@pytest.mark.parametrize(
+    ("text", "where"),
+    [
+        ("\n\n\nstraight x\n", "line 4, column 10"),
+        ("straight 1\n", "column 10"),  # one line: the column says it all
+        ("straight 1\n\n", "line 1, column 10"),
+    ],
+)
+def test_errors_give_the_line_whenever_the_text_has_several(text: str, where: str) -> None:
+    with pytest.raises(PlanError, match=rf"\({where}\)$"):
+        parse_plan(text.replace("straight 1", "straight -1"))
+
+
+def test_errors_in_text_files_always_give_the_line(write: Write) -> None:
+    with pytest.raises(PlanError, match=r"f.txt: segment 1: .*\(line 4, column 10\)"):
+        load_plan(write("f.txt", "\n\n\nstraight x\n"))
+    with pytest.raises(PlanError, match=r"g.txt: segment 1: .*\(line 1, column 10\)"):
+        load_plan(write("g.txt", "straight x"))
+
+
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("p.txt", "straight 1 10s\n"),
+        ("p.yaml", "- {straight: 1, duration: 10}\n"),
+        ("p.json", '[{"straight": 1, "duration": 10}]'),
+        ("p", "straight 1 10s\n"),
+    ],
+)
+def test_a_utf8_byte_order_mark_is_not_part_of_the_plan(
+    tmp_path: Path, name: str, text: str
+) -> None:
+    path = tmp_path / name
+    path.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    assert load_plan(path) == [Straight(1.0, 10.0)]
+
+
 def test_missing_file_and_directory_are_plan_errors(tmp_path: Path) -> None:
     with pytest.raises(PlanError, match="no such file"):
         load_plan(tmp_path / "absent.yaml")
