@@ -1192,7 +1192,8 @@ def _check_topic(option: str, name: str) -> str:
 @click.option(
     "--fastest",
     is_flag=True,
-    help="Give every segment the shortest duration that keeps its wheels within the limit.",
+    help="Give every segment the shortest duration that keeps its wheels within the limit "
+    "(durations given in the plan are ignored).",
 )
 @click.option(
     "--rpm-limit",
@@ -1284,9 +1285,10 @@ def plan_command(
     Several arguments are joined: each starts a segment ('straight 1' 'spin 90' is 'straight 1;
     spin 90'), except one that starts with a number, which continues the segment before it (so
     straight 1 10s and spin -90deg need no quotes).
-    FILE is a .yaml/.yml/.json list such as [{straight: 1, duration: 10}, {arc: ccw, radius:
-    0.25, angle: 180}, {spin: 90}], or a .txt file in text form. Without either, the seed's
-    Trajectory A is planned (--example A).
+    FILE is a .yaml/.yml list such as [{straight: 1, duration: 10}, {arc: ccw, radius: 0.25,
+    angle: 180}, {spin: 90}], the same in .json ([{"straight": 1, "duration": 10}, {"spin":
+    90}]), or a .txt file in text form. Without either, the seed's Trajectory A is planned
+    (--example A).
 
     Segments without a duration run at --speed (spins at --spin-rate). The robot starts at
     (0, 0) heading along x. Exit code 1 when a wheel exceeds the motor limit (the output is still
@@ -1319,6 +1321,11 @@ def plan_command(
             fail(f"{output} is the plan file itself: write the output elsewhere")
     params = robot.with_path(None, xacro_args).load()
     limit = None if rpm_limit is None else rad_s_from_rpm(rpm_limit)
+    if fastest and limit is None and params.max_wheel_speed is None:
+        fail(
+            "--fastest needs a motor limit, and the robot description has none: "
+            "give one with --max-rpm RPM or --rpm-limit RPM"
+        )
     p = make_plan(
         source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest, limit=limit
     )

@@ -383,7 +383,7 @@ def plan(
     if fastest and lim is None:
         raise PlanError(
             "a fastest plan needs a motor limit, and the robot has none "
-            "(give one with limit=, or --rpm-limit / --max-rpm)"
+            "(give one with limit=, or a max_wheel_speed in the parameters)"
         )
 
     planned: list[PlannedSegment] = []

@@ -121,7 +121,10 @@ def test_fastest_without_a_limit_is_bad_input(runner: CliRunner, write: Write) -
 """,
     )
     result = run(runner, "--robot", str(urdf), "--fastest")
-    assert_bad_input(result, "needs a motor limit")
+    assert_bad_input(result, "--fastest needs a motor limit", "--max-rpm", "--rpm-limit")
+    assert "limit=" not in result.stderr
+    data = plan_json(runner, "--robot", str(urdf), "--fastest", "--rpm-limit", "30", "straight 1")
+    assert data["segments"][0]["left_rpm"] == pytest.approx(30.0, rel=1e-9)
     result = run(runner, "--robot", str(urdf), "straight 1 1s")
     assert result.exit_code == 0, result.output
     assert "motor limit: none in the description, not checked" in result.stdout
@@ -787,3 +790,7 @@ def test_help_describes_the_grammar(runner: CliRunner) -> None:
     assert result.exit_code == 0
     for fragment in ("straight LENGTH [DURATION]", "--fastest", "--rpm-limit", "ros2"):
         assert fragment in result.stdout
+    text = " ".join(result.stdout.split())
+    assert "(durations given in the plan are ignored)" in text
+    json_example = text.split("the same in .json (", 1)[1].split("), or a .txt", 1)[0]
+    assert json.loads(json_example) == [{"straight": 1, "duration": 10}, {"spin": 90}]
