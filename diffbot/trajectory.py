@@ -839,14 +839,17 @@ def _looks_structured(text: str) -> bool:
 
 
 def segments_from_data(data: object, source: str = "plan") -> list[Segment]:
-    """Segments from parsed YAML/JSON: a list of entries, or a mapping with a ``segments`` list.
+    """Segments from parsed YAML/JSON: a list of entries, or a mapping with only a ``segments``
+    list.
 
     Entries are mappings such as ``{straight: 1.0, duration: 10}``, ``{arc: ccw, radius: 0.25,
-    angle: 180, duration: 10}`` or ``{spin: 90}`` (numbers in m, degrees and s; strings may carry
-    a unit: ``"25cm"``, ``"1.5rad"``, ``"10s"``), or text segments such as ``"straight 1 10s"``.
+    angle: 180, duration: 10}`` (``ccw``/``cw`` in any case) or ``{spin: 90}`` (numbers in m,
+    degrees and s; strings may carry a unit attached to the number: ``"25cm"``, ``"1.5rad"``,
+    ``"10s"``), or text segments such as ``"straight 1 10s"``.
 
     Raises:
-        PlanError: naming the source and the entry (counted from 1).
+        PlanError: naming the source and the entry (counted from 1), quoting at most 60
+            characters of it.
     """
     if isinstance(data, Mapping) and "segments" in data:
         others = [key for key in data if key != "segments"]
@@ -874,7 +877,9 @@ def load_plan(path: str | os.PathLike[str]) -> list[Segment]:
 
     ``.json`` files are JSON, ``.yaml``/``.yml`` files YAML (see :func:`segments_from_data` for
     the entries), ``.txt`` files the text form (see :func:`parse_plan`); other files are read as
-    YAML when they start with ``[``, ``{`` or ``-``, else as text.
+    YAML when they start with ``[``, ``{`` or ``-``, else as text. Files are UTF-8 (a byte order
+    mark is skipped). Duplicate keys in a mapping are errors, and so are YAML aliases (``*name``):
+    a plan never needs them, and nested ones grow exponentially.
 
     Args:
         path: the file.
