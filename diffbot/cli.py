@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import json
 import math
+import re
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -125,13 +126,16 @@ def emit_json(data: Any) -> None:
 
 
 class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
-    """A finite float, optionally bounded below; rejects NaN and infinities."""
+    """A finite float, optionally bounded; rejects NaN and infinities."""
 
     name = "number"
 
-    def __init__(self, minimum: float | None = None, open_min: bool = False) -> None:
+    def __init__(
+        self, minimum: float | None = None, open_min: bool = False, maximum: float | None = None
+    ) -> None:
         self.minimum = minimum
         self.open_min = open_min
+        self.maximum = maximum
 
     def convert(
         self, value: Any, param: click.Parameter | None, ctx: click.Context | None
@@ -150,12 +154,16 @@ class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
                 self.fail(f"{value!r} must be > {self.minimum:g}", param, ctx)
             if not self.open_min and number < self.minimum:
                 self.fail(f"{value!r} must be >= {self.minimum:g}", param, ctx)
+        if self.maximum is not None and number > self.maximum:
+            self.fail(f"{value!r} must be <= {self.maximum:g}", param, ctx)
         return number
 
 
 POSITIVE = FiniteFloat(0.0, open_min=True)
 NON_NEGATIVE = FiniteFloat(0.0)
 FINITE = FiniteFloat()
+#: Highest --rate of the ros2 script (Hz): 'ros2 topic pub' is a Python loop, far from this fast.
+MAX_PUBLISH_RATE = 1000.0
 
 
 def check_finite(what: str, *values: float) -> None:
@@ -178,7 +186,9 @@ def parse_number(token: str, what: str) -> float:
 
 
 def _looks_like_option(token: str) -> bool:
-    if not token.startswith("-") or token == "-":
+    """``-x`` or ``--xyz``; not ``-``, nor a negative value such as ``-90``, ``-.5`` or
+    ``-90deg`` (a sign and a digit or a dot: commands give those their own messages)."""
+    if not token.startswith("-") or token == "-" or token[1] in "0123456789.":
         return False
     try:
         float(token)
@@ -697,12 +707,23 @@ def _fixed(value: float, decimals: int) -> str:
 
 
 def _ceil_text(value: float, digits: int = 4) -> str:
-    """``value`` rounded up to ``digits`` significant digits (a duration that still fits)."""
+    """``value`` (> 0) rounded up to ``digits`` significant digits (a duration that still fits).
+
+    Written like ``%g``: plainly from 1e-4 to 10**digits (``5.457``, ``1235``), in scientific
+    notation beyond (``5.457e+05``); trailing zeros are kept, so every result shows ``digits``.
+    """
     from decimal import ROUND_CEILING, Decimal
 
-    exponent = math.floor(math.log10(value)) if value > 0 else 0
-    decimals = max(0, digits - 1 - exponent)
-    return str(Decimal(value).quantize(Decimal(1).scaleb(-decimals), rounding=ROUND_CEILING))
+    shortest = Decimal(repr(float(value)))  # reads back as value, so rounding it up still fits
+    if not shortest.is_finite() or shortest <= 0:
+        return fmt(value)
+    quantum = Decimal(1).scaleb(shortest.adjusted() - digits + 1)
+    rounded = shortest.quantize(quantum, rounding=ROUND_CEILING)  # at most digits + 1 digits
+    exponent = rounded.adjusted()
+    if -4 <= exponent < digits:
+        return f"{rounded:.{max(0, digits - 1 - exponent)}f}"
+    mantissa, _, power = f"{rounded:.{digits - 1}e}".partition("e")
+    return f"{mantissa}e{int(power):+03d}"
 
 
 def _one_line(text: str) -> str:
@@ -739,7 +760,18 @@ def _plan_input(tokens: Sequence[str], example: str | None) -> _PlanInput:
         file_like = path.suffix.lower() in PLAN_SUFFIXES and not any(c.isspace() for c in token)
         if named_file or file_like:
             return _PlanInput(load_plan(path), str(path), path)
-    return _PlanInput(parse_plan(" ".join(tokens)), "plan", None)
+    return _PlanInput(parse_plan(join_plan_arguments(tokens)), "plan", None)
+
+
+def join_plan_arguments(tokens: Sequence[str]) -> str:
+    """One plan text from several arguments: each starts a new segment (``'straight 1' 'spin
+    90'`` is ``straight 1; spin 90``), unless it starts with a number, which continues the
+    segment before it (``straight 1 10s`` typed unquoted, ``spin -90deg``)."""
+    text = ""
+    for token in tokens:
+        continues = re.match(r"\s*[+-]?[0-9.]", token) is not None
+        text = token if not text else f"{text}{' ' if continues else '; '}{token}"
+    return text
 
 
 def _plan_limit_text(p: Plan) -> str:
@@ -980,14 +1012,10 @@ def _plan_wheels(p: Plan, label: str, left_topic: str, right_topic: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _publish_count(duration: float, rate: float) -> tuple[int, float]:
-    """Messages and the rate (Hz) that hold a command for exactly ``duration`` (s).
-
-    ``ros2 topic pub -r R -t N`` publishes N messages one period apart, so it lasts N / R; R is
-    nudged from the asked rate so that N / R is the duration.
-    """
-    count = max(1, round(duration * rate))
-    return count, count / duration
+def _seconds_text(duration: float) -> str:
+    """A duration (s) for ``sleep``: plain decimals (no exponent), to the nanosecond."""
+    text = f"{duration:.9f}".rstrip("0").rstrip(".")
+    return text or "0"
 
 
 def _plan_ros2(
@@ -1000,6 +1028,15 @@ def _plan_ros2(
     left_topic: str,
     right_topic: str,
 ) -> str:
+    """A POSIX sh script that publishes the plan with ``ros2 topic pub``.
+
+    Each segment runs its publishers in the background with no ``-t`` and stops them after the
+    segment's duration, timed by ``sleep``: with ``-t N``, current ros2cli publishes the first
+    message at once and exits (N - 1) periods later plus a 0.1 s ``--keep-alive``, older releases
+    N periods later, so counting messages cannot give the duration. The ``sleep`` runs in the
+    background too, so that a signal is handled at once by ``wait`` (a shell runs its traps only
+    after the foreground command ends).
+    """
     import shlex
 
     from diffbot import __version__
@@ -1009,6 +1046,7 @@ def _plan_ros2(
     twist_type = "geometry_msgs/msg/Twist"
     array_type = "std_msgs/msg/Float64MultiArray"
     count = len(p.segments)
+    hz = _number_text_plain(rate)
     lines = [
         "#!/bin/sh",
         f"# {_one_line(label)}: {format_plan(s.segment for s in p.segments)}",
@@ -1016,23 +1054,26 @@ def _plan_ros2(
         f"separation {fmt(p.params.wheel_separation)} m); {count} segments, "
         f"{fmt(p.duration, 6)} s; generated by diffbot {__version__}",
         "#",
-        f"# Each command is published about {fmt(rate)} times a second for its duration with",
-        "# 'ros2 topic pub -r RATE -t N': N messages one period apart last exactly N / RATE s, and",
-        "# RATE is adjusted per segment so that this is the segment's duration. The controllers",
-        "# hold the last command, so the start-up of each 'ros2 topic pub' (well under a second)",
-        "# adds to the segment before it; use a node for tighter timing.",
-        "# The robot is always stopped at the end, also on Ctrl-C, kill or a failed command: one",
-        "# zero command is published with --once.",
+        f"# Each segment runs 'ros2 topic pub -r {hz}' in the background (publishing {hz} times a",
+        "# second) for exactly the segment's duration, timed by 'sleep' (fractional seconds, as",
+        "# GNU coreutils and busybox sleep accept), then stops it and starts the next segment's.",
+        "# The controllers hold the last command in between. Each 'ros2 topic pub' takes a",
+        "# moment to start (up to about a second) before its first message: as every segment's",
+        "# time counts from its publisher's start, these delays shift the commands rather than",
+        "# add up, but a segment shorter than that may publish nothing. Use a node for tighter",
+        "# timing.",
+        "# The robot is always stopped at the end, also on Ctrl-C, kill or a failed publisher: the",
+        "# publishers are stopped first, then one zero command is published with --once.",
         "set -e",
         "",
+        "pids=''",
+        "stop() {",
+        "    trap - EXIT INT TERM",
+        '    if [ -n "$pids" ]; then kill $pids 2>/dev/null || true; fi',
     ]
     if wheels:
         zero = _array_yaml(0.0)
         lines += [
-            "pids=''",
-            "stop() {",
-            "    trap - EXIT INT TERM",
-            '    if [ -n "$pids" ]; then kill $pids 2>/dev/null || true; fi',
             f"    ros2 topic pub --once {q(left_topic)} {array_type} {q(zero)} &",
             "    left=$!",
             f"    ros2 topic pub --once {q(right_topic)} {array_type} {q(zero)} &",
@@ -1042,31 +1083,47 @@ def _plan_ros2(
         ]
     else:
         lines += [
-            "stop() {",
-            "    trap - EXIT INT TERM",
             f"    ros2 topic pub --once {q(cmd_vel)} {twist_type} {q(_twist_yaml(0.0, 0.0))}",
             "}",
         ]
-    lines += ["trap stop EXIT", "trap 'exit 130' INT", "trap 'exit 143' TERM", ""]
+    lines += [
+        "# hold SECONDS: let the publishers in $pids run that long, then stop them",
+        "hold() {",
+        '    sleep "$1" &',
+        "    sleeper=$!",
+        '    pids="$pids $sleeper"',
+        '    wait "$sleeper"',
+        "    for pid in $pids; do",
+        '        if [ "$pid" != "$sleeper" ] && ! kill "$pid" 2>/dev/null; then',
+        '            echo "error: ros2 topic pub stopped before the end of its segment" >&2',
+        "            exit 1",
+        "        fi",
+        "    done",
+        "    pids=''",
+        "}",
+        "trap stop EXIT",
+        "trap 'exit 130' INT",
+        "trap 'exit 143' TERM",
+        "",
+    ]
     for s in p.segments:
-        n, seg_rate = _publish_count(s.duration, rate)
-        timing = f"-r {_number_text_plain(seg_rate)} -t {n}"
-        lines.append(f"# {_segment_note(s, count)} ({n} messages)")
+        lines.append(f"# {_segment_note(s, count)}")
         if wheels:
             left = _array_yaml(float(s.joints.left))
             right = _array_yaml(float(s.joints.right))
             lines += [
-                f"ros2 topic pub {timing} {q(left_topic)} {array_type} {q(left)} &",
+                f"ros2 topic pub -r {hz} {q(left_topic)} {array_type} {q(left)} &",
                 'pids="$!"',
-                f"ros2 topic pub {timing} {q(right_topic)} {array_type} {q(right)} &",
+                f"ros2 topic pub -r {hz} {q(right_topic)} {array_type} {q(right)} &",
                 'pids="$pids $!"',
-                'for pid in $pids; do wait "$pid"; done',
-                "pids=''",
             ]
         else:
             twist = _twist_yaml(float(s.twist.linear), float(s.twist.angular))
-            lines.append(f"ros2 topic pub {timing} {q(cmd_vel)} {twist_type} {q(twist)}")
-        lines.append("")
+            lines += [
+                f"ros2 topic pub -r {hz} {q(cmd_vel)} {twist_type} {q(twist)} &",
+                'pids="$!"',
+            ]
+        lines += [f"hold {_seconds_text(s.duration)}", ""]
     lines += ["stop"]
     return "\n".join(lines) + "\n"
 
@@ -1102,8 +1159,6 @@ def _violation_lines(p: Plan) -> list[str]:
 
 
 def _check_topic(option: str, name: str) -> str:
-    import re
-
     if not re.fullmatch(_TOPIC_NAME, name):
         fail(f"{option} {name!r} is not a valid ROS topic name")
     return name
@@ -1137,7 +1192,8 @@ def _check_topic(option: str, name: str) -> str:
 @click.option(
     "--fastest",
     is_flag=True,
-    help="Give every segment the shortest duration that keeps its wheels within the limit.",
+    help="Give every segment the shortest duration that keeps its wheels within the limit "
+    "(durations given in the plan are ignored).",
 )
 @click.option(
     "--rpm-limit",
@@ -1163,11 +1219,11 @@ def _check_topic(option: str, name: str) -> str:
 )
 @click.option(
     "--rate",
-    type=POSITIVE,
+    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
     default=10.0,
     show_default=True,
     metavar="HZ",
-    help="ros2 script: publishing rate (Hz).",
+    help=f"ros2 script: publishing rate (Hz, at most {MAX_PUBLISH_RATE:g}).",
 )
 @click.option(
     "--cmd-vel-topic",
@@ -1226,9 +1282,13 @@ def plan_command(
       spin ANGLE [DURATION]           turn in place, positive = counter-clockwise
 
     Lengths are in m (or 25cm, 250mm), angles in degrees (or 1.57rad), durations in s (10s).
-    FILE is a .yaml/.yml/.json list such as [{straight: 1, duration: 10}, {arc: ccw, radius:
-    0.25, angle: 180}, {spin: 90}], or a .txt file in text form. Without either, the seed's
-    Trajectory A is planned (--example A).
+    Several arguments are joined: each starts a segment ('straight 1' 'spin 90' is 'straight 1;
+    spin 90'), except one that starts with a number, which continues the segment before it (so
+    straight 1 10s and spin -90deg need no quotes).
+    FILE is a .yaml/.yml list such as [{straight: 1, duration: 10}, {arc: ccw, radius: 0.25,
+    angle: 180}, {spin: 90}], the same in .json ([{"straight": 1, "duration": 10}, {"spin":
+    90}]), or a .txt file in text form. Without either, the seed's Trajectory A is planned
+    (--example A).
 
     Segments without a duration run at --speed (spins at --spin-rate). The robot starts at
     (0, 0) heading along x. Exit code 1 when a wheel exceeds the motor limit (the output is still
@@ -1261,6 +1321,11 @@ def plan_command(
             fail(f"{output} is the plan file itself: write the output elsewhere")
     params = robot.with_path(None, xacro_args).load()
     limit = None if rpm_limit is None else rad_s_from_rpm(rpm_limit)
+    if fastest and limit is None and params.max_wheel_speed is None:
+        fail(
+            "--fastest needs a motor limit, and the robot description has none: "
+            "give one with --max-rpm RPM or --rpm-limit RPM"
+        )
     p = make_plan(
         source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest, limit=limit
     )
@@ -1287,11 +1352,12 @@ def plan_command(
     if output is None:
         click.echo(text, nl=False)
     else:
+        inputs = [path for path in (source.path, robot.robot) if path is not None]
         write_text_atomic(
             Path(output),
             text,
             force=force,
-            inputs=[Path(source.path)] if source.path is not None else [],
+            inputs=[Path(path) for path in inputs],
             executable=output_format == "ros2",
         )
     if not p.within_limit:

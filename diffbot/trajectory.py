@@ -17,6 +17,7 @@ unit says otherwise (``25cm``, ``250mm``, ``3.14rad``); durations are in seconds
 from __future__ import annotations
 
 import bisect
+import functools
 import math
 import os
 import re
@@ -90,10 +91,28 @@ def _as_float(value: object) -> float:
         return math.nan
 
 
+def _short(value: object, limit: int = 60) -> str:
+    """``repr(value)`` for an error message, cut to ``limit`` characters (``...`` marks a cut).
+
+    Built with :mod:`reprlib` limits, so a huge entry is never written out whole first.
+    """
+    import reprlib
+
+    brief = reprlib.Repr()
+    brief.maxlevel = 3
+    brief.maxstring = brief.maxother = brief.maxlong = limit
+    brief.maxlist = brief.maxtuple = brief.maxdict = brief.maxset = 8
+    try:
+        text = brief.repr(value)
+    except ValueError:  # an int with more digits than Python converts to text
+        text = "<an integer too long to show>"
+    return text if len(text) <= limit else f"{text[: limit - 3]}..."
+
+
 def _positive(value: float, what: str) -> float:
     number = _as_float(value)
     if not math.isfinite(number) or number <= 0.0:
-        raise PlanError(f"{what} must be a positive finite number, got {value!r}")
+        raise PlanError(f"{what} must be a positive finite number, got {_short(value)}")
     return number
 
 
@@ -138,7 +157,9 @@ class Arc:
         object.__setattr__(self, "radius", _positive(self.radius, "an arc's radius (m)"))
         object.__setattr__(self, "angle", _positive(self.angle, "an arc's angle (rad)"))
         if self.direction not in ("cw", "ccw"):
-            raise PlanError(f"an arc's direction must be 'cw' or 'ccw', got {self.direction!r}")
+            raise PlanError(
+                f"an arc's direction must be 'cw' or 'ccw', got {_short(self.direction)}"
+            )
         object.__setattr__(self, "duration", _optional_duration(self.duration))
 
 
@@ -157,7 +178,9 @@ class Spin:
     def __post_init__(self) -> None:
         angle = _as_float(self.angle)
         if not math.isfinite(angle) or angle == 0.0:
-            raise PlanError(f"a spin's angle (rad) must be finite and not zero, got {self.angle!r}")
+            raise PlanError(
+                f"a spin's angle (rad) must be finite and not zero, got {_short(self.angle)}"
+            )
         object.__setattr__(self, "angle", angle)
         object.__setattr__(self, "duration", _optional_duration(self.duration))
 
@@ -296,6 +319,23 @@ def _advance(x: float, y: float, heading: float, ds: float, turn: float) -> Pose
     return Pose(x + chord * math.cos(mean), y + chord * math.sin(mean), heading + turn)
 
 
+def _finite(*values: float) -> bool:
+    return all(math.isfinite(value) for value in values)
+
+
+def _overflow(segment: Segment, index: int, what: str) -> PlanError:
+    given = "" if segment.duration is None else f", {segment.duration:.6g} s"
+    return PlanError(
+        f"segment {index + 1} ({describe_segment(segment)}{given}): its {what} cannot be "
+        "computed: the numbers are too large (or the duration too short) for floating point"
+    )
+
+
+def _pose(x: float, y: float, heading: float) -> Pose:
+    """A reported pose: heading wrapped to (-pi, pi], and no ``-0.0``."""
+    return Pose(x + 0.0, y + 0.0, norm_angle(heading) + 0.0)
+
+
 def plan(
     segments: Iterable[Segment],
     params: DiffDriveParams,
@@ -321,29 +361,33 @@ def plan(
 
     Raises:
         PlanError: no segments, a cruise speed or spin rate that is not positive, a negative or
-            zero limit (no duration satisfies it), or ``fastest`` without a limit.
+            zero limit (no duration satisfies it), ``fastest`` without a limit, or a segment whose
+            duration, velocity, wheel speeds, end pose or end time overflow (not finite, or a
+            duration that rounds to zero); the message names the segment.
     """
     items = list(segments)
     if not items:
         raise PlanError("empty plan: no segments")
     for item in items:
         if not isinstance(item, Straight | Arc | Spin):
-            raise PlanError(f"not a plan segment: {item!r}")
+            raise PlanError(f"not a plan segment: {_short(item)}")
     speed = _positive(speed, "the cruise speed (m/s)")
     spin_rate = _positive(spin_rate, "the spin rate (rad/s)")
     lim = params.max_wheel_speed if limit is None else _as_float(limit)
     if lim is not None and (not math.isfinite(lim) or lim < 0.0):
-        raise PlanError(f"the motor limit must be a finite number >= 0 (rad/s), got {limit!r}")
+        raise PlanError(
+            f"the motor limit must be a finite number >= 0 (rad/s), got {_short(limit)}"
+        )
     if lim == 0.0:
         raise PlanError("the motor limit is zero: no duration keeps a moving wheel within it")
     if fastest and lim is None:
         raise PlanError(
             "a fastest plan needs a motor limit, and the robot has none "
-            "(give one with limit=, or --rpm-limit / --max-rpm)"
+            "(give one with limit=, or a max_wheel_speed in the parameters)"
         )
 
     planned: list[PlannedSegment] = []
-    x, y, heading = 0.0, 0.0, 0.0
+    x, y, heading, elapsed = 0.0, 0.0, 0.0, 0.0
     for index, segment in enumerate(items):
         ds, turn = _geometry(segment)
         if fastest:
@@ -357,13 +401,26 @@ def plan(
             duration = abs(turn) / spin_rate
         else:
             duration = ds / speed
+        if not (math.isfinite(duration) and duration > 0.0):
+            raise _overflow(segment, index, f"duration ({duration:g} s)")
         twist = Twist(ds / duration, turn / duration)
         wheels = inverse(params, twist.linear, twist.angular)
         wheels = WheelSpeeds(float(wheels.left), float(wheels.right))
         joints = joint_from_wheel(params, wheels)
         fraction = limit_fraction(params, wheels, lim)
-        start = Pose(x, y, norm_angle(heading))
+        if not _finite(float(twist.linear), float(twist.angular)):
+            raise _overflow(segment, index, "velocity")
+        if not _finite(*(rpm_from_rad_s(float(w)) * duration for w in wheels)):
+            raise _overflow(segment, index, "wheel speeds or wheel turns")
+        if fraction is not None and not _finite(float(fraction) * duration):
+            raise _overflow(segment, index, "share of the motor limit")
+        elapsed += duration
+        if not _finite(elapsed, heading + turn):
+            raise _overflow(segment, index, "end time or heading")
+        start = _pose(x, y, heading)
         x, y, heading = _advance(x, y, heading, ds, turn)
+        if not _finite(x, y):
+            raise _overflow(segment, index, "end pose")
         planned.append(
             PlannedSegment(
                 segment=segment,
@@ -374,16 +431,22 @@ def plan(
                 joints=WheelSpeeds(float(joints.left), float(joints.right)),
                 fraction=None if fraction is None else float(fraction),
                 start_pose=start,
-                end_pose=Pose(x, y, norm_angle(heading)),
-                end_heading=heading,
+                end_pose=_pose(x, y, heading),
+                end_heading=heading + 0.0,
             )
         )
     within = lim is None or all((p.fraction or 0.0) <= 1.0 + LIMIT_TOLERANCE for p in planned)
+    try:
+        total = math.fsum(p.duration for p in planned)
+    except OverflowError:
+        total = math.inf
+    if not math.isfinite(total):
+        raise _overflow(items[-1], len(items) - 1, "end time")
     return Plan(
         segments=tuple(planned),
         params=params,
         limit=lim,
-        duration=math.fsum(p.duration for p in planned),
+        duration=total,
         final_pose=planned[-1].end_pose,
         within_limit=within,
     )
@@ -419,7 +482,7 @@ def pose_at(p: Plan, t: float) -> Pose:
         float(planned.twist.linear) * elapsed,
         float(planned.twist.angular) * elapsed,
     )
-    return Pose(pose.x, pose.y, norm_angle(pose.theta))
+    return _pose(pose.x, pose.y, pose.theta)
 
 
 def wheel_positions(p: Plan, times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -452,7 +515,9 @@ def wheel_positions(p: Plan, times: ArrayLike) -> tuple[NDArray[np.float64], NDA
 # Text form
 
 _KINDS = ("straight", "ccw", "cw", "spin")
-_NUMBER = re.compile(r"([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*)", re.DOTALL)
+# ASCII digits only (float() would also take other scripts' digits and underscores); the unit
+# follows at once, in files as in text (where a space would split the token).
+_NUMBER = re.compile(r"([+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)(.*)", re.DOTALL)
 _DIVISORS: dict[str, dict[str, float]] = {
     # Dividing by an exact power of ten rounds once, so 25cm is exactly 0.25.
     "length": {"": 1.0, "m": 1.0, "cm": 100.0, "mm": 1000.0},
@@ -473,24 +538,29 @@ def _quantity(text: str, dimension: Dimension) -> float:
     """An SI value (m, rad or s) from a number with an optional unit (default m, deg, s)."""
     match = _NUMBER.fullmatch(text.strip())
     if match is None:
-        try:
-            float(text)
-        except ValueError:
-            raise _BadValueError("not a number") from None
-        raise _BadValueError("not a finite number")
+        if text.strip().lower().lstrip("+-") in ("nan", "inf", "infinity"):
+            raise _BadValueError("not a finite number")
+        raise _BadValueError("not a number")
     number = float(match.group(1))
     if not math.isfinite(number):
         raise _BadValueError("not a finite number")
+    if match.group(2)[:1].isspace():
+        raise _BadValueError(
+            f"write the unit attached to its number, as in {match.group(1)}{match.group(2).strip()}"
+        )
     unit = match.group(2).lower()
     if dimension == "angle":
         if unit not in _ANGLE_UNITS:
-            raise _BadValueError(f"unknown unit {match.group(2)!r} for an angle (use deg or rad)")
+            raise _BadValueError(
+                f"unknown unit {_short(match.group(2))} for an angle (use deg or rad)"
+            )
         value = math.radians(number) if _ANGLE_UNITS[unit] else number
     else:
         divisors = _DIVISORS[dimension]
         if unit not in divisors:
             raise _BadValueError(
-                f"unknown unit {match.group(2)!r} for a {dimension} (use {_UNIT_HELP[dimension]})"
+                f"unknown unit {_short(match.group(2))} for a {dimension} "
+                f"(use {_UNIT_HELP[dimension]})"
             )
         value = number / divisors[unit]
     if not math.isfinite(value):
@@ -551,35 +621,39 @@ def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> 
     if kind not in _SIGNATURES:
         hint = " (arcs are written ccw/cw RADIUS ANGLE)" if kind == "arc" else ""
         raise error(
-            head, f"unknown segment kind {head.text!r}: expected straight, ccw, cw or spin{hint}"
+            head,
+            f"unknown segment kind {_short(head.text)}: expected straight, ccw, cw or spin{hint}",
         )
     signature = _SIGNATURES[kind]
     args = tokens[1:]
     for token in args:
         if token.text.lower() in _ALL_UNITS:
             raise error(
-                token, f"{token.text!r} is a unit: write it attached to its number, as in 25cm"
+                token,
+                f"{_short(token.text)} is a unit: write it attached to its number, as in 25cm",
             )
     if len(args) < len(signature):
         missing = " and ".join(role.upper() for role, _, _ in signature[len(args) :])
         last = args[-1] if args else head
-        raise error(last, f"{head.text!r} needs {missing} after {last.text!r}: {_USAGE[kind]}")
+        raise error(
+            last, f"{_short(head.text)} needs {missing} after {_short(last.text)}: {_USAGE[kind]}"
+        )
     if len(args) > len(signature) + 1:
         extra = args[len(signature) + 1]
-        raise error(extra, f"unexpected {extra.text!r}: {_USAGE[kind]}")
+        raise error(extra, f"unexpected {_short(extra.text)}: {_USAGE[kind]}")
     values: list[float] = []
     for token, (role, dimension, rule) in zip(args, signature, strict=False):
         try:
             value = _quantity(token.text, dimension)
         except _BadValueError as err:
-            raise error(token, f"{role} {token.text!r}: {err}") from None
+            raise error(token, f"{role} {_short(token.text)}: {err}") from None
         if rule == "positive" and value <= 0.0:
             hint = ""
             if kind in ("ccw", "cw") and role == "angle":
                 hint = f" (the direction is in the kind: {'cw' if kind == 'ccw' else 'ccw'})"
-            raise error(token, f"{role} {token.text!r} must be > 0{hint}")
+            raise error(token, f"{role} {_short(token.text)} must be > 0{hint}")
         if rule == "nonzero" and value == 0.0:
-            raise error(token, f"{role} {token.text!r} must not be zero")
+            raise error(token, f"{role} {_short(token.text)} must not be zero")
         values.append(value)
     duration: float | None = None
     if len(args) > len(signature):
@@ -587,9 +661,9 @@ def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> 
         try:
             duration = _quantity(token.text, "duration")
         except _BadValueError as err:
-            raise error(token, f"duration {token.text!r}: {err}") from None
+            raise error(token, f"duration {_short(token.text)}: {err}") from None
         if duration <= 0.0:
-            raise error(token, f"duration {token.text!r} must be > 0")
+            raise error(token, f"duration {_short(token.text)} must be > 0")
     if kind == "straight":
         return Straight(values[0], duration)
     if kind == "spin":
@@ -615,15 +689,18 @@ def parse_plan(text: str) -> list[Segment]:
     Raises:
         PlanError: empty plan, unknown kind or unit, missing or extra values, a value that is not
             a finite number, or not positive (not zero, for spins); the message quotes the token
-            and gives the segment number and column.
+            and gives the segment number and column (and line, when the text has several).
     """
+    return _parse_text(text, lines=len(text.splitlines()) > 1)
+
+
+def _parse_text(text: str, *, lines: bool) -> list[Segment]:
+    """:func:`parse_plan`; ``lines``: give line numbers in errors (not only columns)."""
     pieces = _segments_of(text)
     if not pieces:
         raise PlanError("empty plan: no segments (write for example 'straight 1 10s')")
-    multiline = len(text.strip().splitlines()) > 1
     return [
-        _segment_from_tokens(tokens, number, multiline)
-        for number, tokens in enumerate(pieces, start=1)
+        _segment_from_tokens(tokens, number, lines) for number, tokens in enumerate(pieces, start=1)
     ]
 
 
@@ -668,12 +745,14 @@ def describe_segment(segment: Segment) -> str:
 
     if isinstance(segment, Straight):
         return f"straight {short(segment.length)} m"
+
+    def angle(value: float) -> str:
+        degrees = math.degrees(value)
+        return f"{short(degrees)} deg" if math.isfinite(degrees) else f"{short(value)} rad"
+
     if isinstance(segment, Arc):
-        return (
-            f"{segment.direction} arc r {short(segment.radius)} m "
-            f"{short(math.degrees(segment.angle))} deg"
-        )
-    return f"spin {short(math.degrees(segment.angle))} deg"
+        return f"{segment.direction} arc r {short(segment.radius)} m {angle(segment.angle)}"
+    return f"spin {angle(segment.angle)}"
 
 
 # --------------------------------------------------------------------------------------------
@@ -688,15 +767,17 @@ _ENTRY_KEYS = {
 
 def _entry_value(value: object, dimension: Dimension, what: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float | str):
-        raise _BadValueError(f"{what} {value!r}: expected a number or a string such as '25cm'")
+        raise _BadValueError(
+            f"{what} {_short(value)}: expected a number or a string such as '25cm'"
+        )
     if isinstance(value, str):
         try:
             return _quantity(value, dimension)
         except _BadValueError as err:
-            raise _BadValueError(f"{what} {value!r}: {err}") from None
+            raise _BadValueError(f"{what} {_short(value)}: {err}") from None
     number = _as_float(value)
     if not math.isfinite(number):
-        raise _BadValueError(f"{what} {value!r}: not a finite number")
+        raise _BadValueError(f"{what} {_short(value)}: not a finite number")
     return math.radians(number) if dimension == "angle" else number
 
 
@@ -704,11 +785,11 @@ def _segment_from_entry(entry: object) -> Segment:
     if isinstance(entry, str):
         segments = parse_plan(entry)
         if len(segments) != 1:
-            raise _BadValueError(f"{entry!r} holds {len(segments)} segments, expected one")
+            raise _BadValueError(f"{_short(entry)} holds {len(segments)} segments, expected one")
         return segments[0]
     if not isinstance(entry, Mapping):
         raise _BadValueError(
-            f"expected a mapping such as {{straight: 1.0, duration: 10}}, got {entry!r}"
+            f"expected a mapping such as {{straight: 1.0, duration: 10}}, got {_short(entry)}"
         )
     kinds = [kind for kind in _ENTRY_KEYS if kind in entry]
     if len(kinds) != 1:
@@ -717,19 +798,19 @@ def _segment_from_entry(entry: object) -> Segment:
             f"expected exactly one of 'straight', 'arc', 'spin' as a key, got {found}"
         )
     kind = kinds[0]
-    unknown = [str(key) for key in entry if key not in _ENTRY_KEYS[kind]]
+    unknown = [key for key in entry if key not in _ENTRY_KEYS[kind]]
     if unknown:
         allowed = ", ".join(sorted(_ENTRY_KEYS[kind]))
-        raise _BadValueError(f"unknown key {unknown[0]!r} for a {kind} (allowed: {allowed})")
+        raise _BadValueError(f"unknown key {_short(unknown[0])} for a {kind} (allowed: {allowed})")
 
     def get(key: str, dimension: Dimension, rule: str = "positive") -> float:
         if key not in entry:
             raise _BadValueError(f"a {kind} needs {key!r}")
         value = _entry_value(entry[key], dimension, key)
         if rule == "positive" and value <= 0.0:
-            raise _BadValueError(f"{key} {entry[key]!r} must be > 0")
+            raise _BadValueError(f"{key} {_short(entry[key])} must be > 0")
         if rule == "nonzero" and value == 0.0:
-            raise _BadValueError(f"{key} {entry[key]!r} must not be zero")
+            raise _BadValueError(f"{key} {_short(entry[key])} must not be zero")
         return value
 
     duration = get("duration", "duration") if entry.get("duration") is not None else None
@@ -737,10 +818,16 @@ def _segment_from_entry(entry: object) -> Segment:
         return Straight(get("straight", "length"), duration)
     if kind == "spin":
         return Spin(get("spin", "angle", "nonzero"), duration)
-    direction = entry["arc"]
+    arc = entry["arc"]
+    direction = arc.lower() if isinstance(arc, str) else None  # case as free as in text
     if direction not in ("ccw", "cw"):
-        raise _BadValueError(f"arc {direction!r}: expected 'ccw' or 'cw'")
-    return Arc(get("radius", "length"), get("angle", "angle"), direction, duration)
+        raise _BadValueError(f"arc {_short(arc)}: expected 'ccw' or 'cw'")
+    return Arc(
+        get("radius", "length"),
+        get("angle", "angle"),
+        "ccw" if direction == "ccw" else "cw",
+        duration,
+    )
 
 
 def _looks_structured(text: str) -> bool:
@@ -752,16 +839,25 @@ def _looks_structured(text: str) -> bool:
 
 
 def segments_from_data(data: object, source: str = "plan") -> list[Segment]:
-    """Segments from parsed YAML/JSON: a list of entries, or a mapping with a ``segments`` list.
+    """Segments from parsed YAML/JSON: a list of entries, or a mapping with only a ``segments``
+    list.
 
     Entries are mappings such as ``{straight: 1.0, duration: 10}``, ``{arc: ccw, radius: 0.25,
-    angle: 180, duration: 10}`` or ``{spin: 90}`` (numbers in m, degrees and s; strings may carry
-    a unit: ``"25cm"``, ``"1.5rad"``, ``"10s"``), or text segments such as ``"straight 1 10s"``.
+    angle: 180, duration: 10}`` (``ccw``/``cw`` in any case) or ``{spin: 90}`` (numbers in m,
+    degrees and s; strings may carry a unit attached to the number: ``"25cm"``, ``"1.5rad"``,
+    ``"10s"``), or text segments such as ``"straight 1 10s"``.
 
     Raises:
-        PlanError: naming the source and the entry (counted from 1).
+        PlanError: naming the source and the entry (counted from 1), quoting at most 60
+            characters of it.
     """
     if isinstance(data, Mapping) and "segments" in data:
+        others = [key for key in data if key != "segments"]
+        if others:
+            raise PlanError(
+                f"{source}: unknown top-level key {_short(others[0])} (a plan file holds a list "
+                "of segments, or a mapping with only 'segments')"
+            )
         data = data["segments"]
     if not isinstance(data, list):
         raise PlanError(f"{source}: expected a list of segments, got {type(data).__name__}")
@@ -781,7 +877,9 @@ def load_plan(path: str | os.PathLike[str]) -> list[Segment]:
 
     ``.json`` files are JSON, ``.yaml``/``.yml`` files YAML (see :func:`segments_from_data` for
     the entries), ``.txt`` files the text form (see :func:`parse_plan`); other files are read as
-    YAML when they start with ``[``, ``{`` or ``-``, else as text.
+    YAML when they start with ``[``, ``{`` or ``-``, else as text. Files are UTF-8 (a byte order
+    mark is skipped). Duplicate keys in a mapping are errors, and so are YAML aliases (``*name``):
+    a plan never needs them, and nested ones grow exponentially.
 
     Args:
         path: the file.
@@ -794,7 +892,7 @@ def load_plan(path: str | os.PathLike[str]) -> list[Segment]:
     """
     source = os.fspath(path)
     try:
-        with open(source, encoding="utf-8") as handle:
+        with open(source, encoding="utf-8-sig") as handle:  # a BOM is not part of the plan
             text = handle.read()
     except FileNotFoundError:
         raise PlanError(f"{source}: no such file") from None
@@ -810,7 +908,7 @@ def load_plan(path: str | os.PathLike[str]) -> list[Segment]:
     if suffix in (".yaml", ".yml") or (suffix != ".txt" and _looks_structured(text)):
         return segments_from_data(_load_yaml(text, source), source)
     try:
-        return parse_plan(text)
+        return _parse_text(text, lines=True)
     except PlanError as err:
         raise PlanError(f"{source}: {err}") from None
 
@@ -821,21 +919,79 @@ def _load_json(text: str, source: str) -> Any:
     def reject(constant: str) -> float:
         raise PlanError(f"{source}: {constant} is not a finite number")
 
+    def unique(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+        mapping: dict[str, Any] = {}
+        for key, value in pairs:
+            if key in mapping:
+                raise PlanError(f"{source}: duplicate key {_short(key)} in a JSON object")
+            mapping[key] = value
+        return mapping
+
     try:
-        return json.loads(text, parse_constant=reject)
+        return json.loads(text, parse_constant=reject, object_pairs_hook=unique)
     except json.JSONDecodeError as err:
         raise PlanError(
             f"{source}: malformed JSON: {err.msg} (line {err.lineno}, column {err.colno})"
         ) from None
+    except ValueError as err:  # a number with more digits than Python reads
+        raise PlanError(f"{source}: a value cannot be read: {str(err).split(':')[0]}") from None
+
+
+class _AliasError(Exception):
+    """A YAML alias in a plan file; ``where`` is the mark's text."""
+
+    def __init__(self, where: str) -> None:
+        super().__init__(where)
+        self.where = where
+
+
+@functools.cache
+def _plan_loader() -> type[Any]:
+    """A safe YAML loader for plan files: no aliases (a plan never needs them, and nested ones
+    expand exponentially), and no duplicate keys in a mapping (YAML forbids them; PyYAML would
+    keep the last)."""
+    import yaml
+    from yaml.nodes import MappingNode, Node
+
+    class PlanLoader(yaml.SafeLoader):
+        def compose_node(self, parent: Node | None, index: int) -> Node | None:
+            if self.check_event(yaml.AliasEvent):
+                mark = self.peek_event().start_mark  # type: ignore[no-untyped-call,unused-ignore]
+                raise _AliasError(f"line {mark.line + 1}, column {mark.column + 1}")
+            return super().compose_node(parent, index)
+
+        def construct_mapping(self, node: MappingNode, deep: bool = False) -> dict[Any, Any]:
+            seen: set[Any] = set()
+            for key_node, _ in node.value:
+                key = self.construct_object(key_node, deep=True)
+                try:
+                    duplicate = key in seen
+                except TypeError:  # unhashable: the SafeLoader reports it
+                    continue
+                if duplicate:
+                    raise yaml.constructor.ConstructorError(
+                        None, None, f"duplicate key {_short(key)}", key_node.start_mark
+                    )
+                seen.add(key)
+            return super().construct_mapping(node, deep)
+
+    return PlanLoader
 
 
 def _load_yaml(text: str, source: str) -> Any:
     import yaml
 
     try:
-        return yaml.safe_load(text)
+        return yaml.load(text, Loader=_plan_loader())  # a SafeLoader
+    except _AliasError as err:
+        raise PlanError(
+            f"{source}: YAML aliases (*name) are not allowed in a plan file, write each entry "
+            f"out ({err.where})"
+        ) from None
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         problem = getattr(err, "problem", None) or "malformed YAML"
         where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark is not None else ""
         raise PlanError(f"{source}: malformed YAML: {problem}{where}") from None
+    except ValueError as err:  # a number with more digits than Python reads, a bad date
+        raise PlanError(f"{source}: a value cannot be read: {str(err).split(':')[0]}") from None

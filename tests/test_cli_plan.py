@@ -13,6 +13,7 @@ import stat
 import subprocess
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -23,11 +24,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from diffbot import EXAMPLES, DiffDriveParams, parse_plan, plan
-from diffbot.cli import _ceil_text, _yaml_float, main
+from diffbot.cli import PLAN_FORMATS, _ceil_text, _yaml_float, main
 
 Write = Callable[[str, str], Path]
-SH = shutil.which("sh") or "sh"
-HAS_SH = shutil.which("sh") is not None
 
 
 def run(runner: CliRunner, *args: str) -> Result:
@@ -122,7 +121,10 @@ def test_fastest_without_a_limit_is_bad_input(runner: CliRunner, write: Write) -
 """,
     )
     result = run(runner, "--robot", str(urdf), "--fastest")
-    assert_bad_input(result, "needs a motor limit")
+    assert_bad_input(result, "--fastest needs a motor limit", "--max-rpm", "--rpm-limit")
+    assert "limit=" not in result.stderr
+    data = plan_json(runner, "--robot", str(urdf), "--fastest", "--rpm-limit", "30", "straight 1")
+    assert data["segments"][0]["left_rpm"] == pytest.approx(30.0, rel=1e-9)
     result = run(runner, "--robot", str(urdf), "straight 1 1s")
     assert result.exit_code == 0, result.output
     assert "motor limit: none in the description, not checked" in result.stdout
@@ -241,18 +243,62 @@ def test_yaml_floats_are_read_back_as_the_same_float(value: float) -> None:
 # --------------------------------------------------------------------------------------------
 # ros2 script
 
+SHELLS = [shell for shell in ("sh", "bash") if shutil.which(shell)]
+REAL_SLEEP = shutil.which("sleep") or "sleep"
 
-def make_fake_ros2(directory: Path, log: Path, sleep: float = 0.0) -> dict[str, str]:
-    """A ``ros2`` that logs its arguments (one line per call) and optionally takes its time."""
-    fake = directory / "ros2"
-    fake.write_text(
+
+@dataclass(frozen=True)
+class Fakes:
+    """Logs of the fake ``ros2`` and ``sleep`` a script ran with."""
+
+    env: dict[str, str]
+    calls: Path
+    sleeps: Path
+    pids: Path
+
+    def call_lines(self) -> list[str]:
+        return self.calls.read_text().splitlines() if self.calls.exists() else []
+
+
+def make_fakes(directory: Path, *, fail: bool = False, sleep_for: float | None = None) -> Fakes:
+    """A ``ros2`` that logs its arguments (one line per call) and, when it publishes at a rate,
+    runs until killed like the real one (or fails at once with ``fail``); and a ``sleep`` that
+    logs its argument and sleeps ``sleep_for`` s instead (the real duration when None)."""
+    bin_dir = directory / "bin"
+    bin_dir.mkdir()
+    fakes = Fakes(
+        {**os.environ, "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}"},
+        directory / "calls",
+        directory / "sleeps",
+        directory / "pids",
+    )
+    ros2 = bin_dir / "ros2"
+    ros2.write_text(
         "#!/bin/sh\n"
-        f'printf "%s\\n" "$*" >> {log}\n'
-        f'case "$*" in *--once*) ;; *) sleep {sleep} ;; esac\n',
+        f'printf "%s\\n" "$*" >> {fakes.calls}\n'
+        'case "$*" in *--once*) exit 0 ;; esac\n'
+        + ("exit 3\n" if fail else f'echo "$$" >> {fakes.pids}\nexec {REAL_SLEEP} 60\n'),
         encoding="utf-8",
     )
-    fake.chmod(0o755)
-    return {**os.environ, "PATH": f"{directory}{os.pathsep}{os.environ['PATH']}"}
+    sleep = bin_dir / "sleep"
+    sleep.write_text(
+        "#!/bin/sh\n"
+        f'printf "%s\\n" "$1" >> {fakes.sleeps}\n'
+        f"exec {REAL_SLEEP} {'$1' if sleep_for is None else sleep_for}\n",
+        encoding="utf-8",
+    )
+    for fake in (ros2, sleep):
+        fake.chmod(0o755)
+    return fakes
+
+
+def running(pid: int) -> bool:
+    """Whether a process runs (a zombie does not), from /proc."""
+    try:
+        stat_line = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat_line.rsplit(")", 1)[1].split()[0] != "Z"
 
 
 def ros2_script(runner: CliRunner, tmp_path: Path, *args: str) -> Path:
@@ -262,110 +308,172 @@ def ros2_script(runner: CliRunner, tmp_path: Path, *args: str) -> Path:
     return script
 
 
-@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+TWIST = "cmd_vel geometry_msgs/msg/Twist"
+ARRAY = "std_msgs/msg/Float64MultiArray"
+
+
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
+@pytest.mark.parametrize("shell", SHELLS)
 def test_ros2_script_is_valid_sh_and_publishes_each_twist_then_zero(
-    runner: CliRunner, tmp_path: Path
+    runner: CliRunner, tmp_path: Path, shell: str
 ) -> None:
     script = ros2_script(runner, tmp_path)
     assert script.read_text().startswith("#!/bin/sh\n")
     assert os.stat(script).st_mode & stat.S_IXUSR
-    subprocess.run([SH, "-n", str(script)], check=True)
-    log = tmp_path / "log"
-    env = make_fake_ros2(tmp_path, log)
-    subprocess.run([SH, str(script)], check=True, env=env, timeout=30)
-    calls = log.read_text().splitlines()
-    twist = "cmd_vel geometry_msgs/msg/Twist"
-    assert calls == [
-        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.07853981633974483}}, "
+    subprocess.run([shell, "-n", str(script)], check=True)
+    fakes = make_fakes(tmp_path, sleep_for=0.2)
+    subprocess.run([shell, str(script)], check=True, env=fakes.env, timeout=30)
+    assert fakes.call_lines() == [
+        f"topic pub -r 10 {TWIST} {{linear: {{x: 0.07853981633974483}}, "
         "angular: {z: 0.3141592653589793}}",
-        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.1}}, angular: {{z: 0.0}}}}",
-        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.07853981633974483}}, "
+        f"topic pub -r 10 {TWIST} {{linear: {{x: 0.1}}, angular: {{z: 0.0}}}}",
+        f"topic pub -r 10 {TWIST} {{linear: {{x: 0.07853981633974483}}, "
         "angular: {z: -0.3141592653589793}}",
-        f"topic pub -r 10 -t 100 {twist} {{linear: {{x: 0.1}}, angular: {{z: 0.0}}}}",
-        f"topic pub --once {twist} {{linear: {{x: 0.0}}, angular: {{z: 0.0}}}}",
+        f"topic pub -r 10 {TWIST} {{linear: {{x: 0.1}}, angular: {{z: 0.0}}}}",
+        f"topic pub --once {TWIST} {{linear: {{x: 0.0}}, angular: {{z: 0.0}}}}",
     ]
+    assert fakes.sleeps.read_text().split() == ["10"] * 4
+    publishers = [int(pid) for pid in fakes.pids.read_text().split()]
+    assert len(publishers) == 4
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and any(running(pid) for pid in publishers):
+        time.sleep(0.02)
+    assert not any(running(pid) for pid in publishers)
 
 
-@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
 def test_ros2_script_holds_each_segment_for_exactly_its_duration(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     script = ros2_script(
-        runner, tmp_path, "straight 1; spin 90 0.01s", "--rate", "20", "--rpm-limit", "1e5"
+        runner,
+        tmp_path,
+        "straight 1; spin 90 0.01s; straight 1 5.4567409060078s; spin 0.01 1e-10s",
+        "--rate",
+        "20",
+        "--rpm-limit",
+        "1e9",
     )
-    log = tmp_path / "log"
-    subprocess.run([SH, str(script)], check=True, env=make_fake_ros2(tmp_path, log), timeout=30)
-    calls = [line.split() for line in log.read_text().splitlines()]
-    for call, duration in zip(calls, [10.0, 0.01], strict=False):
-        rate, times = float(call[call.index("-r") + 1]), int(call[call.index("-t") + 1])
-        assert times >= 1
-        assert times / rate == pytest.approx(duration, rel=1e-12)
-    assert int(calls[0][calls[0].index("-t") + 1]) == 200
+    text = script.read_text()
+    assert " -t " not in text
+    assert "for exactly the segment's duration, timed by 'sleep'" in text
+    fakes = make_fakes(tmp_path, sleep_for=0.2)
+    subprocess.run([SHELLS[0], str(script)], check=True, env=fakes.env, timeout=30)
+    # the sleep's resolution is a nanosecond: durations are written to 9 decimals, no exponent
+    assert fakes.sleeps.read_text().split() == ["10", "0.01", "5.456740906", "0"]
+    calls = [line.split() for line in fakes.call_lines()]
+    assert [call[2:4] for call in calls[:-1]] == [["-r", "20"]] * 4
     assert calls[-1][2] == "--once"
 
 
-@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
+def test_ros2_script_takes_the_plans_time(runner: CliRunner, tmp_path: Path) -> None:
+    script = ros2_script(runner, tmp_path, "straight 0.05 0.6s; spin 10 0.3s")
+    fakes = make_fakes(tmp_path)
+    start = time.monotonic()
+    subprocess.run([SHELLS[0], str(script)], check=True, env=fakes.env, timeout=30)
+    assert 0.9 <= time.monotonic() - start < 3.0
+    assert len(fakes.call_lines()) == 3
+
+
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
 def test_ros2_script_with_wheels_publishes_both_wheels_together_then_zero(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     script = ros2_script(
         runner, tmp_path, "straight 1 10s; spin -90 2s", "--wheels", "--right-topic", "/r/cmd"
     )
-    subprocess.run([SH, "-n", str(script)], check=True)
-    log = tmp_path / "log"
-    subprocess.run([SH, str(script)], check=True, env=make_fake_ros2(tmp_path, log), timeout=30)
-    calls = log.read_text().splitlines()
-    array = "std_msgs/msg/Float64MultiArray"
+    subprocess.run([SHELLS[0], "-n", str(script)], check=True)
+    fakes = make_fakes(tmp_path, sleep_for=0.2)
+    subprocess.run([SHELLS[0], str(script)], check=True, env=fakes.env, timeout=30)
+    calls = fakes.call_lines()
     left, right = "left_wheel_velocity_controller/commands", "/r/cmd"
     spin = math.pi / 4 * 0.135 / 2 / 0.035
     assert sorted(calls[:2]) == [
-        f"topic pub -r 10 -t 100 {right} {array} {{data: [2.857142857142857]}}",
-        f"topic pub -r 10 -t 100 {left} {array} {{data: [2.857142857142857]}}",
+        f"topic pub -r 10 {right} {ARRAY} {{data: [2.857142857142857]}}",
+        f"topic pub -r 10 {left} {ARRAY} {{data: [2.857142857142857]}}",
     ]
     assert sorted(calls[2:4]) == [
-        f"topic pub -r 10 -t 20 {right} {array} {{data: [{-spin!r}]}}",
-        f"topic pub -r 10 -t 20 {left} {array} {{data: [{spin!r}]}}",
+        f"topic pub -r 10 {right} {ARRAY} {{data: [{-spin!r}]}}",
+        f"topic pub -r 10 {left} {ARRAY} {{data: [{spin!r}]}}",
     ]
     assert sorted(calls[4:]) == [
-        f"topic pub --once {right} {array} {{data: [0.0]}}",
-        f"topic pub --once {left} {array} {{data: [0.0]}}",
+        f"topic pub --once {right} {ARRAY} {{data: [0.0]}}",
+        f"topic pub --once {left} {ARRAY} {{data: [0.0]}}",
     ]
+    assert fakes.sleeps.read_text().split() == ["10", "2"]
 
 
-@pytest.mark.skipif(not HAS_SH, reason="needs a POSIX sh")
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
+@pytest.mark.parametrize("wheels", [False, True])
+def test_ros2_script_stops_the_robot_when_a_publisher_fails(
+    runner: CliRunner, tmp_path: Path, wheels: bool
+) -> None:
+    script = ros2_script(runner, tmp_path, *(["--wheels"] if wheels else []))
+    fakes = make_fakes(tmp_path, fail=True, sleep_for=0.2)
+    result = subprocess.run(
+        [SHELLS[0], str(script)], env=fakes.env, timeout=30, capture_output=True, text=True
+    )
+    assert result.returncode == 1
+    assert "ros2 topic pub stopped before the end of its segment" in result.stderr
+    calls = fakes.call_lines()
+    assert len(calls) == (4 if wheels else 2)  # the first segment's, then the zero commands
+    assert all("--once" in call for call in calls[-2 if wheels else -1 :])
+
+
+@pytest.mark.skipif(not SHELLS, reason="needs a POSIX sh")
+@pytest.mark.parametrize("shell", SHELLS)
 @pytest.mark.parametrize(
     ("wheels", "signum", "code"),
     [
         (False, signal.SIGINT, 130),
         (False, signal.SIGTERM, 143),
         (True, signal.SIGINT, 130),
+        (True, signal.SIGTERM, 143),
     ],
 )
-def test_ros2_script_stops_the_robot_when_interrupted(
-    runner: CliRunner, tmp_path: Path, wheels: bool, signum: signal.Signals, code: int
+def test_ros2_script_stops_the_robot_at_once_when_interrupted(
+    runner: CliRunner,
+    tmp_path: Path,
+    shell: str,
+    wheels: bool,
+    signum: signal.Signals,
+    code: int,
 ) -> None:
-    script = ros2_script(runner, tmp_path, *(["--wheels"] if wheels else []))
-    log = tmp_path / "log"
-    env = make_fake_ros2(tmp_path, log, sleep=0.5)
+    script = ros2_script(
+        runner, tmp_path, "straight 0.5 5s; straight 0.5 5s", *(["--wheels"] if wheels else [])
+    )
+    fakes = make_fakes(tmp_path)
     process = subprocess.Popen(
-        [SH, str(script)],
-        env=env,
+        [shell, str(script)],
+        env=fakes.env,
         # A shell that starts with SIGINT ignored cannot trap it: give it the default.
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
-    started = 2 if wheels else 1  # commands of the first segment
+    started = 2 if wheels else 1  # publishers of the first segment
     deadline = time.monotonic() + 10
-    while time.monotonic() < deadline and (
-        not log.exists() or len(log.read_text().splitlines()) < started
-    ):
+    while time.monotonic() < deadline and len(fakes.call_lines()) < started:
         time.sleep(0.02)
+    time.sleep(0.5)  # well inside the first segment's 5 s
     process.send_signal(signum)
+    signalled = time.monotonic()
+    zeros = 2 if wheels else 1
+    while time.monotonic() < signalled + 10 and len(fakes.call_lines()) < started + zeros:
+        time.sleep(0.01)
+    stopped_after = time.monotonic() - signalled
     assert process.wait(timeout=30) == code
-    calls = log.read_text().splitlines()
-    assert all("--once" not in call for call in calls[: -2 if wheels else -1])
-    zeros = calls[-2:] if wheels else calls[-1:]
-    assert all("--once" in call and ("0.0]" in call or "z: 0.0" in call) for call in zeros)
-    assert len(calls) == (4 if wheels else 2)
+    assert stopped_after < 1.5
+    calls = fakes.call_lines()
+    assert len(calls) == started + zeros
+    assert all("--once" not in call for call in calls[:started])
+    assert all(
+        "--once" in call and ("0.0]" in call or "z: 0.0" in call) for call in calls[started:]
+    )
+    publishers = [int(pid) for pid in fakes.pids.read_text().split()]
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and any(running(pid) for pid in publishers):
+        time.sleep(0.02)
+    assert not any(running(pid) for pid in publishers)
 
 
 def test_ros2_script_quotes_nothing_unsafe_and_rejects_bad_topics(runner: CliRunner) -> None:
@@ -403,11 +511,64 @@ def test_suggested_shortest_duration_does_fit(runner: CliRunner) -> None:
     assert run(runner, "straight 1 5.456s").exit_code == 1
 
 
-@pytest.mark.parametrize("value", [1e-7, 0.9, 5.4567409060078, 1234.5678, 99999.2])
+@pytest.mark.parametrize(
+    "value", [1e-7, 0.9, 5.4567409060078, 1234.5678, 9999.5, 99999.2, 1e29, 1e308, 5e-324]
+)
 def test_rounded_up_durations_are_never_below_the_value(value: float) -> None:
     text = _ceil_text(value)
     assert float(text) >= value
     assert float(text) <= value * (1 + 1e-3)
+
+
+@pytest.mark.parametrize(
+    ("value", "text"),
+    [
+        (0.9, "0.9000"),
+        (5.4567409060078, "5.457"),
+        (1234.5678, "1235"),
+        (9999.5, "1.000e+04"),
+        (545674.9, "5.457e+05"),
+        (1e-7, "1.000e-07"),
+        (1e29, "1.000e+29"),
+        (1.7976931348623157e308, "1.798e+308"),
+    ],
+)
+def test_rounded_up_durations_show_four_significant_digits(value: float, text: str) -> None:
+    assert _ceil_text(value) == text
+
+
+def test_huge_shortest_duration_is_reported_not_a_traceback(runner: CliRunner) -> None:
+    result = run(runner, "straight 1e29 1s")
+    assert result.exit_code == 1
+    assert result.stderr.strip().endswith("shortest duration that fits: 5.457e+29 s")
+    assert "Traceback" not in result.output
+
+
+@pytest.mark.parametrize("output_format", PLAN_FORMATS)
+@pytest.mark.parametrize(
+    ("spec", "fragment"),
+    [
+        ("spin 1e300rad 1e-300s", "its velocity"),
+        ("straight 1e308", "its duration (inf s)"),
+        ("straight 1 1e-320s", "its velocity"),
+    ],
+)
+def test_plans_that_overflow_are_bad_input_in_every_format(
+    runner: CliRunner, output_format: str, spec: str, fragment: str
+) -> None:
+    result = run(runner, spec, "--format", output_format)
+    assert_bad_input(result, "segment 1 (", fragment)
+    assert result.stdout == ""
+
+
+def test_plan_file_that_overflows_is_bad_input(runner: CliRunner, write: Write) -> None:
+    path = write("p.yaml", "[{spin: 1e308, duration: 1e-308}]\n")
+    assert_bad_input(run(runner, str(path)), "segment 1 (spin 1e+308 deg, 1e-308 s)", "velocity")
+
+
+@pytest.mark.parametrize("rate", ["1e308", "1001", "inf"])
+def test_rate_must_be_finite_and_sane(runner: CliRunner, rate: str) -> None:
+    assert_bad_input(run(runner, "--format", "ros2", "--rate", rate), "--rate", repr(rate))
 
 
 def test_over_the_limit_json_still_printed_with_violations(runner: CliRunner) -> None:
@@ -449,6 +610,33 @@ def test_spec_may_be_split_over_several_arguments_with_negative_numbers(
     assert data["final_pose"]["theta"] == pytest.approx(-math.pi / 2, abs=1e-15)
 
 
+@pytest.mark.parametrize(
+    ("args", "spec"),
+    [
+        (["spin", "-90deg"], "spin -90"),
+        (["--", "spin", "-1.5rad"], "spin -85.94366926962348"),
+        (["ccw", ".5", "-.5rad"], None),
+        (["straight", "1", "-5s"], None),
+    ],
+)
+def test_negative_values_with_a_unit_are_values_not_options(
+    runner: CliRunner, args: list[str], spec: str | None
+) -> None:
+    if spec is not None:
+        assert plan_json(runner, *args)["plan"] == spec
+    else:
+        assert_bad_input(run(runner, *args), "must be > 0")
+        assert "no such option" not in run(runner, *args).stderr
+
+
+def test_several_arguments_are_joined_as_segments(runner: CliRunner) -> None:
+    data = plan_json(runner, "straight 1", "spin 90", "straight", "2", "50s")
+    assert data["plan"] == "straight 1; spin 90; straight 2 50s"
+    assert_bad_input(run(runner, "straight 1", "spin 90x"), "segment 2", "'90x'", "column 18")
+    help_text = run(runner, "--help").stdout
+    assert "'straight 1' 'spin 90' is 'straight 1;" in " ".join(help_text.split())
+
+
 def test_speed_and_spin_rate_options(runner: CliRunner) -> None:
     data = plan_json(runner, "straight 1.5; spin 90", "--speed", "0.15", "--spin-rate", "1")
     assert [s["duration"] for s in data["segments"]] == pytest.approx([10.0, math.pi / 2])
@@ -479,6 +667,13 @@ def test_plan_files_are_read(runner: CliRunner, write: Write, name: str, text: s
     assert path.read_text() == text
 
 
+def test_errors_after_blank_lines_give_the_line(runner: CliRunner, write: Write) -> None:
+    path = write("f.txt", "\n\n\nstraight x\n")
+    assert_bad_input(run(runner, str(path)), "f.txt: segment 1", "(line 4, column 10)")
+    path = write("bom.txt", "\ufeffstraight 1 10s\n")
+    assert plan_json(runner, str(path))["plan"] == "straight 1 10s"
+
+
 def test_missing_plan_file_is_bad_input(runner: CliRunner, tmp_path: Path) -> None:
     assert_bad_input(run(runner, str(tmp_path / "nope.yaml")), "nope.yaml: no such file")
 
@@ -488,12 +683,38 @@ def test_bad_plan_file_names_the_entry(runner: CliRunner, write: Write) -> None:
     assert_bad_input(run(runner, str(path)), "entry 2", "'speed'")
 
 
+def test_yaml_alias_bomb_is_one_short_error_line(runner: CliRunner, write: Write) -> None:
+    levels = ["- &a0 [x, x, x, x, x, x, x, x, x]"]
+    levels += [f"- &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]" for i in range(1, 9)]
+    path = write("bomb.yaml", "\n".join(levels) + "\n")
+    result = run(runner, str(path))
+    assert_bad_input(result, "YAML aliases (*name) are not allowed in a plan file")
+    assert len(result.stderr) < 200
+
+
+def test_duplicate_keys_and_unknown_top_level_keys_are_bad_input(
+    runner: CliRunner, write: Write
+) -> None:
+    path = write("p.json", '[{"straight": 1, "duration": 10, "duration": 20}]')
+    assert_bad_input(run(runner, str(path)), "duplicate key 'duration'")
+    path = write("p.yaml", "segments: [straight 1]\nspeed: 5\n")
+    assert_bad_input(run(runner, str(path)), "unknown top-level key 'speed'")
+
+
+def test_headings_are_never_reported_as_minus_zero(runner: CliRunner) -> None:
+    result = run(runner, "--json", "spin -720")
+    assert '"theta": -0.0' not in result.stdout
+    assert plan_json(runner, "spin -720")["final_pose"]["theta"] == 0.0
+
+
 def test_example_and_a_spec_together_are_bad_input(runner: CliRunner) -> None:
     assert_bad_input(run(runner, "--example", "A", "straight 1"), "--example")
 
 
 def test_unknown_option_is_bad_input_not_a_plan_token(runner: CliRunner) -> None:
     assert_bad_input(run(runner, "--formt", "json"), "no such option: '--formt'")
+    assert_bad_input(run(runner, "spin", "90", "--bogus"), "no such option: '--bogus'")
+    assert_bad_input(run(runner, "spin", "-x"), "no such option: '-x'")
 
 
 @pytest.mark.parametrize(
@@ -550,8 +771,26 @@ def test_output_over_the_plan_file_is_refused(runner: CliRunner, write: Write) -
     assert path.read_text() == "straight 1\n"
 
 
+def test_output_over_the_robot_description_is_refused(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = tmp_path / "r.urdf"
+    assert runner.invoke(main, ["urdf", "-o", str(urdf)]).exit_code == 0
+    before = urdf.read_text()
+    result = run(runner, "straight 1", "--robot", str(urdf), "-o", str(urdf), "--force")
+    assert_bad_input(result, "is an input: refusing to overwrite it")
+    assert urdf.read_text() == before
+    link = tmp_path / "link.txt"
+    link.symlink_to(urdf)
+    result = run(runner, "straight 1", "--robot", str(urdf), "-o", str(link), "--force")
+    assert_bad_input(result, "is an input")
+    assert urdf.read_text() == before
+
+
 def test_help_describes_the_grammar(runner: CliRunner) -> None:
     result = run(runner, "--help")
     assert result.exit_code == 0
     for fragment in ("straight LENGTH [DURATION]", "--fastest", "--rpm-limit", "ros2"):
         assert fragment in result.stdout
+    text = " ".join(result.stdout.split())
+    assert "(durations given in the plan are ignored)" in text
+    json_example = text.split("the same in .json (", 1)[1].split("), or a .txt", 1)[0]
+    assert json.loads(json_example) == [{"straight": 1, "duration": 10}, {"spin": 90}]

@@ -7,7 +7,7 @@ import json
 import math
 from collections.abc import Callable
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import pytest
@@ -32,6 +32,7 @@ from diffbot import (
     pose_at,
     wheel_positions,
 )
+from diffbot.kinematics import rpm_from_rad_s
 from diffbot.trajectory import (
     DEFAULT_SPIN_RATE,
     describe_segment,
@@ -347,6 +348,52 @@ def test_cruise_speed_and_spin_rate_must_be_positive(
         plan([Straight(1.0)], params, speed=speed, spin_rate=spin_rate)
 
 
+HUGE_WHEELS = DiffDriveParams(wheel_radius=1e10, wheel_separation=1e-10, max_wheel_speed=1.0)
+
+
+@pytest.mark.parametrize(
+    ("segments", "options", "pattern"),
+    [
+        (
+            [Spin(1e300, 1e-300)],
+            {},
+            r"segment 1 \(spin 5.72958e\+301 deg, 1e-300 s\): its velocity",
+        ),
+        ([Straight(1e308)], {}, r"segment 1 \(straight 1e\+308 m\): its duration \(inf s\)"),
+        ([Straight(1.0, 1e-320)], {}, r"segment 1 .*: its velocity"),
+        ([Spin(math.radians(1e308), 1e-308)], {}, r"segment 1 .*: its velocity"),
+        ([Straight(1.0), Straight(1e308, 1e300)], {}, r"segment 2 .*: its wheel speeds"),
+        ([Straight(1e-300, 1e308)] * 2, {}, r"segment 2 .*: its end time"),
+        ([Straight(1.0, 1.0)], {"limit": 1e-320}, r"its share of the motor limit"),
+        ([Straight(1e-300)], {"speed": 1e300}, r"its duration \(0 s\)"),
+        ([Straight(1e-320)], {"fastest": True, "limit": 1e300}, r"its duration \(0 s\)"),
+    ],
+)
+def test_numbers_that_overflow_are_a_plan_error_naming_the_segment(
+    params: DiffDriveParams, segments: list[Segment], options: dict[str, Any], pattern: str
+) -> None:
+    with pytest.raises(PlanError, match=pattern):
+        plan(segments, params, **options)
+
+
+@pytest.mark.parametrize(
+    ("segments", "pattern"),
+    [
+        ([Straight(1e308, 1e300)] * 2, r"segment 2 .*: its end pose"),
+        ([Spin(1.7e308, 1e300)] * 2, r"segment 2 .*: its end time or heading"),
+    ],
+)
+def test_poses_that_overflow_are_a_plan_error(segments: list[Segment], pattern: str) -> None:
+    with pytest.raises(PlanError, match=pattern):
+        plan(segments, HUGE_WHEELS)
+
+
+def test_headings_of_minus_zero_are_reported_as_zero(params: DiffDriveParams) -> None:
+    p = plan([Spin(-4 * math.pi)], params)
+    assert math.copysign(1.0, p.final_pose.theta) == 1.0
+    assert math.copysign(1.0, pose_at(p, p.duration / 2).theta) == 1.0
+
+
 # --------------------------------------------------------------------------------------------
 # pose_at and wheel_positions
 
@@ -529,6 +576,40 @@ any_segments: st.SearchStrategy[Segment] = st.one_of(
 )
 
 
+@settings(deadline=None)
+@given(
+    segments=st.lists(any_segments, min_size=1, max_size=4),
+    speed=finite_positive,
+    fastest=st.booleans(),
+    limit=st.none() | finite_positive,
+)
+def test_any_plan_is_finite_or_a_plan_error(
+    params: DiffDriveParams,
+    segments: list[Segment],
+    speed: float,
+    fastest: bool,
+    limit: float | None,
+) -> None:
+    try:
+        p = plan(segments, params, speed=speed, spin_rate=speed, fastest=fastest, limit=limit)
+    except PlanError as err:
+        message = str(err)
+    else:
+        message = ""
+    if message:
+        assert message.startswith("segment ")
+        return
+    assert math.isfinite(p.duration)
+    for s in p.segments:
+        values = [s.duration, *s.twist, *s.wheels, *s.joints, *s.end_pose, s.end_heading]
+        assert all(math.isfinite(v) for v in values)
+        assert s.duration > 0.0
+        assert all(math.isfinite(rpm_from_rad_s(v) * s.duration) for v in s.wheels)
+    for v in p.violations():
+        assert math.isfinite(v.rpm)
+        assert math.isfinite(v.shortest_duration)
+
+
 @given(segments=st.lists(any_segments, min_size=1, max_size=6))
 def test_format_plan_is_read_back_exactly_by_parse_plan(segments: list[Segment]) -> None:
     text = format_plan(segments)
@@ -604,6 +685,7 @@ def test_describe_segment_is_short_and_in_degrees() -> None:
     assert describe_segment(Arc(0.25, math.pi, "cw", 10.0)) == "cw arc r 0.25 m 180 deg"
     assert describe_segment(Straight(1.0)) == "straight 1 m"
     assert describe_segment(Spin(-math.pi / 2)) == "spin -90 deg"
+    assert describe_segment(Spin(1.7e308)) == "spin 1.7e+308 rad"  # too large in degrees
 
 
 @pytest.mark.parametrize(
@@ -703,6 +785,101 @@ def test_text_file_and_a_file_without_suffix(write: Write) -> None:
 def test_bad_files_name_the_entry(write: Write, name: str, text: str, pattern: str) -> None:
     with pytest.raises(PlanError, match=pattern):
         load_plan(write(name, text))
+
+
+def test_yaml_aliases_are_refused_before_they_expand(write: Write) -> None:
+    levels = ["- &a0 [x, x, x, x, x, x, x, x, x]"]
+    levels += [f"- &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]" for i in range(1, 9)]
+    path = write("bomb.yaml", "\n".join(levels) + "\n")
+    with pytest.raises(PlanError, match=r"bomb.yaml: YAML aliases .* not allowed .*\(line 2, "):
+        load_plan(path)
+
+
+def test_errors_show_at_most_a_short_excerpt_of_an_entry(write: Write) -> None:
+    path = write("long.yaml", f"- {{straight: [{', '.join(['1'] * 100_000)}]}}\n")
+    with pytest.raises(PlanError, match=r"entry 1: straight \[1, 1, .*\.\.\.") as info:
+        load_plan(path)
+    assert len(str(info.value)) < 200
+    with pytest.raises(PlanError, match=r"straight <an integer too long to show>: not a finite"):
+        segments_from_data([{"straight": 10**5000}])
+    with pytest.raises(PlanError, match=r"segment 1: unknown segment kind 'xxxx.*\.\.\.") as info:
+        parse_plan("x" * 100_000)
+    assert len(str(info.value)) < 200
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "pattern"),
+    [
+        ("p.yaml", "- {straight: 1, duration: 10, duration: 20}\n", r"duplicate key 'duration'"),
+        ("p.yaml", "segments:\n  - straight 1\nsegments: []\n", r"duplicate key 'segments'"),
+        (
+            "p.json",
+            '[{"straight": 1, "duration": 10, "duration": 20}]',
+            r"duplicate key 'duration'",
+        ),
+        ("p.yaml", "segments: [straight 1]\nspeed: 5\n", r"unknown top-level key 'speed'"),
+        ("p.yaml", f"- {{straight: 1{'0' * 5000}}}\n", r"a value cannot be read: Exceeds"),
+        ("p.json", f'[{{"straight": 1{"0" * 5000}}}]', r"a value cannot be read: Exceeds"),
+        ("p.yaml", "- {straight: 1, duration: 10 s}\n", r"'10 s': write the unit attached .* 10s"),
+        ("p.yaml", "- {straight: 25 cm}\n", r"'25 cm': write the unit attached .* 25cm"),
+    ],
+)
+def test_files_are_as_strict_as_text(write: Write, name: str, text: str, pattern: str) -> None:
+    with pytest.raises(PlanError, match=pattern):
+        load_plan(write(name, text))
+
+
+def test_arc_direction_is_case_insensitive_in_files_as_in_text(write: Write) -> None:
+    path = write(
+        "p.yaml", "- {arc: CCW, radius: 1, angle: 90}\n- {arc: Cw, radius: 1, angle: 90}\n"
+    )
+    assert load_plan(path) == parse_plan("CCW 1 90; Cw 1 90")
+    assert load_plan(path) == [Arc(1.0, math.pi / 2, "ccw"), Arc(1.0, math.pi / 2, "cw")]
+
+
+@pytest.mark.parametrize("number", ["\u0661", "\uff11", "1\u0660", "1_0"])
+def test_only_ascii_digits_are_numbers(number: str) -> None:
+    with pytest.raises(PlanError, match=r"length .*: (not a number|unknown unit)"):
+        parse_plan(f"straight {number}")
+    with pytest.raises(PlanError, match=r"straight .*: (not a number|unknown unit)"):
+        segments_from_data([{"straight": number}])
+
+
+@pytest.mark.parametrize(
+    ("text", "where"),
+    [
+        ("\n\n\nstraight x\n", "line 4, column 10"),
+        ("straight 1\n", "column 10"),  # one line: the column says it all
+        ("straight 1\n\n", "line 1, column 10"),
+    ],
+)
+def test_errors_give_the_line_whenever_the_text_has_several(text: str, where: str) -> None:
+    with pytest.raises(PlanError, match=rf"\({where}\)$"):
+        parse_plan(text.replace("straight 1", "straight -1"))
+
+
+def test_errors_in_text_files_always_give_the_line(write: Write) -> None:
+    with pytest.raises(PlanError, match=r"f.txt: segment 1: .*\(line 4, column 10\)"):
+        load_plan(write("f.txt", "\n\n\nstraight x\n"))
+    with pytest.raises(PlanError, match=r"g.txt: segment 1: .*\(line 1, column 10\)"):
+        load_plan(write("g.txt", "straight x"))
+
+
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("p.txt", "straight 1 10s\n"),
+        ("p.yaml", "- {straight: 1, duration: 10}\n"),
+        ("p.json", '[{"straight": 1, "duration": 10}]'),
+        ("p", "straight 1 10s\n"),
+    ],
+)
+def test_a_utf8_byte_order_mark_is_not_part_of_the_plan(
+    tmp_path: Path, name: str, text: str
+) -> None:
+    path = tmp_path / name
+    path.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    assert load_plan(path) == [Straight(1.0, 10.0)]
 
 
 def test_missing_file_and_directory_are_plan_errors(tmp_path: Path) -> None:
