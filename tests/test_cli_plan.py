@@ -462,7 +462,7 @@ def test_ros2_script_stops_the_robot_at_once_when_interrupted(
         time.sleep(0.01)
     stopped_after = time.monotonic() - signalled
     assert process.wait(timeout=30) == code
-    assert stopped_after < 1.5
+    assert stopped_after < 2.5  # the old script took the rest of the 5 s segment
     calls = fakes.call_lines()
     assert len(calls) == started + zeros
     assert all("--once" not in call for call in calls[:started])
