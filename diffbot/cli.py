@@ -1304,14 +1304,39 @@ def plan_command(
 # odom: odometry from recorded wheel joint states
 
 
-def _check_out(out: str | None, inputs: Sequence[str], force: bool) -> Path | None:
-    """The --out path, refused early when it exists (without --force) or is an input."""
+#: Storage files of a rosbag2 recording: given one of them, the recording is its directory.
+_BAG_FILES = (".db3", ".mcap")
+
+
+def _occupied(path: Path) -> Path:
+    """The resolved path an input occupies: a bag given as one of its files is its directory."""
+    resolved = path.resolve()
+    if (
+        resolved.is_file()
+        and resolved.suffix.lower() in _BAG_FILES
+        and (resolved.parent / "metadata.yaml").is_file()
+    ):
+        return resolved.parent
+    return resolved
+
+
+def _check_out(out: str | None, inputs: Sequence[Path], force: bool) -> Path | None:
+    """The --out path, refused early when it is empty, exists (without --force), or is, holds
+    or lies inside an input (compared as resolved paths, links followed)."""
     if out is None:
         return None
+    if not out.strip():
+        fail("--out needs a file or directory name, got ''")
     path = Path(out)
+    target = path.resolve()
     for given in inputs:
-        if path.resolve() == Path(given).resolve():
-            fail(f"--out {out} is the input: inputs are never overwritten")
+        occupied = _occupied(given)
+        if target == occupied:
+            fail(f"--out {out} is the input {given}: inputs are never overwritten")
+        if occupied in target.parents:
+            fail(f"--out {out} lies inside the input {given}: inputs are never modified")
+        if target in occupied.parents:
+            fail(f"--out {out} contains the input {given}: inputs are never overwritten")
     if (path.exists() or path.is_symlink()) and not force:
         fail(f"{out} exists: use --force to overwrite it")
     return path
@@ -1388,8 +1413,10 @@ def odom(
         fail(f"{source}: no such file or directory")
     if as_bag and out is None:
         fail("--bag writes the --out directory: give --out DIR")
-    out_path = _check_out(out, [source], force)
-    p = robot.with_path(None, xacro_args).load()
+    robot = robot.with_path(None, xacro_args)
+    inputs = [Path(source)] + ([Path(robot.robot)] if robot.robot is not None else [])
+    out_path = _check_out(out, inputs, force)
+    p = robot.load()
     recording = read_recording(source, p, topic)
     integrator = Odometry(p)
     run = run_odometry(recording, integrator)
@@ -1570,8 +1597,10 @@ def simulate(
         fail("--bag writes the --out directory: give --out DIR")
     if as_json and out is None:
         fail("--json prints a summary, so the samples need --out")
-    out_path = _check_out(out, [str(source.path)] if source.path is not None else [], force)
-    params = robot.with_path(None, xacro_args).load()
+    robot = robot.with_path(None, xacro_args)
+    inputs = [path for path in (source.path, robot.robot) if path is not None]
+    out_path = _check_out(out, [Path(path) for path in inputs], force)
+    params = robot.load()
     p = make_plan(source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest)
     states = simulate_plan(p, params, rate, ticks=ticks, noise=noise, seed=seed)
     origin = round(start * 1e9)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 from bags import write_bag
-from click.testing import CliRunner
+from click.testing import CliRunner, Result
 from rosbags.highlevel import AnyReader
 from wheel_motion import TRAJECTORY_A, wheel_samples
 
@@ -106,7 +106,9 @@ def test_odom_refuses_to_write_over_its_input(runner: CliRunner, trajectory_a: P
     args = ["odom", str(trajectory_a), "--out", str(trajectory_a), "--force"]
     result = runner.invoke(main, args)
     assert result.exit_code == 2
-    assert "is the input: inputs are never overwritten" in result.stderr
+    assert result.stderr == (
+        f"error: --out {trajectory_a} is the input {trajectory_a}: inputs are never overwritten\n"
+    )
     assert trajectory_a.read_bytes() == before
 
 
@@ -221,3 +223,67 @@ def test_odom_without_rosbags_says_what_to_install(
         "error: reading and writing ROS 2 bags needs the rosbags library: "
         "pip install 'diffbot-kinematics[bag]'\n"
     )
+
+
+def snapshot(directory: Path) -> dict[str, bytes]:
+    """Every file under a directory, by relative path, with its bytes."""
+    return {
+        str(p.relative_to(directory)): p.read_bytes()
+        for p in sorted(directory.rglob("*"))
+        if p.is_file()
+    }
+
+
+def one_error_line(result: Result, fragment: str) -> None:
+    assert result.exit_code == 2, result.output
+    assert result.stderr.startswith("error: ")
+    assert result.stderr.count("\n") == 1
+    assert fragment in result.stderr
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+@pytest.mark.parametrize(
+    ("given", "out", "as_bag", "fragment"),
+    [
+        ("{bag}", "{bag}", True, "is the input"),
+        ("{bag}/{storage_file}", "{bag}", True, "is the input"),
+        ("{bag}", "{bag}/metadata.yaml", False, "lies inside the input"),
+        ("{bag}", "{bag}/{storage_file}", False, "lies inside the input"),
+        ("{bag}/{storage_file}", "{bag}/metadata.yaml", False, "lies inside the input"),
+        ("{bag}/{storage_file}", "{bag}/{storage_file}", False, "lies inside the input"),
+        ("{bag}", "{bag}/sub/odom.csv", False, "lies inside the input"),
+        ("{bag}", "{tmp}", True, "contains the input"),
+    ],
+)
+def test_odom_force_never_touches_the_input_bag(
+    runner: CliRunner,
+    tmp_path: Path,
+    storage: str,
+    given: str,
+    out: str,
+    as_bag: bool,
+    fragment: str,
+) -> None:
+    bag = write_bag(tmp_path / "in", [(1, 1, [LEFT, RIGHT], [0.0, 0.0])], storage=storage)
+    storage_file = "in.mcap" if storage == "mcap" else "in.db3"
+    (tmp_path / "metadata.yaml").write_text("a bag, so that --force would replace it\n")
+    names = {"bag": bag, "storage_file": storage_file, "tmp": tmp_path}
+    before = snapshot(tmp_path)
+    args = ["odom", given.format(**names), "--out", out.format(**names), "--force"]
+    result = runner.invoke(main, [*args, "--bag"] if as_bag else args)
+    one_error_line(result, fragment)
+    assert snapshot(tmp_path) == before
+
+
+def test_odom_force_never_writes_over_the_robot_or_through_a_link_to_the_input(
+    runner: CliRunner, trajectory_a: Path, tmp_path: Path
+) -> None:
+    robot = tmp_path / "robot.urdf"
+    assert runner.invoke(main, ["urdf", "-o", str(robot)]).exit_code == 0
+    link = tmp_path / "link.csv"
+    link.symlink_to(trajectory_a)
+    before = snapshot(tmp_path)
+    args = ["odom", str(trajectory_a), "--robot", str(robot), "--force", "--out"]
+    one_error_line(runner.invoke(main, [*args, str(robot)]), f"is the input {robot}")
+    one_error_line(runner.invoke(main, [*args, str(link)]), f"is the input {trajectory_a}")
+    assert snapshot(tmp_path) == before

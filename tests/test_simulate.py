@@ -290,3 +290,26 @@ def test_simulate_never_overwrites_without_force(runner: CliRunner, tmp_path: Pa
     assert out.read_text(encoding="utf-8") == "keep"
     assert runner.invoke(main, ["simulate", "--out", str(out), "--force"]).exit_code == 0
     assert out.read_text(encoding="utf-8").startswith("time,")
+
+
+def test_simulate_force_never_writes_over_its_plan_or_robot_file(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    plan_file = tmp_path / "plan.yaml"
+    plan_file.write_text("- {straight: 1.0, duration: 10}\n", encoding="utf-8")
+    robot = tmp_path / "robot.urdf"
+    assert runner.invoke(main, ["urdf", "-o", str(robot)]).exit_code == 0
+    (tmp_path / "metadata.yaml").write_text("a bag, so that --force would replace it\n")
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    base = ["simulate", str(plan_file), "--robot", str(robot), "--force"]
+    for extra, fragment in [
+        (["--out", str(plan_file)], f"is the input {plan_file}"),
+        (["--out", str(robot)], f"is the input {robot}"),
+        (["--out", str(tmp_path), "--bag"], f"contains the input {plan_file}"),
+    ]:
+        result = runner.invoke(main, [*base, *extra])
+        assert result.exit_code == 2, result.output
+        assert result.stderr.startswith("error: ")
+        assert result.stderr.count("\n") == 1
+        assert fragment in result.stderr
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
