@@ -1382,8 +1382,10 @@ def odom(
 
     INPUT is a CSV file (a time column `time`, `stamp`, `t` or `__time` in seconds, and one
     position column per wheel named by its joint or ending with `/<joint>/position`), a rosbag2
-    directory (sqlite3 or mcap) or a .mcap file holding sensor_msgs/JointState on --topic. Each
-    step is integrated exactly along its arc; the first sample sets the encoder baseline. Samples
+    directory (sqlite3 or mcap) or one of its .db3/.mcap files holding sensor_msgs/JointState on
+    --topic. A bag's samples are all stamped by their header stamps, or all by the bag's receive
+    times when any header stamp is zero (the summary says which). Each step is integrated
+    exactly along its arc; the first sample sets the encoder baseline. Samples
     without both wheel joints, with NaN/inf or with a stamp not after the previous one are
     skipped and reported.
 
@@ -1441,11 +1443,12 @@ def odom(
                 "samples": run.samples,
                 "skipped": dict(sorted(run.skipped.items())),
                 "duration": run.duration,
+                "clock": recording.clock,
                 "output": out,
             }
         )
         return
-    kind = "CSV" if recording.kind == "csv" else f"rosbag2, topic {topic}"
+    kind = "CSV" if recording.kind == "csv" else f"rosbag2, topic {topic}, {recording.clock} stamps"
     rows = [
         ("input", f"{source} ({kind})"),
         ("samples", f"{run.samples} used, {skipped_total} skipped"),

@@ -7,10 +7,10 @@ positions), read from
   position column per wheel, named by the joint or ending with ``/<joint>/position`` (as bag
   export tools name the fields of a JointState); other columns are ignored and an empty cell means
   the joint is missing from that row;
-- a rosbag2 recording (a directory with sqlite3 or mcap storage, or a single ``.mcap`` file),
-  through the ``rosbags`` library (``pip install 'diffbot-kinematics[bag]'``): the
-  sensor_msgs/msg/JointState messages of one topic, stamped by their header (or by the bag when
-  the header stamp is zero).
+- a rosbag2 recording (a directory with sqlite3 or mcap storage, or one ``.db3`` or ``.mcap``
+  storage file), through the ``rosbags`` library (``pip install 'diffbot-kinematics[bag]'``):
+  the sensor_msgs/msg/JointState messages of one topic, all stamped by their header stamps, or
+  all by the bag's receive times when any header stamp is zero.
 
 Stamps are kept as integer nanoseconds, like ROS time, so outputs carry the inputs' stamps
 unchanged. Outputs (a CSV of poses, a bag of nav_msgs/Odometry and tf2_msgs/TFMessage, a bag or CSV
@@ -44,6 +44,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "BAG_INSTALL_HINT",
+    "CLOCK_HEADER",
+    "CLOCK_RECEIVE",
     "DEFAULT_TOPIC",
     "JOINT_STATE",
     "SKIP_MISSING_STAMP",
@@ -73,6 +75,10 @@ DEFAULT_TOPIC: Final = "/joint_states"
 JOINT_STATE: Final = "sensor_msgs/msg/JointState"
 #: What to install for bag support.
 BAG_INSTALL_HINT: Final = "pip install 'diffbot-kinematics[bag]'"
+#: :attr:`Recording.clock` of a bag stamped by the messages' header stamps.
+CLOCK_HEADER: Final = "header"
+#: :attr:`Recording.clock` of a bag stamped by the times the bag received the messages.
+CLOCK_RECEIVE: Final = "receive"
 #: Why a CSV row was skipped: its time cell is empty.
 SKIP_MISSING_STAMP: Final = "missing stamp"
 #: Why a CSV row or bag message was skipped: a value (or the message) cannot be read.
@@ -102,12 +108,16 @@ class Recording:
         kind: ``"csv"`` or ``"rosbag2"``.
         samples: the samples, stamps in ns.
         skipped: rows or messages that could not be turned into a sample, by reason.
+        clock: for a bag, what stamps the samples: :data:`CLOCK_HEADER` (the header stamps) or
+            :data:`CLOCK_RECEIVE` (the bag's receive times); None for a CSV file (its time
+            column).
     """
 
     source: str
     kind: str
     samples: list[JointSample]
     skipped: Mapping[str, int] = field(default_factory=dict)
+    clock: str | None = None
 
 
 def seconds_text(stamp_ns: int) -> str:
@@ -142,7 +152,7 @@ def read_recording(
     """Read wheel joint samples from a CSV file or a rosbag2 recording.
 
     Args:
-        path: a CSV file, a rosbag2 directory, or a ``.mcap`` file.
+        path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
         params: the robot, whose wheel joint names select the CSV columns.
         topic: the JointState topic of a bag.
 
@@ -285,20 +295,28 @@ def _typestore() -> Typestore:
 def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Recording:
     """Read the sensor_msgs/msg/JointState messages of one topic from a rosbag2 recording.
 
+    The recording is opened with rosbags' rosbag2 reader (never as ROS 1, whatever its name
+    ends with) and the messages are decoded with the ROS 2 Humble type store.
+
+    One clock stamps the whole topic: the header stamps when every message has a non-zero one,
+    otherwise the bag's receive times for all of them (mixing the two would put samples decades
+    apart). :attr:`Recording.clock` says which (:data:`CLOCK_HEADER` or :data:`CLOCK_RECEIVE`).
+
     Args:
-        path: a rosbag2 directory (sqlite3 or mcap storage) or a single ``.mcap`` file.
+        path: a rosbag2 directory (sqlite3 or mcap storage), or one of its ``.db3`` or ``.mcap``
+            storage files.
         topic: the topic to read; other topics are ignored.
 
     Returns:
-        One sample per message, stamped by the header stamp, or by the bag's receive time (ns)
-        when the header stamp is zero. Messages that cannot be decoded are counted in ``skipped``.
+        One sample per message, stamps in ns. Messages that cannot be decoded are counted in
+        ``skipped``.
 
     Raises:
         RecordingError: rosbags is missing, the path is not a readable bag, the topic is absent
             or does not carry JointState messages.
     """
     _require_rosbags()
-    from rosbags.highlevel import AnyReader
+    from rosbags.rosbag2 import Reader
 
     p = Path(path)
     source = str(p)
@@ -306,10 +324,14 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
         raise RecordingError(f"{source}: no such file or directory")
     if p.is_file() and p.stat().st_size == 0:
         raise RecordingError(f"{source}: empty file")
-    samples: list[JointSample] = []
+    typestore = _typestore()
+    names_seen: list[Sequence[str]] = []
+    positions_seen: list[list[float]] = []
+    header_ns: list[int] = []
+    receive_ns: list[int] = []
     skipped: dict[str, int] = {}
     try:
-        with AnyReader([p], default_typestore=_typestore()) as reader:
+        with Reader(p) as reader:
             connections = [c for c in reader.connections if c.topic == topic]
             if not connections:
                 topics = sorted({c.topic for c in reader.connections})
@@ -321,9 +343,10 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
                 raise RecordingError(
                     f"{source}: topic {topic!r} carries {', '.join(types)}, not {JOINT_STATE}"
                 )
-            for connection, timestamp, raw in reader.messages(connections=connections):
+            last_names: list[str] = []
+            for _, timestamp, raw in reader.messages(connections=connections):
                 try:
-                    msg = cast("JointState", reader.deserialize(raw, connection.msgtype))
+                    msg = cast("JointState", typestore.deserialize_cdr(raw, JOINT_STATE))
                     stamp = msg.header.stamp
                     stamp_ns = int(stamp.sec) * _NS_PER_S + int(stamp.nanosec)
                     names = list(msg.name)
@@ -331,7 +354,13 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
                 except Exception:  # a corrupt message is one bad sample, not a bad bag
                     skipped[SKIP_UNREADABLE] = skipped.get(SKIP_UNREADABLE, 0) + 1
                     continue
-                samples.append(JointSample(stamp_ns or int(timestamp), names, positions))
+                if names == last_names:
+                    names = last_names  # one list for a run of equal names: less memory
+                last_names = names
+                names_seen.append(names)
+                positions_seen.append(positions)
+                header_ns.append(stamp_ns)
+                receive_ns.append(int(timestamp))
     except DiffbotError:
         raise
     except Exception as err:
@@ -339,7 +368,13 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
         # not bags or are damaged; all of them mean the same thing to the user.
         detail = " ".join(str(err).split()) or type(err).__name__
         raise RecordingError(f"{source}: not a readable rosbag2 recording: {detail}") from None
-    return Recording(source, "rosbag2", samples, skipped)
+    use_header = all(header_ns)
+    stamps = header_ns if use_header else receive_ns
+    samples = [
+        JointSample(*sample) for sample in zip(stamps, names_seen, positions_seen, strict=True)
+    ]
+    clock = CLOCK_HEADER if use_header else CLOCK_RECEIVE
+    return Recording(source, "rosbag2", samples, skipped, clock)
 
 
 # --------------------------------------------------------------------------------------------

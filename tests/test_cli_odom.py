@@ -287,3 +287,31 @@ def test_odom_force_never_writes_over_the_robot_or_through_a_link_to_the_input(
     one_error_line(runner.invoke(main, [*args, str(robot)]), f"is the input {robot}")
     one_error_line(runner.invoke(main, [*args, str(link)]), f"is the input {trajectory_a}")
     assert snapshot(tmp_path) == before
+
+
+def test_odom_reads_a_simulated_bag_whose_name_ends_in_dot_bag(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    bag = tmp_path / "sim.bag"
+    result = runner.invoke(main, ["simulate", "--out", str(bag), "--bag", "--start", "1"])
+    assert result.exit_code == 0, result.output
+    data = odom_json(runner, str(bag))
+    assert data["samples"] == 2001
+    assert data["clock"] == "header"
+    result = runner.invoke(main, ["odom", str(bag)])
+    assert result.exit_code == 0, result.output
+    assert f"input       {bag} (rosbag2, topic /joint_states, header stamps)" in result.stdout
+
+
+def test_odom_says_when_a_zero_header_stamp_puts_a_bag_on_its_receive_clock(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    epoch = 1_700_000_000 * 10**9
+    messages = [
+        (k * 10**8, epoch + k * 10**8, [LEFT, RIGHT], [float(k), float(k)]) for k in range(11)
+    ]
+    data = odom_json(runner, str(write_bag(tmp_path / "in", messages)))
+    assert data["clock"] == "receive"
+    assert data["samples"] == 11
+    assert data["skipped"] == {}
+    assert data["duration"] == 1.0

@@ -16,6 +16,8 @@ import diffbot
 from diffbot.kinematics import DiffDriveParams, Pose
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry
 from diffbot.recording import (
+    CLOCK_HEADER,
+    CLOCK_RECEIVE,
     SKIP_MISSING_STAMP,
     SKIP_UNREADABLE,
     OdometryRow,
@@ -368,3 +370,38 @@ def test_a_failed_bag_write_leaves_nothing_behind(tmp_path: Path) -> None:
     with pytest.raises(AttributeError, match="encode"):
         write_joint_states_bag(tmp_path / "js", [1], [123], [[1.0]])  # type: ignore[list-item]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_one_zero_header_stamp_puts_the_whole_topic_on_the_bag_clock(tmp_path: Path) -> None:
+    # The first header stamp is 0, the others count from 0.1 s: mixed per message, every later
+    # sample would be 54 years before the first and skipped.
+    received = [EPOCH + k * 100_000_000 for k in range(11)]
+    headers = [0] + [k * 100_000_000 for k in range(1, 11)]
+    messages = [
+        (header, receive, [LEFT, RIGHT], [float(k), float(k)])
+        for k, (header, receive) in enumerate(zip(headers, received, strict=True))
+    ]
+    recording = read_bag(write_bag(tmp_path / "bag", messages))
+    assert recording.clock == CLOCK_RECEIVE
+    assert [s.stamp_ns for s in recording.samples] == received
+    run = run_odometry(recording, Odometry(BOT))
+    assert run.samples == 11
+    assert run.skipped == {}
+    assert run.final_pose.x == pytest.approx(10 * BOT.wheel_radius, rel=1e-12)
+
+
+def test_header_stamps_are_used_when_every_one_is_set(tmp_path: Path) -> None:
+    messages = [(5 + k, 10**12 + 7 * k, [LEFT, RIGHT], [0.0, 0.0]) for k in range(3)]
+    recording = read_bag(write_bag(tmp_path / "bag", messages))
+    assert recording.clock == CLOCK_HEADER
+    assert [s.stamp_ns for s in recording.samples] == [5, 6, 7]
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_a_rosbag2_directory_named_like_a_ros1_bag_is_read_as_rosbag2(
+    tmp_path: Path, storage: str
+) -> None:
+    bag = write_bag(tmp_path / "run.bag", trajectory_a_messages()[:5], storage=storage)
+    assert len(read_recording(bag, BOT).samples) == 5
+    storage_file = next(p for p in bag.iterdir() if p.suffix in (".db3", ".mcap"))
+    assert len(read_recording(storage_file, BOT).samples) == 5
