@@ -168,6 +168,9 @@ def covariance_matrix(diagonal: Sequence[float], what: str = "covariance") -> tu
 _new = tuple.__new__
 _sin = math.sin
 _cos = math.cos
+_remainder = math.remainder
+_PI: Final = math.pi
+_TWO_PI: Final = 2.0 * math.pi
 #: Stamps in ns are ROS times: they fit in a signed 64-bit integer.
 _INT64: Final = 2**63
 
@@ -479,15 +482,18 @@ class Odometry:
         return dict(self._skipped)
 
     def _orientation(self) -> Quaternion:
-        half = 0.5 * norm_angle(self._heading)
-        return _new(Quaternion, (0.0, 0.0, math.sin(half), math.cos(half)))
+        # remainder() maps the heading exactly to [-pi, pi]; -pi is reported as pi (norm_angle).
+        heading = _remainder(self._heading, _TWO_PI)
+        half = 0.5 * heading if heading != -_PI else 0.5 * _PI
+        return _new(Quaternion, (0.0, 0.0, _sin(half), _cos(half)))
 
     def transform(self) -> TransformStamped:
         """The odom -> base_link transform (as published on /tf), stamped with the last sample."""
+        stamp = self._stamp
         return _new(
             TransformStamped,
             (
-                _new(Header, (self._stamp if self._stamp is not None else 0.0, self.frame_id)),
+                _new(Header, (stamp if stamp is not None else 0.0, self.frame_id)),
                 self.child_frame_id,
                 _new(Vector3, (self._x, self._y, 0.0)),
                 self._orientation(),
@@ -495,17 +501,24 @@ class Odometry:
         )
 
     def message(self) -> OdometryMessage:
-        """A nav_msgs/Odometry record of the pose and twist, stamped with the last used sample."""
+        """A nav_msgs/Odometry record of the pose and twist, stamped with the last used sample.
+
+        The records are immutable, so the covariance matrices are shared between messages.
+        """
+        # Built inline (no helper calls): a node calls this for every JointState it receives.
+        heading = _remainder(self._heading, _TWO_PI)
+        half = 0.5 * heading if heading != -_PI else 0.5 * _PI
+        stamp = self._stamp
         return _new(
             OdometryMessage,
             (
-                _new(Header, (self._stamp if self._stamp is not None else 0.0, self.frame_id)),
+                _new(Header, (stamp if stamp is not None else 0.0, self.frame_id)),
                 self.child_frame_id,
                 _new(
                     PoseWithCovariance,
                     (
                         _new(Vector3, (self._x, self._y, 0.0)),
-                        self._orientation(),
+                        _new(Quaternion, (0.0, 0.0, _sin(half), _cos(half))),
                         self.pose_covariance,
                     ),
                 ),
