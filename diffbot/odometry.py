@@ -565,13 +565,14 @@ def integrate(
         heading (it counts whole turns); wrap it with :func:`diffbot.norm_angle` if needed.
 
     Raises:
-        ParameterError: the arrays are not one-dimensional and of equal length, or a value is NaN
-            or infinite (or so large that a displacement overflows).
+        ParameterError: the arrays are not one-dimensional and of equal length, hold something
+            other than real numbers (complex, text), or a value is NaN or infinite (the message
+            names the first such sample) or so large that a displacement overflows.
     """
     import numpy as np
 
-    left = np.asarray(left_positions, dtype=np.float64)
-    right = np.asarray(right_positions, dtype=np.float64)
+    left = _wheel_array(left_positions, "left")
+    right = _wheel_array(right_positions, "right")
     if left.ndim != 1 or right.ndim != 1 or left.shape != right.shape:
         raise ParameterError(
             f"wheel positions must be two 1-D arrays of equal length, got shapes "
@@ -645,8 +646,47 @@ def integrate(
             np.cumsum(xy_, out=xy_)
             x[i + 1 : j + 1] = xy_.real[1:]
             y[i + 1 : j + 1] = xy_.imag[1:]
-    if not (math.isfinite(x[-1]) and math.isfinite(y[-1]) and math.isfinite(theta[-1])):
+    finite = math.isfinite(x[-1]) and math.isfinite(y[-1]) and math.isfinite(theta[-1])
+    if n == 1 or not finite:
+        # A NaN or infinity anywhere reaches the last pose (through the cumulative sums, or
+        # the heading for the first and last samples) unless there is no step at all, so the
+        # arrays are searched only then.
+        _check_finite(left, right)
+    if not finite:
         raise ParameterError(
-            "wheel positions must be finite: found NaN or infinite values (or an overflow)"
+            "wheel positions too large: a displacement or the pose overflows to infinity"
         )
     return PoseSeries(x, y, theta)
+
+
+def _wheel_array(values: ArrayLike, side: str) -> NDArray[np.float64]:
+    """``values`` as a float64 array; ParameterError for anything but real numbers."""
+    import numpy as np
+
+    try:
+        array = np.asarray(values)
+        if array.dtype.kind not in "biuf":
+            if array.dtype.kind != "O":
+                raise TypeError(f"{array.dtype} values")  # complex, strings, dates, ...
+            # Objects such as Decimal or Fraction convert; complex numbers, text and None (which
+            # NumPy would turn into NaN) do not.
+            if any(v is None or isinstance(v, (complex, str, bytes)) for v in array.flat):
+                raise TypeError("complex, text or None values")
+        return np.asarray(array, dtype=np.float64)
+    except (TypeError, ValueError) as err:
+        raise ParameterError(
+            f"{side} wheel positions must be real numbers (rad): {' '.join(str(err).split())}"
+        ) from None
+
+
+def _check_finite(left: NDArray[np.float64], right: NDArray[np.float64]) -> None:
+    """ParameterError naming the first sample where a wheel position is NaN or infinite."""
+    import numpy as np
+
+    bad = ~(np.isfinite(left) & np.isfinite(right))
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ParameterError(
+            f"wheel positions must be finite: sample {k} has left {float(left[k])!r}, "
+            f"right {float(right[k])!r}"
+        )

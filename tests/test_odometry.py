@@ -565,3 +565,37 @@ def test_a_sample_needs_exactly_one_stamp(kwargs: dict[str, float], match: str) 
         odom.update(0.0, 0.0, **kwargs)  # type: ignore[arg-type]
     with pytest.raises(diffbot.ParameterError, match=match):
         odom.update_joint_state([LEFT, RIGHT], [0.0, 0.0], **kwargs)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("left", "right", "match"),
+    [
+        ([math.nan], [2.0], r"must be finite: sample 0 has left nan, right 2\.0"),
+        ([1.0], [-math.inf], r"must be finite: sample 0 has left 1\.0, right -inf"),
+        ([0.0, 1.0, math.nan, 3.0], [0.0, 1.0, 2.0, math.nan], "sample 2 has left nan"),
+        ([math.nan, 1.0], [0.0, 1.0], "sample 0 has left nan"),
+        ([0.0, 1.0], [0.0, math.inf], "sample 1 has left 1.0, right inf"),
+    ],
+)
+def test_batch_integration_names_the_first_non_finite_sample(
+    left: list[float], right: list[float], match: str
+) -> None:
+    with pytest.raises(diffbot.ParameterError, match=match):
+        integrate(BOT, left, right)
+
+
+@pytest.mark.parametrize(
+    ("left", "match"),
+    [
+        ([1j], "left wheel positions must be real numbers"),
+        (np.array([1.0 + 0j]), "must be real numbers .*complex128"),
+        (["1.0"], "must be real numbers"),
+        ([None], "must be real numbers"),
+        ([object()], "must be real numbers"),
+    ],
+)
+def test_batch_integration_refuses_what_is_not_a_real_number(left: object, match: str) -> None:
+    with pytest.raises(diffbot.ParameterError, match=match):
+        integrate(BOT, left, [0.0])  # type: ignore[arg-type]
+    with pytest.raises(diffbot.ParameterError, match=match.replace("left", "right")):
+        integrate(BOT, [0.0], left)  # type: ignore[arg-type]
