@@ -1303,6 +1303,9 @@ def plan_command(
 # --------------------------------------------------------------------------------------------
 # odom: odometry from recorded wheel joint states
 
+if TYPE_CHECKING:
+    from diffbot.recording import Recording
+
 
 #: Storage files of a rosbag2 recording: given one of them, the recording is its directory.
 _BAG_FILES = (".db3", ".mcap")
@@ -1340,6 +1343,22 @@ def _check_out(out: str | None, inputs: Sequence[Path], force: bool) -> Path | N
     if (path.exists() or path.is_symlink()) and not force:
         fail(f"{out} exists: use --force to overwrite it")
     return path
+
+
+def _read_stdin_csv(params: DiffDriveParams) -> Recording:
+    """The CSV on stdin, read whole (``diffbot simulate | diffbot odom -``)."""
+    import io
+
+    from diffbot.recording import read_csv
+
+    data = sys.stdin.buffer.read()
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        fail("-: stdin is not a text (UTF-8) CSV")
+    return read_csv(
+        io.StringIO(text, newline=""), params.left_joint, params.right_joint, source="-"
+    )
 
 
 def _skipped_text(skipped: Mapping[str, int]) -> str:
@@ -1381,7 +1400,8 @@ def odom(
     """Odometry from recorded wheel joint positions.
 
     INPUT is a CSV file (a time column `time`, `stamp`, `t` or `__time` in seconds, and one
-    position column per wheel named by its joint or ending with `/<joint>/position`), a rosbag2
+    position column per wheel named by its joint or ending with `/<joint>/position`; `-` reads
+    it from stdin), a rosbag2
     directory (sqlite3 or mcap) or one of its .db3/.mcap files holding sensor_msgs/JointState on
     --topic. A bag's samples are all stamped by their header stamps, or all by the bag's receive
     times when any header stamp is zero (the summary says which). Each step is integrated
@@ -1396,6 +1416,7 @@ def odom(
     \b
     Examples:
       diffbot odom joints.csv
+      diffbot simulate "straight 1; spin 90" | diffbot odom -
       diffbot odom my_bag/ --topic /joint_states --out odom.csv
       diffbot odom run.mcap --out odom_bag --bag --json
     """
@@ -1409,17 +1430,23 @@ def odom(
 
     rest, xacro_args = split_xacro_args(tokens)
     if len(rest) != 1:
-        fail(f"expected one INPUT (a CSV file, a rosbag2 directory or a .mcap file), got {rest}")
+        fail(
+            "expected one INPUT (a CSV file, - for a CSV on stdin, a rosbag2 directory or a "
+            f".db3/.mcap file), got {rest}"
+        )
     source = rest[0]
-    if not Path(source).exists():
+    from_stdin = source == "-"
+    if not source.strip():
+        fail("INPUT is empty: give a CSV file, - for stdin, or a rosbag2 recording")
+    if not from_stdin and not Path(source).exists():
         fail(f"{source}: no such file or directory")
     if as_bag and out is None:
         fail("--bag writes the --out directory: give --out DIR")
     robot = robot.with_path(None, xacro_args)
-    inputs = [Path(source)] + ([Path(robot.robot)] if robot.robot is not None else [])
+    inputs = [Path(path) for path in (None if from_stdin else source, robot.robot) if path]
     out_path = _check_out(out, inputs, force)
     p = robot.load()
-    recording = read_recording(source, p, topic)
+    recording = _read_stdin_csv(p) if from_stdin else read_recording(source, p, topic)
     integrator = Odometry(p)
     run = run_odometry(recording, integrator)
     if out_path is not None:

@@ -315,3 +315,55 @@ def test_odom_says_when_a_zero_header_stamp_puts_a_bag_on_its_receive_clock(
     assert data["samples"] == 11
     assert data["skipped"] == {}
     assert data["duration"] == 1.0
+
+
+def test_odom_reads_a_csv_from_stdin(runner: CliRunner) -> None:
+    simulated = runner.invoke(main, ["simulate", "straight 1; spin 90"])
+    assert simulated.exit_code == 0, simulated.output
+    result = runner.invoke(main, ["odom", "-", "--json"], input=simulated.stdout)
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["input"] == "-"
+    assert data["final_pose"]["x"] == pytest.approx(1.0, abs=1e-9)
+    assert data["final_pose"]["theta"] == pytest.approx(math.pi / 2, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("args", "stdin", "message"),
+    [
+        ([""], None, "error: INPUT is empty: give a CSV file, - for stdin, or a rosbag2 recording"),
+        (["a.csv", "--out", ""], None, "error: --out needs a file or directory name, got ''"),
+        (["a.csv", "--out", " ", "--bag"], None, "error: --out needs a file or directory name"),
+        (["-"], b"", "error: -: empty file"),
+        (["-"], b"\xff\xfe\x00", "error: -: stdin is not a text (UTF-8) CSV"),
+        (["-"], b"time,a,b\n0,0,0\n", "error: -: no column for the left wheel joint"),
+        (["-", "--out", "-"], b"time\n", "error: -: no column for the left wheel joint"),
+    ],
+)
+def test_odom_refuses_empty_names_and_bad_stdin_with_one_error_line(
+    runner: CliRunner,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    args: list[str],
+    stdin: bytes | None,
+    message: str,
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "a.csv").write_text(f"time,{LEFT},{RIGHT}\n0,0,0\n", encoding="utf-8")
+    one_error_line(runner.invoke(main, ["odom", *args], input=stdin), message)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv"]
+
+
+def test_odom_skips_times_too_large_for_ros_time_and_fails_only_without_samples(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text(f"time,{LEFT},{RIGHT}\n0,0,0\n1e400,1,1\n1e100000000,1,1\n2,2,2\n")
+    result = runner.invoke(main, ["odom", str(path)])
+    assert result.exit_code == 0, result.output
+    assert result.stderr == "warning: skipped 2 of 4 samples: 2 stamp out of range\n"
+    path.write_text(f"time,{LEFT},{RIGHT}\n1e400,1,1\n1_0,1,1\n")
+    one_error_line(
+        runner.invoke(main, ["odom", str(path)]),
+        "no usable sample (skipped: stamp out of range: 1, unreadable value: 1)",
+    )
