@@ -1500,6 +1500,46 @@ def odom(
 # simulate: the wheel joint states a plan would produce
 
 
+class _RateType(FiniteFloat):
+    """A sampling rate (Hz): > 0 and at most diffbot.simulation.MAX_RATE."""
+
+    def __init__(self) -> None:
+        super().__init__(0.0, open_min=True)
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
+        from diffbot.simulation import MAX_RATE
+
+        number = super().convert(value, param, ctx)
+        if number > MAX_RATE:
+            self.fail(f"{value!r} must be <= {MAX_RATE:g} Hz", param, ctx)
+        return number
+
+
+class _StartType(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+    """Seconds since 1970 as a decimal number, read exactly into integer nanoseconds."""
+
+    name = "seconds"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> int:
+        from diffbot.recording import _ns_from_seconds
+
+        if isinstance(value, int):
+            return value
+        try:
+            stamp_ns = _ns_from_seconds(str(value))
+        except ValueError:
+            self.fail(f"{value!r} is not a number", param, ctx)
+        if stamp_ns is None:
+            self.fail(f"{value!r} is not a finite number", param, ctx)
+        if stamp_ns < 0:
+            self.fail(f"{value!r} must be >= 0", param, ctx)
+        if stamp_ns >= 2**63:
+            self.fail(f"{value!r} is past 2262, the end of int64 nanosecond stamps", param, ctx)
+        return stamp_ns
+
+
 @main.command(context_settings=NUMBERS)
 @click.argument("tokens", nargs=-1, metavar="[SPEC | FILE] [NAME:=VALUE]...")
 @robot_options
@@ -1532,17 +1572,17 @@ def odom(
 )
 @click.option(
     "--rate",
-    type=POSITIVE,
+    type=_RateType(),
     default=50.0,
     show_default=True,
     metavar="HZ",
-    help="Sampling rate of the joint states (Hz).",
+    help="Sampling rate of the joint states (Hz), at most 1e6.",
 )
 @click.option(
     "--ticks",
-    type=click.IntRange(min=1),
+    type=click.IntRange(min=1, max=2**32),  # diffbot.simulation.MAX_TICKS
     metavar="N",
-    help="Encoder resolution (counts per revolution): quantise the wheel angles.",
+    help="Encoder resolution (counts per revolution, up to 2**32): quantise the wheel angles.",
 )
 @click.option(
     "--noise",
@@ -1551,14 +1591,19 @@ def odom(
     metavar="STD",
     help="Standard deviation of Gaussian noise on the wheel angles (rad).",
 )
-@click.option("--seed", type=int, help="Seed of the noise, for reproducible runs.")
+@click.option(
+    "--seed",
+    type=click.IntRange(min=0, max=2**64 - 1),
+    help="Seed of the noise (0 to 2**64-1), for reproducible runs.",
+)
 @click.option(
     "--start",
-    type=NON_NEGATIVE,
-    default=0.0,
+    "start_ns",
+    type=_StartType(),
+    default="0",
     show_default=True,
     metavar="S",
-    help="Stamp of the first sample (s since 1970).",
+    help="Stamp of the first sample (s since 1970, read exactly to the nanosecond).",
 )
 @click.option(
     "--out",
@@ -1591,7 +1636,7 @@ def simulate(
     ticks: int | None,
     noise: float,
     seed: int | None,
-    start: float,
+    start_ns: int,
     out: str | None,
     as_bag: bool,
     topic: str,
@@ -1618,10 +1663,12 @@ def simulate(
       diffbot simulate --example B --out b_bag --bag --start 1700000000
     """
     from diffbot.recording import format_joint_states_csv, write_joint_states_bag
+    from diffbot.simulation import MAX_SAMPLES, sample_count
     from diffbot.simulation import simulate as simulate_plan
     from diffbot.trajectory import plan as make_plan
 
     rest, xacro_args = split_xacro_args(tokens)
+    _check_topic("--topic", topic)
     source = _plan_input(rest, example)
     if as_bag and out is None:
         fail("--bag writes the --out directory: give --out DIR")
@@ -1632,9 +1679,25 @@ def simulate(
     out_path = _check_out(out, [Path(path) for path in inputs], force)
     params = robot.load()
     p = make_plan(source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest)
+    count = sample_count(p.duration, rate, len(p.segments))
+    if count > MAX_SAMPLES:
+        highest = (MAX_SAMPLES - 2 - len(p.segments)) / p.duration
+        how = (
+            f"lower --rate to at most {highest:.4g} Hz for this plan"
+            if highest >= 1.0
+            else "the plan is too long even at 1 Hz: shorten it (or raise --speed)"
+        )
+        fail(
+            f"the plan's {fmt(p.duration)} s at {fmt(rate)} Hz would take {count:.4g} samples, "
+            f"more than the {MAX_SAMPLES} simulate makes: {how}"
+        )
+    if start_ns + round(p.duration * 1e9) >= 2**63:
+        fail(
+            f"--start plus the plan's {fmt(p.duration)} s ends past 2262, the end of int64 "
+            "nanosecond stamps"
+        )
     states = simulate_plan(p, params, rate, ticks=ticks, noise=noise, seed=seed)
-    origin = round(start * 1e9)
-    stamps = [origin + round(t * 1e9) for t in states.times.tolist()]
+    stamps = [start_ns + round(t * 1e9) for t in states.times.tolist()]
     if out_path is None:
         click.echo(format_joint_states_csv(stamps, states.names, states.positions), nl=False)
     elif as_bag:
