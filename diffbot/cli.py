@@ -1594,6 +1594,7 @@ class _StartType(click.ParamType):  # type: ignore[type-arg,unused-ignore]
 @click.option(
     "--seed",
     type=click.IntRange(min=0, max=2**64 - 1),
+    metavar="N",
     help="Seed of the noise (0 to 2**64-1), for reproducible runs.",
 )
 @click.option(
