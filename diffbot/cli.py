@@ -1369,18 +1369,62 @@ def plan_command(
 # --------------------------------------------------------------------------------------------
 # odom: odometry from recorded wheel joint states
 
+if TYPE_CHECKING:
+    from diffbot.recording import Recording
 
-def _check_out(out: str | None, inputs: Sequence[str], force: bool) -> Path | None:
-    """The --out path, refused early when it exists (without --force) or is an input."""
+
+#: Storage files of a rosbag2 recording: given one of them, the recording is its directory.
+_BAG_FILES = (".db3", ".mcap")
+
+
+def _occupied(path: Path) -> Path:
+    """The resolved path an input occupies: a bag given as one of its files is its directory."""
+    resolved = path.resolve()
+    if (
+        resolved.is_file()
+        and resolved.suffix.lower() in _BAG_FILES
+        and (resolved.parent / "metadata.yaml").is_file()
+    ):
+        return resolved.parent
+    return resolved
+
+
+def _check_out(out: str | None, inputs: Sequence[Path], force: bool) -> Path | None:
+    """The --out path, refused early when it is empty, exists (without --force), or is, holds
+    or lies inside an input (compared as resolved paths, links followed)."""
     if out is None:
         return None
+    if not out.strip():
+        fail("--out needs a file or directory name, got ''")
     path = Path(out)
+    target = path.resolve()
     for given in inputs:
-        if path.resolve() == Path(given).resolve():
-            fail(f"--out {out} is the input: inputs are never overwritten")
+        occupied = _occupied(given)
+        if target == occupied:
+            fail(f"--out {out} is the input {given}: inputs are never overwritten")
+        if occupied in target.parents:
+            fail(f"--out {out} lies inside the input {given}: inputs are never modified")
+        if target in occupied.parents:
+            fail(f"--out {out} contains the input {given}: inputs are never overwritten")
     if (path.exists() or path.is_symlink()) and not force:
         fail(f"{out} exists: use --force to overwrite it")
     return path
+
+
+def _read_stdin_csv(params: DiffDriveParams) -> Recording:
+    """The CSV on stdin, read whole (``diffbot simulate | diffbot odom -``)."""
+    import io
+
+    from diffbot.recording import read_csv
+
+    data = sys.stdin.buffer.read()
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        fail("-: stdin is not a text (UTF-8) CSV")
+    return read_csv(
+        io.StringIO(text, newline=""), params.left_joint, params.right_joint, source="-"
+    )
 
 
 def _skipped_text(skipped: Mapping[str, int]) -> str:
@@ -1422,9 +1466,12 @@ def odom(
     """Odometry from recorded wheel joint positions.
 
     INPUT is a CSV file (a time column `time`, `stamp`, `t` or `__time` in seconds, and one
-    position column per wheel named by its joint or ending with `/<joint>/position`), a rosbag2
-    directory (sqlite3 or mcap) or a .mcap file holding sensor_msgs/JointState on --topic. Each
-    step is integrated exactly along its arc; the first sample sets the encoder baseline. Samples
+    position column per wheel named by its joint or ending with `/<joint>/position`; `-` reads
+    it from stdin), a rosbag2
+    directory (sqlite3 or mcap) or one of its .db3/.mcap files holding sensor_msgs/JointState on
+    --topic. A bag's samples are all stamped by their header stamps, or all by the bag's receive
+    times when any header stamp is zero (the summary says which). Each step is integrated
+    exactly along its arc; the first sample sets the encoder baseline. Samples
     without both wheel joints, with NaN/inf or with a stamp not after the previous one are
     skipped and reported.
 
@@ -1435,6 +1482,7 @@ def odom(
     \b
     Examples:
       diffbot odom joints.csv
+      diffbot simulate "straight 1; spin 90" | diffbot odom -
       diffbot odom my_bag/ --topic /joint_states --out odom.csv
       diffbot odom run.mcap --out odom_bag --bag --json
     """
@@ -1448,15 +1496,23 @@ def odom(
 
     rest, xacro_args = split_xacro_args(tokens)
     if len(rest) != 1:
-        fail(f"expected one INPUT (a CSV file, a rosbag2 directory or a .mcap file), got {rest}")
+        fail(
+            "expected one INPUT (a CSV file, - for a CSV on stdin, a rosbag2 directory or a "
+            f".db3/.mcap file), got {rest}"
+        )
     source = rest[0]
-    if not Path(source).exists():
+    from_stdin = source == "-"
+    if not source.strip():
+        fail("INPUT is empty: give a CSV file, - for stdin, or a rosbag2 recording")
+    if not from_stdin and not Path(source).exists():
         fail(f"{source}: no such file or directory")
     if as_bag and out is None:
         fail("--bag writes the --out directory: give --out DIR")
-    out_path = _check_out(out, [source], force)
-    p = robot.with_path(None, xacro_args).load()
-    recording = read_recording(source, p, topic)
+    robot = robot.with_path(None, xacro_args)
+    inputs = [Path(path) for path in (None if from_stdin else source, robot.robot) if path]
+    out_path = _check_out(out, inputs, force)
+    p = robot.load()
+    recording = _read_stdin_csv(p) if from_stdin else read_recording(source, p, topic)
     integrator = Odometry(p)
     run = run_odometry(recording, integrator)
     if out_path is not None:
@@ -1480,11 +1536,12 @@ def odom(
                 "samples": run.samples,
                 "skipped": dict(sorted(run.skipped.items())),
                 "duration": run.duration,
+                "clock": recording.clock,
                 "output": out,
             }
         )
         return
-    kind = "CSV" if recording.kind == "csv" else f"rosbag2, topic {topic}"
+    kind = "CSV" if recording.kind == "csv" else f"rosbag2, topic {topic}, {recording.clock} stamps"
     rows = [
         ("input", f"{source} ({kind})"),
         ("samples", f"{run.samples} used, {skipped_total} skipped"),
@@ -1507,6 +1564,46 @@ def odom(
 
 # --------------------------------------------------------------------------------------------
 # simulate: the wheel joint states a plan would produce
+
+
+class _RateType(FiniteFloat):
+    """A sampling rate (Hz): > 0 and at most diffbot.simulation.MAX_RATE."""
+
+    def __init__(self) -> None:
+        super().__init__(0.0, open_min=True)
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
+        from diffbot.simulation import MAX_RATE
+
+        number = super().convert(value, param, ctx)
+        if number > MAX_RATE:
+            self.fail(f"{value!r} must be <= {MAX_RATE:g} Hz", param, ctx)
+        return number
+
+
+class _StartType(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+    """Seconds since 1970 as a decimal number, read exactly into integer nanoseconds."""
+
+    name = "seconds"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> int:
+        from diffbot.recording import _ns_from_seconds
+
+        if isinstance(value, int):
+            return value
+        try:
+            stamp_ns = _ns_from_seconds(str(value))
+        except ValueError:
+            self.fail(f"{value!r} is not a number", param, ctx)
+        if stamp_ns is None:
+            self.fail(f"{value!r} is not a finite number", param, ctx)
+        if stamp_ns < 0:
+            self.fail(f"{value!r} must be >= 0", param, ctx)
+        if stamp_ns >= 2**63:
+            self.fail(f"{value!r} is past 2262, the end of int64 nanosecond stamps", param, ctx)
+        return stamp_ns
 
 
 @main.command(context_settings=NUMBERS)
@@ -1541,17 +1638,17 @@ def odom(
 )
 @click.option(
     "--rate",
-    type=POSITIVE,
+    type=_RateType(),
     default=50.0,
     show_default=True,
     metavar="HZ",
-    help="Sampling rate of the joint states (Hz).",
+    help="Sampling rate of the joint states (Hz), at most 1e6.",
 )
 @click.option(
     "--ticks",
-    type=click.IntRange(min=1),
+    type=click.IntRange(min=1, max=2**32),  # diffbot.simulation.MAX_TICKS
     metavar="N",
-    help="Encoder resolution (counts per revolution): quantise the wheel angles.",
+    help="Encoder resolution (counts per revolution, up to 2**32): quantise the wheel angles.",
 )
 @click.option(
     "--noise",
@@ -1560,14 +1657,20 @@ def odom(
     metavar="STD",
     help="Standard deviation of Gaussian noise on the wheel angles (rad).",
 )
-@click.option("--seed", type=int, help="Seed of the noise, for reproducible runs.")
+@click.option(
+    "--seed",
+    type=click.IntRange(min=0, max=2**64 - 1),
+    metavar="N",
+    help="Seed of the noise (0 to 2**64-1), for reproducible runs.",
+)
 @click.option(
     "--start",
-    type=NON_NEGATIVE,
-    default=0.0,
+    "start_ns",
+    type=_StartType(),
+    default="0",
     show_default=True,
     metavar="S",
-    help="Stamp of the first sample (s since 1970).",
+    help="Stamp of the first sample (s since 1970, read exactly to the nanosecond).",
 )
 @click.option(
     "--out",
@@ -1600,7 +1703,7 @@ def simulate(
     ticks: int | None,
     noise: float,
     seed: int | None,
-    start: float,
+    start_ns: int,
     out: str | None,
     as_bag: bool,
     topic: str,
@@ -1627,21 +1730,41 @@ def simulate(
       diffbot simulate --example B --out b_bag --bag --start 1700000000
     """
     from diffbot.recording import format_joint_states_csv, write_joint_states_bag
+    from diffbot.simulation import MAX_SAMPLES, sample_count
     from diffbot.simulation import simulate as simulate_plan
     from diffbot.trajectory import plan as make_plan
 
     rest, xacro_args = split_xacro_args(tokens)
+    _check_topic("--topic", topic)
     source = _plan_input(rest, example)
     if as_bag and out is None:
         fail("--bag writes the --out directory: give --out DIR")
     if as_json and out is None:
         fail("--json prints a summary, so the samples need --out")
-    out_path = _check_out(out, [str(source.path)] if source.path is not None else [], force)
-    params = robot.with_path(None, xacro_args).load()
+    robot = robot.with_path(None, xacro_args)
+    inputs = [path for path in (source.path, robot.robot) if path is not None]
+    out_path = _check_out(out, [Path(path) for path in inputs], force)
+    params = robot.load()
     p = make_plan(source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest)
+    count = sample_count(p.duration, rate, len(p.segments))
+    if count > MAX_SAMPLES:
+        highest = (MAX_SAMPLES - 2 - len(p.segments)) / p.duration
+        how = (
+            f"lower --rate to at most {highest:.4g} Hz for this plan"
+            if highest >= 1.0
+            else "the plan is too long even at 1 Hz: shorten it (or raise --speed)"
+        )
+        fail(
+            f"the plan's {fmt(p.duration)} s at {fmt(rate)} Hz would take {count:.4g} samples, "
+            f"more than the {MAX_SAMPLES} simulate makes: {how}"
+        )
+    if start_ns + round(p.duration * 1e9) >= 2**63:
+        fail(
+            f"--start plus the plan's {fmt(p.duration)} s ends past 2262, the end of int64 "
+            "nanosecond stamps"
+        )
     states = simulate_plan(p, params, rate, ticks=ticks, noise=noise, seed=seed)
-    origin = round(start * 1e9)
-    stamps = [origin + round(t * 1e9) for t in states.times.tolist()]
+    stamps = [start_ns + round(t * 1e9) for t in states.times.tolist()]
     if out_path is None:
         click.echo(format_joint_states_csv(stamps, states.names, states.positions), nl=False)
     elif as_bag:

@@ -18,6 +18,7 @@ The streaming path (:class:`Odometry`) uses plain floats and :mod:`math` only; N
 from __future__ import annotations
 
 import math
+import operator
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Final, NamedTuple
 
@@ -165,6 +166,13 @@ def covariance_matrix(diagonal: Sequence[float], what: str = "covariance") -> tu
 # A node builds a message for every JointState: building the records with tuple.__new__ skips
 # the Python-level __new__ of each NamedTuple and halves the cost of message().
 _new = tuple.__new__
+_sin = math.sin
+_cos = math.cos
+_remainder = math.remainder
+_PI: Final = math.pi
+_TWO_PI: Final = 2.0 * math.pi
+#: Stamps in ns are ROS times: they fit in a signed 64-bit integer.
+_INT64: Final = 2**63
 
 
 def _sinc(h: float) -> float:
@@ -178,10 +186,12 @@ def _sinc(h: float) -> float:
 class Odometry:
     """Dead reckoning from the wheel joint positions of a differential-drive robot.
 
-    Feed it samples of absolute wheel joint angles (rad) with increasing stamps (s), through
-    :meth:`update` or :meth:`update_joint_state`. The first usable sample sets the encoder
-    baseline and does not move the robot. Every later one moves the pose exactly along the arc the
-    wheels describe since the previous used sample.
+    Feed it samples of absolute wheel joint angles (rad) with increasing stamps, through
+    :meth:`update` or :meth:`update_joint_state`: in seconds (``stamp``, a float) or, for ROS
+    times since the epoch, in integer nanoseconds (``stamp_ns``), as a float near 1.7e9 s
+    resolves only 0.24 µs and velocities over short steps suffer from it. The first usable
+    sample sets the encoder baseline and does not move the robot. Every later one moves the pose
+    exactly along the arc the wheels describe since the previous used sample.
 
     A sample is skipped, counted in :attr:`skipped` under its reason and otherwise ignored when it
     lacks a wheel joint, holds a NaN or infinite value, or is not stamped after the previous used
@@ -191,7 +201,8 @@ class Odometry:
     Example::
 
         odom = Odometry(params)
-        odom.update_joint_state(msg.name, msg.position, stamp)
+        stamp = msg.header.stamp
+        odom.update_joint_state(msg.name, msg.position, stamp_ns=stamp.sec * 10**9 + stamp.nanosec)
         odom.pose  # Pose(x, y, theta)
 
     Args:
@@ -264,23 +275,54 @@ class Odometry:
         self._left = self._left0 = 0.0
         self._right = self._right0 = 0.0
         self._stamp: float | None = None
+        self._stamp_ns: int | None = None
 
-    def update(self, left_position: float, right_position: float, stamp: float) -> bool:
+    def update(
+        self,
+        left_position: float,
+        right_position: float,
+        stamp: float | None = None,
+        *,
+        stamp_ns: int | None = None,
+    ) -> bool:
         """Integrate one sample of absolute wheel joint angles.
+
+        Give the time either as ``stamp`` (s, a float) or as ``stamp_ns`` (integer ns, as in
+        builtin_interfaces/Time: ``sec * 10**9 + nanosec``). A float near the epoch
+        (1.7e9 s) resolves only 0.24 µs, so the steps between stamps made as
+        ``sec + nanosec * 1e-9`` are off by up to that much: at 1 kHz the velocity is off by up
+        to 2e-4 relative. With ``stamp_ns`` each step is the exact integer difference of two
+        stamps, converted to seconds once. Both forms may be mixed; a step from a float stamp
+        is taken in floats. (Stamps relative to the start of a recording, as floats, keep full
+        precision too.)
 
         Args:
             left_position: the left wheel joint's angle (rad), as the joint reports it.
             right_position: the right wheel joint's angle (rad).
             stamp: the sample's time (s).
+            stamp_ns: the sample's time (ns), instead of ``stamp``.
 
         Returns:
             True when the sample was used (the first one only sets the baseline), False when it
             was skipped (NaN or infinite value, or a stamp not after the previous used one).
+
+        Raises:
+            ParameterError: neither or both of ``stamp`` and ``stamp_ns`` given, or a
+                ``stamp_ns`` that is not an integer.
         """
         left = float(left_position)
         right = float(right_position)
-        stamp = float(stamp)
-        if not (math.isfinite(left) and math.isfinite(right) and math.isfinite(stamp)):
+        if stamp_ns is None:
+            if stamp is None:
+                raise ParameterError("give the sample's time: stamp (s) or stamp_ns (ns)")
+            stamp = float(stamp)
+        else:
+            stamp_ns = self._check_stamp_ns(stamp, stamp_ns)
+            if stamp_ns is None:
+                return False
+            stamp = stamp_ns / 1_000_000_000
+        # x - x is 0.0 for every finite x and NaN for NaN and the infinities: one test for three.
+        if (left - left) + (right - right) + (stamp - stamp) != 0.0:
             self._skip(SKIP_NOT_FINITE)
             return False
         last = self._stamp
@@ -289,11 +331,19 @@ class Odometry:
             self._right0 = self._right = right
             self._heading0 = self._heading
             self._stamp = stamp
+            self._stamp_ns = stamp_ns
             self._samples += 1
             return True
-        if stamp <= last:
-            self._skip(SKIP_STAMP_NOT_AFTER)
-            return False
+        if stamp_ns is not None and self._stamp_ns is not None:
+            if stamp_ns <= self._stamp_ns:
+                self._skip(SKIP_STAMP_NOT_AFTER)
+                return False
+            dt = (stamp_ns - self._stamp_ns) / 1_000_000_000  # exact, then rounded once
+        else:
+            if stamp <= last:
+                self._skip(SKIP_STAMP_NOT_AFTER)
+                return False
+            dt = stamp - last
         # The same formulas as integrate(), so both agree to the last bit wherever math and NumPy
         # agree on sin and cos. The heading is linear in the wheel angles, so it is computed from
         # the angles travelled since the baseline rather than summed step by step: its rounding
@@ -302,23 +352,45 @@ class Odometry:
         dr = (right - self._right) * self._right_scale
         ds = (dl + dr) * 0.5
         half = (dr - dl) * self._half_turn
-        chord = ds * _sinc(half)
+        chord = ds * (_sin(half) / half if half != 0.0 else 1.0)  # ds * sinc(half): see _sinc
         along = self._heading + half
-        self._x += chord * math.cos(along)
-        self._y += chord * math.sin(along)
+        self._x += chord * _cos(along)
+        self._y += chord * _sin(along)
         self._heading = (
             (right - self._right0) * self._right_scale - (left - self._left0) * self._left_scale
         ) * self._turn + self._heading0
         self._distance += abs(ds)
-        dt = stamp - last
         self._linear = ds / dt
         self._angular = 2.0 * half / dt
-        self._left, self._right, self._stamp = left, right, stamp
+        self._left = left
+        self._right = right
+        self._stamp = stamp
+        self._stamp_ns = stamp_ns
         self._samples += 1
         return True
 
+    def _check_stamp_ns(self, stamp: float | None, stamp_ns: int) -> int | None:
+        """``stamp_ns`` as an int, or None (the sample skipped) when it is outside int64."""
+        if stamp is not None:
+            raise ParameterError("give the sample's time once: stamp (s) or stamp_ns (ns)")
+        try:
+            value = operator.index(stamp_ns)
+        except TypeError:
+            raise ParameterError(
+                f"stamp_ns must be an integer number of nanoseconds, got {stamp_ns!r}"
+            ) from None
+        if not -_INT64 <= value < _INT64:
+            self._skip(SKIP_NOT_FINITE)
+            return None
+        return value
+
     def update_joint_state(
-        self, names: Sequence[str], positions: Sequence[float], stamp: float
+        self,
+        names: Sequence[str],
+        positions: Sequence[float],
+        stamp: float | None = None,
+        *,
+        stamp_ns: int | None = None,
     ) -> bool:
         """Integrate one sensor_msgs/JointState message.
 
@@ -328,32 +400,43 @@ class Odometry:
         Args:
             names: the message's ``name`` field.
             positions: its ``position`` field (rad), parallel to ``names``.
-            stamp: its header stamp (s).
+            stamp: its header stamp (s); near the epoch a float loses precision (see
+                :meth:`update`), so prefer ``stamp_ns``.
+            stamp_ns: its header stamp in integer ns (``sec * 10**9 + nanosec``), instead of
+                ``stamp``.
 
         Returns:
             True when the sample was used, False when it was skipped (a wheel joint missing or
             without a position, a NaN or infinite value, a stamp not after the previous one).
+
+        Raises:
+            ParameterError: neither or both of ``stamp`` and ``stamp_ns`` given, or a
+                ``stamp_ns`` that is not an integer.
         """
-        if not isinstance(names, (list, tuple)):
-            names = list(names)
         cached = self._names
-        if names is not cached and names != cached:
-            try:
-                left_index = names.index(self._left_joint)
-                right_index = names.index(self._right_joint)
-            except ValueError:
-                self._skip(SKIP_MISSING_JOINT)
-                return False
-            # A list may be changed in place after this call: keep a copy to compare against.
-            self._names = names if isinstance(names, tuple) else list(names)
-            self._left_index = left_index
-            self._right_index = right_index
-        left_index = self._left_index
-        right_index = self._right_index
-        if left_index >= len(positions) or right_index >= len(positions):
+        if names is not cached:
+            if type(names) is not list and type(names) is not tuple:
+                names = list(names)
+            if names != cached:
+                try:
+                    left_index = names.index(self._left_joint)
+                    right_index = names.index(self._right_joint)
+                except ValueError:
+                    self._skip(SKIP_MISSING_JOINT)
+                    return False
+                # A list may be changed in place after this call: keep a copy to compare with.
+                self._names = names if type(names) is tuple else list(names)
+                self._left_index = left_index
+                self._right_index = right_index
+        try:
+            left = positions[self._left_index]
+            right = positions[self._right_index]
+        except IndexError:
             self._skip(SKIP_MISSING_JOINT)
             return False
-        return self.update(positions[left_index], positions[right_index], stamp)
+        if stamp_ns is None:
+            return self.update(left, right, stamp)
+        return self.update(left, right, stamp, stamp_ns=stamp_ns)
 
     def _skip(self, reason: str) -> None:
         self._skipped[reason] = self._skipped.get(reason, 0) + 1
@@ -384,6 +467,11 @@ class Odometry:
         return self._stamp
 
     @property
+    def stamp_ns(self) -> int | None:
+        """Stamp (ns) of the last used sample when it was given as ``stamp_ns``, else None."""
+        return self._stamp_ns
+
+    @property
     def samples(self) -> int:
         """How many samples were used, the baseline included."""
         return self._samples
@@ -394,15 +482,18 @@ class Odometry:
         return dict(self._skipped)
 
     def _orientation(self) -> Quaternion:
-        half = 0.5 * norm_angle(self._heading)
-        return _new(Quaternion, (0.0, 0.0, math.sin(half), math.cos(half)))
+        # remainder() maps the heading exactly to [-pi, pi]; -pi is reported as pi (norm_angle).
+        heading = _remainder(self._heading, _TWO_PI)
+        half = 0.5 * heading if heading != -_PI else 0.5 * _PI
+        return _new(Quaternion, (0.0, 0.0, _sin(half), _cos(half)))
 
     def transform(self) -> TransformStamped:
         """The odom -> base_link transform (as published on /tf), stamped with the last sample."""
+        stamp = self._stamp
         return _new(
             TransformStamped,
             (
-                _new(Header, (self._stamp if self._stamp is not None else 0.0, self.frame_id)),
+                _new(Header, (stamp if stamp is not None else 0.0, self.frame_id)),
                 self.child_frame_id,
                 _new(Vector3, (self._x, self._y, 0.0)),
                 self._orientation(),
@@ -410,17 +501,24 @@ class Odometry:
         )
 
     def message(self) -> OdometryMessage:
-        """A nav_msgs/Odometry record of the pose and twist, stamped with the last used sample."""
+        """A nav_msgs/Odometry record of the pose and twist, stamped with the last used sample.
+
+        The records are immutable, so the covariance matrices are shared between messages.
+        """
+        # Built inline (no helper calls): a node calls this for every JointState it receives.
+        heading = _remainder(self._heading, _TWO_PI)
+        half = 0.5 * heading if heading != -_PI else 0.5 * _PI
+        stamp = self._stamp
         return _new(
             OdometryMessage,
             (
-                _new(Header, (self._stamp if self._stamp is not None else 0.0, self.frame_id)),
+                _new(Header, (stamp if stamp is not None else 0.0, self.frame_id)),
                 self.child_frame_id,
                 _new(
                     PoseWithCovariance,
                     (
                         _new(Vector3, (self._x, self._y, 0.0)),
-                        self._orientation(),
+                        _new(Quaternion, (0.0, 0.0, _sin(half), _cos(half))),
                         self.pose_covariance,
                     ),
                 ),
@@ -467,13 +565,14 @@ def integrate(
         heading (it counts whole turns); wrap it with :func:`diffbot.norm_angle` if needed.
 
     Raises:
-        ParameterError: the arrays are not one-dimensional and of equal length, or a value is NaN
-            or infinite (or so large that a displacement overflows).
+        ParameterError: the arrays are not one-dimensional and of equal length, hold something
+            other than real numbers (complex, text), or a value is NaN or infinite (the message
+            names the first such sample) or so large that a displacement overflows.
     """
     import numpy as np
 
-    left = np.asarray(left_positions, dtype=np.float64)
-    right = np.asarray(right_positions, dtype=np.float64)
+    left = _wheel_array(left_positions, "left")
+    right = _wheel_array(right_positions, "right")
     if left.ndim != 1 or right.ndim != 1 or left.shape != right.shape:
         raise ParameterError(
             f"wheel positions must be two 1-D arrays of equal length, got shapes "
@@ -547,8 +646,47 @@ def integrate(
             np.cumsum(xy_, out=xy_)
             x[i + 1 : j + 1] = xy_.real[1:]
             y[i + 1 : j + 1] = xy_.imag[1:]
-    if not (math.isfinite(x[-1]) and math.isfinite(y[-1]) and math.isfinite(theta[-1])):
+    finite = math.isfinite(x[-1]) and math.isfinite(y[-1]) and math.isfinite(theta[-1])
+    if n == 1 or not finite:
+        # A NaN or infinity anywhere reaches the last pose (through the cumulative sums, or
+        # the heading for the first and last samples) unless there is no step at all, so the
+        # arrays are searched only then.
+        _check_finite(left, right)
+    if not finite:
         raise ParameterError(
-            "wheel positions must be finite: found NaN or infinite values (or an overflow)"
+            "wheel positions too large: a displacement or the pose overflows to infinity"
         )
     return PoseSeries(x, y, theta)
+
+
+def _wheel_array(values: ArrayLike, side: str) -> NDArray[np.float64]:
+    """``values`` as a float64 array; ParameterError for anything but real numbers."""
+    import numpy as np
+
+    try:
+        array = np.asarray(values)
+        if array.dtype.kind not in "biuf":
+            if array.dtype.kind != "O":
+                raise TypeError(f"{array.dtype} values")  # complex, strings, dates, ...
+            # Objects such as Decimal or Fraction convert; complex numbers, text and None (which
+            # NumPy would turn into NaN) do not.
+            if any(v is None or isinstance(v, (complex, str, bytes)) for v in array.flat):
+                raise TypeError("complex, text or None values")
+        return np.asarray(array, dtype=np.float64)
+    except (TypeError, ValueError) as err:
+        raise ParameterError(
+            f"{side} wheel positions must be real numbers (rad): {' '.join(str(err).split())}"
+        ) from None
+
+
+def _check_finite(left: NDArray[np.float64], right: NDArray[np.float64]) -> None:
+    """ParameterError naming the first sample where a wheel position is NaN or infinite."""
+    import numpy as np
+
+    bad = ~(np.isfinite(left) & np.isfinite(right))
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ParameterError(
+            f"wheel positions must be finite: sample {k} has left {float(left[k])!r}, "
+            f"right {float(right[k])!r}"
+        )

@@ -7,10 +7,10 @@ positions), read from
   position column per wheel, named by the joint or ending with ``/<joint>/position`` (as bag
   export tools name the fields of a JointState); other columns are ignored and an empty cell means
   the joint is missing from that row;
-- a rosbag2 recording (a directory with sqlite3 or mcap storage, or a single ``.mcap`` file),
-  through the ``rosbags`` library (``pip install 'diffbot-kinematics[bag]'``): the
-  sensor_msgs/msg/JointState messages of one topic, stamped by their header (or by the bag when
-  the header stamp is zero).
+- a rosbag2 recording (a directory with sqlite3 or mcap storage, or one ``.db3`` or ``.mcap``
+  storage file), through the ``rosbags`` library (``pip install 'diffbot-kinematics[bag]'``):
+  the sensor_msgs/msg/JointState messages of one topic, all stamped by their header stamps, or
+  all by the bag's receive times when any header stamp is zero.
 
 Stamps are kept as integer nanoseconds, like ROS time, so outputs carry the inputs' stamps
 unchanged. Outputs (a CSV of poses, a bag of nav_msgs/Odometry and tf2_msgs/TFMessage, a bag or CSV
@@ -20,6 +20,7 @@ Inputs are only ever opened for reading.
 
 from __future__ import annotations
 
+import array
 import contextlib
 import csv
 import io
@@ -28,13 +29,13 @@ import shutil
 import tempfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from decimal import Decimal, InvalidOperation
+from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
 from pathlib import Path
-from typing import TYPE_CHECKING, Final, NamedTuple, cast
+from typing import TYPE_CHECKING, Final, NamedTuple, TextIO, cast, overload
 
 from diffbot.errors import DiffbotError, OutputExistsError, RecordingError
-from diffbot.kinematics import DiffDriveParams, Pose, Twist
-from diffbot.odometry import SKIP_NOT_FINITE, Odometry, quaternion_from_yaw
+from diffbot.kinematics import DiffDriveParams, Pose, Twist, norm_angle
+from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry, quaternion_from_yaw
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -44,9 +45,12 @@ if TYPE_CHECKING:
 
 __all__ = [
     "BAG_INSTALL_HINT",
+    "CLOCK_HEADER",
+    "CLOCK_RECEIVE",
     "DEFAULT_TOPIC",
     "JOINT_STATE",
     "SKIP_MISSING_STAMP",
+    "SKIP_STAMP_RANGE",
     "SKIP_UNREADABLE",
     "TIME_COLUMNS",
     "JointSample",
@@ -73,12 +77,19 @@ DEFAULT_TOPIC: Final = "/joint_states"
 JOINT_STATE: Final = "sensor_msgs/msg/JointState"
 #: What to install for bag support.
 BAG_INSTALL_HINT: Final = "pip install 'diffbot-kinematics[bag]'"
+#: :attr:`Recording.clock` of a bag stamped by the messages' header stamps.
+CLOCK_HEADER: Final = "header"
+#: :attr:`Recording.clock` of a bag stamped by the times the bag received the messages.
+CLOCK_RECEIVE: Final = "receive"
 #: Why a CSV row was skipped: its time cell is empty.
 SKIP_MISSING_STAMP: Final = "missing stamp"
 #: Why a CSV row or bag message was skipped: a value (or the message) cannot be read.
 SKIP_UNREADABLE: Final = "unreadable value"
+#: Why a CSV row was skipped: its time is outside ROS time in int64 ns (about ±292 years).
+SKIP_STAMP_RANGE: Final = "stamp out of range"
 
 _NS_PER_S: Final = 1_000_000_000
+_INT64: Final = 2**63
 _BAG_SUFFIXES: Final = (".mcap", ".db3")
 _MAX_LISTED: Final = 30
 #: rosbag2 format version written: read by ROS 2 Iron and later.
@@ -102,12 +113,16 @@ class Recording:
         kind: ``"csv"`` or ``"rosbag2"``.
         samples: the samples, stamps in ns.
         skipped: rows or messages that could not be turned into a sample, by reason.
+        clock: for a bag, what stamps the samples: :data:`CLOCK_HEADER` (the header stamps) or
+            :data:`CLOCK_RECEIVE` (the bag's receive times); None for a CSV file (its time
+            column).
     """
 
     source: str
     kind: str
-    samples: list[JointSample]
+    samples: Sequence[JointSample]
     skipped: Mapping[str, int] = field(default_factory=dict)
+    clock: str | None = None
 
 
 def seconds_text(stamp_ns: int) -> str:
@@ -120,14 +135,28 @@ def seconds_text(stamp_ns: int) -> str:
 
 
 def _ns_from_seconds(text: str) -> int | None:
-    """Decimal seconds -> ns (nearest); None if NaN or infinite; ValueError if not a number."""
+    """Decimal seconds -> ns, exactly rounded (ties to even); None if NaN or infinite;
+    ValueError if not a plain decimal number (Python's digit grouping, ``1_0``, included).
+
+    Beyond 1e30 s (far outside ROS time) the result is ±10**39 rather than the exact value, so
+    that ``1e100000000`` costs nothing.
+    """
+    if "_" in text:
+        raise ValueError(text)
     try:
-        seconds = Decimal(text)
+        seconds = Decimal(text.strip())
     except InvalidOperation:
         raise ValueError(text) from None
     if not seconds.is_finite():
         return None
-    return int((seconds * _NS_PER_S).to_integral_value())
+    if seconds.adjusted() > 30:
+        return -(10**39) if seconds.is_signed() else 10**39
+    if seconds.adjusted() < -30:
+        return 0
+    sign, digits, exponent = seconds.as_tuple()
+    assert isinstance(exponent, int)  # finite
+    nanoseconds = Decimal((sign, digits, exponent + 9))  # exact: no context rounding
+    return int(nanoseconds.to_integral_value(rounding=ROUND_HALF_EVEN))
 
 
 def is_bag(path: str | os.PathLike[str]) -> bool:
@@ -142,7 +171,7 @@ def read_recording(
     """Read wheel joint samples from a CSV file or a rosbag2 recording.
 
     Args:
-        path: a CSV file, a rosbag2 directory, or a ``.mcap`` file.
+        path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
         params: the robot, whose wheel joint names select the CSV columns.
         topic: the JointState topic of a bag.
 
@@ -185,37 +214,109 @@ def _column(headers: Sequence[str], joint: str, side: str, source: str) -> int:
     return found[0]
 
 
-def read_csv(path: str | os.PathLike[str], left_joint: str, right_joint: str) -> Recording:
+class _CsvSamples(Sequence[JointSample]):
+    """The samples of a CSV file as compact columns rather than one object per row.
+
+    Stamps are int64 ns and wheel positions float64 (8 bytes each); a byte per row says which
+    wheels the row has. :class:`JointSample` records are made only when asked for.
+    """
+
+    def __init__(self, left_joint: str, right_joint: str) -> None:
+        self.stamps_ns = array.array("q")
+        self.left = array.array("d")
+        self.right = array.array("d")
+        #: Per row: 1 if the left wheel's cell is set, 2 if the right's, 3 if both.
+        self.present = bytearray()
+        self._names: tuple[tuple[str, ...], ...] = (
+            (),
+            (left_joint,),
+            (right_joint,),
+            (left_joint, right_joint),
+        )
+
+    def __len__(self) -> int:
+        return len(self.stamps_ns)
+
+    @overload
+    def __getitem__(self, index: int) -> JointSample: ...
+    @overload
+    def __getitem__(self, index: slice) -> list[JointSample]: ...
+    def __getitem__(self, index: int | slice) -> JointSample | list[JointSample]:
+        if isinstance(index, slice):
+            return [self[i] for i in range(*index.indices(len(self)))]
+        return self._sample(self.stamps_ns[index], self.left[index], self.right[index], index)
+
+    def __iter__(self) -> Iterator[JointSample]:
+        for k, (stamp_ns, left, right) in enumerate(
+            zip(self.stamps_ns, self.left, self.right, strict=True)
+        ):
+            yield self._sample(stamp_ns, left, right, k)
+
+    def _sample(self, stamp_ns: int, left: float, right: float, index: int) -> JointSample:
+        present = self.present[index]
+        values = (left, right) if present == 3 else (right,) if present == 2 else (left,)
+        return JointSample(stamp_ns, self._names[present], values[: bin(present).count("1")])
+
+
+def read_csv(
+    path: str | os.PathLike[str] | TextIO,
+    left_joint: str,
+    right_joint: str,
+    *,
+    source: str | None = None,
+) -> Recording:
     """Read wheel joint samples from a CSV file.
 
+    Only the time column and the two wheel columns are kept, in compact arrays (about 25 bytes
+    a row), so files of millions of rows fit in memory.
+
     Args:
-        path: the file; the first row names the columns.
+        path: the file, or an open text stream (read from where it stands); the first row names
+            the columns.
         left_joint: the left wheel joint's name.
         right_joint: the right wheel joint's name.
+        source: the name of the input in messages (default: the path, or the stream's name).
 
     Returns:
         One sample per data row, holding the wheel joints whose cells are not empty. Rows whose
-        time is empty or whose cells cannot be read as numbers are counted in ``skipped``.
+        time is empty, NaN or infinite, or outside the int64 nanosecond range of ROS time
+        (about ±292 years from 1970), and rows with a cell that is not a number (including
+        Python's digit grouping, ``1_0``) are counted in ``skipped``.
 
     Raises:
         RecordingError: missing, empty or non-text file, no time column, no (or several)
             columns for a wheel.
     """
-    p = Path(path)
-    source = str(p)
+    if isinstance(path, (str, os.PathLike)):
+        p = Path(path)
+        name = source if source is not None else str(p)
+        try:
+            with p.open(encoding="utf-8-sig", newline="") as stream:
+                return _read_csv_stream(stream, left_joint, right_joint, name)
+        except FileNotFoundError:
+            raise RecordingError(f"{name}: no such file or directory") from None
+        except IsADirectoryError:
+            raise RecordingError(f"{name}: is a directory, not a CSV file") from None
+        except OSError as err:
+            raise RecordingError(f"{name}: cannot read: {err.strerror or err}") from None
+    name = source if source is not None else str(getattr(path, "name", "<stream>"))
+    return _read_csv_stream(path, left_joint, right_joint, name)
+
+
+def _read_csv_stream(
+    stream: Iterable[str], left_joint: str, right_joint: str, source: str
+) -> Recording:
+    samples = _CsvSamples(left_joint, right_joint)
+    skipped: dict[str, int] = {}
     try:
-        text = p.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise RecordingError(f"{source}: no such file or directory") from None
-    except UnicodeDecodeError:
-        raise RecordingError(f"{source}: not a text (UTF-8) CSV file") from None
-    except OSError as err:
-        raise RecordingError(f"{source}: cannot read: {err.strerror or err}") from None
-    if not text.strip():
-        raise RecordingError(f"{source}: empty file")
-    try:
-        rows = csv.reader(io.StringIO(text, newline=""))
-        headers = [h.strip() for h in next(rows)]
+        rows = csv.reader(stream)
+        headers: list[str] | None = None
+        for row in rows:
+            if any(cell.strip() for cell in row):
+                headers = [h.strip() for h in row]
+                break
+        if headers is None:
+            raise RecordingError(f"{source}: empty file")
         lowered = [h.lower() for h in headers]
         time_index = next((lowered.index(n) for n in TIME_COLUMNS if n in lowered), None)
         if time_index is None:
@@ -225,45 +326,94 @@ def read_csv(path: str | os.PathLike[str], left_joint: str, right_joint: str) ->
             )
         left_index = _column(headers, left_joint, "left", source)
         right_index = _column(headers, right_joint, "right", source)
-        samples: list[JointSample] = []
-        skipped: dict[str, int] = {}
-        both = (left_joint, right_joint)
-        for row in rows:
-            if not row or not any(cell.strip() for cell in row):
-                continue
-            reason, sample = _csv_sample(row, time_index, left_index, right_index, both)
-            if sample is None:
-                skipped[reason] = skipped.get(reason, 0) + 1
-            else:
-                samples.append(sample)
+        _read_rows(rows, (time_index, left_index, right_index), samples, skipped)
+    except UnicodeDecodeError:
+        raise RecordingError(f"{source}: not a text (UTF-8) CSV file") from None
     except csv.Error as err:
         raise RecordingError(f"{source}: malformed CSV: {err}") from None
     return Recording(source, "csv", samples, skipped)
 
 
-def _csv_sample(
-    row: Sequence[str], time_index: int, left_index: int, right_index: int, joints: tuple[str, str]
-) -> tuple[str, JointSample | None]:
-    def cell(i: int) -> str:
-        return row[i].strip() if i < len(row) else ""
+def _read_rows(
+    rows: Iterator[list[str]],
+    indexes: tuple[int, int, int],
+    samples: _CsvSamples,
+    skipped: dict[str, int],
+) -> None:
+    """Parse the data rows into ``samples``, counting the rows that are skipped by reason."""
+    time_index, left_index, right_index = indexes
+    width = max(indexes) + 1
+    add_stamp = samples.stamps_ns.append
+    add_left = samples.left.append
+    add_right = samples.right.append
+    add_present = samples.present.append
+    for row in rows:
+        if len(row) >= width:
+            stamp_text = row[time_index]
+            left_text = row[left_index]
+            right_text = row[right_index]
+        else:  # a short row: the cells it lacks are empty
+            if not any(cell.strip() for cell in row):
+                continue  # a blank line is no sample
+            stamp_text, left_text, right_text = (row[i] if i < len(row) else "" for i in indexes)
+        stamp_ns = _stamp_ns(stamp_text)
+        if stamp_ns is None or not -_INT64 <= stamp_ns < _INT64:
+            if not any(cell.strip() for cell in row):
+                continue  # a line of empty cells is no sample
+            reason = _stamp_skip_reason(stamp_text)
+            skipped[reason] = skipped.get(reason, 0) + 1
+            continue
+        present = 0
+        left = right = 0.0
+        try:
+            if left_text and not left_text.isspace():
+                left = _position(left_text)
+                present = 1
+            if right_text and not right_text.isspace():
+                right = _position(right_text)
+                present += 2
+        except ValueError:
+            skipped[SKIP_UNREADABLE] = skipped.get(SKIP_UNREADABLE, 0) + 1
+            continue
+        add_stamp(stamp_ns)
+        add_left(left)
+        add_right(right)
+        add_present(present)
 
-    stamp_text = cell(time_index)
-    if not stamp_text:
-        return SKIP_MISSING_STAMP, None
+
+def _position(text: str) -> float:
+    """A position cell as a float; ValueError if it is no plain number (``1_0`` is not)."""
+    if "_" in text:
+        raise ValueError(text)
+    return float(text)
+
+
+def _stamp_ns(text: str) -> int | None:
+    """A time cell (decimal seconds) as ns; None if it is not usable."""
+    whole, _, frac = text.strip().partition(".")
+    # The usual forms ("12", "1700000000.123456789") without Decimal's cost per row.
+    if (
+        whole.isdigit()
+        and whole.isascii()
+        and len(whole) <= 12
+        and len(frac) <= 9
+        and (not frac or (frac.isdigit() and frac.isascii()))
+    ):
+        return int(whole) * _NS_PER_S + int(frac.ljust(9, "0"))
     try:
-        stamp = _ns_from_seconds(stamp_text)
-        if stamp is None:
-            return SKIP_NOT_FINITE, None
-        names: list[str] = []
-        positions: list[float] = []
-        for joint, index in zip(joints, (left_index, right_index), strict=True):
-            value = cell(index)
-            if value:
-                names.append(joint)
-                positions.append(float(value))
+        return _ns_from_seconds(text)
     except ValueError:
-        return SKIP_UNREADABLE, None
-    return "", JointSample(stamp, names, positions)
+        return None
+
+
+def _stamp_skip_reason(text: str) -> str:
+    """Why a time cell that :func:`_stamp_ns` could not use was skipped."""
+    if not text.strip():
+        return SKIP_MISSING_STAMP
+    try:
+        return SKIP_NOT_FINITE if _ns_from_seconds(text) is None else SKIP_STAMP_RANGE
+    except ValueError:
+        return SKIP_UNREADABLE
 
 
 def _require_rosbags() -> None:
@@ -285,20 +435,28 @@ def _typestore() -> Typestore:
 def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Recording:
     """Read the sensor_msgs/msg/JointState messages of one topic from a rosbag2 recording.
 
+    The recording is opened with rosbags' rosbag2 reader (never as ROS 1, whatever its name
+    ends with) and the messages are decoded with the ROS 2 Humble type store.
+
+    One clock stamps the whole topic: the header stamps when every message has a non-zero one,
+    otherwise the bag's receive times for all of them (mixing the two would put samples decades
+    apart). :attr:`Recording.clock` says which (:data:`CLOCK_HEADER` or :data:`CLOCK_RECEIVE`).
+
     Args:
-        path: a rosbag2 directory (sqlite3 or mcap storage) or a single ``.mcap`` file.
+        path: a rosbag2 directory (sqlite3 or mcap storage), or one of its ``.db3`` or ``.mcap``
+            storage files.
         topic: the topic to read; other topics are ignored.
 
     Returns:
-        One sample per message, stamped by the header stamp, or by the bag's receive time (ns)
-        when the header stamp is zero. Messages that cannot be decoded are counted in ``skipped``.
+        One sample per message, stamps in ns. Messages that cannot be decoded are counted in
+        ``skipped``.
 
     Raises:
         RecordingError: rosbags is missing, the path is not a readable bag, the topic is absent
             or does not carry JointState messages.
     """
     _require_rosbags()
-    from rosbags.highlevel import AnyReader
+    from rosbags.rosbag2 import Reader
 
     p = Path(path)
     source = str(p)
@@ -306,10 +464,14 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
         raise RecordingError(f"{source}: no such file or directory")
     if p.is_file() and p.stat().st_size == 0:
         raise RecordingError(f"{source}: empty file")
-    samples: list[JointSample] = []
+    typestore = _typestore()
+    names_seen: list[Sequence[str]] = []
+    positions_seen: list[list[float]] = []
+    header_ns: list[int] = []
+    receive_ns: list[int] = []
     skipped: dict[str, int] = {}
     try:
-        with AnyReader([p], default_typestore=_typestore()) as reader:
+        with Reader(p) as reader:
             connections = [c for c in reader.connections if c.topic == topic]
             if not connections:
                 topics = sorted({c.topic for c in reader.connections})
@@ -321,9 +483,10 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
                 raise RecordingError(
                     f"{source}: topic {topic!r} carries {', '.join(types)}, not {JOINT_STATE}"
                 )
-            for connection, timestamp, raw in reader.messages(connections=connections):
+            last_names: list[str] = []
+            for _, timestamp, raw in reader.messages(connections=connections):
                 try:
-                    msg = cast("JointState", reader.deserialize(raw, connection.msgtype))
+                    msg = cast("JointState", typestore.deserialize_cdr(raw, JOINT_STATE))
                     stamp = msg.header.stamp
                     stamp_ns = int(stamp.sec) * _NS_PER_S + int(stamp.nanosec)
                     names = list(msg.name)
@@ -331,7 +494,13 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
                 except Exception:  # a corrupt message is one bad sample, not a bad bag
                     skipped[SKIP_UNREADABLE] = skipped.get(SKIP_UNREADABLE, 0) + 1
                     continue
-                samples.append(JointSample(stamp_ns or int(timestamp), names, positions))
+                if names == last_names:
+                    names = last_names  # one list for a run of equal names: less memory
+                last_names = names
+                names_seen.append(names)
+                positions_seen.append(positions)
+                header_ns.append(stamp_ns)
+                receive_ns.append(int(timestamp))
     except DiffbotError:
         raise
     except Exception as err:
@@ -339,7 +508,13 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
         # not bags or are damaged; all of them mean the same thing to the user.
         detail = " ".join(str(err).split()) or type(err).__name__
         raise RecordingError(f"{source}: not a readable rosbag2 recording: {detail}") from None
-    return Recording(source, "rosbag2", samples, skipped)
+    use_header = all(header_ns)
+    stamps = header_ns if use_header else receive_ns
+    samples = [
+        JointSample(*sample) for sample in zip(stamps, names_seen, positions_seen, strict=True)
+    ]
+    clock = CLOCK_HEADER if use_header else CLOCK_RECEIVE
+    return Recording(source, "rosbag2", samples, skipped, clock)
 
 
 # --------------------------------------------------------------------------------------------
@@ -354,19 +529,67 @@ class OdometryRow(NamedTuple):
     twist: Twist
 
 
+class _OdometryRows(Sequence[OdometryRow]):
+    """Odometry rows as compact columns: stamps int64 ns, the rest float64 (48 bytes a row).
+
+    ``theta`` holds the unwrapped heading; rows report it in (-pi, pi].
+    """
+
+    def __init__(self) -> None:
+        self.stamps_ns = array.array("q")
+        self.x = array.array("d")
+        self.y = array.array("d")
+        self.heading = array.array("d")
+        self.linear = array.array("d")
+        self.angular = array.array("d")
+
+    def add(self, stamp_ns: int, odom: Odometry) -> None:
+        """Append the integrator's state after a used sample."""
+        # The state is read directly (one package): odom.pose and odom.twist would wrap the
+        # heading and build two records per row only to be taken apart here.
+        self.stamps_ns.append(stamp_ns)
+        self.x.append(odom._x)
+        self.y.append(odom._y)
+        self.heading.append(odom._heading)
+        self.linear.append(odom._linear)
+        self.angular.append(odom._angular)
+
+    def __len__(self) -> int:
+        return len(self.stamps_ns)
+
+    @overload
+    def __getitem__(self, index: int) -> OdometryRow: ...
+    @overload
+    def __getitem__(self, index: slice) -> list[OdometryRow]: ...
+    def __getitem__(self, index: int | slice) -> OdometryRow | list[OdometryRow]:
+        if isinstance(index, slice):
+            return [self[i] for i in range(*index.indices(len(self)))]
+        return OdometryRow(
+            self.stamps_ns[index],
+            Pose(self.x[index], self.y[index], norm_angle(self.heading[index])),
+            Twist(self.linear[index], self.angular[index]),
+        )
+
+    def __iter__(self) -> Iterator[OdometryRow]:
+        columns = (self.stamps_ns, self.x, self.y, self.heading, self.linear, self.angular)
+        for stamp_ns, x, y, heading, linear, angular in zip(*columns, strict=True):
+            yield OdometryRow(stamp_ns, Pose(x, y, norm_angle(heading)), Twist(linear, angular))
+
+
 @dataclass(frozen=True)
 class OdometryRun:
     """The odometry of a whole recording.
 
     Attributes:
-        rows: one row per used sample (the baseline first).
+        rows: one row per used sample (the baseline first), kept as compact columns and made
+            into :class:`OdometryRow` records when read.
         samples: how many samples were used.
         skipped: how many were skipped, by reason (reading and odometry together).
         distance: path length travelled (m), the sum of |ds|.
         duration: time (s) from the first to the last used sample.
     """
 
-    rows: list[OdometryRow]
+    rows: Sequence[OdometryRow]
     samples: int
     skipped: Mapping[str, int]
     distance: float
@@ -394,22 +617,36 @@ def run_odometry(recording: Recording, odom: Odometry) -> OdometryRun:
     Raises:
         RecordingError: no sample could be used.
     """
-    rows: list[OdometryRow] = []
+    rows = _OdometryRows()
     samples = recording.samples
     origin = samples[0].stamp_ns if samples else 0
-    for stamp_ns, names, positions in samples:
-        if odom.update_joint_state(names, positions, (stamp_ns - origin) / _NS_PER_S):
-            rows.append(OdometryRow(stamp_ns, odom.pose, odom.twist))
+    missing = 0
+    if isinstance(samples, _CsvSamples):
+        # The columns straight to update(): no JointSample per row.
+        update = odom.update
+        columns = (samples.stamps_ns, samples.left, samples.right, samples.present)
+        for stamp_ns, left, right, present in zip(*columns, strict=True):
+            if present != 3:
+                missing += 1  # counted as the integrator would count it
+            elif update(left, right, (stamp_ns - origin) / _NS_PER_S):
+                rows.add(stamp_ns, odom)
+    else:
+        update_joint_state = odom.update_joint_state
+        for stamp_ns, names, positions in samples:
+            if update_joint_state(names, positions, (stamp_ns - origin) / _NS_PER_S):
+                rows.add(stamp_ns, odom)
     skipped = dict(recording.skipped)
     for reason, count in odom.skipped.items():
         skipped[reason] = skipped.get(reason, 0) + count
+    if missing:
+        skipped[SKIP_MISSING_JOINT] = skipped.get(SKIP_MISSING_JOINT, 0) + missing
     if not rows:
         reasons = ", ".join(f"{reason}: {n}" for reason, n in sorted(skipped.items()))
         raise RecordingError(
             f"{recording.source}: no usable sample"
             + (f" (skipped: {reasons})" if reasons else " (the recording holds no samples)")
         )
-    duration = (rows[-1].stamp_ns - rows[0].stamp_ns) / _NS_PER_S
+    duration = (rows.stamps_ns[-1] - rows.stamps_ns[0]) / _NS_PER_S
     return OdometryRun(rows, odom.samples, skipped, odom.distance, duration)
 
 
@@ -422,8 +659,15 @@ def format_odometry_csv(rows: Iterable[OdometryRow]) -> str:
     rad/s); floats printed so that they read back exactly."""
     out = io.StringIO()
     out.write("time,x,y,theta,linear,angular\n")
+    write = out.write
+    if isinstance(rows, _OdometryRows):  # from the columns: no records per row
+        columns = (rows.stamps_ns, rows.x, rows.y, rows.heading, rows.linear, rows.angular)
+        for stamp_ns, x, y, heading, linear, angular in zip(*columns, strict=True):
+            theta = norm_angle(heading)
+            write(f"{seconds_text(stamp_ns)},{x!r},{y!r},{theta!r},{linear!r},{angular!r}\n")
+        return out.getvalue()
     for stamp_ns, (x, y, theta), (linear, angular) in rows:
-        out.write(f"{seconds_text(stamp_ns)},{x!r},{y!r},{theta!r},{linear!r},{angular!r}\n")
+        write(f"{seconds_text(stamp_ns)},{x!r},{y!r},{theta!r},{linear!r},{angular!r}\n")
     return out.getvalue()
 
 

@@ -22,10 +22,27 @@ if TYPE_CHECKING:
 
     from diffbot.trajectory import Plan
 
-__all__ = ["CASTER_JOINTS", "JointStates", "quantise", "sample_times", "simulate"]
+__all__ = [
+    "CASTER_JOINTS",
+    "MAX_RATE",
+    "MAX_SAMPLES",
+    "MAX_TICKS",
+    "JointStates",
+    "quantise",
+    "sample_count",
+    "sample_times",
+    "simulate",
+]
 
 #: The bundled robot's caster joints, reported at 0 next to the drive wheels.
 CASTER_JOINTS: Final = ("caster_rotation_joint", "caster_wheel_joint")
+#: Highest sampling rate (Hz): samples stay a microsecond apart, far more than the nanosecond
+#: resolution of stamps needs, and no encoder is read faster.
+MAX_RATE: Final = 1e6
+#: Most samples one simulation makes (about 0.3 GB of joint angles for the bundled robot).
+MAX_SAMPLES: Final = 10_000_000
+#: Highest encoder resolution (counts per revolution).
+MAX_TICKS: Final = 2**32
 
 #: Grid times closer than this to a segment boundary (s) give way to the boundary: stamps are in
 #: nanoseconds, and two samples within one would share a stamp.
@@ -47,30 +64,56 @@ class JointStates:
     positions: NDArray[np.float64]
 
 
+def sample_count(duration: float, rate: float, boundaries: int = 0) -> float:
+    """At most how many samples :func:`sample_times` makes (a float, as it may be huge).
+
+    Args:
+        duration: the end time (s), >= 0.
+        rate: samples per second (Hz), > 0.
+        boundaries: how many extra times are asked for.
+    """
+    return duration * rate + 2.0 + boundaries
+
+
 def sample_times(
-    duration: float, rate: float, boundaries: tuple[float, ...] = ()
+    duration: float,
+    rate: float,
+    boundaries: tuple[float, ...] = (),
+    *,
+    max_samples: int = MAX_SAMPLES,
 ) -> NDArray[np.float64]:
     """Times (s) from 0 to ``duration``: every 1/rate s, at each boundary, and at the end.
 
     Args:
         duration: the end time (s), >= 0.
-        rate: samples per second (Hz), > 0.
+        rate: samples per second (Hz), > 0 and at most :data:`MAX_RATE`.
         boundaries: extra times (s) to sample at, such as segment ends.
+        max_samples: refuse to make more samples than this.
 
     Returns:
         Increasing times, shape (n,), starting at 0 and ending at ``duration`` (just 0 for a
         duration under 1 ns). A grid time within 1 ns of a boundary or of the end is replaced by
-        it, so that no two samples share a nanosecond stamp.
+        it, and grid times are at least 1 µs apart, so that no two samples share a nanosecond
+        stamp.
 
     Raises:
-        ParameterError: a non-finite or negative duration, or a rate that is not positive.
+        ParameterError: a non-finite or negative duration, a rate that is not positive or over
+            :data:`MAX_RATE`, or more than ``max_samples`` samples.
     """
     import numpy as np
 
     if not math.isfinite(duration) or duration < 0.0:
         raise ParameterError(f"duration must be finite and >= 0, got {duration!r}")
-    if not math.isfinite(rate) or rate <= 0.0:
-        raise ParameterError(f"rate must be a positive finite number (Hz), got {rate!r}")
+    if not math.isfinite(rate) or not 0.0 < rate <= MAX_RATE:
+        raise ParameterError(
+            f"rate must be a positive number up to {MAX_RATE:g} (Hz), got {rate!r}"
+        )
+    count = sample_count(duration, rate, len(boundaries))
+    if count > max_samples:
+        raise ParameterError(
+            f"{duration:g} s at {rate:g} Hz would take {count:.4g} samples, more than "
+            f"{max_samples}: lower the rate or shorten the duration"
+        )
     exact = [0.0]
     for boundary in sorted(b for b in boundaries if 0.0 < b < duration - _SAME_TIME):
         if boundary - exact[-1] > _SAME_TIME:
@@ -88,20 +131,29 @@ def sample_times(
     return np.sort(np.concatenate((grid[distance > _SAME_TIME], fixed)))
 
 
+def _check_ticks(ticks: int) -> None:
+    if not isinstance(ticks, int) or not 0 < ticks <= MAX_TICKS:
+        raise ParameterError(
+            f"ticks per revolution must be an integer from 1 to 2**32, got {ticks!r}"
+        )
+
+
 def quantise(angles: NDArray[np.float64], ticks: int) -> NDArray[np.float64]:
     """Angles (rad) as an encoder with ``ticks`` counts per revolution reports them.
 
     Args:
         angles: joint angles (rad).
-        ticks: counts per revolution, > 0.
+        ticks: counts per revolution, from 1 to :data:`MAX_TICKS`.
 
     Returns:
         Each angle rounded to the nearest multiple of 2 pi / ticks.
+
+    Raises:
+        ParameterError: ``ticks`` out of range.
     """
     import numpy as np
 
-    if ticks <= 0:
-        raise ParameterError(f"ticks per revolution must be a positive integer, got {ticks!r}")
+    _check_ticks(ticks)
     step = 2.0 * math.pi / ticks
     return np.round(angles / step) * step
 
@@ -115,6 +167,7 @@ def simulate(
     noise: float = 0.0,
     seed: int | None = None,
     extra_joints: tuple[str, ...] = CASTER_JOINTS,
+    max_samples: int = MAX_SAMPLES,
 ) -> JointStates:
     """The joint states a robot executing ``plan`` would report.
 
@@ -126,15 +179,16 @@ def simulate(
         ticks: encoder resolution (counts per revolution), or None for exact angles.
         noise: standard deviation (rad) of Gaussian noise added to each wheel angle (before
             quantisation), 0 for none.
-        seed: seed of the noise generator, for reproducible runs.
+        seed: seed of the noise generator (an integer >= 0), for reproducible runs.
         extra_joints: joints reported at 0 after the wheels (the caster by default).
+        max_samples: refuse to make more samples than this.
 
     Returns:
         Times (s) from 0 to the plan's duration, and the joint angles (rad): left wheel, right
         wheel, then ``extra_joints``.
 
     Raises:
-        ParameterError: a bad rate, resolution or noise level.
+        ParameterError: a bad rate, resolution, noise level or seed, or too many samples.
     """
     import numpy as np
 
@@ -142,12 +196,16 @@ def simulate(
 
     if not math.isfinite(noise) or noise < 0.0:
         raise ParameterError(f"noise must be a finite number >= 0 (rad), got {noise!r}")
+    if seed is not None and (not isinstance(seed, int) or seed < 0):
+        raise ParameterError(f"seed must be an integer >= 0, got {seed!r}")
+    if ticks is not None:
+        _check_ticks(ticks)
     ends: list[float] = []
     elapsed = 0.0
     for planned in plan.segments:
         elapsed += planned.duration
         ends.append(elapsed)
-    times = sample_times(plan.duration, rate, tuple(ends))
+    times = sample_times(plan.duration, rate, tuple(ends), max_samples=max_samples)
     left, right = wheel_positions(plan, times)
     wheels = np.vstack((left, right))
     if noise > 0.0:

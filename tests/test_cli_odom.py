@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 from bags import write_bag
-from click.testing import CliRunner
+from click.testing import CliRunner, Result
 from rosbags.highlevel import AnyReader
 from wheel_motion import TRAJECTORY_A, wheel_samples
 
@@ -106,7 +106,9 @@ def test_odom_refuses_to_write_over_its_input(runner: CliRunner, trajectory_a: P
     args = ["odom", str(trajectory_a), "--out", str(trajectory_a), "--force"]
     result = runner.invoke(main, args)
     assert result.exit_code == 2
-    assert "is the input: inputs are never overwritten" in result.stderr
+    assert result.stderr == (
+        f"error: --out {trajectory_a} is the input {trajectory_a}: inputs are never overwritten\n"
+    )
     assert trajectory_a.read_bytes() == before
 
 
@@ -220,4 +222,148 @@ def test_odom_without_rosbags_says_what_to_install(
     assert result.stderr == (
         "error: reading and writing ROS 2 bags needs the rosbags library: "
         "pip install 'diffbot-kinematics[bag]'\n"
+    )
+
+
+def snapshot(directory: Path) -> dict[str, bytes]:
+    """Every file under a directory, by relative path, with its bytes."""
+    return {
+        str(p.relative_to(directory)): p.read_bytes()
+        for p in sorted(directory.rglob("*"))
+        if p.is_file()
+    }
+
+
+def one_error_line(result: Result, fragment: str) -> None:
+    assert result.exit_code == 2, result.output
+    assert result.stderr.startswith("error: ")
+    assert result.stderr.count("\n") == 1
+    assert fragment in result.stderr
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+@pytest.mark.parametrize(
+    ("given", "out", "as_bag", "fragment"),
+    [
+        ("{bag}", "{bag}", True, "is the input"),
+        ("{bag}/{storage_file}", "{bag}", True, "is the input"),
+        ("{bag}", "{bag}/metadata.yaml", False, "lies inside the input"),
+        ("{bag}", "{bag}/{storage_file}", False, "lies inside the input"),
+        ("{bag}/{storage_file}", "{bag}/metadata.yaml", False, "lies inside the input"),
+        ("{bag}/{storage_file}", "{bag}/{storage_file}", False, "lies inside the input"),
+        ("{bag}", "{bag}/sub/odom.csv", False, "lies inside the input"),
+        ("{bag}", "{tmp}", True, "contains the input"),
+    ],
+)
+def test_odom_force_never_touches_the_input_bag(
+    runner: CliRunner,
+    tmp_path: Path,
+    storage: str,
+    given: str,
+    out: str,
+    as_bag: bool,
+    fragment: str,
+) -> None:
+    bag = write_bag(tmp_path / "in", [(1, 1, [LEFT, RIGHT], [0.0, 0.0])], storage=storage)
+    storage_file = "in.mcap" if storage == "mcap" else "in.db3"
+    (tmp_path / "metadata.yaml").write_text("a bag, so that --force would replace it\n")
+    names = {"bag": bag, "storage_file": storage_file, "tmp": tmp_path}
+    before = snapshot(tmp_path)
+    args = ["odom", given.format(**names), "--out", out.format(**names), "--force"]
+    result = runner.invoke(main, [*args, "--bag"] if as_bag else args)
+    one_error_line(result, fragment)
+    assert snapshot(tmp_path) == before
+
+
+def test_odom_force_never_writes_over_the_robot_or_through_a_link_to_the_input(
+    runner: CliRunner, trajectory_a: Path, tmp_path: Path
+) -> None:
+    robot = tmp_path / "robot.urdf"
+    assert runner.invoke(main, ["urdf", "-o", str(robot)]).exit_code == 0
+    link = tmp_path / "link.csv"
+    link.symlink_to(trajectory_a)
+    before = snapshot(tmp_path)
+    args = ["odom", str(trajectory_a), "--robot", str(robot), "--force", "--out"]
+    one_error_line(runner.invoke(main, [*args, str(robot)]), f"is the input {robot}")
+    one_error_line(runner.invoke(main, [*args, str(link)]), f"is the input {trajectory_a}")
+    assert snapshot(tmp_path) == before
+
+
+def test_odom_reads_a_simulated_bag_whose_name_ends_in_dot_bag(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    bag = tmp_path / "sim.bag"
+    result = runner.invoke(main, ["simulate", "--out", str(bag), "--bag", "--start", "1"])
+    assert result.exit_code == 0, result.output
+    data = odom_json(runner, str(bag))
+    assert data["samples"] == 2001
+    assert data["clock"] == "header"
+    result = runner.invoke(main, ["odom", str(bag)])
+    assert result.exit_code == 0, result.output
+    assert f"input       {bag} (rosbag2, topic /joint_states, header stamps)" in result.stdout
+
+
+def test_odom_says_when_a_zero_header_stamp_puts_a_bag_on_its_receive_clock(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    epoch = 1_700_000_000 * 10**9
+    messages = [
+        (k * 10**8, epoch + k * 10**8, [LEFT, RIGHT], [float(k), float(k)]) for k in range(11)
+    ]
+    data = odom_json(runner, str(write_bag(tmp_path / "in", messages)))
+    assert data["clock"] == "receive"
+    assert data["samples"] == 11
+    assert data["skipped"] == {}
+    assert data["duration"] == 1.0
+
+
+def test_odom_reads_a_csv_from_stdin(runner: CliRunner) -> None:
+    simulated = runner.invoke(main, ["simulate", "straight 1; spin 90"])
+    assert simulated.exit_code == 0, simulated.output
+    result = runner.invoke(main, ["odom", "-", "--json"], input=simulated.stdout)
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["input"] == "-"
+    assert data["final_pose"]["x"] == pytest.approx(1.0, abs=1e-9)
+    assert data["final_pose"]["theta"] == pytest.approx(math.pi / 2, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("args", "stdin", "message"),
+    [
+        ([""], None, "error: INPUT is empty: give a CSV file, - for stdin, or a rosbag2 recording"),
+        (["a.csv", "--out", ""], None, "error: --out needs a file or directory name, got ''"),
+        (["a.csv", "--out", " ", "--bag"], None, "error: --out needs a file or directory name"),
+        (["-"], b"", "error: -: empty file"),
+        (["-"], b"\xff\xfe\x00", "error: -: stdin is not a text (UTF-8) CSV"),
+        (["-"], b"time,a,b\n0,0,0\n", "error: -: no column for the left wheel joint"),
+        (["-", "--out", "-"], b"time\n", "error: -: no column for the left wheel joint"),
+    ],
+)
+def test_odom_refuses_empty_names_and_bad_stdin_with_one_error_line(
+    runner: CliRunner,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    args: list[str],
+    stdin: bytes | None,
+    message: str,
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "a.csv").write_text(f"time,{LEFT},{RIGHT}\n0,0,0\n", encoding="utf-8")
+    one_error_line(runner.invoke(main, ["odom", *args], input=stdin), message)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv"]
+
+
+def test_odom_skips_times_too_large_for_ros_time_and_fails_only_without_samples(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text(f"time,{LEFT},{RIGHT}\n0,0,0\n1e400,1,1\n1e100000000,1,1\n2,2,2\n")
+    result = runner.invoke(main, ["odom", str(path)])
+    assert result.exit_code == 0, result.output
+    assert result.stderr == "warning: skipped 2 of 4 samples: 2 stamp out of range\n"
+    path.write_text(f"time,{LEFT},{RIGHT}\n1e400,1,1\n1_0,1,1\n")
+    one_error_line(
+        runner.invoke(main, ["odom", str(path)]),
+        "no usable sample (skipped: stamp out of range: 1, unreadable value: 1)",
     )

@@ -504,3 +504,98 @@ def test_batch_integration_refuses_bad_arrays(
 ) -> None:
     with pytest.raises(diffbot.ParameterError, match=match):
         integrate(BOT, left, right)
+
+
+# --------------------------------------------------------------------------------------------
+# Integer-nanosecond stamps
+
+
+def epoch_samples(steps: int) -> list[tuple[int, float, float]]:
+    """A straight drive at 0.1 m/s sampled at 1 kHz from 1.7e9 s: (stamp ns, left, right)."""
+    start = 1_700_000_000_123_456_789
+    rate = 0.1 / BOT.wheel_radius  # rad/s of both wheels
+    return [(start + k * 1_000_000, rate * k * 1e-3, rate * k * 1e-3) for k in range(steps)]
+
+
+def test_float_epoch_stamps_lose_velocity_precision_that_integer_stamps_keep() -> None:
+    by_float = Odometry(BOT)
+    by_ns = Odometry(BOT)
+    joints = Odometry(BOT)
+    worst_float = worst_ns = 0.0
+    for stamp_ns, left, right in epoch_samples(200):
+        sec, nanosec = divmod(stamp_ns, 1_000_000_000)
+        assert by_float.update(left, right, sec + nanosec * 1e-9)
+        assert by_ns.update(left, right, stamp_ns=stamp_ns)
+        assert joints.update_joint_state([RIGHT, LEFT], [right, left], stamp_ns=stamp_ns)
+        if by_ns.samples > 1:
+            worst_float = max(worst_float, abs(by_float.twist.linear / 0.1 - 1.0))
+            worst_ns = max(worst_ns, abs(by_ns.twist.linear / 0.1 - 1.0))
+    assert worst_float > 1e-5  # what the docstrings warn about
+    assert worst_ns < 1e-12
+    assert joints.twist == by_ns.twist
+    assert by_ns.stamp_ns == epoch_samples(200)[-1][0]
+    assert by_ns.stamp == by_ns.stamp_ns / 1e9
+    assert by_float.stamp_ns is None
+
+
+def test_integer_stamps_skip_duplicates_and_mix_with_float_stamps() -> None:
+    odom = Odometry(BOT)
+    assert odom.update(0.0, 0.0, stamp_ns=2_000_000_000)
+    assert not odom.update(1.0, 1.0, stamp_ns=2_000_000_000)
+    assert not odom.update(1.0, 1.0, stamp_ns=2**63)  # no ROS time: like an infinite stamp
+    assert odom.skipped == {SKIP_STAMP_NOT_AFTER: 1, SKIP_NOT_FINITE: 1}
+    assert odom.update(1.0, 1.0, 2.5)  # a float stamp after an integer one
+    assert odom.twist.linear == pytest.approx(2 * BOT.wheel_radius, rel=1e-12)
+    assert odom.update(2.0, 2.0, stamp_ns=3_000_000_000)
+    assert odom.twist.linear == pytest.approx(2 * BOT.wheel_radius, rel=1e-12)
+    assert odom.message().header.stamp == 3.0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({}, r"give the sample's time: stamp \(s\) or stamp_ns \(ns\)"),
+        ({"stamp": 1.0, "stamp_ns": 1}, "give the sample's time once"),
+        ({"stamp_ns": 1.5}, "stamp_ns must be an integer number of nanoseconds, got 1.5"),
+    ],
+)
+def test_a_sample_needs_exactly_one_stamp(kwargs: dict[str, float], match: str) -> None:
+    odom = Odometry(BOT)
+    with pytest.raises(diffbot.ParameterError, match=match):
+        odom.update(0.0, 0.0, **kwargs)  # type: ignore[arg-type]
+    with pytest.raises(diffbot.ParameterError, match=match):
+        odom.update_joint_state([LEFT, RIGHT], [0.0, 0.0], **kwargs)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("left", "right", "match"),
+    [
+        ([math.nan], [2.0], r"must be finite: sample 0 has left nan, right 2\.0"),
+        ([1.0], [-math.inf], r"must be finite: sample 0 has left 1\.0, right -inf"),
+        ([0.0, 1.0, math.nan, 3.0], [0.0, 1.0, 2.0, math.nan], "sample 2 has left nan"),
+        ([math.nan, 1.0], [0.0, 1.0], "sample 0 has left nan"),
+        ([0.0, 1.0], [0.0, math.inf], "sample 1 has left 1.0, right inf"),
+    ],
+)
+def test_batch_integration_names_the_first_non_finite_sample(
+    left: list[float], right: list[float], match: str
+) -> None:
+    with pytest.raises(diffbot.ParameterError, match=match):
+        integrate(BOT, left, right)
+
+
+@pytest.mark.parametrize(
+    ("left", "match"),
+    [
+        ([1j], "left wheel positions must be real numbers"),
+        (np.array([1.0 + 0j]), "must be real numbers .*complex128"),
+        (["1.0"], "must be real numbers"),
+        ([None], "must be real numbers"),
+        ([object()], "must be real numbers"),
+    ],
+)
+def test_batch_integration_refuses_what_is_not_a_real_number(left: object, match: str) -> None:
+    with pytest.raises(diffbot.ParameterError, match=match):
+        integrate(BOT, left, [0.0])  # type: ignore[arg-type]
+    with pytest.raises(diffbot.ParameterError, match=match.replace("left", "right")):
+        integrate(BOT, [0.0], left)  # type: ignore[arg-type]

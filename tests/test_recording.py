@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import io
 import math
 import sys
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +18,10 @@ import diffbot
 from diffbot.kinematics import DiffDriveParams, Pose
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry
 from diffbot.recording import (
+    CLOCK_HEADER,
+    CLOCK_RECEIVE,
     SKIP_MISSING_STAMP,
+    SKIP_STAMP_RANGE,
     SKIP_UNREADABLE,
     OdometryRow,
     format_joint_states_csv,
@@ -100,7 +105,7 @@ def test_csv_velocity_columns_of_the_wheels_are_not_taken_for_positions(tmp_path
         encoding="utf-8",
     )
     samples = read_csv(path, LEFT, RIGHT).samples
-    assert samples[1].positions == [2.0, 2.0]
+    assert list(samples[1].positions) == [2.0, 2.0]
 
 
 def test_csv_stamps_are_read_exactly_to_the_nanosecond(tmp_path: Path) -> None:
@@ -111,6 +116,84 @@ def test_csv_stamps_are_read_exactly_to_the_nanosecond(tmp_path: Path) -> None:
     )
     stamps = [s.stamp_ns for s in read_csv(path, LEFT, RIGHT).samples]
     assert stamps == [1_700_000_000_123_456_789, 1_700_000_000_000_000_000, -500_000_000]
+
+
+@pytest.mark.parametrize(
+    ("cell", "stamp_ns"),
+    [
+        ("0.0000000005", 0),  # half a nanosecond: ties go to even
+        ("0.0000000015", 2),
+        ("0.00000000150000000000000000000000000000000000000000000000000000000000001", 2),
+        ("0.00000000049999999999999999999999999999999999999999999999999999999999999", 0),
+        ("  12.5  ", 12_500_000_000),
+        ("12.", 12_000_000_000),
+        (".5", 500_000_000),
+        ("+3E-9", 3),
+        ("9223372036.854775807", 2**63 - 1),
+    ],
+)
+def test_csv_stamps_are_rounded_to_the_nearest_nanosecond(
+    tmp_path: Path, cell: str, stamp_ns: int
+) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text(f"time,{LEFT},{RIGHT}\n{cell},0,0\n", encoding="utf-8")
+    assert [s.stamp_ns for s in read_csv(path, LEFT, RIGHT).samples] == [stamp_ns]
+
+
+def test_csv_times_beyond_ros_time_and_digit_groups_are_skipped_not_fatal(tmp_path: Path) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text(
+        f"time,{LEFT},{RIGHT}\n"
+        "0,0,0\n"
+        "1e400,1,1\n"  # finite as a decimal, infinite as a float
+        "1e100000000,1,1\n"
+        "-1e400,1,1\n"
+        "9223372036.854775808,1,1\n"  # one nanosecond past int64
+        f"{'9' * 5000},1,1\n"  # more digits than int() converts
+        "1_0,1,1\n"  # Python's digit grouping is no CSV number
+        "2,1_0,1\n"
+        "3,1,1_0.5\n"
+        "4,4,4\n",
+        encoding="utf-8",
+    )
+    recording = read_csv(path, LEFT, RIGHT)
+    assert recording.skipped == {SKIP_STAMP_RANGE: 5, SKIP_UNREADABLE: 3}
+    assert [s.stamp_ns for s in recording.samples] == [0, 4_000_000_000]
+    run = run_odometry(recording, Odometry(BOT))
+    assert run.final_pose.x == pytest.approx(4 * BOT.wheel_radius, rel=1e-12)
+
+
+def test_csv_can_be_read_from_a_text_stream() -> None:
+    stream = io.StringIO(f"time,{LEFT},{RIGHT}\n0,0,0\n1,1,1\n")
+    recording = read_csv(stream, LEFT, RIGHT, source="-")
+    assert recording.source == "-"
+    assert [s.stamp_ns for s in recording.samples] == [0, 1_000_000_000]
+    with pytest.raises(diffbot.RecordingError, match=r"^-: empty file$"):
+        read_csv(io.StringIO(""), LEFT, RIGHT, source="-")
+
+
+def test_csv_rows_are_kept_in_compact_columns(tmp_path: Path) -> None:
+    rows = 50_000
+    path = tmp_path / "big.csv"
+    lines = [f"time,caster,{LEFT},{RIGHT},battery"]
+    lines += [f"{k / 50!r},0.0,{k * 1e-3!r},{k * 2e-3!r},12.5" for k in range(rows)]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    tracemalloc.start()
+    try:
+        recording = read_csv(path, LEFT, RIGHT)
+        run = run_odometry(recording, Odometry(BOT))
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert run.samples == rows
+    # 25 bytes a sample and 48 a pose as columns; a list of records per row took over 600.
+    assert peak / rows < 150
+    assert run.rows[-1] == OdometryRow(
+        round((rows - 1) / 50 * 1e9), run.final_pose, run.rows[-1].twist
+    )
+    assert list(run.rows)[-1] == run.rows[-1]
+    assert recording.samples[-1] == list(recording.samples)[-1]
+    assert recording.samples[-2:] == list(recording.samples)[-2:]
 
 
 def test_empty_csv_cells_are_missing_joints_and_bad_cells_are_skipped(tmp_path: Path) -> None:
@@ -130,7 +213,7 @@ def test_empty_csv_cells_are_missing_joints_and_bad_cells_are_skipped(tmp_path: 
     )
     recording = read_csv(path, LEFT, RIGHT)
     assert recording.skipped == {SKIP_MISSING_STAMP: 1, SKIP_NOT_FINITE: 1, SKIP_UNREADABLE: 1}
-    assert [s.names for s in recording.samples] == [
+    assert [list(s.names) for s in recording.samples] == [
         [LEFT, RIGHT],
         [LEFT],
         [LEFT, RIGHT],
@@ -368,3 +451,38 @@ def test_a_failed_bag_write_leaves_nothing_behind(tmp_path: Path) -> None:
     with pytest.raises(AttributeError, match="encode"):
         write_joint_states_bag(tmp_path / "js", [1], [123], [[1.0]])  # type: ignore[list-item]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_one_zero_header_stamp_puts_the_whole_topic_on_the_bag_clock(tmp_path: Path) -> None:
+    # The first header stamp is 0, the others count from 0.1 s: mixed per message, every later
+    # sample would be 54 years before the first and skipped.
+    received = [EPOCH + k * 100_000_000 for k in range(11)]
+    headers = [0] + [k * 100_000_000 for k in range(1, 11)]
+    messages = [
+        (header, receive, [LEFT, RIGHT], [float(k), float(k)])
+        for k, (header, receive) in enumerate(zip(headers, received, strict=True))
+    ]
+    recording = read_bag(write_bag(tmp_path / "bag", messages))
+    assert recording.clock == CLOCK_RECEIVE
+    assert [s.stamp_ns for s in recording.samples] == received
+    run = run_odometry(recording, Odometry(BOT))
+    assert run.samples == 11
+    assert run.skipped == {}
+    assert run.final_pose.x == pytest.approx(10 * BOT.wheel_radius, rel=1e-12)
+
+
+def test_header_stamps_are_used_when_every_one_is_set(tmp_path: Path) -> None:
+    messages = [(5 + k, 10**12 + 7 * k, [LEFT, RIGHT], [0.0, 0.0]) for k in range(3)]
+    recording = read_bag(write_bag(tmp_path / "bag", messages))
+    assert recording.clock == CLOCK_HEADER
+    assert [s.stamp_ns for s in recording.samples] == [5, 6, 7]
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_a_rosbag2_directory_named_like_a_ros1_bag_is_read_as_rosbag2(
+    tmp_path: Path, storage: str
+) -> None:
+    bag = write_bag(tmp_path / "run.bag", trajectory_a_messages()[:5], storage=storage)
+    assert len(read_recording(bag, BOT).samples) == 5
+    storage_file = next(p for p in bag.iterdir() if p.suffix in (".db3", ".mcap"))
+    assert len(read_recording(storage_file, BOT).samples) == 5

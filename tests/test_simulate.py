@@ -3,6 +3,7 @@ does."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 from pathlib import Path
@@ -95,7 +96,7 @@ def test_quantised_angles_are_whole_encoder_counts_within_half_a_count() -> None
     counts = quantise(angles, 1024) / (2 * math.pi / 1024)
     assert np.allclose(counts, np.round(counts), atol=1e-9)
     assert np.max(np.abs(quantise(angles, 1024) - angles)) <= math.pi / 1024 + 1e-15
-    with pytest.raises(diffbot.ParameterError, match="positive integer, got 0"):
+    with pytest.raises(diffbot.ParameterError, match=r"an integer from 1 to 2\*\*32, got 0"):
         quantise(angles, 0)
 
 
@@ -262,7 +263,7 @@ def test_simulate_of_a_plan_over_the_limit_writes_it_and_exits_1(
     [
         (["straight"], "error: "),
         (["straight 1", "--rate", "0"], "'0' must be > 0"),
-        (["straight 1", "--ticks", "0"], "0 is not in the range x>=1"),
+        (["straight 1", "--ticks", "0"], "0 is not in the range 1<=x<=4294967296"),
         (["straight 1", "--noise", "-1"], "'-1' must be >= 0"),
         (["straight 1", "--noise", "nan"], "not a finite number"),
         (["straight 1", "--bag"], "--bag writes the --out directory"),
@@ -290,3 +291,105 @@ def test_simulate_never_overwrites_without_force(runner: CliRunner, tmp_path: Pa
     assert out.read_text(encoding="utf-8") == "keep"
     assert runner.invoke(main, ["simulate", "--out", str(out), "--force"]).exit_code == 0
     assert out.read_text(encoding="utf-8").startswith("time,")
+
+
+def test_simulate_force_never_writes_over_its_plan_or_robot_file(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    plan_file = tmp_path / "plan.yaml"
+    plan_file.write_text("- {straight: 1.0, duration: 10}\n", encoding="utf-8")
+    robot = tmp_path / "robot.urdf"
+    assert runner.invoke(main, ["urdf", "-o", str(robot)]).exit_code == 0
+    (tmp_path / "metadata.yaml").write_text("a bag, so that --force would replace it\n")
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    base = ["simulate", str(plan_file), "--robot", str(robot), "--force"]
+    for extra, fragment in [
+        (["--out", str(plan_file)], f"is the input {plan_file}"),
+        (["--out", str(robot)], f"is the input {robot}"),
+        (["--out", str(tmp_path), "--bag"], f"contains the input {plan_file}"),
+    ]:
+        result = runner.invoke(main, [*base, *extra])
+        assert result.exit_code == 2, result.output
+        assert result.stderr.startswith("error: ")
+        assert result.stderr.count("\n") == 1
+        assert fragment in result.stderr
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--seed", "-1", "--noise", "0.1"], "Invalid value for '--seed': -1 is not in the range"),
+        (["--seed", str(2**64)], "Invalid value for '--seed'"),
+        (["--start", "1e300"], "'1e300' is past 2262, the end of int64 nanosecond stamps"),
+        (["--start", "1e100000000"], "is past 2262"),
+        (["--start", "-1"], "'-1' must be >= 0"),
+        (["--start", "nan"], "'nan' is not a finite number"),
+        (["--start", "1_0"], "'1_0' is not a number"),
+        (["--start", "9223372036"], "--start plus the plan's 40 s ends past 2262"),
+        (["--ticks", "1" + "0" * 400], "Invalid value for '--ticks'"),
+        (["--ticks", str(2**32 + 1)], "Invalid value for '--ticks'"),
+        (["--rate", "1e300"], "'1e300' must be <= 1e+06 Hz"),
+        (["--rate", "1e10"], "'1e10' must be <= 1e+06 Hz"),
+        (["--rate", "inf"], "not a finite number"),
+        (["straight 1 1e300s"], "would take 5e+301 samples, more than the 10000000"),
+        (["straight 1", "--speed", "1e-300"], "the plan is too long even at 1 Hz"),
+        (["straight 1", "--speed", "1e-9"], "would take 5e+10 samples"),
+        (
+            ["--rate", "1e6"],
+            "would take 4e+07 samples, more than the 10000000 simulate makes: "
+            "lower --rate to at most 2.5e+05 Hz",
+        ),
+        (["--topic", ""], "--topic '' is not a valid ROS topic name"),
+        (["--topic", "a b"], "--topic 'a b' is not a valid ROS topic name"),
+    ],
+)
+def test_simulate_refuses_out_of_range_options_with_one_error_line(
+    runner: CliRunner, tmp_path: Path, args: list[str], message: str
+) -> None:
+    out = tmp_path / "out"
+    result = runner.invoke(main, ["simulate", *args, "--out", str(out), "--bag"])
+    assert result.exit_code == 2, result.output
+    assert result.stderr.startswith("error: ")
+    assert result.stderr.count("\n") == 1
+    assert message in result.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_simulate_start_is_read_exactly_to_the_nanosecond(runner: CliRunner) -> None:
+    result = runner.invoke(main, ["simulate", "straight 0.1 1s", "--start", "1700000000.123456789"])
+    assert result.exit_code == 0, result.output
+    times = [line.split(",")[0] for line in result.stdout.splitlines()[1:]]
+    assert times[0] == "1700000000.123456789"
+    assert times[-1] == "1700000001.123456789"
+
+
+def test_simulate_at_the_highest_rate_gives_every_sample_its_own_stamp(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    result = runner.invoke(main, ["simulate", "straight 0.0001 0.002s", "--rate", "1e6"])
+    assert result.exit_code == 0, result.output
+    (tmp_path / "j.csv").write_text(result.stdout, encoding="utf-8")
+    recording = read_csv(tmp_path / "j.csv", BOT.left_joint, BOT.right_joint)
+    stamps = [s.stamp_ns for s in recording.samples]
+    assert len(stamps) == 2001
+    assert stamps == sorted(set(stamps))
+    assert min(b - a for a, b in itertools.pairwise(stamps)) == 1000
+
+
+def test_library_refuses_rates_and_sample_counts_it_cannot_stamp_or_hold() -> None:
+    with pytest.raises(
+        diffbot.ParameterError, match=r"rate must be a positive number up to 1e\+06"
+    ):
+        sample_times(1.0, 2e6)
+    with pytest.raises(diffbot.ParameterError, match=r"would take 5e\+10 samples, more than"):
+        sample_times(1e9, 50.0)
+    with pytest.raises(diffbot.ParameterError, match="more than 100: lower the rate"):
+        sample_times(10.0, 10.0, max_samples=100)
+    with pytest.raises(diffbot.ParameterError, match=r"from 1 to 2\*\*32, got 4294967297"):
+        quantise(np.zeros(3), 2**32 + 1)
+    p = plan(parse_plan("straight 1"), BOT)
+    with pytest.raises(diffbot.ParameterError, match="seed must be an integer >= 0, got -1"):
+        simulate(p, BOT, noise=0.1, seed=-1)
+    with pytest.raises(diffbot.ParameterError, match=r"from 1 to 2\*\*32, got 0"):
+        simulate(p, BOT, ticks=0)
