@@ -1164,43 +1164,54 @@ def _check_topic(option: str, name: str) -> str:
     return name
 
 
+def plan_input_options(command: F) -> F:
+    """The options that say which plan to make, shared by ``plan`` and ``simulate``."""
+    options = [
+        click.option(
+            "--example",
+            type=click.Choice(["A", "B"], case_sensitive=False),
+            metavar="A|B",
+            help="One of the seed's Figure 1 paths (A is used when nothing is given).",
+        ),
+        click.option(
+            "--speed",
+            type=POSITIVE,
+            default=0.1,
+            show_default=True,
+            metavar="M/S",
+            help="Cruise path speed of straights and arcs without a duration (m/s).",
+        ),
+        click.option(
+            "--spin-rate",
+            type=POSITIVE,
+            default=0.5,
+            show_default=True,
+            metavar="RAD/S",
+            help="Turn rate of spins without a duration (rad/s; 0.5 rad/s = 28.6 deg/s).",
+        ),
+        click.option(
+            "--fastest",
+            is_flag=True,
+            help="Give every segment the shortest duration that keeps its wheels within the "
+            "limit (durations given in the plan are ignored).",
+        ),
+        click.option(
+            "--rpm-limit",
+            type=POSITIVE,
+            metavar="RPM",
+            help="Motor limit to check against (rpm), instead of the description's (or --max-rpm).",
+        ),
+    ]
+    decorated: Any = command
+    for option in reversed(options):
+        decorated = option(decorated)
+    return decorated  # type: ignore[no-any-return]
+
+
 @main.command("plan", context_settings=NUMBERS)
 @click.argument("tokens", nargs=-1, metavar="[SPEC | FILE] [NAME:=VALUE]...")
 @robot_options
-@click.option(
-    "--example",
-    type=click.Choice(["A", "B"], case_sensitive=False),
-    metavar="A|B",
-    help="Plan one of the seed's Figure 1 paths (A is planned when nothing is given).",
-)
-@click.option(
-    "--speed",
-    type=POSITIVE,
-    default=0.1,
-    show_default=True,
-    metavar="M/S",
-    help="Cruise path speed of straights and arcs without a duration (m/s).",
-)
-@click.option(
-    "--spin-rate",
-    type=POSITIVE,
-    default=0.5,
-    show_default=True,
-    metavar="RAD/S",
-    help="Turn rate of spins without a duration (rad/s; 0.5 rad/s = 28.6 deg/s).",
-)
-@click.option(
-    "--fastest",
-    is_flag=True,
-    help="Give every segment the shortest duration that keeps its wheels within the limit "
-    "(durations given in the plan are ignored).",
-)
-@click.option(
-    "--rpm-limit",
-    type=POSITIVE,
-    metavar="RPM",
-    help="Motor limit to check against (rpm), instead of the description's (or --max-rpm).",
-)
+@plan_input_options
 @click.option(
     "--format",
     "output_format",
@@ -1609,33 +1620,7 @@ class _StartType(click.ParamType):  # type: ignore[type-arg,unused-ignore]
 @main.command(context_settings=NUMBERS)
 @click.argument("tokens", nargs=-1, metavar="[SPEC | FILE] [NAME:=VALUE]...")
 @robot_options
-@click.option(
-    "--example",
-    type=click.Choice(["A", "B"], case_sensitive=False),
-    metavar="A|B",
-    help="Simulate one of the seed's Figure 1 paths (A is used when nothing is given).",
-)
-@click.option(
-    "--speed",
-    type=POSITIVE,
-    default=0.1,
-    show_default=True,
-    metavar="M/S",
-    help="Cruise path speed of straights and arcs without a duration (m/s).",
-)
-@click.option(
-    "--spin-rate",
-    type=POSITIVE,
-    default=0.5,
-    show_default=True,
-    metavar="RAD/S",
-    help="Turn rate of spins without a duration (rad/s).",
-)
-@click.option(
-    "--fastest",
-    is_flag=True,
-    help="Give every segment the shortest duration that keeps its wheels within the limit.",
-)
+@plan_input_options
 @click.option(
     "--rate",
     type=_RateType(),
@@ -1699,6 +1684,7 @@ def simulate(
     speed: float,
     spin_rate: float,
     fastest: bool,
+    rpm_limit: float | None,
     rate: float,
     ticks: int | None,
     noise: float,
@@ -1745,7 +1731,10 @@ def simulate(
     inputs = [path for path in (source.path, robot.robot) if path is not None]
     out_path = _check_out(out, [Path(path) for path in inputs], force)
     params = robot.load()
-    p = make_plan(source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest)
+    limit = None if rpm_limit is None else rad_s_from_rpm(rpm_limit)
+    p = make_plan(
+        source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest, limit=limit
+    )
     count = sample_count(p.duration, rate, len(p.segments))
     if count > MAX_SAMPLES:
         highest = (MAX_SAMPLES - 2 - len(p.segments)) / p.duration
