@@ -479,6 +479,40 @@ def urdf(
         write_text_atomic(Path(output), expansion.urdf, force=force, inputs=[source])
 
 
+#: Storage files of a rosbag2 recording: given one of them, the recording is its directory.
+_BAG_FILES = (".db3", ".mcap")
+
+
+def _occupied(path: Path) -> Path:
+    """The resolved path an input occupies: a bag given as one of its files is its directory."""
+    resolved = path.resolve()
+    if (
+        resolved.is_file()
+        and resolved.suffix.lower() in _BAG_FILES
+        and (resolved.parent / "metadata.yaml").is_file()
+    ):
+        return resolved.parent
+    return resolved
+
+
+def input_clash(target: Path, inputs: Sequence[Path]) -> tuple[str, Path] | None:
+    """How an output path would touch an input: ("is" | "inside" | "contains", that input).
+
+    Paths are compared resolved, links followed; a bag given as one of its files is its whole
+    directory. None when the output touches no input.
+    """
+    resolved = target.resolve()
+    for given in inputs:
+        occupied = _occupied(given)
+        if resolved == occupied:
+            return "is", given
+        if occupied in resolved.parents:
+            return "inside", given
+        if resolved in occupied.parents:
+            return "contains", given
+    return None
+
+
 def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Path:
     """Check where an output may go; return the real path to replace (links followed).
 
@@ -493,9 +527,12 @@ def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Pa
             fail(f"{path} is not a regular file: refusing to replace it")
     if not target.parent.is_dir():
         fail(f"{path}: directory {target.parent} does not exist")
-    for source in inputs:
-        if source.exists() and target.exists() and source.resolve() == target.resolve():
-            fail(f"{path} is an input: refusing to overwrite it")
+    clash = input_clash(target, inputs)
+    if clash is not None:
+        relation, given = clash
+        what = {"is": "is an input", "inside": "lies inside the input", "contains": "contains"}
+        detail = "" if relation == "is" else f" {given}"
+        fail(f"{path} {what[relation]}{detail}: refusing to overwrite it")
     return target
 
 
@@ -1384,22 +1421,6 @@ if TYPE_CHECKING:
     from diffbot.recording import Recording
 
 
-#: Storage files of a rosbag2 recording: given one of them, the recording is its directory.
-_BAG_FILES = (".db3", ".mcap")
-
-
-def _occupied(path: Path) -> Path:
-    """The resolved path an input occupies: a bag given as one of its files is its directory."""
-    resolved = path.resolve()
-    if (
-        resolved.is_file()
-        and resolved.suffix.lower() in _BAG_FILES
-        and (resolved.parent / "metadata.yaml").is_file()
-    ):
-        return resolved.parent
-    return resolved
-
-
 def _check_out(out: str | None, inputs: Sequence[Path], force: bool) -> Path | None:
     """The --out path, refused early when it is empty, exists (without --force), or is, holds
     or lies inside an input (compared as resolved paths, links followed)."""
@@ -1408,15 +1429,13 @@ def _check_out(out: str | None, inputs: Sequence[Path], force: bool) -> Path | N
     if not out.strip():
         fail("--out needs a file or directory name, got ''")
     path = Path(out)
-    target = path.resolve()
-    for given in inputs:
-        occupied = _occupied(given)
-        if target == occupied:
-            fail(f"--out {out} is the input {given}: inputs are never overwritten")
-        if occupied in target.parents:
+    clash = input_clash(path, inputs)
+    if clash is not None:
+        relation, given = clash
+        if relation == "inside":
             fail(f"--out {out} lies inside the input {given}: inputs are never modified")
-        if target in occupied.parents:
-            fail(f"--out {out} contains the input {given}: inputs are never overwritten")
+        what = "is the input" if relation == "is" else "contains the input"
+        fail(f"--out {out} {what} {given}: inputs are never overwritten")
     if (path.exists() or path.is_symlink()) and not force:
         fail(f"{out} exists: use --force to overwrite it")
     return path
