@@ -38,6 +38,7 @@ from diffbot.kinematics import (
     norm_angle,
     rpm_from_rad_s,
 )
+from diffbot.textfile import read_text
 
 if TYPE_CHECKING:
     from typing import TypeAlias
@@ -891,17 +892,7 @@ def load_plan(path: str | os.PathLike[str]) -> list[Segment]:
         PlanError: the file cannot be read or parsed, or an entry is bad (the message names it).
     """
     source = os.fspath(path)
-    try:
-        with open(source, encoding="utf-8-sig") as handle:  # a BOM is not part of the plan
-            text = handle.read()
-    except FileNotFoundError:
-        raise PlanError(f"{source}: no such file") from None
-    except IsADirectoryError:
-        raise PlanError(f"{source}: is a directory, not a plan file") from None
-    except UnicodeDecodeError as err:
-        raise PlanError(f"{source}: not a text file ({err.reason})") from None
-    except OSError as err:
-        raise PlanError(f"{source}: cannot read ({err.strerror})") from None
+    text = read_text(source, PlanError, "a plan file")
     suffix = os.path.splitext(source)[1].lower()
     if suffix == ".json":
         return segments_from_data(_load_json(text, source), source)

@@ -38,6 +38,7 @@ from diffbot.errors import (
     XacroError,
 )
 from diffbot.kinematics import DiffDriveParams
+from diffbot.textfile import read_text
 
 if TYPE_CHECKING:
     import numpy as np
@@ -124,16 +125,7 @@ def _is_xacro(path: Path, text: str) -> bool:
 
 
 def _check_file(path: Path) -> str:
-    try:
-        return path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise DescriptionError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise DescriptionError(f"{path}: is a directory, not a URDF or xacro file") from None
-    except UnicodeDecodeError as err:
-        raise DescriptionError(f"{path}: not a text file ({err.reason})") from None
-    except OSError as err:
-        raise DescriptionError(f"{path}: cannot read ({err.strerror})") from None
+    return read_text(path, DescriptionError, "a URDF or xacro file")
 
 
 def _one_line(text: str) -> str:
