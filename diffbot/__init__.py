@@ -11,6 +11,9 @@ Quick use::
 SI units throughout: metres, seconds, radians, rad/s.
 """
 
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from diffbot.errors import (
     DescriptionError,
     DiffbotError,
@@ -38,24 +41,64 @@ from diffbot.kinematics import (
     wheel_from_joint,
     within_limit,
 )
-from diffbot.odometry import Odometry, OdometryMessage, PoseSeries, TransformStamped, integrate
-from diffbot.trajectory import (
-    EXAMPLES,
-    Arc,
-    Plan,
-    PlannedSegment,
-    Segment,
-    Spin,
-    Straight,
-    Violation,
-    format_plan,
-    load_plan,
-    parse_plan,
-    plan,
-    pose_at,
-    wheel_positions,
-)
 from diffbot.urdf import BUNDLED_DESCRIPTION, derive_params, expand, load_params
+
+# Plans and odometry load on first use: most commands need neither, and they would add to the
+# start-up of every CLI run (about 13 ms of it).
+if TYPE_CHECKING:
+    from diffbot.odometry import Odometry, OdometryMessage, PoseSeries, TransformStamped, integrate
+    from diffbot.trajectory import (
+        EXAMPLES,
+        Arc,
+        Plan,
+        PlannedSegment,
+        Segment,
+        Spin,
+        Straight,
+        Violation,
+        format_plan,
+        load_plan,
+        parse_plan,
+        plan,
+        pose_at,
+        wheel_positions,
+    )
+
+_LAZY = {
+    "Odometry": "diffbot.odometry",
+    "OdometryMessage": "diffbot.odometry",
+    "PoseSeries": "diffbot.odometry",
+    "TransformStamped": "diffbot.odometry",
+    "integrate": "diffbot.odometry",
+    "EXAMPLES": "diffbot.trajectory",
+    "Arc": "diffbot.trajectory",
+    "Plan": "diffbot.trajectory",
+    "PlannedSegment": "diffbot.trajectory",
+    "Segment": "diffbot.trajectory",
+    "Spin": "diffbot.trajectory",
+    "Straight": "diffbot.trajectory",
+    "Violation": "diffbot.trajectory",
+    "format_plan": "diffbot.trajectory",
+    "load_plan": "diffbot.trajectory",
+    "parse_plan": "diffbot.trajectory",
+    "plan": "diffbot.trajectory",
+    "pose_at": "diffbot.trajectory",
+    "wheel_positions": "diffbot.trajectory",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'diffbot' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # later lookups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_LAZY])
+
 
 __version__ = "0.1.0"
 
