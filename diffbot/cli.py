@@ -1362,11 +1362,10 @@ def plan_command(
     _check_topic("--left-topic", left_topic)
     _check_topic("--right-topic", right_topic)
     source = _plan_input(rest, example)
-    if output is not None and source.path is not None:
-        import os
-
-        if os.path.realpath(output) == os.path.realpath(source.path):
-            fail(f"{output} is the plan file itself: write the output elsewhere")
+    # Early, before any work, and in the plan's own words; write_text_atomic checks again.
+    plan_file = [Path(source.path)] if source.path is not None else []
+    if output is not None and input_clash(Path(output), plan_file) is not None:
+        fail(f"{output} is the plan file itself: write the output elsewhere")
     params = robot.with_path(None, xacro_args).load()
     limit = None if rpm_limit is None else rad_s_from_rpm(rpm_limit)
     if fastest and limit is None and params.max_wheel_speed is None:
