@@ -161,7 +161,6 @@ class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
 
 POSITIVE = FiniteFloat(0.0, open_min=True)
 NON_NEGATIVE = FiniteFloat(0.0)
-FINITE = FiniteFloat()
 #: Highest --rate of the ros2 script (Hz): 'ros2 topic pub' is a Python loop, far from this fast.
 MAX_PUBLISH_RATE = 1000.0
 

@@ -515,7 +515,6 @@ def wheel_positions(p: Plan, times: ArrayLike) -> tuple[NDArray[np.float64], NDA
 # --------------------------------------------------------------------------------------------
 # Text form
 
-_KINDS = ("straight", "ccw", "cw", "spin")
 # ASCII digits only (float() would also take other scripts' digits and underscores); the unit
 # follows at once, in files as in text (where a space would split the token).
 _NUMBER = re.compile(r"([+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)(.*)", re.DOTALL)
