@@ -46,7 +46,9 @@ from diffbot.urdf import BUNDLED_DESCRIPTION, derive_params, expand, load_params
 # Plans and odometry load on first use: most commands need neither, and they would add to the
 # start-up of every CLI run (about 13 ms of it).
 if TYPE_CHECKING:
-    from diffbot.odometry import Odometry, OdometryMessage, PoseSeries, TransformStamped, integrate
+    from diffbot.odometry import Odometry, PoseSeries, integrate
+    from diffbot.planfile import format_plan, load_plan, parse_plan
+    from diffbot.ros.messages import OdometryMessage, TransformStamped
     from diffbot.trajectory import (
         EXAMPLES,
         Arc,
@@ -56,9 +58,6 @@ if TYPE_CHECKING:
         Spin,
         Straight,
         Violation,
-        format_plan,
-        load_plan,
-        parse_plan,
         plan,
         pose_at,
         wheel_positions,
@@ -66,9 +65,9 @@ if TYPE_CHECKING:
 
 _LAZY = {
     "Odometry": "diffbot.odometry",
-    "OdometryMessage": "diffbot.odometry",
+    "OdometryMessage": "diffbot.ros.messages",
     "PoseSeries": "diffbot.odometry",
-    "TransformStamped": "diffbot.odometry",
+    "TransformStamped": "diffbot.ros.messages",
     "integrate": "diffbot.odometry",
     "EXAMPLES": "diffbot.trajectory",
     "Arc": "diffbot.trajectory",
@@ -78,9 +77,9 @@ _LAZY = {
     "Spin": "diffbot.trajectory",
     "Straight": "diffbot.trajectory",
     "Violation": "diffbot.trajectory",
-    "format_plan": "diffbot.trajectory",
-    "load_plan": "diffbot.trajectory",
-    "parse_plan": "diffbot.trajectory",
+    "format_plan": "diffbot.planfile",
+    "load_plan": "diffbot.planfile",
+    "parse_plan": "diffbot.planfile",
     "plan": "diffbot.trajectory",
     "pose_at": "diffbot.trajectory",
     "wheel_positions": "diffbot.trajectory",

@@ -1,15 +1,27 @@
 """The errors diffbot raises: one hierarchy under :class:`DiffbotError`.
 
-Every message is a complete sentence fragment fit for one line of a terminal, so callers (the CLI
-among them) can show ``str(error)`` as it is.
+Every message is a complete sentence fragment fit for one line of a terminal. An error knows its
+exit code (2: bad input; 1: a result that fails a check) and carries structured fields (the path,
+the offending value, candidate joints) for programs that want more than the text.
+
+A message that tells the user which setting to change names it as a marker such as ``{force}``
+or ``{wheel_radius}``: ``str(error)`` spells it as the library parameter (``force=True``), and
+the command line spells it as its option (``--force``) through :meth:`DiffbotError.render`.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
+from typing import Any, ClassVar
+
 __all__ = [
+    "EXIT_BAD_INPUT",
+    "EXIT_CHECK_FAILED",
+    "PARAMETERS",
     "DescriptionError",
     "DiffbotError",
     "DriveWheelError",
+    "OutputError",
     "OutputExistsError",
     "PackageNotFoundError",
     "ParameterError",
@@ -18,9 +30,52 @@ __all__ = [
     "XacroError",
 ]
 
+#: Exit code of bad input or usage.
+EXIT_BAD_INPUT = 2
+#: Exit code of a result that fails a check (for example a wheel over the motor limit).
+EXIT_CHECK_FAILED = 1
+
+#: The parameters a message may name as a ``{name}`` marker, with their spelling in the library.
+PARAMETERS: Mapping[str, str] = {
+    "force": "force=True",
+    "left_joint": "left_joint=",
+    "right_joint": "right_joint=",
+    "wheel_radius": "wheel_radius=",
+    "wheel_separation": "wheel_separation=",
+    "max_wheel_speed": "max_wheel_speed=",
+    "packages": "packages= entry",
+    "trust": "trust=True",
+    "controllers": "controllers=",
+    "controller": "controller=",
+}
+
 
 class DiffbotError(Exception):
-    """Base of every error raised by diffbot for bad input."""
+    """Base of every error raised by diffbot for bad input.
+
+    Args:
+        message: the message; ``{name}`` markers for the names in :data:`PARAMETERS`.
+        **fields: structured details (``path``, ``value``, ``candidates``, ...), kept in
+            :attr:`fields`.
+    """
+
+    exit_code: ClassVar[int] = EXIT_BAD_INPUT
+
+    def __init__(self, message: str, **fields: Any) -> None:
+        super().__init__(message)
+        self.template = message
+        self.fields: dict[str, Any] = fields
+
+    def render(self, spell: Callable[[str], str]) -> str:
+        """The message with each parameter marker spelled by ``spell(name)``."""
+        text = self.template
+        if "{" in text:
+            for name in PARAMETERS:
+                text = text.replace("{" + name + "}", spell(name))
+        return text
+
+    def __str__(self) -> str:
+        return self.render(PARAMETERS.__getitem__)
 
 
 class ParameterError(DiffbotError, ValueError):
@@ -51,5 +106,9 @@ class RecordingError(DiffbotError):
     """A recording (CSV, rosbag2) cannot be read or holds no usable sample."""
 
 
-class OutputExistsError(DiffbotError):
+class OutputError(DiffbotError):
+    """An output cannot be written where it was asked for (it is an input, not a file, ...)."""
+
+
+class OutputExistsError(OutputError):
     """An output file exists and overwriting it was not asked for."""

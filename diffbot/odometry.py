@@ -24,6 +24,16 @@ from typing import TYPE_CHECKING, Final, NamedTuple
 
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams, Pose, Twist, norm_angle
+from diffbot.ros.messages import (
+    Header,
+    OdometryMessage,
+    PoseWithCovariance,
+    Quaternion,
+    TransformStamped,
+    TwistWithCovariance,
+    Vector3,
+    covariance_matrix,
+)
 
 if TYPE_CHECKING:
     import numpy as np
@@ -35,18 +45,9 @@ __all__ = [
     "SKIP_MISSING_JOINT",
     "SKIP_NOT_FINITE",
     "SKIP_STAMP_NOT_AFTER",
-    "Header",
     "Odometry",
-    "OdometryMessage",
     "PoseSeries",
-    "PoseWithCovariance",
-    "Quaternion",
-    "TransformStamped",
-    "TwistWithCovariance",
-    "Vector3",
-    "covariance_matrix",
     "integrate",
-    "quaternion_from_yaw",
 ]
 
 #: Why a sample was skipped: the sample lacks one of the two wheel joints.
@@ -63,64 +64,6 @@ DEFAULT_POSE_COVARIANCE: Final = (0.001, 0.001, 0.001, 0.001, 0.001, 0.01)
 DEFAULT_TWIST_COVARIANCE: Final = (0.001, 0.001, 0.001, 0.001, 0.001, 0.01)
 
 
-class Vector3(NamedTuple):
-    """geometry_msgs/Vector3 (or Point): x, y, z in m, m/s or rad/s depending on use."""
-
-    x: float
-    y: float
-    z: float
-
-
-class Quaternion(NamedTuple):
-    """geometry_msgs/Quaternion: a unit quaternion (x, y, z, w)."""
-
-    x: float
-    y: float
-    z: float
-    w: float
-
-
-class Header(NamedTuple):
-    """std_msgs/Header: stamp (s) and frame_id."""
-
-    stamp: float
-    frame_id: str
-
-
-class PoseWithCovariance(NamedTuple):
-    """geometry_msgs/PoseWithCovariance: position (m), orientation, 6x6 covariance (row-major)."""
-
-    position: Vector3
-    orientation: Quaternion
-    covariance: tuple[float, ...]
-
-
-class TwistWithCovariance(NamedTuple):
-    """geometry_msgs/TwistWithCovariance: linear (m/s), angular (rad/s), 6x6 covariance."""
-
-    linear: Vector3
-    angular: Vector3
-    covariance: tuple[float, ...]
-
-
-class OdometryMessage(NamedTuple):
-    """nav_msgs/Odometry: the pose in ``header.frame_id``, the twist in ``child_frame_id``."""
-
-    header: Header
-    child_frame_id: str
-    pose: PoseWithCovariance
-    twist: TwistWithCovariance
-
-
-class TransformStamped(NamedTuple):
-    """geometry_msgs/TransformStamped: the transform from ``header.frame_id`` to the child."""
-
-    header: Header
-    child_frame_id: str
-    translation: Vector3
-    rotation: Quaternion
-
-
 class PoseSeries(NamedTuple):
     """Poses along a recording, one per sample: x, y (m) and the *unwrapped* heading (rad).
 
@@ -130,37 +73,6 @@ class PoseSeries(NamedTuple):
     x: NDArray[np.float64]
     y: NDArray[np.float64]
     theta: NDArray[np.float64]
-
-
-def quaternion_from_yaw(yaw: float) -> Quaternion:
-    """The quaternion of a rotation by ``yaw`` (rad) about z; w >= 0 for yaw in [-pi, pi]."""
-    half = 0.5 * yaw
-    return Quaternion(0.0, 0.0, math.sin(half), math.cos(half))
-
-
-def covariance_matrix(diagonal: Sequence[float], what: str = "covariance") -> tuple[float, ...]:
-    """A 6x6 row-major covariance matrix (36 values) with the given diagonal.
-
-    Args:
-        diagonal: six variances for x, y, z, rotation about x, y, z.
-        what: a name for the values in error messages.
-
-    Returns:
-        36 floats, zero off the diagonal.
-
-    Raises:
-        ParameterError: not six values, or one is negative, NaN or infinite.
-    """
-    values = [float(v) for v in diagonal]
-    if len(values) != 6:
-        raise ParameterError(f"{what} diagonal needs 6 values, got {len(values)}")
-    for value in values:
-        if not math.isfinite(value) or value < 0.0:
-            raise ParameterError(f"{what} diagonal values must be finite and >= 0, got {value!r}")
-    matrix = [0.0] * 36
-    for i, value in enumerate(values):
-        matrix[7 * i] = value
-    return tuple(matrix)
 
 
 # A node builds a message for every JointState: building the records with tuple.__new__ skips
@@ -173,14 +85,6 @@ _PI: Final = math.pi
 _TWO_PI: Final = 2.0 * math.pi
 #: Stamps in ns are ROS times: they fit in a signed 64-bit integer.
 _INT64: Final = 2**63
-
-
-def _sinc(h: float) -> float:
-    # sin(h)/h has no cancellation: libm's sin is within an ulp of the true value for every h, so
-    # the quotient is within about 1.5 ulp of sinc(h). For |h| < 2**-26, sin(h) rounds to h and the
-    # quotient is exactly 1.0, which is also the correctly rounded sinc (1 - h²/6 rounds to 1), so
-    # tiny angles need no series branch; only h == 0 itself needs the limit.
-    return math.sin(h) / h if h != 0.0 else 1.0
 
 
 class Odometry:
@@ -352,7 +256,8 @@ class Odometry:
         dr = (right - self._right) * self._right_scale
         ds = (dl + dr) * 0.5
         half = (dr - dl) * self._half_turn
-        chord = ds * (_sin(half) / half if half != 0.0 else 1.0)  # ds * sinc(half): see _sinc
+        # ds * sinc(half), inline: see kinematics.sinc
+        chord = ds * (_sin(half) / half if half != 0.0 else 1.0)
         along = self._heading + half
         self._x += chord * _cos(along)
         self._y += chord * _sin(along)
@@ -475,6 +380,14 @@ class Odometry:
     def samples(self) -> int:
         """How many samples were used, the baseline included."""
         return self._samples
+
+    @property
+    def state(self) -> tuple[float, float, float, float, float]:
+        """x, y (m), the unwrapped heading (rad), linear (m/s) and angular (rad/s) velocity.
+
+        The whole pose and twist in one read, for loops over millions of samples.
+        """
+        return (self._x, self._y, self._heading, self._linear, self._angular)
 
     @property
     def skipped(self) -> Mapping[str, int]:
@@ -630,7 +543,7 @@ def integrate(
             half -= dl_
             half *= half_turn
             np.add(theta[i:j], half, out=along_)
-            # chord = ds * sinc(half), with sinc(0) = 1 (see _sinc for why sin(h)/h is accurate).
+            # chord = ds * sinc(half), sinc(0) = 1 (kinematics.sinc: why sin(h)/h is accurate).
             np.equal(half, 0.0, out=zero_)
             sinc = dl_
             np.sin(half, out=sinc)

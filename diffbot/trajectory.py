@@ -17,15 +17,13 @@ unit says otherwise (``25cm``, ``250mm``, ``3.14rad``); durations are in seconds
 from __future__ import annotations
 
 import bisect
-import functools
 import math
-import os
-import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Literal
 
 from diffbot.errors import PlanError
+from diffbot.formats.text import brief
 from diffbot.kinematics import (
     LIMIT_TOLERANCE,
     DiffDriveParams,
@@ -37,8 +35,8 @@ from diffbot.kinematics import (
     limit_fraction,
     norm_angle,
     rpm_from_rad_s,
+    sinc,
 )
-from diffbot.textfile import read_text
 
 if TYPE_CHECKING:
     from typing import TypeAlias
@@ -57,14 +55,9 @@ __all__ = [
     "Spin",
     "Straight",
     "Violation",
-    "describe_segment",
-    "format_plan",
-    "format_segment",
-    "load_plan",
-    "parse_plan",
+    "as_float",
     "plan",
     "pose_at",
-    "segments_from_data",
     "wheel_positions",
 ]
 
@@ -82,7 +75,7 @@ EXAMPLES: dict[str, str] = {
 }
 
 
-def _as_float(value: object) -> float:
+def as_float(value: object) -> float:
     """``float(value)``, or NaN for what is not a number (a string, None, an int too large)."""
     if isinstance(value, bool):
         return math.nan
@@ -92,28 +85,10 @@ def _as_float(value: object) -> float:
         return math.nan
 
 
-def _short(value: object, limit: int = 60) -> str:
-    """``repr(value)`` for an error message, cut to ``limit`` characters (``...`` marks a cut).
-
-    Built with :mod:`reprlib` limits, so a huge entry is never written out whole first.
-    """
-    import reprlib
-
-    brief = reprlib.Repr()
-    brief.maxlevel = 3
-    brief.maxstring = brief.maxother = brief.maxlong = limit
-    brief.maxlist = brief.maxtuple = brief.maxdict = brief.maxset = 8
-    try:
-        text = brief.repr(value)
-    except ValueError:  # an int with more digits than Python converts to text
-        text = "<an integer too long to show>"
-    return text if len(text) <= limit else f"{text[: limit - 3]}..."
-
-
 def _positive(value: float, what: str) -> float:
-    number = _as_float(value)
+    number = as_float(value)
     if not math.isfinite(number) or number <= 0.0:
-        raise PlanError(f"{what} must be a positive finite number, got {_short(value)}")
+        raise PlanError(f"{what} must be a positive finite number, got {brief(value)}")
     return number
 
 
@@ -159,7 +134,7 @@ class Arc:
         object.__setattr__(self, "angle", _positive(self.angle, "an arc's angle (rad)"))
         if self.direction not in ("cw", "ccw"):
             raise PlanError(
-                f"an arc's direction must be 'cw' or 'ccw', got {_short(self.direction)}"
+                f"an arc's direction must be 'cw' or 'ccw', got {brief(self.direction)}"
             )
         object.__setattr__(self, "duration", _optional_duration(self.duration))
 
@@ -177,10 +152,10 @@ class Spin:
     duration: float | None = None
 
     def __post_init__(self) -> None:
-        angle = _as_float(self.angle)
+        angle = as_float(self.angle)
         if not math.isfinite(angle) or angle == 0.0:
             raise PlanError(
-                f"a spin's angle (rad) must be finite and not zero, got {_short(self.angle)}"
+                f"a spin's angle (rad) must be finite and not zero, got {brief(self.angle)}"
             )
         object.__setattr__(self, "angle", angle)
         object.__setattr__(self, "duration", _optional_duration(self.duration))
@@ -304,10 +279,6 @@ class Plan:
         return found
 
 
-def _sinc(x: float) -> float:
-    return 1.0 if x == 0.0 else math.sin(x) / x
-
-
 def _advance(x: float, y: float, heading: float, ds: float, turn: float) -> Pose:
     """Move along an arc of length ``ds`` (m) turning by ``turn`` (rad); heading not wrapped.
 
@@ -315,9 +286,28 @@ def _advance(x: float, y: float, heading: float, ds: float, turn: float) -> Pose
     form has no singularity at ``turn = 0`` (a straight line), unlike ``R (sin(th + dth) - ...)``.
     """
     half = 0.5 * turn
-    chord = ds * _sinc(half)
+    chord = ds * sinc(half)
     mean = heading + half
     return Pose(x + chord * math.cos(mean), y + chord * math.sin(mean), heading + turn)
+
+
+def describe_segment(segment: Segment) -> str:
+    """A short description of a segment for people (6 significant digits, degrees)."""
+
+    def short(value: float) -> str:
+        text = f"{value:.6g}"
+        return "0" if text == "-0" else text
+
+    if isinstance(segment, Straight):
+        return f"straight {short(segment.length)} m"
+
+    def angle(value: float) -> str:
+        degrees = math.degrees(value)
+        return f"{short(degrees)} deg" if math.isfinite(degrees) else f"{short(value)} rad"
+
+    if isinstance(segment, Arc):
+        return f"{segment.direction} arc r {short(segment.radius)} m {angle(segment.angle)}"
+    return f"spin {angle(segment.angle)}"
 
 
 def _finite(*values: float) -> bool:
@@ -371,14 +361,12 @@ def plan(
         raise PlanError("empty plan: no segments")
     for item in items:
         if not isinstance(item, Straight | Arc | Spin):
-            raise PlanError(f"not a plan segment: {_short(item)}")
+            raise PlanError(f"not a plan segment: {brief(item)}")
     speed = _positive(speed, "the cruise speed (m/s)")
     spin_rate = _positive(spin_rate, "the spin rate (rad/s)")
-    lim = params.max_wheel_speed if limit is None else _as_float(limit)
+    lim = params.max_wheel_speed if limit is None else as_float(limit)
     if lim is not None and (not math.isfinite(lim) or lim < 0.0):
-        raise PlanError(
-            f"the motor limit must be a finite number >= 0 (rad/s), got {_short(limit)}"
-        )
+        raise PlanError(f"the motor limit must be a finite number >= 0 (rad/s), got {brief(limit)}")
     if lim == 0.0:
         raise PlanError("the motor limit is zero: no duration keeps a moving wheel within it")
     if fastest and lim is None:
@@ -510,478 +498,3 @@ def wheel_positions(p: Plan, times: ArrayLike) -> tuple[NDArray[np.float64], NDA
         at_start = np.concatenate(([0.0], np.cumsum(rates * durations)[:-1]))
         out.append(at_start[index] + rates[index] * elapsed)
     return out[0], out[1]
-
-
-# --------------------------------------------------------------------------------------------
-# Text form
-
-# ASCII digits only (float() would also take other scripts' digits and underscores); the unit
-# follows at once, in files as in text (where a space would split the token).
-_NUMBER = re.compile(r"([+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)(.*)", re.DOTALL)
-_DIVISORS: dict[str, dict[str, float]] = {
-    # Dividing by an exact power of ten rounds once, so 25cm is exactly 0.25.
-    "length": {"": 1.0, "m": 1.0, "cm": 100.0, "mm": 1000.0},
-    "duration": {"": 1.0, "s": 1.0},
-}
-_ANGLE_UNITS = {"": True, "deg": True, "rad": False}
-_ALL_UNITS = {unit for units in _DIVISORS.values() for unit in units if unit} | {"deg", "rad"}
-_UNIT_HELP = {"length": "m, cm or mm", "angle": "deg or rad", "duration": "s"}
-
-Dimension = Literal["length", "angle", "duration"]
-
-
-class _BadValueError(Exception):
-    """A value that cannot be read; the caller adds where it was."""
-
-
-def _quantity(text: str, dimension: Dimension) -> float:
-    """An SI value (m, rad or s) from a number with an optional unit (default m, deg, s)."""
-    match = _NUMBER.fullmatch(text.strip())
-    if match is None:
-        if text.strip().lower().lstrip("+-") in ("nan", "inf", "infinity"):
-            raise _BadValueError("not a finite number")
-        raise _BadValueError("not a number")
-    number = float(match.group(1))
-    if not math.isfinite(number):
-        raise _BadValueError("not a finite number")
-    if match.group(2)[:1].isspace():
-        raise _BadValueError(
-            f"write the unit attached to its number, as in {match.group(1)}{match.group(2).strip()}"
-        )
-    unit = match.group(2).lower()
-    if dimension == "angle":
-        if unit not in _ANGLE_UNITS:
-            raise _BadValueError(
-                f"unknown unit {_short(match.group(2))} for an angle (use deg or rad)"
-            )
-        value = math.radians(number) if _ANGLE_UNITS[unit] else number
-    else:
-        divisors = _DIVISORS[dimension]
-        if unit not in divisors:
-            raise _BadValueError(
-                f"unknown unit {_short(match.group(2))} for a {dimension} "
-                f"(use {_UNIT_HELP[dimension]})"
-            )
-        value = number / divisors[unit]
-    if not math.isfinite(value):
-        raise _BadValueError("not a finite number")
-    return value
-
-
-@dataclass(frozen=True)
-class _Token:
-    text: str
-    line: int
-    column: int
-
-
-# One entry per argument: (role, dimension, rule) where rule is "positive" or "nonzero".
-_SIGNATURES: dict[str, tuple[tuple[str, Dimension, str], ...]] = {
-    "straight": (("length", "length", "positive"),),
-    "ccw": (("radius", "length", "positive"), ("angle", "angle", "positive")),
-    "cw": (("radius", "length", "positive"), ("angle", "angle", "positive")),
-    "spin": (("angle", "angle", "nonzero"),),
-}
-_USAGE = {
-    "straight": "straight LENGTH [DURATION]",
-    "ccw": "ccw RADIUS ANGLE [DURATION]",
-    "cw": "cw RADIUS ANGLE [DURATION]",
-    "spin": "spin ANGLE [DURATION]",
-}
-
-
-def _segments_of(text: str) -> list[list[_Token]]:
-    """Split plan text into segments of tokens, dropping comments and empty segments."""
-    segments: list[list[_Token]] = []
-    for line_number, line in enumerate(text.splitlines() or [""], start=1):
-        code = line.split("#", 1)[0]
-        start = 0
-        for piece in code.split(";"):
-            tokens = [
-                _Token(m.group(), line_number, start + m.start() + 1)
-                for m in re.finditer(r"\S+", piece)
-            ]
-            if tokens:
-                segments.append(tokens)
-            start += len(piece) + 1
-    return segments
-
-
-def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> Segment:
-    def where(token: _Token) -> str:
-        if multiline:
-            return f"line {token.line}, column {token.column}"
-        return f"column {token.column}"
-
-    def error(token: _Token, message: str) -> PlanError:
-        return PlanError(f"segment {number}: {message} ({where(token)})")
-
-    head = tokens[0]
-    kind = head.text.lower()
-    if kind not in _SIGNATURES:
-        hint = " (arcs are written ccw/cw RADIUS ANGLE)" if kind == "arc" else ""
-        raise error(
-            head,
-            f"unknown segment kind {_short(head.text)}: expected straight, ccw, cw or spin{hint}",
-        )
-    signature = _SIGNATURES[kind]
-    args = tokens[1:]
-    for token in args:
-        if token.text.lower() in _ALL_UNITS:
-            raise error(
-                token,
-                f"{_short(token.text)} is a unit: write it attached to its number, as in 25cm",
-            )
-    if len(args) < len(signature):
-        missing = " and ".join(role.upper() for role, _, _ in signature[len(args) :])
-        last = args[-1] if args else head
-        raise error(
-            last, f"{_short(head.text)} needs {missing} after {_short(last.text)}: {_USAGE[kind]}"
-        )
-    if len(args) > len(signature) + 1:
-        extra = args[len(signature) + 1]
-        raise error(extra, f"unexpected {_short(extra.text)}: {_USAGE[kind]}")
-    values: list[float] = []
-    for token, (role, dimension, rule) in zip(args, signature, strict=False):
-        try:
-            value = _quantity(token.text, dimension)
-        except _BadValueError as err:
-            raise error(token, f"{role} {_short(token.text)}: {err}") from None
-        if rule == "positive" and value <= 0.0:
-            hint = ""
-            if kind in ("ccw", "cw") and role == "angle":
-                hint = f" (the direction is in the kind: {'cw' if kind == 'ccw' else 'ccw'})"
-            raise error(token, f"{role} {_short(token.text)} must be > 0{hint}")
-        if rule == "nonzero" and value == 0.0:
-            raise error(token, f"{role} {_short(token.text)} must not be zero")
-        values.append(value)
-    duration: float | None = None
-    if len(args) > len(signature):
-        token = args[-1]
-        try:
-            duration = _quantity(token.text, "duration")
-        except _BadValueError as err:
-            raise error(token, f"duration {_short(token.text)}: {err}") from None
-        if duration <= 0.0:
-            raise error(token, f"duration {_short(token.text)} must be > 0")
-    if kind == "straight":
-        return Straight(values[0], duration)
-    if kind == "spin":
-        return Spin(values[0], duration)
-    return Arc(values[0], values[1], "ccw" if kind == "ccw" else "cw", duration)
-
-
-def parse_plan(text: str) -> list[Segment]:
-    """Read a plan written as text.
-
-    Segments are separated by ``;`` or newlines; ``#`` starts a comment. Each is one of
-    ``straight LENGTH [DURATION]``, ``ccw RADIUS ANGLE [DURATION]``, ``cw RADIUS ANGLE
-    [DURATION]``, ``spin ANGLE [DURATION]`` (positive = counter-clockwise). Lengths are in m
-    unless suffixed ``cm``/``mm``/``m``, angles in degrees unless suffixed ``rad``/``deg``,
-    durations in s (suffix ``s``).
-
-    Args:
-        text: the plan, e.g. ``"ccw 0.25 180 10s; straight 1 10s"``.
-
-    Returns:
-        The segments (SI units).
-
-    Raises:
-        PlanError: empty plan, unknown kind or unit, missing or extra values, a value that is not
-            a finite number, or not positive (not zero, for spins); the message quotes the token
-            and gives the segment number and column (and line, when the text has several).
-    """
-    return _parse_text(text, lines=len(text.splitlines()) > 1)
-
-
-def _parse_text(text: str, *, lines: bool) -> list[Segment]:
-    """:func:`parse_plan`; ``lines``: give line numbers in errors (not only columns)."""
-    pieces = _segments_of(text)
-    if not pieces:
-        raise PlanError("empty plan: no segments (write for example 'straight 1 10s')")
-    return [
-        _segment_from_tokens(tokens, number, lines) for number, tokens in enumerate(pieces, start=1)
-    ]
-
-
-def _number_text(value: float) -> str:
-    text = repr(float(value))
-    return text[:-2] if text.endswith(".0") else text
-
-
-def _angle_text(angle: float) -> str:
-    degrees = math.degrees(angle)
-    if math.isfinite(degrees) and math.radians(degrees) == angle:
-        return _number_text(degrees)
-    return f"{_number_text(angle)}rad"
-
-
-def format_segment(segment: Segment) -> str:
-    """The text form of one segment; :func:`parse_plan` reads it back exactly."""
-    if isinstance(segment, Straight):
-        words = ["straight", _number_text(segment.length)]
-    elif isinstance(segment, Arc):
-        words = [segment.direction, _number_text(segment.radius), _angle_text(segment.angle)]
-    else:
-        words = ["spin", _angle_text(segment.angle)]
-    if segment.duration is not None:
-        words.append(f"{_number_text(segment.duration)}s")
-    return " ".join(words)
-
-
-def format_plan(segments: Iterable[Segment]) -> str:
-    """The text form of a plan (one line, ``;``-separated); :func:`parse_plan` reads it back
-    exactly: numbers keep every digit, and angles are written in degrees only when that converts
-    back to the same radians (otherwise in ``rad``)."""
-    return "; ".join(format_segment(segment) for segment in segments)
-
-
-def describe_segment(segment: Segment) -> str:
-    """A short description of a segment for people (6 significant digits, degrees)."""
-
-    def short(value: float) -> str:
-        text = f"{value:.6g}"
-        return "0" if text == "-0" else text
-
-    if isinstance(segment, Straight):
-        return f"straight {short(segment.length)} m"
-
-    def angle(value: float) -> str:
-        degrees = math.degrees(value)
-        return f"{short(degrees)} deg" if math.isfinite(degrees) else f"{short(value)} rad"
-
-    if isinstance(segment, Arc):
-        return f"{segment.direction} arc r {short(segment.radius)} m {angle(segment.angle)}"
-    return f"spin {angle(segment.angle)}"
-
-
-# --------------------------------------------------------------------------------------------
-# Files
-
-_ENTRY_KEYS = {
-    "straight": {"straight", "duration"},
-    "arc": {"arc", "radius", "angle", "duration"},
-    "spin": {"spin", "duration"},
-}
-
-
-def _entry_value(value: object, dimension: Dimension, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float | str):
-        raise _BadValueError(
-            f"{what} {_short(value)}: expected a number or a string such as '25cm'"
-        )
-    if isinstance(value, str):
-        try:
-            return _quantity(value, dimension)
-        except _BadValueError as err:
-            raise _BadValueError(f"{what} {_short(value)}: {err}") from None
-    number = _as_float(value)
-    if not math.isfinite(number):
-        raise _BadValueError(f"{what} {_short(value)}: not a finite number")
-    return math.radians(number) if dimension == "angle" else number
-
-
-def _segment_from_entry(entry: object) -> Segment:
-    if isinstance(entry, str):
-        segments = parse_plan(entry)
-        if len(segments) != 1:
-            raise _BadValueError(f"{_short(entry)} holds {len(segments)} segments, expected one")
-        return segments[0]
-    if not isinstance(entry, Mapping):
-        raise _BadValueError(
-            f"expected a mapping such as {{straight: 1.0, duration: 10}}, got {_short(entry)}"
-        )
-    kinds = [kind for kind in _ENTRY_KEYS if kind in entry]
-    if len(kinds) != 1:
-        found = "none" if not kinds else " and ".join(kinds)
-        raise _BadValueError(
-            f"expected exactly one of 'straight', 'arc', 'spin' as a key, got {found}"
-        )
-    kind = kinds[0]
-    unknown = [key for key in entry if key not in _ENTRY_KEYS[kind]]
-    if unknown:
-        allowed = ", ".join(sorted(_ENTRY_KEYS[kind]))
-        raise _BadValueError(f"unknown key {_short(unknown[0])} for a {kind} (allowed: {allowed})")
-
-    def get(key: str, dimension: Dimension, rule: str = "positive") -> float:
-        if key not in entry:
-            raise _BadValueError(f"a {kind} needs {key!r}")
-        value = _entry_value(entry[key], dimension, key)
-        if rule == "positive" and value <= 0.0:
-            raise _BadValueError(f"{key} {_short(entry[key])} must be > 0")
-        if rule == "nonzero" and value == 0.0:
-            raise _BadValueError(f"{key} {_short(entry[key])} must not be zero")
-        return value
-
-    duration = get("duration", "duration") if entry.get("duration") is not None else None
-    if kind == "straight":
-        return Straight(get("straight", "length"), duration)
-    if kind == "spin":
-        return Spin(get("spin", "angle", "nonzero"), duration)
-    arc = entry["arc"]
-    direction = arc.lower() if isinstance(arc, str) else None  # case as free as in text
-    if direction not in ("ccw", "cw"):
-        raise _BadValueError(f"arc {_short(arc)}: expected 'ccw' or 'cw'")
-    return Arc(
-        get("radius", "length"),
-        get("angle", "angle"),
-        "ccw" if direction == "ccw" else "cw",
-        duration,
-    )
-
-
-def _looks_structured(text: str) -> bool:
-    for line in text.splitlines():
-        stripped = line.strip()
-        if stripped and not stripped.startswith("#"):
-            return stripped[0] in "[{-"
-    return False
-
-
-def segments_from_data(data: object, source: str = "plan") -> list[Segment]:
-    """Segments from parsed YAML/JSON: a list of entries, or a mapping with only a ``segments``
-    list.
-
-    Entries are mappings such as ``{straight: 1.0, duration: 10}``, ``{arc: ccw, radius: 0.25,
-    angle: 180, duration: 10}`` (``ccw``/``cw`` in any case) or ``{spin: 90}`` (numbers in m,
-    degrees and s; strings may carry a unit attached to the number: ``"25cm"``, ``"1.5rad"``,
-    ``"10s"``), or text segments such as ``"straight 1 10s"``.
-
-    Raises:
-        PlanError: naming the source and the entry (counted from 1), quoting at most 60
-            characters of it.
-    """
-    if isinstance(data, Mapping) and "segments" in data:
-        others = [key for key in data if key != "segments"]
-        if others:
-            raise PlanError(
-                f"{source}: unknown top-level key {_short(others[0])} (a plan file holds a list "
-                "of segments, or a mapping with only 'segments')"
-            )
-        data = data["segments"]
-    if not isinstance(data, list):
-        raise PlanError(f"{source}: expected a list of segments, got {type(data).__name__}")
-    if not data:
-        raise PlanError(f"{source}: empty plan: no segments")
-    segments: list[Segment] = []
-    for number, entry in enumerate(data, start=1):
-        try:
-            segments.append(_segment_from_entry(entry))
-        except (_BadValueError, PlanError) as err:
-            raise PlanError(f"{source}: entry {number}: {err}") from None
-    return segments
-
-
-def load_plan(path: str | os.PathLike[str]) -> list[Segment]:
-    """Read a plan file.
-
-    ``.json`` files are JSON, ``.yaml``/``.yml`` files YAML (see :func:`segments_from_data` for
-    the entries), ``.txt`` files the text form (see :func:`parse_plan`); other files are read as
-    YAML when they start with ``[``, ``{`` or ``-``, else as text. Files are UTF-8 (a byte order
-    mark is skipped). Duplicate keys in a mapping are errors, and so are YAML aliases (``*name``):
-    a plan never needs them, and nested ones grow exponentially.
-
-    Args:
-        path: the file.
-
-    Returns:
-        The segments (SI units).
-
-    Raises:
-        PlanError: the file cannot be read or parsed, or an entry is bad (the message names it).
-    """
-    source = os.fspath(path)
-    text = read_text(source, PlanError, "a plan file")
-    suffix = os.path.splitext(source)[1].lower()
-    if suffix == ".json":
-        return segments_from_data(_load_json(text, source), source)
-    if suffix in (".yaml", ".yml") or (suffix != ".txt" and _looks_structured(text)):
-        return segments_from_data(_load_yaml(text, source), source)
-    try:
-        return _parse_text(text, lines=True)
-    except PlanError as err:
-        raise PlanError(f"{source}: {err}") from None
-
-
-def _load_json(text: str, source: str) -> Any:
-    import json
-
-    def reject(constant: str) -> float:
-        raise PlanError(f"{source}: {constant} is not a finite number")
-
-    def unique(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-        mapping: dict[str, Any] = {}
-        for key, value in pairs:
-            if key in mapping:
-                raise PlanError(f"{source}: duplicate key {_short(key)} in a JSON object")
-            mapping[key] = value
-        return mapping
-
-    try:
-        return json.loads(text, parse_constant=reject, object_pairs_hook=unique)
-    except json.JSONDecodeError as err:
-        raise PlanError(
-            f"{source}: malformed JSON: {err.msg} (line {err.lineno}, column {err.colno})"
-        ) from None
-    except ValueError as err:  # a number with more digits than Python reads
-        raise PlanError(f"{source}: a value cannot be read: {str(err).split(':')[0]}") from None
-
-
-class _AliasError(Exception):
-    """A YAML alias in a plan file; ``where`` is the mark's text."""
-
-    def __init__(self, where: str) -> None:
-        super().__init__(where)
-        self.where = where
-
-
-@functools.cache
-def _plan_loader() -> type[Any]:
-    """A safe YAML loader for plan files: no aliases (a plan never needs them, and nested ones
-    expand exponentially), and no duplicate keys in a mapping (YAML forbids them; PyYAML would
-    keep the last)."""
-    import yaml
-    from yaml.nodes import MappingNode, Node
-
-    class PlanLoader(yaml.SafeLoader):
-        def compose_node(self, parent: Node | None, index: int) -> Node | None:
-            if self.check_event(yaml.AliasEvent):
-                mark = self.peek_event().start_mark  # type: ignore[no-untyped-call,unused-ignore]
-                raise _AliasError(f"line {mark.line + 1}, column {mark.column + 1}")
-            return super().compose_node(parent, index)
-
-        def construct_mapping(self, node: MappingNode, deep: bool = False) -> dict[Any, Any]:
-            seen: set[Any] = set()
-            for key_node, _ in node.value:
-                key = self.construct_object(key_node, deep=True)
-                try:
-                    duplicate = key in seen
-                except TypeError:  # unhashable: the SafeLoader reports it
-                    continue
-                if duplicate:
-                    raise yaml.constructor.ConstructorError(
-                        None, None, f"duplicate key {_short(key)}", key_node.start_mark
-                    )
-                seen.add(key)
-            return super().construct_mapping(node, deep)
-
-    return PlanLoader
-
-
-def _load_yaml(text: str, source: str) -> Any:
-    import yaml
-
-    try:
-        return yaml.load(text, Loader=_plan_loader())  # a SafeLoader
-    except _AliasError as err:
-        raise PlanError(
-            f"{source}: YAML aliases (*name) are not allowed in a plan file, write each entry "
-            f"out ({err.where})"
-        ) from None
-    except yaml.YAMLError as err:
-        mark = getattr(err, "problem_mark", None)
-        problem = getattr(err, "problem", None) or "malformed YAML"
-        where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark is not None else ""
-        raise PlanError(f"{source}: malformed YAML: {problem}{where}") from None
-    except ValueError as err:  # a number with more digits than Python reads, a bad date
-        raise PlanError(f"{source}: a value cannot be read: {str(err).split(':')[0]}") from None

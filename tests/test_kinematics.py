@@ -9,6 +9,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
+from robots import BOT
 
 import diffbot
 from diffbot import DiffDriveParams, WheelSpeeds
@@ -29,7 +30,7 @@ def robots(draw: st.DrawFn) -> DiffDriveParams:
     )
 
 
-SEED = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
+SEED = BOT
 
 
 # --- known values (the seed's exercise 5) -------------------------------------------------

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from robots import BOT
 from wheel_motion import (
     TRAJECTORY_A,
     Segment,
@@ -19,18 +20,16 @@ from wheel_motion import (
 )
 
 import diffbot
-from diffbot.kinematics import DiffDriveParams, Pose
+from diffbot.kinematics import DiffDriveParams, Pose, sinc
 from diffbot.odometry import (
     SKIP_MISSING_JOINT,
     SKIP_NOT_FINITE,
     SKIP_STAMP_NOT_AFTER,
     Odometry,
-    _sinc,
-    covariance_matrix,
     integrate,
 )
+from diffbot.ros.messages import covariance_matrix
 
-BOT = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
 LEFT, RIGHT = BOT.left_joint, BOT.right_joint
 
 
@@ -168,13 +167,13 @@ def test_twist_is_estimated_from_the_stamps_of_the_last_step() -> None:
 
 
 def test_sinc_is_one_at_zero_and_exact_for_tiny_angles() -> None:
-    assert _sinc(0.0) == 1.0
-    assert _sinc(-0.0) == 1.0
-    assert _sinc(5e-324) == 1.0
-    assert _sinc(1e-9) == 1.0  # 1 - 1.7e-19 rounds to 1
+    assert sinc(0.0) == 1.0
+    assert sinc(-0.0) == 1.0
+    assert sinc(5e-324) == 1.0
+    assert sinc(1e-9) == 1.0  # 1 - 1.7e-19 rounds to 1
     h = 1e-4
-    assert _sinc(h) == pytest.approx(1 - h * h / 6 + h**4 / 120, rel=1e-16)
-    assert _sinc(math.pi / 2) == pytest.approx(2 / math.pi, rel=1e-15)
+    assert sinc(h) == pytest.approx(1 - h * h / 6 + h**4 / 120, rel=1e-16)
+    assert sinc(math.pi / 2) == pytest.approx(2 / math.pi, rel=1e-15)
 
 
 def test_heading_wraps_at_plus_minus_pi_while_the_unwrapped_heading_counts_turns() -> None:

@@ -33,12 +33,8 @@ from diffbot import (
     wheel_positions,
 )
 from diffbot.kinematics import rpm_from_rad_s
-from diffbot.trajectory import (
-    DEFAULT_SPIN_RATE,
-    describe_segment,
-    format_segment,
-    segments_from_data,
-)
+from diffbot.planfile import format_segment, segments_from_data
+from diffbot.trajectory import DEFAULT_SPIN_RATE, describe_segment
 
 Write = Callable[[str, str], Path]
 

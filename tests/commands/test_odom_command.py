@@ -10,13 +10,12 @@ from pathlib import Path
 import pytest
 from bags import write_bag
 from click.testing import CliRunner, Result
+from robots import BOT
 from rosbags.highlevel import AnyReader
 from wheel_motion import TRAJECTORY_A, wheel_samples
 
-import diffbot
 from diffbot.cli import main
 
-BOT = diffbot.DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
 LEFT, RIGHT = BOT.left_joint, BOT.right_joint
 
 

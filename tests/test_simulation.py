@@ -13,17 +13,21 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from robots import BOT_50_RPM
 from wheel_motion import angle_error
 
 import diffbot
 from diffbot.cli import main
+from diffbot.io.bag import read_bag
+from diffbot.io.csvfile import read_csv
 from diffbot.kinematics import DiffDriveParams
 from diffbot.odometry import integrate
-from diffbot.recording import read_bag, read_csv, run_odometry
+from diffbot.planfile import parse_plan
+from diffbot.replay import run_odometry
 from diffbot.simulation import CASTER_JOINTS, quantise, sample_times, simulate
-from diffbot.trajectory import EXAMPLES, Arc, Segment, Spin, Straight, parse_plan, plan
+from diffbot.trajectory import EXAMPLES, Arc, Segment, Spin, Straight, plan
 
-BOT = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, max_wheel_speed=5.235987755982989)
+BOT = BOT_50_RPM
 
 durations = st.one_of(st.none(), st.floats(0.05, 20.0))
 segments_st = st.lists(

@@ -24,7 +24,10 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from diffbot import EXAMPLES, DiffDriveParams, parse_plan, plan
-from diffbot.cli import PLAN_FORMATS, _ceil_text, _yaml_float, main
+from diffbot.cli import main
+from diffbot.commands.plan_options import PLAN_FORMATS
+from diffbot.formats.text import ceil_text
+from diffbot.ros.messages import yaml_float
 
 Write = Callable[[str, str], Path]
 
@@ -236,8 +239,8 @@ def test_wheels_lines_name_the_topics(runner: CliRunner) -> None:
 
 @given(st.floats(allow_nan=False, allow_infinity=False))
 def test_yaml_floats_are_read_back_as_the_same_float(value: float) -> None:
-    assert yaml.safe_load(_yaml_float(value)) == value
-    assert isinstance(yaml.safe_load(_yaml_float(value)), float)
+    assert yaml.safe_load(yaml_float(value)) == value
+    assert isinstance(yaml.safe_load(yaml_float(value)), float)
 
 
 # --------------------------------------------------------------------------------------------
@@ -515,7 +518,7 @@ def test_suggested_shortest_duration_does_fit(runner: CliRunner) -> None:
     "value", [1e-7, 0.9, 5.4567409060078, 1234.5678, 9999.5, 99999.2, 1e29, 1e308, 5e-324]
 )
 def test_rounded_up_durations_are_never_below_the_value(value: float) -> None:
-    text = _ceil_text(value)
+    text = ceil_text(value)
     assert float(text) >= value
     assert float(text) <= value * (1 + 1e-3)
 
@@ -534,7 +537,7 @@ def test_rounded_up_durations_are_never_below_the_value(value: float) -> None:
     ],
 )
 def test_rounded_up_durations_show_four_significant_digits(value: float, text: str) -> None:
-    assert _ceil_text(value) == text
+    assert ceil_text(value) == text
 
 
 def test_huge_shortest_duration_is_reported_not_a_traceback(runner: CliRunner) -> None:

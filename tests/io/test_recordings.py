@@ -11,31 +11,26 @@ from pathlib import Path
 import numpy as np
 import pytest
 from bags import write_bag
+from robots import BOT
 from rosbags.highlevel import AnyReader
 from wheel_motion import TRAJECTORY_A, assert_pose_close, wheel_samples
 
 import diffbot
-from diffbot.kinematics import DiffDriveParams, Pose
+from diffbot.io.bag import read_bag, write_joint_states_bag, write_odometry_bag
+from diffbot.io.csvfile import format_joint_states_csv, format_odometry_csv, read_csv
+from diffbot.io.recordings import read_recording
+from diffbot.kinematics import Pose
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry
-from diffbot.recording import (
+from diffbot.replay import OdometryRow, run_odometry
+from diffbot.samples import (
     CLOCK_HEADER,
     CLOCK_RECEIVE,
     SKIP_MISSING_STAMP,
     SKIP_STAMP_RANGE,
     SKIP_UNREADABLE,
-    OdometryRow,
-    format_joint_states_csv,
-    format_odometry_csv,
-    read_bag,
-    read_csv,
-    read_recording,
-    run_odometry,
     seconds_text,
-    write_joint_states_bag,
-    write_odometry_bag,
 )
 
-BOT = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
 LEFT, RIGHT = BOT.left_joint, BOT.right_joint
 EPOCH = 1_700_000_000_000_000_000  # ns: stamps of a recording made in 2023
 
@@ -427,7 +422,7 @@ def test_joint_states_bag_and_csv_round_trip_through_the_readers(tmp_path: Path)
 def test_bag_outputs_never_replace_without_force_and_leave_no_debris(tmp_path: Path) -> None:
     out = tmp_path / "js"
     write_joint_states_bag(out, [1], [LEFT], [[1.0]])
-    with pytest.raises(diffbot.OutputExistsError, match="exists: use --force"):
+    with pytest.raises(diffbot.OutputExistsError, match="exists: use force=True"):
         write_joint_states_bag(out, [2, 3], [LEFT], [[2.0, 3.0]])
     assert [s.stamp_ns for s in read_bag(out).samples] == [1]
     write_joint_states_bag(out, [2, 3], [LEFT], [[2.0, 3.0]], force=True)

@@ -1,0 +1,285 @@
+"""What the commands share: option types, the robot options, the plan options, messages.
+
+The library never imports click: commands convert their arguments here, call the library, and
+format its results.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, NoReturn, TypeVar
+
+import click
+
+from diffbot.errors import EXIT_BAD_INPUT
+from diffbot.io.outputs import input_clash
+from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
+from diffbot.urdf import load_params
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+class InputError(click.ClickException):
+    """Bad input found by a command: reported as ``error: ...`` with exit code 2."""
+
+    exit_code = EXIT_BAD_INPUT
+
+
+def fail(message: str) -> NoReturn:
+    """Stop the command with a bad-input error."""
+    raise InputError(message)
+
+
+def warn(message: str) -> None:
+    """Tell the user something on stderr, on one line."""
+    click.echo(f"warning: {' '.join(message.split())}", err=True)
+
+
+def emit_json(data: Any) -> None:
+    """Print machine-readable output (strict JSON: no NaN)."""
+    click.echo(json.dumps(data, indent=2, allow_nan=False))
+
+
+class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+    """A finite float, optionally bounded; rejects NaN and infinities."""
+
+    name = "number"
+
+    def __init__(
+        self, minimum: float | None = None, open_min: bool = False, maximum: float | None = None
+    ) -> None:
+        self.minimum = minimum
+        self.open_min = open_min
+        self.maximum = maximum
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
+        if isinstance(value, float):
+            number = value
+        else:
+            try:
+                number = float(str(value).strip())
+            except ValueError:
+                self.fail(f"{value!r} is not a number", param, ctx)
+        if not math.isfinite(number):
+            self.fail(f"{value!r} is not a finite number", param, ctx)
+        if self.minimum is not None:
+            if self.open_min and number <= self.minimum:
+                self.fail(f"{value!r} must be > {self.minimum:g}", param, ctx)
+            if not self.open_min and number < self.minimum:
+                self.fail(f"{value!r} must be >= {self.minimum:g}", param, ctx)
+        if self.maximum is not None and number > self.maximum:
+            self.fail(f"{value!r} must be <= {self.maximum:g}", param, ctx)
+        return number
+
+
+POSITIVE = FiniteFloat(0.0, open_min=True)
+NON_NEGATIVE = FiniteFloat(0.0)
+#: Highest --rate of the ros2 script (Hz): 'ros2 topic pub' is a Python loop, far from this fast.
+MAX_PUBLISH_RATE = 1000.0
+
+
+def check_finite(what: str, *values: float) -> None:
+    """Bad input when a result overflows to inf or NaN (inputs too large to compute with)."""
+    if not all(math.isfinite(v) for v in values):
+        fail(f"the {what} overflow: the inputs are too large to compute with")
+
+
+def parse_number(token: str, what: str) -> float:
+    """A finite float from a command-line token, or a bad-input error naming it."""
+    try:
+        number = float(token)
+    except ValueError:
+        if token.startswith("-"):
+            fail(f"no such option: {token!r}")
+        fail(f"{what}: {token!r} is not a number")
+    if not math.isfinite(number):
+        fail(f"{what}: {token!r} is not a finite number")
+    return number
+
+
+def _looks_like_option(token: str) -> bool:
+    """``-x`` or ``--xyz``; not ``-``, nor a negative value such as ``-90``, ``-.5`` or
+    ``-90deg`` (a sign and a digit or a dot: commands give those their own messages)."""
+    if not token.startswith("-") or token == "-" or token[1] in "0123456789.":
+        return False
+    try:
+        float(token)
+    except ValueError:
+        return True
+    return False
+
+
+def split_xacro_args(tokens: Sequence[str]) -> tuple[list[str], dict[str, str]]:
+    """Separate ``NAME:=VALUE`` xacro arguments from the other positional tokens.
+
+    Commands that take negative numbers let unknown options through as tokens; a token that
+    looks like an option but is no number is reported here as the unknown option it is.
+    """
+    rest: list[str] = []
+    args: dict[str, str] = {}
+    for token in tokens:
+        if _looks_like_option(token) and ":=" not in token:
+            fail(f"no such option: {token!r}")
+        if ":=" in token:
+            name, _, value = token.partition(":=")
+            if not name or not name.replace("_", "a").replace("-", "a").isalnum():
+                fail(f"bad xacro argument {token!r}: expected NAME:=VALUE")
+            args[name] = value
+        else:
+            rest.append(token)
+    return rest, args
+
+
+def parse_packages(values: Sequence[str]) -> dict[str, str]:
+    """``--package NAME=DIR`` values as a mapping."""
+    packages: dict[str, str] = {}
+    for value in values:
+        name, sep, directory = value.partition("=")
+        if not sep or not name or not directory:
+            fail(f"--package {value!r}: expected NAME=DIR")
+        if not Path(directory).is_dir():
+            fail(f"--package {value!r}: {directory} is not a directory")
+        packages[name] = directory
+    return packages
+
+
+# --------------------------------------------------------------------------------------------
+# Robot options, shared by every command that needs a robot
+
+
+@dataclass(frozen=True)
+class RobotOptions:
+    """What the shared robot options say; :meth:`load` turns them into parameters."""
+
+    robot: str | None
+    xacro_args: Mapping[str, str]
+    packages: Mapping[str, str]
+    left_joint: str | None
+    right_joint: str | None
+    wheel_radius: float | None
+    wheel_separation: float | None
+    max_rpm: float | None
+
+    def with_path(self, path: str | None, xacro_args: Mapping[str, str]) -> RobotOptions:
+        """The same options with a positional PATH and ``NAME:=VALUE`` tokens merged in."""
+        if path is not None and self.robot is not None and path != self.robot:
+            fail(f"two robots given: {path!r} and --robot {self.robot!r}")
+        return RobotOptions(
+            path if path is not None else self.robot,
+            {**self.xacro_args, **xacro_args},
+            self.packages,
+            self.left_joint,
+            self.right_joint,
+            self.wheel_radius,
+            self.wheel_separation,
+            self.max_rpm,
+        )
+
+    def load(self, *, quiet: bool = False) -> DiffDriveParams:
+        """Load the robot; print its warnings on stderr unless ``quiet``."""
+        if self.robot is not None:
+            path = Path(self.robot)
+            if not path.exists():
+                fail(f"{self.robot}: no such file")
+            if path.is_dir():
+                fail(f"{self.robot}: is a directory, not a URDF or xacro file")
+        params = load_params(
+            self.robot,
+            self.xacro_args,
+            self.packages,
+            left_joint=self.left_joint,
+            right_joint=self.right_joint,
+            wheel_radius=self.wheel_radius,
+            wheel_separation=self.wheel_separation,
+            max_wheel_speed=None if self.max_rpm is None else rad_s_from_rpm(self.max_rpm),
+        )
+        if not quiet:
+            for message in params.warnings:
+                warn(message)
+        return params
+
+
+def robot_options(command: F) -> F:
+    """Add the shared robot options; the command receives them as ``robot: RobotOptions``."""
+    options = [
+        click.option(
+            "--robot",
+            metavar="PATH",
+            help="Robot description (.urdf or .urdf.xacro). Default: the bundled diffbot.",
+        ),
+        click.option(
+            "--package",
+            "packages",
+            metavar="NAME=DIR",
+            multiple=True,
+            help="Directory of ROS package NAME, for $(find NAME). Repeatable.",
+        ),
+        click.option("--left-joint", metavar="NAME", help="Left drive wheel joint (if ambiguous)."),
+        click.option(
+            "--right-joint", metavar="NAME", help="Right drive wheel joint (if ambiguous)."
+        ),
+        click.option(
+            "--wheel-radius", type=POSITIVE, metavar="M", help="Override the wheel radius (m)."
+        ),
+        click.option(
+            "--wheel-separation",
+            type=POSITIVE,
+            metavar="M",
+            help="Override the wheel separation (m).",
+        ),
+        click.option(
+            "--max-rpm",
+            type=NON_NEGATIVE,
+            metavar="RPM",
+            help="Override the motor limit (rpm).",
+        ),
+    ]
+
+    def wrapper(**kwargs: Any) -> Any:
+        robot = RobotOptions(
+            robot=kwargs.pop("robot"),
+            xacro_args={},
+            packages=parse_packages(kwargs.pop("packages")),
+            left_joint=kwargs.pop("left_joint"),
+            right_joint=kwargs.pop("right_joint"),
+            wheel_radius=kwargs.pop("wheel_radius"),
+            wheel_separation=kwargs.pop("wheel_separation"),
+            max_rpm=kwargs.pop("max_rpm"),
+        )
+        return command(robot=robot, **kwargs)
+
+    functools.update_wrapper(wrapper, command)  # keeps options declared below this decorator
+    decorated: Any = wrapper
+    for option in reversed(options):
+        decorated = option(decorated)
+    return decorated  # type: ignore[no-any-return]
+
+
+NUMBERS = {"ignore_unknown_options": True}  # lets negative numbers through as arguments
+
+
+def check_out(out: str | None, inputs: Sequence[Path], force: bool) -> Path | None:
+    """The --out path, refused early when it is empty, exists (without --force), or is, holds
+    or lies inside an input (compared as resolved paths, links followed)."""
+    if out is None:
+        return None
+    if not out.strip():
+        fail("--out needs a file or directory name, got ''")
+    path = Path(out)
+    clash = input_clash(path, inputs)
+    if clash is not None:
+        relation, given = clash
+        if relation == "inside":
+            fail(f"--out {out} lies inside the input {given}: inputs are never modified")
+        what = "is the input" if relation == "is" else "contains the input"
+        fail(f"--out {out} {what} {given}: inputs are never overwritten")
+    if (path.exists() or path.is_symlink()) and not force:
+        fail(f"{out} exists: use --force to overwrite it")
+    return path

@@ -1,0 +1,264 @@
+"""Commands about the robot itself: ``params``, ``urdf``, ``ik`` and ``fk``."""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+import click
+
+from diffbot.commands.options import (
+    NUMBERS,
+    RobotOptions,
+    check_finite,
+    emit_json,
+    fail,
+    parse_number,
+    parse_packages,
+    robot_options,
+    split_xacro_args,
+    warn,
+)
+from diffbot.errors import EXIT_CHECK_FAILED
+from diffbot.formats.plan_table import limit_text
+from diffbot.formats.text import fmt
+from diffbot.io.outputs import write_text_atomic
+from diffbot.kinematics import (
+    DiffDriveParams,
+    WheelSpeeds,
+    forward,
+    inverse,
+    joint_from_wheel,
+    limit_fraction,
+    rad_s_from_rpm,
+    rpm_from_rad_s,
+    saturate,
+    wheel_from_joint,
+    within_limit,
+)
+from diffbot.urdf import BUNDLED_DESCRIPTION, expand
+
+__all__ = ["fk", "ik", "params", "urdf"]
+
+
+@click.command()
+@click.argument("tokens", nargs=-1, metavar="[PATH] [NAME:=VALUE]...")
+@robot_options
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
+def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
+    """Show the robot parameters derived from a description.
+
+    PATH is a .urdf or .urdf.xacro file (default: the bundled diffbot); NAME:=VALUE tokens are
+    xacro arguments. Drive wheels are found from the structure: continuous joints with a lateral
+    axis hanging from base_link through fixed joints; left is +y (REP-103).
+
+    \b
+    Example:
+      diffbot params diffbot.urdf.xacro wheel_radius:=0.04 --json
+    """
+    rest, xacro_args = split_xacro_args(tokens)
+    if len(rest) > 1:
+        fail(f"expected at most one PATH, got {rest}")
+    options = robot.with_path(rest[0] if rest else None, xacro_args)
+    p = options.load(quiet=True)
+    if as_json:
+        emit_json(
+            {
+                "wheel_radius": p.wheel_radius,
+                "wheel_separation": p.wheel_separation,
+                "left_joint": p.left_joint,
+                "right_joint": p.right_joint,
+                "left_sign": p.left_sign,
+                "right_sign": p.right_sign,
+                "max_wheel_speed": p.max_wheel_speed,
+                "max_wheel_rpm": p.max_wheel_rpm,
+                "source": p.source,
+                "warnings": list(p.warnings),
+            }
+        )
+        return
+    rows = [
+        ("robot", p.source),
+        ("wheel radius", f"{fmt(p.wheel_radius)} m"),
+        ("wheel separation", f"{fmt(p.wheel_separation)} m"),
+        ("left wheel", f"{p.left_joint} (direction {p.left_sign:+d})"),
+        ("right wheel", f"{p.right_joint} (direction {p.right_sign:+d})"),
+        ("motor limit", limit_text(p)),
+    ]
+    for label, value in rows:
+        click.echo(f"{label:<17} {value}")
+    for message in p.warnings:
+        warn(message)
+
+
+@click.command()
+@click.argument("tokens", nargs=-1, metavar="[PATH] [NAME:=VALUE]...")
+@click.option("--robot", metavar="PATH", help="Robot description (same as PATH).")
+@click.option("--package", "packages", metavar="NAME=DIR", multiple=True, help="Package directory.")
+@click.option("-o", "--output", metavar="FILE", help="Write to this file instead of stdout.")
+@click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
+def urdf(
+    tokens: tuple[str, ...],
+    robot: str | None,
+    packages: tuple[str, ...],
+    output: str | None,
+    force: bool,
+) -> None:
+    """Print the expanded URDF of a description (like xacro).
+
+    $(find NAME) is resolved from --package NAME=DIR, the bundled packages, then
+    AMENT_PREFIX_PATH; no ROS install is needed.
+
+    \b
+    Example:
+      diffbot urdf robot.urdf.xacro wheel_radius:=0.04 --package my_robot=./my_robot -o robot.urdf
+    """
+
+    rest, xacro_args = split_xacro_args(tokens)
+    if len(rest) > 1:
+        fail(f"expected at most one PATH, got {rest}")
+    path = rest[0] if rest else robot
+    if rest and robot and rest[0] != robot:
+        fail(f"two robots given: {rest[0]!r} and --robot {robot!r}")
+    expansion = expand(path, xacro_args, parse_packages(packages))
+    for message in expansion.warnings:
+        warn(message)
+    if output is None:
+        click.echo(expansion.urdf, nl=False)
+    else:
+        source = Path(path) if path is not None else BUNDLED_DESCRIPTION
+        write_text_atomic(Path(output), expansion.urdf, force=force, inputs=[source])
+
+
+def _speeds_json(params: DiffDriveParams, joints: WheelSpeeds) -> dict[str, Any]:
+    return {
+        "left": float(joints.left),
+        "right": float(joints.right),
+        "left_rpm": float(rpm_from_rad_s(joints.left)),
+        "right_rpm": float(rpm_from_rad_s(joints.right)),
+    }
+
+
+@click.command(context_settings=NUMBERS)
+@click.argument("tokens", nargs=-1, metavar="LINEAR ANGULAR [NAME:=VALUE]...")
+@robot_options
+@click.option(
+    "--saturate",
+    "do_saturate",
+    is_flag=True,
+    help="Scale both wheels down to the motor limit, keeping the turning radius.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
+def ik(robot: RobotOptions, tokens: tuple[str, ...], do_saturate: bool, as_json: bool) -> None:
+    """Wheel speeds for a body velocity (inverse kinematics).
+
+    LINEAR is the forward speed (m/s), ANGULAR the yaw rate (rad/s, positive counter-clockwise),
+    as in a cmd_vel Twist. Prints the joint velocity commands (rad/s and rpm, with the joints'
+    direction signs applied) and whether they are within the motor limit. Exit code 1 when a wheel
+    is over the limit (unless --saturate).
+
+    \b
+    Examples:
+      diffbot ik 0.1 0                 straight at 0.1 m/s: 2.857 rad/s per wheel
+      diffbot ik 0.157 -0.314          the 0.5 m clockwise circle in 20 s
+    """
+    rest, xacro_args = split_xacro_args(tokens)
+    if len(rest) != 2:
+        fail(f"expected LINEAR and ANGULAR, got {len(rest)} value(s) {list(rest)}")
+    linear = parse_number(rest[0], "LINEAR")
+    angular = parse_number(rest[1], "ANGULAR")
+    p = robot.with_path(None, xacro_args).load()
+    wheels = inverse(p, linear, angular)
+    check_finite(
+        "wheel speeds", float(wheels.left), float(wheels.right), float(rpm_from_rad_s(wheels.left))
+    )
+    check_finite("wheel speeds", float(rpm_from_rad_s(wheels.right)))
+    saturated = False
+    if do_saturate and not within_limit(p, wheels):
+        wheels = saturate(p, wheels)
+        saturated = True
+    joints = joint_from_wheel(p, wheels)
+    ok = within_limit(p, wheels)
+    fraction = limit_fraction(p, wheels)
+    if as_json:
+        data = _speeds_json(p, joints)
+        data["within_limit"] = ok
+        if do_saturate:
+            data["saturated"] = saturated
+        emit_json(data)
+    else:
+        click.echo(f"body         linear {fmt(linear)} m/s, angular {fmt(angular)} rad/s")
+        for side, value in (("left", joints.left), ("right", joints.right)):
+            joint = p.left_joint if side == "left" else p.right_joint
+            rad_s = float(value)
+            click.echo(
+                f"{side + ' wheel':<12} {fmt(rad_s):>10} rad/s "
+                f"{fmt(rpm_from_rad_s(rad_s), 5):>9} rpm   ({joint})"
+            )
+        if saturated:
+            twist = forward(p, wheels.left, wheels.right)
+            click.echo(
+                f"saturated    to linear {fmt(float(twist.linear))} m/s, "
+                f"angular {fmt(float(twist.angular))} rad/s (same turning radius)"
+            )
+        if fraction is None:
+            click.echo("motor limit  none in the description")
+        else:
+            state = "within" if ok else "OVER"
+            click.echo(f"motor limit  {limit_text(p)}: {state}, {100 * float(fraction):.1f}% used")
+    if not ok:
+        faster = "left" if abs(float(wheels.left)) >= abs(float(wheels.right)) else "right"
+        rpm = abs(float(rpm_from_rad_s(wheels.left if faster == "left" else wheels.right)))
+        click.echo(
+            f"error: {faster} wheel at {fmt(rpm, 4)} rpm exceeds the motor limit of "
+            f"{fmt(p.max_wheel_rpm or 0.0, 4)} rpm (try --saturate)",
+            err=True,
+        )
+        sys.exit(EXIT_CHECK_FAILED)
+
+
+@click.command(context_settings=NUMBERS)
+@click.argument("tokens", nargs=-1, metavar="LEFT RIGHT [NAME:=VALUE]...")
+@robot_options
+@click.option("--rpm", "in_rpm", is_flag=True, help="LEFT and RIGHT are in rpm, not rad/s.")
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
+def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool) -> None:
+    """Body velocity from wheel joint velocities (forward kinematics).
+
+    LEFT and RIGHT are the joint velocities (rad/s, or rpm with --rpm) as the controllers see them,
+    with the description's direction signs; `diffbot ik` prints the same quantities.
+
+    \b
+    Example:
+      diffbot fk 1.637 2.848            the seed's counter-clockwise arc: 0.0785 m/s, 0.314 rad/s
+    """
+    rest, xacro_args = split_xacro_args(tokens)
+    if len(rest) != 2:
+        fail(f"expected LEFT and RIGHT, got {len(rest)} value(s) {list(rest)}")
+    left = parse_number(rest[0], "LEFT")
+    right = parse_number(rest[1], "RIGHT")
+    if in_rpm:
+        left, right = float(rad_s_from_rpm(left)), float(rad_s_from_rpm(right))
+    p = robot.with_path(None, xacro_args).load()
+    wheels = wheel_from_joint(p, WheelSpeeds(left, right))
+    twist = forward(p, wheels.left, wheels.right)
+    linear, angular = float(twist.linear), float(twist.angular)
+    check_finite("body velocity", linear, angular)
+    if as_json:
+        emit_json({"linear": linear, "angular": angular})
+        return
+    click.echo(f"linear   {fmt(linear)} m/s")
+    click.echo(f"angular  {fmt(angular)} rad/s ({fmt(math.degrees(angular), 5)} deg/s)")
+    if angular == 0.0:
+        radius = "straight line" if linear != 0.0 else "standing still"
+    elif linear == 0.0:
+        radius = "spin in place"
+    else:
+        radius = (
+            f"{fmt(linear / angular)} m ({'counter-clockwise' if angular > 0 else 'clockwise'})"
+        )
+    click.echo(f"radius   {radius}")
+    if not within_limit(p, wheels):
+        warn(f"the wheel speeds exceed the motor limit of {limit_text(p)}")

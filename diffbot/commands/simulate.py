@@ -1,0 +1,260 @@
+"""``diffbot simulate``: the wheel joint states that executing a plan would produce."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Any
+
+import click
+
+from diffbot.commands.options import (
+    NON_NEGATIVE,
+    NUMBERS,
+    FiniteFloat,
+    RobotOptions,
+    check_out,
+    emit_json,
+    fail,
+    robot_options,
+    split_xacro_args,
+)
+from diffbot.commands.plan_options import (
+    check_topic,
+    plan_input,
+    plan_input_options,
+)
+from diffbot.errors import EXIT_CHECK_FAILED
+from diffbot.formats.plan_table import violation_lines
+from diffbot.formats.text import fmt
+from diffbot.io.bag import write_joint_states_bag
+from diffbot.io.csvfile import format_joint_states_csv
+from diffbot.io.outputs import write_text_atomic
+from diffbot.kinematics import rad_s_from_rpm
+from diffbot.samples import ns_from_seconds
+from diffbot.simulation import MAX_RATE, MAX_SAMPLES, sample_count
+from diffbot.simulation import simulate as simulate_plan
+from diffbot.trajectory import plan as make_plan
+
+__all__ = ["simulate"]
+
+
+class _RateType(FiniteFloat):
+    """A sampling rate (Hz): > 0 and at most diffbot.simulation.MAX_RATE."""
+
+    def __init__(self) -> None:
+        super().__init__(0.0, open_min=True)
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
+        number = super().convert(value, param, ctx)
+        if number > MAX_RATE:
+            self.fail(f"{value!r} must be <= {MAX_RATE:g} Hz", param, ctx)
+        return number
+
+
+class _StartType(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+    """Seconds since 1970 as a decimal number, read exactly into integer nanoseconds."""
+
+    name = "seconds"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> int:
+        if isinstance(value, int):
+            return value
+        try:
+            stamp_ns = ns_from_seconds(str(value))
+        except ValueError:
+            self.fail(f"{value!r} is not a number", param, ctx)
+        if stamp_ns is None:
+            self.fail(f"{value!r} is not a finite number", param, ctx)
+        if stamp_ns < 0:
+            self.fail(f"{value!r} must be >= 0", param, ctx)
+        if stamp_ns >= 2**63:
+            self.fail(f"{value!r} is past 2262, the end of int64 nanosecond stamps", param, ctx)
+        return stamp_ns
+
+
+@click.command(context_settings=NUMBERS)
+@click.argument("tokens", nargs=-1, metavar="[SPEC | FILE] [NAME:=VALUE]...")
+@robot_options
+@plan_input_options
+@click.option(
+    "--rate",
+    type=_RateType(),
+    default=50.0,
+    show_default=True,
+    metavar="HZ",
+    help="Sampling rate of the joint states (Hz), at most 1e6.",
+)
+@click.option(
+    "--ticks",
+    type=click.IntRange(min=1, max=2**32),  # diffbot.simulation.MAX_TICKS
+    metavar="N",
+    help="Encoder resolution (counts per revolution, up to 2**32): quantise the wheel angles.",
+)
+@click.option(
+    "--noise",
+    type=NON_NEGATIVE,
+    default=0.0,
+    metavar="STD",
+    help="Standard deviation of Gaussian noise on the wheel angles (rad).",
+)
+@click.option(
+    "--seed",
+    type=click.IntRange(min=0, max=2**64 - 1),
+    metavar="N",
+    help="Seed of the noise (0 to 2**64-1), for reproducible runs.",
+)
+@click.option(
+    "--start",
+    "start_ns",
+    type=_StartType(),
+    default="0",
+    show_default=True,
+    metavar="S",
+    help="Stamp of the first sample (s since 1970, read exactly to the nanosecond).",
+)
+@click.option(
+    "--out",
+    metavar="PATH",
+    help="Write to this file (CSV) or, with --bag, this rosbag2 directory; default: CSV on stdout.",
+)
+@click.option(
+    "--bag",
+    "as_bag",
+    is_flag=True,
+    help="Write --out as a rosbag2 directory of sensor_msgs/JointState.",
+)
+@click.option(
+    "--topic",
+    metavar="TOPIC",
+    default="/joint_states",
+    show_default=True,
+    help="The JointState topic of --bag.",
+)
+@click.option("--force", is_flag=True, help="Overwrite --out if it exists.")
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable summary (needs --out).")
+def simulate(
+    robot: RobotOptions,
+    tokens: tuple[str, ...],
+    example: str | None,
+    speed: float,
+    spin_rate: float,
+    fastest: bool,
+    rpm_limit: float | None,
+    rate: float,
+    ticks: int | None,
+    noise: float,
+    seed: int | None,
+    start_ns: int,
+    out: str | None,
+    as_bag: bool,
+    topic: str,
+    force: bool,
+    as_json: bool,
+) -> None:
+    """Wheel joint states that executing a plan would produce.
+
+    The plan is given as for `diffbot plan` (SPEC text, a FILE, or --example; Trajectory A when
+    nothing is given). The drive wheel joints follow its commands exactly, sampled at --rate Hz
+    plus one sample at every segment boundary and at the end, so that `diffbot odom` of the
+    result ends exactly at the plan's final pose. --noise adds Gaussian noise to the wheel angles,
+    then --ticks quantises them as an encoder would. The caster joints (caster_rotation_joint,
+    caster_wheel_joint) are reported at 0: the caster is not modelled.
+
+    Output: CSV (time in s, then one column per joint in rad) on stdout or --out, or with --bag a
+    rosbag2 directory of sensor_msgs/JointState on --topic. Exit code 1 when the plan exceeds the
+    motor limit (the output is still written).
+
+    \b
+    Examples:
+      diffbot simulate --out a.csv && diffbot odom a.csv
+      diffbot simulate "straight 1; spin 90" --rate 20 --ticks 1024 --noise 0.001 --seed 1
+      diffbot simulate --example B --out b_bag --bag --start 1700000000
+    """
+
+    rest, xacro_args = split_xacro_args(tokens)
+    check_topic("--topic", topic)
+    source = plan_input(rest, example)
+    if as_bag and out is None:
+        fail("--bag writes the --out directory: give --out DIR")
+    if as_json and out is None:
+        fail("--json prints a summary, so the samples need --out")
+    robot = robot.with_path(None, xacro_args)
+    inputs = [path for path in (source.path, robot.robot) if path is not None]
+    out_path = check_out(out, [Path(path) for path in inputs], force)
+    params = robot.load()
+    limit = None if rpm_limit is None else rad_s_from_rpm(rpm_limit)
+    p = make_plan(
+        source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest, limit=limit
+    )
+    count = sample_count(p.duration, rate, len(p.segments))
+    if count > MAX_SAMPLES:
+        highest = (MAX_SAMPLES - 2 - len(p.segments)) / p.duration
+        how = (
+            f"lower --rate to at most {highest:.4g} Hz for this plan"
+            if highest >= 1.0
+            else "the plan is too long even at 1 Hz: shorten it (or raise --speed)"
+        )
+        fail(
+            f"the plan's {fmt(p.duration)} s at {fmt(rate)} Hz would take {count:.4g} samples, "
+            f"more than the {MAX_SAMPLES} simulate makes: {how}"
+        )
+    if start_ns + round(p.duration * 1e9) >= 2**63:
+        fail(
+            f"--start plus the plan's {fmt(p.duration)} s ends past 2262, the end of int64 "
+            "nanosecond stamps"
+        )
+    states = simulate_plan(p, params, rate, ticks=ticks, noise=noise, seed=seed)
+    stamps = [start_ns + round(t * 1e9) for t in states.times.tolist()]
+    if out_path is None:
+        click.echo(format_joint_states_csv(stamps, states.names, states.positions), nl=False)
+    elif as_bag:
+        write_joint_states_bag(
+            out_path, stamps, states.names, states.positions, force=force, topic=topic
+        )
+    else:
+        text = format_joint_states_csv(stamps, states.names, states.positions)
+        write_text_atomic(out_path, text, force=force)
+    if out_path is not None:
+        pose = p.final_pose
+        if as_json:
+            emit_json(
+                {
+                    "plan": source.label,
+                    "duration": p.duration,
+                    "samples": int(states.times.size),
+                    "rate": rate,
+                    "joints": list(states.names),
+                    "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},
+                    "within_limit": p.within_limit,
+                    "output": out,
+                }
+            )
+        else:
+            what = f"rosbag2, {topic}" if as_bag else "CSV"
+            rows = [
+                (
+                    "plan",
+                    f"{source.label} ({len(p.segments)} segment"
+                    f"{'' if len(p.segments) == 1 else 's'}, {fmt(p.duration)} s)",
+                ),
+                (
+                    "samples",
+                    f"{states.times.size} at {fmt(rate)} Hz and segment ends, "
+                    f"{len(states.names)} joints",
+                ),
+                (
+                    "final pose",
+                    f"x {fmt(round(pose.x, 9))} m, y {fmt(round(pose.y, 9))} m, "
+                    f"theta {fmt(round(pose.theta, 9))} rad",
+                ),
+                ("output", f"{out} ({what})"),
+            ]
+            for label, value in rows:
+                click.echo(f"{label:<11} {value}")
+    if not p.within_limit:
+        for line in violation_lines(p):
+            click.echo(line, err=True)
+        sys.exit(EXIT_CHECK_FAILED)

@@ -1,0 +1,127 @@
+"""Plans as data for programs: JSON and CSV."""
+
+from __future__ import annotations
+
+import csv
+import io
+from typing import Any
+
+from diffbot.kinematics import DiffDriveParams, Pose, rpm_from_rad_s
+from diffbot.planfile import format_plan, format_segment
+from diffbot.trajectory import Plan, describe_segment
+
+__all__ = ["plan_csv", "plan_json", "pose_json", "robot_json"]
+
+
+def robot_json(params: DiffDriveParams) -> dict[str, Any]:
+    """The robot a plan was made for (m, rad/s, rpm)."""
+    return {
+        "wheel_radius": params.wheel_radius,
+        "wheel_separation": params.wheel_separation,
+        "left_joint": params.left_joint,
+        "right_joint": params.right_joint,
+        "left_sign": params.left_sign,
+        "right_sign": params.right_sign,
+        "max_wheel_speed": params.max_wheel_speed,
+        "max_wheel_rpm": params.max_wheel_rpm,
+        "source": params.source,
+    }
+
+
+def pose_json(pose: Pose) -> dict[str, float]:
+    """A pose as ``{x, y, theta}`` (m, m, rad)."""
+    return {"x": pose.x, "y": pose.y, "theta": pose.theta}
+
+
+def plan_json(p: Plan, label: str) -> dict[str, Any]:
+    """The whole plan as JSON-ready data (SI units, rpm labelled)."""
+
+    segments = []
+    for s in p.segments:
+        segments.append(
+            {
+                "segment": s.index + 1,
+                "kind": s.kind,
+                "spec": format_segment(s.segment),
+                "description": describe_segment(s.segment),
+                "duration": s.duration,
+                "linear": float(s.twist.linear),
+                "angular": float(s.twist.angular),
+                "left": float(s.joints.left),
+                "right": float(s.joints.right),
+                "left_rpm": float(rpm_from_rad_s(s.joints.left)),
+                "right_rpm": float(rpm_from_rad_s(s.joints.right)),
+                "fraction": s.fraction,
+                "start_pose": pose_json(s.start_pose),
+                "end_pose": pose_json(s.end_pose),
+                "end_heading": s.end_heading,
+            }
+        )
+    return {
+        "source": label,
+        "plan": format_plan(s.segment for s in p.segments),
+        "segments": segments,
+        "duration": p.duration,
+        "final_pose": pose_json(p.final_pose),
+        "within_limit": p.within_limit,
+        "limit": p.limit,
+        "limit_rpm": None if p.limit is None else float(f"{rpm_from_rad_s(p.limit):.12g}"),
+        "violations": [
+            {
+                "segment": v.index + 1,
+                "wheel": v.wheel,
+                "rpm": v.rpm,
+                "shortest_duration": v.shortest_duration,
+            }
+            for v in p.violations()
+        ],
+        "robot": robot_json(p.params),
+    }
+
+
+def plan_csv(p: Plan) -> str:
+    """One CSV row per segment; floats printed so that they read back exactly."""
+
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(
+        [
+            "segment",
+            "kind",
+            "spec",
+            "duration",
+            "linear",
+            "angular",
+            "left",
+            "right",
+            "left_rpm",
+            "right_rpm",
+            "fraction",
+            "x",
+            "y",
+            "theta",
+        ]
+    )
+    for s in p.segments:
+        values = [
+            s.duration,
+            s.twist.linear,
+            s.twist.angular,
+            s.joints.left,
+            s.joints.right,
+            rpm_from_rad_s(s.joints.left),
+            rpm_from_rad_s(s.joints.right),
+        ]
+        writer.writerow(
+            [
+                s.index + 1,
+                s.kind,
+                format_segment(s.segment),
+                *(repr(float(v)) for v in values),
+                "" if s.fraction is None else repr(s.fraction),
+                repr(s.end_pose.x),
+                repr(s.end_pose.y),
+                repr(s.end_pose.theta),
+            ]
+        )
+    return out.getvalue()

@@ -1,0 +1,52 @@
+"""Plans as ROS message lines: Twist commands for cmd_vel, Float64MultiArray per wheel."""
+
+from __future__ import annotations
+
+from diffbot.formats.text import fmt, one_line
+from diffbot.ros.messages import array_yaml, twist_yaml
+from diffbot.trajectory import Plan, PlannedSegment, describe_segment
+
+__all__ = ["plan_twist", "plan_wheels", "segment_note"]
+
+
+def segment_note(s: PlannedSegment, count: int) -> str:
+    """``i/n description, duration s``: a comment naming a segment."""
+
+    return f"{s.index + 1}/{count} {describe_segment(s.segment)}, {fmt(s.duration, 6)} s"
+
+
+def plan_twist(p: Plan, label: str, topic: str) -> str:
+    """One geometry_msgs/Twist YAML line per segment, then a stop."""
+    count = len(p.segments)
+    lines = [
+        f"# {one_line(label)} on {one_line(p.params.source)}: geometry_msgs/msg/Twist commands "
+        f"for {topic}, each held for its duration (m/s, rad/s)",
+        f"# publish one with: ros2 topic pub -r 10 {topic} geometry_msgs/msg/Twist "
+        "'{linear: {x: ...}, angular: {z: ...}}'",
+    ]
+    for s in p.segments:
+        twist = twist_yaml(float(s.twist.linear), float(s.twist.angular))
+        lines.append(f"{twist}  # {segment_note(s, count)}")
+    lines.append(f"{twist_yaml(0.0, 0.0)}  # stop")
+    return "\n".join(lines) + "\n"
+
+
+def plan_wheels(p: Plan, label: str, left_topic: str, right_topic: str) -> str:
+    """Per segment, a Float64MultiArray YAML line for each wheel topic, then a stop."""
+    params = p.params
+    count = len(p.segments)
+    width = max(len(left_topic), len(right_topic))
+    lines = [
+        f"# {one_line(label)} on {one_line(params.source)}: std_msgs/msg/Float64MultiArray "
+        "joint velocity commands (rad/s), each held for its duration",
+        f"# left: {left_topic} ({params.left_joint}, direction {params.left_sign:+d})",
+        f"# right: {right_topic} ({params.right_joint}, direction {params.right_sign:+d})",
+    ]
+    for s in p.segments:
+        lines.append(f"# {segment_note(s, count)}")
+        lines.append(f"{left_topic.ljust(width)}  {array_yaml(float(s.joints.left))}")
+        lines.append(f"{right_topic.ljust(width)}  {array_yaml(float(s.joints.right))}")
+    lines.append("# stop")
+    lines.append(f"{left_topic.ljust(width)}  {array_yaml(0.0)}")
+    lines.append(f"{right_topic.ljust(width)}  {array_yaml(0.0)}")
+    return "\n".join(lines) + "\n"

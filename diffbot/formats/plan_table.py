@@ -1,0 +1,127 @@
+"""Plans as text for people: the table ``diffbot plan`` prints, and the limit messages."""
+
+from __future__ import annotations
+
+import math
+
+from diffbot.formats.text import ceil_text, fixed, fmt
+from diffbot.kinematics import DiffDriveParams, rpm_from_rad_s
+from diffbot.planfile import format_plan
+from diffbot.trajectory import Plan, Violation, describe_segment
+
+__all__ = ["limit_text", "plan_limit_text", "plan_table", "violation_lines"]
+
+
+def limit_text(params: DiffDriveParams) -> str:
+    """The motor limit for people."""
+    if params.max_wheel_speed is None:
+        return "none"
+    return f"{fmt(params.max_wheel_rpm or 0.0, 5)} rpm ({fmt(params.max_wheel_speed)} rad/s)"
+
+
+def plan_limit_text(p: Plan) -> str:
+    """The limit a plan was checked against, for people."""
+    if p.limit is None:
+        return "none"
+    origin = "" if p.limit == p.params.max_wheel_speed else ", from --rpm-limit"
+    return f"{fmt(rpm_from_rad_s(p.limit), 5)} rpm ({fmt(p.limit)} rad/s{origin})"
+
+
+def plan_table(p: Plan, label: str) -> str:
+    """The plan as a table: each segment's twist, wheel speeds, share of the limit, end pose."""
+
+    params = p.params
+    header = [
+        "#",
+        "segment",
+        "v m/s",
+        "w rad/s",
+        "left rad/s",
+        "rpm",
+        "right rad/s",
+        "rpm",
+        "limit %",
+        "time s",
+        "x m",
+        "y m",
+        "theta deg",
+    ]
+    rows = [header]
+    for s in p.segments:
+        left, right = float(s.joints.left), float(s.joints.right)
+        rows.append(
+            [
+                str(s.index + 1),
+                describe_segment(s.segment),
+                fixed(float(s.twist.linear), 4),
+                fixed(float(s.twist.angular), 4),
+                fixed(left, 3),
+                fixed(rpm_from_rad_s(left), 2),
+                fixed(right, 3),
+                fixed(rpm_from_rad_s(right), 2),
+                "-" if s.fraction is None else f"{100 * s.fraction:.1f}",
+                fmt(s.duration, 6),
+                fixed(s.end_pose.x, 4),
+                fixed(s.end_pose.y, 4),
+                fixed(math.degrees(s.end_pose.theta), 2),
+            ]
+        )
+    widths = [max(len(row[i]) for row in rows) for i in range(len(header))]
+    lines = [
+        f"{label}: {format_plan(s.segment for s in p.segments)}",
+        f"robot: {params.source} (wheel radius {fmt(params.wheel_radius)} m, "
+        f"separation {fmt(params.wheel_separation)} m); motor limit {plan_limit_text(p)}",
+        "",
+    ]
+    for row in rows:
+        cells = [
+            cell.ljust(widths[i]) if i == 1 else cell.rjust(widths[i]) for i, cell in enumerate(row)
+        ]
+        lines.append("  ".join(cells).rstrip())
+    final = p.final_pose
+    lines.append("")
+    lines.append(
+        f"total {fmt(p.duration, 6)} s; final pose x {fixed(final.x, 4)} m, "
+        f"y {fixed(final.y, 4)} m, theta {fixed(math.degrees(final.theta), 2)} deg"
+    )
+    if p.limit is None:
+        lines.append("motor limit: none in the description, not checked")
+    else:
+        peak = max(p.segments, key=lambda s: s.fraction or 0.0)
+        if p.within_limit:
+            lines.append(
+                f"motor limit {plan_limit_text(p)}: within, peak "
+                f"{100 * (peak.fraction or 0.0):.1f}% in segment {peak.index + 1}"
+            )
+        else:
+            over = sorted({v.index + 1 for v in p.violations()})
+            lines.append(
+                f"motor limit {plan_limit_text(p)}: OVER in segment"
+                f"{'s' if len(over) > 1 else ''} {', '.join(map(str, over))}"
+            )
+    return "\n".join(lines) + "\n"
+
+
+def violation_lines(p: Plan) -> list[str]:
+    """One ``error:`` line per segment over the limit, with the shortest duration that fits."""
+
+    limit_rpm = fmt(rpm_from_rad_s(p.limit), 5) if p.limit is not None else "?"
+    by_segment: dict[int, list[Violation]] = {}
+    for v in p.violations():
+        by_segment.setdefault(v.index, []).append(v)
+    lines = []
+    for index, found in by_segment.items():
+        s = p.segments[index]
+        parts = [(v.wheel, fmt(v.rpm, 4)) for v in found]
+        if len(parts) == 2 and parts[0][1] == parts[1][1]:
+            what = f"left and right wheels at {parts[0][1]} rpm exceed"
+        elif len(parts) == 2:
+            what = f"left wheel at {parts[0][1]} rpm and right wheel at {parts[1][1]} rpm exceed"
+        else:
+            what = f"{parts[0][0]} wheel at {parts[0][1]} rpm exceeds"
+        lines.append(
+            f"error: segment {index + 1} ({describe_segment(s.segment)}, {fmt(s.duration, 6)} s): "
+            f"{what} the {limit_rpm} rpm limit; shortest duration that fits: "
+            f"{ceil_text(found[0].shortest_duration)} s"
+        )
+    return lines

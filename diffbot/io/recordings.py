@@ -1,0 +1,38 @@
+"""Reading a recording from a path: a CSV file or a rosbag2 recording, by what the path is."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from diffbot.errors import RecordingError
+from diffbot.io.bag import DEFAULT_TOPIC, is_bag, read_bag
+from diffbot.io.csvfile import read_csv
+from diffbot.kinematics import DiffDriveParams
+from diffbot.samples import Recording
+
+__all__ = ["read_recording"]
+
+
+def read_recording(
+    path: str | os.PathLike[str], params: DiffDriveParams, topic: str = DEFAULT_TOPIC
+) -> Recording:
+    """Read wheel joint samples from a CSV file or a rosbag2 recording.
+
+    Args:
+        path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
+        params: the robot, whose wheel joint names select the CSV columns.
+        topic: the JointState topic of a bag.
+
+    Returns:
+        The samples.
+
+    Raises:
+        RecordingError: missing, empty or unreadable input; missing columns or topic.
+    """
+    p = Path(path)
+    if not p.exists():
+        raise RecordingError(f"{p}: no such file or directory")
+    if is_bag(p):
+        return read_bag(p, topic)
+    return read_csv(p, params.left_joint, params.right_joint)

@@ -1,0 +1,140 @@
+"""ROS message shapes: records for nav_msgs/Odometry and the odom -> base_link transform, and
+the YAML text of geometry_msgs/Twist and std_msgs/Float64MultiArray commands as ``ros2 topic pub``
+reads it.
+
+The records mirror the messages' fields (SI units, stamps in seconds) without depending on ROS.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import NamedTuple
+
+from diffbot.errors import ParameterError
+
+__all__ = [
+    "Header",
+    "OdometryMessage",
+    "PoseWithCovariance",
+    "Quaternion",
+    "TransformStamped",
+    "TwistWithCovariance",
+    "Vector3",
+    "array_yaml",
+    "covariance_matrix",
+    "quaternion_from_yaw",
+    "twist_yaml",
+    "yaml_float",
+]
+
+
+class Vector3(NamedTuple):
+    """geometry_msgs/Vector3 (or Point): x, y, z in m, m/s or rad/s depending on use."""
+
+    x: float
+    y: float
+    z: float
+
+
+class Quaternion(NamedTuple):
+    """geometry_msgs/Quaternion: a unit quaternion (x, y, z, w)."""
+
+    x: float
+    y: float
+    z: float
+    w: float
+
+
+class Header(NamedTuple):
+    """std_msgs/Header: stamp (s) and frame_id."""
+
+    stamp: float
+    frame_id: str
+
+
+class PoseWithCovariance(NamedTuple):
+    """geometry_msgs/PoseWithCovariance: position (m), orientation, 6x6 covariance (row-major)."""
+
+    position: Vector3
+    orientation: Quaternion
+    covariance: tuple[float, ...]
+
+
+class TwistWithCovariance(NamedTuple):
+    """geometry_msgs/TwistWithCovariance: linear (m/s), angular (rad/s), 6x6 covariance."""
+
+    linear: Vector3
+    angular: Vector3
+    covariance: tuple[float, ...]
+
+
+class OdometryMessage(NamedTuple):
+    """nav_msgs/Odometry: the pose in ``header.frame_id``, the twist in ``child_frame_id``."""
+
+    header: Header
+    child_frame_id: str
+    pose: PoseWithCovariance
+    twist: TwistWithCovariance
+
+
+class TransformStamped(NamedTuple):
+    """geometry_msgs/TransformStamped: the transform from ``header.frame_id`` to the child."""
+
+    header: Header
+    child_frame_id: str
+    translation: Vector3
+    rotation: Quaternion
+
+
+def quaternion_from_yaw(yaw: float) -> Quaternion:
+    """The quaternion of a rotation by ``yaw`` (rad) about z; w >= 0 for yaw in [-pi, pi]."""
+    half = 0.5 * yaw
+    return Quaternion(0.0, 0.0, math.sin(half), math.cos(half))
+
+
+def covariance_matrix(diagonal: Sequence[float], what: str = "covariance") -> tuple[float, ...]:
+    """A 6x6 row-major covariance matrix (36 values) with the given diagonal.
+
+    Args:
+        diagonal: six variances for x, y, z, rotation about x, y, z.
+        what: a name for the values in error messages.
+
+    Returns:
+        36 floats, zero off the diagonal.
+
+    Raises:
+        ParameterError: not six values, or one is negative, NaN or infinite.
+    """
+    values = [float(v) for v in diagonal]
+    if len(values) != 6:
+        raise ParameterError(f"{what} diagonal needs 6 values, got {len(values)}")
+    for value in values:
+        if not math.isfinite(value) or value < 0.0:
+            raise ParameterError(f"{what} diagonal values must be finite and >= 0, got {value!r}")
+    matrix = [0.0] * 36
+    for i, value in enumerate(values):
+        matrix[7 * i] = value
+    return tuple(matrix)
+
+
+def yaml_float(value: float) -> str:
+    """A float for a YAML 1.1 reader (``ros2 topic pub``): every digit, and always a dot.
+
+    PyYAML reads ``1e-05`` as a string, so an exponent gets a ``.0`` mantissa.
+    """
+    text = repr(float(value))
+    if "e" in text and "." not in text:
+        mantissa, _, exponent = text.partition("e")
+        text = f"{mantissa}.0e{exponent}"
+    return text
+
+
+def twist_yaml(linear: float, angular: float) -> str:
+    """A geometry_msgs/Twist as YAML: linear.x (m/s) and angular.z (rad/s)."""
+    return f"{{linear: {{x: {yaml_float(linear)}}}, angular: {{z: {yaml_float(angular)}}}}}"
+
+
+def array_yaml(value: float) -> str:
+    """A std_msgs/Float64MultiArray of one value as YAML."""
+    return f"{{data: [{yaml_float(value)}]}}"

@@ -1,0 +1,153 @@
+"""Recorded wheel joint samples: the data that file readers produce and the odometry replay
+consumes (kept apart from both, so that neither imports the other).
+
+Stamps are kept as integer nanoseconds, like ROS time, so outputs carry the inputs' stamps
+unchanged.
+"""
+
+from __future__ import annotations
+
+import array
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
+from typing import Final, NamedTuple, overload
+
+__all__ = [
+    "CLOCK_HEADER",
+    "CLOCK_RECEIVE",
+    "INT64",
+    "NS_PER_S",
+    "SKIP_MISSING_STAMP",
+    "SKIP_STAMP_RANGE",
+    "SKIP_UNREADABLE",
+    "ColumnSamples",
+    "JointSample",
+    "Recording",
+    "ns_from_seconds",
+    "seconds_text",
+]
+
+#: :attr:`Recording.clock` of a bag stamped by the messages' header stamps.
+CLOCK_HEADER: Final = "header"
+#: :attr:`Recording.clock` of a bag stamped by the times the bag received the messages.
+CLOCK_RECEIVE: Final = "receive"
+#: Why a CSV row was skipped: its time cell is empty.
+SKIP_MISSING_STAMP: Final = "missing stamp"
+#: Why a CSV row or bag message was skipped: a value (or the message) cannot be read.
+SKIP_UNREADABLE: Final = "unreadable value"
+#: Why a CSV row was skipped: its time is outside ROS time in int64 ns (about ±292 years).
+SKIP_STAMP_RANGE: Final = "stamp out of range"
+
+
+#: Nanoseconds per second.
+NS_PER_S: Final = 1_000_000_000
+#: Stamps in ns are ROS times: they fit in a signed 64-bit integer.
+INT64: Final = 2**63
+
+
+class JointSample(NamedTuple):
+    """One JointState: stamp (ns), joint names and positions (rad), parallel sequences."""
+
+    stamp_ns: int
+    names: Sequence[str]
+    positions: Sequence[float]
+
+
+@dataclass(frozen=True)
+class Recording:
+    """Joint samples read from a file, in file order.
+
+    Attributes:
+        source: the path read, for messages.
+        kind: ``"csv"`` or ``"rosbag2"``.
+        samples: the samples, stamps in ns.
+        skipped: rows or messages that could not be turned into a sample, by reason.
+        clock: for a bag, what stamps the samples: :data:`CLOCK_HEADER` (the header stamps) or
+            :data:`CLOCK_RECEIVE` (the bag's receive times); None for a CSV file (its time
+            column).
+    """
+
+    source: str
+    kind: str
+    samples: Sequence[JointSample]
+    skipped: Mapping[str, int] = field(default_factory=dict)
+    clock: str | None = None
+
+
+def seconds_text(stamp_ns: int) -> str:
+    """A stamp (ns) as exact decimal seconds without trailing zeros (1500000000 -> ``"1.5"``)."""
+    sign = "-" if stamp_ns < 0 else ""
+    whole, frac = divmod(abs(stamp_ns), NS_PER_S)
+    if frac == 0:
+        return f"{sign}{whole}"
+    return f"{sign}{whole}.{frac:09d}".rstrip("0")
+
+
+def ns_from_seconds(text: str) -> int | None:
+    """Decimal seconds -> ns, exactly rounded (ties to even); None if NaN or infinite;
+    ValueError if not a plain decimal number (Python's digit grouping, ``1_0``, included).
+
+    Beyond 1e30 s (far outside ROS time) the result is ±10**39 rather than the exact value, so
+    that ``1e100000000`` costs nothing.
+    """
+    if "_" in text:
+        raise ValueError(text)
+    try:
+        seconds = Decimal(text.strip())
+    except InvalidOperation:
+        raise ValueError(text) from None
+    if not seconds.is_finite():
+        return None
+    if seconds.adjusted() > 30:
+        return -(10**39) if seconds.is_signed() else 10**39
+    if seconds.adjusted() < -30:
+        return 0
+    sign, digits, exponent = seconds.as_tuple()
+    assert isinstance(exponent, int)  # finite
+    nanoseconds = Decimal((sign, digits, exponent + 9))  # exact: no context rounding
+    return int(nanoseconds.to_integral_value(rounding=ROUND_HALF_EVEN))
+
+
+class ColumnSamples(Sequence[JointSample]):
+    """The samples of a two-wheel recording as compact columns rather than one object per row.
+
+    Stamps are int64 ns and wheel positions float64 (8 bytes each); a byte per row says which
+    wheels the row has. :class:`JointSample` records are made only when asked for.
+    """
+
+    def __init__(self, left_joint: str, right_joint: str) -> None:
+        self.stamps_ns = array.array("q")
+        self.left = array.array("d")
+        self.right = array.array("d")
+        #: Per row: 1 if the left wheel's cell is set, 2 if the right's, 3 if both.
+        self.present = bytearray()
+        self._names: tuple[tuple[str, ...], ...] = (
+            (),
+            (left_joint,),
+            (right_joint,),
+            (left_joint, right_joint),
+        )
+
+    def __len__(self) -> int:
+        return len(self.stamps_ns)
+
+    @overload
+    def __getitem__(self, index: int) -> JointSample: ...
+    @overload
+    def __getitem__(self, index: slice) -> list[JointSample]: ...
+    def __getitem__(self, index: int | slice) -> JointSample | list[JointSample]:
+        if isinstance(index, slice):
+            return [self[i] for i in range(*index.indices(len(self)))]
+        return self._sample(self.stamps_ns[index], self.left[index], self.right[index], index)
+
+    def __iter__(self) -> Iterator[JointSample]:
+        for k, (stamp_ns, left, right) in enumerate(
+            zip(self.stamps_ns, self.left, self.right, strict=True)
+        ):
+            yield self._sample(stamp_ns, left, right, k)
+
+    def _sample(self, stamp_ns: int, left: float, right: float, index: int) -> JointSample:
+        present = self.present[index]
+        values = (left, right) if present == 3 else (right,) if present == 2 else (left,)
+        return JointSample(stamp_ns, self._names[present], values[: bin(present).count("1")])

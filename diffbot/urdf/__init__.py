@@ -1,0 +1,73 @@
+"""Robot parameters from a URDF or xacro description, without a ROS install.
+
+The pipeline is: expand xacro (:func:`expand`), check and parse the URDF with yourdfpy, find the
+drive wheels from the structure of the kinematic tree, and derive :class:`DiffDriveParams`
+(:func:`load_params`).
+
+Drive wheels are the continuous joints whose axis is lateral (along y) in the base frame and that
+hang from the base through fixed joints only (so a caster wheel under a swivel is never taken for
+one). Left is the +y side (REP-103).
+
+Deriving needs yourdfpy, whose import costs about half a second (it pulls in trimesh), so the
+result is cached on disk keyed by the expanded URDF text: a second run on the same description
+only pays for the xacro expansion. ``DIFFBOT_CACHE_DIR`` moves the cache; ``DIFFBOT_NO_CACHE=1``
+turns it off.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+
+from diffbot.kinematics import DiffDriveParams
+from diffbot.urdf.cache import cached_fields
+from diffbot.urdf.wheels import derive_params, finish
+from diffbot.urdf.xacro import BUNDLED_DESCRIPTION, BUNDLED_PACKAGES, Expansion, expand
+
+__all__ = [
+    "BUNDLED_DESCRIPTION",
+    "BUNDLED_PACKAGES",
+    "Expansion",
+    "derive_params",
+    "expand",
+    "load_params",
+]
+
+
+def load_params(
+    path: str | os.PathLike[str] | None = None,
+    args: Mapping[str, object] | None = None,
+    packages: Mapping[str, str | os.PathLike[str]] | None = None,
+    *,
+    left_joint: str | None = None,
+    right_joint: str | None = None,
+    wheel_radius: float | None = None,
+    wheel_separation: float | None = None,
+    max_wheel_speed: float | None = None,
+) -> DiffDriveParams:
+    """Robot parameters from a URDF/xacro description.
+
+    Args:
+        path: a .urdf or .urdf.xacro file; None for the bundled diffbot.
+        args: xacro arguments, e.g. ``{"wheel_radius": "0.04"}``.
+        packages: ROS package directories for ``$(find PKG)``, e.g. ``{"my_robot": "/path/share"}``.
+        left_joint: the left drive wheel joint, needed only when more than two joints qualify.
+        right_joint: the right drive wheel joint, likewise.
+        wheel_radius: override of the wheel radius (m).
+        wheel_separation: override of the wheel separation (m).
+        max_wheel_speed: override of the motor limit (rad/s).
+
+    Returns:
+        The robot's :class:`DiffDriveParams`.
+
+    Raises:
+        DescriptionError: unreadable or malformed description, xacro failure, unknown package,
+            no or ambiguous drive wheels, wheels without a radius.
+        ParameterError: an override or derived value is not a positive finite number.
+    """
+    source = str(path) if path is not None else "bundled diffbot"
+    expansion = expand(path, args, packages)
+    fields = cached_fields(expansion.urdf, source, left_joint, right_joint)
+    return finish(
+        fields, source, expansion.warnings, wheel_radius, wheel_separation, max_wheel_speed
+    )

@@ -1,0 +1,119 @@
+"""A disk cache of derived parameters, keyed by the expanded URDF and the derivation's code.
+
+Deriving needs yourdfpy, whose import costs about half a second (it pulls in trimesh), so the
+result is cached on disk keyed by the expanded URDF text: a second run on the same description
+only pays for the xacro expansion. ``DIFFBOT_CACHE_DIR`` moves the cache; ``DIFFBOT_NO_CACHE=1``
+turns it off.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import hashlib
+import json
+import math
+import os
+import stat
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from diffbot.urdf import tree, wheels
+from diffbot.urdf.wheels import Derived, derive_text
+
+__all__ = ["cached_fields"]
+
+_CACHE_VERSION = "1"
+#: JSON types of each annotation used by :class:`Derived` (tuples are stored as lists).
+_JSON_TYPES: dict[str, tuple[type, ...]] = {
+    "float": (float, int),
+    "float | None": (float, int, type(None)),
+    "int": (int,),
+    "str": (str,),
+    "tuple[str, ...]": (list,),
+}
+#: The types a cache entry's fields must have, read off :class:`Derived` itself.
+_FIELD_TYPES = {f.name: _JSON_TYPES[str(f.type)] for f in dataclasses.fields(Derived)}
+#: Largest cache entry read (bytes): a derived record is a few hundred.
+_MAX_ENTRY = 1 << 20
+
+
+def _cache_dir() -> Path | None:
+    if os.environ.get("DIFFBOT_NO_CACHE", "") not in ("", "0"):
+        return None
+    if os.environ.get("DIFFBOT_CACHE_DIR"):
+        return Path(os.environ["DIFFBOT_CACHE_DIR"])
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "diffbot"
+
+
+def _quiet_oserror() -> contextlib.suppress:
+    # A cache that cannot be read or written only makes the run slower.
+    return contextlib.suppress(OSError, ValueError, TypeError, KeyError)
+
+
+def _from_entry(data: Any) -> Derived | None:
+    """The record a cache entry holds, or None when it is not exactly a well-typed one."""
+    if not isinstance(data, dict) or set(data) != set(_FIELD_TYPES):
+        return None
+    for name, types in _FIELD_TYPES.items():
+        value = data[name]
+        if not isinstance(value, types) or isinstance(value, bool):
+            return None
+        if isinstance(value, float) and not math.isfinite(value):
+            return None
+    if not all(isinstance(w, str) for w in data["warnings"]):
+        return None
+    if not all(data[s] in (1, -1) for s in ("left_sign", "right_sign")):
+        return None
+    return Derived(**{**data, "warnings": tuple(data["warnings"])})
+
+
+def _code_fingerprint() -> str:
+    # Entries are keyed by the derivation's own code, so a change to it is never hidden behind
+    # results the old code cached.
+    digest = hashlib.sha256(_CACHE_VERSION.encode())
+    for module in (tree, wheels):
+        with contextlib.suppress(OSError, TypeError):
+            digest.update(Path(str(module.__file__)).read_bytes())
+    return digest.hexdigest()
+
+
+def _read_entry(path: Path) -> Any:
+    """A cache entry's JSON, read only from a small regular file (never a FIFO or device)."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    with os.fdopen(fd, "rb") as stream:
+        info = os.fstat(stream.fileno())
+        if not stat.S_ISREG(info.st_mode) or info.st_size > _MAX_ENTRY:
+            return None
+        return json.loads(stream.read(_MAX_ENTRY).decode("utf-8"))
+
+
+def cached_fields(
+    urdf: str, source: str, left_joint: str | None, right_joint: str | None
+) -> Derived:
+    """What :func:`derive_text` gives for this URDF, from the disk cache when it holds it."""
+    key = hashlib.sha256(
+        json.dumps([_code_fingerprint(), urdf, left_joint, right_joint]).encode("utf-8")
+    ).hexdigest()
+    directory = _cache_dir()
+    path = directory / f"params-{key}.json" if directory else None
+    if path is not None:
+        with _quiet_oserror():
+            cached = _from_entry(_read_entry(path))
+            if cached is not None:
+                return cached
+    fields = derive_text(urdf, source, left_joint, right_joint)
+    if path is not None:
+        with _quiet_oserror():
+            path.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".params-", suffix=".tmp")
+            try:
+                with os.fdopen(fd, "w", encoding="utf-8") as out:
+                    entry = {**dataclasses.asdict(fields), "warnings": list(fields.warnings)}
+                    json.dump(entry, out)
+                os.replace(tmp, path)
+            finally:
+                Path(tmp).unlink(missing_ok=True)
+    return fields

@@ -1,0 +1,157 @@
+"""The link/joint tree of a URDF: joints as plain records, link frames relative to the base."""
+
+from __future__ import annotations
+
+import io
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from diffbot.errors import DescriptionError
+from diffbot.formats.text import one_line
+from diffbot.urdf.xacro import check_xml
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
+__all__ = ["Joint", "Tree", "joints_of", "parse_urdf"]
+
+
+@dataclass(frozen=True)
+class Joint:
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: NDArray[np.float64]  # 4x4, parent frame -> joint frame
+    axis: NDArray[np.float64]  # unit, joint frame
+    velocity_limit: float | None
+    mimic: bool = False
+    full_turn: bool = False  # revolute with a range of at least one turn: a wheel all the same
+
+
+def parse_urdf(text: str, source: str) -> Any:
+    """Parse URDF text with yourdfpy (no meshes, no scene graph) into its Robot record."""
+    check_xml(text, source)
+    import logging
+
+    logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
+    import yourdfpy
+
+    try:
+        model = yourdfpy.URDF.load(
+            io.BytesIO(text.encode("utf-8")), build_scene_graph=False, load_meshes=False
+        )
+    except Exception as err:  # yourdfpy raises bare KeyError/AttributeError/ValueError on bad URDF
+        raise DescriptionError(f"{source}: invalid URDF: {one_line(repr(err))}") from None
+    return model.robot
+
+
+def joints_of(robot: Any, source: str) -> dict[str, Joint]:
+    import numpy as np
+
+    link_names = {link.name for link in robot.links}
+    joints: dict[str, Joint] = {}
+    for j in robot.joints:
+        for role, link in (("parent", j.parent), ("child", j.child)):
+            if link not in link_names:
+                raise DescriptionError(
+                    f"{source}: joint {j.name!r} has unknown {role} link {link!r}"
+                )
+        origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
+        axis = np.asarray(j.axis if j.axis is not None else (1.0, 0.0, 0.0), dtype=float)
+        norm = float(np.linalg.norm(axis))
+        if not np.all(np.isfinite(origin)) or not math.isfinite(norm):
+            raise DescriptionError(f"{source}: joint {j.name!r} has a non-finite origin or axis")
+        if norm == 0.0 and j.type in ("continuous", "revolute", "prismatic"):
+            raise DescriptionError(f"{source}: joint {j.name!r} has a zero axis")
+        velocity = None
+        full_turn = False
+        if j.limit is not None:
+            if j.limit.velocity is not None:
+                velocity = float(j.limit.velocity)
+            if j.limit.lower is not None and j.limit.upper is not None:
+                full_turn = float(j.limit.upper) - float(j.limit.lower) >= 2.0 * math.pi
+        joints[j.name] = Joint(
+            j.name,
+            str(j.type),
+            j.parent,
+            j.child,
+            origin,
+            axis / (norm or 1.0),
+            velocity,
+            mimic=j.mimic is not None,
+            full_turn=full_turn,
+        )
+    return joints
+
+
+class Tree:
+    """Link frames at the zero configuration, relative to the base link."""
+
+    def __init__(self, robot: Any, joints: dict[str, Joint], source: str) -> None:
+        import numpy as np
+
+        self.joints = joints
+        self.parent_joint: dict[str, Joint] = {}
+        for joint in joints.values():
+            if joint.child in self.parent_joint:
+                other = self.parent_joint[joint.child].name
+                raise DescriptionError(
+                    f"{source}: link {joint.child!r} has two parent joints "
+                    f"({other!r} and {joint.name!r})"
+                )
+            self.parent_joint[joint.child] = joint
+        links = [link.name for link in robot.links]
+        duplicates = sorted({name for name in links if links.count(name) > 1})
+        if duplicates:
+            raise DescriptionError(f"{source}: links defined more than once: {duplicates}")
+        roots = [name for name in links if name not in self.parent_joint]
+        if len(roots) != 1:
+            what = "no root link (a cycle)" if not roots else f"several root links {roots}"
+            raise DescriptionError(f"{source}: the links do not form one tree: {what}")
+        for name in links:
+            seen = {name}
+            node = name
+            while node in self.parent_joint:
+                node = self.parent_joint[node].parent
+                if node in seen:
+                    raise DescriptionError(
+                        f"{source}: the links do not form one tree: a cycle through {node!r}"
+                    )
+                seen.add(node)
+        self.links = {link.name: link for link in robot.links}
+        self.base = "base_link" if "base_link" in self.links else roots[0]
+        self._from_root: dict[str, NDArray[np.float64]] = {roots[0]: np.eye(4)}
+        self._base_inv = np.linalg.inv(self._root_frame(self.base))
+
+    def _root_frame(self, link: str) -> NDArray[np.float64]:
+        chain: list[Joint] = []
+        node = link
+        while node not in self._from_root:
+            joint = self.parent_joint[node]
+            chain.append(joint)
+            node = joint.parent
+        frame = self._from_root[node]
+        for joint in reversed(chain):
+            frame = frame @ joint.origin
+            self._from_root[joint.child] = frame
+        return frame
+
+    def frame(self, link: str) -> NDArray[np.float64]:
+        """The link's frame in the base frame (4x4)."""
+        return self._base_inv @ self._root_frame(link)
+
+    def ancestors(self, link: str) -> list[str]:
+        out = [link]
+        while out[-1] in self.parent_joint:
+            out.append(self.parent_joint[out[-1]].parent)
+        return out
+
+    def joints_between(self, a: str, b: str) -> list[Joint]:
+        """The joints on the path between two links."""
+        up_a, up_b = self.ancestors(a), self.ancestors(b)
+        common = next(link for link in up_a if link in set(up_b))
+        path = up_a[: up_a.index(common)] + up_b[: up_b.index(common)]
+        return [self.parent_joint[link] for link in path]

@@ -1,0 +1,200 @@
+"""xacro expansion without ROS: ``$(find)`` from given package folders, warnings collected.
+
+xacro keeps its state in module globals, so expansions are serialised under one lock.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import re
+import threading
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from diffbot.errors import DescriptionError, PackageNotFoundError, XacroError
+from diffbot.formats.text import one_line
+from diffbot.io.textfile import read_text
+
+__all__ = ["BUNDLED_DESCRIPTION", "BUNDLED_PACKAGES", "Expansion", "check_xml", "expand"]
+
+_DESCRIPTION_DIR = Path(__file__).resolve().parent.parent / "description"
+
+#: The bundled robot description (the class's diffbot).
+BUNDLED_DESCRIPTION = _DESCRIPTION_DIR / "diffbot.urdf.xacro"
+
+#: ROS packages the bundled description refers to with ``$(find ...)``.
+BUNDLED_PACKAGES: Mapping[str, Path] = {
+    "diffbot_description": _DESCRIPTION_DIR,
+    "diffbot_control": _DESCRIPTION_DIR,
+}
+
+
+# xacro keeps its state in module globals, so expansions are serialised.
+_XACRO_LOCK = threading.Lock()
+
+
+@dataclass(frozen=True)
+class Expansion:
+    """An expanded description.
+
+    Attributes:
+        urdf: the URDF XML text.
+        warnings: what xacro warned about, and xacro arguments the description never declares.
+    """
+
+    urdf: str
+    warnings: tuple[str, ...] = ()
+
+
+class _RecordingArgs(dict[str, str]):
+    """xacro's argument table, remembering which names the description declares or reads."""
+
+    def __init__(self, given: Mapping[str, str]) -> None:
+        super().__init__(given)
+        self.seen: set[str] = set()
+
+    def __contains__(self, key: object) -> bool:
+        if isinstance(key, str):
+            self.seen.add(key)
+        return super().__contains__(key)
+
+    def __getitem__(self, key: str) -> str:
+        self.seen.add(key)
+        return super().__getitem__(key)
+
+
+def _package_resolver(packages: Mapping[str, str | os.PathLike[str]]) -> Any:
+    def find(pkg: str) -> str:
+        if pkg in packages:
+            return str(Path(packages[pkg]))
+        for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
+            candidate = Path(prefix) / "share" / pkg
+            if prefix and candidate.is_dir():
+                return str(candidate)
+        raise PackageNotFoundError(
+            f"package {pkg!r} not found: give its directory with {{packages}} {pkg}=DIR",
+            package=pkg,
+        )
+
+    return find
+
+
+def _is_xacro(path: Path, text: str) -> bool:
+    return path.suffix == ".xacro" or re.search(r"xmlns:xacro\s*=", text) is not None
+
+
+def _check_file(path: Path) -> str:
+    return read_text(path, DescriptionError, "a URDF or xacro file")
+
+
+def _xacro_message(err: BaseException, filestack: list[Any] | None) -> str:
+    location = ""
+    if filestack:
+        files = [str(f) for f in filestack if f]
+        if files:
+            location = f" (in {files[-1]})"
+    return one_line(f"xacro: {err}{location}")
+
+
+def expand(
+    path: str | os.PathLike[str] | None = None,
+    args: Mapping[str, object] | None = None,
+    packages: Mapping[str, str | os.PathLike[str]] | None = None,
+) -> Expansion:
+    """Expand a xacro description (or read a plain URDF) into URDF text.
+
+    Args:
+        path: a .urdf or .urdf.xacro file; None for the bundled robot.
+        args: xacro arguments (``NAME:=VALUE`` on a xacro command line).
+        packages: directories of ROS packages, for ``$(find PKG)``; the bundled robot's packages
+            are always known, and ``AMENT_PREFIX_PATH`` is searched last.
+
+    Returns:
+        The URDF text and any warnings.
+
+    Raises:
+        DescriptionError: the file cannot be read or is not well-formed XML.
+        XacroError: xacro failed (bad macro, expression, include).
+        PackageNotFoundError: a ``$(find PKG)`` names an unknown package.
+    """
+    source = Path(path) if path is not None else BUNDLED_DESCRIPTION
+    text = _check_file(source)
+    given = {str(k): str(v) for k, v in (args or {}).items()}
+    if not _is_xacro(source, text):
+        check_xml(text, str(source))
+        warnings = [f"{source} is plain URDF: xacro argument {name!r} ignored" for name in given]
+        return Expansion(text, tuple(warnings))
+
+    known: dict[str, str | os.PathLike[str]] = dict(BUNDLED_PACKAGES)
+    known.update(packages or {})
+    return _run_xacro(source, given, known)
+
+
+def _run_xacro(
+    source: Path, given: dict[str, str], packages: Mapping[str, str | os.PathLike[str]]
+) -> Expansion:
+    import xml.parsers.expat
+
+    import xacro
+    import xacro.substitution_args as subst
+
+    mappings = _RecordingArgs(given)
+    find = _package_resolver(packages)
+    stderr = io.StringIO()
+    with _XACRO_LOCK:
+        saved_find, saved_eval_find = subst._eval_find, subst._eval_dict.get("find")
+        subst._eval_find = find
+        subst._eval_dict["find"] = find
+        saved_all_includes = list(getattr(xacro, "all_includes", []))
+        try:
+            with contextlib.redirect_stderr(stderr):
+                doc = xacro.process_file(str(source), mappings=mappings)
+                urdf = doc.toprettyxml(indent="  ")
+        except PackageNotFoundError:
+            raise
+        except xacro.XacroException as err:
+            if isinstance(err.exc, PackageNotFoundError):
+                raise err.exc from None
+            raise XacroError(_xacro_message(err, xacro.filestack)) from None
+        except xml.parsers.expat.ExpatError as err:
+            where = xacro.filestack[-1] if xacro.filestack else source
+            raise DescriptionError(f"{where}: malformed XML: {err}") from None
+        except RecursionError:
+            raise XacroError(
+                f"xacro: {source}: infinite recursion (a macro calls itself)"
+            ) from None
+        except Exception as err:  # xacro lets Python errors of bad expressions escape
+            raise XacroError(_xacro_message(err, xacro.filestack)) from None
+        finally:
+            subst._eval_find = saved_find
+            if saved_eval_find is not None:
+                subst._eval_dict["find"] = saved_eval_find
+            xacro.all_includes = saved_all_includes
+    warnings = [one_line(line.removeprefix("warning: ")) for line in stderr.getvalue().splitlines()]
+    warnings = [w for w in warnings if w]
+    for name in given:
+        if name not in mappings.seen:
+            warnings.append(f"xacro argument {name!r} is not declared by {source.name}: ignored")
+    return Expansion(urdf, tuple(warnings))
+
+
+def check_xml(text: str, source: str) -> None:
+    """Reject text that is not well-formed XML (yourdfpy would silently 'recover' it)."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as err:
+        raise DescriptionError(f"{source}: malformed XML: {err}") from None
+    if root.tag != "robot":
+        raise DescriptionError(
+            f"{source}: not a URDF: the root element is <{root.tag}>, not <robot>"
+        )
+
+
+# --------------------------------------------------------------------------------------------
+# URDF structure -> parameters
