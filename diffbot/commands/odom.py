@@ -11,10 +11,11 @@ from pathlib import Path
 import click
 
 from diffbot.commands.options import (
+    OutOptions,
     RobotOptions,
-    check_out,
     emit_json,
     fail,
+    out_options,
     robot_options,
     split_xacro_args,
     warn,
@@ -59,26 +60,16 @@ def _skipped_text(skipped: Mapping[str, int]) -> str:
     show_default=True,
     help="The sensor_msgs/JointState topic of a bag.",
 )
-@click.option(
-    "--out",
-    metavar="PATH",
-    help="Write the poses: a CSV file (time,x,y,theta,linear,angular), or a bag with --bag.",
+@out_options(
+    "Write the poses: a CSV file (time,x,y,theta,linear,angular), or a bag with --bag.",
+    "Write --out as a rosbag2 directory: nav_msgs/Odometry on /odom, TF on /tf.",
 )
-@click.option(
-    "--bag",
-    "as_bag",
-    is_flag=True,
-    help="Write --out as a rosbag2 directory: nav_msgs/Odometry on /odom, TF on /tf.",
-)
-@click.option("--force", is_flag=True, help="Overwrite --out if it exists.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable summary.")
 def odom(
     robot: RobotOptions,
     tokens: tuple[str, ...],
     topic: str,
-    out: str | None,
-    as_bag: bool,
-    force: bool,
+    out: OutOptions,
     as_json: bool,
 ) -> None:
     """Odometry from recorded wheel joint positions.
@@ -117,20 +108,19 @@ def odom(
         fail("INPUT is empty: give a CSV file, - for stdin, or a rosbag2 recording")
     if not from_stdin and not Path(source).exists():
         fail(f"{source}: no such file or directory")
-    if as_bag and out is None:
-        fail("--bag writes the --out directory: give --out DIR")
+    out.require_out_for_bag()
     robot = robot.with_path(None, xacro_args)
     inputs = [Path(path) for path in (None if from_stdin else source, robot.robot) if path]
-    out_path = check_out(out, inputs, force)
+    out_path = out.path(inputs)
     p = robot.load()
     recording = _read_stdin_csv(p) if from_stdin else read_recording(source, p, topic)
     integrator = Odometry(p)
     run = run_odometry(recording, integrator)
     if out_path is not None:
-        if as_bag:
-            write_odometry_bag(out_path, run.rows, integrator, force=force)
+        if out.as_bag:
+            write_odometry_bag(out_path, run.rows, integrator, force=out.force)
         else:
-            write_text_atomic(out_path, format_odometry_csv(run.rows), force=force)
+            write_text_atomic(out_path, format_odometry_csv(run.rows), force=out.force)
     skipped_total = sum(run.skipped.values())
     if skipped_total:
         warn(
@@ -148,7 +138,7 @@ def odom(
                 "skipped": dict(sorted(run.skipped.items())),
                 "duration": run.duration,
                 "clock": recording.clock,
-                "output": out,
+                "output": out.out,
             }
         )
         return
@@ -166,9 +156,9 @@ def odom(
             f"({fmt(round(math.degrees(pose.theta), 7), 5)} deg)",
         ),
     ]
-    if out is not None:
-        what = "rosbag2: /odom, /tf" if as_bag else "CSV"
-        rows.append(("output", f"{out} ({what}, {len(run.rows)} poses)"))
+    if out.out is not None:
+        what = "rosbag2: /odom, /tf" if out.as_bag else "CSV"
+        rows.append(("output", f"{out.out} ({what}, {len(run.rows)} poses)"))
     for label, value in rows:
         click.echo(f"{label:<11} {value}")
 

@@ -206,60 +206,76 @@ class RobotOptions:
         return params
 
 
-def robot_options(command: F) -> F:
-    """Add the shared robot options; the command receives them as ``robot: RobotOptions``."""
-    options = [
-        click.option(
-            "--robot",
-            metavar="PATH",
-            help="Robot description (.urdf or .urdf.xacro). Default: the bundled diffbot.",
-        ),
-        click.option(
-            "--package",
-            "packages",
-            metavar="NAME=DIR",
-            multiple=True,
-            help="Directory of ROS package NAME, for $(find NAME). Repeatable.",
-        ),
-        click.option("--left-joint", metavar="NAME", help="Left drive wheel joint (if ambiguous)."),
-        click.option(
-            "--right-joint", metavar="NAME", help="Right drive wheel joint (if ambiguous)."
-        ),
-        click.option(
-            "--wheel-radius", type=POSITIVE, metavar="M", help="Override the wheel radius (m)."
-        ),
-        click.option(
-            "--wheel-separation",
-            type=POSITIVE,
-            metavar="M",
-            help="Override the wheel separation (m).",
-        ),
-        click.option(
-            "--max-rpm",
-            type=NON_NEGATIVE,
-            metavar="RPM",
-            help="Override the motor limit (rpm).",
-        ),
-    ]
+def option_group(
+    options: Sequence[Callable[[Any], Any]], name: str, build: Callable[[dict[str, Any]], object]
+) -> Callable[[F], F]:
+    """A decorator adding ``options`` to a command, which receives them as one object.
 
-    def wrapper(**kwargs: Any) -> Any:
-        robot = RobotOptions(
-            robot=kwargs.pop("robot"),
-            xacro_args={},
-            packages=parse_packages(kwargs.pop("packages")),
-            left_joint=kwargs.pop("left_joint"),
-            right_joint=kwargs.pop("right_joint"),
-            wheel_radius=kwargs.pop("wheel_radius"),
-            wheel_separation=kwargs.pop("wheel_separation"),
-            max_rpm=kwargs.pop("max_rpm"),
-        )
-        return command(robot=robot, **kwargs)
+    ``build`` takes the options' values out of the keyword arguments (popping them) and
+    returns the object, passed to the command as ``name``.
+    """
 
-    functools.update_wrapper(wrapper, command)  # keeps options declared below this decorator
-    decorated: Any = wrapper
-    for option in reversed(options):
-        decorated = option(decorated)
-    return decorated  # type: ignore[no-any-return]
+    def decorate(command: F) -> F:
+        def wrapper(**kwargs: Any) -> Any:
+            return command(**{name: build(kwargs)}, **kwargs)
+
+        functools.update_wrapper(wrapper, command)  # keeps options declared below this one
+        decorated: Any = wrapper
+        for option in reversed(options):
+            decorated = option(decorated)
+        return decorated  # type: ignore[no-any-return]
+
+    return decorate
+
+
+_ROBOT_OPTIONS = [
+    click.option(
+        "--robot",
+        metavar="PATH",
+        help="Robot description (.urdf or .urdf.xacro). Default: the bundled diffbot.",
+    ),
+    click.option(
+        "--package",
+        "packages",
+        metavar="NAME=DIR",
+        multiple=True,
+        help="Directory of ROS package NAME, for $(find NAME). Repeatable.",
+    ),
+    click.option("--left-joint", metavar="NAME", help="Left drive wheel joint (if ambiguous)."),
+    click.option("--right-joint", metavar="NAME", help="Right drive wheel joint (if ambiguous)."),
+    click.option(
+        "--wheel-radius", type=POSITIVE, metavar="M", help="Override the wheel radius (m)."
+    ),
+    click.option(
+        "--wheel-separation",
+        type=POSITIVE,
+        metavar="M",
+        help="Override the wheel separation (m).",
+    ),
+    click.option(
+        "--max-rpm",
+        type=NON_NEGATIVE,
+        metavar="RPM",
+        help="Override the motor limit (rpm).",
+    ),
+]
+
+
+def _robot_from(kwargs: dict[str, Any]) -> RobotOptions:
+    return RobotOptions(
+        robot=kwargs.pop("robot"),
+        xacro_args={},
+        packages=parse_packages(kwargs.pop("packages")),
+        left_joint=kwargs.pop("left_joint"),
+        right_joint=kwargs.pop("right_joint"),
+        wheel_radius=kwargs.pop("wheel_radius"),
+        wheel_separation=kwargs.pop("wheel_separation"),
+        max_rpm=kwargs.pop("max_rpm"),
+    )
+
+
+#: Add the shared robot options; the command receives them as ``robot: RobotOptions``.
+robot_options = option_group(_ROBOT_OPTIONS, "robot", _robot_from)
 
 
 NUMBERS = {"ignore_unknown_options": True}  # lets negative numbers through as arguments
@@ -283,3 +299,34 @@ def check_out(out: str | None, inputs: Sequence[Path], force: bool) -> Path | No
     if (path.exists() or path.is_symlink()) and not force:
         fail(f"{out} exists: use --force to overwrite it")
     return path
+
+
+@dataclass(frozen=True)
+class OutOptions:
+    """Where a command writes its samples: ``--out`` (a CSV file or, with ``--bag``, a rosbag2
+    directory) and ``--force``."""
+
+    out: str | None
+    as_bag: bool
+    force: bool
+
+    def path(self, inputs: Sequence[Path]) -> Path | None:
+        """The --out path, checked early against ``inputs`` (see :func:`check_out`)."""
+        return check_out(self.out, inputs, self.force)
+
+    def require_out_for_bag(self) -> None:
+        """Bad input when --bag is given without --out."""
+        if self.as_bag and self.out is None:
+            fail("--bag writes the --out directory: give --out DIR")
+
+
+def out_options(out_help: str, bag_help: str) -> Callable[[F], F]:
+    """Add ``--out``, ``--bag`` and ``--force``; the command receives ``out: OutOptions``."""
+    options = [
+        click.option("--out", metavar="PATH", help=out_help),
+        click.option("--bag", "as_bag", is_flag=True, help=bag_help),
+        click.option("--force", is_flag=True, help="Overwrite --out if it exists."),
+    ]
+    return option_group(
+        options, "out", lambda kw: OutOptions(kw.pop("out"), kw.pop("as_bag"), kw.pop("force"))
+    )

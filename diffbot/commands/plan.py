@@ -20,6 +20,7 @@ from diffbot.commands.options import (
 )
 from diffbot.commands.plan_options import (
     PLAN_FORMATS,
+    PlanOptions,
     check_topic,
     plan_input,
     plan_input_options,
@@ -29,9 +30,7 @@ from diffbot.formats.plan_data import plan_csv, plan_json
 from diffbot.formats.plan_messages import plan_twist, plan_wheels
 from diffbot.formats.plan_table import plan_table, violation_lines
 from diffbot.io.outputs import input_clash, write_text_atomic
-from diffbot.kinematics import rad_s_from_rpm
 from diffbot.ros.script import ros2_script
-from diffbot.trajectory import plan as make_plan
 
 __all__ = ["plan_command"]
 
@@ -95,11 +94,7 @@ __all__ = ["plan_command"]
 def plan_command(
     robot: RobotOptions,
     tokens: tuple[str, ...],
-    example: str | None,
-    speed: float,
-    spin_rate: float,
-    fastest: bool,
-    rpm_limit: float | None,
+    plan_options: PlanOptions,
     output_format: str,
     as_json: bool,
     per_wheel: bool,
@@ -151,21 +146,18 @@ def plan_command(
     check_topic("--cmd-vel-topic", cmd_vel_topic)
     check_topic("--left-topic", left_topic)
     check_topic("--right-topic", right_topic)
-    source = plan_input(rest, example)
+    source = plan_input(rest, plan_options.example)
     # Early, before any work, and in the plan's own words; write_text_atomic checks again.
     plan_file = [Path(source.path)] if source.path is not None else []
     if output is not None and input_clash(Path(output), plan_file) is not None:
         fail(f"{output} is the plan file itself: write the output elsewhere")
     params = robot.with_path(None, xacro_args).load()
-    limit = None if rpm_limit is None else rad_s_from_rpm(rpm_limit)
-    if fastest and limit is None and params.max_wheel_speed is None:
+    if plan_options.fastest and plan_options.limit is None and params.max_wheel_speed is None:
         fail(
             "--fastest needs a motor limit, and the robot description has none: "
             "give one with --max-rpm RPM or --rpm-limit RPM"
         )
-    p = make_plan(
-        source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest, limit=limit
-    )
+    p = plan_options.make(source.segments, params)
     if output_format == "json":
         text = json.dumps(plan_json(p, source.label), indent=2, allow_nan=False) + "\n"
     elif output_format == "csv":

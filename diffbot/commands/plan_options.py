@@ -6,18 +6,20 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import click
 
-from diffbot.commands.options import POSITIVE, F, fail
+from diffbot.commands.options import POSITIVE, fail, option_group
+from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
 from diffbot.planfile import load_plan, parse_plan
-from diffbot.trajectory import EXAMPLES, Segment
+from diffbot.trajectory import EXAMPLES, Plan, Segment
+from diffbot.trajectory import plan as make_plan
 
 __all__ = [
     "PLAN_FORMATS",
     "PLAN_SUFFIXES",
     "PlanInput",
+    "PlanOptions",
     "check_topic",
     "join_plan_arguments",
     "plan_input",
@@ -82,30 +84,63 @@ def check_topic(option: str, name: str) -> str:
     return name
 
 
-def plan_input_options(command: F) -> F:
-    """The options that say which plan to make, shared by ``plan`` and ``simulate``."""
-    options = [
+@dataclass(frozen=True)
+class PlanOptions:
+    """What the plan options say: the example, cruise speeds, --fastest and the limit."""
+
+    example: str | None
+    speed: float
+    spin_rate: float
+    fastest: bool
+    rpm_limit: float | None
+
+    @property
+    def limit(self) -> float | None:
+        """The motor limit to check against (rad/s), when --rpm-limit gives one."""
+        return None if self.rpm_limit is None else rad_s_from_rpm(self.rpm_limit)
+
+    def make(self, segments: Sequence[Segment], params: DiffDriveParams) -> Plan:
+        """The plan of ``segments`` for the robot, as these options ask."""
+        return make_plan(
+            segments,
+            params,
+            speed=self.speed,
+            spin_rate=self.spin_rate,
+            fastest=self.fastest,
+            limit=self.limit,
+        )
+
+
+#: The cruise options, by name: (default, metavar, help).
+_CRUISE = {
+    "--speed": (
+        0.1,
+        "M/S",
+        "Cruise path speed of straights and arcs without a duration (m/s).",
+    ),
+    "--spin-rate": (
+        0.5,
+        "RAD/S",
+        "Turn rate of spins without a duration (rad/s; 0.5 rad/s = 28.6 deg/s).",
+    ),
+}
+
+
+#: Add the options that say which plan to make; the command receives them as
+#: ``plan_options: PlanOptions``.
+plan_input_options = option_group(
+    [
         click.option(
             "--example",
             type=click.Choice(["A", "B"], case_sensitive=False),
             metavar="A|B",
             help="One of the seed's Figure 1 paths (A is used when nothing is given).",
         ),
-        click.option(
-            "--speed",
-            type=POSITIVE,
-            default=0.1,
-            show_default=True,
-            metavar="M/S",
-            help="Cruise path speed of straights and arcs without a duration (m/s).",
-        ),
-        click.option(
-            "--spin-rate",
-            type=POSITIVE,
-            default=0.5,
-            show_default=True,
-            metavar="RAD/S",
-            help="Turn rate of spins without a duration (rad/s; 0.5 rad/s = 28.6 deg/s).",
+        *(
+            click.option(
+                name, type=POSITIVE, default=default, show_default=True, metavar=unit, help=text
+            )
+            for name, (default, unit, text) in _CRUISE.items()
         ),
         click.option(
             "--fastest",
@@ -119,8 +154,9 @@ def plan_input_options(command: F) -> F:
             metavar="RPM",
             help="Motor limit to check against (rpm), instead of the description's (or --max-rpm).",
         ),
-    ]
-    decorated: Any = command
-    for option in reversed(options):
-        decorated = option(decorated)
-    return decorated  # type: ignore[no-any-return]
+    ],
+    "plan_options",
+    lambda kw: PlanOptions(
+        *(kw.pop(name) for name in ("example", "speed", "spin_rate", "fastest", "rpm_limit"))
+    ),
+)

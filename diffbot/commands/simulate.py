@@ -12,14 +12,16 @@ from diffbot.commands.options import (
     NON_NEGATIVE,
     NUMBERS,
     FiniteFloat,
+    OutOptions,
     RobotOptions,
-    check_out,
     emit_json,
     fail,
+    out_options,
     robot_options,
     split_xacro_args,
 )
 from diffbot.commands.plan_options import (
+    PlanOptions,
     check_topic,
     plan_input,
     plan_input_options,
@@ -30,11 +32,9 @@ from diffbot.formats.text import fmt
 from diffbot.io.bag import write_joint_states_bag
 from diffbot.io.csvfile import format_joint_states_csv
 from diffbot.io.outputs import write_text_atomic
-from diffbot.kinematics import rad_s_from_rpm
 from diffbot.samples import ns_from_seconds
 from diffbot.simulation import MAX_RATE, MAX_SAMPLES, sample_count
 from diffbot.simulation import simulate as simulate_plan
-from diffbot.trajectory import plan as make_plan
 
 __all__ = ["simulate"]
 
@@ -116,42 +116,28 @@ class _StartType(click.ParamType):  # type: ignore[type-arg,unused-ignore]
     help="Stamp of the first sample (s since 1970, read exactly to the nanosecond).",
 )
 @click.option(
-    "--out",
-    metavar="PATH",
-    help="Write to this file (CSV) or, with --bag, this rosbag2 directory; default: CSV on stdout.",
-)
-@click.option(
-    "--bag",
-    "as_bag",
-    is_flag=True,
-    help="Write --out as a rosbag2 directory of sensor_msgs/JointState.",
-)
-@click.option(
     "--topic",
     metavar="TOPIC",
     default="/joint_states",
     show_default=True,
     help="The JointState topic of --bag.",
 )
-@click.option("--force", is_flag=True, help="Overwrite --out if it exists.")
+@out_options(
+    "Write to this file (CSV) or, with --bag, this rosbag2 directory; default: CSV on stdout.",
+    "Write --out as a rosbag2 directory of sensor_msgs/JointState.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable summary (needs --out).")
 def simulate(
     robot: RobotOptions,
     tokens: tuple[str, ...],
-    example: str | None,
-    speed: float,
-    spin_rate: float,
-    fastest: bool,
-    rpm_limit: float | None,
+    plan_options: PlanOptions,
     rate: float,
     ticks: int | None,
     noise: float,
     seed: int | None,
     start_ns: int,
-    out: str | None,
-    as_bag: bool,
+    out: OutOptions,
     topic: str,
-    force: bool,
     as_json: bool,
 ) -> None:
     """Wheel joint states that executing a plan would produce.
@@ -176,19 +162,15 @@ def simulate(
 
     rest, xacro_args = split_xacro_args(tokens)
     check_topic("--topic", topic)
-    source = plan_input(rest, example)
-    if as_bag and out is None:
-        fail("--bag writes the --out directory: give --out DIR")
-    if as_json and out is None:
+    source = plan_input(rest, plan_options.example)
+    out.require_out_for_bag()
+    if as_json and out.out is None:
         fail("--json prints a summary, so the samples need --out")
     robot = robot.with_path(None, xacro_args)
     inputs = [path for path in (source.path, robot.robot) if path is not None]
-    out_path = check_out(out, [Path(path) for path in inputs], force)
+    out_path = out.path([Path(path) for path in inputs])
     params = robot.load()
-    limit = None if rpm_limit is None else rad_s_from_rpm(rpm_limit)
-    p = make_plan(
-        source.segments, params, speed=speed, spin_rate=spin_rate, fastest=fastest, limit=limit
-    )
+    p = plan_options.make(source.segments, params)
     count = sample_count(p.duration, rate, len(p.segments))
     if count > MAX_SAMPLES:
         highest = (MAX_SAMPLES - 2 - len(p.segments)) / p.duration
@@ -210,13 +192,13 @@ def simulate(
     stamps = [start_ns + round(t * 1e9) for t in states.times.tolist()]
     if out_path is None:
         click.echo(format_joint_states_csv(stamps, states.names, states.positions), nl=False)
-    elif as_bag:
+    elif out.as_bag:
         write_joint_states_bag(
-            out_path, stamps, states.names, states.positions, force=force, topic=topic
+            out_path, stamps, states.names, states.positions, force=out.force, topic=topic
         )
     else:
         text = format_joint_states_csv(stamps, states.names, states.positions)
-        write_text_atomic(out_path, text, force=force)
+        write_text_atomic(out_path, text, force=out.force)
     if out_path is not None:
         pose = p.final_pose
         if as_json:
@@ -229,11 +211,11 @@ def simulate(
                     "joints": list(states.names),
                     "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},
                     "within_limit": p.within_limit,
-                    "output": out,
+                    "output": out.out,
                 }
             )
         else:
-            what = f"rosbag2, {topic}" if as_bag else "CSV"
+            what = f"rosbag2, {topic}" if out.as_bag else "CSV"
             rows = [
                 (
                     "plan",
@@ -250,7 +232,7 @@ def simulate(
                     f"x {fmt(round(pose.x, 9))} m, y {fmt(round(pose.y, 9))} m, "
                     f"theta {fmt(round(pose.theta, 9))} rad",
                 ),
-                ("output", f"{out} ({what})"),
+                ("output", f"{out.out} ({what})"),
             ]
             for label, value in rows:
                 click.echo(f"{label:<11} {value}")
