@@ -14,22 +14,6 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
-__all__ = [
-    "EXIT_BAD_INPUT",
-    "EXIT_CHECK_FAILED",
-    "PARAMETERS",
-    "DescriptionError",
-    "DiffbotError",
-    "DriveWheelError",
-    "OutputError",
-    "OutputExistsError",
-    "PackageNotFoundError",
-    "ParameterError",
-    "PlanError",
-    "RecordingError",
-    "XacroError",
-]
-
 #: Exit code of bad input or usage.
 EXIT_BAD_INPUT = 2
 #: Exit code of a result that fails a check (for example a wheel over the motor limit).
@@ -48,6 +32,22 @@ PARAMETERS: Mapping[str, str] = {
     "controllers": "controllers=",
     "controller": "controller=",
 }
+
+__all__ = [
+    "EXIT_BAD_INPUT",
+    "EXIT_CHECK_FAILED",
+    "PARAMETERS",
+    "DescriptionError",
+    "DiffbotError",
+    "DriveWheelError",
+    "OutputError",
+    "OutputExistsError",
+    "PackageNotFoundError",
+    "ParameterError",
+    "PlanError",
+    "RecordingError",
+    "XacroError",
+]
 
 
 class DiffbotError(Exception):

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, NamedTuple, overload
+from typing import TYPE_CHECKING, Any, NamedTuple, TypeVar, overload
 
 from diffbot.errors import ParameterError
 
@@ -49,6 +49,8 @@ __all__ = [
 LIMIT_TOLERANCE = 1e-9
 
 _RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
+#: A speed as a float or an array of them: the conversions keep the kind they are given.
+_Speed = TypeVar("_Speed", float, "NDArray[np.float64]", "FloatOrArray")
 
 
 class Twist(NamedTuple):
@@ -143,24 +145,12 @@ class DiffDriveParams:
         return replace(self, **changes)
 
 
-@overload
-def rpm_from_rad_s(speed: float) -> float: ...
-@overload
-def rpm_from_rad_s(speed: NDArray[np.float64]) -> NDArray[np.float64]: ...
-@overload
-def rpm_from_rad_s(speed: FloatOrArray) -> FloatOrArray: ...
-def rpm_from_rad_s(speed: FloatOrArray) -> FloatOrArray:
+def rpm_from_rad_s(speed: _Speed) -> _Speed:
     """Convert an angular speed from rad/s to revolutions per minute."""
     return speed * _RPM_PER_RAD_S
 
 
-@overload
-def rad_s_from_rpm(speed: float) -> float: ...
-@overload
-def rad_s_from_rpm(speed: NDArray[np.float64]) -> NDArray[np.float64]: ...
-@overload
-def rad_s_from_rpm(speed: FloatOrArray) -> FloatOrArray: ...
-def rad_s_from_rpm(speed: FloatOrArray) -> FloatOrArray:
+def rad_s_from_rpm(speed: _Speed) -> _Speed:
     """Convert an angular speed from revolutions per minute to rad/s."""
     return speed / _RPM_PER_RAD_S
 

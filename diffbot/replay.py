@@ -6,12 +6,12 @@ from __future__ import annotations
 import array
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import NamedTuple, overload
+from typing import NamedTuple
 
 from diffbot.errors import RecordingError
 from diffbot.kinematics import Pose, Twist, norm_angle
 from diffbot.odometry import SKIP_MISSING_JOINT, Odometry
-from diffbot.samples import NS_PER_S, ColumnSamples, Recording
+from diffbot.samples import NS_PER_S, ColumnSamples, ColumnView, Recording
 
 __all__ = ["OdometryRow", "OdometryRows", "OdometryRun", "run_odometry"]
 
@@ -24,7 +24,7 @@ class OdometryRow(NamedTuple):
     twist: Twist
 
 
-class OdometryRows(Sequence[OdometryRow]):
+class OdometryRows(ColumnView[OdometryRow]):
     """Odometry rows as compact columns: stamps int64 ns, the rest float64 (48 bytes a row).
 
     ``theta`` holds the unwrapped heading; rows report it in (-pi, pi].
@@ -53,13 +53,7 @@ class OdometryRows(Sequence[OdometryRow]):
     def __len__(self) -> int:
         return len(self.stamps_ns)
 
-    @overload
-    def __getitem__(self, index: int) -> OdometryRow: ...
-    @overload
-    def __getitem__(self, index: slice) -> list[OdometryRow]: ...
-    def __getitem__(self, index: int | slice) -> OdometryRow | list[OdometryRow]:
-        if isinstance(index, slice):
-            return [self[i] for i in range(*index.indices(len(self)))]
+    def row(self, index: int) -> OdometryRow:
         return OdometryRow(
             self.stamps_ns[index],
             Pose(self.x[index], self.y[index], norm_angle(self.heading[index])),

@@ -11,7 +11,7 @@ import array
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
-from typing import Final, NamedTuple, overload
+from typing import Final, Generic, NamedTuple, TypeVar, overload
 
 __all__ = [
     "CLOCK_HEADER",
@@ -22,6 +22,7 @@ __all__ = [
     "SKIP_STAMP_RANGE",
     "SKIP_UNREADABLE",
     "ColumnSamples",
+    "ColumnView",
     "JointSample",
     "Recording",
     "ns_from_seconds",
@@ -109,7 +110,30 @@ def ns_from_seconds(text: str) -> int | None:
     return int(nanoseconds.to_integral_value(rounding=ROUND_HALF_EVEN))
 
 
-class ColumnSamples(Sequence[JointSample]):
+_Row = TypeVar("_Row")
+
+
+class ColumnView(Sequence[_Row], Generic[_Row]):
+    """A sequence of records kept as compact columns: a record is made only when one is read."""
+
+    def __len__(self) -> int:
+        raise NotImplementedError
+
+    def row(self, index: int) -> _Row:
+        """The record at ``index`` (negative counts from the end)."""
+        raise NotImplementedError
+
+    @overload
+    def __getitem__(self, index: int) -> _Row: ...
+    @overload
+    def __getitem__(self, index: slice) -> list[_Row]: ...
+    def __getitem__(self, index: int | slice) -> _Row | list[_Row]:
+        if isinstance(index, slice):
+            return [self.row(i) for i in range(*index.indices(len(self)))]
+        return self.row(index)
+
+
+class ColumnSamples(ColumnView[JointSample]):
     """The samples of a two-wheel recording as compact columns rather than one object per row.
 
     Stamps are int64 ns and wheel positions float64 (8 bytes each); a byte per row says which
@@ -132,13 +156,7 @@ class ColumnSamples(Sequence[JointSample]):
     def __len__(self) -> int:
         return len(self.stamps_ns)
 
-    @overload
-    def __getitem__(self, index: int) -> JointSample: ...
-    @overload
-    def __getitem__(self, index: slice) -> list[JointSample]: ...
-    def __getitem__(self, index: int | slice) -> JointSample | list[JointSample]:
-        if isinstance(index, slice):
-            return [self[i] for i in range(*index.indices(len(self)))]
+    def row(self, index: int) -> JointSample:
         return self._sample(self.stamps_ns[index], self.left[index], self.right[index], index)
 
     def __iter__(self) -> Iterator[JointSample]:

@@ -10,16 +10,8 @@ from pathlib import Path
 
 import click
 
-from diffbot.commands.options import (
-    OutOptions,
-    RobotOptions,
-    emit_json,
-    fail,
-    out_options,
-    robot_options,
-    split_xacro_args,
-    warn,
-)
+from diffbot.commands import options as opt
+from diffbot.commands.options import OutOptions, RobotOptions
 from diffbot.formats.text import fmt
 from diffbot.io.bag import write_odometry_bag
 from diffbot.io.csvfile import format_odometry_csv, read_csv
@@ -40,7 +32,7 @@ def _read_stdin_csv(params: DiffDriveParams) -> Recording:
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError:
-        fail("-: stdin is not a text (UTF-8) CSV")
+        opt.fail("-: stdin is not a text (UTF-8) CSV")
     return read_csv(
         io.StringIO(text, newline=""), params.left_joint, params.right_joint, source="-"
     )
@@ -52,15 +44,9 @@ def _skipped_text(skipped: Mapping[str, int]) -> str:
 
 @click.command()
 @click.argument("tokens", nargs=-1, metavar="INPUT [NAME:=VALUE]...")
-@robot_options
-@click.option(
-    "--topic",
-    metavar="TOPIC",
-    default="/joint_states",
-    show_default=True,
-    help="The sensor_msgs/JointState topic of a bag.",
-)
-@out_options(
+@opt.robot_options
+@opt.topic_option("The sensor_msgs/JointState topic of a bag.")
+@opt.out_options(
     "Write the poses: a CSV file (time,x,y,theta,linear,angular), or a bag with --bag.",
     "Write --out as a rosbag2 directory: nav_msgs/Odometry on /odom, TF on /tf.",
 )
@@ -96,18 +82,18 @@ def odom(
       diffbot odom run.mcap --out odom_bag --bag --json
     """
 
-    rest, xacro_args = split_xacro_args(tokens)
+    rest, xacro_args = opt.split_xacro_args(tokens)
     if len(rest) != 1:
-        fail(
+        opt.fail(
             "expected one INPUT (a CSV file, - for a CSV on stdin, a rosbag2 directory or a "
             f".db3/.mcap file), got {rest}"
         )
     source = rest[0]
     from_stdin = source == "-"
     if not source.strip():
-        fail("INPUT is empty: give a CSV file, - for stdin, or a rosbag2 recording")
+        opt.fail("INPUT is empty: give a CSV file, - for stdin, or a rosbag2 recording")
     if not from_stdin and not Path(source).exists():
-        fail(f"{source}: no such file or directory")
+        opt.fail(f"{source}: no such file or directory")
     out.require_out_for_bag()
     robot = robot.with_path(None, xacro_args)
     inputs = [Path(path) for path in (None if from_stdin else source, robot.robot) if path]
@@ -123,13 +109,13 @@ def odom(
             write_text_atomic(out_path, format_odometry_csv(run.rows), force=out.force)
     skipped_total = sum(run.skipped.values())
     if skipped_total:
-        warn(
+        opt.warn(
             f"skipped {skipped_total} of {run.samples + skipped_total} samples: "
             f"{_skipped_text(run.skipped)}"
         )
     pose = run.final_pose
     if as_json:
-        emit_json(
+        opt.emit_json(
             {
                 "input": source,
                 "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},

@@ -330,3 +330,10 @@ def out_options(out_help: str, bag_help: str) -> Callable[[F], F]:
     return option_group(
         options, "out", lambda kw: OutOptions(kw.pop("out"), kw.pop("as_bag"), kw.pop("force"))
     )
+
+
+def topic_option(help_text: str) -> Callable[[F], F]:
+    """``--topic`` (default ``/joint_states``), the JointState topic of a bag."""
+    return click.option(
+        "--topic", metavar="TOPIC", default="/joint_states", show_default=True, help=help_text
+    )

@@ -19,6 +19,7 @@ from diffbot.commands.options import (
     out_options,
     robot_options,
     split_xacro_args,
+    topic_option,
 )
 from diffbot.commands.plan_options import (
     PlanOptions,
@@ -115,18 +116,12 @@ class _StartType(click.ParamType):  # type: ignore[type-arg,unused-ignore]
     metavar="S",
     help="Stamp of the first sample (s since 1970, read exactly to the nanosecond).",
 )
-@click.option(
-    "--topic",
-    metavar="TOPIC",
-    default="/joint_states",
-    show_default=True,
-    help="The JointState topic of --bag.",
-)
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable summary (needs --out).")
+@topic_option("The JointState topic of --bag.")
 @out_options(
     "Write to this file (CSV) or, with --bag, this rosbag2 directory; default: CSV on stdout.",
     "Write --out as a rosbag2 directory of sensor_msgs/JointState.",
 )
-@click.option("--json", "as_json", is_flag=True, help="Machine-readable summary (needs --out).")
 def simulate(
     robot: RobotOptions,
     tokens: tuple[str, ...],

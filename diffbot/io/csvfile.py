@@ -12,11 +12,11 @@ import csv
 import io
 import os
 from collections.abc import Iterable, Iterator, Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING, Final, TextIO
 
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
+from diffbot.io.textfile import open_text
 from diffbot.kinematics import norm_angle
 from diffbot.odometry import SKIP_NOT_FINITE
 from diffbot.replay import OdometryRow, OdometryRows
@@ -87,17 +87,9 @@ def read_csv(
             columns for a wheel.
     """
     if isinstance(path, (str, os.PathLike)):
-        p = Path(path)
-        name = source if source is not None else str(p)
-        try:
-            with p.open(encoding="utf-8-sig", newline="") as stream:
-                return _read_csv_stream(stream, left_joint, right_joint, name)
-        except FileNotFoundError:
-            raise RecordingError(f"{name}: no such file or directory") from None
-        except IsADirectoryError:
-            raise RecordingError(f"{name}: is a directory, not a CSV file") from None
-        except OSError as err:
-            raise RecordingError(f"{name}: cannot read: {err.strerror or err}") from None
+        name = source if source is not None else os.fspath(path)
+        with open_text(path, RecordingError, "a CSV file", name=name, newline="") as stream:
+            return _read_csv_stream(stream, left_joint, right_joint, name)
     name = source if source is not None else str(getattr(path, "name", "<stream>"))
     return _read_csv_stream(path, left_joint, right_joint, name)
 

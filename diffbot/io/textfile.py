@@ -1,27 +1,53 @@
-"""Reading a whole text input file, with one-line errors of the caller's kind."""
+"""Opening text inputs: regular files only, with one-line errors of the caller's kind."""
 
 from __future__ import annotations
 
+import contextlib
 import os
+import stat
+from collections.abc import Iterator
+from typing import TextIO
 
 from diffbot.errors import DiffbotError
 
+__all__ = ["open_text", "read_text"]
 
-def read_text(path: str | os.PathLike[str], error: type[DiffbotError], kind: str) -> str:
-    """The text of a UTF-8 file (a leading BOM dropped).
+
+@contextlib.contextmanager
+def open_text(
+    path: str | os.PathLike[str],
+    error: type[DiffbotError],
+    kind: str,
+    *,
+    name: str | None = None,
+    newline: str | None = None,
+) -> Iterator[TextIO]:
+    """Open a UTF-8 text file for reading (a leading BOM dropped).
+
+    Only a regular file is opened: a FIFO, a device or a directory is refused by its type first,
+    so that none can block or feed endless data.
 
     Args:
         path: the file.
         error: the error to raise, for example ``PlanError``.
         kind: what the file should be, for messages ("a plan file").
+        name: the input's name in messages (default: the path).
+        newline: as for :func:`open` (``""`` for CSV).
 
     Raises:
-        error: the file is missing, a directory, not UTF-8 text, or unreadable.
+        error: the file is missing, not a regular file, not UTF-8 text, or unreadable (also while
+            the caller reads it).
     """
-    name = os.fspath(path)
+    name = os.fspath(path) if name is None else name
     try:
-        with open(name, encoding="utf-8-sig") as handle:  # a BOM is not part of the content
-            return handle.read()
+        mode = os.stat(path).st_mode
+        if stat.S_ISDIR(mode):
+            raise IsADirectoryError
+        if not stat.S_ISREG(mode):
+            raise error(f"{name}: not a regular file (a FIFO, socket or device), not {kind}")
+        # a BOM is not part of the content
+        with open(path, encoding="utf-8-sig", newline=newline) as handle:
+            yield handle
     except FileNotFoundError:
         raise error(f"{name}: no such file") from None
     except IsADirectoryError:
@@ -30,3 +56,9 @@ def read_text(path: str | os.PathLike[str], error: type[DiffbotError], kind: str
         raise error(f"{name}: not a text file ({err.reason})") from None
     except OSError as err:
         raise error(f"{name}: cannot read ({err.strerror})") from None
+
+
+def read_text(path: str | os.PathLike[str], error: type[DiffbotError], kind: str) -> str:
+    """The text of a UTF-8 file (a leading BOM dropped); see :func:`open_text`."""
+    with open_text(path, error, kind) as handle:
+        return handle.read()

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypedDict
 
 from diffbot.errors import DescriptionError, DriveWheelError, ParameterError
 from diffbot.kinematics import DiffDriveParams
@@ -19,8 +19,9 @@ from diffbot.urdf.tree import Joint, Tree, joints_of, parse_urdf
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
+    from typing_extensions import Unpack
 
-__all__ = ["Derived", "derive", "derive_params", "derive_text", "finish"]
+__all__ = ["Derived", "Overrides", "derive", "derive_params", "derive_text", "finish"]
 
 #: A joint axis counts as lateral when its y component (unit axis, base frame) is at least this.
 _LATERAL_MIN = math.cos(math.radians(25.0))
@@ -364,29 +365,36 @@ def finish(
         raise ParameterError(f"{err}" if given else f"{source}: {err}") from None
 
 
+class Overrides(TypedDict, total=False):
+    """What a caller may give instead of (or to choose among) what a description says."""
+
+    left_joint: str | None
+    right_joint: str | None
+    wheel_radius: float | None
+    wheel_separation: float | None
+    max_wheel_speed: float | None
+
+
 def derive_params(
-    urdf: str,
-    source: str = "(URDF text)",
-    *,
-    left_joint: str | None = None,
-    right_joint: str | None = None,
-    wheel_radius: float | None = None,
-    wheel_separation: float | None = None,
-    max_wheel_speed: float | None = None,
+    urdf: str, source: str = "(URDF text)", **overrides: Unpack[Overrides]
 ) -> DiffDriveParams:
     """Derive robot parameters from URDF text (no xacro, no cache).
 
     Args:
         urdf: URDF XML text.
         source: a name for the text in messages.
-        left_joint: the left drive wheel joint, when the structure leaves a choice.
-        right_joint: the right drive wheel joint, likewise.
-        wheel_radius: override (m); required when the wheel links have no cylinder.
-        wheel_separation: override (m).
-        max_wheel_speed: override of the motor limit (rad/s).
+        **overrides: ``left_joint``, ``right_joint`` (the drive wheels, when the structure leaves
+            a choice), ``wheel_radius``, ``wheel_separation`` (m) and ``max_wheel_speed``
+            (rad/s), as for :func:`diffbot.load_params`.
 
     Returns:
         The parameters, with warnings about the description.
     """
+    left_joint, right_joint = overrides.get("left_joint"), overrides.get("right_joint")
+    wheel_radius, wheel_separation = (
+        overrides.get("wheel_radius"),
+        overrides.get("wheel_separation"),
+    )
+    max_wheel_speed = overrides.get("max_wheel_speed")
     fields = derive_text(urdf, source, left_joint, right_joint)
     return finish(fields, source, (), wheel_radius, wheel_separation, max_wheel_speed)
