@@ -1,0 +1,65 @@
+"""What each quick command loads: start-up cannot regress silently (heavy modules load only
+where a command needs them)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+HEAVY = ("numpy", "yourdfpy", "trimesh", "rosbags", "matplotlib", "scipy")
+
+PROBE = """
+import contextlib, io, json, sys
+from diffbot.cli import main
+with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+    try:
+        main(sys.argv[1:], standalone_mode=False)
+    except SystemExit:
+        pass
+print(json.dumps(sorted({name.split(".")[0] for name in sys.modules})))
+"""
+
+
+def loaded_by(args: list[str], cache: Path) -> set[str]:
+    """The top-level modules loaded by one run of ``diffbot ARGS`` in a fresh interpreter."""
+    env = {"DIFFBOT_CACHE_DIR": str(cache), "PATH": "/usr/bin:/bin"}
+    done = subprocess.run(
+        [sys.executable, "-c", PROBE, *args], capture_output=True, text=True, env=env, check=True
+    )
+    return set(json.loads(done.stdout)) & set(HEAVY)
+
+
+@pytest.fixture(scope="module")
+def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A parameter cache that already holds the bundled robot (as after a first run)."""
+    cache = tmp_path_factory.mktemp("cache")
+    assert "yourdfpy" in loaded_by(["params"], cache)  # the first run derives: yourdfpy loads
+    return cache
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--version"],
+        ["--help"],
+        ["params"],
+        ["params", "--json"],
+        ["urdf"],
+        ["ik", "0.1", "0"],
+        ["fk", "2.86", "2.86"],
+        ["plan"],
+        ["plan", "--format", "ros2"],
+        ["odom", "--help"],
+        ["simulate", "--help"],
+    ],
+)
+def test_quick_commands_load_no_heavy_module(args: list[str], warm_cache: Path) -> None:
+    assert loaded_by(args, warm_cache) == set()
+
+
+def test_simulating_loads_numpy_but_not_bags_or_plots(warm_cache: Path) -> None:
+    assert loaded_by(["simulate", "straight 0.1"], warm_cache) == {"numpy"}
