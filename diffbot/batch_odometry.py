@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["PoseSeries", "integrate"]
+__all__ = ["BLOCK", "PoseSeries", "integrate"]
 
 
 class PoseSeries(NamedTuple):
@@ -33,7 +33,7 @@ class PoseSeries(NamedTuple):
 
 #: Steps integrated per block by :func:`integrate`: small enough that the work arrays stay in the
 #: CPU cache, large enough that NumPy's per-call overhead vanishes.
-_BLOCK = 32768
+BLOCK = 32768
 
 
 def integrate(
@@ -91,7 +91,7 @@ def integrate(
     left0 = float(left[0])
     right0 = float(right[0])
 
-    block = max(1, min(_BLOCK, n - 1))
+    block = max(1, min(BLOCK, n - 1))
     dl = np.empty(block)
     dr = np.empty(block)
     along = np.empty(block)

@@ -460,9 +460,9 @@ def test_batch_integration_equals_streaming(
 def test_batch_integration_spans_several_blocks_like_streaming(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    import diffbot.odometry as module
+    import diffbot.batch_odometry as module
 
-    monkeypatch.setattr(module, "_BLOCK", 7)
+    monkeypatch.setattr(module, "BLOCK", 7)
     segments = [(0.1, 0.4, 3.0, 30), (0.0, -1.0, 1.0, 11), (0.2, 0.0, 1.0, 5)]
     stamps, lefts, rights = wheel_samples(BOT, segments)
     series = integrate(BOT, lefts, rights)
