@@ -1,0 +1,177 @@
+"""What a diff_drive_controller configuration says, as plain records (SI units)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+__all__ = ["AxisLimits", "ControllerConfig", "default_of", "first_of"]
+
+
+@dataclass(frozen=True)
+class AxisLimits:
+    """Command limits of one axis (linear.x in m/s, m/s², m/s³; angular.z in rad/s, ...).
+
+    Every field is None when the file leaves the limit out, sets it to NaN, or switches its group
+    off with a ``has_*_limits: false`` flag. Signs are those of the controller: ``min_*``,
+    ``max_deceleration`` and ``max_acceleration_reverse`` are <= 0.
+
+    Attributes:
+        max_velocity: highest velocity.
+        min_velocity: lowest velocity (most negative); ``-max_velocity`` when None.
+        max_acceleration: highest rate of change while moving forward (or from rest).
+        min_acceleration: lowest rate of change, the name of ROS 1 and releases before 2025.
+        max_deceleration: lowest rate of change while moving forward (braking).
+        max_acceleration_reverse: lowest rate of change while moving backward (speeding up).
+        max_deceleration_reverse: highest rate of change while moving backward (braking).
+        max_jerk: highest rate of change of the acceleration.
+        min_jerk: lowest rate of change of the acceleration; ``-max_jerk`` when None.
+    """
+
+    max_velocity: float | None = None
+    min_velocity: float | None = None
+    max_acceleration: float | None = None
+    min_acceleration: float | None = None
+    max_deceleration: float | None = None
+    max_acceleration_reverse: float | None = None
+    max_deceleration_reverse: float | None = None
+    max_jerk: float | None = None
+    min_jerk: float | None = None
+
+    @property
+    def velocity_range(self) -> tuple[float, float] | None:
+        """The (lowest, highest) velocity the limiter lets through, or None when unlimited."""
+        return _range(self.min_velocity, self.max_velocity)
+
+    @property
+    def jerk_range(self) -> tuple[float, float] | None:
+        """The (lowest, highest) jerk the limiter lets through, or None when unlimited."""
+        return _range(self.min_jerk, self.max_jerk)
+
+    def acceleration_range(self, previous: float) -> tuple[float, float] | None:
+        """The (lowest, highest) rate of change allowed after a command, or None when unlimited.
+
+        Args:
+            previous: the previous command (m/s or rad/s); its sign tells speeding up from braking.
+
+        Returns:
+            Bounds on (v - previous) / dt, as the controller's limiter sets them: nothing is limited
+            without ``max_acceleration``; the reverse and braking bounds default to the mirror
+            images of the forward ones (``min_acceleration`` of older files serves as both
+            ``max_deceleration`` and ``max_acceleration_reverse``).
+        """
+        if self.max_acceleration is None:
+            return None
+        reverse = first_of(self.max_acceleration_reverse, self.min_acceleration)
+        if reverse is None:
+            reverse = -self.max_acceleration
+        if previous > 0.0:
+            braking = first_of(self.max_deceleration, self.min_acceleration)
+            return (reverse if braking is None else braking, self.max_acceleration)
+        if previous < 0.0:
+            braking_reverse = self.max_deceleration_reverse
+            if braking_reverse is None:
+                braking_reverse = self.max_acceleration
+            return (reverse, braking_reverse)
+        return (reverse, self.max_acceleration)
+
+
+@dataclass(frozen=True)
+class ControllerConfig:
+    """One ``diff_drive_controller/DiffDriveController`` as a controllers file configures it.
+
+    Numbers are None where the file leaves them out (multipliers default to 1.0, as in the
+    controller). Lengths in m, times in s, rates in Hz.
+
+    Attributes:
+        name: the controller's name (its node name without namespace).
+        source: the file it came from.
+        ros_version: 1 or 2.
+        left_wheel_names: the left wheel joints (``left_wheel_names``, ROS 1 ``left_wheel``).
+        right_wheel_names: the right wheel joints.
+        wheel_separation: distance between the left and right wheels, before the multiplier.
+        wheel_radius: wheel radius, before the multipliers.
+        wheels_per_side: the ``wheels_per_side`` of older releases.
+        wheel_separation_multiplier: correction factor of the separation.
+        left_wheel_radius_multiplier: correction factor of the left radius.
+        right_wheel_radius_multiplier: correction factor of the right radius.
+        linear: limits of linear.x (m/s, m/s², m/s³).
+        angular: limits of angular.z (rad/s, rad/s², rad/s³).
+        preserve_turning_radius: scale both axes alike when limiting (Clearpath and PAL forks).
+        open_loop: odometry from the commands instead of the wheel feedback.
+        use_stamped_vel: commands as TwistStamped (releases before Jazzy).
+        odom_frame_id: the odometry frame.
+        base_frame_id: the robot's frame.
+        pose_covariance_diagonal: diagonal of the published pose covariance (6 values).
+        twist_covariance_diagonal: diagonal of the published twist covariance (6 values).
+        publish_rate: odometry publishing rate (Hz).
+        enable_odom_tf: whether the odom -> base transform is published.
+        velocity_rolling_window_size: samples averaged for the odometry velocity.
+        cmd_vel_timeout: age after which a command is stale (s); 0 disables the timeout.
+        update_rate: the controller manager's update rate (Hz).
+        warnings: things worth telling the user about the section, one sentence each.
+    """
+
+    name: str
+    source: str
+    ros_version: Literal[1, 2]
+    left_wheel_names: tuple[str, ...] = ()
+    right_wheel_names: tuple[str, ...] = ()
+    wheel_separation: float | None = None
+    wheel_radius: float | None = None
+    wheels_per_side: int | None = None
+    wheel_separation_multiplier: float = 1.0
+    left_wheel_radius_multiplier: float = 1.0
+    right_wheel_radius_multiplier: float = 1.0
+    linear: AxisLimits = AxisLimits()
+    angular: AxisLimits = AxisLimits()
+    preserve_turning_radius: bool | None = None
+    open_loop: bool | None = None
+    use_stamped_vel: bool | None = None
+    odom_frame_id: str | None = None
+    base_frame_id: str | None = None
+    pose_covariance_diagonal: tuple[float, ...] | None = None
+    twist_covariance_diagonal: tuple[float, ...] | None = None
+    publish_rate: float | None = None
+    enable_odom_tf: bool | None = None
+    velocity_rolling_window_size: int | None = None
+    cmd_vel_timeout: float | None = None
+    update_rate: float | None = None
+    warnings: tuple[str, ...] = field(default=(), compare=False)
+
+    @property
+    def effective_separation(self) -> float | None:
+        """The separation the controller computes with (m): separation times multiplier, or None."""
+        if self.wheel_separation is None:
+            return None
+        return self.wheel_separation * self.wheel_separation_multiplier
+
+    @property
+    def left_radius(self) -> float | None:
+        """The left wheel radius the controller computes with (m), or None."""
+        if self.wheel_radius is None:
+            return None
+        return self.wheel_radius * self.left_wheel_radius_multiplier
+
+    @property
+    def right_radius(self) -> float | None:
+        """The right wheel radius the controller computes with (m), or None."""
+        if self.wheel_radius is None:
+            return None
+        return self.wheel_radius * self.right_wheel_radius_multiplier
+
+
+def first_of(*values: float | None) -> float | None:
+    """The first value that is not None, or None."""
+    return next((v for v in values if v is not None), None)
+
+
+def default_of(value: float | None, default: float) -> float:
+    """``value``, or ``default`` when it is None."""
+    return default if value is None else value
+
+
+def _range(low: float | None, high: float | None) -> tuple[float, float] | None:
+    if high is None:
+        return None
+    return (-high if low is None else low, high)

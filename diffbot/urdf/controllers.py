@@ -1,0 +1,526 @@
+"""Diff-drive settings from ros2_control controller files and Gazebo drive plugins.
+
+A robot's geometry is often written in more places than its URDF: the ``diff_drive_controller``
+section of a controllers YAML (``wheel_separation``, ``wheel_radius``, their multipliers, the
+command limits) and the diff-drive plugin of a Gazebo simulation. This module reads those sources
+as plain data, so that they can be compared with the description and with each other.
+
+Controllers YAML, in every form found in the wild:
+
+* ROS 2, the controller declared by the controller manager and configured in its own section::
+
+      controller_manager:
+        ros__parameters:
+          update_rate: 50
+          diff_cont: {type: diff_drive_controller/DiffDriveController}
+      diff_cont:
+        ros__parameters: {wheel_separation: 0.3, linear.x.max_velocity: 0.5}
+
+* ROS 2, the type given in the controller's own section (``diff_cont: ros__parameters: type:``);
+* node names with namespaces or wildcards (``/**:``, ``/**/controller_manager:``,
+  ``ns/controller_manager:``, ``/ns/diff_cont:``, or namespaces as nested keys), matched by their
+  last component; parameters of a wildcard node (``/**``) apply to every node;
+* parameters nested (``linear: {x: {max_velocity: 1.0}}``), dotted (``linear.x.max_velocity``)
+  or both;
+* ROS 1 (``mobile_base_controller: {type: diff_drive_controller/DiffDriveController,
+  left_wheel: ..., right_wheel: ...}``), possibly under namespace keys.
+
+Command limits follow the controller's speed limiter: a limit left out or set to ``.nan`` is no
+limit; ``min_*`` left out defaults to ``-max_*``. Older releases switched each group of limits on
+and off with ``has_velocity_limits``, ``has_acceleration_limits`` and ``has_jerk_limits``; a flag
+set to false disables its group here too. ROS 1 and ROS 2 Humble default those flags to false,
+later releases to true before dropping them. So for ROS 1 a group without its flag is off; ROS 2
+files are read as current releases read them (limits on), with a warning when a file that uses the
+flags leaves one out, as Humble would then ignore that group.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import yaml
+
+from diffbot.errors import DescriptionError
+from diffbot.urdf.controller_types import AxisLimits, ControllerConfig, default_of, first_of
+
+__all__ = [
+    "DIFF_DRIVE_TYPES",
+    "MAX_FILE_BYTES",
+    "AxisLimits",
+    "ControllerConfig",
+    "ControllerConfigError",
+    "choose_controller",
+    "load_controllers",
+    "read_controllers",
+]
+
+#: The plugin names under which the diff-drive controller is declared.
+DIFF_DRIVE_TYPES = frozenset(
+    {"diff_drive_controller/DiffDriveController", "diff_drive_controller::DiffDriveController"}
+)
+
+#: Controller files larger than this (bytes) are refused: real ones are a few kB.
+MAX_FILE_BYTES = 4 * 1024 * 1024
+
+_ROS2_KEY = "ros__parameters"
+_WILDCARDS = frozenset({"*", "**"})
+
+
+class ControllerConfigError(DescriptionError):
+    """A controllers YAML cannot be read, or a diff-drive controller in it is malformed."""
+
+
+# --- YAML -------------------------------------------------------------------------------------
+
+
+class _SafeNoAliasLoader(yaml.SafeLoader):
+    """SafeLoader that refuses aliases, so a small file cannot expand into a huge tree."""
+
+    def compose_node(self, parent: Any, index: Any) -> Any:
+        if self.check_event(yaml.AliasEvent):
+            event = self.peek_event()  # type: ignore[no-untyped-call]  # untyped in the stubs
+            raise yaml.composer.ComposerError(
+                None, None, "aliases (*name) are not accepted", event.start_mark
+            )
+        return super().compose_node(parent, index)
+
+
+# ROS reads numbers with strtod, so ``1e-3`` is a double there; YAML 1.1 wants ``1.0e-3``.
+_SafeNoAliasLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
+    list("-+0123456789."),
+)
+
+
+def _parse_yaml(text: str, source: str) -> Any:
+    if len(text) > MAX_FILE_BYTES:
+        raise ControllerConfigError(
+            f"{source}: controllers file is larger than {MAX_FILE_BYTES} bytes"
+        )
+    try:
+        return yaml.load(text, Loader=_SafeNoAliasLoader)
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark is not None else ""
+        problem = getattr(err, "problem", None) or str(err).splitlines()[0]
+        raise ControllerConfigError(f"{source}: malformed YAML{where}: {problem}") from err
+    except RecursionError as err:
+        raise ControllerConfigError(f"{source}: YAML nested too deeply") from err
+
+
+def _flatten(params: Mapping[Any, Any], prefix: str = "") -> dict[str, Any]:
+    """Nested parameter mappings as dotted keys (``linear: {x: ..}`` -> ``linear.x``)."""
+    flat: dict[str, Any] = {}
+    for key, value in params.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, Mapping):
+            flat.update(_flatten(value, name + "."))
+        else:
+            flat[name] = value
+    return flat
+
+
+def _base_name(path: Sequence[str]) -> str:
+    """The last non-empty component of a node path (``/ns/diff_cont`` -> ``diff_cont``)."""
+    parts = [part for key in path for part in str(key).split("/") if part]
+    return parts[-1] if parts else ""
+
+
+@dataclass(frozen=True)
+class _Node:
+    path: tuple[str, ...]
+    params: dict[str, Any]
+
+    @property
+    def name(self) -> str:
+        return _base_name(self.path)
+
+
+def _ros2_nodes(
+    tree: Mapping[Any, Any], source: str, path: tuple[str, ...] = ()
+) -> Iterator[_Node]:
+    """Every ``<node>: ros__parameters: {...}`` section, however deep its namespace keys."""
+    for key, value in tree.items():
+        if not isinstance(value, Mapping):
+            continue
+        here = (*path, str(key))
+        if _ROS2_KEY in value:
+            params = value[_ROS2_KEY]
+            if params is None:
+                params = {}
+            if not isinstance(params, Mapping):
+                raise ControllerConfigError(
+                    f"{source}: {'/'.join(here)}: {_ROS2_KEY} must be a mapping, got {params!r}"
+                )
+            yield _Node(here, _flatten(params))
+        else:
+            yield from _ros2_nodes(value, source, here)
+
+
+def _ros1_controllers(
+    tree: Mapping[Any, Any], path: tuple[str, ...] = ()
+) -> Iterator[tuple[str, dict[str, Any]]]:
+    """Every ROS 1 controller mapping with the diff-drive type, under any namespace keys."""
+    for key, value in tree.items():
+        if not isinstance(value, Mapping) or _ROS2_KEY in value:
+            continue
+        if value.get("type") in DIFF_DRIVE_TYPES:
+            yield _base_name((*path, str(key))), _flatten(value)
+        else:
+            yield from _ros1_controllers(value, (*path, str(key)))
+
+
+def read_controllers(text: str, source: str) -> list[ControllerConfig]:
+    """Every diff-drive controller configured in a controllers YAML.
+
+    Args:
+        text: the YAML text.
+        source: where it came from (a path), for messages and :attr:`ControllerConfig.source`.
+
+    Returns:
+        The diff-drive controllers in the order the file declares them; empty when there is none.
+
+    Raises:
+        ControllerConfigError: malformed or oversized YAML, YAML aliases, or a diff-drive controller
+            with a value of the wrong type or out of its domain (the message names the file, the
+            controller and the key).
+    """
+    tree = _parse_yaml(text, source)
+    if tree is None:
+        return []
+    if not isinstance(tree, Mapping):
+        raise ControllerConfigError(
+            f"{source}: a controllers file must be a mapping of node names, "
+            f"got {type(tree).__name__}"
+        )
+    nodes = list(_ros2_nodes(tree, source))
+    wildcard: dict[str, Any] = {}
+    for node in nodes:
+        if node.name in _WILDCARDS or not node.name:
+            wildcard.update(node.params)
+
+    def params_of(name: str) -> dict[str, Any]:
+        merged = dict(wildcard)
+        for node in nodes:
+            if node.name == name:
+                merged.update(node.params)
+        return merged
+
+    configs: list[ControllerConfig] = []
+    seen: set[str] = set()
+    for node in nodes:
+        manager_rate = node.params.get("update_rate")
+        declared = [
+            _base_name((key[: -len(".type")],))
+            for key, value in node.params.items()
+            if key.endswith(".type") and value in DIFF_DRIVE_TYPES
+        ]
+        for name in declared:
+            if name in seen:
+                continue
+            seen.add(name)
+            sections = [n for n in nodes if n.name == name]
+            warnings = () if sections else (f"no {name}: {_ROS2_KEY} section configures it",)
+            configs.append(
+                _config(name, source, 2, params_of(name), manager_rate, warnings=warnings)
+            )
+        if node.params.get("type") in DIFF_DRIVE_TYPES and node.name not in (seen | _WILDCARDS):
+            seen.add(node.name)
+            rate = next(
+                (n.params.get("update_rate") for n in nodes if n.name == "controller_manager"),
+                None,
+            )
+            configs.append(_config(node.name, source, 2, params_of(node.name), rate))
+    for name, params in _ros1_controllers(tree):
+        configs.append(_config(name, source, 1, params, None))
+    return configs
+
+
+def load_controllers(path: str | os.PathLike[str]) -> list[ControllerConfig]:
+    """Every diff-drive controller configured in a controllers YAML file.
+
+    Args:
+        path: the file.
+
+    Returns:
+        As :func:`read_controllers`, with the path as source.
+
+    Raises:
+        ControllerConfigError: the file cannot be read, is larger than :data:`MAX_FILE_BYTES`, or
+            is malformed (see :func:`read_controllers`).
+    """
+    source = os.fspath(path)
+    try:
+        with open(source, "rb") as stream:
+            data = stream.read(MAX_FILE_BYTES + 1)
+    except OSError as err:
+        reason = err.strerror or str(err)
+        raise ControllerConfigError(f"{source}: cannot read controllers file: {reason}") from err
+    if len(data) > MAX_FILE_BYTES:
+        raise ControllerConfigError(
+            f"{source}: controllers file is larger than {MAX_FILE_BYTES} bytes"
+        )
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise ControllerConfigError(f"{source}: controllers file is not UTF-8 text") from err
+    return read_controllers(text, source)
+
+
+def choose_controller(
+    configs: Sequence[ControllerConfig], name: str | None = None
+) -> ControllerConfig:
+    """The diff-drive controller to use.
+
+    Args:
+        configs: the controllers found (:func:`read_controllers`).
+        name: the controller's name; may be left out when there is exactly one.
+
+    Returns:
+        The controller of that name, or the only one.
+
+    Raises:
+        ControllerConfigError: there is none, there are several and no name, or none has the name
+            (the message lists the names there are).
+    """
+    sources = sorted({c.source for c in configs})
+    where = f" in {', '.join(sources)}" if sources else ""
+    names = ", ".join(repr(c.name) for c in configs)
+    if not configs:
+        raise ControllerConfigError("no diff_drive_controller/DiffDriveController found")
+    if name is None:
+        if len(configs) > 1:
+            raise ControllerConfigError(
+                f"several diff-drive controllers{where}: {names}; choose one by name"
+            )
+        return configs[0]
+    for config in configs:
+        if config.name == name:
+            return config
+    raise ControllerConfigError(f"no diff-drive controller {name!r}{where}; there are: {names}")
+
+
+# --- values -----------------------------------------------------------------------------------
+
+
+class _Reader:
+    """Typed access to one controller's flat parameters, with errors naming file and key."""
+
+    def __init__(self, name: str, source: str, params: Mapping[str, Any]) -> None:
+        self.name = name
+        self.source = source
+        self.params = params
+
+    def fail(self, key: str, expected: str, value: Any) -> ControllerConfigError:
+        return ControllerConfigError(
+            f"{self.source}: controller {self.name!r}: {key} must be {expected}, got {value!r}"
+        )
+
+    def number(self, key: str, expected: str = "a number") -> float | None:
+        """A float; None when absent. NaN is returned as NaN (the caller decides)."""
+        if key not in self.params:
+            return None
+        value = self.params[key]
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise self.fail(key, expected, value)
+        return float(value)
+
+    def positive(self, key: str) -> float | None:
+        expected = "a positive finite number"
+        value = self.number(key, expected)
+        if value is not None and not (math.isfinite(value) and value > 0.0):
+            raise self.fail(key, expected, value)
+        return value
+
+    def non_negative(self, key: str) -> float | None:
+        expected = "a finite number >= 0"
+        value = self.number(key, expected)
+        if value is not None and not (math.isfinite(value) and value >= 0.0):
+            raise self.fail(key, expected, value)
+        return value
+
+    def integer(self, key: str, minimum: int) -> int | None:
+        if key not in self.params:
+            return None
+        value = self.params[key]
+        if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+            raise self.fail(key, f"an integer >= {minimum}", value)
+        return value
+
+    def flag(self, key: str) -> bool | None:
+        if key not in self.params:
+            return None
+        value = self.params[key]
+        if not isinstance(value, bool):
+            raise self.fail(key, "true or false", value)
+        return value
+
+    def text(self, key: str) -> str | None:
+        if key not in self.params:
+            return None
+        value = self.params[key]
+        if not isinstance(value, str) or not value:
+            raise self.fail(key, "a non-empty string", value)
+        return value
+
+    def names(self, *keys: str) -> tuple[str, ...] | None:
+        """Joint names from the first key present: a list of strings (or one string for ROS 1)."""
+        for key in keys:
+            if key not in self.params:
+                continue
+            value = self.params[key]
+            if isinstance(value, str) and value and key in {"left_wheel", "right_wheel"}:
+                return (value,)
+            if not isinstance(value, list) or not all(isinstance(v, str) and v for v in value):
+                raise self.fail(key, "a list of joint names", value)
+            return tuple(value)
+        return None
+
+    def diagonal(self, key: str) -> tuple[float, ...] | None:
+        if key not in self.params:
+            return None
+        value = self.params[key]
+        if (
+            not isinstance(value, list)
+            or len(value) != 6
+            or not all(
+                isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+                for v in value
+            )
+        ):
+            raise self.fail(key, "a list of 6 finite numbers", value)
+        return tuple(float(v) for v in value)
+
+    def limit(self, key: str, sign: int) -> float | None:
+        """A limit: None when absent or NaN; ``sign`` +1 for limits >= 0, -1 for <= 0."""
+        value = self.number(key)
+        if value is None or math.isnan(value):
+            return None
+        if value * sign < 0.0:
+            raise self.fail(
+                key, "a number >= 0 or .nan" if sign > 0 else "a number <= 0 or .nan", value
+            )
+        return value
+
+
+#: Limit keys under ``linear.x.`` / ``angular.z.``, with the sign the controller requires.
+_LIMIT_SIGNS = {
+    "max_velocity": 1,
+    "min_velocity": -1,
+    "max_acceleration": 1,
+    "min_acceleration": -1,
+    "max_deceleration": -1,
+    "max_acceleration_reverse": -1,
+    "max_deceleration_reverse": 1,
+    "max_jerk": 1,
+    "min_jerk": -1,
+}
+#: Which ``has_*_limits`` flag switches which limits.
+_LIMIT_GROUPS = {
+    "has_velocity_limits": ("max_velocity", "min_velocity"),
+    "has_acceleration_limits": (
+        "max_acceleration",
+        "min_acceleration",
+        "max_deceleration",
+        "max_acceleration_reverse",
+        "max_deceleration_reverse",
+    ),
+    "has_jerk_limits": ("max_jerk", "min_jerk"),
+}
+
+
+def _axis(reader: _Reader, prefix: str, ros_version: int, warnings: list[str]) -> AxisLimits:
+    values = {key: reader.limit(f"{prefix}.{key}", sign) for key, sign in _LIMIT_SIGNS.items()}
+    # Only files that use the flags at all were written for the releases that had them.
+    flagged = any(".has_" in key and key.endswith("_limits") for key in reader.params)
+    for flag_key, members in _LIMIT_GROUPS.items():
+        flag = reader.flag(f"{prefix}.{flag_key}")
+        given = [key for key in members if values[key] is not None]
+        if flag is False or (flag is None and ros_version == 1):
+            for key in members:
+                values[key] = None
+        elif flag is None and given and flagged:
+            warnings.append(
+                f"{prefix}.{given[0]} is set without {prefix}.{flag_key}: read as a limit, as "
+                f"current releases do; Humble ignores it"
+            )
+        elif flag is True and values[members[0]] is None:
+            raise ControllerConfigError(
+                f"{reader.source}: controller {reader.name!r}: {prefix}.{flag_key} is true "
+                f"but {prefix}.{members[0]} is not set"
+            )
+    return AxisLimits(**values)
+
+
+def _config(
+    name: str,
+    source: str,
+    ros_version: Literal[1, 2],
+    params: Mapping[str, Any],
+    update_rate: Any,
+    warnings: Sequence[str] = (),
+) -> ControllerConfig:
+    reader = _Reader(name, source, params)
+    notes = list(warnings)
+    left = reader.names("left_wheel_names", "left_wheel")
+    right = reader.names("right_wheel_names", "right_wheel")
+    if (left is None) != (right is None):
+        keys = (
+            ("left_wheel", "right_wheel")
+            if ros_version == 1
+            else ("left_wheel_names", "right_wheel_names")
+        )
+        given, missing = keys if right is None else keys[::-1]
+        raise ControllerConfigError(
+            f"{source}: controller {name!r}: {missing} is missing while {given} is set"
+        )
+    if left is not None and right is not None and len(left) != len(right):
+        raise ControllerConfigError(
+            f"{source}: controller {name!r}: {len(left)} left and {len(right)} right wheel names; "
+            f"both sides need as many"
+        )
+    common_multiplier = reader.positive("wheel_radius_multiplier")  # ROS 1
+    left_multiplier = reader.positive("left_wheel_radius_multiplier")
+    right_multiplier = reader.positive("right_wheel_radius_multiplier")
+    rate: float | None = None
+    if update_rate is not None:
+        rate = _Reader("controller_manager", source, {"update_rate": update_rate}).positive(
+            "update_rate"
+        )
+    separation_multiplier = default_of(reader.positive("wheel_separation_multiplier"), 1.0)
+    return ControllerConfig(
+        name=name,
+        source=source,
+        ros_version=ros_version,
+        left_wheel_names=left or (),
+        right_wheel_names=right or (),
+        wheel_separation=reader.positive("wheel_separation"),
+        wheel_radius=reader.positive("wheel_radius"),
+        wheels_per_side=reader.integer("wheels_per_side", 0),
+        wheel_separation_multiplier=separation_multiplier,
+        left_wheel_radius_multiplier=default_of(first_of(left_multiplier, common_multiplier), 1.0),
+        right_wheel_radius_multiplier=default_of(
+            first_of(right_multiplier, common_multiplier), 1.0
+        ),
+        linear=_axis(reader, "linear.x", ros_version, notes),
+        angular=_axis(reader, "angular.z", ros_version, notes),
+        preserve_turning_radius=reader.flag("preserve_turning_radius"),
+        open_loop=reader.flag("open_loop"),
+        use_stamped_vel=reader.flag("use_stamped_vel"),
+        odom_frame_id=reader.text("odom_frame_id"),
+        base_frame_id=reader.text("base_frame_id"),
+        pose_covariance_diagonal=reader.diagonal("pose_covariance_diagonal"),
+        twist_covariance_diagonal=reader.diagonal("twist_covariance_diagonal"),
+        publish_rate=reader.positive("publish_rate"),
+        enable_odom_tf=reader.flag("enable_odom_tf"),
+        velocity_rolling_window_size=reader.integer("velocity_rolling_window_size", 1),
+        cmd_vel_timeout=reader.non_negative("cmd_vel_timeout"),
+        update_rate=rate,
+        warnings=tuple(notes),
+    )
