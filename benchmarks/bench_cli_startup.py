@@ -1,48 +1,103 @@
 """Wall time of quick CLI commands next to a bare ``python -c "import numpy"``.
 
-Run by hand: ``python benchmarks/bench_cli_startup.py [--runs N]``. Each command runs once to warm
-the parameter cache and the OS file cache, then N times; the median is reported with the ratio to
-the bare NumPy import (target: within 3x).
+Every command runs as a fresh process; the commands take turns round by round (the order reversed
+every other round), after one untimed round that warms the parameter cache and the OS file
+cache. Each command's median time is reported, and its ratio to the bare NumPy import as the
+median of per-round ratios with their spread (target: within 3x).
+
+With ``--baseline REV`` each command is also run as ``python -m diffbot`` from this working tree
+and from the files of git revision REV (exported to a temporary folder, removed afterwards), each
+importing its own package (checked once); the working tree's time over the revision's is
+reported the same way (the layout goal: within 1.2x).
+
+Run by hand: ``python benchmarks/bench_cli_startup.py [--rounds N] [--baseline REV] [--cpu]
+[COMMAND ...]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import os
 import shutil
-import statistics
-import subprocess
 import sys
-import time
+import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 
+from checkout import Tree, diffbot_side, revision_tree, working_tree
+from interleave import CPU_HELP, Side, command, interleave
 
-def median_seconds(command: list[str], runs: int) -> float:
-    subprocess.run(command, check=True, capture_output=True)  # warm-up
-    times = []
-    for _ in range(runs):
-        start = time.perf_counter()
-        subprocess.run(command, check=True, capture_output=True)
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
+NUMPY_TARGET = 3.0
+BASELINE_GOAL = 1.2
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--runs", type=int, default=15)
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0],
+        epilog="Start-up goals: each command <= 3x import numpy; with --baseline, <= 1.2x REV.",
+    )
+    parser.add_argument("--rounds", type=int, default=15, help="timed rounds (>= 5, default 15)")
+    parser.add_argument(
+        "--baseline",
+        metavar="REV",
+        help="also compare each command with python -m diffbot from git revision REV",
+    )
+    parser.add_argument("--cpu", action="store_true", help=CPU_HELP)
     parser.add_argument(
         "commands",
         nargs="*",
         default=["params", "ik 0.1 0"],
         help="diffbot commands to time (default: 'params' and 'ik 0.1 0')",
     )
-    options = parser.parse_args()
+    args = parser.parse_args(argv)
+    rounds = max(5, args.rounds)
     script = shutil.which("diffbot") or str(Path(sys.executable).with_name("diffbot"))
-    baseline = median_seconds([sys.executable, "-c", "import numpy"], options.runs)
-    print(f"python -c 'import numpy'   {baseline * 1e3:7.1f} ms  (median of {options.runs})")
-    for command in options.commands:
-        seconds = median_seconds([script, *command.split()], options.runs)
-        print(f"diffbot {command:<18} {seconds * 1e3:7.1f} ms  = {seconds / baseline:.2f}x numpy")
+    with contextlib.ExitStack() as stack:
+        cache = stack.enter_context(tempfile.TemporaryDirectory())
+        env = {**os.environ, "DIFFBOT_CACHE_DIR": cache}
+        env.pop("DIFFBOT_NO_CACHE", None)
+        sides: dict[str, Side] = {
+            "numpy": command([sys.executable, "-c", "import numpy"], env=env, cpu=args.cpu)
+        }
+        trees: list[tuple[str, Tree]] = []
+        if args.baseline:
+            trees = [
+                ("tree", working_tree()),
+                ("base", stack.enter_context(revision_tree(args.baseline))),
+            ]
+        for index, line in enumerate(args.commands):
+            words = line.split()
+            sides[f"{index}"] = command([script, *words], env=env, cpu=args.cpu)
+            for name, tree in trees:
+                # Separate caches: two cache formats in one folder could evict each other.
+                side_env = {**env, "DIFFBOT_CACHE_DIR": str(Path(cache) / name)}
+                sides[f"{index} {name}"] = diffbot_side(tree, words, side_env, cpu=args.cpu)
+        timings = interleave(sides, rounds)
+
+    print(f"{rounds} rounds, commands taking turns (order reversed every other round), after one")
+    clock = "CPU time (user + system)" if args.cpu else "wall time"
+    print(f"untimed round; median {clock}, then the median of per-round ratios:")
+    print(f"python -c 'import numpy'   {timings.median('numpy') * 1e3:7.1f} ms")
+    for index, line in enumerate(args.commands):
+        ratio = timings.ratio(f"{index}", "numpy").describe()
+        print(
+            f"diffbot {line:<18} {timings.median(f'{index}') * 1e3:7.1f} ms"
+            f"  = {ratio} x numpy; target <= {NUMPY_TARGET:g}"
+        )
+    if trees:
+        (_, tree), (_, base) = trees
+        print(f"python -m diffbot, working tree {tree.label} against revision {base.label}:")
+        for index, line in enumerate(args.commands):
+            tree_ms = timings.median(f"{index} tree") * 1e3
+            base_ms = timings.median(f"{index} base") * 1e3
+            ratio = timings.ratio(f"{index} tree", f"{index} base").describe()
+            print(
+                f"  {line:<18} {tree_ms:7.1f} ms against {base_ms:7.1f} ms"
+                f"  = {ratio}; goal <= {BASELINE_GOAL:g}"
+            )
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
