@@ -84,8 +84,9 @@ def integrate(
     theta = np.empty(n)
     if n == 0:
         return PoseSeries(x, y, theta)
-    left_scale = params.left_sign * params.wheel_radius
-    right_scale = params.right_sign * params.wheel_radius
+    left_radius, right_radius = params.radii
+    left_scale = params.left_sign * left_radius
+    right_scale = params.right_sign * right_radius
     turn = 1.0 / params.wheel_separation
     half_turn = 0.5 / params.wheel_separation
     left0 = float(left[0])

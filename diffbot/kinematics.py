@@ -12,8 +12,9 @@ an array is given, so scalar use stays cheap.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, NamedTuple, TypeVar, overload
+from typing import TYPE_CHECKING, Any, NamedTuple, TypeVar, cast, overload
 
 from diffbot.errors import ParameterError
 
@@ -28,6 +29,7 @@ if TYPE_CHECKING:
 __all__ = [
     "LIMIT_TOLERANCE",
     "DiffDriveParams",
+    "Disagreement",
     "Pose",
     "Twist",
     "WheelSpeeds",
@@ -85,6 +87,20 @@ def _check_positive(name: str, value: float) -> float:
     return value
 
 
+class Disagreement(NamedTuple):
+    """Sources that give one quantity different values.
+
+    Attributes:
+        field: the quantity (``wheel_separation``, ``wheel_radius``, ``left_joints``, ...).
+        values: each source's value, by source name.
+        difference: the largest difference between two numeric values (m), or None for names.
+    """
+
+    field: str
+    values: Mapping[str, object]
+    difference: float | None
+
+
 @dataclass(frozen=True)
 class DiffDriveParams:
     """Geometry and limits of a differential-drive robot.
@@ -99,6 +115,17 @@ class DiffDriveParams:
         max_wheel_speed: motor limit (rad/s), or None when the description has none.
         source: where the parameters came from (a file path, or a description of it).
         warnings: things worth telling the user about the description, one sentence each.
+        left_wheel_radius: radius (m) the left wheels roll with (a controller's radius
+            multiplier applied); ``wheel_radius`` when not given.
+        right_wheel_radius: likewise for the right wheels.
+        left_joints: every drive wheel joint on the left, ``left_joint`` first (several on a
+            skid steer); ``(left_joint,)`` when not given.
+        right_joints: likewise on the right.
+        passive_joints: the description's other moving joints (a caster's), which a simulation
+            reports at 0.
+        sources: where each value came from, by field (``description``, ``controllers:<path>``,
+            ``gazebo plugin``, ``override``).
+        disagreements: the values on which the sources disagree.
     """
 
     wheel_radius: float
@@ -110,9 +137,30 @@ class DiffDriveParams:
     max_wheel_speed: float | None = None
     source: str = "(given)"
     warnings: tuple[str, ...] = field(default=(), compare=False)
+    left_wheel_radius: float | None = None
+    right_wheel_radius: float | None = None
+    left_joints: tuple[str, ...] = ()
+    right_joints: tuple[str, ...] = ()
+    passive_joints: tuple[str, ...] = ()
+    sources: Mapping[str, str] = field(default_factory=dict, compare=False)
+    disagreements: tuple[Disagreement, ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "wheel_radius", _check_positive("wheel radius", self.wheel_radius))
+        for side in ("left", "right"):
+            name = f"{side}_wheel_radius"
+            value = getattr(self, name)
+            radius = self.wheel_radius if value is None else _check_positive(name, value)
+            object.__setattr__(self, name, radius)
+            joints = tuple(getattr(self, f"{side}_joints"))
+            if joints:
+                object.__setattr__(self, f"{side}_joint", joints[0])
+            else:
+                joints = (getattr(self, f"{side}_joint"),)
+            object.__setattr__(self, f"{side}_joints", joints)
+        object.__setattr__(self, "passive_joints", tuple(self.passive_joints))
+        object.__setattr__(self, "sources", dict(self.sources))
+        object.__setattr__(self, "disagreements", tuple(self.disagreements))
         object.__setattr__(
             self, "wheel_separation", _check_positive("wheel separation", self.wheel_separation)
         )
@@ -130,7 +178,17 @@ class DiffDriveParams:
             raise ParameterError("wheel joint names must not be empty")
         if self.left_joint == self.right_joint:
             raise ParameterError(f"left and right joints are the same joint {self.left_joint!r}")
+        if not all(self.left_joints) or not all(self.right_joints):
+            raise ParameterError("wheel joint names must not be empty")
+        drive = (*self.left_joints, *self.right_joints)
+        if len(set(drive)) != len(drive):
+            raise ParameterError(f"a wheel joint is listed twice among {list(drive)}")
         object.__setattr__(self, "warnings", tuple(self.warnings))
+
+    @property
+    def radii(self) -> tuple[float, float]:
+        """The left and right wheel radii (m) the wheels roll with."""
+        return cast(float, self.left_wheel_radius), cast(float, self.right_wheel_radius)
 
     @property
     def max_wheel_rpm(self) -> float | None:
@@ -141,7 +199,17 @@ class DiffDriveParams:
         return float(f"{rpm_from_rad_s(self.max_wheel_speed):.12g}")
 
     def replace(self, **changes: Any) -> DiffDriveParams:
-        """A copy with some fields changed (validated again)."""
+        """A copy with some fields changed (validated again).
+
+        What follows from a changed field follows it unless given too: a side's joint list from
+        its first joint, and a side's radius that equalled ``wheel_radius`` from the new one.
+        """
+        for side in ("left", "right"):
+            if f"{side}_joint" in changes:
+                changes.setdefault(f"{side}_joints", ())
+            radius = getattr(self, f"{side}_wheel_radius")
+            if "wheel_radius" in changes and radius == self.wheel_radius:
+                changes.setdefault(f"{side}_wheel_radius", None)
         return replace(self, **changes)
 
 
@@ -188,13 +256,11 @@ def inverse(params: DiffDriveParams, linear: FloatOrArray, angular: FloatOrArray
         angular: yaw rate (rad/s), positive counter-clockwise.
 
     Returns:
-        Wheel-ground angular speeds (rad/s): ``(v -+ w b/2) / r``.
+        Wheel-ground angular speeds (rad/s): ``(v -+ w b/2) / r`` with each side's radius.
     """
     half_track = 0.5 * params.wheel_separation * angular
-    return WheelSpeeds(
-        (linear - half_track) / params.wheel_radius,
-        (linear + half_track) / params.wheel_radius,
-    )
+    left_radius, right_radius = params.radii
+    return WheelSpeeds((linear - half_track) / left_radius, (linear + half_track) / right_radius)
 
 
 def forward(params: DiffDriveParams, left: FloatOrArray, right: FloatOrArray) -> Twist:
@@ -206,10 +272,14 @@ def forward(params: DiffDriveParams, left: FloatOrArray, right: FloatOrArray) ->
         right: right wheel-ground angular speed (rad/s).
 
     Returns:
-        ``Twist(r (wl + wr) / 2, r (wr - wl) / b)`` in m/s and rad/s.
+        ``Twist((rl wl + rr wr) / 2, (rr wr - rl wl) / b)`` in m/s and rad/s.
     """
-    r = params.wheel_radius
-    return Twist(0.5 * r * (left + right), r * (right - left) / params.wheel_separation)
+    left_radius, right_radius = params.radii
+    b = params.wheel_separation
+    if left_radius == right_radius:  # the usual case, rounded as r (wl + wr) / 2 always was
+        return Twist(0.5 * left_radius * (left + right), left_radius * (right - left) / b)
+    left_speed, right_speed = left_radius * left, right_radius * right
+    return Twist(0.5 * (left_speed + right_speed), (right_speed - left_speed) / b)
 
 
 def joint_from_wheel(params: DiffDriveParams, speeds: WheelSpeeds) -> WheelSpeeds:

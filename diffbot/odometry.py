@@ -131,8 +131,9 @@ class Odometry:
         self.twist_covariance = covariance_matrix(twist_covariance, "twist covariance")
         self._left_joint = params.left_joint
         self._right_joint = params.right_joint
-        self._left_scale = params.left_sign * params.wheel_radius
-        self._right_scale = params.right_sign * params.wheel_radius
+        left_radius, right_radius = params.radii
+        self._left_scale = params.left_sign * left_radius
+        self._right_scale = params.right_sign * right_radius
         self._turn = 1.0 / params.wheel_separation
         self._half_turn = 0.5 / params.wheel_separation
         self._names: list[str] | tuple[str, ...] | None = None

@@ -23,7 +23,6 @@ if TYPE_CHECKING:
     from diffbot.trajectory import Plan
 
 __all__ = [
-    "CASTER_JOINTS",
     "MAX_RATE",
     "MAX_SAMPLES",
     "MAX_TICKS",
@@ -34,8 +33,6 @@ __all__ = [
     "simulate",
 ]
 
-#: The bundled robot's caster joints, reported at 0 next to the drive wheels.
-CASTER_JOINTS: Final = ("caster_rotation_joint", "caster_wheel_joint")
 #: Highest sampling rate (Hz): samples stay a microsecond apart, far more than the nanosecond
 #: resolution of stamps needs, and no encoder is read faster.
 MAX_RATE: Final = 1e6
@@ -166,26 +163,28 @@ def simulate(
     ticks: int | None = None,
     noise: float = 0.0,
     seed: int | None = None,
-    extra_joints: tuple[str, ...] = CASTER_JOINTS,
+    extra_joints: tuple[str, ...] | None = None,
     max_samples: int = MAX_SAMPLES,
 ) -> JointStates:
     """The joint states a robot executing ``plan`` would report.
 
     Args:
         plan: the plan (from :func:`diffbot.trajectory.plan`).
-        params: the robot, for the wheel joint names.
+        params: the robot, for the wheel joint names (every drive wheel of each side turns as
+            that side's wheels do).
         rate: sampling rate (Hz); a sample is added at every segment boundary and at the end, so
             that odometry of the result reproduces the plan exactly.
         ticks: encoder resolution (counts per revolution), or None for exact angles.
         noise: standard deviation (rad) of Gaussian noise added to each wheel angle (before
             quantisation), 0 for none.
         seed: seed of the noise generator (an integer >= 0), for reproducible runs.
-        extra_joints: joints reported at 0 after the wheels (the caster by default).
+        extra_joints: joints reported at 0 after the wheels; by default the robot's
+            ``passive_joints`` (a caster's).
         max_samples: refuse to make more samples than this.
 
     Returns:
-        Times (s) from 0 to the plan's duration, and the joint angles (rad): left wheel, right
-        wheel, then ``extra_joints``.
+        Times (s) from 0 to the plan's duration, and the joint angles (rad): the left wheels, the
+        right wheels, then ``extra_joints``.
 
     Raises:
         ParameterError: a bad rate, resolution, noise level or seed, or too many samples.
@@ -212,6 +211,8 @@ def simulate(
         wheels += np.random.default_rng(seed).normal(0.0, noise, wheels.shape)
     if ticks is not None:
         wheels = quantise(wheels, ticks)
-    positions = np.vstack((wheels, np.zeros((len(extra_joints), times.size))))
-    names = (params.left_joint, params.right_joint, *extra_joints)
+    extra = params.passive_joints if extra_joints is None else extra_joints
+    sides = np.repeat(wheels, (len(params.left_joints), len(params.right_joints)), axis=0)
+    positions = np.vstack((sides, np.zeros((len(extra), times.size))))
+    names = (*params.left_joints, *params.right_joints, *extra)
     return JointStates(times, names, positions)

@@ -24,7 +24,7 @@ from diffbot.kinematics import DiffDriveParams
 from diffbot.odometry import integrate
 from diffbot.planfile import parse_plan
 from diffbot.replay import run_odometry
-from diffbot.simulation import CASTER_JOINTS, quantise, sample_times, simulate
+from diffbot.simulation import quantise, sample_times, simulate
 from diffbot.trajectory import EXAMPLES, Arc, Segment, Spin, Straight, plan
 
 BOT = BOT_50_RPM
@@ -106,10 +106,11 @@ def test_quantised_angles_are_whole_encoder_counts_within_half_a_count() -> None
 
 def test_trajectory_a_at_50_hz_has_2001_samples_of_four_joints() -> None:
     p = plan(parse_plan(EXAMPLES["A"]), BOT)
-    states = simulate(p, BOT, 50.0)
+    casters = ("caster_rotation_joint", "caster_wheel_joint")
+    states = simulate(p, BOT, 50.0, extra_joints=casters)
     assert states.times.size == 2001
     assert states.times[-1] == 40.0
-    assert states.names == (BOT.left_joint, BOT.right_joint, *CASTER_JOINTS)
+    assert states.names == (BOT.left_joint, BOT.right_joint, *casters)
     assert states.positions.shape == (4, 2001)
     assert not states.positions[2:].any()
     assert states.positions[:2, 0].tolist() == [0.0, 0.0]
@@ -412,3 +413,19 @@ def test_simulate_checks_the_rpm_limit_option_like_plan(runner: CliRunner, tmp_p
         main, ["simulate", "--rpm-limit", "30", "--out", str(tmp_path / "ok.csv")]
     )
     assert within.exit_code == 0, within.output
+
+
+def test_the_robots_own_joints_are_written_every_wheel_of_a_side_alike() -> None:
+    four = BOT.replace(
+        left_joints=("fl", "rl"), right_joints=("fr", "rr"), passive_joints=("castor",)
+    )
+    states = simulate(plan(parse_plan("ccw 0.5 90"), four), four, 10.0)
+    assert states.names == ("fl", "rl", "fr", "rr", "castor")
+    assert np.array_equal(states.positions[0], states.positions[1])
+    assert np.array_equal(states.positions[2], states.positions[3])
+    assert states.positions[2, -1] > states.positions[0, -1] > 0.0
+    assert not states.positions[4].any()
+    assert simulate(plan(parse_plan("spin 90"), BOT), BOT, 10.0).names == (
+        BOT.left_joint,
+        BOT.right_joint,
+    )

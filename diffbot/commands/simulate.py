@@ -141,8 +141,9 @@ def simulate(
     nothing is given). The drive wheel joints follow its commands exactly, sampled at --rate Hz
     plus one sample at every segment boundary and at the end, so that `diffbot odom` of the
     result ends exactly at the plan's final pose. --noise adds Gaussian noise to the wheel angles,
-    then --ticks quantises them as an encoder would. The caster joints (caster_rotation_joint,
-    caster_wheel_joint) are reported at 0: the caster is not modelled.
+    then --ticks quantises them as an encoder would. Every drive wheel joint of the robot is
+    written (all wheels of a side turn alike); its other moving joints (a caster's) are reported
+    at 0, as they are not modelled.
 
     Output: CSV (time in s, then one column per joint in rad) on stdout or --out, or with --bag a
     rosbag2 directory of sensor_msgs/JointState on --topic. Exit code 1 when the plan exceeds the

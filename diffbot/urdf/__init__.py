@@ -21,7 +21,7 @@ from collections.abc import Mapping
 
 from diffbot.kinematics import DiffDriveParams
 from diffbot.urdf.cache import cached_fields
-from diffbot.urdf.wheels import derive_params, finish
+from diffbot.urdf.wheels import JointChoice, derive_params, finish
 from diffbot.urdf.xacro import BUNDLED_DESCRIPTION, BUNDLED_PACKAGES, Expansion, expand
 
 __all__ = [
@@ -39,8 +39,8 @@ def load_params(
     args: Mapping[str, object] | None = None,
     packages: Mapping[str, str | os.PathLike[str]] | None = None,
     *,
-    left_joint: str | None = None,
-    right_joint: str | None = None,
+    left_joint: JointChoice = None,
+    right_joint: JointChoice = None,
     wheel_radius: float | None = None,
     wheel_separation: float | None = None,
     max_wheel_speed: float | None = None,

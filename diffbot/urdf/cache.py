@@ -20,11 +20,11 @@ from pathlib import Path
 from typing import Any
 
 from diffbot.urdf import tree, wheels
-from diffbot.urdf.wheels import Derived, derive_text
+from diffbot.urdf.wheels import Derived, JointChoice, derive_text
 
 __all__ = ["cached_fields"]
 
-_CACHE_VERSION = "1"
+_CACHE_VERSION = "2"
 #: JSON types of each annotation used by :class:`Derived` (tuples are stored as lists).
 _JSON_TYPES: dict[str, tuple[type, ...]] = {
     "float": (float, int),
@@ -90,12 +90,19 @@ def _read_entry(path: Path) -> Any:
         return json.loads(stream.read(_MAX_ENTRY).decode("utf-8"))
 
 
+def _key(joints: JointChoice) -> object:
+    return joints if joints is None or isinstance(joints, str) else list(joints)
+
+
 def cached_fields(
-    urdf: str, source: str, left_joint: str | None, right_joint: str | None
+    urdf: str,
+    source: str,
+    left_joint: JointChoice,
+    right_joint: JointChoice,
 ) -> Derived:
     """What :func:`derive_text` gives for this URDF, from the disk cache when it holds it."""
     key = hashlib.sha256(
-        json.dumps([_code_fingerprint(), urdf, left_joint, right_joint]).encode("utf-8")
+        json.dumps([_code_fingerprint(), urdf, _key(left_joint), _key(right_joint)]).encode("utf-8")
     ).hexdigest()
     directory = _cache_dir()
     path = directory / f"params-{key}.json" if directory else None

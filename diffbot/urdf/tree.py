@@ -29,6 +29,24 @@ class Joint:
     velocity_limit: float | None
     mimic: bool = False
     full_turn: bool = False  # revolute with a range of at least one turn: a wheel all the same
+    rest: float = 0.0  # position at rest (m or rad): 0, clamped into the joint's limits
+
+    def rest_transform(self) -> NDArray[np.float64]:
+        """The joint's motion at its rest position (4x4): identity when ``rest`` is 0."""
+        import numpy as np
+
+        motion = np.eye(4)
+        if self.type == "prismatic":
+            motion[:3, 3] = self.axis * self.rest
+        elif self.type in ("revolute", "continuous"):
+            x, y, z = self.axis
+            c, s, t = math.cos(self.rest), math.sin(self.rest), 1.0 - math.cos(self.rest)
+            motion[:3, :3] = [
+                [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+                [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+                [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
+            ]
+        return motion
 
 
 def parse_urdf(text: str, source: str) -> Any:
@@ -68,11 +86,14 @@ def joints_of(robot: Any, source: str) -> dict[str, Joint]:
             raise DescriptionError(f"{source}: joint {j.name!r} has a zero axis")
         velocity = None
         full_turn = False
+        rest = 0.0
         if j.limit is not None:
             if j.limit.velocity is not None:
                 velocity = float(j.limit.velocity)
             if j.limit.lower is not None and j.limit.upper is not None:
                 full_turn = float(j.limit.upper) - float(j.limit.lower) >= 2.0 * math.pi
+                if j.type in ("prismatic", "revolute") and not full_turn:
+                    rest = min(max(0.0, float(j.limit.lower)), float(j.limit.upper))
         joints[j.name] = Joint(
             j.name,
             str(j.type),
@@ -83,6 +104,7 @@ def joints_of(robot: Any, source: str) -> dict[str, Joint]:
             velocity,
             mimic=j.mimic is not None,
             full_turn=full_turn,
+            rest=rest,
         )
     return joints
 
@@ -136,6 +158,8 @@ class Tree:
         frame = self._from_root[node]
         for joint in reversed(chain):
             frame = frame @ joint.origin
+            if joint.rest != 0.0:
+                frame = frame @ joint.rest_transform()
             self._from_root[joint.child] = frame
         return frame
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, TypedDict
 
@@ -22,6 +23,9 @@ if TYPE_CHECKING:
     from typing_extensions import Unpack
 
 __all__ = ["Derived", "Overrides", "derive", "derive_params", "derive_text", "finish"]
+
+#: Drive wheel joints as given: one name, a comma-separated list, a sequence, or None.
+JointChoice = str | Sequence[str] | None
 
 #: A joint axis counts as lateral when its y component (unit axis, base frame) is at least this.
 _LATERAL_MIN = math.cos(math.radians(25.0))
@@ -53,12 +57,13 @@ def _wheel_radius(tree: Tree, joint: Joint, source: str) -> tuple[float | None, 
     return None, "", None
 
 
-def _wheel(tree: Tree, joint: Joint, source: str) -> _Wheel:
+def _wheel(tree: Tree, joint: Joint, source: str, *, fixed: bool = False) -> _Wheel:
     import numpy as np
 
     joint_frame = tree.frame(joint.parent) @ joint.origin
     rotation = joint_frame[:3, :3]
-    axis = rotation @ joint.axis
+    # A fixed joint has no axis: its wheel turns about the base's lateral axis.
+    axis = np.array([0.0, 1.0, 0.0]) if fixed else rotation @ joint.axis
     axis = axis / np.linalg.norm(axis)
     centre = joint_frame[:3, 3]
     radius, radius_from, element = _wheel_radius(tree, joint, source)
@@ -108,24 +113,48 @@ def _named_side(name: str) -> str | None:
 
 def _why_not_a_wheel(tree: Tree, joint: Joint) -> str | None:
     """Why a joint cannot be a drive wheel, or None when it can."""
-    if joint.type != "continuous" and not (joint.type == "revolute" and joint.full_turn):
+    if not _is_rotary(joint):
         return f"it is {joint.type}, not continuous"
-    between = [j.name for j in tree.joints_between(joint.parent, tree.base) if j.type != "fixed"]
+    between = [j.name for j in tree.joints_between(joint.parent, tree.base) if _is_rotary(j)]
+    between += [
+        j.name
+        for j in tree.joints_between(joint.parent, tree.base)
+        if j.type in ("floating", "planar")
+    ]
     if between:
         return f"it hangs from {tree.base!r} through the moving joint(s) {between}"
     return None
+
+
+def suspension_of(tree: Tree, joint: Joint) -> list[str]:
+    """The suspension (prismatic or limited revolute) joints between a wheel and the base."""
+    return [
+        j.name
+        for j in tree.joints_between(joint.parent, tree.base)
+        if j.type in ("prismatic", "revolute") and not j.full_turn
+    ]
 
 
 def _is_rotary(joint: Joint) -> bool:
     return joint.type == "continuous" or (joint.type == "revolute" and joint.full_turn)
 
 
+def _names(given: JointChoice) -> list[str]:
+    """Joint names given as one name, a comma-separated list or a sequence."""
+    if given is None:
+        return []
+    parts = given.split(",") if isinstance(given, str) else list(given)
+    return [name.strip() for name in parts if name.strip()]
+
+
 def _pick(
     tree: Tree,
     source: str,
-    left_joint: str | None,
-    right_joint: str | None,
-) -> tuple[_Wheel, _Wheel]:
+    left_joint: JointChoice,
+    right_joint: JointChoice,
+    warnings: list[str],
+) -> tuple[list[_Wheel], list[_Wheel]]:
+    """The drive wheels of each side: the given joints, or those the structure shows."""
     candidates: list[_Wheel] = []
     for joint in tree.joints.values():
         # a mimic joint follows another one: it is driven, not a drive
@@ -138,10 +167,18 @@ def _pick(
     def chosen(name: str, side: str) -> _Wheel:
         if name not in tree.joints:
             raise DriveWheelError(f"{source}: no joint named {name!r} (the {side} wheel joint)")
-        why = _why_not_a_wheel(tree, tree.joints[name])
+        joint = tree.joints[name]
+        if joint.type == "fixed":
+            # Some robots (Neobotix) declare wheel joints fixed; the controller still drives them.
+            warnings.append(
+                f"joint {name!r} is fixed in the description: taken as a wheel because it was "
+                "named as one"
+            )
+            return _wheel(tree, joint, source, fixed=True)
+        why = _why_not_a_wheel(tree, joint)
         if why is not None:
             raise DriveWheelError(f"{source}: joint {name!r} cannot drive a wheel: {why}")
-        wheel = _wheel(tree, tree.joints[name], source)
+        wheel = _wheel(tree, joint, source)
         if abs(float(wheel.axis[1])) < _LATERAL_MIN:
             raise DriveWheelError(
                 f"{source}: joint {name!r} cannot drive a wheel: its axis is not lateral in "
@@ -157,38 +194,45 @@ def _pick(
     by_side: dict[str, list[_Wheel]] = {"left": [], "right": [], "centre": []}
     for wheel in candidates:
         by_side[_side(wheel)].append(wheel)
+    names = [w.joint.name for w in candidates]
 
-    def auto(side: str) -> _Wheel:
-        found = by_side[side]
-        if len(found) == 1:
-            return found[0]
-        names = [w.joint.name for w in candidates]
-        if not candidates:
-            continuous = [j.name for j in tree.joints.values() if _is_rotary(j)]
-            raise DriveWheelError(
-                f"{source}: no drive wheels: no continuous joint with a lateral axis hangs from "
-                f"{tree.base!r} through fixed joints (continuous joints: {continuous or 'none'})"
-            )
-        if not found:
-            raise DriveWheelError(
-                f"{source}: no drive wheel on the {side} side of {tree.base!r} "
-                f"(candidates: {names}); choose with {{left_joint}}/{{right_joint}}",
-                path=source,
-                candidates=names,
-            )
-        raise DriveWheelError(
-            f"{source}: {len(candidates)} candidate drive wheels {names}, "
-            f"{len(found)} on the {side} side; choose with {{left_joint}}/{{right_joint}}",
+    def refuse(message: str) -> DriveWheelError:
+        return DriveWheelError(
+            f"{source}: {message}; choose with {{left_joint}}/{{right_joint}}",
             path=source,
             candidates=names,
         )
 
-    if candidates:
-        for side, given in (("left", left_joint), ("right", right_joint)):
-            if not given and not by_side[side]:
-                auto(side)  # raises: nothing on that side is worse than a choice on the other
-    left = chosen(left_joint, "left") if left_joint else auto("left")
-    right = chosen(right_joint, "right") if right_joint else auto("right")
+    left_names, right_names = _names(left_joint), _names(right_joint)
+    if not candidates and not (left_names and right_names):
+        continuous = [j.name for j in tree.joints.values() if _is_rotary(j)]
+        raise DriveWheelError(
+            f"{source}: no drive wheels: no continuous joint with a lateral axis hangs from "
+            f"{tree.base!r} through fixed joints (continuous joints: {continuous or 'none'})"
+        )
+    for side, given in (("left", left_names), ("right", right_names)):
+        if not given and not by_side[side]:
+            raise refuse(
+                f"no drive wheel on the {side} side of {tree.base!r} (candidates: {names})"
+            )
+    counts = {side: len(by_side[side]) for side in ("left", "right")}
+    automatic = [
+        side for side, given in (("left", left_names), ("right", right_names)) if not given
+    ]
+    if automatic and any(counts[side] > 1 for side in automatic):
+        if left_names or right_names or counts["left"] != counts["right"]:
+            side = next(side for side in automatic if counts[side] > 1)
+            raise refuse(
+                f"{len(candidates)} candidate drive wheels {names}, {counts[side]} on the {side} "
+                "side"
+            )
+        warnings.append(
+            f"{counts['left']} drive wheels on each side (a skid steer): all are used; a skid "
+            "steer's effective separation is usually larger than its track (give the one it runs "
+            "with, or a controller's wheel_separation_multiplier)"
+        )
+    left = [chosen(n, "left") for n in left_names] if left_names else by_side["left"]
+    right = [chosen(n, "right") for n in right_names] if right_names else by_side["right"]
     return left, right
 
 
@@ -214,6 +258,9 @@ class Derived:
         base_link: the link the wheels are found from.
         left_child: the left wheel's link.
         right_child: the right wheel's link.
+        left_joints: every left drive wheel joint (several on a skid steer).
+        right_joints: every right drive wheel joint.
+        passive_joints: the other moving joints (a caster's).
     """
 
     wheel_radius: float | None
@@ -227,76 +274,109 @@ class Derived:
     base_link: str
     left_child: str
     right_child: str
+    left_joints: tuple[str, ...]
+    right_joints: tuple[str, ...]
+    passive_joints: tuple[str, ...]
 
 
-def derive(robot: Any, source: str, left_joint: str | None, right_joint: str | None) -> Derived:
+def derive(
+    robot: Any,
+    source: str,
+    left_joint: JointChoice,
+    right_joint: JointChoice,
+) -> Derived:
     """Everything derivable from a parsed URDF (yourdfpy's Robot record)."""
 
     joints = joints_of(robot, source)
     tree = Tree(robot, joints, source)
-    left, right = _pick(tree, source, left_joint, right_joint)
     warnings: list[str] = []
+    lefts, rights = _pick(tree, source, left_joint, right_joint, warnings)
+    left, right = lefts[0], rights[0]
+    wheels = [*lefts, *rights]
 
-    for wheel, side in ((left, "left"), (right, "right")):
-        named = _named_side(wheel.joint.name)
-        if named is not None and named != side:
-            warnings.append(
-                f"joint {wheel.joint.name!r} is named {named} but sits on the {side} side "
-                f"(y = {wheel.centre[1]:+.4g} m in {tree.base!r})"
-            )
-        if wheel.radius_from.startswith("visual"):
-            warnings.append(
-                f"wheel link {wheel.joint.child!r} has no collision cylinder: radius taken from "
-                f"its {wheel.radius_from}"
-            )
-        axis_warning = _shape_axis_warning(tree, wheel)
-        if axis_warning:
-            warnings.append(axis_warning)
+    for side, side_wheels in (("left", lefts), ("right", rights)):
+        for wheel in side_wheels:
+            named = _named_side(wheel.joint.name)
+            if named is not None and named != side:
+                warnings.append(
+                    f"joint {wheel.joint.name!r} is named {named} but sits on the {side} side "
+                    f"(y = {wheel.centre[1]:+.4g} m in {tree.base!r})"
+                )
+            if wheel.radius_from.startswith("visual"):
+                warnings.append(
+                    f"wheel link {wheel.joint.child!r} has no collision cylinder: radius taken "
+                    f"from its {wheel.radius_from}"
+                )
+            axis_warning = _shape_axis_warning(tree, wheel)
+            if axis_warning:
+                warnings.append(axis_warning)
+    suspended = sorted({name for wheel in wheels for name in suspension_of(tree, wheel.joint)})
+    if suspended:
+        warnings.append(
+            f"the drive wheels hang from {tree.base!r} through the suspension joint(s) "
+            f"{suspended}: geometry taken at their rest position (0, within their limits)"
+        )
 
     radius: float | None = None
-    radii = [w.radius for w in (left, right) if w.radius is not None]
+    radii = [w.radius for w in wheels if w.radius is not None]
     if len(radii) == 2 and not math.isclose(radii[0], radii[1], rel_tol=1e-9):
         warnings.append(
             f"the wheels have different radii ({radii[0]:.6g} m left, {radii[1]:.6g} m right): "
             "using their mean"
         )
+    elif len(radii) > 2 and not all(math.isclose(r, radii[0], rel_tol=1e-9) for r in radii):
+        warnings.append(f"the wheels have different radii {radii} (m): using their mean")
     if radii:
         radius = sum(radii) / len(radii)
-        if len(radii) == 1:
-            missing = left if left.radius is None else right
+        for missing in (w for w in wheels if w.radius is None):
             warnings.append(
                 f"wheel link {missing.joint.child!r} has no cylinder: "
-                "using the other wheel's radius"
+                "using the other wheels' radius"
             )
 
-    offset = left.centre - right.centre
     # A rigid body's forward velocity at a point depends on the point's lateral offset only
     # (v_x = v - w y), so the kinematic track is the lateral distance, whatever x and z differ by.
-    separation = abs(float(offset[1]))
-    if abs(float(offset[0])) > 1e-6 or abs(float(offset[2])) > 1e-6:
-        warnings.append(
-            "the drive wheels are not on one lateral axle "
-            f"(offset x {offset[0]:+.4g} m, z {offset[2]:+.4g} m): "
-            "separation is their lateral distance"
-        )
+    left_y = sum(float(w.centre[1]) for w in lefts) / len(lefts)
+    right_y = sum(float(w.centre[1]) for w in rights) / len(rights)
+    separation = abs(left_y - right_y)
+    if len(wheels) == 2:
+        offset = left.centre - right.centre
+        if abs(float(offset[0])) > 1e-6 or abs(float(offset[2])) > 1e-6:
+            warnings.append(
+                "the drive wheels are not on one lateral axle "
+                f"(offset x {offset[0]:+.4g} m, z {offset[2]:+.4g} m): "
+                "separation is their lateral distance"
+            )
 
-    limits = [w.joint.velocity_limit for w in (left, right)]
-    for wheel, value in zip((left, right), limits, strict=True):
+    limits = [w.joint.velocity_limit for w in wheels]
+    for wheel, value in zip(wheels, limits, strict=True):
         if value is not None and not math.isfinite(value):
             raise DescriptionError(
                 f"{source}: joint {wheel.joint.name!r} has a non-finite velocity limit {value!r}"
             )
     usable = [v for v in limits if v is not None and v > 0]
-    for wheel, value in zip((left, right), limits, strict=True):
+    for wheel, value in zip(wheels, limits, strict=True):
         if value is not None and value not in usable:
             warnings.append(f"joint {wheel.joint.name!r} has velocity limit {value!r}: ignored")
     max_speed = min(usable) if usable else None
-    if len(usable) == 2 and usable[0] != usable[1]:
+    if len(set(usable)) > 1:
         warnings.append(
             f"the wheel joints have different velocity limits {usable}: using the lower one"
         )
-    elif len(usable) == 1 and all(v is not None for v in limits) is False:
-        warnings.append("only one wheel joint has a velocity limit: using it for both")
+    elif usable and len(usable) < len(limits) and None in limits:
+        warnings.append("only some wheel joints have a velocity limit: using it for all")
+    for side, side_wheels in (("left", lefts), ("right", rights)):
+        if len({_signed(w) for w in side_wheels}) > 1:
+            raise DescriptionError(
+                f"{source}: the {side} wheels {[w.joint.name for w in side_wheels]} turn in "
+                "opposite directions for forward motion: give each side's wheels one direction"
+            )
+    drive = {w.joint.name for w in wheels}
+    passive = tuple(
+        j.name
+        for j in tree.joints.values()
+        if j.name not in drive and j.type not in ("fixed", "floating", "planar") and not j.mimic
+    )
 
     return Derived(
         wheel_radius=radius,
@@ -310,11 +390,17 @@ def derive(robot: Any, source: str, left_joint: str | None, right_joint: str | N
         base_link=tree.base,
         left_child=left.joint.child,
         right_child=right.joint.child,
+        left_joints=tuple(w.joint.name for w in lefts),
+        right_joints=tuple(w.joint.name for w in rights),
+        passive_joints=passive,
     )
 
 
 def derive_text(
-    urdf: str, source: str, left_joint: str | None = None, right_joint: str | None = None
+    urdf: str,
+    source: str,
+    left_joint: JointChoice = None,
+    right_joint: JointChoice = None,
 ) -> Derived:
     """Parse URDF text and derive from it."""
     import warnings
@@ -359,6 +445,9 @@ def finish(
             ),
             source=source,
             warnings=(*extra_warnings, *fields.warnings),
+            left_joints=fields.left_joints,
+            right_joints=fields.right_joints,
+            passive_joints=fields.passive_joints,
         )
     except ParameterError as err:
         given = wheel_radius is not None or wheel_separation is not None
@@ -368,8 +457,8 @@ def finish(
 class Overrides(TypedDict, total=False):
     """What a caller may give instead of (or to choose among) what a description says."""
 
-    left_joint: str | None
-    right_joint: str | None
+    left_joint: JointChoice
+    right_joint: JointChoice
     wheel_radius: float | None
     wheel_separation: float | None
     max_wheel_speed: float | None

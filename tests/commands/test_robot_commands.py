@@ -148,7 +148,9 @@ def test_params_of_malformed_and_ambiguous_descriptions(runner: CliRunner, write
     ].replace('"lw"', '"lw2"').replace('"rw"', '"rw2"').replace('link="l"', 'link="l2"').replace(
         'link="r"', 'link="r2"'
     ).replace('name="l"', 'name="l2"').replace('name="r"', 'name="r2"')
-    path = write("four.urdf", four)
+    path = write(
+        "four.urdf", four.replace('name="rw2" type="continuous"', 'name="rw2" type="fixed"')
+    )
     assert_one_line_error(run(runner, "params", str(path)), "--left-joint/--right-joint")
     ok = run(runner, "params", str(path), "--left-joint", "lw2", "--right-joint", "rw", "--json")
     assert ok.exit_code == 0, ok.output

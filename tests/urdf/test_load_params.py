@@ -304,19 +304,82 @@ def test_different_limits_use_the_lower_one_with_a_warning(write: Write) -> None
     assert any("different velocity limits" in w for w in params.warnings)
 
 
-def test_skid_steer_needs_a_choice_and_accepts_it(write: Write) -> None:
+def test_a_skid_steer_uses_every_wheel_with_a_warning(write: Write) -> None:
+    text = robot(
+        wheel("front_left", "0.1 0.12 0"),
+        wheel("rear_left", "-0.1 0.12 0"),
+        wheel("front_right", "0.1 -0.12 0"),
+        wheel("rear_right", "-0.1 -0.12 0"),
+    )
+    path = write("skid.urdf", text)
+    params = diffbot.load_params(path)
+    assert params.left_joints == ("front_left", "rear_left")
+    assert params.right_joints == ("front_right", "rear_right")
+    assert (params.left_joint, params.right_joint) == ("front_left", "front_right")
+    assert params.wheel_separation == pytest.approx(0.24, abs=1e-15)
+    assert any("skid steer" in w for w in params.warnings)
+    chosen = diffbot.load_params(path, left_joint="rear_left", right_joint="rear_right")
+    assert (chosen.left_joints, chosen.right_joints) == (("rear_left",), ("rear_right",))
+    listed = diffbot.load_params(path, left_joint="rear_left, front_left", right_joint="rear_right")
+    assert listed.left_joints == ("rear_left", "front_left")
+
+
+def test_uneven_sides_still_need_a_choice(write: Write) -> None:
     text = robot(
         wheel("front_left", "0.1 0.1 0"),
         wheel("rear_left", "-0.1 0.1 0"),
-        wheel("front_right", "0.1 -0.1 0"),
-        wheel("rear_right", "-0.1 -0.1 0"),
+        wheel("right", "0 -0.1 0"),
     )
-    path = write("skid.urdf", text)
-    with pytest.raises(diffbot.DriveWheelError, match=r"4 candidate drive wheels .*left_joint="):
+    path = write("three.urdf", text)
+    with pytest.raises(diffbot.DriveWheelError, match=r"3 candidate drive wheels .*left_joint="):
         diffbot.load_params(path)
-    params = diffbot.load_params(path, left_joint="rear_left", right_joint="rear_right")
-    assert (params.left_joint, params.right_joint) == ("rear_left", "rear_right")
-    assert params.wheel_separation == pytest.approx(0.2)
+    params = diffbot.load_params(path, left_joint="rear_left")
+    assert (params.left_joints, params.right_joints) == (("rear_left",), ("right",))
+
+
+def test_wheels_behind_suspension_are_taken_at_rest_with_a_warning(write: Write) -> None:
+    links = (
+        '<link name="base_link"/><link name="arm"/>'
+        '<joint name="drop" type="prismatic"><parent link="base_link"/><child link="arm"/>'
+        '<axis xyz="0 0 1"/><limit lower="-0.02" upper="0.0" effort="1" velocity="1"/></joint>'
+    )
+    text = robot(wheel("left", "0 0.11 0", parent="arm"), wheel("right", "0 -0.11 0"), links=links)
+    params = diffbot.load_params(write("drop.urdf", text))
+    assert params.wheel_separation == pytest.approx(0.22, abs=1e-15)
+    assert any("suspension" in w and "'drop'" in w for w in params.warnings)
+    assert "drop" in params.passive_joints
+    # A rest position outside the limits is clamped into them: the left wheel rises by 0.01 m,
+    # which leaves the lateral separation alone, and a joint that leans it sideways moves it.
+    leaning = links.replace('type="prismatic"', 'type="revolute"').replace(
+        '<axis xyz="0 0 1"/><limit lower="-0.02" upper="0.0"',
+        '<axis xyz="1 0 0"/><limit lower="0.1" upper="0.2"',
+    )
+    text = robot(
+        wheel("left", "0 0.11 0", parent="arm"), wheel("right", "0 -0.11 0"), links=leaning
+    )
+    tilted = diffbot.load_params(write("lean.urdf", text))
+    # Rotated by 0.1 rad about x, the wheel centre at y = 0.11 m moves to 0.11 cos(0.1).
+    assert tilted.wheel_separation == pytest.approx(0.11 + 0.11 * math.cos(0.1), abs=1e-12)
+
+
+def test_fixed_wheel_joints_count_when_named(write: Write) -> None:
+    text = robot(
+        wheel("wl", "0 0.2 0", joint_type="fixed"), wheel("wr", "0 -0.2 0", joint_type="fixed")
+    )
+    path = write("fixed_wheels.urdf", text)
+    with pytest.raises(diffbot.DriveWheelError, match="no drive wheels"):
+        diffbot.load_params(path)
+    params = diffbot.load_params(path, left_joint="wl", right_joint="wr")
+    assert params.wheel_separation == pytest.approx(0.4, abs=1e-15)
+    assert (params.left_sign, params.right_sign) == (1, 1)
+    assert any("'wl' is fixed" in w for w in params.warnings)
+
+
+def test_the_other_moving_joints_are_the_robots_passive_joints(
+    params: diffbot.DiffDriveParams,
+) -> None:
+    assert params.passive_joints == ("caster_rotation_joint", "caster_wheel_joint")
+    assert params.left_joints == ("front_left_wheel_joint",)
 
 
 # --- errors ---------------------------------------------------------------------------------
@@ -463,13 +526,13 @@ def test_a_chosen_joint_must_be_able_to_drive_a_wheel(write: Write) -> None:
     text = robot(
         wheel("left_joint", "0 0.1 0"),
         wheel("right_joint", "0 -0.1 0"),
-        wheel("fixed_joint", "0 0.2 0", joint_type="fixed"),
+        wheel("slide_joint", "0 0.2 0", joint_type="prismatic"),
     )
-    path = write("fixed.urdf", text)
+    path = write("slide.urdf", text)
     with pytest.raises(
-        diffbot.DriveWheelError, match="'fixed_joint' cannot drive a wheel: it is fixed"
+        diffbot.DriveWheelError, match="'slide_joint' cannot drive a wheel: it is prismatic"
     ):
-        diffbot.load_params(path, left_joint="fixed_joint")
+        diffbot.load_params(path, left_joint="slide_joint")
 
 
 def test_a_chosen_joint_under_a_swivel_is_rejected(write: Write) -> None:
