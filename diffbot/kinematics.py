@@ -24,6 +24,8 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
+    from diffbot.controller_config import ControllerConfig
+
     FloatOrArray: TypeAlias = float | NDArray[np.float64]
 
 __all__ = [
@@ -126,6 +128,8 @@ class DiffDriveParams:
         sources: where each value came from, by field (``description``, ``controllers:<path>``,
             ``gazebo plugin``, ``override``).
         disagreements: the values on which the sources disagree.
+        controller: the diff_drive_controller configuration the robot runs with, if one was
+            read (its limits, frame ids, odometry settings).
     """
 
     wheel_radius: float
@@ -144,6 +148,7 @@ class DiffDriveParams:
     passive_joints: tuple[str, ...] = ()
     sources: Mapping[str, str] = field(default_factory=dict, compare=False)
     disagreements: tuple[Disagreement, ...] = field(default=(), compare=False)
+    controller: ControllerConfig | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "wheel_radius", _check_positive("wheel radius", self.wheel_radius))

@@ -45,8 +45,8 @@ from typing import Any, Literal
 
 import yaml
 
+from diffbot.controller_config import AxisLimits, ControllerConfig, default_of, first_of
 from diffbot.errors import DescriptionError
-from diffbot.urdf.controller_types import AxisLimits, ControllerConfig, default_of, first_of
 
 __all__ = [
     "DIFF_DRIVE_TYPES",
