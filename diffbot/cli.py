@@ -25,6 +25,7 @@ COMMANDS = {
     "urdf": "diffbot.commands.robot:urdf",
     "ik": "diffbot.commands.robot:ik",
     "fk": "diffbot.commands.robot:fk",
+    "check": "diffbot.commands.check:check",
     "plan": "diffbot.commands.plan:plan_command",
     "odom": "diffbot.commands.odom:odom",
     "simulate": "diffbot.commands.simulate:simulate",

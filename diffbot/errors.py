@@ -27,7 +27,7 @@ PARAMETERS: Mapping[str, str] = {
     "wheel_radius": "wheel_radius=",
     "wheel_separation": "wheel_separation=",
     "max_wheel_speed": "max_wheel_speed=",
-    "packages": "packages= entry",
+    "packages": "packages:",
     "trust": "trust=True",
     "controllers": "controllers=",
     "controller": "controller=",

@@ -55,6 +55,7 @@ def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ["plan", "--format", "ros2"],
         ["odom", "--help"],
         ["simulate", "--help"],
+        ["check"],
     ],
 )
 def test_quick_commands_load_no_heavy_module(args: list[str], warm_cache: Path) -> None:

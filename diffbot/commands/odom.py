@@ -72,7 +72,7 @@ def odom(
 
     \b
     Reading bags needs the optional rosbags dependency:
-      pip install 'diffbot-kinematics[bag]'
+      pip install 'rosbags>=0.11'     (or, in a clone: pip install -e '.[bag]')
 
     \b
     Examples:

@@ -6,6 +6,7 @@ format its results.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import math
@@ -166,21 +167,15 @@ class RobotOptions:
     wheel_radius: float | None
     wheel_separation: float | None
     max_rpm: float | None
+    controllers: str | None = None
+    controller: str | None = None
 
     def with_path(self, path: str | None, xacro_args: Mapping[str, str]) -> RobotOptions:
         """The same options with a positional PATH and ``NAME:=VALUE`` tokens merged in."""
         if path is not None and self.robot is not None and path != self.robot:
             fail(f"two robots given: {path!r} and --robot {self.robot!r}")
-        return RobotOptions(
-            path if path is not None else self.robot,
-            {**self.xacro_args, **xacro_args},
-            self.packages,
-            self.left_joint,
-            self.right_joint,
-            self.wheel_radius,
-            self.wheel_separation,
-            self.max_rpm,
-        )
+        robot = path if path is not None else self.robot
+        return dataclasses.replace(self, robot=robot, xacro_args={**self.xacro_args, **xacro_args})
 
     def load(self, *, quiet: bool = False) -> DiffDriveParams:
         """Load the robot; print its warnings on stderr unless ``quiet``."""
@@ -199,6 +194,8 @@ class RobotOptions:
             wheel_radius=self.wheel_radius,
             wheel_separation=self.wheel_separation,
             max_wheel_speed=None if self.max_rpm is None else rad_s_from_rpm(self.max_rpm),
+            controllers=self.controllers,
+            controller=self.controller,
         )
         if not quiet:
             for message in params.warnings:
@@ -241,7 +238,11 @@ _ROBOT_OPTIONS = [
         multiple=True,
         help="Directory of ROS package NAME, for $(find NAME). Repeatable.",
     ),
-    click.option("--left-joint", metavar="NAME", help="Left drive wheel joint (if ambiguous)."),
+    click.option(
+        "--left-joint",
+        metavar="NAME[,NAME]",
+        help="Left drive wheel joint(s), comma-separated (if ambiguous).",
+    ),
     click.option("--right-joint", metavar="NAME", help="Right drive wheel joint (if ambiguous)."),
     click.option(
         "--wheel-radius", type=POSITIVE, metavar="M", help="Override the wheel radius (m)."
@@ -258,20 +259,28 @@ _ROBOT_OPTIONS = [
         metavar="RPM",
         help="Override the motor limit (rpm).",
     ),
+    click.option(
+        "--controllers",
+        metavar="FILE",
+        type=click.Path(exists=True, dir_okay=False),
+        help="The robot's ros2_control controllers YAML: its diff_drive_controller's separation, "
+        "radii (multipliers applied), wheels and limits win over the description. Default: the "
+        "file the description's ros2_control Gazebo plugin names, if it exists.",
+    ),
+    click.option(
+        "--controller",
+        metavar="NAME",
+        help="Which diff-drive controller of the file, when it holds several.",
+    ),
 ]
 
 
 def _robot_from(kwargs: dict[str, Any]) -> RobotOptions:
-    return RobotOptions(
-        robot=kwargs.pop("robot"),
-        xacro_args={},
-        packages=parse_packages(kwargs.pop("packages")),
-        left_joint=kwargs.pop("left_joint"),
-        right_joint=kwargs.pop("right_joint"),
-        wheel_radius=kwargs.pop("wheel_radius"),
-        wheel_separation=kwargs.pop("wheel_separation"),
-        max_rpm=kwargs.pop("max_rpm"),
-    )
+    # Every option is named after its field, but for the two built from other values.
+    packages = parse_packages(kwargs.pop("packages"))
+    names = [f.name for f in dataclasses.fields(RobotOptions)]
+    given = {name: kwargs.pop(name) for name in names if name not in ("xacro_args", "packages")}
+    return RobotOptions(xacro_args={}, packages=packages, **given)
 
 
 #: Add the shared robot options; the command receives them as ``robot: RobotOptions``.

@@ -23,6 +23,7 @@ from diffbot.commands.options import (
 )
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.plan_table import limit_text
+from diffbot.formats.robot import params_json, params_lines
 from diffbot.formats.text import fmt
 from diffbot.io.outputs import write_text_atomic
 from diffbot.kinematics import (
@@ -52,11 +53,18 @@ def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
 
     PATH is a .urdf or .urdf.xacro file (default: the bundled diffbot); NAME:=VALUE tokens are
     xacro arguments. Drive wheels are found from the structure: continuous joints with a lateral
-    axis hanging from base_link through fixed joints; left is +y (REP-103).
+    axis hanging from base_link through fixed (or suspension) joints; left is +y (REP-103). A
+    skid steer's wheels, split evenly between the sides, are all used.
+
+    The robot's diff_drive_controller configuration (--controllers, or the file its ros2_control
+    Gazebo plugin names) wins over the geometry: its separation times its multiplier, its radius
+    times each side's multiplier, its wheel names. Each value says where it came from when that
+    is not the description; sources that disagree are warnings (see `diffbot check`).
 
     \b
-    Example:
+    Examples:
       diffbot params diffbot.urdf.xacro wheel_radius:=0.04 --json
+      diffbot params robot.urdf.xacro --controllers config/controllers.yaml
     """
     rest, xacro_args = split_xacro_args(tokens)
     if len(rest) > 1:
@@ -64,31 +72,10 @@ def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
     options = robot.with_path(rest[0] if rest else None, xacro_args)
     p = options.load(quiet=True)
     if as_json:
-        emit_json(
-            {
-                "wheel_radius": p.wheel_radius,
-                "wheel_separation": p.wheel_separation,
-                "left_joint": p.left_joint,
-                "right_joint": p.right_joint,
-                "left_sign": p.left_sign,
-                "right_sign": p.right_sign,
-                "max_wheel_speed": p.max_wheel_speed,
-                "max_wheel_rpm": p.max_wheel_rpm,
-                "source": p.source,
-                "warnings": list(p.warnings),
-            }
-        )
+        emit_json(params_json(p))
         return
-    rows = [
-        ("robot", p.source),
-        ("wheel radius", f"{fmt(p.wheel_radius)} m"),
-        ("wheel separation", f"{fmt(p.wheel_separation)} m"),
-        ("left wheel", f"{p.left_joint} (direction {p.left_sign:+d})"),
-        ("right wheel", f"{p.right_joint} (direction {p.right_sign:+d})"),
-        ("motor limit", limit_text(p)),
-    ]
-    for label, value in rows:
-        click.echo(f"{label:<17} {value}")
+    for line in params_lines(p):
+        click.echo(line)
     for message in p.warnings:
         warn(message)
 

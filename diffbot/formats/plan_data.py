@@ -6,26 +6,12 @@ import csv
 import io
 from typing import Any
 
-from diffbot.kinematics import DiffDriveParams, Pose, rpm_from_rad_s
+from diffbot.formats.robot import robot_json
+from diffbot.kinematics import Pose, rpm_from_rad_s
 from diffbot.planfile import format_plan, format_segment
 from diffbot.trajectory import Plan, describe_segment
 
-__all__ = ["plan_csv", "plan_json", "pose_json", "robot_json"]
-
-
-def robot_json(params: DiffDriveParams) -> dict[str, Any]:
-    """The robot a plan was made for (m, rad/s, rpm)."""
-    return {
-        "wheel_radius": params.wheel_radius,
-        "wheel_separation": params.wheel_separation,
-        "left_joint": params.left_joint,
-        "right_joint": params.right_joint,
-        "left_sign": params.left_sign,
-        "right_sign": params.right_sign,
-        "max_wheel_speed": params.max_wheel_speed,
-        "max_wheel_rpm": params.max_wheel_rpm,
-        "source": params.source,
-    }
+__all__ = ["plan_csv", "plan_json", "pose_json"]
 
 
 def pose_json(pose: Pose) -> dict[str, float]:

@@ -1,7 +1,7 @@
 """Recordings as rosbag2 folders, read and written through the ``rosbags`` library.
 
 A rosbag2 recording is a directory with sqlite3 or mcap storage, or one ``.db3`` or ``.mcap``
-storage file (``pip install 'diffbot-kinematics[bag]'``): the sensor_msgs/msg/JointState messages
+storage file (``pip install 'rosbags>=0.11'``): the sensor_msgs/msg/JointState messages
 of one topic are read, all stamped by their header stamps, or all by the bag's receive times when
 any header stamp is zero. Outputs are written whole or not at all.
 """
@@ -55,7 +55,7 @@ DEFAULT_TOPIC: Final = "/joint_states"
 #: The message type read from bags.
 JOINT_STATE: Final = "sensor_msgs/msg/JointState"
 #: What to install for bag support.
-BAG_INSTALL_HINT: Final = "pip install 'diffbot-kinematics[bag]'"
+BAG_INSTALL_HINT: Final = "pip install 'rosbags>=0.11' (the bag extra of diffbot-kinematics)"
 #: rosbag2 format version written: read by ROS 2 Iron and later.
 _BAG_VERSION: Final = 8
 

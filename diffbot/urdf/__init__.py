@@ -18,10 +18,12 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
+from xml.etree import ElementTree
 
 from diffbot.kinematics import DiffDriveParams
 from diffbot.urdf.cache import cached_fields
-from diffbot.urdf.wheels import JointChoice, derive_params, finish
+from diffbot.urdf.sources import Overriding, find_controller, reconcile
+from diffbot.urdf.wheels import Derived, JointChoice, derive_params
 from diffbot.urdf.xacro import BUNDLED_DESCRIPTION, BUNDLED_PACKAGES, Expansion, expand
 
 __all__ = [
@@ -44,30 +46,47 @@ def load_params(
     wheel_radius: float | None = None,
     wheel_separation: float | None = None,
     max_wheel_speed: float | None = None,
+    controllers: str | os.PathLike[str] | None = None,
+    controller: str | None = None,
 ) -> DiffDriveParams:
-    """Robot parameters from a URDF/xacro description.
+    """Robot parameters from a URDF/xacro description and its controller configuration.
+
+    The values the robot's diff_drive_controller runs with win over the geometry: its
+    ``wheel_separation * wheel_separation_multiplier``, its ``wheel_radius`` times each side's
+    multiplier and its wheel names. The controllers file is ``controllers``, or else the one the
+    description's ros2_control Gazebo plugin names. Gazebo diff-drive plugins are read as a
+    cross-check; ``params.sources`` says where each value came from and
+    ``params.disagreements`` where the sources differ (each is also a warning).
 
     Args:
         path: a .urdf or .urdf.xacro file; None for the bundled diffbot.
         args: xacro arguments, e.g. ``{"wheel_radius": "0.04"}``.
         packages: ROS package directories for ``$(find PKG)``, e.g. ``{"my_robot": "/path/share"}``.
-        left_joint: the left drive wheel joint, needed only when more than two joints qualify.
-        right_joint: the right drive wheel joint, likewise.
-        wheel_radius: override of the wheel radius (m).
+        left_joint: the left drive wheel joint(s) (a name, comma-separated names or a sequence),
+            needed only when the structure leaves a choice.
+        right_joint: the right drive wheel joint(s), likewise.
+        wheel_radius: override of the wheel radius (m), both sides.
         wheel_separation: override of the wheel separation (m).
         max_wheel_speed: override of the motor limit (rad/s).
+        controllers: a ros2_control controllers YAML file.
+        controller: which diff-drive controller in it, when it holds several.
 
     Returns:
         The robot's :class:`DiffDriveParams`.
 
     Raises:
         DescriptionError: unreadable or malformed description, xacro failure, unknown package,
-            no or ambiguous drive wheels, wheels without a radius.
+            no or ambiguous drive wheels, wheels without a radius, a bad controllers file.
         ParameterError: an override or derived value is not a positive finite number.
     """
     source = str(path) if path is not None else "bundled diffbot"
     expansion = expand(path, args, packages)
-    fields = cached_fields(expansion.urdf, source, left_joint, right_joint)
-    return finish(
-        fields, source, expansion.warnings, wheel_radius, wheel_separation, max_wheel_speed
-    )
+    root = ElementTree.fromstring(expansion.urdf)
+    warnings = list(expansion.warnings)
+    config = find_controller(root, controllers, controller, warnings)
+
+    def derive(left: JointChoice, right: JointChoice) -> Derived:
+        return cached_fields(expansion.urdf, source, left, right)
+
+    given = Overriding(left_joint, right_joint, wheel_radius, wheel_separation, max_wheel_speed)
+    return reconcile(derive, root, source, warnings, config, given)

@@ -297,7 +297,8 @@ def choose_controller(
     if name is None:
         if len(configs) > 1:
             raise ControllerConfigError(
-                f"several diff-drive controllers{where}: {names}; choose one by name"
+                f"several diff-drive controllers{where}: {names}; "
+                "choose one by name ({controller})"
             )
         return configs[0]
     for config in configs:

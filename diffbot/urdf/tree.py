@@ -51,7 +51,11 @@ class Joint:
 
 def parse_urdf(text: str, source: str) -> Any:
     """Parse URDF text with yourdfpy (no meshes, no scene graph) into its Robot record."""
-    check_xml(text, source)
+    if check_xml(text, source).find("link") is None:
+        raise DescriptionError(
+            f"{source}: the description defines no links: is it a file of macros, meant to "
+            "be included by the robot's top-level description?"
+        )
     import logging
 
     logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)

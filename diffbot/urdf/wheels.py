@@ -421,8 +421,10 @@ def finish(
     wheel_radius: float | None,
     wheel_separation: float | None,
     max_wheel_speed: float | None,
+    **extra: Any,
 ) -> DiffDriveParams:
-    """The parameters from derived fields and the caller's overrides."""
+    """The parameters from derived fields and the caller's overrides (``extra``: more
+    :class:`DiffDriveParams` fields, such as the per-wheel radii and the sources)."""
     radius = fields.wheel_radius if wheel_radius is None else wheel_radius
     if radius is None:
         raise DriveWheelError(
@@ -448,6 +450,7 @@ def finish(
             left_joints=fields.left_joints,
             right_joints=fields.right_joints,
             passive_joints=fields.passive_joints,
+            **extra,
         )
     except ParameterError as err:
         given = wheel_radius is not None or wheel_separation is not None

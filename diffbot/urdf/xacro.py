@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+from xml.etree import ElementTree as ET
 
 from diffbot.errors import DescriptionError, PackageNotFoundError, XacroError
 from diffbot.formats.text import one_line
@@ -67,17 +68,49 @@ class _RecordingArgs(dict[str, str]):
         return super().__getitem__(key)
 
 
-def _package_resolver(packages: Mapping[str, str | os.PathLike[str]]) -> Any:
+def _locate(pkg: str, packages: Mapping[str, str | os.PathLike[str]]) -> str | None:
+    """A package's directory: given (a relative one is taken from the current directory, as a
+    shell user means it), then under AMENT_PREFIX_PATH; None when unknown."""
+    if pkg in packages:
+        return str(Path(packages[pkg]).absolute())
+    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
+        candidate = Path(prefix) / "share" / pkg
+        if prefix and candidate.is_dir():
+            return str(candidate)
+    return None
+
+
+_FIND = re.compile(r"\$\(find\s+([A-Za-z0-9_\-]+)\s*\)")
+#: Files of a description's folder scanned for the packages it needs, at most.
+_SCANNED = 200
+
+
+def _needed_packages(source: Path) -> list[str]:
+    """Packages named in `$(find ...)` by the description and the xacro files beside it."""
+    names: list[str] = []
+    files = [source, *sorted(source.parent.rglob("*.xacro"))[:_SCANNED]]
+    for path in files:
+        with contextlib.suppress(OSError, UnicodeDecodeError):
+            for name in _FIND.findall(path.read_text(encoding="utf-8")):
+                if name not in names:
+                    names.append(name)
+    return names
+
+
+def _package_resolver(source: Path, packages: Mapping[str, str | os.PathLike[str]]) -> Any:
     def find(pkg: str) -> str:
-        if pkg in packages:
-            return str(Path(packages[pkg]))
-        for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-            candidate = Path(prefix) / "share" / pkg
-            if prefix and candidate.is_dir():
-                return str(candidate)
+        found = _locate(pkg, packages)
+        if found is not None:
+            return found
+        missing = [name for name in _needed_packages(source) if _locate(name, packages) is None]
+        missing = [pkg, *(name for name in missing if name != pkg)]
+        listed = " ".join(f"{{packages}} {name}=DIR" for name in missing)
+        what = f"package {pkg!r}" if len(missing) == 1 else f"packages {missing}"
+        which = "its directory" if len(missing) == 1 else "their directories"
         raise PackageNotFoundError(
-            f"package {pkg!r} not found: give its directory with {{packages}} {pkg}=DIR",
+            f"{what} not found: give {which} with {listed}",
             package=pkg,
+            missing=missing,
         )
 
     return find
@@ -143,7 +176,7 @@ def _run_xacro(
     import xacro.substitution_args as subst
 
     mappings = _RecordingArgs(given)
-    find = _package_resolver(packages)
+    find = _package_resolver(source, packages)
     stderr = io.StringIO()
     with _XACRO_LOCK:
         saved_find, saved_eval_find = subst._eval_find, subst._eval_dict.get("find")
@@ -182,10 +215,9 @@ def _run_xacro(
     return Expansion(urdf, tuple(warnings))
 
 
-def check_xml(text: str, source: str) -> None:
-    """Reject text that is not well-formed XML (yourdfpy would silently 'recover' it)."""
-    import xml.etree.ElementTree as ET
-
+def check_xml(text: str, source: str) -> ET.Element:
+    """The root of URDF text; rejects text that is not well-formed XML (yourdfpy would silently
+    'recover' it) or whose root is not ``<robot>``."""
     try:
         root = ET.fromstring(text)
     except ET.ParseError as err:
@@ -194,6 +226,7 @@ def check_xml(text: str, source: str) -> None:
         raise DescriptionError(
             f"{source}: not a URDF: the root element is <{root.tag}>, not <robot>"
         )
+    return root
 
 
 # --------------------------------------------------------------------------------------------

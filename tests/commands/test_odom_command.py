@@ -220,7 +220,7 @@ def test_odom_without_rosbags_says_what_to_install(
     assert result.exit_code == 2
     assert result.stderr == (
         "error: reading and writing ROS 2 bags needs the rosbags library: "
-        "pip install 'diffbot-kinematics[bag]'\n"
+        "pip install 'rosbags>=0.11' (the bag extra of diffbot-kinematics)\n"
     )
 
 

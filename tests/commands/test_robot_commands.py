@@ -75,8 +75,18 @@ def test_params_json_has_exactly_the_contract_keys(runner: CliRunner) -> None:
         "max_wheel_rpm",
         "source",
         "warnings",
+        "left_joints",
+        "right_joints",
+        "left_wheel_radius",
+        "right_wheel_radius",
+        "sources",
+        "disagreements",
     }
     assert data["wheel_radius"] == pytest.approx(0.035)
+    assert data["left_joints"] == ["front_left_wheel_joint"]
+    assert data["left_wheel_radius"] == data["right_wheel_radius"] == data["wheel_radius"]
+    assert set(data["sources"].values()) == {"description"}
+    assert data["disagreements"] == []
     assert data["max_wheel_rpm"] == pytest.approx(50.0)
     assert data["warnings"] == []
 

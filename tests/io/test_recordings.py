@@ -342,7 +342,7 @@ def test_missing_rosbags_gives_the_install_hint(
 ) -> None:
     bag = write_bag(tmp_path / "bag", trajectory_a_messages()[:2])
     monkeypatch.setitem(sys.modules, "rosbags.typesys", None)
-    with pytest.raises(diffbot.RecordingError, match=r"pip install 'diffbot-kinematics\[bag\]'"):
+    with pytest.raises(diffbot.RecordingError, match=r"pip install 'rosbags>=0.11'"):
         read_bag(bag)
     with pytest.raises(diffbot.RecordingError, match="needs the rosbags library"):
         write_joint_states_bag(tmp_path / "out", [0], ["a"], [[0.0]])
