@@ -63,7 +63,7 @@ def params_lines(p: DiffDriveParams) -> list[str]:
     left_radius, right_radius = p.radii
     radius = f"{fmt(p.wheel_radius)} m"
     if (left_radius, right_radius) != (p.wheel_radius, p.wheel_radius):
-        radius += f" (left {fmt(left_radius)} m, right {fmt(right_radius)} m)"
+        radius += f"; left {fmt(left_radius)} m, right {fmt(right_radius)} m"
     rows = [
         ("robot", p.source),
         ("wheel radius", radius + _from(p, "wheel_radius", "left_wheel_radius")),

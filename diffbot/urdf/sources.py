@@ -72,7 +72,7 @@ def find_controller(
         return choose_controller(load_controllers(controllers), controller)
     configs = []
     for name in ros2_control_parameter_files(root):
-        path = Path(name.strip())
+        path = _shown(Path(name.strip()))
         if not path.is_file():
             warnings.append(
                 f"the ros2_control plugin names the parameters file {name.strip()!r}, which does "
@@ -83,6 +83,15 @@ def find_controller(
     if not configs and controller is None:
         return None
     return choose_controller(configs, controller)
+
+
+def _shown(path: Path) -> Path:
+    """``path`` relative to the current directory when it lies below it (as a user would type
+    it), else as it is."""
+    try:
+        return path.relative_to(Path.cwd())
+    except ValueError:
+        return path
 
 
 def _numeric(field: str, values: Mapping[str, float | None]) -> Disagreement | None:
