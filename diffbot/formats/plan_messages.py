@@ -39,14 +39,16 @@ def plan_wheels(p: Plan, label: str, left_topic: str, right_topic: str) -> str:
     lines = [
         f"# {one_line(label)} on {one_line(params.source)}: std_msgs/msg/Float64MultiArray "
         "joint velocity commands (rad/s), each held for its duration",
-        f"# left: {left_topic} ({params.left_joint}, direction {params.left_sign:+d})",
-        f"# right: {right_topic} ({params.right_joint}, direction {params.right_sign:+d})",
+        f"# left: {left_topic} ({', '.join(params.left_joints)}, direction {params.left_sign:+d})",
+        f"# right: {right_topic} ({', '.join(params.right_joints)}, direction "
+        f"{params.right_sign:+d})",
     ]
+    lefts, rights = len(params.left_joints), len(params.right_joints)
     for s in p.segments:
         lines.append(f"# {segment_note(s, count)}")
-        lines.append(f"{left_topic.ljust(width)}  {array_yaml(float(s.joints.left))}")
-        lines.append(f"{right_topic.ljust(width)}  {array_yaml(float(s.joints.right))}")
+        lines.append(f"{left_topic.ljust(width)}  {array_yaml(float(s.joints.left), lefts)}")
+        lines.append(f"{right_topic.ljust(width)}  {array_yaml(float(s.joints.right), rights)}")
     lines.append("# stop")
-    lines.append(f"{left_topic.ljust(width)}  {array_yaml(0.0)}")
-    lines.append(f"{right_topic.ljust(width)}  {array_yaml(0.0)}")
+    lines.append(f"{left_topic.ljust(width)}  {array_yaml(0.0, lefts)}")
+    lines.append(f"{right_topic.ljust(width)}  {array_yaml(0.0, rights)}")
     return "\n".join(lines) + "\n"

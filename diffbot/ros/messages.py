@@ -135,6 +135,7 @@ def twist_yaml(linear: float, angular: float) -> str:
     return f"{{linear: {{x: {yaml_float(linear)}}}, angular: {{z: {yaml_float(angular)}}}}}"
 
 
-def array_yaml(value: float) -> str:
-    """A std_msgs/Float64MultiArray of one value as YAML."""
-    return f"{{data: [{yaml_float(value)}]}}"
+def array_yaml(value: float, count: int = 1) -> str:
+    """A std_msgs/Float64MultiArray of ``count`` equal values as YAML (one per joint of a
+    JointGroupVelocityController, as a side of a skid steer has several)."""
+    return f"{{data: [{', '.join([yaml_float(value)] * count)}]}}"

@@ -63,12 +63,13 @@ def ros2_script(
         "    trap - EXIT INT TERM",
         '    if [ -n "$pids" ]; then kill $pids 2>/dev/null || true; fi',
     ]
+    lefts, rights = len(p.params.left_joints), len(p.params.right_joints)
     if wheels:
-        zero = array_yaml(0.0)
+        left_zero, right_zero = array_yaml(0.0, lefts), array_yaml(0.0, rights)
         lines += [
-            f"    ros2 topic pub --once {q(left_topic)} {array_type} {q(zero)} &",
+            f"    ros2 topic pub --once {q(left_topic)} {array_type} {q(left_zero)} &",
             "    left=$!",
-            f"    ros2 topic pub --once {q(right_topic)} {array_type} {q(zero)} &",
+            f"    ros2 topic pub --once {q(right_topic)} {array_type} {q(right_zero)} &",
             '    wait "$left"',
             '    wait "$!"',
             "}",
@@ -101,8 +102,8 @@ def ros2_script(
     for s in p.segments:
         lines.append(f"# {segment_note(s, count)}")
         if wheels:
-            left = array_yaml(float(s.joints.left))
-            right = array_yaml(float(s.joints.right))
+            left = array_yaml(float(s.joints.left), lefts)
+            right = array_yaml(float(s.joints.right), rights)
             lines += [
                 f"ros2 topic pub -r {hz} {q(left_topic)} {array_type} {q(left)} &",
                 'pids="$!"',

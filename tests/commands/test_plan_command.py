@@ -797,3 +797,57 @@ def test_help_describes_the_grammar(runner: CliRunner) -> None:
     assert "(durations given in the plan are ignored)" in text
     json_example = text.split("the same in .json (", 1)[1].split("), or a .txt", 1)[0]
     assert json.loads(json_example) == [{"straight": 1, "duration": 10}, {"spin": 90}]
+
+
+def test_per_wheel_commands_address_every_joint_of_a_skid_steers_side(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    wheel = (
+        '<link name="{0}"/><joint name="{0}_joint" type="continuous"><parent link="base_link"/>'
+        '<child link="{0}"/><origin xyz="{1} {2} 0"/><axis xyz="0 1 0"/></joint>'
+    )
+    wheels = "".join(
+        wheel.format(name, x, y)
+        for name, x, y in (
+            ("fl", 0.1, 0.2),
+            ("rl", -0.1, 0.2),
+            ("fr", 0.1, -0.2),
+            ("rr", -0.1, -0.2),
+        )
+    )
+    robot = tmp_path / "skid.urdf"
+    robot.write_text(f'<robot name="s"><link name="base_link"/>{wheels}</robot>', encoding="utf-8")
+    result = runner.invoke(
+        main,
+        [
+            "plan",
+            "straight 1 10s",
+            "--robot",
+            str(robot),
+            "--wheel-radius",
+            "0.05",
+            "--format",
+            "wheels",
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert (
+        "# left: left_wheel_velocity_controller/commands (fl_joint, rl_joint, direction +1)"
+        in result.stdout
+    )
+    assert "left_wheel_velocity_controller/commands   {data: [2.0, 2.0]}" in result.stdout
+    script = runner.invoke(
+        main,
+        [
+            "plan",
+            "straight 1 10s",
+            "--robot",
+            str(robot),
+            "--wheel-radius",
+            "0.05",
+            "--format",
+            "ros2",
+            "--wheels",
+        ],
+    ).stdout
+    assert "'{data: [0.0, 0.0]}'" in script
