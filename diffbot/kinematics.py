@@ -17,6 +17,7 @@ from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, NamedTuple, TypeVar, cast, overload
 
 from diffbot.errors import ParameterError
+from diffbot.numbers import as_number, positive_finite
 
 if TYPE_CHECKING:
     from typing import TypeAlias
@@ -80,13 +81,7 @@ class Pose(NamedTuple):
 
 
 def _check_positive(name: str, value: float) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a positive finite number, got {value!r}") from None
-    if not math.isfinite(value) or value <= 0.0:
-        raise ParameterError(f"{name} must be a positive finite number, got {value!r}")
-    return value
+    return positive_finite(value, name)
 
 
 class Disagreement(NamedTuple):
@@ -299,10 +294,7 @@ def wheel_from_joint(params: DiffDriveParams, speeds: WheelSpeeds) -> WheelSpeed
 
 
 def _to_float(value: Any) -> float:
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"expected a number, got {value!r}") from None
+    return as_number(value, "the value")
 
 
 def _limit_of(params: DiffDriveParams, limit: float | None) -> float | None:
