@@ -90,12 +90,13 @@ class _Token:
 
 # One entry per argument: (role, dimension, rule) where rule is "positive" or "nonzero".
 _SIGNATURES: dict[str, tuple[tuple[str, Dimension, str], ...]] = {
-    "straight": (("length", "length", "positive"),),
+    "straight": (("length", "length", "nonzero"),),
     "ccw": (("radius", "length", "positive"), ("angle", "angle", "positive")),
     "cw": (("radius", "length", "positive"), ("angle", "angle", "positive")),
     "spin": (("angle", "angle", "nonzero"),),
 }
 _USAGE = {
+    "reverse": "reverse ccw|cw RADIUS ANGLE [DURATION], or straight -LENGTH",
     "straight": "straight LENGTH [DURATION]",
     "ccw": "ccw RADIUS ANGLE [DURATION]",
     "cw": "cw RADIUS ANGLE [DURATION]",
@@ -131,6 +132,17 @@ def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> 
 
     head = tokens[0]
     kind = head.text.lower()
+    reverse = kind == "reverse"
+    if reverse:
+        if len(tokens) == 1 or tokens[1].text.lower() not in ("ccw", "cw", "straight"):
+            after = tokens[1] if len(tokens) > 1 else head
+            found = f"got {brief(after.text)}" if len(tokens) > 1 else "got nothing"
+            spin = " (a spin turns in place: turn the other way with a negative angle)"
+            hint = spin if after.text.lower() == "spin" else ""
+            raise error(after, f"reverse needs an arc or a straight after it, {found}{hint}")
+        tokens = tokens[1:]
+        head = tokens[0]
+        kind = head.text.lower()
     if kind not in _SIGNATURES:
         hint = " (arcs are written ccw/cw RADIUS ANGLE)" if kind == "arc" else ""
         raise error(
@@ -160,10 +172,14 @@ def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> 
             value = _quantity(token.text, dimension)
         except _BadValueError as err:
             raise error(token, f"{role} {brief(token.text)}: {err}") from None
-        if rule == "positive" and value <= 0.0:
+        if (rule == "positive" or reverse) and value <= 0.0:
             hint = ""
             if kind in ("ccw", "cw") and role == "angle":
                 hint = f" (the direction is in the kind: {'cw' if kind == 'ccw' else 'ccw'})"
+            elif kind in ("ccw", "cw") and role == "radius" and not reverse:
+                hint = f" (to drive the arc backwards write reverse {kind} RADIUS ANGLE)"
+            elif reverse:
+                hint = " (reverse already drives it backwards)"
             raise error(token, f"{role} {brief(token.text)} must be > 0{hint}")
         if rule == "nonzero" and value == 0.0:
             raise error(token, f"{role} {brief(token.text)} must not be zero")
@@ -178,18 +194,20 @@ def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> 
         if duration <= 0.0:
             raise error(token, f"duration {brief(token.text)} must be > 0")
     if kind == "straight":
-        return Straight(values[0], duration)
+        return Straight(-values[0] if reverse else values[0], duration)
     if kind == "spin":
         return Spin(values[0], duration)
-    return Arc(values[0], values[1], "ccw" if kind == "ccw" else "cw", duration)
+    return Arc(values[0], values[1], "ccw" if kind == "ccw" else "cw", duration, reverse)
 
 
 def parse_plan(text: str) -> list[Segment]:
     """Read a plan written as text.
 
     Segments are separated by ``;`` or newlines; ``#`` starts a comment. Each is one of
-    ``straight LENGTH [DURATION]``, ``ccw RADIUS ANGLE [DURATION]``, ``cw RADIUS ANGLE
-    [DURATION]``, ``spin ANGLE [DURATION]`` (positive = counter-clockwise). Lengths are in m
+    ``straight LENGTH [DURATION]`` (a negative length drives backwards), ``ccw RADIUS ANGLE
+    [DURATION]``, ``cw RADIUS ANGLE [DURATION]`` (``reverse ccw ...`` and ``reverse cw ...``
+    drive the arc backwards, the heading still turning the named way), ``spin ANGLE
+    [DURATION]`` (positive = counter-clockwise). Lengths are in m
     unless suffixed ``cm``/``mm``/``m``, angles in degrees unless suffixed ``rad``/``deg``,
     durations in s (suffix ``s``).
 
@@ -235,6 +253,8 @@ def format_segment(segment: Segment) -> str:
         words = ["straight", _number_text(segment.length)]
     elif isinstance(segment, Arc):
         words = [segment.direction, _number_text(segment.radius), _angle_text(segment.angle)]
+        if segment.reverse:
+            words.insert(0, "reverse")
     else:
         words = ["spin", _angle_text(segment.angle)]
     if segment.duration is not None:
@@ -254,7 +274,7 @@ def format_plan(segments: Iterable[Segment]) -> str:
 
 _ENTRY_KEYS = {
     "straight": {"straight", "duration"},
-    "arc": {"arc", "radius", "angle", "duration"},
+    "arc": {"arc", "radius", "angle", "duration", "reverse"},
     "spin": {"spin", "duration"},
 }
 
@@ -307,18 +327,22 @@ def _segment_from_entry(entry: object) -> Segment:
 
     duration = get("duration", "duration") if entry.get("duration") is not None else None
     if kind == "straight":
-        return Straight(get("straight", "length"), duration)
+        return Straight(get("straight", "length", "nonzero"), duration)
     if kind == "spin":
         return Spin(get("spin", "angle", "nonzero"), duration)
     arc = entry["arc"]
     direction = arc.lower() if isinstance(arc, str) else None  # case as free as in text
     if direction not in ("ccw", "cw"):
         raise _BadValueError(f"arc {brief(arc)}: expected 'ccw' or 'cw'")
+    reverse = entry.get("reverse", False)
+    if not isinstance(reverse, bool):
+        raise _BadValueError(f"reverse {brief(reverse)}: expected true or false")
     return Arc(
         get("radius", "length"),
         get("angle", "angle"),
         "ccw" if direction == "ccw" else "cw",
         duration,
+        reverse,
     )
 
 
@@ -334,8 +358,9 @@ def segments_from_data(data: object, source: str = "plan") -> list[Segment]:
     """Segments from parsed YAML/JSON: a list of entries, or a mapping with only a ``segments``
     list.
 
-    Entries are mappings such as ``{straight: 1.0, duration: 10}``, ``{arc: ccw, radius: 0.25,
-    angle: 180, duration: 10}`` (``ccw``/``cw`` in any case) or ``{spin: 90}`` (numbers in m,
+    Entries are mappings such as ``{straight: 1.0, duration: 10}`` (``{straight: -1.0}`` drives
+    backwards), ``{arc: ccw, radius: 0.25, angle: 180, duration: 10}`` (``ccw``/``cw`` in any
+    case; ``reverse: true`` drives the arc backwards) or ``{spin: 90}`` (numbers in m,
     degrees and s; strings may carry a unit attached to the number: ``"25cm"``, ``"1.5rad"``,
     ``"10s"``), or text segments such as ``"straight 1 10s"``.
 

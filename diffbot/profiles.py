@@ -492,16 +492,12 @@ def segment_limits(
     Returns:
         The length (m; rad of heading for a spin, >= 0) and the bounds from :func:`path_limits`.
     """
-    from diffbot.trajectory import Arc, Spin
+    from diffbot.trajectory import Spin, geometry
 
     spin = isinstance(segment, Spin)
-    if isinstance(segment, Spin):
-        length, curvature = abs(segment.angle), 0.0
-    elif isinstance(segment, Arc):
-        sign = 1.0 if segment.direction == "ccw" else -1.0
-        length, curvature = segment.radius * segment.angle, sign / segment.radius
-    else:
-        length, curvature = segment.length, 0.0
+    ds, turn = geometry(segment)
+    # Along the path the wheels turn at s'·(1 ∓ (turn/ds)·b/2)/r: ds carries the direction.
+    length, curvature = (abs(turn), 0.0) if spin else (abs(ds), turn / ds)
     bounds = path_limits(
         params,
         limits,

@@ -56,6 +56,7 @@ __all__ = [
     "Straight",
     "Violation",
     "as_float",
+    "geometry",
     "plan",
     "pose_at",
     "wheel_positions",
@@ -96,12 +97,22 @@ def _optional_duration(value: float | None) -> float | None:
     return None if value is None else _positive(value, "a segment duration (s)")
 
 
+def _check_signed(segment: Straight | Spin, name: str, what: str) -> None:
+    """Check a segment whose one value is signed (finite, not zero) and its duration."""
+    value = getattr(segment, name)
+    number = as_float(value)
+    if not math.isfinite(number) or number == 0.0:
+        raise PlanError(f"{what} must be finite and not zero, got {brief(value)}")
+    object.__setattr__(segment, name, number)
+    object.__setattr__(segment, "duration", _optional_duration(segment.duration))
+
+
 @dataclass(frozen=True)
 class Straight:
-    """Drive straight ahead.
+    """Drive straight ahead, or backwards.
 
     Attributes:
-        length: distance (m), > 0.
+        length: distance (m), not zero: positive drives forward, negative backwards.
         duration: time to take (s), > 0; None to run at the plan's cruise speed.
     """
 
@@ -109,25 +120,28 @@ class Straight:
     duration: float | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "length", _positive(self.length, "a straight's length (m)"))
-        object.__setattr__(self, "duration", _optional_duration(self.duration))
+        _check_signed(self, "length", "a straight's length (m)")
 
 
 @dataclass(frozen=True)
 class Arc:
-    """Drive along a circular arc.
+    """Drive along a circular arc, forward or backwards.
 
     Attributes:
         radius: radius of the path of the robot's centre (m), > 0.
         angle: heading change along the arc (rad), > 0; the direction says which way.
-        direction: ``"ccw"`` turns left (positive angular.z), ``"cw"`` turns right.
+        direction: the way the heading turns: ``"ccw"`` counter-clockwise (positive angular.z),
+            ``"cw"`` clockwise, whichever way the robot drives.
         duration: time to take (s), > 0; None to run at the plan's cruise speed.
+        reverse: drive backwards (negative linear.x). A reverse ``ccw`` arc retraces a forward
+            ``cw`` arc: its end pose is the forward ``cw`` arc's mirrored front to back.
     """
 
     radius: float
     angle: float
     direction: Literal["cw", "ccw"]
     duration: float | None = None
+    reverse: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "radius", _positive(self.radius, "an arc's radius (m)"))
@@ -137,6 +151,8 @@ class Arc:
                 f"an arc's direction must be 'cw' or 'ccw', got {brief(self.direction)}"
             )
         object.__setattr__(self, "duration", _optional_duration(self.duration))
+        if not isinstance(self.reverse, bool):
+            raise PlanError(f"an arc's reverse must be True or False, got {brief(self.reverse)}")
 
 
 @dataclass(frozen=True)
@@ -152,25 +168,21 @@ class Spin:
     duration: float | None = None
 
     def __post_init__(self) -> None:
-        angle = as_float(self.angle)
-        if not math.isfinite(angle) or angle == 0.0:
-            raise PlanError(
-                f"a spin's angle (rad) must be finite and not zero, got {brief(self.angle)}"
-            )
-        object.__setattr__(self, "angle", angle)
-        object.__setattr__(self, "duration", _optional_duration(self.duration))
+        _check_signed(self, "angle", "a spin's angle (rad)")
 
 
 Segment: TypeAlias = Straight | Arc | Spin
 
 
-def _geometry(segment: Segment) -> tuple[float, float]:
-    """Path length of the robot's centre (m, >= 0) and signed heading change (rad)."""
+def geometry(segment: Segment) -> tuple[float, float]:
+    """Signed path length of the robot's centre (m, negative backwards) and signed heading
+    change (rad)."""
     if isinstance(segment, Straight):
         return segment.length, 0.0
     if isinstance(segment, Arc):
         turn = segment.angle if segment.direction == "ccw" else -segment.angle
-        return segment.radius * segment.angle, turn
+        length = segment.radius * segment.angle
+        return -length if segment.reverse else length, turn
     return 0.0, segment.angle
 
 
@@ -306,7 +318,8 @@ def describe_segment(segment: Segment) -> str:
         return f"{short(degrees)} deg" if math.isfinite(degrees) else f"{short(value)} rad"
 
     if isinstance(segment, Arc):
-        return f"{segment.direction} arc r {short(segment.radius)} m {angle(segment.angle)}"
+        way = "reverse " if segment.reverse else ""
+        return f"{way}{segment.direction} arc r {short(segment.radius)} m {angle(segment.angle)}"
     return f"spin {angle(segment.angle)}"
 
 
@@ -378,7 +391,7 @@ def plan(
     planned: list[PlannedSegment] = []
     x, y, heading, elapsed = 0.0, 0.0, 0.0, 0.0
     for index, segment in enumerate(items):
-        ds, turn = _geometry(segment)
+        ds, turn = geometry(segment)
         if fastest:
             assert lim is not None
             # Wheel angles travelled (rad) over the segment; their peak at the limit sets the time.
@@ -389,7 +402,7 @@ def plan(
         elif isinstance(segment, Spin):
             duration = abs(turn) / spin_rate
         else:
-            duration = ds / speed
+            duration = abs(ds) / speed
         if not (math.isfinite(duration) and duration > 0.0):
             raise _overflow(segment, index, f"duration ({duration:g} s)")
         twist = Twist(ds / duration, turn / duration)

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+from robots import BOT
 
 from diffbot.errors import PlanError
-from diffbot.kinematics import DiffDriveParams
 from diffbot.profiles import (
     Limits,
     PathLimits,
@@ -26,7 +26,6 @@ from diffbot.trajectory import Arc, Spin, Straight
 
 REL = 1e-12
 EPS = float(np.finfo(np.float64).eps)
-ROBOT = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
 
 lengths = st.floats(1e-4, 100.0)
 speeds = st.floats(1e-2, 10.0)
@@ -174,8 +173,8 @@ def test_profile_is_clamped_outside_its_duration() -> None:
             lambda: Limits(wheel=PathLimits(acceleration=0.0)),
             r"wheel\.acceleration must be positive",
         ),
-        (lambda: path_limits(ROBOT, Limits(), math.inf), "curvature must be finite"),
-        (lambda: path_limits(ROBOT, Limits(), 1.0, left_wheel_radius=0.0), "left_wheel_radius"),
+        (lambda: path_limits(BOT, Limits(), math.inf), "curvature must be finite"),
+        (lambda: path_limits(BOT, Limits(), 1.0, left_wheel_radius=0.0), "left_wheel_radius"),
     ],
 )
 def test_bad_profile_input_raises_a_plan_error_naming_the_parameter(
@@ -351,7 +350,7 @@ def test_straight_bounds_are_the_tightest_of_linear_and_wheel_limits() -> None:
         linear=PathLimits(velocity=0.5, acceleration=2.0),
         wheel=PathLimits(velocity=5.0, acceleration=10.0),
     )
-    bounds = path_limits(ROBOT, limits, 0.0)
+    bounds = path_limits(BOT, limits, 0.0)
     assert bounds.velocity == pytest.approx(5.0 * 0.035, rel=1e-15)
     assert bounds.acceleration == pytest.approx(10.0 * 0.035, rel=1e-15)
     assert bounds.jerk is None
@@ -364,7 +363,7 @@ def test_arc_bounds_follow_the_outer_wheel_and_the_turn_rate() -> None:
         angular=PathLimits(velocity=0.3, jerk=1.0),
         wheel=PathLimits(velocity=5.23599),
     )
-    bounds = path_limits(ROBOT, limits, 1 / 0.25)
+    bounds = path_limits(BOT, limits, 1 / 0.25)
     outer = 5.23599 * 0.035 / (1 + 0.135 / 2 / 0.25)
     assert bounds.velocity == pytest.approx(min(outer, 0.3 * 0.25), rel=1e-15)
     assert bounds.acceleration is None
@@ -377,15 +376,15 @@ def test_spin_bounds_are_in_heading_space_from_the_wheel_limits() -> None:
         angular=PathLimits(acceleration=4.0),
         wheel=PathLimits(velocity=5.0, acceleration=20.0),
     )
-    bounds = path_limits(ROBOT, limits, spin=True)
+    bounds = path_limits(BOT, limits, spin=True)
     assert bounds.velocity == pytest.approx(5.0 * 0.035 / (0.135 / 2), rel=1e-15)
     assert bounds.acceleration == pytest.approx(min(4.0, 20.0 * 0.035 / (0.135 / 2)), rel=1e-15)
-    assert bounds == path_limits(ROBOT, limits, 7.0, spin=True)
+    assert bounds == path_limits(BOT, limits, 7.0, spin=True)
 
 
 def test_the_smaller_wheel_sets_the_spin_bound_when_radii_differ() -> None:
     bounds = path_limits(
-        ROBOT,
+        BOT,
         Limits(wheel=PathLimits(velocity=5.0)),
         spin=True,
         left_wheel_radius=0.03,
@@ -395,18 +394,18 @@ def test_the_smaller_wheel_sets_the_spin_bound_when_radii_differ() -> None:
 
 
 def test_no_limits_give_unbounded_path_limits() -> None:
-    assert path_limits(ROBOT, Limits(), 2.0) == PathLimits(None, None, None)
+    assert path_limits(BOT, Limits(), 2.0) == PathLimits(None, None, None)
 
 
 def test_segment_bounds_match_their_geometry() -> None:
     limits = Limits(wheel=PathLimits(velocity=5.0, acceleration=10.0))
-    assert segment_limits(Straight(1.0), ROBOT, limits) == (1.0, path_limits(ROBOT, limits))
-    length, bounds = segment_limits(Arc(0.25, math.pi, "cw"), ROBOT, limits)
+    assert segment_limits(Straight(1.0), BOT, limits) == (1.0, path_limits(BOT, limits))
+    length, bounds = segment_limits(Arc(0.25, math.pi, "cw"), BOT, limits)
     assert length == pytest.approx(0.25 * math.pi, rel=1e-15)
-    assert bounds == path_limits(ROBOT, limits, -4.0)
-    assert segment_limits(Spin(-math.pi / 2), ROBOT, limits) == (
+    assert bounds == path_limits(BOT, limits, -4.0)
+    assert segment_limits(Spin(-math.pi / 2), BOT, limits) == (
         math.pi / 2,
-        path_limits(ROBOT, limits, spin=True),
+        path_limits(BOT, limits, spin=True),
     )
 
 
@@ -417,7 +416,7 @@ def test_cw_and_ccw_arcs_of_equal_wheels_have_equal_bounds(radius: float, direct
         angular=PathLimits(velocity=1.0),
         wheel=PathLimits(velocity=5.0, acceleration=10.0, jerk=40.0),
     )
-    assert path_limits(ROBOT, limits, 1 / radius) == path_limits(ROBOT, limits, -1 / radius)
+    assert path_limits(BOT, limits, 1 / radius) == path_limits(BOT, limits, -1 / radius)
 
 
 @settings(max_examples=200, deadline=None)
@@ -454,20 +453,20 @@ def test_time_optimal_motion_keeps_every_robot_limit_and_touches_one(
             wheel_speed, wheel_accel, None if linear_jerk is None else linear_jerk * 50
         ),
     )
-    bounds = path_limits(ROBOT, limits, curvature, spin=spin)
+    bounds = path_limits(BOT, limits, curvature, spin=spin)
     profile = time_optimal(length, bounds)
     t = samples(profile)
     s_dot, s_ddot = profile.velocity(t), profile.acceleration(t)
     s_dddot = np.array([p.jerk for p in profile.phases])
-    half = ROBOT.wheel_separation / 2
+    half = BOT.wheel_separation / 2
     if spin:
         linear: tuple[np.ndarray, ...] = (np.zeros_like(t),) * 2 + (np.zeros(len(s_dddot)),)
         angular: tuple[np.ndarray, ...] = (s_dot, s_ddot, s_dddot)
-        wheel = tuple(q * half / ROBOT.wheel_radius for q in angular)
+        wheel = tuple(q * half / BOT.wheel_radius for q in angular)
     else:
         linear = (s_dot, s_ddot, s_dddot)
         angular = tuple(curvature * q for q in linear)
-        gain = max(abs(1 - curvature * half), abs(1 + curvature * half)) / ROBOT.wheel_radius
+        gain = max(abs(1 - curvature * half), abs(1 + curvature * half)) / BOT.wheel_radius
         wheel = tuple(gain * q for q in linear)
     checks = [
         (linear, (linear_speed, linear_accel, linear_jerk)),
@@ -488,7 +487,7 @@ def test_time_optimal_motion_keeps_every_robot_limit_and_touches_one(
 def test_arc_bounds_use_each_wheels_own_radius() -> None:
     # R = 0.5 m cw: the left wheel is outer, (1 + b/(2R)) = 1.135; the right is inner, 0.865.
     limits = Limits(wheel=PathLimits(velocity=5.0, acceleration=20.0))
-    bounds = path_limits(ROBOT, limits, -2.0, left_wheel_radius=0.03, right_wheel_radius=0.04)
+    bounds = path_limits(BOT, limits, -2.0, left_wheel_radius=0.03, right_wheel_radius=0.04)
     outer, inner = 1 + 0.135 / 2 * 2.0, 1 - 0.135 / 2 * 2.0
     assert bounds.velocity == pytest.approx(min(5.0 * 0.03 / outer, 5.0 * 0.04 / inner), rel=1e-15)
     assert bounds.acceleration == pytest.approx(20.0 * 0.03 / outer, rel=1e-15)

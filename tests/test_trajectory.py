@@ -308,7 +308,7 @@ def test_robot_without_a_limit_has_no_fraction_and_no_violation(params: DiffDriv
     ("make", "pattern"),
     [
         (lambda: Straight(0.0), "length"),
-        (lambda: Straight(-1.0), "length"),
+        (lambda: Straight(-math.inf), "length"),
         (lambda: Straight(math.nan), "length"),
         (lambda: Straight(1.0, 0.0), "duration"),
         (lambda: Straight(1.0, math.inf), "duration"),
@@ -692,8 +692,8 @@ def test_describe_segment_is_short_and_in_degrees() -> None:
         ("strait 1", r"segment 1: unknown segment kind 'strait'.*\(column 1\)"),
         ("arc ccw 1 90", r"unknown segment kind 'arc'.*ccw/cw RADIUS ANGLE"),
         ("straight 1; straight 1km", r"segment 2: length '1km': unknown unit 'km'.*column 22"),
-        ("straight -1", r"length '-1' must be > 0 \(column 10\)"),
-        ("straight 0", r"length '0' must be > 0"),
+        ("reverse straight -1", r"length '-1' must be > 0 \(reverse already .*\(column 18\)"),
+        ("straight 0", r"length '0' must not be zero"),
         ("ccw -0.25 90", r"radius '-0.25' must be > 0"),
         ("ccw 0.25 -90", r"angle '-90' must be > 0 \(the direction is in the kind: cw\)"),
         ("cw 0.25 0", r"angle '0' must be > 0"),
@@ -763,7 +763,7 @@ def test_text_file_and_a_file_without_suffix(write: Write) -> None:
         ("p.yaml", "- {straight: 1, spin: 90}\n", r"entry 1: expected exactly one of"),
         ("p.yaml", "- {straight: true}\n", r"entry 1: straight True: expected a number"),
         ("p.yaml", "- {straight: 1km}\n", r"entry 1: straight '1km': unknown unit 'km'"),
-        ("p.yaml", "- {straight: -1}\n", r"entry 1: straight -1 must be > 0"),
+        ("p.yaml", "- {straight: 0}\n", r"entry 1: straight 0 must not be zero"),
         ("p.yaml", "- {spin: 0}\n", r"entry 1: spin 0 must not be zero"),
         ("p.yaml", "- {straight: 1, duration: 0}\n", r"entry 1: duration 0 must be > 0"),
         ("p.yaml", "- {straight: .nan}\n", r"entry 1: straight nan: not a finite number"),
@@ -851,7 +851,7 @@ def test_only_ascii_digits_are_numbers(number: str) -> None:
 )
 def test_errors_give_the_line_whenever_the_text_has_several(text: str, where: str) -> None:
     with pytest.raises(PlanError, match=rf"\({where}\)$"):
-        parse_plan(text.replace("straight 1", "straight -1"))
+        parse_plan(text.replace("straight 1", "straight 0"))
 
 
 def test_errors_in_text_files_always_give_the_line(write: Write) -> None:

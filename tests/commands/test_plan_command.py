@@ -726,7 +726,7 @@ def test_unknown_option_is_bad_input_not_a_plan_token(runner: CliRunner) -> None
         (["strait 1"], ["'strait'", "segment 1", "column 1"]),
         (["straight 1; ccw 0.25"], ["segment 2", "'ccw' needs ANGLE", "'0.25'"]),
         (["straight 1km"], ["'1km'", "unknown unit 'km'"]),
-        (["straight -1"], ["'-1'", "must be > 0"]),
+        (["straight 0"], ["'0'", "must not be zero"]),
         (["ccw 0 90"], ["radius '0'"]),
         (["straight 1 0s"], ["duration '0s'"]),
         (["straight nan"], ["'nan'", "not a finite number"]),
