@@ -103,6 +103,13 @@ def limit(axis: AxisLimits, v: float, v0: float, v1: float, dt: float) -> float:
     return v if velocity is None else _clamp(v, *velocity)
 
 
+def _share(limited: float, last: float, command: float) -> float:
+    """How much of the way from ``last`` to ``command`` the limited value went (0 to 1)."""
+    if command == last:
+        return 1.0
+    return min(max((limited - last) / (command - last), 0.0), 1.0)
+
+
 def _settled(axis: AxisLimits, command: float, v0: float, v1: float, dt: float) -> bool:
     """Whether holding ``command`` keeps the executed velocity at ``v0`` for ever."""
     return v0 == v1 and limit(axis, command, v0, v0, dt) == v0
@@ -146,10 +153,10 @@ def execute(
         rate_hz: the controller's update rate (Hz), > 0.
         end: time (s) of the last update; None to run until the executed commands stop changing
             after the last command.
-        preserve_turning_radius: after limiting each axis, scale both commands by the smaller
-            share of its command that either axis kept, so that the executed turning radius is
-            the commanded one (as the forks that offer ``preserve_turning_radius`` intend; an
-            approximation of their code, which differs between forks).
+        preserve_turning_radius: after limiting each axis, move both the same share of the
+            way from the last executed command to the new one, the smaller share either axis
+            allows, so that a turn keeps its radius while it speeds up or slows down (what the
+            forks that offer ``preserve_turning_radius`` intend; a model, not their code).
 
     Returns:
         Update times (s), executed linear (m/s) and angular (rad/s) velocities, one per update.
@@ -195,10 +202,11 @@ def execute(
             index += 1
         v = limit(linear_limits, ref_v, v0, v1, dt)
         w = limit(angular_limits, ref_w, w0, w1, dt)
-        if preserve_turning_radius and ref_v != 0.0 and ref_w != 0.0:
-            # Both axes scaled by the share the tighter one keeps, so v/ω stays the command's.
-            share = min(max(min(v / ref_v, w / ref_w), 0.0), 1.0)
-            v, w = ref_v * share, ref_w * share
+        if preserve_turning_radius:
+            # Both axes go the same share of the way to the command, the share the tighter one
+            # allows: the executed pair stays on the line from the last one to the command.
+            share = min(_share(v, v0, ref_v), _share(w, w0, ref_w))
+            v, w = v0 + share * (ref_v - v0), w0 + share * (ref_w - w0)
         out_v.append(v)
         out_w.append(w)
         v1, v0, w1, w0 = v0, v, w0, w

@@ -55,10 +55,12 @@ __all__ = [
     "Spin",
     "Straight",
     "Violation",
+    "advance",
     "as_float",
     "geometry",
     "plan",
     "pose_at",
+    "reported_pose",
     "wheel_positions",
 ]
 
@@ -291,7 +293,7 @@ class Plan:
         return found
 
 
-def _advance(x: float, y: float, heading: float, ds: float, turn: float) -> Pose:
+def advance(x: float, y: float, heading: float, ds: float, turn: float) -> Pose:
     """Move along an arc of length ``ds`` (m) turning by ``turn`` (rad); heading not wrapped.
 
     The chord of the arc is ``ds sinc(turn / 2)`` long and points along the mean heading; this
@@ -335,7 +337,7 @@ def _overflow(segment: Segment, index: int, what: str) -> PlanError:
     )
 
 
-def _pose(x: float, y: float, heading: float) -> Pose:
+def reported_pose(x: float, y: float, heading: float) -> Pose:
     """A reported pose: heading wrapped to (-pi, pi], and no ``-0.0``."""
     return Pose(x + 0.0, y + 0.0, norm_angle(heading) + 0.0)
 
@@ -419,8 +421,8 @@ def plan(
         elapsed += duration
         if not _finite(elapsed, heading + turn):
             raise _overflow(segment, index, "end time or heading")
-        start = _pose(x, y, heading)
-        x, y, heading = _advance(x, y, heading, ds, turn)
+        start = reported_pose(x, y, heading)
+        x, y, heading = advance(x, y, heading, ds, turn)
         if not _finite(x, y):
             raise _overflow(segment, index, "end pose")
         planned.append(
@@ -433,7 +435,7 @@ def plan(
                 joints=WheelSpeeds(float(joints.left), float(joints.right)),
                 fraction=None if fraction is None else float(fraction),
                 start_pose=start,
-                end_pose=_pose(x, y, heading),
+                end_pose=reported_pose(x, y, heading),
                 end_heading=heading + 0.0,
             )
         )
@@ -477,14 +479,14 @@ def pose_at(p: Plan, t: float) -> Pose:
     if i == len(p.segments) - 1 and elapsed >= planned.duration:
         return p.final_pose
     start = planned.start_pose
-    pose = _advance(
+    pose = advance(
         start.x,
         start.y,
         heading,
         float(planned.twist.linear) * elapsed,
         float(planned.twist.angular) * elapsed,
     )
-    return _pose(pose.x, pose.y, pose.theta)
+    return reported_pose(pose.x, pose.y, pose.theta)
 
 
 def wheel_positions(p: Plan, times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

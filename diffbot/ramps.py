@@ -1,0 +1,416 @@
+"""Ramped plans: each run of equal curvature driven with one speed profile, poses still exact.
+
+A step plan (:func:`diffbot.trajectory.plan`) jumps from one velocity to the next. With
+acceleration or jerk limits, :func:`ramp` drives each run of consecutive segments of equal
+curvature (and direction of travel) with the fastest speed profile along its path
+(:mod:`diffbot.profiles`: a trapezoid, or an S-curve under a jerk limit) that keeps the
+segments' own speeds as its cruise and every limit: the robot comes to rest only where the
+curvature changes. As the profile only changes the speed along the path, the path and every
+pose stay exact (closed form, not sampled integration).
+
+At time t of a run, with s(t) the profile's position: linear.x = ±s'(t), angular.z =
+κ·(±s'(t)) (for a spin, s is the heading and angular.z = ±s'(t)).
+
+:meth:`RampedPlan.commands` samples the plan as a command stream at a rate: each command is the
+mean velocity over its period, and each run starts on a period boundary, so that the stream,
+each command held for its period, drives the exact path (what a controller running at that rate
+executes).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from diffbot.errors import PlanError
+from diffbot.kinematics import Pose, Twist, WheelSpeeds, inverse, joint_from_wheel, limit_fraction
+from diffbot.profiles import Limits, PathLimits, Profile, path_limits, time_optimal, trapezoid
+from diffbot.trajectory import Plan, PlannedSegment, Spin, advance, geometry, reported_pose
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike, NDArray
+
+    from diffbot.controller_config import AxisLimits, ControllerConfig
+
+__all__ = [
+    "CommandStream",
+    "RampedPlan",
+    "Run",
+    "controller_limits",
+    "has_ramps",
+    "ramp",
+]
+
+
+@dataclass(frozen=True)
+class Run:
+    """Consecutive segments of one curvature, driven with one speed profile.
+
+    Attributes:
+        segments: indices of its segments in the plan.
+        start: its start time in the plan (s).
+        profile: the speed profile of its path coordinate (m; rad of heading for a spin).
+        linear_gain: linear.x per unit of path speed (±1; 0 for a spin).
+        angular_gain: angular.z per unit of path speed (rad/m; ±1 for a spin).
+        wheel_gains: joint velocities (rad/s) per unit of path speed, signs applied.
+        ends: time of each segment's end from the run's start (s), the last the run's duration.
+        start_pose: pose at its start (m, m, rad; the heading not wrapped).
+    """
+
+    segments: tuple[int, ...]
+    start: float
+    profile: Profile
+    linear_gain: float
+    angular_gain: float
+    wheel_gains: WheelSpeeds
+    ends: tuple[float, ...]
+    start_pose: Pose
+
+    @property
+    def duration(self) -> float:
+        """Its duration (s)."""
+        return self.profile.duration
+
+
+@dataclass(frozen=True)
+class CommandStream:
+    """Commands in time: each held from its time until the next; the last is zero.
+
+    Attributes:
+        times: command times (s) from 0, increasing.
+        linear: linear.x (m/s).
+        angular: angular.z (rad/s).
+        left: left joint velocity (rad/s, direction sign applied).
+        right: right joint velocity (rad/s).
+    """
+
+    times: NDArray[np.float64]
+    linear: NDArray[np.float64]
+    angular: NDArray[np.float64]
+    left: NDArray[np.float64]
+    right: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class RampedPlan:
+    """A plan driven with speed profiles.
+
+    Attributes:
+        steps: the step plan of the same segments: its speeds are the cruise speeds, its motor
+            limit check and its poses hold for the ramped plan too.
+        runs: the runs of equal curvature, in order.
+        limits: the limits the profiles keep.
+        summary: the plan as a step plan would report it, with each segment's ramped duration
+            and its peak twist and wheel speeds.
+    """
+
+    steps: Plan
+    runs: tuple[Run, ...]
+    limits: Limits
+    summary: Plan
+
+    @property
+    def duration(self) -> float:
+        """Total time (s)."""
+        return self.summary.duration
+
+    @property
+    def final_pose(self) -> Pose:
+        """The pose at the end: the step plan's."""
+        return self.steps.final_pose
+
+    @property
+    def within_limit(self) -> bool:
+        """Whether every wheel stays within the motor limit."""
+        return self.steps.within_limit
+
+    def _locate(self, times: ArrayLike) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+        t = np.clip(np.asarray(times, dtype=np.float64), 0.0, self.duration)
+        starts = np.array([run.start for run in self.runs])
+        index = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(self.runs) - 1)
+        return index, t - starts[index]
+
+    def twist_at(self, times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """linear.x (m/s) and angular.z (rad/s) at times (s), shaped like ``times``."""
+        index, tau = self._locate(times)
+        speed = np.zeros(np.shape(tau))
+        linear, angular = np.zeros_like(speed), np.zeros_like(speed)
+        for k, run in enumerate(self.runs):
+            mask = index == k
+            speed = run.profile.velocity(tau[mask])
+            linear[mask] = run.linear_gain * speed
+            angular[mask] = run.angular_gain * speed
+        return linear, angular
+
+    def pose_at(self, t: float) -> Pose:
+        """The pose (m, m, rad in (-pi, pi]) at time ``t`` (s), in closed form."""
+        if math.isnan(t):
+            raise PlanError("pose_at: the time is NaN")
+        if t >= self.duration:
+            return self.final_pose
+        index, tau = self._locate(t)
+        run = self.runs[int(index)]
+        s = run.profile.position(float(tau))
+        x, y, heading = run.start_pose
+        pose = advance(x, y, heading, run.linear_gain * s, run.angular_gain * s)
+        return reported_pose(*pose)
+
+    def wheel_positions(self, times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Joint angles (rad, signs applied, 0 at the start) at times (s), shaped like
+        ``times``."""
+        index, tau = self._locate(times)
+        sides = []
+        for side in (0, 1):
+            angles = np.zeros(np.shape(tau))
+            before = 0.0
+            for k, run in enumerate(self.runs):
+                mask = index == k
+                gain = float(run.wheel_gains[side])
+                angles[mask] = before + gain * run.profile.position(tau[mask])
+                before += gain * run.profile.length
+            sides.append(angles)
+        return sides[0], sides[1]
+
+    def commands(self, rate: float) -> CommandStream:
+        """The plan as commands at ``rate`` Hz, each the mean velocity over its period.
+
+        Each run starts on a period boundary (the robot rests a little longer where the
+        curvature changes, at most one period per run), so each period lies within one run, and
+        the commands, each held for its period, drive the exact path. The stream ends with a
+        zero command one period after the last run's last command.
+
+        Args:
+            rate: commands per second (Hz), > 0.
+
+        Returns:
+            The commands; their times are ``k / rate``.
+        """
+        if not (math.isfinite(rate) and rate > 0.0):
+            raise PlanError(f"the command rate must be a positive finite number, got {rate!r}")
+        if self.duration * rate + len(self.runs) > _MAX_COMMANDS:
+            raise PlanError(
+                f"{self.duration:g} s at {rate:g} Hz would take more than {_MAX_COMMANDS} "
+                "commands: lower the rate"
+            )
+        speeds: list[NDArray[np.float64]] = []
+        gains: list[tuple[float, float, float, float]] = []
+        for run in self.runs:
+            periods = max(math.ceil(run.duration * rate - 1e-9), 1)
+            edges = np.minimum(np.arange(periods + 1) / rate, run.duration)
+            positions = run.profile.position(edges)
+            positions[-1] = run.profile.length
+            speeds.append(np.diff(positions) * rate)
+            left, right = run.wheel_gains
+            gains.append((run.linear_gain, run.angular_gain, float(left), float(right)))
+        path = np.concatenate([*speeds, [0.0]])
+        columns = np.zeros((4, path.size))
+        at = 0
+        for speed, gain in zip(speeds, gains, strict=True):
+            columns[:, at : at + speed.size] = np.outer(gain, speed)
+            at += speed.size
+        times = np.arange(path.size, dtype=np.float64) / rate
+        return CommandStream(times, *(columns[i] + 0.0 for i in range(4)))
+
+
+#: Most commands :meth:`RampedPlan.commands` makes.
+_MAX_COMMANDS = 10_000_000
+
+
+def has_ramps(limits: Limits) -> bool:
+    """Whether the limits bound an acceleration or a jerk (so plans need ramps)."""
+    return any(
+        bound is not None
+        for triple in (limits.linear, limits.angular, limits.wheel)
+        for bound in (triple.acceleration, triple.jerk)
+    )
+
+
+def _magnitude(*values: float | None) -> float | None:
+    """The tightest of the non-zero limits given (their magnitudes), or None."""
+    given = [abs(v) for v in values if v is not None and math.isfinite(v) and v != 0.0]
+    return min(given) if given else None
+
+
+def _axis(axis: AxisLimits) -> PathLimits:
+    return PathLimits(
+        _magnitude(axis.max_velocity, axis.min_velocity),
+        _magnitude(
+            axis.max_acceleration,
+            axis.min_acceleration,
+            axis.max_deceleration,
+            axis.max_acceleration_reverse,
+            axis.max_deceleration_reverse,
+        ),
+        _magnitude(axis.max_jerk, axis.min_jerk),
+    )
+
+
+def controller_limits(
+    controller: ControllerConfig | None,
+    *,
+    linear_accel: float | None = None,
+    angular_accel: float | None = None,
+    wheel_accel: float | None = None,
+    linear_jerk: float | None = None,
+) -> Limits:
+    """The limits a plan keeps: those given, else the controller's (the tightest magnitude of
+    its forward, braking and reverse limits on each axis).
+
+    Args:
+        controller: the diff_drive_controller configuration, or None.
+        linear_accel: path acceleration limit (m/s²).
+        angular_accel: angular acceleration limit (rad/s²).
+        wheel_accel: each wheel's angular acceleration limit (rad/s²).
+        linear_jerk: path jerk limit (m/s³).
+    """
+    linear = angular = PathLimits()
+    if controller is not None:
+        linear, angular = _axis(controller.linear), _axis(controller.angular)
+    return Limits(
+        linear=PathLimits(
+            linear.velocity,
+            linear.acceleration if linear_accel is None else linear_accel,
+            linear.jerk if linear_jerk is None else linear_jerk,
+        ),
+        angular=PathLimits(
+            angular.velocity,
+            angular.acceleration if angular_accel is None else angular_accel,
+            angular.jerk,
+        ),
+        wheel=PathLimits(None, wheel_accel, None),
+    )
+
+
+def _path(planned: PlannedSegment) -> tuple[float, float, float, bool]:
+    """Path length (>= 0), linear and angular gains, and whether it turns in place."""
+    ds, turn = geometry(planned.segment)
+    if isinstance(planned.segment, Spin):
+        return abs(turn), 0.0, math.copysign(1.0, turn), True
+    return abs(ds), math.copysign(1.0, ds), turn / abs(ds), False
+
+
+def _time_at(profile: Profile, position: float) -> float:
+    """The time (s) the profile reaches ``position`` (bisection: positions never decrease)."""
+    low, high = 0.0, profile.duration
+    for _ in range(200):
+        middle = 0.5 * (low + high)
+        if middle in (low, high):
+            break
+        if profile.position(middle) < position:
+            low = middle
+        else:
+            high = middle
+    return high
+
+
+def ramp(steps: Plan, limits: Limits) -> RampedPlan:
+    """Drive a step plan's segments with speed profiles within ``limits``.
+
+    Consecutive segments of equal curvature and direction of travel form one run (for spins:
+    turning the same way), driven with the fastest profile whose cruise is the slowest of its
+    segments' step speeds (and within the limits' speeds); without acceleration and jerk
+    limits every segment is its own run at its own constant speed (the step plan).
+
+    Args:
+        steps: the step plan (its segments, speeds and poses).
+        limits: the robot's limits (speed limits cap the cruise; the motor limit is checked
+            by the step plan, not imposed).
+
+    Returns:
+        The ramped plan.
+
+    Raises:
+        PlanError: a profile cannot be built (a bad limit).
+    """
+    params = steps.params
+    ramped = has_ramps(limits)
+    groups: list[list[PlannedSegment]] = []
+    key: tuple[float, float, bool] | None = None
+    for planned in steps.segments:
+        _, linear_gain, angular_gain, spin = _path(planned)
+        new_key = (linear_gain, angular_gain, spin)
+        if not ramped or new_key != key:
+            groups.append([])
+        groups[-1].append(planned)
+        key = new_key
+    runs: list[Run] = []
+    start = 0.0
+    for group in groups:
+        first = group[0]
+        lengths = [_path(p)[0] for p in group]
+        _, linear_gain, angular_gain, spin = _path(first)
+        cruise = min(abs(float(p.twist.angular if spin else p.twist.linear)) for p in group)
+        length = math.fsum(lengths)
+        if ramped:
+            bounds = path_limits(params, limits, angular_gain * linear_gain, spin=spin)
+            velocity = cruise if bounds.velocity is None else min(cruise, bounds.velocity)
+            profile = time_optimal(length, bounds._replace(velocity=velocity))
+        else:
+            profile = trapezoid(length, cruise, None)
+        ends = []
+        travelled = 0.0
+        for item in lengths[:-1]:
+            travelled += item
+            ends.append(_time_at(profile, travelled))
+        ends.append(profile.duration)
+        wheels = inverse(params, linear_gain, angular_gain)
+        joints = joint_from_wheel(params, WheelSpeeds(float(wheels.left), float(wheels.right)))
+        heading = 0.0 if first.index == 0 else steps.segments[first.index - 1].end_heading
+        runs.append(
+            Run(
+                segments=tuple(p.index for p in group),
+                start=start,
+                profile=profile,
+                linear_gain=linear_gain,
+                angular_gain=angular_gain,
+                wheel_gains=WheelSpeeds(float(joints.left), float(joints.right)),
+                ends=tuple(ends),
+                start_pose=Pose(first.start_pose.x, first.start_pose.y, heading),
+            )
+        )
+        start += profile.duration
+    return RampedPlan(steps, tuple(runs), limits, _summary(steps, runs))
+
+
+def _summary(steps: Plan, runs: Sequence[Run]) -> Plan:
+    """The step plan with each segment's ramped duration and its peak speeds."""
+    segments: list[PlannedSegment] = []
+    for run in runs:
+        begin = 0.0
+        for index, end in zip(run.segments, run.ends, strict=True):
+            planned = steps.segments[index]
+            # The speed peaks where the acceleration ends (a phase boundary) or at an end.
+            edges = np.array([p.start for p in run.profile.phases] + [begin, end])
+            peak = float(np.max(run.profile.velocity(edges[(edges >= begin) & (edges <= end)])))
+            twist = Twist(run.linear_gain * peak + 0.0, run.angular_gain * peak + 0.0)
+            speeds = inverse(steps.params, twist.linear, twist.angular)
+            wheels = WheelSpeeds(float(speeds.left), float(speeds.right))
+            joints = joint_from_wheel(steps.params, wheels)
+            fraction = limit_fraction(steps.params, wheels, steps.limit)
+            segments.append(
+                PlannedSegment(
+                    segment=planned.segment,
+                    index=index,
+                    twist=twist,
+                    duration=end - begin,
+                    wheels=wheels,
+                    joints=WheelSpeeds(float(joints.left), float(joints.right)),
+                    fraction=None if fraction is None else float(fraction),
+                    start_pose=planned.start_pose,
+                    end_pose=planned.end_pose,
+                    end_heading=planned.end_heading,
+                )
+            )
+            begin = end
+    return Plan(
+        segments=tuple(segments),
+        params=steps.params,
+        limit=steps.limit,
+        duration=math.fsum(run.duration for run in runs),
+        final_pose=steps.final_pose,
+        within_limit=steps.within_limit,
+    )
