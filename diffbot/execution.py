@@ -61,6 +61,12 @@ class Execution:
         return float(self.times[-1]) + 1.0 / self.rate if self.times.size else 0.0
 
     @property
+    def boundaries(self) -> tuple[float, ...]:
+        """The update times (s) after the first, and the end: where the executed command may
+        change."""
+        return (*self.times[1:].tolist(), self.duration)
+
+    @property
     def offset(self) -> float:
         """Distance (m) from the planned final pose to the executed one."""
         planned = self.planned.final_pose

@@ -119,6 +119,11 @@ class RampedPlan:
         return self.summary.duration
 
     @property
+    def boundaries(self) -> tuple[float, ...]:
+        """Segment ends (s); runs start at the ends of the runs before them."""
+        return tuple(run.start + end for run in self.runs for end in run.ends)
+
+    @property
     def final_pose(self) -> Pose:
         """The pose at the end: the step plan's."""
         return self.steps.final_pose

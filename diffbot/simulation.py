@@ -11,14 +11,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Final
+from typing import TYPE_CHECKING, Final, Protocol
 
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
 
 if TYPE_CHECKING:
     import numpy as np
-    from numpy.typing import NDArray
+    from numpy.typing import ArrayLike, NDArray
 
     from diffbot.trajectory import Plan
 
@@ -27,6 +27,7 @@ __all__ = [
     "MAX_SAMPLES",
     "MAX_TICKS",
     "JointStates",
+    "Motion",
     "quantise",
     "sample_count",
     "sample_times",
@@ -44,6 +45,23 @@ MAX_TICKS: Final = 2**32
 #: Grid times closer than this to a segment boundary (s) give way to the boundary: stamps are in
 #: nanoseconds, and two samples within one would share a stamp.
 _SAME_TIME = 1e-9
+
+
+class Motion(Protocol):
+    """A motion the wheels follow other than a step plan's: a ramped plan, or what a controller
+    executed. Its wheel angles are exact at any time; odometry of samples is exact when every
+    time where the path's curvature changes is among them (its ``boundaries``)."""
+
+    @property
+    def duration(self) -> float:
+        """Its duration (s)."""
+
+    @property
+    def boundaries(self) -> tuple[float, ...]:
+        """The times (s) where its curvature may change."""
+
+    def wheel_positions(self, times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Left and right joint angles (rad, signs applied, 0 at the start) at ``times`` (s)."""
 
 
 @dataclass(frozen=True)
@@ -128,6 +146,20 @@ def sample_times(
     return np.sort(np.concatenate((grid[distance > _SAME_TIME], fixed)))
 
 
+def boundaries(plan: Plan | Motion) -> tuple[float, ...]:
+    """The times (s) a simulation samples besides its grid: where the curvature may change."""
+    from diffbot import trajectory
+
+    if not isinstance(plan, trajectory.Plan):
+        return tuple(plan.boundaries)
+    ends: list[float] = []
+    elapsed = 0.0
+    for planned in plan.segments:
+        elapsed += planned.duration
+        ends.append(elapsed)
+    return tuple(ends)
+
+
 def _check_ticks(ticks: int) -> None:
     if not isinstance(ticks, int) or not 0 < ticks <= MAX_TICKS:
         raise ParameterError(
@@ -156,7 +188,7 @@ def quantise(angles: NDArray[np.float64], ticks: int) -> NDArray[np.float64]:
 
 
 def simulate(
-    plan: Plan,
+    plan: Plan | Motion,
     params: DiffDriveParams,
     rate: float = 50.0,
     *,
@@ -169,7 +201,8 @@ def simulate(
     """The joint states a robot executing ``plan`` would report.
 
     Args:
-        plan: the plan (from :func:`diffbot.trajectory.plan`).
+        plan: the plan (from :func:`diffbot.trajectory.plan`), or another motion (a ramped plan,
+            the commands a controller executed).
         params: the robot, for the wheel joint names (every drive wheel of each side turns as
             that side's wheels do).
         rate: sampling rate (Hz); a sample is added at every segment boundary and at the end, so
@@ -191,7 +224,7 @@ def simulate(
     """
     import numpy as np
 
-    from diffbot.trajectory import wheel_positions
+    from diffbot import trajectory
 
     if not math.isfinite(noise) or noise < 0.0:
         raise ParameterError(f"noise must be a finite number >= 0 (rad), got {noise!r}")
@@ -199,13 +232,12 @@ def simulate(
         raise ParameterError(f"seed must be an integer >= 0, got {seed!r}")
     if ticks is not None:
         _check_ticks(ticks)
-    ends: list[float] = []
-    elapsed = 0.0
-    for planned in plan.segments:
-        elapsed += planned.duration
-        ends.append(elapsed)
-    times = sample_times(plan.duration, rate, tuple(ends), max_samples=max_samples)
-    left, right = wheel_positions(plan, times)
+    times = sample_times(plan.duration, rate, boundaries(plan), max_samples=max_samples)
+    left, right = (
+        trajectory.wheel_positions(plan, times)
+        if isinstance(plan, trajectory.Plan)
+        else plan.wheel_positions(times)
+    )
     wheels = np.vstack((left, right))
     if noise > 0.0:
         wheels += np.random.default_rng(seed).normal(0.0, noise, wheels.shape)

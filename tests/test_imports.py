@@ -53,6 +53,8 @@ def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ["fk", "2.86", "2.86"],
         ["plan"],
         ["plan", "--format", "ros2"],
+        ["plan", "--stamped", "--format", "twist"],
+        ["plan", "reverse ccw 0.25 90; straight -1"],
         ["odom", "--help"],
         ["simulate", "--help"],
         ["check"],
@@ -64,3 +66,7 @@ def test_quick_commands_load_no_heavy_module(args: list[str], warm_cache: Path) 
 
 def test_simulating_loads_numpy_but_not_bags_or_plots(warm_cache: Path) -> None:
     assert loaded_by(["simulate", "straight 0.1"], warm_cache) == {"numpy"}
+
+
+def test_ramped_plans_load_numpy_but_not_bags(warm_cache: Path) -> None:
+    assert loaded_by(["plan", "--max-accel", "0.1"], warm_cache) == {"numpy"}

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -26,11 +27,26 @@ from diffbot.commands.plan_options import (
     plan_input_options,
 )
 from diffbot.errors import EXIT_CHECK_FAILED
+from diffbot.formats.command_stream import stream_csv, stream_json
 from diffbot.formats.plan_data import plan_csv, plan_json
 from diffbot.formats.plan_messages import plan_twist, plan_wheels
 from diffbot.formats.plan_table import plan_table, violation_lines
+from diffbot.formats.text import fmt
+from diffbot.io.command_bag import write_command_bag
 from diffbot.io.outputs import input_clash, write_text_atomic
 from diffbot.ros.script import ros2_script
+from diffbot.trajectory import Plan
+
+if TYPE_CHECKING:
+    from diffbot.ramps import CommandStream, RampedPlan
+
+#: Commands per second of a command bag unless --rate says otherwise.
+BAG_RATE = 20.0
+#: What the table of a ramped plan adds.
+RAMP_NOTE = (
+    "ramps: each run of equal curvature speeds up and slows down within the acceleration and "
+    "jerk limits; v, w and the wheel speeds are each segment's peak, times are ramped\n"
+)
 
 __all__ = ["plan_command"]
 
@@ -58,10 +74,23 @@ __all__ = ["plan_command"]
 @click.option(
     "--rate",
     type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
-    default=10.0,
-    show_default=True,
     metavar="HZ",
-    help=f"ros2 script: publishing rate (Hz, at most {MAX_PUBLISH_RATE:g}).",
+    help="Sample the commands in time, each the mean over its period (csv, json, --bag; "
+    f"bags default to {BAG_RATE:g} Hz); ros2 script: publishing rate (default 10). "
+    f"At most {MAX_PUBLISH_RATE:g}.",
+)
+@click.option(
+    "--stamped",
+    is_flag=True,
+    help="geometry_msgs/TwistStamped commands instead of Twist (twist, json, ros2, --bag), as "
+    "diff_drive_controller takes since ROS 2 Jazzy.",
+)
+@click.option(
+    "--frame-id",
+    default="base_link",
+    show_default=True,
+    metavar="FRAME",
+    help="The frame of --stamped commands.",
 )
 @click.option(
     "--cmd-vel-topic",
@@ -87,8 +116,18 @@ __all__ = ["plan_command"]
 @click.option(
     "-o",
     "--output",
-    type=click.Path(dir_okay=False),
-    help="Write to this file instead of stdout (whole or not at all).",
+    "--out",
+    type=click.Path(),
+    help="Write to this file (with --bag: this rosbag2 directory) instead of stdout, whole or "
+    "not at all.",
+)
+@click.option(
+    "--bag",
+    "as_bag",
+    is_flag=True,
+    help="Write the commands sampled at --rate as a rosbag2 for 'ros2 bag play': Twist (or "
+    "TwistStamped) on --cmd-vel-topic, Float64MultiArray on each wheel topic, from time zero, "
+    "ending with zero.",
 )
 @click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
 def plan_command(
@@ -98,11 +137,14 @@ def plan_command(
     output_format: str,
     as_json: bool,
     per_wheel: bool,
-    rate: float,
+    rate: float | None,
+    stamped: bool,
+    frame_id: str,
     cmd_vel_topic: str,
     left_topic: str,
     right_topic: str,
     output: str | None,
+    as_bag: bool,
     force: bool,
 ) -> None:
     """Velocity commands, wheel speeds and exact poses of a path.
@@ -114,6 +156,7 @@ def plan_command(
       ccw RADIUS ANGLE [DURATION]     counter-clockwise (left) arc
       cw RADIUS ANGLE [DURATION]      clockwise (right) arc
       spin ANGLE [DURATION]           turn in place, positive = counter-clockwise
+      straight -LENGTH, reverse ccw|cw RADIUS ANGLE   drive backwards
 
     Lengths are in m (or 25cm, 250mm), angles in degrees (or 1.57rad), durations in s (10s).
     Several arguments are joined: each starts a segment ('straight 1' 'spin 90' is 'straight 1;
@@ -123,6 +166,12 @@ def plan_command(
     angle: 180}, {spin: 90}], the same in .json ([{"straight": 1, "duration": 10}, {"spin":
     90}]), or a .txt file in text form. Without either, the seed's Trajectory A is planned
     (--example A).
+
+    With --max-accel, --max-angular-accel, --max-wheel-accel or --max-jerk (or the limits of the
+    robot's diff_drive_controller configuration, unless --steps), each run of segments of equal
+    curvature is driven with a speed ramp (S-curve under a jerk limit) on the same path: poses
+    stay exact, and the robot stops only where the curvature changes. Such a plan is many
+    commands: --rate HZ samples them (csv, json), --out DIR --bag writes them for 'ros2 bag play'.
 
     Segments without a duration run at --speed (spins at --spin-rate). The robot starts at
     (0, 0) heading along x. Exit code 1 when a wheel exceeds the motor limit (the output is still
@@ -157,13 +206,64 @@ def plan_command(
             "--fastest needs a motor limit, and the robot description has none: "
             "give one with --max-rpm RPM or --rpm-limit RPM"
         )
-    p = plan_options.make(source.segments, params)
-    if output_format == "json":
-        text = json.dumps(plan_json(p, source.label), indent=2, allow_nan=False) + "\n"
+    made = plan_options.make(source.segments, params)
+    ramped: RampedPlan | None = None
+    p = steps = made if isinstance(made, Plan) else made.summary
+    if not isinstance(made, Plan):
+        ramped, steps = made, made.steps
+    frame = frame_id if stamped else None
+    if as_bag:
+        if output is None:
+            fail("--bag writes the --out directory: give --out DIR")
+        if as_json or output_format != "table":
+            fail("--bag writes a bag: give it without --format and --json")
+        bag_rate = BAG_RATE if rate is None else rate
+        stream = command_stream(made, bag_rate)
+        write_command_bag(
+            Path(output),
+            stream,
+            cmd_vel=cmd_vel_topic,
+            left_topic=left_topic,
+            right_topic=right_topic,
+            frame_id=frame,
+            force=force,
+        )
+        kind = "TwistStamped" if stamped else "Twist"
+        click.echo(
+            f"wrote {stream.times.size} commands at {fmt(bag_rate)} Hz "
+            f"({fmt(float(stream.times[-1]))} s) to {output}: {kind} on {cmd_vel_topic}, "
+            f"Float64MultiArray on {left_topic} and {right_topic}"
+        )
+        _check_limit(steps)
+        return
+    if rate is not None and output_format in ("csv", "json"):
+        stream = command_stream(made, rate)
+        if output_format == "csv":
+            text = stream_csv(stream)
+        else:
+            data = plan_json(p, source.label) | {"commands": stream_json(stream, rate)}
+            text = _json_text(data, frame)
+    elif ramped is not None and output_format in ("csv", "twist", "wheels", "ros2"):
+        fail(
+            "a ramped plan is many commands: sample them with --rate HZ (--format csv or json), "
+            "or write a command bag with --out DIR --bag for 'ros2 bag play'"
+        )
+    elif output_format == "json":
+        data = plan_json(p, source.label)
+        if ramped is not None:
+            data["runs"] = [
+                {
+                    "segments": [i + 1 for i in run.segments],
+                    "start": run.start,
+                    "duration": run.duration,
+                }
+                for run in ramped.runs
+            ]
+        text = _json_text(data, frame)
     elif output_format == "csv":
         text = plan_csv(p)
     elif output_format == "twist":
-        text = plan_twist(p, source.label, cmd_vel_topic)
+        text = plan_twist(p, source.label, cmd_vel_topic, frame)
     elif output_format == "wheels":
         text = plan_wheels(p, source.label, left_topic, right_topic)
     elif output_format == "ros2":
@@ -171,13 +271,16 @@ def plan_command(
             p,
             source.label,
             wheels=per_wheel,
-            rate=rate,
+            rate=10.0 if rate is None else rate,
             cmd_vel=cmd_vel_topic,
             left_topic=left_topic,
             right_topic=right_topic,
+            frame_id=frame,
         )
     else:
         text = plan_table(p, source.label)
+        if ramped is not None:
+            text += RAMP_NOTE
     if output is None:
         click.echo(text, nl=False)
     else:
@@ -189,10 +292,31 @@ def plan_command(
             inputs=[Path(path) for path in inputs],
             executable=output_format == "ros2",
         )
+    _check_limit(steps)
+
+
+def _check_limit(p: Plan) -> None:
+    """Exit 1, naming every wheel over the motor limit, when there is one."""
     if not p.within_limit:
         for line in violation_lines(p):
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
+
+
+def _json_text(data: dict[str, Any], frame_id: str | None) -> str:
+    if frame_id is not None:
+        data["message_type"] = "geometry_msgs/msg/TwistStamped"
+        data["frame_id"] = frame_id
+    return json.dumps(data, indent=2, allow_nan=False) + "\n"
+
+
+def command_stream(made: Plan | RampedPlan, rate: float) -> CommandStream:
+    """A plan's commands at ``rate`` Hz (a step plan's too)."""
+    from diffbot.profiles import Limits
+    from diffbot.ramps import ramp
+
+    ramped = ramp(made, Limits()) if isinstance(made, Plan) else made
+    return ramped.commands(rate)
 
 
 # --------------------------------------------------------------------------------------------

@@ -6,6 +6,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -14,6 +15,9 @@ from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
 from diffbot.planfile import load_plan, parse_plan
 from diffbot.trajectory import EXAMPLES, Plan, Segment
 from diffbot.trajectory import plan as make_plan
+
+if TYPE_CHECKING:
+    from diffbot.ramps import RampedPlan
 
 __all__ = [
     "PLAN_FORMATS",
@@ -69,10 +73,13 @@ def plan_input(tokens: Sequence[str], example: str | None) -> PlanInput:
 def join_plan_arguments(tokens: Sequence[str]) -> str:
     """One plan text from several arguments: each starts a new segment (``'straight 1' 'spin
     90'`` is ``straight 1; spin 90``), unless it starts with a number, which continues the
-    segment before it (``straight 1 10s`` typed unquoted, ``spin -90deg``)."""
+    segment before it (``straight 1 10s`` typed unquoted, ``spin -90deg``), and the kind after
+    ``reverse`` (``reverse ccw 0.25 90``)."""
     text = ""
     for token in tokens:
         continues = re.match(r"\s*[+-]?[0-9.]", token) is not None
+        # 'reverse' is followed by the kind of the segment it reverses.
+        continues = continues or text.split()[-1:] == ["reverse"]
         text = token if not text else f"{text}{' ' if continues else '; '}{token}"
     return text
 
@@ -86,22 +93,53 @@ def check_topic(option: str, name: str) -> str:
 
 @dataclass(frozen=True)
 class PlanOptions:
-    """What the plan options say: the example, cruise speeds, --fastest and the limit."""
+    """What the plan options say: the example, cruise speeds, --fastest, the limit, and the
+    acceleration and jerk limits of ramps."""
 
     example: str | None
     speed: float
     spin_rate: float
     fastest: bool
     rpm_limit: float | None
+    max_accel: float | None = None
+    max_angular_accel: float | None = None
+    max_wheel_accel: float | None = None
+    max_jerk: float | None = None
+    steps: bool = False
 
     @property
     def limit(self) -> float | None:
         """The motor limit to check against (rad/s), when --rpm-limit gives one."""
         return None if self.rpm_limit is None else rad_s_from_rpm(self.rpm_limit)
 
-    def make(self, segments: Sequence[Segment], params: DiffDriveParams) -> Plan:
-        """The plan of ``segments`` for the robot, as these options ask."""
-        return make_plan(
+    @property
+    def ramp_options(self) -> dict[str, float | None]:
+        """The acceleration and jerk limits given, by library name."""
+        return {
+            "linear_accel": self.max_accel,
+            "angular_accel": self.max_angular_accel,
+            "wheel_accel": self.max_wheel_accel,
+            "linear_jerk": self.max_jerk,
+        }
+
+    def ramped(self, params: DiffDriveParams) -> bool:
+        """Whether the plan is ramped: an acceleration or jerk limit is given, or the
+        controller configuration has one (unless --steps)."""
+        if self.steps:
+            return False
+        controller = params.controller
+        axes = () if controller is None else (controller.linear, controller.angular)
+        from_controller = any(
+            value is not None
+            for axis in axes
+            for value in (axis.max_acceleration, axis.max_jerk, axis.min_acceleration)
+        )
+        return from_controller or any(v is not None for v in self.ramp_options.values())
+
+    def make(self, segments: Sequence[Segment], params: DiffDriveParams) -> Plan | RampedPlan:
+        """The plan of ``segments`` for the robot, as these options ask: ramped when
+        :meth:`ramped` says so, else a step plan."""
+        steps = make_plan(
             segments,
             params,
             speed=self.speed,
@@ -109,6 +147,11 @@ class PlanOptions:
             fastest=self.fastest,
             limit=self.limit,
         )
+        if not self.ramped(params):
+            return steps
+        from diffbot.ramps import controller_limits, ramp
+
+        return ramp(steps, controller_limits(params.controller, **self.ramp_options))
 
 
 #: The cruise options, by name: (default, metavar, help).
@@ -124,6 +167,29 @@ _CRUISE = {
         "Turn rate of spins without a duration (rad/s; 0.5 rad/s = 28.6 deg/s).",
     ),
 }
+
+
+#: The ramp options, by name: (metavar, help).
+_RAMPS = {
+    "--max-accel": (
+        "M/S2",
+        "Path acceleration limit (m/s²): drive each run of equal curvature with a speed ramp.",
+    ),
+    "--max-angular-accel": ("RAD/S2", "Angular acceleration limit (rad/s²)."),
+    "--max-wheel-accel": ("RAD/S2", "Each wheel's angular acceleration limit (rad/s²)."),
+    "--max-jerk": ("M/S3", "Path jerk limit (m/s³): S-curve ramps."),
+}
+
+
+def _plan_options(kw: dict[str, Any]) -> PlanOptions:
+    names = ("example", "speed", "spin_rate", "fastest", "rpm_limit")
+    ramps = ("max_accel", "max_angular_accel", "max_wheel_accel", "max_jerk", "steps")
+    options = PlanOptions(
+        *(kw.pop(name) for name in names), **{name: kw.pop(name) for name in ramps}
+    )
+    if options.steps and any(v is not None for v in options.ramp_options.values()):
+        fail("--steps plans velocity steps: give it without --max-accel, --max-jerk and the like")
+    return options
 
 
 #: Add the options that say which plan to make; the command receives them as
@@ -154,9 +220,17 @@ plan_input_options = option_group(
             metavar="RPM",
             help="Motor limit to check against (rpm), instead of the description's (or --max-rpm).",
         ),
+        *(
+            click.option(name, type=POSITIVE, metavar=unit, help=text)
+            for name, (unit, text) in _RAMPS.items()
+        ),
+        click.option(
+            "--steps",
+            is_flag=True,
+            help="Plan velocity steps even when the controller configuration has acceleration "
+            "limits (to see what its limiter makes of them in simulate).",
+        ),
     ],
     "plan_options",
-    lambda kw: PlanOptions(
-        *(kw.pop(name) for name in ("example", "speed", "spin_rate", "fastest", "rpm_limit"))
-    ),
+    _plan_options,
 )

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -34,8 +34,14 @@ from diffbot.io.bag import write_joint_states_bag
 from diffbot.io.csvfile import format_joint_states_csv
 from diffbot.io.outputs import write_text_atomic
 from diffbot.samples import ns_from_seconds
-from diffbot.simulation import MAX_RATE, MAX_SAMPLES, sample_count
+from diffbot.simulation import MAX_RATE, MAX_SAMPLES, Motion, boundaries, sample_count
 from diffbot.simulation import simulate as simulate_plan
+from diffbot.trajectory import Plan
+
+if TYPE_CHECKING:
+    from diffbot.execution import Execution
+    from diffbot.kinematics import DiffDriveParams
+    from diffbot.ramps import RampedPlan
 
 __all__ = ["simulate"]
 
@@ -145,6 +151,12 @@ def simulate(
     written (all wheels of a side turn alike); its other moving joints (a caster's) are reported
     at 0, as they are not modelled.
 
+    When the robot's diff_drive_controller configuration has velocity, acceleration or jerk
+    limits, the plan's commands (sampled at its update rate) first go through a model of the
+    controller's speed limiter, and the joints follow what it executes; the summary then gives
+    the executed final pose and its distance from the planned one. With --max-accel and the
+    like the plan is ramped (see `diffbot plan --help`).
+
     Output: CSV (time in s, then one column per joint in rad) on stdout or --out, or with --bag a
     rosbag2 directory of sensor_msgs/JointState on --topic. Exit code 1 when the plan exceeds the
     motor limit (the output is still written).
@@ -166,25 +178,28 @@ def simulate(
     inputs = [path for path in (source.path, robot.robot) if path is not None]
     out_path = out.path([Path(path) for path in inputs])
     params = robot.load()
-    p = plan_options.make(source.segments, params)
-    count = sample_count(p.duration, rate, len(p.segments))
+    made = plan_options.make(source.segments, params)
+    p = made if isinstance(made, Plan) else made.steps
+    motion, executed = _executed(made, params)
+    duration, extra = motion.duration, len(boundaries(motion))
+    count = sample_count(duration, rate, extra)
     if count > MAX_SAMPLES:
-        highest = (MAX_SAMPLES - 2 - len(p.segments)) / p.duration
+        highest = (MAX_SAMPLES - 2 - extra) / duration
         how = (
             f"lower --rate to at most {highest:.4g} Hz for this plan"
             if highest >= 1.0
             else "the plan is too long even at 1 Hz: shorten it (or raise --speed)"
         )
         fail(
-            f"the plan's {fmt(p.duration)} s at {fmt(rate)} Hz would take {count:.4g} samples, "
+            f"the plan's {fmt(duration)} s at {fmt(rate)} Hz would take {count:.4g} samples, "
             f"more than the {MAX_SAMPLES} simulate makes: {how}"
         )
-    if start_ns + round(p.duration * 1e9) >= 2**63:
+    if start_ns + round(duration * 1e9) >= 2**63:
         fail(
-            f"--start plus the plan's {fmt(p.duration)} s ends past 2262, the end of int64 "
+            f"--start plus the plan's {fmt(duration)} s ends past 2262, the end of int64 "
             "nanosecond stamps"
         )
-    states = simulate_plan(p, params, rate, ticks=ticks, noise=noise, seed=seed)
+    states = simulate_plan(motion, params, rate, ticks=ticks, noise=noise, seed=seed)
     stamps = [start_ns + round(t * 1e9) for t in states.times.tolist()]
     if out_path is None:
         click.echo(format_joint_states_csv(stamps, states.names, states.positions), nl=False)
@@ -198,25 +213,28 @@ def simulate(
     if out_path is not None:
         pose = p.final_pose
         if as_json:
-            emit_json(
-                {
-                    "plan": source.label,
-                    "duration": p.duration,
-                    "samples": int(states.times.size),
-                    "rate": rate,
-                    "joints": list(states.names),
-                    "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},
-                    "within_limit": p.within_limit,
-                    "output": out.out,
-                }
-            )
+            summary = {
+                "plan": source.label,
+                "duration": duration,
+                "samples": int(states.times.size),
+                "rate": rate,
+                "joints": list(states.names),
+                "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},
+                "within_limit": p.within_limit,
+                "output": out.out,
+            }
+            if executed is not None:
+                done = executed.final_pose
+                summary["executed_final_pose"] = {"x": done.x, "y": done.y, "theta": done.theta}
+                summary["offset"] = executed.offset
+            emit_json(summary)
         else:
             what = f"rosbag2, {topic}" if out.as_bag else "CSV"
             rows = [
                 (
                     "plan",
                     f"{source.label} ({len(p.segments)} segment"
-                    f"{'' if len(p.segments) == 1 else 's'}, {fmt(p.duration)} s)",
+                    f"{'' if len(p.segments) == 1 else 's'}, {fmt(duration)} s)",
                 ),
                 (
                     "samples",
@@ -230,9 +248,35 @@ def simulate(
                 ),
                 ("output", f"{out.out} ({what})"),
             ]
+            if executed is not None:
+                done = executed.final_pose
+                rows[-1:-1] = [
+                    (
+                        "executed",
+                        f"through the controller's limiter at {fmt(executed.rate)} Hz: "
+                        f"x {fmt(round(done.x, 9))} m, y {fmt(round(done.y, 9))} m, "
+                        f"theta {fmt(round(done.theta, 9))} rad, {fmt(executed.offset, 4)} m "
+                        "from the planned end",
+                    )
+                ]
             for label, value in rows:
                 click.echo(f"{label:<11} {value}")
     if not p.within_limit:
         for line in violation_lines(p):
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
+
+
+def _executed(
+    made: Plan | RampedPlan, params: DiffDriveParams
+) -> tuple[Plan | Motion, Execution | None]:
+    """What the wheels follow: the plan, or, when the controller configuration has limits, the
+    commands its limiter executes."""
+    if params.controller is None:
+        return made, None
+    from diffbot.execution import execute_plan, limits_apply
+
+    if not limits_apply(params.controller):
+        return made, None
+    executed = execute_plan(made, params.controller)
+    return executed, executed

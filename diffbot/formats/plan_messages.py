@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from diffbot.formats.text import fmt, one_line
-from diffbot.ros.messages import array_yaml, twist_yaml
+from diffbot.ros.messages import array_yaml, command_type, command_yaml
 from diffbot.trajectory import Plan, PlannedSegment, describe_segment
 
 __all__ = ["plan_twist", "plan_wheels", "segment_note"]
@@ -15,19 +15,21 @@ def segment_note(s: PlannedSegment, count: int) -> str:
     return f"{s.index + 1}/{count} {describe_segment(s.segment)}, {fmt(s.duration, 6)} s"
 
 
-def plan_twist(p: Plan, label: str, topic: str) -> str:
-    """One geometry_msgs/Twist YAML line per segment, then a stop."""
+def plan_twist(p: Plan, label: str, topic: str, frame_id: str | None = None) -> str:
+    """One geometry_msgs/Twist YAML line per segment, then a stop; TwistStamped lines in
+    ``frame_id`` when one is given."""
     count = len(p.segments)
+    kind = command_type(frame_id)
+    example = command_yaml(0.0, 0.0, frame_id).replace("0.0", "...")
     lines = [
-        f"# {one_line(label)} on {one_line(p.params.source)}: geometry_msgs/msg/Twist commands "
+        f"# {one_line(label)} on {one_line(p.params.source)}: {kind} commands "
         f"for {topic}, each held for its duration (m/s, rad/s)",
-        f"# publish one with: ros2 topic pub -r 10 {topic} geometry_msgs/msg/Twist "
-        "'{linear: {x: ...}, angular: {z: ...}}'",
+        f"# publish one with: ros2 topic pub -r 10 {topic} {kind} '{example}'",
     ]
     for s in p.segments:
-        twist = twist_yaml(float(s.twist.linear), float(s.twist.angular))
+        twist = command_yaml(float(s.twist.linear), float(s.twist.angular), frame_id)
         lines.append(f"{twist}  # {segment_note(s, count)}")
-    lines.append(f"{twist_yaml(0.0, 0.0)}  # stop")
+    lines.append(f"{command_yaml(0.0, 0.0, frame_id)}  # stop")
     return "\n".join(lines) + "\n"
 
 

@@ -7,6 +7,7 @@ The records mirror the messages' fields (SI units, stamps in seconds) without de
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Sequence
 from typing import NamedTuple
@@ -22,8 +23,11 @@ __all__ = [
     "TwistWithCovariance",
     "Vector3",
     "array_yaml",
+    "command_type",
+    "command_yaml",
     "covariance_matrix",
     "quaternion_from_yaw",
+    "twist_stamped_yaml",
     "twist_yaml",
     "yaml_float",
 ]
@@ -133,6 +137,25 @@ def yaml_float(value: float) -> str:
 def twist_yaml(linear: float, angular: float) -> str:
     """A geometry_msgs/Twist as YAML: linear.x (m/s) and angular.z (rad/s)."""
     return f"{{linear: {{x: {yaml_float(linear)}}}, angular: {{z: {yaml_float(angular)}}}}}"
+
+
+def twist_stamped_yaml(linear: float, angular: float, frame_id: str) -> str:
+    """A geometry_msgs/TwistStamped as YAML, stamped ``now`` (``ros2 topic pub`` fills in the
+    time: ROS 2 Iron and later, Humble since its first patch release)."""
+    header = f"{{stamp: now, frame_id: {json.dumps(frame_id)}}}"
+    return f"{{header: {header}, twist: {twist_yaml(linear, angular)}}}"
+
+
+def command_yaml(linear: float, angular: float, frame_id: str | None = None) -> str:
+    """A velocity command as YAML: a Twist, or a TwistStamped in ``frame_id`` when one is given."""
+    if frame_id is None:
+        return twist_yaml(linear, angular)
+    return twist_stamped_yaml(linear, angular, frame_id)
+
+
+def command_type(frame_id: str | None = None) -> str:
+    """The message type of :func:`command_yaml`'s commands."""
+    return "geometry_msgs/msg/Twist" if frame_id is None else "geometry_msgs/msg/TwistStamped"
 
 
 def array_yaml(value: float, count: int = 1) -> str:

@@ -8,7 +8,7 @@ from diffbot import __version__
 from diffbot.formats.plan_messages import segment_note
 from diffbot.formats.text import fmt, one_line, plain_number, seconds_decimal
 from diffbot.planfile import format_plan
-from diffbot.ros.messages import array_yaml, twist_yaml
+from diffbot.ros.messages import array_yaml, command_type, command_yaml
 from diffbot.trajectory import Plan
 
 __all__ = ["ros2_script"]
@@ -23,6 +23,7 @@ def ros2_script(
     cmd_vel: str,
     left_topic: str,
     right_topic: str,
+    frame_id: str | None = None,
 ) -> str:
     """A POSIX sh script that publishes the plan with ``ros2 topic pub``.
 
@@ -35,7 +36,8 @@ def ros2_script(
     """
 
     q = shlex.quote
-    twist_type = "geometry_msgs/msg/Twist"
+    twist_type = command_type(frame_id)
+    zero_twist = command_yaml(0.0, 0.0, frame_id)
     array_type = "std_msgs/msg/Float64MultiArray"
     count = len(p.segments)
     hz = plain_number(rate)
@@ -76,7 +78,7 @@ def ros2_script(
         ]
     else:
         lines += [
-            f"    ros2 topic pub --once {q(cmd_vel)} {twist_type} {q(twist_yaml(0.0, 0.0))}",
+            f"    ros2 topic pub --once {q(cmd_vel)} {twist_type} {q(zero_twist)}",
             "}",
         ]
     lines += [
@@ -111,7 +113,7 @@ def ros2_script(
                 'pids="$pids $!"',
             ]
         else:
-            twist = twist_yaml(float(s.twist.linear), float(s.twist.angular))
+            twist = command_yaml(float(s.twist.linear), float(s.twist.angular), frame_id)
             lines += [
                 f"ros2 topic pub -r {hz} {q(cmd_vel)} {twist_type} {q(twist)} &",
                 'pids="$!"',

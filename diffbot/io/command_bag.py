@@ -1,0 +1,100 @@
+"""Command bags: a plan's commands as a rosbag2 that ``ros2 bag play`` publishes to a robot.
+
+The body commands go on one topic as geometry_msgs/msg/Twist (or TwistStamped), the joint
+velocity commands on one std_msgs/msg/Float64MultiArray topic per wheel; every message is
+stamped (and received) at its time from zero, and the last commands are zero.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from diffbot.errors import RecordingError
+from diffbot.io.bag import _bag_writer, _check_stamps, _typestore, require_rosbags
+from diffbot.samples import NS_PER_S
+
+if TYPE_CHECKING:
+    from diffbot.ramps import CommandStream
+
+__all__ = ["write_command_bag"]
+
+
+def _topic(name: str) -> str:
+    """A topic name as a bag stores it: absolute (a private ``~/`` name cannot be)."""
+    if name.startswith("~"):
+        raise RecordingError(
+            f"a bag cannot hold the private topic {name!r}: give the controller's full topic "
+            "name, such as /diff_drive_controller/cmd_vel"
+        )
+    return name if name.startswith("/") else f"/{name}"
+
+
+def write_command_bag(
+    path: str | os.PathLike[str],
+    stream: CommandStream,
+    *,
+    cmd_vel: str = "/cmd_vel",
+    left_topic: str | None = None,
+    right_topic: str | None = None,
+    frame_id: str | None = None,
+    force: bool = False,
+) -> None:
+    """Write a command stream as a rosbag2.
+
+    Args:
+        path: the bag directory to create.
+        stream: the commands (see :meth:`diffbot.ramps.RampedPlan.commands`).
+        cmd_vel: the body command topic (made absolute).
+        left_topic: the left wheel's Float64MultiArray topic, or None for none.
+        right_topic: the right wheel's topic, or None for none.
+        frame_id: write TwistStamped commands in this frame; None for Twist.
+        force: replace an existing file or bag at ``path``.
+
+    Raises:
+        OutputExistsError: ``path`` exists and ``force`` is false, or it is a directory that is
+            not a bag.
+        RecordingError: rosbags is missing, a topic cannot be stored, or a stamp is outside ROS
+            time.
+    """
+    import numpy as np
+
+    p = Path(path)
+    stamps = [round(t * NS_PER_S) for t in stream.times.tolist()]
+    _check_stamps(stamps, p)
+    sides = [(left_topic, stream.left), (right_topic, stream.right)]
+    per_wheel = [(_topic(topic), values) for topic, values in sides if topic is not None]
+    body_topic = _topic(cmd_vel)
+    require_rosbags()
+    from rosbags.typesys.stores import ros2_humble as m
+
+    typestore = _typestore()
+    twist_type = "geometry_msgs/msg/Twist" if frame_id is None else "geometry_msgs/msg/TwistStamped"
+    array_type = "std_msgs/msg/Float64MultiArray"
+    layout = m.std_msgs__msg__MultiArrayLayout(dim=[], data_offset=0)
+    with _bag_writer(p, force) as writer:
+        body = writer.add_connection(body_topic, twist_type, typestore=typestore)
+        wheels = [
+            (writer.add_connection(topic, array_type, typestore=typestore), values)
+            for topic, values in per_wheel
+        ]
+        for k, stamp_ns in enumerate(stamps):
+            twist = m.geometry_msgs__msg__Twist(
+                linear=m.geometry_msgs__msg__Vector3(x=float(stream.linear[k]), y=0.0, z=0.0),
+                angular=m.geometry_msgs__msg__Vector3(x=0.0, y=0.0, z=float(stream.angular[k])),
+            )
+            message: object = twist
+            if frame_id is not None:
+                sec, nanosec = divmod(stamp_ns, NS_PER_S)
+                header = m.std_msgs__msg__Header(
+                    stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec),
+                    frame_id=frame_id,
+                )
+                message = m.geometry_msgs__msg__TwistStamped(header=header, twist=twist)
+            writer.write(body, stamp_ns, typestore.serialize_cdr(message, twist_type))
+            for connection, values in wheels:
+                array = m.std_msgs__msg__Float64MultiArray(
+                    layout=layout, data=np.array([values[k]], dtype=np.float64)
+                )
+                writer.write(connection, stamp_ns, typestore.serialize_cdr(array, array_type))
