@@ -46,8 +46,12 @@ from diffbot.urdf import BUNDLED_DESCRIPTION, derive_params, expand, load_params
 # Plans and odometry load on first use: most commands need neither, and they would add to the
 # start-up of every CLI run (about 13 ms of it).
 if TYPE_CHECKING:
+    from diffbot.execution import Execution, execute_plan
+    from diffbot.io.command_bag import write_command_bag
     from diffbot.odometry import Odometry, PoseSeries, integrate
     from diffbot.planfile import format_plan, load_plan, parse_plan
+    from diffbot.profiles import Limits, PathLimits
+    from diffbot.ramps import CommandStream, RampedPlan, controller_limits, ramp
     from diffbot.ros.messages import OdometryMessage, TransformStamped
     from diffbot.trajectory import (
         EXAMPLES,
@@ -83,6 +87,15 @@ _LAZY = {
     "plan": "diffbot.trajectory",
     "pose_at": "diffbot.trajectory",
     "wheel_positions": "diffbot.trajectory",
+    "Limits": "diffbot.profiles",
+    "PathLimits": "diffbot.profiles",
+    "CommandStream": "diffbot.ramps",
+    "RampedPlan": "diffbot.ramps",
+    "controller_limits": "diffbot.ramps",
+    "ramp": "diffbot.ramps",
+    "Execution": "diffbot.execution",
+    "execute_plan": "diffbot.execution",
+    "write_command_bag": "diffbot.io.command_bag",
 }
 
 
@@ -105,20 +118,25 @@ __all__ = [
     "BUNDLED_DESCRIPTION",
     "EXAMPLES",
     "Arc",
+    "CommandStream",
     "DescriptionError",
     "DiffDriveParams",
     "DiffbotError",
     "DriveWheelError",
+    "Execution",
+    "Limits",
     "Odometry",
     "OdometryMessage",
     "OutputExistsError",
     "PackageNotFoundError",
     "ParameterError",
+    "PathLimits",
     "Plan",
     "PlanError",
     "PlannedSegment",
     "Pose",
     "PoseSeries",
+    "RampedPlan",
     "RecordingError",
     "Segment",
     "Spin",
@@ -129,7 +147,9 @@ __all__ = [
     "WheelSpeeds",
     "XacroError",
     "__version__",
+    "controller_limits",
     "derive_params",
+    "execute_plan",
     "expand",
     "format_plan",
     "forward",
@@ -144,9 +164,11 @@ __all__ = [
     "plan",
     "pose_at",
     "rad_s_from_rpm",
+    "ramp",
     "rpm_from_rad_s",
     "saturate",
     "wheel_from_joint",
     "wheel_positions",
     "within_limit",
+    "write_command_bag",
 ]

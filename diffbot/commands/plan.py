@@ -225,7 +225,8 @@ def plan_command(
             cmd_vel=cmd_vel_topic,
             left_topic=left_topic,
             right_topic=right_topic,
-            frame_id=frame,
+            stamped=stamped,
+            frame_id=frame_id,
             force=force,
         )
         kind = "TwistStamped" if stamped else "Twist"
@@ -263,7 +264,7 @@ def plan_command(
     elif output_format == "csv":
         text = plan_csv(p)
     elif output_format == "twist":
-        text = plan_twist(p, source.label, cmd_vel_topic, frame)
+        text = plan_twist(p, source.label, cmd_vel_topic, stamped=stamped, frame_id=frame_id)
     elif output_format == "wheels":
         text = plan_wheels(p, source.label, left_topic, right_topic)
     elif output_format == "ros2":
@@ -275,7 +276,8 @@ def plan_command(
             cmd_vel=cmd_vel_topic,
             left_topic=left_topic,
             right_topic=right_topic,
-            frame_id=frame,
+            stamped=stamped,
+            frame_id=frame_id,
         )
     else:
         text = plan_table(p, source.label)

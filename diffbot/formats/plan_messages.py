@@ -15,21 +15,24 @@ def segment_note(s: PlannedSegment, count: int) -> str:
     return f"{s.index + 1}/{count} {describe_segment(s.segment)}, {fmt(s.duration, 6)} s"
 
 
-def plan_twist(p: Plan, label: str, topic: str, frame_id: str | None = None) -> str:
-    """One geometry_msgs/Twist YAML line per segment, then a stop; TwistStamped lines in
-    ``frame_id`` when one is given."""
+def plan_twist(
+    p: Plan, label: str, topic: str, *, stamped: bool = False, frame_id: str = "base_link"
+) -> str:
+    """One geometry_msgs/Twist YAML line per segment, then a stop; with ``stamped``,
+    TwistStamped lines in ``frame_id``."""
     count = len(p.segments)
-    kind = command_type(frame_id)
-    example = command_yaml(0.0, 0.0, frame_id).replace("0.0", "...")
+    frame = frame_id if stamped else None
+    kind = command_type(frame)
+    example = command_yaml(0.0, 0.0, frame).replace("0.0", "...")
     lines = [
         f"# {one_line(label)} on {one_line(p.params.source)}: {kind} commands "
         f"for {topic}, each held for its duration (m/s, rad/s)",
         f"# publish one with: ros2 topic pub -r 10 {topic} {kind} '{example}'",
     ]
     for s in p.segments:
-        twist = command_yaml(float(s.twist.linear), float(s.twist.angular), frame_id)
+        twist = command_yaml(float(s.twist.linear), float(s.twist.angular), frame)
         lines.append(f"{twist}  # {segment_note(s, count)}")
-    lines.append(f"{command_yaml(0.0, 0.0, frame_id)}  # stop")
+    lines.append(f"{command_yaml(0.0, 0.0, frame)}  # stop")
     return "\n".join(lines) + "\n"
 
 

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 from diffbot.errors import RecordingError
 from diffbot.io.bag import _bag_writer, _check_stamps, _typestore, require_rosbags
+from diffbot.ros.messages import command_type
 from diffbot.samples import NS_PER_S
 
 if TYPE_CHECKING:
@@ -38,7 +39,8 @@ def write_command_bag(
     cmd_vel: str = "/cmd_vel",
     left_topic: str | None = None,
     right_topic: str | None = None,
-    frame_id: str | None = None,
+    stamped: bool = False,
+    frame_id: str = "base_link",
     force: bool = False,
 ) -> None:
     """Write a command stream as a rosbag2.
@@ -49,7 +51,8 @@ def write_command_bag(
         cmd_vel: the body command topic (made absolute).
         left_topic: the left wheel's Float64MultiArray topic, or None for none.
         right_topic: the right wheel's topic, or None for none.
-        frame_id: write TwistStamped commands in this frame; None for Twist.
+        stamped: write geometry_msgs/TwistStamped commands instead of Twist.
+        frame_id: the frame of stamped commands.
         force: replace an existing file or bag at ``path``.
 
     Raises:
@@ -70,7 +73,7 @@ def write_command_bag(
     from rosbags.typesys.stores import ros2_humble as m
 
     typestore = _typestore()
-    twist_type = "geometry_msgs/msg/Twist" if frame_id is None else "geometry_msgs/msg/TwistStamped"
+    twist_type = command_type(frame_id if stamped else None)
     array_type = "std_msgs/msg/Float64MultiArray"
     layout = m.std_msgs__msg__MultiArrayLayout(dim=[], data_offset=0)
     with _bag_writer(p, force) as writer:
@@ -85,7 +88,7 @@ def write_command_bag(
                 angular=m.geometry_msgs__msg__Vector3(x=0.0, y=0.0, z=float(stream.angular[k])),
             )
             message: object = twist
-            if frame_id is not None:
+            if stamped:
                 sec, nanosec = divmod(stamp_ns, NS_PER_S)
                 header = m.std_msgs__msg__Header(
                     stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec),

@@ -23,7 +23,8 @@ def ros2_script(
     cmd_vel: str,
     left_topic: str,
     right_topic: str,
-    frame_id: str | None = None,
+    stamped: bool = False,
+    frame_id: str = "base_link",
 ) -> str:
     """A POSIX sh script that publishes the plan with ``ros2 topic pub``.
 
@@ -36,8 +37,9 @@ def ros2_script(
     """
 
     q = shlex.quote
-    twist_type = command_type(frame_id)
-    zero_twist = command_yaml(0.0, 0.0, frame_id)
+    frame = frame_id if stamped else None
+    twist_type = command_type(frame)
+    zero_twist = command_yaml(0.0, 0.0, frame)
     array_type = "std_msgs/msg/Float64MultiArray"
     count = len(p.segments)
     hz = plain_number(rate)
@@ -113,7 +115,7 @@ def ros2_script(
                 'pids="$pids $!"',
             ]
         else:
-            twist = command_yaml(float(s.twist.linear), float(s.twist.angular), frame_id)
+            twist = command_yaml(float(s.twist.linear), float(s.twist.angular), frame)
             lines += [
                 f"ros2 topic pub -r {hz} {q(cmd_vel)} {twist_type} {q(twist)} &",
                 'pids="$!"',
