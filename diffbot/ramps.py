@@ -351,7 +351,15 @@ def ramp(steps: Plan, limits: Limits) -> RampedPlan:
         cruise = min(abs(float(p.twist.angular if spin else p.twist.linear)) for p in group)
         length = math.fsum(lengths)
         if ramped:
-            bounds = path_limits(params, limits, angular_gain * linear_gain, spin=spin)
+            left, right = params.radii
+            bounds = path_limits(
+                params,
+                limits,
+                angular_gain * linear_gain,
+                spin=spin,
+                left_wheel_radius=left,
+                right_wheel_radius=right,
+            )
             velocity = cruise if bounds.velocity is None else min(cruise, bounds.velocity)
             profile = time_optimal(length, bounds._replace(velocity=velocity))
         else:

@@ -227,6 +227,7 @@ def plan_command(
             right_topic=right_topic,
             stamped=stamped,
             frame_id=frame_id,
+            joints=(len(params.left_joints), len(params.right_joints)),
             force=force,
         )
         kind = "TwistStamped" if stamped else "Twist"

@@ -41,6 +41,7 @@ def write_command_bag(
     right_topic: str | None = None,
     stamped: bool = False,
     frame_id: str = "base_link",
+    joints: tuple[int, int] = (1, 1),
     force: bool = False,
 ) -> None:
     """Write a command stream as a rosbag2.
@@ -53,6 +54,8 @@ def write_command_bag(
         right_topic: the right wheel's topic, or None for none.
         stamped: write geometry_msgs/TwistStamped commands instead of Twist.
         frame_id: the frame of stamped commands.
+        joints: how many joints the left and right controllers drive: each wheel message holds
+            the command once per joint.
         force: replace an existing file or bag at ``path``.
 
     Raises:
@@ -66,8 +69,10 @@ def write_command_bag(
     p = Path(path)
     stamps = [round(t * NS_PER_S) for t in stream.times.tolist()]
     _check_stamps(stamps, p)
-    sides = [(left_topic, stream.left), (right_topic, stream.right)]
-    per_wheel = [(_topic(topic), values) for topic, values in sides if topic is not None]
+    sides = [(left_topic, stream.left, joints[0]), (right_topic, stream.right, joints[1])]
+    per_wheel = [
+        (_topic(topic), values, count) for topic, values, count in sides if topic is not None
+    ]
     body_topic = _topic(cmd_vel)
     require_rosbags()
     from rosbags.typesys.stores import ros2_humble as m
@@ -79,8 +84,8 @@ def write_command_bag(
     with _bag_writer(p, force) as writer:
         body = writer.add_connection(body_topic, twist_type, typestore=typestore)
         wheels = [
-            (writer.add_connection(topic, array_type, typestore=typestore), values)
-            for topic, values in per_wheel
+            (writer.add_connection(topic, array_type, typestore=typestore), values, count)
+            for topic, values, count in per_wheel
         ]
         for k, stamp_ns in enumerate(stamps):
             twist = m.geometry_msgs__msg__Twist(
@@ -96,8 +101,8 @@ def write_command_bag(
                 )
                 message = m.geometry_msgs__msg__TwistStamped(header=header, twist=twist)
             writer.write(body, stamp_ns, typestore.serialize_cdr(message, twist_type))
-            for connection, values in wheels:
+            for connection, values, count in wheels:
                 array = m.std_msgs__msg__Float64MultiArray(
-                    layout=layout, data=np.array([values[k]], dtype=np.float64)
+                    layout=layout, data=np.full(count, values[k], dtype=np.float64)
                 )
                 writer.write(connection, stamp_ns, typestore.serialize_cdr(array, array_type))

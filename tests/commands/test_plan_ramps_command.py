@@ -184,3 +184,63 @@ def test_reverse_segments_typed_unquoted_join_as_written(runner: CliRunner) -> N
     assert data["plan"] == "straight -1; reverse ccw 0.25 90"
     assert data["final_pose"]["x"] == pytest.approx(-1.25, abs=1e-12)
     assert data["final_pose"]["y"] == pytest.approx(-0.25, abs=1e-12)
+
+
+SLOW_CONTROLLER = """\
+controller_manager:
+  ros__parameters:
+    update_rate: 50
+    diff_drive_controller:
+      type: diff_drive_controller/DiffDriveController
+diff_drive_controller:
+  ros__parameters:
+    left_wheel_names: ["front_left_wheel_joint"]
+    right_wheel_names: ["front_right_wheel_joint"]
+    wheel_separation: 0.135
+    wheel_radius: 0.035
+    linear.x.max_acceleration: 0.05
+"""
+
+
+def simulate_json(runner: CliRunner, tmp_path: Path, *args: str) -> dict[str, Any]:
+    controllers = tmp_path / "controllers.yaml"
+    controllers.write_text(SLOW_CONTROLLER)
+    out = tmp_path / "states.csv"
+    result = runner.invoke(
+        main,
+        [
+            "simulate",
+            "--controllers",
+            str(controllers),
+            "--out",
+            str(out),
+            "--force",
+            "--json",
+            *args,
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    data: dict[str, Any] = json.loads(result.output)
+    odom = json.loads(runner.invoke(main, ["odom", str(out), "--json"]).output)
+    data["odom_final_pose"] = odom["final_pose"]
+    return data
+
+
+def test_the_seeds_step_plan_through_a_slow_controller_ends_centimetres_off(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    data = simulate_json(runner, tmp_path, "--steps")
+    assert 0.02 < data["offset"] < 0.05  # 36 mm with the bundled robot at 50 Hz
+    executed = data["executed_final_pose"]
+    # The joint states written are the executed ones: odometry of them ends there.
+    assert data["odom_final_pose"]["x"] == pytest.approx(executed["x"], abs=1e-9)
+    assert data["odom_final_pose"]["y"] == pytest.approx(executed["y"], abs=1e-9)
+
+
+def test_a_plan_ramped_by_the_controllers_limits_ends_where_planned(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    data = simulate_json(runner, tmp_path)
+    assert data["offset"] < 1e-9
+    assert data["odom_final_pose"]["x"] == pytest.approx(0.0, abs=1e-9)
+    assert data["odom_final_pose"]["y"] == pytest.approx(1.0, abs=1e-9)
