@@ -291,7 +291,7 @@ def limiters(draw: st.DrawFn) -> AxisLimits:
 commands = st.lists(st.floats(-5.0, 5.0), min_size=1, max_size=40)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=50, deadline=None)
 @given(limiters(), commands, st.floats(5.0, 200.0))
 def test_executed_commands_keep_velocity_acceleration_and_growing_jerk_limits(
     limiter: AxisLimits, stream: list[float], rate: float
@@ -340,7 +340,7 @@ def smooth_streams(draw: st.DrawFn) -> tuple[list[float], float, float, float]:
     return out, a_max * len(steps) * dt + 0.1, a_max, j_max
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(smooth_streams())
 def test_commands_within_every_limit_come_out_unchanged(
     case: tuple[list[float], float, float, float],

@@ -185,7 +185,7 @@ def test_bad_profile_input_raises_a_plan_error_naming_the_parameter(
     assert issubclass(ProfileError, PlanError)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(lengths, speeds, accels, st.floats(0.0, 1.0), st.floats(0.0, 1.0))
 def test_trapezoid_travels_the_length_within_its_limits(
     length: float, v_max: float, a_max: float, start: float, end: float
@@ -200,7 +200,7 @@ def test_trapezoid_travels_the_length_within_its_limits(
     assert_within(profile, v_max, a_max, None)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(lengths, speeds, accels, jerks)
 def test_scurve_travels_the_length_within_its_limits(
     length: float, v_max: float, a_max: float, j_max: float
@@ -213,7 +213,7 @@ def test_scurve_travels_the_length_within_its_limits(
     assert_within(profile, v_max, a_max, j_max)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=50, deadline=None)
 @given(lengths, speeds, accels, jerks)
 def test_scurve_position_velocity_and_acceleration_are_continuous(
     length: float, v_max: float, a_max: float, j_max: float
@@ -232,7 +232,7 @@ def test_scurve_position_velocity_and_acceleration_are_continuous(
         )
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=50, deadline=None)
 @given(lengths, speeds, accels, st.one_of(st.none(), jerks), st.floats(0.001, 0.999))
 def test_rest_to_rest_profiles_are_symmetric_under_time_reversal(
     length: float, v_max: float, a_max: float, j_max: float | None, fraction: float
@@ -253,7 +253,7 @@ def test_rest_to_rest_profiles_are_symmetric_under_time_reversal(
         )
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=50, deadline=None)
 @given(lengths, speeds, accels, st.floats(0.0, 1.0), st.floats(0.0, 1.0), st.floats(0.0, 1.0))
 def test_trapezoid_reversed_in_time_is_the_trapezoid_with_swapped_boundary_speeds(
     length: float, v_max: float, a_max: float, start: float, end: float, fraction: float
@@ -268,7 +268,7 @@ def test_trapezoid_reversed_in_time_is_the_trapezoid_with_swapped_boundary_speed
     assert backward.velocity(forward.duration - t) == pytest.approx(forward.velocity(t), abs=slack)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=50, deadline=None)
 @given(lengths, speeds, accels, st.one_of(st.none(), jerks))
 def test_time_optimal_profile_touches_a_limit(
     length: float, v_max: float, a_max: float, j_max: float | None
@@ -281,7 +281,7 @@ def test_time_optimal_profile_touches_a_limit(
     assert touches_speed or touches_accel or touches_jerk
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=50, deadline=None)
 @given(lengths, speeds, accels, jerks)
 def test_jerk_limit_only_lengthens_a_profile(
     length: float, v_max: float, a_max: float, j_max: float
@@ -332,7 +332,7 @@ def test_scurve_matches_ruckig_in_duration_and_position(
         assert profile.velocity(float(t)) == pytest.approx(velocity[0], rel=1e-9, abs=1e-9)
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(lengths, speeds, accels, jerks)
 def test_scurve_duration_equals_ruckigs_for_any_limits(
     length: float, v_max: float, a_max: float, j_max: float
@@ -409,7 +409,7 @@ def test_segment_bounds_match_their_geometry() -> None:
     )
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=30, deadline=None)
 @given(st.floats(0.05, 2.0), st.sampled_from(["cw", "ccw"]))
 def test_cw_and_ccw_arcs_of_equal_wheels_have_equal_bounds(radius: float, direction: str) -> None:
     limits = Limits(
@@ -419,7 +419,7 @@ def test_cw_and_ccw_arcs_of_equal_wheels_have_equal_bounds(radius: float, direct
     assert path_limits(BOT, limits, 1 / radius) == path_limits(BOT, limits, -1 / radius)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=50, deadline=None)
 @given(
     st.floats(-20.0, 20.0),
     st.floats(0.01, 5.0),

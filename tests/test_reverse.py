@@ -32,7 +32,7 @@ angles = st.floats(0.01, 6.0)
 durations = st.one_of(st.none(), st.floats(0.1, 100.0))
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=30, deadline=None)
 @given(radii, angles, st.sampled_from(["ccw", "cw"]), durations)
 def test_a_reverse_arc_is_the_other_forward_arc_mirrored_with_its_wheels_negated(
     radius: float, angle: float, direction: str, duration: float | None
