@@ -192,6 +192,10 @@ def plan_command(
         output_format = "json"
     if per_wheel and output_format != "ros2":
         warn("--wheels only changes --format ros2 (the wheels format is always per wheel)")
+    if stamped and (output_format in ("table", "csv", "wheels") or per_wheel) and not as_bag:
+        warn("--stamped changes Twist commands only (twist, json, ros2 and --bag)")
+    if frame_id != "base_link" and not stamped:
+        warn("--frame-id only applies to --stamped commands")
     check_topic("--cmd-vel-topic", cmd_vel_topic)
     check_topic("--left-topic", left_topic)
     check_topic("--right-topic", right_topic)

@@ -244,3 +244,18 @@ def test_a_plan_ramped_by_the_controllers_limits_ends_where_planned(
     assert data["offset"] < 1e-9
     assert data["odom_final_pose"]["x"] == pytest.approx(0.0, abs=1e-9)
     assert data["odom_final_pose"]["y"] == pytest.approx(1.0, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--stamped", "--format", "wheels"], "--stamped changes Twist commands only"),
+        (["--frame-id", "odom"], "--frame-id only applies to --stamped"),
+    ],
+)
+def test_stamped_options_that_change_nothing_say_so(
+    runner: CliRunner, args: list[str], message: str
+) -> None:
+    result = run(runner, *args)
+    assert result.exit_code == 0
+    assert f"warning: {message}" in result.stderr
