@@ -10,6 +10,8 @@ long as each segment boundary falls on a sample.
 Wheel positions are absolute joint angles (rad), as in sensor_msgs/JointState; the description's
 direction signs are applied, so a positive wheel-ground angle always rolls the robot forward.
 Nothing is lost across a skipped sample: the next good one is integrated from the last good one.
+A side with several wheels (a skid steer) counts as one wheel at the mean angle of its wheels, as
+diff_drive_controller averages a side's wheel feedback (:meth:`Odometry.update_joint_state`).
 
 The streaming path (:class:`Odometry`) uses plain floats and :mod:`math` only; NumPy is imported by
 :func:`integrate` alone.
@@ -19,8 +21,9 @@ from __future__ import annotations
 
 import math
 import operator
+from collections import deque
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Final
+from typing import Final
 
 from diffbot.batch_odometry import PoseSeries, integrate
 from diffbot.errors import ParameterError
@@ -36,9 +39,6 @@ from diffbot.ros.messages import (
     covariance_matrix,
 )
 
-if TYPE_CHECKING:
-    pass
-
 __all__ = [
     "DEFAULT_POSE_COVARIANCE",
     "DEFAULT_TWIST_COVARIANCE",
@@ -50,7 +50,7 @@ __all__ = [
     "integrate",
 ]
 
-#: Why a sample was skipped: the sample lacks one of the two wheel joints.
+#: Why a sample was skipped: the sample lacks every wheel joint of a side.
 SKIP_MISSING_JOINT: Final = "missing joint"
 #: Why a sample was skipped: a wheel position or the stamp is NaN or infinite.
 SKIP_NOT_FINITE: Final = "not finite"
@@ -87,9 +87,14 @@ class Odometry:
     exactly along the arc the wheels describe since the previous used sample.
 
     A sample is skipped, counted in :attr:`skipped` under its reason and otherwise ignored when it
-    lacks a wheel joint, holds a NaN or infinite value, or is not stamped after the previous used
-    sample. Wheel positions are absolute, so the motion during skipped samples is still accounted
-    for by the next used one.
+    lacks every wheel joint of a side, holds a NaN or infinite value, or is not stamped after the
+    previous used sample. Wheel positions are absolute, so the motion during skipped samples is
+    still accounted for by the next used one.
+
+    The velocity (:attr:`twist`) is the displacement over the time of the last
+    ``velocity_rolling_window_size`` steps: with the default 1, over the last step alone; with
+    more, a step whose stamp comes a moment after the previous one (a tiny gap, which would make
+    the one-step estimate spike) weighs only as much as its time.
 
     Example::
 
@@ -107,9 +112,12 @@ class Odometry:
         child_frame_id: the robot's frame (``base_link``).
         pose_covariance: diagonal of the pose covariance (x, y, z, roll, pitch, yaw).
         twist_covariance: diagonal of the twist covariance.
+        velocity_rolling_window_size: how many of the last steps the velocity estimate spans
+            (diff_drive_controller's parameter of that name); 1 = the last step alone.
 
     Raises:
-        ParameterError: a non-finite initial pose or a bad covariance diagonal.
+        ParameterError: a non-finite initial pose, a bad covariance diagonal or a window size
+            that is not a whole number >= 1.
     """
 
     def __init__(
@@ -123,6 +131,7 @@ class Odometry:
         child_frame_id: str = "base_link",
         pose_covariance: Sequence[float] = DEFAULT_POSE_COVARIANCE,
         twist_covariance: Sequence[float] = DEFAULT_TWIST_COVARIANCE,
+        velocity_rolling_window_size: int = 1,
     ) -> None:
         self.params = params
         self.frame_id = frame_id
@@ -131,6 +140,17 @@ class Odometry:
         self.twist_covariance = covariance_matrix(twist_covariance, "twist covariance")
         self._left_joint = params.left_joint
         self._right_joint = params.right_joint
+        self._left_joints = params.left_joints
+        self._right_joints = params.right_joints
+        self._several = len(params.left_joints) > 1 or len(params.right_joints) > 1
+        self._left_indices: tuple[int, ...] = ()
+        self._right_indices: tuple[int, ...] = ()
+        self._reach = 0
+        self._window = _window_size(velocity_rolling_window_size)
+        #: The last steps' (ds, dθ, dt), when the velocity spans more than one step.
+        self._steps: deque[tuple[float, float, float]] | None = (
+            deque(maxlen=self._window) if self._window > 1 else None
+        )
         left_radius, right_radius = params.radii
         self._left_scale = params.left_sign * left_radius
         self._right_scale = params.right_sign * right_radius
@@ -141,17 +161,27 @@ class Odometry:
         self._right_index = -1
         self._samples = 0
         self._skipped: dict[str, int] = {}
+        self._left = self._right = 0.0
+        self._stamp: float | None = None
+        self._stamp_ns: int | None = None
         self.reset(x, y, theta)
 
-    def reset(self, x: float = 0.0, y: float = 0.0, theta: float = 0.0) -> None:
-        """Put the robot at a pose; the next sample sets a new encoder baseline.
+    def reset(
+        self, x: float = 0.0, y: float = 0.0, theta: float = 0.0, *, new_baseline: bool = False
+    ) -> None:
+        """Put the robot at a pose, keeping the encoder baseline.
 
-        The pose, twist and distance start afresh; the sample counters keep counting.
+        The pose, twist (and its window) and distance start afresh; the next sample moves the
+        robot from this pose by the wheel motion since the last used sample, so no step is lost
+        (as diff_drive_controller's ``set_odometry``). Before the first sample, the first sample
+        still sets the baseline. The sample counters keep counting.
 
         Args:
             x: x (m) in the odom frame.
             y: y (m).
             theta: heading (rad).
+            new_baseline: forget the last sample instead: the next sample sets a new baseline
+                and may carry any stamp (to replay a recording again from its start).
 
         Raises:
             ParameterError: a value is NaN or infinite.
@@ -166,10 +196,13 @@ class Odometry:
         self._angular = 0.0
         self._distance = 0.0
         self._heading0 = theta
-        self._left = self._left0 = 0.0
-        self._right = self._right0 = 0.0
-        self._stamp: float | None = None
-        self._stamp_ns: int | None = None
+        self._left0 = self._left
+        self._right0 = self._right
+        if new_baseline:
+            self._stamp = None
+            self._stamp_ns = None
+        if self._steps is not None:
+            self._steps.clear()
 
     def update(
         self,
@@ -255,14 +288,30 @@ class Odometry:
             (right - self._right0) * self._right_scale - (left - self._left0) * self._left_scale
         ) * self._turn + self._heading0
         self._distance += abs(ds)
-        self._linear = ds / dt
-        self._angular = 2.0 * half / dt
+        if self._steps is None:
+            self._linear = ds / dt
+            self._angular = 2.0 * half / dt
+        else:
+            self._average(ds, 2.0 * half, dt)
         self._left = left
         self._right = right
         self._stamp = stamp
         self._stamp_ns = stamp_ns
         self._samples += 1
         return True
+
+    def _average(self, ds: float, turn: float, dt: float) -> None:
+        """Velocity over the window: the sums of its displacements over the sum of its times."""
+        steps = self._steps
+        assert steps is not None
+        steps.append((ds, turn, dt))
+        distance = heading = time = 0.0
+        for step_ds, step_turn, step_dt in steps:  # oldest first
+            distance += step_ds
+            heading += step_turn
+            time += step_dt
+        self._linear = distance / time
+        self._angular = heading / time
 
     def _check_stamp_ns(self, stamp: float | None, stamp_ns: int) -> int | None:
         """``stamp_ns`` as an int, or None (the sample skipped) when it is outside int64."""
@@ -292,6 +341,15 @@ class Odometry:
         The wheel joints are found by name, in any order, among any other joints. The lookup is
         cached, so a stream whose messages list the same names costs one list comparison.
 
+        A side with several joints (``params.left_joints``, ``params.right_joints``) gives the
+        mean of the positions of its joints that the message holds: those joints' positions
+        added one by one in the order of ``params.left_joints`` (``right_joints``), the sum
+        divided by their count, in float64. A joint holds a position when its name is in
+        ``names`` (its first occurrence) and ``positions`` reaches its index. The sample is
+        skipped as ``missing joint`` only when no joint of a side holds one; a NaN or infinite
+        position of any present joint skips it as ``not finite``. With one joint per side the
+        mean is that joint's position, unchanged.
+
         Args:
             names: the message's ``name`` field.
             positions: its ``position`` field (rad), parallel to ``names``.
@@ -301,13 +359,16 @@ class Odometry:
                 ``stamp``.
 
         Returns:
-            True when the sample was used, False when it was skipped (a wheel joint missing or
-            without a position, a NaN or infinite value, a stamp not after the previous one).
+            True when the sample was used, False when it was skipped (every joint of a side
+            missing or without a position, a NaN or infinite value, a stamp not after the
+            previous one).
 
         Raises:
             ParameterError: neither or both of ``stamp`` and ``stamp_ns`` given, or a
                 ``stamp_ns`` that is not an integer.
         """
+        if self._several:
+            return self._update_sides(names, positions, stamp, stamp_ns)
         cached = self._names
         if names is not cached:
             if type(names) is not list and type(names) is not tuple:
@@ -332,6 +393,47 @@ class Odometry:
         if stamp_ns is None:
             return self.update(left, right, stamp)
         return self.update(left, right, stamp, stamp_ns=stamp_ns)
+
+    def _update_sides(
+        self,
+        names: Sequence[str],
+        positions: Sequence[float],
+        stamp: float | None,
+        stamp_ns: int | None,
+    ) -> bool:
+        """update_joint_state for sides of several wheels: each side at its wheels' mean."""
+        cached = self._names
+        if names is not cached:
+            if type(names) is not list and type(names) is not tuple:
+                names = list(names)
+            if names != cached:
+                left_indices = _indices(names, self._left_joints)
+                right_indices = _indices(names, self._right_joints)
+                if not left_indices or not right_indices:
+                    self._skip(SKIP_MISSING_JOINT)
+                    return False
+                self._names = names if type(names) is tuple else list(names)
+                self._left_indices = left_indices
+                self._right_indices = right_indices
+                self._reach = max(*left_indices, *right_indices) + 1
+        left_indices, right_indices = self._left_indices, self._right_indices
+        if len(positions) < self._reach:  # joints named without a position count as absent
+            size = len(positions)
+            left_indices = tuple(i for i in left_indices if i < size)
+            right_indices = tuple(i for i in right_indices if i < size)
+            if not left_indices or not right_indices:
+                self._skip(SKIP_MISSING_JOINT)
+                return False
+        left = _mean(positions, left_indices)
+        right = _mean(positions, right_indices)
+        if stamp_ns is None:
+            return self.update(left, right, stamp)
+        return self.update(left, right, stamp, stamp_ns=stamp_ns)
+
+    @property
+    def velocity_rolling_window_size(self) -> int:
+        """How many of the last steps the velocity estimate spans."""
+        return self._window
 
     def _skip(self, reason: str) -> None:
         self._skipped[reason] = self._skipped.get(reason, 0) + 1
@@ -435,3 +537,29 @@ class Odometry:
                 ),
             ),
         )
+
+
+def _window_size(value: int) -> int:
+    """``value`` as a window size (a whole number >= 1), or ParameterError."""
+    try:
+        size = operator.index(value)
+    except TypeError:
+        size = 0
+    if isinstance(value, bool) or size < 1:
+        raise ParameterError(
+            f"velocity_rolling_window_size must be a whole number >= 1, got {value!r}"
+        )
+    return size
+
+
+def _indices(names: Sequence[str], joints: tuple[str, ...]) -> tuple[int, ...]:
+    """Where each of ``joints`` first appears in ``names`` (in the order of ``joints``)."""
+    return tuple(names.index(joint) for joint in joints if joint in names)
+
+
+def _mean(positions: Sequence[float], indices: tuple[int, ...]) -> float:
+    """The mean of ``positions`` at ``indices``: summed in that order, then divided by the count."""
+    total = float(positions[indices[0]])
+    for i in indices[1:]:
+        total += float(positions[i])
+    return total / len(indices)

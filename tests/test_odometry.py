@@ -350,10 +350,10 @@ def test_joint_states_with_numpy_positions_and_tuple_names_are_accepted() -> Non
 # Reset, messages, transform
 
 
-def test_reset_moves_the_robot_and_sets_a_new_baseline() -> None:
+def test_reset_with_a_new_baseline_moves_the_robot_and_forgets_the_last_sample() -> None:
     odom = Odometry(BOT)
     run(odom, [0.0, 1.0], [0.0, 3.0], [0.0, 5.0])
-    odom.reset(1.0, 2.0, 3.0)
+    odom.reset(1.0, 2.0, 3.0, new_baseline=True)
     assert odom.pose == Pose(1.0, 2.0, 3.0)
     assert odom.twist == (0.0, 0.0)
     assert odom.distance == 0.0
