@@ -359,25 +359,82 @@ def within_limit(params: DiffDriveParams, speeds: WheelSpeeds, limit: float | No
 
 
 def saturate(
-    params: DiffDriveParams, speeds: WheelSpeeds, limit: float | None = None
+    params: DiffDriveParams,
+    speeds: WheelSpeeds,
+    limit: float | None = None,
+    *,
+    preserve_turning_radius: bool = True,
+    linear_range: tuple[float, float] | None = None,
+    angular_range: tuple[float, float] | None = None,
 ) -> WheelSpeeds:
-    """Scale both wheels by one factor so the faster one is within the limit.
+    """Bring wheel speeds within the wheel limit and, if given, body velocity ranges.
 
-    Scaling both wheels alike keeps their ratio, so the robot keeps its turning radius and only
-    slows down along the same curve (limiting v and w separately, as some controllers do, bends
-    the path instead).
+    With ``preserve_turning_radius`` (the default) both wheels are scaled by one factor, the
+    smallest that any limit asks for, so the robot keeps its turning radius and only slows down
+    along the same curve (the ``preserve_turning_radius`` of the PAL and Clearpath
+    diff_drive_controllers). Without it each limit clamps its own quantity, as ros2_controllers'
+    diff_drive_controller does (its SpeedLimiter clamps linear.x and angular.z apart): the linear
+    velocity into ``linear_range``, the angular one into ``angular_range``, then each wheel into
+    the wheel limit on its own; the path bends instead.
 
     Args:
         params: the robot; its ``max_wheel_speed`` is the limit unless ``limit`` is given.
         speeds: wheel speeds (rad/s).
-        limit: a limit (rad/s) to use instead of the robot's.
+        limit: a wheel limit (rad/s) to use instead of the robot's.
+        preserve_turning_radius: scale both wheels alike (True) or clamp apart (False).
+        linear_range: (lowest, highest) linear velocity (m/s), such as a controller's
+            ``linear.velocity_range``; None for no such limit.
+        angular_range: (lowest, highest) angular velocity (rad/s); None for no such limit.
 
     Returns:
-        The scaled wheel speeds (rad/s); unchanged when within the limit or there is none.
+        The limited wheel speeds (rad/s); unchanged when within every limit or there is none.
+        For arrays, samples with a non-finite speed come out NaN.
+
+    Raises:
+        ParameterError: a scalar speed that is NaN or infinite, a negative or non-finite wheel
+            limit, or a range that is NaN or does not hold 0.
     """
     lim = _limit_of(params, limit)
-    if lim is None:
-        return speeds
+    ranges = (_range_of("linear_range", linear_range), _range_of("angular_range", angular_range))
+    if ranges == (None, None):
+        if lim is None:
+            return speeds
+        if preserve_turning_radius:
+            return _scale_to_limit(speeds, lim)
+    peak = _peak(speeds)
+    if isinstance(peak, float | int):
+        if not math.isfinite(peak):
+            raise ParameterError(f"cannot saturate non-finite wheel speeds {tuple(speeds)!r}")
+        return _saturate_floats(params, speeds, _Limits(lim, ranges, preserve_turning_radius))
+    return _saturate_arrays(params, speeds, _Limits(lim, ranges, preserve_turning_radius))
+
+
+_Range = tuple[float, float] | None
+
+
+class _Limits(NamedTuple):
+    """What saturate() holds speeds to: the wheel limit, the (linear, angular) ranges, the mode."""
+
+    wheel: float | None
+    ranges: tuple[_Range, _Range]
+    preserve_turning_radius: bool
+
+
+def _range_of(name: str, bounds: tuple[float, float] | None) -> _Range:
+    """``bounds`` as two floats with low <= 0 <= high (infinite ends allowed), or None."""
+    if bounds is None:
+        return None
+    try:
+        low, high = (float(b) for b in bounds)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be two numbers (low, high), got {bounds!r}") from None
+    if not low <= 0.0 <= high:  # also refuses NaN
+        raise ParameterError(f"{name} must run from <= 0 to >= 0, got {bounds!r}")
+    return low, high
+
+
+def _scale_to_limit(speeds: WheelSpeeds, lim: float) -> WheelSpeeds:
+    """Both wheels scaled by one factor so the faster one is within ``lim``."""
     peak = _peak(speeds)
     if isinstance(peak, float | int):
         if not math.isfinite(peak):
@@ -391,3 +448,73 @@ def saturate(
         factor = np.where(peak > lim, lim / np.where(peak > 0, peak, 1.0), 1.0)
         factor = np.where(np.isfinite(peak), factor, np.nan)
         return WheelSpeeds(speeds.left * factor, speeds.right * factor)
+
+
+def _factor(value: float, bounds: _Range) -> float:
+    """The factor in [0, 1] that brings ``value`` into ``bounds`` by scaling it toward 0."""
+    if bounds is None:
+        return 1.0
+    low, high = bounds
+    if value > high:
+        return high / value
+    if value < low:
+        return low / value
+    return 1.0
+
+
+def _saturate_floats(params: DiffDriveParams, speeds: WheelSpeeds, limits: _Limits) -> WheelSpeeds:
+    lim, ranges, preserve = limits
+    twist = forward(params, speeds.left, speeds.right)
+    linear, angular = float(twist.linear), float(twist.angular)
+    if preserve:
+        scale = min(_factor(linear, ranges[0]), _factor(angular, ranges[1]))
+        peak = float(_peak(speeds)) * scale
+        if lim is not None and peak > lim:
+            scale *= lim / peak
+        if scale == 1.0:
+            return speeds
+        return WheelSpeeds(speeds.left * scale, speeds.right * scale)
+    clamped = (_clamp(linear, ranges[0]), _clamp(angular, ranges[1]))
+    if clamped != (linear, angular):
+        speeds = inverse(params, *clamped)
+    if lim is None:
+        return speeds
+    return WheelSpeeds(min(max(speeds.left, -lim), lim), min(max(speeds.right, -lim), lim))
+
+
+def _clamp(value: float, bounds: _Range) -> float:
+    return value if bounds is None else min(max(value, bounds[0]), bounds[1])
+
+
+def _saturate_arrays(params: DiffDriveParams, speeds: WheelSpeeds, limits: _Limits) -> WheelSpeeds:
+    lim, ranges, preserve = limits
+    import numpy as np
+
+    left = np.asarray(speeds.left, dtype=float)
+    right = np.asarray(speeds.right, dtype=float)
+    left, right = np.broadcast_arrays(left, right)
+    bad = ~(np.isfinite(left) & np.isfinite(right))
+    twist = forward(params, left, right)
+    linear, angular = np.asarray(twist.linear), np.asarray(twist.angular)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if preserve:
+            scale = np.ones(left.shape)
+            for value, bounds in ((linear, ranges[0]), (angular, ranges[1])):
+                if bounds is not None:
+                    low, high = bounds
+                    scale = np.minimum(scale, np.where(value > high, high / value, 1.0))
+                    scale = np.minimum(scale, np.where(value < low, low / value, 1.0))
+            if lim is not None:
+                peak = np.maximum(np.abs(left), np.abs(right)) * scale
+                scale = np.where(peak > lim, scale * (lim / np.where(peak > 0, peak, 1.0)), scale)
+            scale = np.where(bad, np.nan, scale)
+            return WheelSpeeds(left * scale, right * scale)
+        new_linear = linear if ranges[0] is None else np.clip(linear, *ranges[0])
+        new_angular = angular if ranges[1] is None else np.clip(angular, *ranges[1])
+        changed = (new_linear != linear) | (new_angular != angular)
+        wheels = inverse(params, new_linear, new_angular)
+        left = np.where(changed, wheels.left, left)
+        right = np.where(changed, wheels.right, right)
+        if lim is not None:
+            left, right = np.clip(left, -lim, lim), np.clip(right, -lim, lim)
+        return WheelSpeeds(np.where(bad, np.nan, left), np.where(bad, np.nan, right))

@@ -266,3 +266,141 @@ def test_direction_signs_must_be_integers(sign: object) -> None:
 def test_a_missing_radius_is_a_parameter_error() -> None:
     with pytest.raises(diffbot.ParameterError, match="wheel radius must be"):
         DiffDriveParams(None, 0.1)  # type: ignore[arg-type]
+
+
+# --- saturation with body velocity ranges, with and without keeping the turning radius -----
+
+#: The robot of ros2_controllers' test_diff_drive_controller.cpp fixture: b = 1.0 m, r = 0.1 m.
+RC_BOT = DiffDriveParams(wheel_radius=0.1, wheel_separation=1.0)
+HALF = (-0.5, 0.5)
+ranges = st.one_of(st.none(), st.tuples(st.floats(-3.0, 0.0), st.floats(0.0, 3.0)))
+
+
+def test_clamping_apart_gives_the_controllers_clamped_command() -> None:
+    """ros2_controllers test_diff_drive_controller.cpp, test_open_loop_odometry_with_clamped_input:
+    linear and angular max_velocity 0.5 turn a command of 5.0 into 0.5 on each axis apart."""
+    for (linear, angular), expected in (((5.0, 0.0), (0.5, 0.0)), ((0.0, 5.0), (0.0, 0.5))):
+        out = diffbot.saturate(
+            RC_BOT,
+            diffbot.inverse(RC_BOT, linear, angular),
+            preserve_turning_radius=False,
+            linear_range=HALF,
+            angular_range=HALF,
+        )
+        twist = diffbot.forward(RC_BOT, out.left, out.right)
+        assert twist.linear == pytest.approx(expected[0], abs=1e-12)
+        assert twist.angular == pytest.approx(expected[1], abs=1e-12)
+
+
+def test_clamping_apart_bends_the_path_where_one_factor_keeps_it() -> None:
+    # 5 m/s along a 5 m radius (1 rad/s), limits 0.5 each: apart 0.5 and 0.5 (radius 1 m),
+    # together both scaled by 0.1 (0.5 m/s, 0.1 rad/s: radius still 5 m).
+    wheels = diffbot.inverse(RC_BOT, 5.0, 1.0)
+    apart = diffbot.saturate(
+        RC_BOT, wheels, preserve_turning_radius=False, linear_range=HALF, angular_range=HALF
+    )
+    kept = diffbot.saturate(RC_BOT, wheels, linear_range=HALF, angular_range=HALF)
+    assert apart.left == pytest.approx(2.5, abs=1e-12)
+    assert apart.right == pytest.approx(7.5, abs=1e-12)
+    assert kept.left == pytest.approx(4.5, abs=1e-12)
+    assert kept.right == pytest.approx(5.5, abs=1e-12)
+
+
+def test_clamping_apart_clamps_each_wheel_to_the_wheel_limit_on_its_own() -> None:
+    limited = SEED.replace(max_wheel_speed=5.0)
+    out = diffbot.saturate(limited, WheelSpeeds(10.0, 2.0), preserve_turning_radius=False)
+    assert out == (5.0, 2.0)
+    assert diffbot.saturate(limited, WheelSpeeds(10.0, 2.0)) == (5.0, 1.0)
+
+
+@given(robots(), speeds, speeds, ranges, ranges)
+def test_one_factor_keeps_the_radius_and_meets_every_limit(
+    params: DiffDriveParams,
+    v: float,
+    w: float,
+    linear_range: tuple[float, float] | None,
+    angular_range: tuple[float, float] | None,
+) -> None:
+    wheels = diffbot.inverse(params, v, w)
+    out = diffbot.saturate(params, wheels, linear_range=linear_range, angular_range=angular_range)
+    assert diffbot.within_limit(params, out)
+    assert out.left * wheels.right == pytest.approx(out.right * wheels.left, abs=1e-9)
+    twist = diffbot.forward(params, out.left, out.right)
+    for value, bounds in ((twist.linear, linear_range), (twist.angular, angular_range)):
+        if bounds is not None:
+            assert bounds[0] - 1e-9 <= value <= bounds[1] + 1e-9
+
+
+@given(robots(), speeds, speeds, ranges, ranges)
+def test_clamping_apart_puts_each_axis_in_its_range_and_each_wheel_in_the_limit(
+    params: DiffDriveParams,
+    v: float,
+    w: float,
+    linear_range: tuple[float, float] | None,
+    angular_range: tuple[float, float] | None,
+) -> None:
+    wheels = diffbot.inverse(params, v, w)
+    out = diffbot.saturate(
+        params,
+        wheels,
+        preserve_turning_radius=False,
+        linear_range=linear_range,
+        angular_range=angular_range,
+    )
+    assert diffbot.within_limit(params, out)
+    if params.max_wheel_speed is None:  # no wheel clamp afterwards: each axis is exactly clamped
+        twist = diffbot.forward(params, out.left, out.right)
+        for value, before, bounds in (
+            (twist.linear, v, linear_range),
+            (twist.angular, w, angular_range),
+        ):
+            lo, hi = bounds if bounds is not None else (-math.inf, math.inf)
+            assert value == pytest.approx(min(max(before, lo), hi), abs=1e-9)
+
+
+@given(robots(), st.booleans(), ranges, ranges)
+def test_saturating_arrays_equals_saturating_each_sample(
+    params: DiffDriveParams,
+    preserve: bool,
+    linear_range: tuple[float, float] | None,
+    angular_range: tuple[float, float] | None,
+) -> None:
+    left = np.array([0.0, 3.0, -40.0, 25.0, 7.5])
+    right = np.array([0.0, -3.0, 10.0, 30.0, 7.5])
+    options = {
+        "preserve_turning_radius": preserve,
+        "linear_range": linear_range,
+        "angular_range": angular_range,
+    }
+    out = diffbot.saturate(params, WheelSpeeds(left, right), **options)  # type: ignore[arg-type]
+    for k in range(left.size):
+        one = diffbot.saturate(params, WheelSpeeds(float(left[k]), float(right[k])), **options)  # type: ignore[arg-type]
+        assert out.left[k] == pytest.approx(one.left, abs=1e-12)
+        assert out.right[k] == pytest.approx(one.right, abs=1e-12)
+
+
+def test_saturating_arrays_apart_leaves_non_finite_samples_nan() -> None:
+    out = diffbot.saturate(
+        RC_BOT,
+        WheelSpeeds(np.array([1.0, np.inf]), np.array([1.0, 0.0])),
+        preserve_turning_radius=False,
+        linear_range=HALF,
+    )
+    assert out.left[0] == pytest.approx(1.0, abs=1e-12)
+    assert np.isnan(out.left[1])
+    assert np.isnan(out.right[1])
+
+
+@pytest.mark.parametrize(
+    ("bounds", "match"),
+    [
+        ((0.1, 0.5), "must run from <= 0 to >= 0"),
+        ((-0.5, -0.1), "must run from <= 0 to >= 0"),
+        ((math.nan, 0.5), "must run from <= 0 to >= 0"),
+        ((0.5,), "must be two numbers"),
+        (("a", "b"), "must be two numbers"),
+    ],
+)
+def test_a_range_without_zero_or_two_numbers_is_refused(bounds: object, match: str) -> None:
+    with pytest.raises(diffbot.ParameterError, match=f"linear_range {match}"):
+        diffbot.saturate(RC_BOT, WheelSpeeds(1.0, 1.0), linear_range=bounds)  # type: ignore[arg-type]
