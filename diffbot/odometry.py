@@ -23,7 +23,7 @@ import math
 import operator
 from collections import deque
 from collections.abc import Mapping, Sequence
-from typing import Final
+from typing import Final, cast
 
 from diffbot.batch_odometry import PoseSeries, integrate
 from diffbot.errors import ParameterError
@@ -138,18 +138,15 @@ class Odometry:
         self.child_frame_id = child_frame_id
         self.pose_covariance = covariance_matrix(pose_covariance, "pose covariance")
         self.twist_covariance = covariance_matrix(twist_covariance, "twist covariance")
-        self._left_joint = params.left_joint
-        self._right_joint = params.right_joint
-        self._left_joints = params.left_joints
-        self._right_joints = params.right_joints
-        self._several = len(params.left_joints) > 1 or len(params.right_joints) > 1
-        self._left_indices: tuple[int, ...] = ()
-        self._right_indices: tuple[int, ...] = ()
-        self._reach = 0
-        self._window = _window_size(velocity_rolling_window_size)
+        # Attributes read per message stay few (at most 30 in all): CPython keeps an instance's
+        # attributes in a fast inline layout only up to that many.
+        several = len(params.left_joints) > 1 or len(params.right_joints) > 1
+        #: Where a message's names put each side's joints (sides of several wheels only).
+        self._sides = _SideIndices() if several else None
         #: The last steps' (ds, dθ, dt), when the velocity spans more than one step.
+        window = _window_size(velocity_rolling_window_size)
         self._steps: deque[tuple[float, float, float]] | None = (
-            deque(maxlen=self._window) if self._window > 1 else None
+            deque(maxlen=window) if window > 1 else None
         )
         left_radius, right_radius = params.radii
         self._left_scale = params.left_sign * left_radius
@@ -367,16 +364,16 @@ class Odometry:
             ParameterError: neither or both of ``stamp`` and ``stamp_ns`` given, or a
                 ``stamp_ns`` that is not an integer.
         """
-        if self._several:
-            return self._update_sides(names, positions, stamp, stamp_ns)
+        if self._sides is not None:
+            return self._update_sides(self._sides, names, positions, stamp, stamp_ns)
         cached = self._names
         if names is not cached:
             if type(names) is not list and type(names) is not tuple:
                 names = list(names)
             if names != cached:
                 try:
-                    left_index = names.index(self._left_joint)
-                    right_index = names.index(self._right_joint)
+                    left_index = names.index(self.params.left_joint)
+                    right_index = names.index(self.params.right_joint)
                 except ValueError:
                     self._skip(SKIP_MISSING_JOINT)
                     return False
@@ -396,6 +393,7 @@ class Odometry:
 
     def _update_sides(
         self,
+        sides: _SideIndices,
         names: Sequence[str],
         positions: Sequence[float],
         stamp: float | None,
@@ -407,17 +405,17 @@ class Odometry:
             if type(names) is not list and type(names) is not tuple:
                 names = list(names)
             if names != cached:
-                left_indices = _indices(names, self._left_joints)
-                right_indices = _indices(names, self._right_joints)
+                left_indices = _indices(names, self.params.left_joints)
+                right_indices = _indices(names, self.params.right_joints)
                 if not left_indices or not right_indices:
                     self._skip(SKIP_MISSING_JOINT)
                     return False
                 self._names = names if type(names) is tuple else list(names)
-                self._left_indices = left_indices
-                self._right_indices = right_indices
-                self._reach = max(*left_indices, *right_indices) + 1
-        left_indices, right_indices = self._left_indices, self._right_indices
-        if len(positions) < self._reach:  # joints named without a position count as absent
+                sides.left = left_indices
+                sides.right = right_indices
+                sides.reach = max(*left_indices, *right_indices) + 1
+        left_indices, right_indices = sides.left, sides.right
+        if len(positions) < sides.reach:  # joints named without a position count as absent
             size = len(positions)
             left_indices = tuple(i for i in left_indices if i < size)
             right_indices = tuple(i for i in right_indices if i < size)
@@ -433,7 +431,7 @@ class Odometry:
     @property
     def velocity_rolling_window_size(self) -> int:
         """How many of the last steps the velocity estimate spans."""
-        return self._window
+        return 1 if self._steps is None else cast(int, self._steps.maxlen)
 
     def _skip(self, reason: str) -> None:
         self._skipped[reason] = self._skipped.get(reason, 0) + 1
@@ -537,6 +535,17 @@ class Odometry:
                 ),
             ),
         )
+
+
+class _SideIndices:
+    """Where the last looked-up names put each side's joints, and how far positions must reach."""
+
+    __slots__ = ("left", "reach", "right")
+
+    def __init__(self) -> None:
+        self.left: tuple[int, ...] = ()
+        self.right: tuple[int, ...] = ()
+        self.reach = 0
 
 
 def _window_size(value: int) -> int:
