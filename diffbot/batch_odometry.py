@@ -49,10 +49,15 @@ def integrate(
     Equal to feeding the samples one by one to :class:`Odometry`: the same formulas, with sums
     in the same order; any difference comes from NumPy's and libm's sin and cos (an ulp or so).
 
+    A side of several wheels is given as one column per wheel, shape (n, k): each sample's side
+    angle is then the mean of its k wheels, added column by column from the first and divided
+    by k, as :meth:`Odometry.update_joint_state` averages a side (every wheel present here).
+
     Args:
         params: the robot.
-        left_positions: the left wheel joint's absolute angles (rad), shape (n,).
-        right_positions: the right wheel joint's angles (rad), shape (n,).
+        left_positions: the left wheel joint's absolute angles (rad), shape (n,), or the left
+            wheels' angles, shape (n, k).
+        right_positions: the right wheel joint's angles (rad), shape (n,) or (n, k).
         x0: x (m) at the first sample, which sets the encoder baseline.
         y0: y (m) at the first sample.
         theta0: heading (rad) at the first sample.
@@ -62,7 +67,7 @@ def integrate(
         heading (it counts whole turns); wrap it with :func:`diffbot.norm_angle` if needed.
 
     Raises:
-        ParameterError: the arrays are not one-dimensional and of equal length, hold something
+        ParameterError: the arrays are not of shape (n,) or (n, k) with one n, hold something
             other than real numbers (complex, text), or a value is NaN or infinite (the message
             names the first such sample) or so large that a displacement overflows.
     """
@@ -70,10 +75,12 @@ def integrate(
 
     left = _wheel_array(left_positions, "left")
     right = _wheel_array(right_positions, "right")
+    shapes = (left.shape, right.shape)
+    left, right = _side_mean(left), _side_mean(right)
     if left.ndim != 1 or right.ndim != 1 or left.shape != right.shape:
         raise ParameterError(
-            f"wheel positions must be two 1-D arrays of equal length, got shapes "
-            f"{left.shape} and {right.shape}"
+            f"wheel positions must be two arrays of n samples, shape (n,) or (n, wheels), "
+            f"got shapes {shapes[0]} and {shapes[1]}"
         )
     start = (float(x0), float(y0), float(theta0))
     if not all(math.isfinite(v) for v in start):
@@ -175,6 +182,21 @@ def _wheel_array(values: ArrayLike, side: str) -> NDArray[np.float64]:
         raise ParameterError(
             f"{side} wheel positions must be real numbers (rad): {' '.join(str(err).split())}"
         ) from None
+
+
+def _side_mean(wheels: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A side's angle per sample from one column per wheel (shape (n, k)); 1-D arrays as given.
+
+    The columns are added from the first, then divided by their count: the order and rounding
+    of Odometry.update_joint_state's mean, so both agree to the last bit.
+    """
+    if wheels.ndim != 2 or wheels.shape[1] == 0:
+        return wheels
+    total: NDArray[np.float64] = wheels[:, 0].copy()
+    for column in range(1, wheels.shape[1]):
+        total += wheels[:, column]
+    total /= wheels.shape[1]
+    return total
 
 
 def _check_finite(left: NDArray[np.float64], right: NDArray[np.float64]) -> None:

@@ -491,8 +491,9 @@ def test_batch_of_one_sample_is_the_start_pose_and_of_none_is_empty() -> None:
 @pytest.mark.parametrize(
     ("left", "right", "match"),
     [
-        ([0.0, 1.0], [0.0], r"equal length, got shapes \(2,\) and \(1,\)"),
-        ([[0.0, 1.0]], [[0.0, 1.0]], r"1-D arrays"),
+        ([0.0, 1.0], [0.0], r"arrays of n samples, .* got shapes \(2,\) and \(1,\)"),
+        ([[[0.0, 1.0]]], [[[0.0, 1.0]]], r"shape \(n,\) or \(n, wheels\)"),
+        ([[0.0, 1.0]], [0.0, 1.0], r"got shapes \(1, 2\) and \(2,\)"),
         ([0.0, math.nan, 2.0], [0.0, 1.0, 2.0], "must be finite"),
         ([0.0, 1.0, 2.0], [0.0, 1.0, math.inf], "must be finite"),
         ([0.0, 1e308, -1e308], [0.0, 0.0, 0.0], "overflow"),

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -19,7 +20,7 @@ from wheel_motion import Segment, angle_error, assert_pose_close, closed_form, w
 
 import diffbot
 from diffbot.kinematics import DiffDriveParams, Pose, forward, inverse
-from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry
+from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry, integrate
 
 #: A skid steer with two wheels per side: the course's geometry, front and rear joints.
 SKID = BOT.replace(
@@ -130,6 +131,32 @@ def test_a_nan_of_one_wheel_skips_the_sample_as_not_finite() -> None:
     assert not odom.update_joint_state(NAMES, [0.0, 1.0, 1.0, math.nan, 1.0], 1.0)
     assert odom.skipped == {SKIP_NOT_FINITE: 1}
     assert odom.pose == Pose(0.0, 0.0, 0.0)
+
+
+@given(segments_st, st.floats(-0.5, 0.5))
+def test_batch_skid_steer_averages_like_streaming_and_like_identical_pairs(
+    segments: list[Segment], offset: float
+) -> None:
+    stamps, lefts, rights = wheel_samples(BOT, segments)
+    left, right = np.array(lefts), np.array(rights)
+    # Identical pairs: the two-wheel result to the last bit.
+    pair = integrate(BOT, left, right)
+    skid = integrate(SKID, np.column_stack([left, left]), np.column_stack([right, right]))
+    for got, expected in zip(skid, pair, strict=True):
+        np.testing.assert_array_equal(got, expected)
+    # Rear wheels off by a constant: the mean the streaming odometry takes, sample by sample.
+    rear_left, rear_right = left + offset, right - offset
+    batch = integrate(
+        SKID, np.column_stack([left, rear_left]), np.column_stack([right, rear_right])
+    )
+    odom = Odometry(SKID)
+    for k, stamp in enumerate(stamps):
+        odom.update_joint_state(
+            NAMES, [0.0, lefts[k], rights[k], rear_left[k], rear_right[k]], stamp
+        )
+        assert batch.x[k] == pytest.approx(odom.state[0], abs=1e-12)
+        assert batch.y[k] == pytest.approx(odom.state[1], abs=1e-12)
+        assert batch.theta[k] == odom.state[2]  # linear in the angles: the same sums
 
 
 # --------------------------------------------------------------------------------------------
