@@ -9,7 +9,9 @@ docs/odometry-conformance.md.
 
 from __future__ import annotations
 
+import doctest
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,6 +32,7 @@ SKID = BOT.replace(
 FL, RL = SKID.left_joints
 FR, RR = SKID.right_joints
 NAMES = ["caster_joint", FL, FR, RL, RR]
+DOC = Path(__file__).resolve().parents[1] / "docs" / "odometry-conformance.md"
 
 segments_st = st.lists(
     st.tuples(st.floats(-0.5, 0.5), st.floats(-3.0, 3.0), st.floats(0.05, 5.0), st.integers(1, 20)),
@@ -357,3 +360,9 @@ def test_small_dt_steps_are_integrated_not_rejected() -> None:
     assert odom.update(1e-7, 1e-7, 1e-7)
     assert odom.pose.x == pytest.approx(1e-7, rel=1e-15)
     assert odom.twist.linear == pytest.approx(1.0, rel=1e-9)
+
+
+def test_the_conformance_page_examples_print_what_it_shows() -> None:
+    result = doctest.testfile(str(DOC), module_relative=False, optionflags=doctest.ELLIPSIS)
+    assert result.attempted >= 20
+    assert result.failed == 0
