@@ -364,13 +364,15 @@ class Odometry:
             ParameterError: neither or both of ``stamp`` and ``stamp_ns`` given, or a
                 ``stamp_ns`` that is not an integer.
         """
-        if self._sides is not None:
-            return self._update_sides(self._sides, names, positions, stamp, stamp_ns)
+        # Sides of several wheels leave this cache empty and take the branch on a miss: the
+        # two-wheel path, a node's per-message call, pays for no test of its own.
         cached = self._names
         if names is not cached:
             if type(names) is not list and type(names) is not tuple:
                 names = list(names)
             if names != cached:
+                if self._sides is not None:
+                    return self._update_sides(self._sides, names, positions, stamp, stamp_ns)
                 try:
                     left_index = names.index(self.params.left_joint)
                     right_index = names.index(self.params.right_joint)
@@ -400,20 +402,16 @@ class Odometry:
         stamp_ns: int | None,
     ) -> bool:
         """update_joint_state for sides of several wheels: each side at its wheels' mean."""
-        cached = self._names
-        if names is not cached:
-            if type(names) is not list and type(names) is not tuple:
-                names = list(names)
-            if names != cached:
-                left_indices = _indices(names, self.params.left_joints)
-                right_indices = _indices(names, self.params.right_joints)
-                if not left_indices or not right_indices:
-                    self._skip(SKIP_MISSING_JOINT)
-                    return False
-                self._names = names if type(names) is tuple else list(names)
-                sides.left = left_indices
-                sides.right = right_indices
-                sides.reach = max(*left_indices, *right_indices) + 1
+        if names != sides.names:
+            left_indices = _indices(names, self.params.left_joints)
+            right_indices = _indices(names, self.params.right_joints)
+            if not left_indices or not right_indices:
+                self._skip(SKIP_MISSING_JOINT)
+                return False
+            sides.names = names if type(names) is tuple else list(names)
+            sides.left = left_indices
+            sides.right = right_indices
+            sides.reach = max(*left_indices, *right_indices) + 1
         left_indices, right_indices = sides.left, sides.right
         if len(positions) < sides.reach:  # joints named without a position count as absent
             size = len(positions)
@@ -538,11 +536,12 @@ class Odometry:
 
 
 class _SideIndices:
-    """Where the last looked-up names put each side's joints, and how far positions must reach."""
+    """The last names looked up, where they put each side's joints, how far positions reach."""
 
-    __slots__ = ("left", "reach", "right")
+    __slots__ = ("left", "names", "reach", "right")
 
     def __init__(self) -> None:
+        self.names: list[str] | tuple[str, ...] | None = None
         self.left: tuple[int, ...] = ()
         self.right: tuple[int, ...] = ()
         self.reach = 0
