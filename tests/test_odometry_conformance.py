@@ -109,6 +109,19 @@ def test_a_joint_named_without_a_position_counts_as_absent() -> None:
     assert odom.pose.theta == pytest.approx(-2.0 * BOT.wheel_radius / BOT.wheel_separation)
 
 
+def test_a_skid_steer_names_list_changed_in_place_is_looked_up_again() -> None:
+    odom = Odometry(SKID)
+    names = [FL, FR, RL, RR]
+    assert odom.update_joint_state(names, [0.0, 0.0, 0.0, 0.0], stamp_ns=0)
+    names[0], names[1] = FR, FL  # the same list, now right first
+    assert odom.update_joint_state(names, [2.0, 0.0, 0.0, 2.0], stamp_ns=10**9)
+    reference = Odometry(BOT)
+    reference.update(0.0, 0.0, stamp_ns=0)
+    reference.update(0.0, 2.0, stamp_ns=10**9)  # left (0 + 0) / 2, right (2 + 2) / 2
+    assert odom.state == reference.state
+    assert odom.stamp_ns == 10**9
+
+
 @pytest.mark.parametrize(
     ("names", "positions"),
     [
