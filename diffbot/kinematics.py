@@ -371,8 +371,8 @@ def saturate(
 
     With ``preserve_turning_radius`` (the default) both wheels are scaled by one factor, the
     smallest that any limit asks for, so the robot keeps its turning radius and only slows down
-    along the same curve (the ``preserve_turning_radius`` of the PAL and Clearpath
-    diff_drive_controllers). Without it each limit clamps its own quantity, as ros2_controllers'
+    along the same curve (the ``preserve_turning_radius`` of PAL's diff_drive_controller fork).
+    Without it each limit clamps its own quantity, as ros2_controllers'
     diff_drive_controller does (its SpeedLimiter clamps linear.x and angular.z apart): the linear
     velocity into ``linear_range``, the angular one into ``angular_range``, then each wheel into
     the wheel limit on its own; the path bends instead.
@@ -496,7 +496,7 @@ def _saturate_arrays(params: DiffDriveParams, speeds: WheelSpeeds, limits: _Limi
     bad = ~(np.isfinite(left) & np.isfinite(right))
     twist = forward(params, left, right)
     linear, angular = np.asarray(twist.linear), np.asarray(twist.angular)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):  # tiny speeds overflow factors that np.where drops
         if preserve:
             scale = np.ones(left.shape)
             for value, bounds in ((linear, ranges[0]), (angular, ranges[1])):
