@@ -40,12 +40,16 @@ __all__ = [
     "DescriptionError",
     "DiffbotError",
     "DriveWheelError",
+    "ExpansionLimitError",
     "OutputError",
     "OutputExistsError",
+    "OutsideRootsError",
     "PackageNotFoundError",
     "ParameterError",
     "PlanError",
     "RecordingError",
+    "RefusedExpressionError",
+    "SandboxError",
     "XacroError",
 ]
 
@@ -92,6 +96,22 @@ class XacroError(DescriptionError):
 
 class PackageNotFoundError(DescriptionError):
     """A ``$(find PKG)`` or ``package://PKG`` refers to a package that is not known."""
+
+
+class SandboxError(DescriptionError):
+    """An untrusted description tried something the sandbox does not allow, or grew too large."""
+
+
+class RefusedExpressionError(SandboxError):
+    """An expression uses something outside the sandbox (a name, call, attribute or size)."""
+
+
+class OutsideRootsError(SandboxError):
+    """An untrusted description tried to read a file outside its own folders and packages."""
+
+
+class ExpansionLimitError(SandboxError):
+    """An expansion went over its limit of text, elements or nesting depth."""
 
 
 class DriveWheelError(DescriptionError):

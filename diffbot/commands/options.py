@@ -169,6 +169,7 @@ class RobotOptions:
     max_rpm: float | None
     controllers: str | None = None
     controller: str | None = None
+    trust: bool = False
 
     def with_path(self, path: str | None, xacro_args: Mapping[str, str]) -> RobotOptions:
         """The same options with a positional PATH and ``NAME:=VALUE`` tokens merged in."""
@@ -196,6 +197,7 @@ class RobotOptions:
             max_wheel_speed=None if self.max_rpm is None else rad_s_from_rpm(self.max_rpm),
             controllers=self.controllers,
             controller=self.controller,
+            trust=self.trust,
         )
         if not quiet:
             for message in params.warnings:
@@ -224,6 +226,14 @@ def option_group(
 
     return decorate
 
+
+#: ``--trust``: let the description run xacro's full Python (robot options and ``urdf``).
+trust_option = click.option(
+    "--trust",
+    is_flag=True,
+    help="Trust the description: let xacro run its Python and read any file (default: a "
+    "sandbox that reads only the description's folders and packages).",
+)
 
 _ROBOT_OPTIONS = [
     click.option(
@@ -272,6 +282,7 @@ _ROBOT_OPTIONS = [
         metavar="NAME",
         help="Which diff-drive controller of the file, when it holds several.",
     ),
+    trust_option,
 ]
 
 

@@ -19,6 +19,7 @@ from diffbot.commands.options import (
     parse_packages,
     robot_options,
     split_xacro_args,
+    trust_option,
     warn,
 )
 from diffbot.errors import EXIT_CHECK_FAILED
@@ -39,7 +40,7 @@ from diffbot.kinematics import (
     wheel_from_joint,
     within_limit,
 )
-from diffbot.urdf import BUNDLED_DESCRIPTION, expand
+from diffbot.urdf import expand
 
 __all__ = ["fk", "ik", "params", "urdf"]
 
@@ -86,12 +87,14 @@ def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
 @click.option("--package", "packages", metavar="NAME=DIR", multiple=True, help="Package directory.")
 @click.option("-o", "--output", metavar="FILE", help="Write to this file instead of stdout.")
 @click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
+@trust_option
 def urdf(
     tokens: tuple[str, ...],
     robot: str | None,
     packages: tuple[str, ...],
     output: str | None,
     force: bool,
+    trust: bool,
 ) -> None:
     """Print the expanded URDF of a description (like xacro).
 
@@ -109,14 +112,14 @@ def urdf(
     path = rest[0] if rest else robot
     if rest and robot and rest[0] != robot:
         fail(f"two robots given: {rest[0]!r} and --robot {robot!r}")
-    expansion = expand(path, xacro_args, parse_packages(packages))
+    expansion = expand(path, xacro_args, parse_packages(packages), trust=trust)
     for message in expansion.warnings:
         warn(message)
     if output is None:
         click.echo(expansion.urdf, nl=False)
     else:
-        source = Path(path) if path is not None else BUNDLED_DESCRIPTION
-        write_text_atomic(Path(output), expansion.urdf, force=force, inputs=[source])
+        # never over any file the description was read from, not only the top one
+        write_text_atomic(Path(output), expansion.urdf, force=force, inputs=expansion.files)
 
 
 def _speeds_json(params: DiffDriveParams, joints: WheelSpeeds) -> dict[str, Any]:

@@ -10,7 +10,30 @@ from typing import TextIO
 
 from diffbot.errors import DiffbotError
 
-__all__ = ["open_text", "read_text"]
+__all__ = ["check_regular", "open_text", "read_text"]
+
+
+def check_regular(
+    path: str | os.PathLike[str], error: type[DiffbotError], kind: str, *, name: str | None = None
+) -> None:
+    """Refuse, by its type and before it is opened, anything but an existing regular file.
+
+    A FIFO would block its reader and a device (``/dev/zero``) feed it endless data.
+
+    Raises:
+        error: the file is missing, a directory, a FIFO, socket or device, or cannot be examined.
+    """
+    name = os.fspath(path) if name is None else name
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        raise error(f"{name}: no such file") from None
+    except OSError as err:
+        raise error(f"{name}: cannot read ({err.strerror})") from None
+    if stat.S_ISDIR(mode):
+        raise error(f"{name}: is a directory, not {kind}")
+    if not stat.S_ISREG(mode):
+        raise error(f"{name}: not a regular file (a FIFO, socket or device), not {kind}")
 
 
 @contextlib.contextmanager
@@ -39,14 +62,15 @@ def open_text(
             the caller reads it).
     """
     name = os.fspath(path) if name is None else name
+    check_regular(path, error, kind, name=name)
     try:
-        mode = os.stat(path).st_mode
-        if stat.S_ISDIR(mode):
-            raise IsADirectoryError
-        if not stat.S_ISREG(mode):
+        # Opened without blocking and checked again, in case the file was swapped for a FIFO.
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            os.close(fd)
             raise error(f"{name}: not a regular file (a FIFO, socket or device), not {kind}")
         # a BOM is not part of the content
-        with open(path, encoding="utf-8-sig", newline=newline) as handle:
+        with open(fd, encoding="utf-8-sig", newline=newline) as handle:
             yield handle
     except FileNotFoundError:
         raise error(f"{name}: no such file") from None

@@ -48,6 +48,7 @@ def load_params(
     max_wheel_speed: float | None = None,
     controllers: str | os.PathLike[str] | None = None,
     controller: str | None = None,
+    trust: bool = False,
 ) -> DiffDriveParams:
     """Robot parameters from a URDF/xacro description and its controller configuration.
 
@@ -70,6 +71,8 @@ def load_params(
         max_wheel_speed: override of the motor limit (rad/s).
         controllers: a ros2_control controllers YAML file.
         controller: which diff-drive controller in it, when it holds several.
+        trust: let the description run xacro's full Python and read any file (see
+            :func:`expand`); off by default, for descriptions from anywhere.
 
     Returns:
         The robot's :class:`DiffDriveParams`.
@@ -80,7 +83,7 @@ def load_params(
         ParameterError: an override or derived value is not a positive finite number.
     """
     source = str(path) if path is not None else "bundled diffbot"
-    expansion = expand(path, args, packages)
+    expansion = expand(path, args, packages, trust=trust)
     root = ElementTree.fromstring(expansion.urdf)
     warnings = list(expansion.warnings)
     config = find_controller(root, controllers, controller, warnings)

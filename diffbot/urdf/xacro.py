@@ -1,6 +1,7 @@
 """xacro expansion without ROS: ``$(find)`` from given package folders, warnings collected.
 
-xacro keeps its state in module globals, so expansions are serialised under one lock.
+Descriptions are untrusted unless the caller vouches for them (``trust``): they expand in the
+sandbox of :mod:`diffbot.urdf.sandbox`, which also bounds the work and records the files read.
 """
 
 from __future__ import annotations
@@ -9,14 +10,13 @@ import contextlib
 import io
 import os
 import re
-import threading
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
-from diffbot.errors import DescriptionError, PackageNotFoundError, XacroError
+from diffbot.errors import DescriptionError, PackageNotFoundError
 from diffbot.formats.text import one_line
 from diffbot.io.textfile import read_text
 
@@ -34,10 +34,6 @@ BUNDLED_PACKAGES: Mapping[str, Path] = {
 }
 
 
-# xacro keeps its state in module globals, so expansions are serialised.
-_XACRO_LOCK = threading.Lock()
-
-
 @dataclass(frozen=True)
 class Expansion:
     """An expanded description.
@@ -45,10 +41,13 @@ class Expansion:
     Attributes:
         urdf: the URDF XML text.
         warnings: what xacro warned about, and xacro arguments the description never declares.
+        files: every file the description was read from: the file itself, then what it
+            included and the YAML data it loaded.
     """
 
     urdf: str
     warnings: tuple[str, ...] = ()
+    files: tuple[Path, ...] = ()
 
 
 class _RecordingArgs(dict[str, str]):
@@ -124,19 +123,12 @@ def _check_file(path: Path) -> str:
     return read_text(path, DescriptionError, "a URDF or xacro file")
 
 
-def _xacro_message(err: BaseException, filestack: list[Any] | None) -> str:
-    location = ""
-    if filestack:
-        files = [str(f) for f in filestack if f]
-        if files:
-            location = f" (in {files[-1]})"
-    return one_line(f"xacro: {err}{location}")
-
-
 def expand(
     path: str | os.PathLike[str] | None = None,
     args: Mapping[str, object] | None = None,
     packages: Mapping[str, str | os.PathLike[str]] | None = None,
+    *,
+    trust: bool = False,
 ) -> Expansion:
     """Expand a xacro description (or read a plain URDF) into URDF text.
 
@@ -145,6 +137,9 @@ def expand(
         args: xacro arguments (``NAME:=VALUE`` on a xacro command line).
         packages: directories of ROS packages, for ``$(find PKG)``; the bundled robot's packages
             are always known, and ``AMENT_PREFIX_PATH`` is searched last.
+        trust: let the description run xacro's full Python and read any file. Otherwise its
+            expressions are evaluated in a sandbox and it reads files only inside its own folder
+            tree (and its ROS package's) and the packages given or found.
 
     Returns:
         The URDF text and any warnings.
@@ -153,6 +148,8 @@ def expand(
         DescriptionError: the file cannot be read or is not well-formed XML.
         XacroError: xacro failed (bad macro, expression, include).
         PackageNotFoundError: a ``$(find PKG)`` names an unknown package.
+        SandboxError: an untrusted description uses Python the sandbox refuses, reads a file
+            outside its folders, or any description grows past the expansion limits.
     """
     source = Path(path) if path is not None else BUNDLED_DESCRIPTION
     text = _check_file(source)
@@ -160,59 +157,40 @@ def expand(
     if not _is_xacro(source, text):
         check_xml(text, str(source))
         warnings = [f"{source} is plain URDF: xacro argument {name!r} ignored" for name in given]
-        return Expansion(text, tuple(warnings))
+        return Expansion(text, tuple(warnings), (source,))
 
     known: dict[str, str | os.PathLike[str]] = dict(BUNDLED_PACKAGES)
     known.update(packages or {})
-    return _run_xacro(source, given, known)
+    return _run_xacro(source, given, known, trust)
 
 
 def _run_xacro(
-    source: Path, given: dict[str, str], packages: Mapping[str, str | os.PathLike[str]]
+    source: Path,
+    given: dict[str, str],
+    packages: Mapping[str, str | os.PathLike[str]],
+    trust: bool,
 ) -> Expansion:
-    import xml.parsers.expat
-
-    import xacro
-    import xacro.substitution_args as subst
+    from diffbot.urdf.sandbox import process
 
     mappings = _RecordingArgs(given)
     find = _package_resolver(source, packages)
     stderr = io.StringIO()
-    with _XACRO_LOCK:
-        saved_find, saved_eval_find = subst._eval_find, subst._eval_dict.get("find")
-        subst._eval_find = find
-        subst._eval_dict["find"] = find
-        saved_all_includes = list(getattr(xacro, "all_includes", []))
-        try:
-            with contextlib.redirect_stderr(stderr):
-                doc = xacro.process_file(str(source), mappings=mappings)
-                urdf = doc.toprettyxml(indent="  ")
-        except PackageNotFoundError:
-            raise
-        except xacro.XacroException as err:
-            if isinstance(err.exc, PackageNotFoundError):
-                raise err.exc from None
-            raise XacroError(_xacro_message(err, xacro.filestack)) from None
-        except xml.parsers.expat.ExpatError as err:
-            where = xacro.filestack[-1] if xacro.filestack else source
-            raise DescriptionError(f"{where}: malformed XML: {err}") from None
-        except RecursionError:
-            raise XacroError(
-                f"xacro: {source}: infinite recursion (a macro calls itself)"
-            ) from None
-        except Exception as err:  # xacro lets Python errors of bad expressions escape
-            raise XacroError(_xacro_message(err, xacro.filestack)) from None
-        finally:
-            subst._eval_find = saved_find
-            if saved_eval_find is not None:
-                subst._eval_dict["find"] = saved_eval_find
-            xacro.all_includes = saved_all_includes
+    files: list[Path] = []
+    with contextlib.redirect_stderr(stderr):
+        urdf = process(
+            source,
+            mappings,
+            roots=packages.values(),
+            find=find,
+            trust=trust,
+            files=files,
+        )
     warnings = [one_line(line.removeprefix("warning: ")) for line in stderr.getvalue().splitlines()]
     warnings = [w for w in warnings if w]
     for name in given:
         if name not in mappings.seen:
             warnings.append(f"xacro argument {name!r} is not declared by {source.name}: ignored")
-    return Expansion(urdf, tuple(warnings))
+    return Expansion(urdf, tuple(warnings), tuple(dict.fromkeys([source, *files])))
 
 
 def check_xml(text: str, source: str) -> ET.Element:

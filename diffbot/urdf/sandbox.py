@@ -1,0 +1,439 @@
+"""Expand xacro descriptions bounded, and untrusted ones in a sandbox.
+
+Unless the description is trusted, expressions are evaluated by
+:func:`diffbot.urdf.expressions.safe_eval`, and files (includes, ``xacro.load_yaml``) are read
+only inside the description's folder tree and the folders of the packages ``$(find PKG)``
+resolved; ``$(env)``, ``$(optenv)``, ``$(arg)``, ``$(find)`` and ``$(dirname)`` work as usual.
+
+Trusted or not, the expansion is bounded: in total text produced (``max_bytes``), elements
+processed (``max_elements``) and macro or include nesting (``max_depth``), so a macro that
+doubles itself fails within a fraction of a second instead of running for hours. Every file the
+expansion reads is recorded (:attr:`Sandbox.files`), so outputs can be kept off all of them.
+
+xacro keeps its state in module globals, so :func:`sandboxed` patches them while holding
+:data:`XACRO_LOCK`, and expansions are serialised.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import threading
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from pathlib import Path
+from typing import Any
+
+from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsError, XacroError
+from diffbot.formats.text import one_line
+from diffbot.io.textfile import check_regular
+from diffbot.urdf.expression_limits import weight
+from diffbot.urdf.expressions import SafeFunction, safe_eval, symbols
+
+__all__ = [
+    "MAX_BYTES",
+    "MAX_DEPTH",
+    "MAX_ELEMENTS",
+    "XACRO_LOCK",
+    "description_roots",
+    "process",
+    "sandboxed",
+]
+
+#: Most text (characters) one expansion may produce, counted over every evaluated text.
+MAX_BYTES = 50_000_000
+#: Deepest nesting of macro calls, and of included files.
+MAX_DEPTH = 64
+#: Most elements one expansion may process (each macro body and inserted block counts again).
+#: xacro takes about 50 us per element, so this bounds an expansion to about half a second; the
+#: bundled robot processes 136.
+MAX_ELEMENTS = 10_000
+
+#: Held while xacro's module globals are patched; reentrant so callers can hold it around us.
+XACRO_LOCK = threading.RLock()
+
+# --- files ---------------------------------------------------------------------------------------
+
+
+def description_roots(path: str | os.PathLike[str]) -> tuple[Path, ...]:
+    """The folders an untrusted description may read: its own, and its ROS package's.
+
+    A description usually sits in ``urdf/`` of a package and reads ``../config/*.yaml``, so the
+    nearest folder at most two levels up holding a ``package.xml`` counts too.
+
+    Args:
+        path: the description file.
+
+    Returns:
+        The folders, symbolic links resolved.
+    """
+    folder = Path(path).resolve().parent
+    roots = [folder]
+    for parent in list(folder.parents)[:2]:
+        if (parent / "package.xml").is_file() and parent != Path(parent.anchor):
+            roots.append(parent)
+            break
+    return tuple(roots)
+
+
+class _Roots:
+    """The folders files may be read from; ``$(find PKG)`` adds the folders it resolves."""
+
+    def __init__(self, roots: Iterable[str | os.PathLike[str]]) -> None:
+        self.folders: list[Path] = []
+        for root in roots:
+            self.add(root)
+
+    def add(self, root: str | os.PathLike[str]) -> None:
+        folder = Path(root).resolve()
+        if folder not in self.folders:
+            self.folders.append(folder)
+
+    def check(self, filename: str, what: str) -> None:
+        real = Path(filename).resolve()
+        if any(real == f or f in real.parents for f in self.folders):
+            return
+        folders = ", ".join(str(f) for f in self.folders)
+        raise OutsideRootsError(
+            f"{filename}: {what} refused in an untrusted description: it is outside the "
+            f"description's folders ({folders}); trust the description ({{trust}}) to let "
+            "xacro read any file"
+        )
+
+
+def _yaml_weight(data: Any, memo: dict[int, int], limit: int) -> int:
+    """Items in YAML data with aliases expanded, computed without expanding them."""
+    key = id(data)
+    if key in memo:
+        if memo[key] < 0:
+            raise ExpansionLimitError("YAML data refers to itself (a recursive alias)")
+        return memo[key]
+    if isinstance(data, dict):
+        children: list[Any] = [*data.keys(), *data.values()]
+    elif isinstance(data, list):
+        children = list(data)
+    else:
+        return weight(data, limit)
+    memo[key] = -1
+    total = 1
+    for child in children:
+        total += _yaml_weight(child, memo, limit)
+        if total > limit:
+            break
+    memo[key] = total
+    return total
+
+
+# --- xacro patched ------------------------------------------------------------------------------
+
+
+def _replace_node(node: Any, by: Any, content_only: bool = False) -> None:
+    """xacro's ``replace_node`` in one splice of the parent's children.
+
+    minidom's ``insertBefore`` looks the reference node up in the parent's children on every
+    call, so xacro's node-by-node insertion costs time quadratic in the number of siblings: a
+    few thousand macro calls in one element took a minute. Splicing once keeps it linear per call.
+    """
+    parent = node.parentNode
+    sources = [] if by is None else by if isinstance(by, list) else [by]
+    moved: list[Any] = []
+    for source in sources:
+        if content_only:
+            moved.extend(source.childNodes)
+            source.childNodes[:] = []
+        else:
+            if source.parentNode is not None:
+                source.parentNode.removeChild(source)
+            moved.append(source)
+    siblings = parent.childNodes
+    at = siblings.index(node)
+    siblings[at : at + 1] = moved
+    node.parentNode = node.previousSibling = node.nextSibling = None
+    first = max(at - 1, 0)
+    last = min(at + len(moved) + 1, len(siblings))
+    for index in range(first, last):
+        child = siblings[index]
+        child.parentNode = parent
+        child.previousSibling = siblings[index - 1] if index > 0 else None
+        child.nextSibling = siblings[index + 1] if index + 1 < len(siblings) else None
+
+
+class _Budget:
+    """What one expansion has used so far, against its limits."""
+
+    def __init__(self, source: str, max_bytes: int, max_depth: int, max_elements: int) -> None:
+        self.source = source
+        self.max_bytes = max_bytes
+        self.max_depth = max_depth
+        self.max_elements = max_elements
+        self.bytes = 0
+        self.elements = 0
+
+    def spend_bytes(self, count: int) -> None:
+        self.bytes += count
+        if self.bytes > self.max_bytes:
+            raise ExpansionLimitError(
+                f"{self.source}: expansion refused: it produces more than {self.max_bytes} "
+                "characters of text (max_bytes)"
+            )
+
+    def spend_element(self) -> None:
+        self.elements += 1
+        if self.elements > self.max_elements:
+            raise ExpansionLimitError(
+                f"{self.source}: expansion refused: it processes more than {self.max_elements} "
+                "elements (max_elements); a macro may be calling itself over and over"
+            )
+
+    def check_depth(self, depth: int, what: str) -> None:
+        if depth > self.max_depth:
+            raise ExpansionLimitError(
+                f"{self.source}: expansion refused: {what} nested more than {self.max_depth} "
+                "deep (max_depth)"
+            )
+
+
+class _EvalNames(Mapping[str, Any]):
+    """The names of ``$(eval ...)``: its functions, then the xacro arguments, typed."""
+
+    def __init__(self, functions: Mapping[str, Any], args: Mapping[str, str]) -> None:
+        self.functions = functions
+        self.args = args
+
+    def __getitem__(self, key: str) -> Any:
+        if key in self.functions:
+            return self.functions[key]
+        import xacro.substitution_args as subst
+
+        return subst.convert_value(self.args[key], "auto")
+
+    def __iter__(self) -> Iterator[str]:
+        return iter({**self.functions, **self.args})
+
+    def __len__(self) -> int:
+        return len({**self.functions, **self.args})
+
+
+_PATCHED = ("eval_text", "eval_all", "handle_macro_call", "parse", "all_includes", "replace_node")
+
+
+@contextlib.contextmanager
+def sandboxed(
+    path: str | os.PathLike[str],
+    *,
+    roots: Iterable[str | os.PathLike[str]] = (),
+    find: Callable[[str], str] | None = None,
+    trust: bool = False,
+    max_bytes: int = MAX_BYTES,
+    max_depth: int = MAX_DEPTH,
+    max_elements: int = MAX_ELEMENTS,
+) -> Iterator[list[Path]]:
+    """Patch xacro so that the expansion of ``path`` run inside is sandboxed and bounded.
+
+    Holds :data:`XACRO_LOCK` throughout; xacro is restored on exit. Run ``xacro.process_file``
+    (or ``xacro.process_doc``) inside, once.
+
+    Args:
+        path: the description to expand; its folders (:func:`description_roots`) may be read.
+        roots: further folders that may be read (package folders known beforehand).
+        find: resolves ``$(find PKG)`` to a folder, which may then be read too; None keeps the
+            resolver xacro has when entering.
+        trust: run xacro as it is (full Python, any file); the size limits still hold.
+        max_bytes: most characters of text evaluated in the whole expansion.
+        max_depth: deepest nesting of macro calls and of included files.
+        max_elements: most elements processed (macro bodies and blocks count each time).
+
+    Yields:
+        The files the expansion reads (included files and YAML data, not ``path`` itself), filled
+        in as it runs; expand inside the ``with`` block.
+    """
+    import xacro
+    import xacro.substitution_args as subst
+
+    with XACRO_LOCK:
+        allowed = _Roots([*description_roots(path), *roots])
+        budget = _Budget(os.fspath(path), max_bytes, max_depth, max_elements)
+        read: list[Path] = []
+        resolve = find if find is not None else subst._eval_find
+
+        def tracking_find(package: str) -> str:
+            folder = resolve(package)
+            allowed.add(folder)
+            return folder
+
+        def load_yaml(filename: str) -> Any:
+            name = xacro.abs_filename_spec(filename)
+            allowed.check(name, "xacro.load_yaml")
+            check_regular(name, DescriptionError, "a YAML file")
+            read.append(Path(name))
+            with contextlib.suppress(OSError):
+                budget.spend_bytes(os.path.getsize(name))
+            data = xacro.load_yaml(name)
+            budget.spend_bytes(_yaml_weight(data, {}, max_bytes))
+            return data
+
+        table = symbols(load_yaml)
+        evaluate = xacro.safe_eval if trust else safe_eval
+
+        def eval_text(text: str, names: Any) -> Any:
+            lexer = xacro.QuickLexer(xacro.LEXER)
+            lexer.lex(text)
+            pieces: list[Any] = []
+            while lexer.peek():
+                kind, token = lexer.next()
+                if kind == lexer.EXPR:
+                    expression = token[2:-1]
+                    try:
+                        piece = evaluate(eval_text(expression, names), names)
+                    except Exception as err:  # xacro reports any failure with the expression
+                        raise xacro.XacroException(
+                            exc=err, suffix=f"{os.linesep}when evaluating expression '{expression}'"
+                        ) from err
+                elif kind == lexer.EXTENSION:
+                    piece = xacro.eval_extension(f"$({eval_text(token[2:-1], names)})")
+                elif kind == lexer.DOLLAR_DOLLAR_BRACE:
+                    piece = token[1:]
+                else:
+                    piece = token
+                budget.spend_bytes(weight(piece, max_bytes))
+                pieces.append(piece)
+            return pieces[0] if len(pieces) == 1 else "".join(map(str, pieces))
+
+        def eval_all(node: Any, macros: Any, names: Any) -> None:
+            budget.spend_element()
+            saved["eval_all"](node, macros, names)
+
+        def handle_macro_call(node: Any, macros: Any, names: Any) -> bool:
+            budget.check_depth(len(xacro.macrostack or ()) + 1, "macro calls")
+            return bool(saved["handle_macro_call"](node, macros, names))
+
+        def parse(source: Any, filename: str | None = None) -> Any:
+            if source is None and filename is not None:
+                budget.check_depth(len(xacro.filestack or ()), "included files")
+                included = os.path.join(xacro.root_dir, filename)
+                if not trust:
+                    allowed.check(included, "reading")
+                check_regular(included, DescriptionError, "a xacro file")
+                read.append(Path(included))
+            return saved["parse"](source, filename)
+
+        def subst_eval(text: str, context: dict[str, Any]) -> str:
+            args = context.setdefault("arg", {})
+            functions: dict[str, Any] = {
+                k: v for k, v in table.items() if k not in ("python", "xacro", "load_yaml")
+            }
+            functions.update(
+                arg=SafeFunction("arg", lambda n: subst.convert_value(args[n], "auto")),
+                dirname=SafeFunction("dirname", lambda: subst._eval_dirname(context["filename"])),
+                env=SafeFunction("env", subst._eval_env),
+                optenv=SafeFunction("optenv", subst._eval_optenv),
+                find=SafeFunction("find", tracking_find),
+                true=True,
+                false=False,
+            )
+            return str(safe_eval(text, _EvalNames(functions, args)))
+
+        saved: dict[str, Any] = {name: getattr(xacro, name) for name in _PATCHED}
+        saved.update(
+            safe_eval=xacro.safe_eval,
+            global_symbols=xacro._global_symbols,
+            subst_eval=subst._eval,
+            eval_find=subst._eval_find,
+            dict_find=subst._eval_dict.get("find"),
+        )
+        try:
+            xacro.eval_text = eval_text
+            xacro.eval_all = eval_all
+            xacro.handle_macro_call = handle_macro_call
+            xacro.parse = parse
+            xacro.replace_node = _replace_node
+            xacro.all_includes = []
+            subst._eval_find = tracking_find
+            subst._eval_dict["find"] = tracking_find
+            if not trust:
+                xacro.safe_eval = safe_eval
+                xacro._global_symbols = table
+                subst._eval = subst_eval
+            yield read
+        finally:
+            for name in _PATCHED:
+                setattr(xacro, name, saved[name])
+            xacro.safe_eval = saved["safe_eval"]
+            xacro._global_symbols = saved["global_symbols"]
+            subst._eval = saved["subst_eval"]
+            subst._eval_find = saved["eval_find"]
+            if saved["dict_find"] is not None:
+                subst._eval_dict["find"] = saved["dict_find"]
+
+
+def _diffbot_cause(err: BaseException) -> BaseException | None:
+    """The first diffbot error in a chain of xacro's wrapped exceptions."""
+    seen: set[int] = set()
+    current: BaseException | None = err
+    while current is not None and id(current) not in seen:
+        if isinstance(current, DescriptionError):
+            return current
+        seen.add(id(current))
+        current = getattr(current, "exc", None) or current.__cause__
+    return None
+
+
+def _xacro_message(err: BaseException, filestack: list[Any] | None) -> str:
+    location = ""
+    files = [str(f) for f in filestack or () if f]
+    if files:
+        location = f" (in {files[-1]})"
+    return one_line(f"xacro: {err}{location}")
+
+
+def process(
+    path: str | os.PathLike[str],
+    mappings: Mapping[str, str] | None = None,
+    *,
+    files: list[Path] | None = None,
+    **options: Any,
+) -> str:
+    """Expand a xacro description in the sandbox.
+
+    Args:
+        path: the .xacro file.
+        mappings: xacro arguments (``NAME:=VALUE``).
+        files: a list that receives the files the expansion read besides ``path``.
+        **options: the keywords of :func:`sandboxed` (``roots``, ``find``, ``trust``,
+            ``max_bytes``, ``max_depth``, ``max_elements``).
+
+    Returns:
+        The expanded URDF text.
+
+    Raises:
+        RefusedExpressionError: an expression uses something outside the sandbox.
+        OutsideRootsError: the description reads a file outside its folders.
+        ExpansionLimitError: the expansion goes over a limit.
+        PackageNotFoundError: ``find`` does not know a package.
+        DescriptionError: a file is malformed XML or not a regular file.
+        XacroError: xacro failed for another reason (message prefixed ``xacro:``).
+    """
+    import xml.parsers.expat
+
+    import xacro
+
+    mappings = {} if mappings is None else mappings
+    try:
+        with sandboxed(path, **options) as read:
+            try:
+                document = xacro.process_file(os.fspath(path), mappings=mappings)
+                return str(document.toprettyxml(indent="  "))
+            finally:
+                if files is not None:
+                    files.extend(read)
+    except RecursionError:
+        raise ExpansionLimitError(
+            f"{os.fspath(path)}: expansion refused: nesting too deep for Python (max_depth)"
+        ) from None
+    except xml.parsers.expat.ExpatError as err:
+        where = xacro.filestack[-1] if xacro.filestack else os.fspath(path)
+        raise DescriptionError(f"{where}: malformed XML: {err}") from None
+    except Exception as err:  # xacro lets Python errors of bad expressions escape
+        cause = _diffbot_cause(err)
+        if cause is not None:
+            raise cause from None
+        raise XacroError(_xacro_message(err, xacro.filestack)) from None
