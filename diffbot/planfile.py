@@ -420,8 +420,29 @@ def load_plan(path: str | os.PathLike[str]) -> list[Segment]:
         raise PlanError(f"{source}: {err}") from None
 
 
+#: Deepest nesting of lists and mappings read from a plan file (a plan needs 2): deeper data is
+#: refused before it is parsed, as the parsers would recurse once per level.
+MAX_NESTING = 32
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
+_BRACKETS = re.compile(r"[\[\]{}]")
+
+
+def _nesting_error(source: str) -> PlanError:
+    return PlanError(f"{source}: lists and mappings nested more than {MAX_NESTING} deep")
+
+
+def _check_json_nesting(text: str, source: str) -> None:
+    depth = 0
+    for bracket in _BRACKETS.findall(_JSON_STRING.sub("", text)):
+        depth += 1 if bracket in "[{" else -1
+        if depth > MAX_NESTING:
+            raise _nesting_error(source)
+
+
 def _load_json(text: str, source: str) -> Any:
     import json
+
+    _check_json_nesting(text, source)
 
     def reject(constant: str) -> float:
         raise PlanError(f"{source}: {constant} is not a finite number")
@@ -452,6 +473,10 @@ class _AliasError(Exception):
         self.where = where
 
 
+class _NestingError(Exception):
+    """YAML data in a plan file nested deeper than :data:`MAX_NESTING`."""
+
+
 @functools.cache
 def _plan_loader() -> type[Any]:
     """A safe YAML loader for plan files: no aliases (a plan never needs them, and nested ones
@@ -461,11 +486,19 @@ def _plan_loader() -> type[Any]:
     from yaml.nodes import MappingNode, Node
 
     class PlanLoader(yaml.SafeLoader):
+        depth = 0
+
         def compose_node(self, parent: Node | None, index: int) -> Node | None:
             if self.check_event(yaml.AliasEvent):
                 mark = self.peek_event().start_mark  # type: ignore[no-untyped-call,unused-ignore]
                 raise _AliasError(f"line {mark.line + 1}, column {mark.column + 1}")
-            return super().compose_node(parent, index)
+            self.depth += 1
+            try:
+                if self.depth > MAX_NESTING:
+                    raise _NestingError
+                return super().compose_node(parent, index)
+            finally:
+                self.depth -= 1
 
         def construct_mapping(self, node: MappingNode, deep: bool = False) -> dict[Any, Any]:
             seen: set[Any] = set()
@@ -495,6 +528,8 @@ def _load_yaml(text: str, source: str) -> Any:
             f"{source}: YAML aliases (*name) are not allowed in a plan file, write each entry "
             f"out ({err.where})"
         ) from None
+    except _NestingError:
+        raise _nesting_error(source) from None
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         problem = getattr(err, "problem", None) or "malformed YAML"

@@ -17,8 +17,10 @@ __all__ = [
     "CLOCK_HEADER",
     "CLOCK_RECEIVE",
     "INT64",
+    "MAX_POSITION",
     "NS_PER_S",
     "SKIP_MISSING_STAMP",
+    "SKIP_POSITION_RANGE",
     "SKIP_STAMP_RANGE",
     "SKIP_UNREADABLE",
     "ColumnSamples",
@@ -39,6 +41,11 @@ SKIP_MISSING_STAMP: Final = "missing stamp"
 SKIP_UNREADABLE: Final = "unreadable value"
 #: Why a CSV row was skipped: its time is outside ROS time in int64 ns (about ±292 years).
 SKIP_STAMP_RANGE: Final = "stamp out of range"
+#: Why a CSV row was skipped: a wheel position beyond :data:`MAX_POSITION`.
+SKIP_POSITION_RANGE: Final = "position out of range"
+#: Largest wheel position read (rad): a wheel at 100 rad/s turns this far in 300 years, and the
+#: differences of larger positions overflow the odometry's arithmetic.
+MAX_POSITION: Final = 1e12
 
 
 #: Nanoseconds per second.

@@ -9,3 +9,30 @@ from diffbot.kinematics import DiffDriveParams
 BOT = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
 #: The same robot with its 50 rpm motor limit (rad/s).
 BOT_50_RPM = BOT.replace(max_wheel_speed=5.235987755982989)
+
+
+def two_wheel_urdf(
+    *,
+    radius: str = "0.05",
+    left_xyz: str = "0 0.1 0",
+    right_xyz: str = "0 -0.1 0",
+    left_axis: str = "0 1 0",
+    body: str = "",
+    xacro: bool = False,
+) -> str:
+    """A robot with two drive wheels (r = 0.05 m, b = 0.2 m unless told otherwise), as URDF text;
+    ``body`` is added inside ``<robot>``, and ``xacro`` declares the xacro namespace."""
+    namespace = ' xmlns:xacro="http://www.ros.org/wiki/xacro"' if xacro else ""
+    wheels = []
+    for name, xyz, axis in (("left", left_xyz, left_axis), ("right", right_xyz, "0 1 0")):
+        wheels.append(
+            f'<joint name="{name}_wheel_joint" type="continuous"><parent link="base_link"/>'
+            f'<child link="{name}_wheel"/><origin xyz="{xyz}"/><axis xyz="{axis}"/></joint>'
+            f'<link name="{name}_wheel"><collision><origin rpy="1.5707963 0 0"/><geometry>'
+            f'<cylinder radius="{radius}" length="0.02"/></geometry></collision></link>'
+        )
+    return (
+        f'<?xml version="1.0"?>\n<robot name="two"{namespace}>\n<link name="base_link"/>\n'
+        + "\n".join(wheels)
+        + f"\n{body}\n</robot>\n"
+    )

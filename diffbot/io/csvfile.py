@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import io
+import math
 import os
 from collections.abc import Iterable, Iterator, Sequence
 from typing import TYPE_CHECKING, Final, TextIO
@@ -22,8 +23,10 @@ from diffbot.odometry import SKIP_NOT_FINITE
 from diffbot.replay import OdometryRow, OdometryRows
 from diffbot.samples import (
     INT64,
+    MAX_POSITION,
     NS_PER_S,
     SKIP_MISSING_STAMP,
+    SKIP_POSITION_RANGE,
     SKIP_STAMP_RANGE,
     SKIP_UNREADABLE,
     ColumnSamples,
@@ -166,6 +169,9 @@ def _read_rows(
         except ValueError:
             skipped[SKIP_UNREADABLE] = skipped.get(SKIP_UNREADABLE, 0) + 1
             continue
+        if _out_of_range(left) or _out_of_range(right):
+            skipped[SKIP_POSITION_RANGE] = skipped.get(SKIP_POSITION_RANGE, 0) + 1
+            continue
         add_stamp(stamp_ns)
         add_left(left)
         add_right(right)
@@ -177,6 +183,11 @@ def _position(text: str) -> float:
     if "_" in text:
         raise ValueError(text)
     return float(text)
+
+
+def _out_of_range(position: float) -> bool:
+    """A finite position too large to compute with (infinities and NaN are the replay's)."""
+    return (position > MAX_POSITION or position < -MAX_POSITION) and math.isfinite(position)
 
 
 def _stamp_ns(text: str) -> int | None:

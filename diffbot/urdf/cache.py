@@ -4,6 +4,11 @@ Deriving needs yourdfpy, whose import costs about half a second (it pulls in tri
 result is cached on disk keyed by the expanded URDF text: a second run on the same description
 only pays for the xacro expansion. ``DIFFBOT_CACHE_DIR`` moves the cache; ``DIFFBOT_NO_CACHE=1``
 turns it off.
+
+An entry holds only JSON data, written atomically (a temporary file renamed into place). It is
+validated on read: its key, a digest of its fields and each field's type and domain must be
+right, or the entry is ignored and the parameters derived again; so a hand-edited or truncated
+entry, or a FIFO or device where an entry should be, never reaches a command.
 """
 
 from __future__ import annotations
@@ -50,7 +55,7 @@ def _cache_dir() -> Path | None:
 
 def _quiet_oserror() -> contextlib.suppress:
     # A cache that cannot be read or written only makes the run slower.
-    return contextlib.suppress(OSError, ValueError, TypeError, KeyError)
+    return contextlib.suppress(OSError, ValueError, TypeError, KeyError, RecursionError)
 
 
 def _from_entry(data: Any) -> Derived | None:
@@ -67,7 +72,24 @@ def _from_entry(data: Any) -> Derived | None:
         return None
     if not all(data[s] in (1, -1) for s in ("left_sign", "right_sign")):
         return None
+    if data["wheel_separation"] <= 0 or not all(
+        data[name] is None or data[name] > 0 for name in ("wheel_radius", "max_wheel_speed")
+    ):
+        return None
     return Derived(**{**data, "warnings": tuple(data["warnings"])})
+
+
+def _digest(key: str, fields: Any) -> str:
+    return hashlib.sha256(json.dumps([key, fields], sort_keys=True).encode("utf-8")).hexdigest()
+
+
+def _unwrap(entry: Any, key: str) -> Any:
+    """The fields an entry holds, or None unless it is this key's and its digest matches."""
+    if not isinstance(entry, dict) or set(entry) != {"key", "digest", "fields"}:
+        return None
+    if entry["key"] != key or entry["digest"] != _digest(key, entry["fields"]):
+        return None
+    return entry["fields"]
 
 
 def _code_fingerprint() -> str:
@@ -108,7 +130,7 @@ def cached_fields(
     path = directory / f"params-{key}.json" if directory else None
     if path is not None:
         with _quiet_oserror():
-            cached = _from_entry(_read_entry(path))
+            cached = _from_entry(_unwrap(_read_entry(path), key))
             if cached is not None:
                 return cached
     fields = derive_text(urdf, source, left_joint, right_joint)
@@ -118,8 +140,8 @@ def cached_fields(
             fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".params-", suffix=".tmp")
             try:
                 with os.fdopen(fd, "w", encoding="utf-8") as out:
-                    entry = {**dataclasses.asdict(fields), "warnings": list(fields.warnings)}
-                    json.dump(entry, out)
+                    data = {**dataclasses.asdict(fields), "warnings": list(fields.warnings)}
+                    json.dump({"key": key, "digest": _digest(key, data), "fields": data}, out)
                 os.replace(tmp, path)
             finally:
                 Path(tmp).unlink(missing_ok=True)

@@ -15,7 +15,11 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
-__all__ = ["Joint", "Tree", "joints_of", "parse_urdf"]
+__all__ = ["MAX_OFFSET", "Joint", "Tree", "joints_of", "parse_urdf"]
+
+#: Farthest a joint may sit from its parent link (m): beyond, a description is taken for a unit
+#: mistake or a hostile file, and its frames would lose all precision or overflow.
+MAX_OFFSET = 1e6
 
 
 @dataclass(frozen=True)
@@ -83,9 +87,19 @@ def joints_of(robot: Any, source: str) -> dict[str, Joint]:
                 )
         origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
         axis = np.asarray(j.axis if j.axis is not None else (1.0, 0.0, 0.0), dtype=float)
+        if axis.shape != (3,):
+            raise DescriptionError(
+                f"{source}: joint {j.name!r} has an axis of {axis.size} numbers, not 3 (x y z)"
+            )
         norm = float(np.linalg.norm(axis))
         if not np.all(np.isfinite(origin)) or not math.isfinite(norm):
             raise DescriptionError(f"{source}: joint {j.name!r} has a non-finite origin or axis")
+        offset = float(np.max(np.abs(origin[:3, 3])))
+        if offset > MAX_OFFSET:
+            raise DescriptionError(
+                f"{source}: joint {j.name!r} lies {offset:g} m from its parent link, more than "
+                f"{MAX_OFFSET:g} m: not a robot's size"
+            )
         if norm == 0.0 and j.type in ("continuous", "revolute", "prismatic"):
             raise DescriptionError(f"{source}: joint {j.name!r} has a zero axis")
         velocity = None

@@ -22,7 +22,20 @@ if TYPE_CHECKING:
     from numpy.typing import NDArray
     from typing_extensions import Unpack
 
-__all__ = ["Derived", "Overrides", "derive", "derive_params", "derive_text", "finish"]
+__all__ = [
+    "SIZE_RANGE",
+    "Derived",
+    "Overrides",
+    "derive",
+    "derive_params",
+    "derive_text",
+    "finish",
+]
+
+#: Wheel radius and separation a description may give (m). Outside, the value is taken for a unit
+#: mistake or a hostile file (a subnormal 1e-320, a 1e308) and refused; a caller who means it
+#: gives the value as an override, which only has to be positive and finite.
+SIZE_RANGE = (1e-4, 1e3)
 
 #: Drive wheel joints as given: one name, a comma-separated list, a sequence, or None.
 JointChoice = str | Sequence[str] | None
@@ -424,7 +437,14 @@ def finish(
     **extra: Any,
 ) -> DiffDriveParams:
     """The parameters from derived fields and the caller's overrides (``extra``: more
-    :class:`DiffDriveParams` fields, such as the per-wheel radii and the sources)."""
+    :class:`DiffDriveParams` fields, such as the per-wheel radii and the sources).
+
+    Raises:
+        DriveWheelError: the description gives no radius and no override does.
+        DescriptionError: a radius or separation from the description lies outside
+            :data:`SIZE_RANGE`.
+        ParameterError: a value is not positive and finite.
+    """
     radius = fields.wheel_radius if wheel_radius is None else wheel_radius
     if radius is None:
         raise DriveWheelError(
@@ -432,6 +452,15 @@ def finish(
             "cylinder to take the radius from: give it with {wheel_radius}",
             path=source,
         )
+    # A value counts as the description's when no override replaced it, or when the caller
+    # passed the description's own value on (its ``sources`` say so).
+    sources = extra.get("sources") or {}
+    wheels = f"the cylinders of wheel links {fields.left_child!r} and {fields.right_child!r}"
+    if wheel_radius is None or sources.get("wheel_radius") == "description":
+        _check_size(radius, "wheel radius", "wheel_radius", wheels, source)
+    if wheel_separation is None or sources.get("wheel_separation") == "description":
+        joints = f"joints {fields.left_joint!r} and {fields.right_joint!r}"
+        _check_size(fields.wheel_separation, "wheel separation", "wheel_separation", joints, source)
     try:
         return DiffDriveParams(
             wheel_radius=radius,
@@ -455,6 +484,18 @@ def finish(
     except ParameterError as err:
         given = wheel_radius is not None or wheel_separation is not None
         raise ParameterError(f"{err}" if given else f"{source}: {err}") from None
+
+
+def _check_size(value: float, what: str, option: str, where: str, source: str) -> None:
+    low, high = SIZE_RANGE
+    # zero, negative and NaN are left to DiffDriveParams' own check
+    if value > 0.0 and not low <= value <= high:
+        raise DescriptionError(
+            f"{source}: {what} {value:g} m (from {where}) is outside {low:g}..{high:g} m: "
+            f"refused as a unit mistake; give it with {{{option}}} if it is meant",
+            path=source,
+            value=value,
+        )
 
 
 class Overrides(TypedDict, total=False):

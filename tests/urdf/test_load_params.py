@@ -475,7 +475,7 @@ def test_derived_parameters_are_cached_and_a_broken_cache_is_ignored(
     first = diffbot.load_params(path)
     entries = list((tmp_path / "cache").glob("params-*.json"))
     assert len(entries) == 1
-    assert json.loads(entries[0].read_text())["wheel_radius"] == pytest.approx(0.05)
+    assert json.loads(entries[0].read_text())["fields"]["wheel_radius"] == pytest.approx(0.05)
     assert diffbot.load_params(path) == first
     entries[0].write_text("{not json")
     assert diffbot.load_params(path) == first
