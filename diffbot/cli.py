@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import importlib
 import os
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
@@ -44,6 +46,16 @@ FLAGS = {
     "controllers": "--controllers",
     "controller": "--controller",
 }
+
+
+#: Signals that end a run as Ctrl-C does: by an exception, so that temporary files are removed.
+_ENDING_SIGNALS = tuple(
+    getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)
+)
+
+
+def _end_run(signum: int, frame: object) -> None:
+    raise SystemExit(128 + signum)  # the exit status of a process the signal ended
 
 
 class _PipeClosedError(Exception):
@@ -82,6 +94,26 @@ class DiffbotGroup(click.Group):
         standalone_mode: bool = True,
         **extra: Any,
     ) -> Any:
+        if sys.stdout is None:  # started with stdout closed (``>&-``)
+            _error("standard output is closed: nowhere to write the results", 2)
+        ending = _ENDING_SIGNALS if threading.current_thread() is threading.main_thread() else ()
+        saved = {signum: signal.signal(signum, _end_run) for signum in ending}
+        try:
+            code = self._run(args, prog_name, complete_var, **extra)
+        finally:
+            for signum, handler in saved.items():
+                signal.signal(signum, handler)
+        if not standalone_mode:
+            return code
+        sys.exit(code if isinstance(code, int) else 0)
+
+    def _run(
+        self,
+        args: Sequence[str] | None,
+        prog_name: str | None,
+        complete_var: str | None,
+        **extra: Any,
+    ) -> Any:
         try:
             code = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
         except click.exceptions.NoArgsIsHelpError as err:
@@ -106,9 +138,7 @@ class DiffbotGroup(click.Group):
             sys.exit(128 + 13)
         except OSError as err:
             _error(f"{err.filename + ': ' if err.filename else ''}{err.strerror or err}", 2)
-        if not standalone_mode:
-            return code
-        sys.exit(code if isinstance(code, int) else 0)
+        return code
 
 
 def _error(message: str, code: int) -> NoReturn:

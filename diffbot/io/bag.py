@@ -16,7 +16,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Final, cast
 
-from diffbot.errors import DiffbotError, RecordingError
+from diffbot.errors import DiffbotError, OutputError, RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.outputs import BAG_FILES, check_bag_output, replace_bag
 from diffbot.ros.messages import quaternion_from_yaw
@@ -173,17 +173,26 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
 
 @contextlib.contextmanager
 def _bag_writer(path: Path, force: bool) -> Iterator[Writer]:
-    """A rosbags Writer on a temporary directory beside ``path``, renamed to it on success."""
+    """A rosbags Writer on a temporary directory beside ``path``, renamed to it on success.
+
+    Raises:
+        OutputError: the bag cannot be written (a full disk, a quota): nothing is left behind.
+    """
+    import sqlite3
+
     check_bag_output(path, force)
     require_rosbags()
-    from rosbags.rosbag2 import Writer
+    from rosbags.rosbag2 import Writer, WriterError
 
     parent = path.parent if str(path.parent) else Path(".")
     staging = Path(tempfile.mkdtemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp"))
     try:
         # Written under the final name so the storage file inside is named after it.
-        with Writer(staging / path.name, version=_BAG_VERSION) as writer:
-            yield writer
+        try:
+            with Writer(staging / path.name, version=_BAG_VERSION) as writer:
+                yield writer
+        except (sqlite3.Error, WriterError, OSError) as err:
+            raise OutputError(f"{path}: cannot write the bag ({err})", path=str(path)) from None
         replace_bag(staging / path.name, path, force)
     finally:
         shutil.rmtree(staging, ignore_errors=True)

@@ -2,13 +2,19 @@
 
 Outputs never touch an input (compared resolved, links followed; a bag given as one of its files
 is its whole directory), never replace an existing file unless asked (``force``), and appear
-whole: they are written to a temporary file beside the target, then renamed over it.
+whole: they are written to a temporary file beside the target, then moved into place. Unless
+``force`` is given, the move itself refuses to replace anything (a hard link, or a rename
+without replace), so of two runs writing the same new output one wins and the other fails
+cleanly, with nothing lost. ``force`` replaces a directory only when it holds a rosbag2
+recording this tool could have written (``metadata.yaml`` and storage files, nothing else).
 """
 
 from __future__ import annotations
 
+import errno
 import os
 import stat
+import sys
 import tempfile
 from collections.abc import Sequence
 from pathlib import Path
@@ -19,6 +25,7 @@ __all__ = [
     "BAG_FILES",
     "check_bag_output",
     "input_clash",
+    "move_new",
     "output_target",
     "replace_bag",
     "write_text_atomic",
@@ -111,13 +118,88 @@ def write_text_atomic(
         mode |= (mode & 0o444) >> 2  # x wherever r
     fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as out:
-            out.write(text)
-        os.chmod(tmp, mode)
-        os.replace(tmp, target)
-    except BaseException:
+        try:
+            with os.fdopen(fd, "w", encoding="utf-8") as out:
+                out.write(text)
+            os.chmod(tmp, mode)
+        except OSError as err:  # a full disk, a quota
+            raise OutputError(f"{path}: cannot write ({err.strerror})", path=str(path)) from None
+        if force:
+            os.replace(tmp, target)
+        else:
+            move_new(Path(tmp), target, shown=path)
+    finally:
         Path(tmp).unlink(missing_ok=True)
+
+
+def _lost_race(path: Path) -> OutputExistsError:
+    return OutputExistsError(
+        f"{path} was created by another program while this output was written: left as it "
+        "is; use {force} to overwrite it",
+        path=str(path),
+    )
+
+
+def _rename_noreplace(source: Path, target: Path) -> bool:
+    """Rename without replacing (Linux ``renameat2(RENAME_NOREPLACE)``); False if unavailable.
+
+    Raises:
+        FileExistsError: ``target`` exists.
+    """
+    if not sys.platform.startswith("linux"):
+        return False
+    import ctypes
+
+    try:
+        renameat2 = ctypes.CDLL(None, use_errno=True).renameat2
+    except AttributeError:  # a C library without it
+        return False
+    at_fdcwd, rename_noreplace = -100, 1
+    result = renameat2(
+        at_fdcwd, os.fsencode(source), at_fdcwd, os.fsencode(target), rename_noreplace
+    )
+    if result == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in (errno.ENOSYS, errno.EINVAL, errno.ENOTSUP):  # kernel or file system lacks it
+        return False
+    raise OSError(code, os.strerror(code), str(target))
+
+
+def move_new(source: Path, target: Path, *, shown: Path | None = None) -> None:
+    """Move a finished file or directory to ``target``, which must not exist, atomically.
+
+    A file is hard-linked to its new name (which fails if the name exists) and then unlinked;
+    a directory is renamed without replace. Between a check and a rename, another program
+    could create ``target``; this way it cannot be lost.
+
+    Raises:
+        OutputExistsError: ``target`` exists (another program won the race).
+    """
+    try:
+        if source.is_file() and _link(source, target):
+            source.unlink()
+            return
+        if _rename_noreplace(source, target):
+            return
+        if target.exists() or target.is_symlink():  # no atomic way here: the best check
+            raise FileExistsError
+        os.rename(source, target)
+    except FileExistsError:
+        raise _lost_race(shown or target) from None
+
+
+def _link(source: Path, target: Path) -> bool:
+    """Hard-link ``source`` as ``target``; False where the file system has no hard links."""
+    try:
+        os.link(source, target)
+    except FileExistsError:
         raise
+    except OSError as err:
+        if err.errno in (errno.EPERM, errno.ENOTSUP, errno.EXDEV, errno.EMLINK):
+            return False
+        raise
+    return True
 
 
 def check_bag_output(path: Path, force: bool) -> None:
@@ -125,28 +207,48 @@ def check_bag_output(path: Path, force: bool) -> None:
 
     Raises:
         OutputExistsError: ``path`` exists and ``force`` is false, or it is a directory that
-            holds something other than a rosbag2 recording.
+            holds anything but a rosbag2 recording (``metadata.yaml`` and storage files).
         OutputError: its directory does not exist.
     """
     if (path.exists() or path.is_symlink()) and not force:
         raise OutputExistsError(f"{path} exists: use {{force}} to overwrite it", path=str(path))
-    if path.is_dir() and any(path.iterdir()) and not (path / "metadata.yaml").exists():
-        # force replaces files and earlier bags, never a directory of something else.
-        raise OutputExistsError(
-            f"{path} is a directory that is not a rosbag2 recording", path=str(path)
-        )
+    _check_replaceable_bag(path)
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
         raise OutputError(f"{path}: directory {parent} does not exist", path=str(path))
 
 
+def _check_replaceable_bag(path: Path) -> None:
+    """Refuse a directory at ``path`` unless it is empty or a bag this tool could have written:
+    ``force`` replaces files and such bags, never a directory of anything else."""
+    if not path.is_dir() or path.is_symlink():
+        return
+    others = sorted(
+        entry.name
+        for entry in path.iterdir()
+        if not entry.is_file()
+        or entry.is_symlink()
+        or (entry.name != "metadata.yaml" and entry.suffix.lower() not in BAG_FILES)
+    )
+    if others or (any(path.iterdir()) and not (path / "metadata.yaml").is_file()):
+        shown = f" (it holds {', '.join(others[:3])}{', ...' if len(others) > 3 else ''})"
+        raise OutputExistsError(
+            f"{path} is a directory that is not a rosbag2 recording"
+            f"{shown if others else ''}: refusing to replace it",
+            path=str(path),
+        )
+
+
 def replace_bag(new: Path, path: Path, force: bool) -> None:
-    """Move a finished bag directory ``new`` to ``path``, replacing what is there if ``force``."""
+    """Move a finished bag directory ``new`` to ``path``, replacing what is there if ``force``
+    and it is a file or a bag (checked again now, not only before the work)."""
+    if not force:
+        move_new(new, path)
+        return
     if not (path.exists() or path.is_symlink()):
         os.replace(new, path)
         return
-    if not force:
-        raise OutputExistsError(f"{path} exists: use {{force}} to overwrite it", path=str(path))
+    _check_replaceable_bag(path)
     old = Path(tempfile.mkdtemp(dir=new.parent, prefix="old."))
     os.replace(path, old / path.name)
     try:

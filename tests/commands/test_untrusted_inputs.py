@@ -67,7 +67,7 @@ def evaluated(write: Write, code: str) -> Path:
     return xacro_robot(write, body)
 
 
-# --- a description runs code ----------------------------------------------------------------------
+# --- a description runs code -----------------------------------------------------------------
 
 
 def test_eval_exec_in_a_description_runs_nothing(tmp_path: Path, write: Write) -> None:
@@ -104,7 +104,7 @@ def test_a_file_outside_the_robot_never_reaches_urdf_output(write: Write, body: 
     assert "root:" not in result.stdout
 
 
-# --- hangs -------------------------------------------------------------------------------------
+# --- hangs --------------------------------------------------------------------------------
 
 
 def test_a_macro_that_doubles_itself_thirty_times_is_refused_quickly(write: Write) -> None:
@@ -146,21 +146,22 @@ def test_a_fifo_as_the_plan_file_is_refused_by_type(tmp_path: Path) -> None:
     assert_process_error(done, "not a regular file")
 
 
-def test_a_fifo_in_place_of_a_cache_entry_is_ignored(tmp_path: Path, write: Write) -> None:
+def test_a_fifo_in_place_of_a_cache_entry_is_ignored(
+    tmp_path: Path, write: Write, monkeypatch: pytest.MonkeyPatch
+) -> None:
     cache = tmp_path / "cache"
+    monkeypatch.setenv("DIFFBOT_CACHE_DIR", str(cache))
     path = write("robot.urdf", two_wheel_urdf())
-    env = {**os.environ, "DIFFBOT_CACHE_DIR": str(cache)}
-    args = [sys.executable, "-m", "diffbot", "params", str(path), "--json"]
-    first = subprocess.run(args, capture_output=True, text=True, env=env, timeout=QUICK)
+    first = run(CliRunner(), "params", str(path), "--json")
     (entry,) = cache.glob("params-*.json")
     entry.unlink()
     os.mkfifo(entry)
-    again = subprocess.run(args, capture_output=True, text=True, env=env, timeout=QUICK)
+    again = run_process("params", str(path), "--json")
     assert again.returncode == 0, again.stderr
     assert json.loads(again.stdout) == json.loads(first.stdout)
 
 
-# --- tracebacks, and nonsense accepted ------------------------------------------------------
+# --- tracebacks, and nonsense accepted -------------------------------------------------
 
 
 def test_a_joint_axis_of_two_numbers_is_one_error_line(write: Write) -> None:

@@ -1,0 +1,232 @@
+"""Outputs: created exclusively, forced only over what this tool writes, never over an input,
+never left half-written or as debris, and a full disk or a closed stdout is one error line."""
+
+from __future__ import annotations
+
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+from click.testing import CliRunner
+from robots import two_wheel_urdf
+
+import diffbot
+from diffbot.cli import main
+from diffbot.io.outputs import move_new, replace_bag, write_text_atomic
+
+Write = Callable[[str, str], Path]
+
+
+def one_error_line(stderr: str, fragment: str) -> None:
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1, stderr
+    assert lines[0].startswith("error: ")
+    assert fragment in lines[0], lines[0]
+
+
+def debris(folder: Path) -> list[str]:
+    """Hidden temporary files or folders an output left behind."""
+    return sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
+
+
+# --- exclusive creation -----------------------------------------------------------------------
+
+
+def test_an_output_created_by_another_program_meanwhile_is_left_alone(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    target = tmp_path / "same.csv"
+    chmod = os.chmod
+
+    def other_program_writes_first(path: Any, mode: int) -> None:
+        # after this program's checks, before its file is moved into place
+        target.write_text("the other program's result", encoding="utf-8")
+        chmod(path, mode)
+
+    monkeypatch.setattr(os, "chmod", other_program_writes_first)
+    with pytest.raises(diffbot.OutputExistsError, match="created by another program"):
+        write_text_atomic(target, "mine", force=False)
+    assert target.read_text(encoding="utf-8") == "the other program's result"
+    assert debris(tmp_path) == []
+
+
+def test_a_directory_is_moved_only_where_nothing_is(tmp_path: Path) -> None:
+    new = tmp_path / "new"
+    new.mkdir()
+    (new / "metadata.yaml").write_text("new", encoding="utf-8")
+    taken = tmp_path / "taken"
+    taken.mkdir()
+    (taken / "metadata.yaml").write_text("old", encoding="utf-8")
+    with pytest.raises(diffbot.OutputExistsError, match="created by another program"):
+        replace_bag(new, taken, force=False)
+    assert (taken / "metadata.yaml").read_text(encoding="utf-8") == "old"
+    move_new(new, tmp_path / "free")
+    assert (tmp_path / "free" / "metadata.yaml").read_text(encoding="utf-8") == "new"
+    assert not new.exists()
+
+
+# --- force over a directory -------------------------------------------------------------------
+
+
+def test_force_over_a_bag_folder_with_other_files_refuses_and_keeps_them(tmp_path: Path) -> None:
+    folder = tmp_path / "run"
+    folder.mkdir()
+    (folder / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n", encoding="utf-8")
+    (folder / "run.db3").write_bytes(b"old")
+    (folder / "notes.txt").write_text("field notes", encoding="utf-8")
+    result = CliRunner().invoke(
+        main, ["simulate", "straight 1", "--out", str(folder), "--bag", "--force"]
+    )
+    assert result.exit_code == 2, result.output
+    one_error_line(result.stderr, "it holds notes.txt")
+    assert sorted(p.name for p in folder.iterdir()) == ["metadata.yaml", "notes.txt", "run.db3"]
+    assert (folder / "notes.txt").read_text(encoding="utf-8") == "field notes"
+
+
+def test_force_replaces_a_bag_this_tool_wrote(tmp_path: Path) -> None:
+    folder = tmp_path / "run"
+    for plan in ("straight 1", "spin 90"):
+        args = ["simulate", plan, "--out", str(folder), "--bag", "--force", "--json"]
+        result = CliRunner().invoke(main, args)
+        assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in folder.iterdir()) == ["metadata.yaml", "run.db3"]
+    assert debris(tmp_path) == []
+
+
+# --- inputs of a description ------------------------------------------------------------------
+
+
+def test_urdf_output_never_overwrites_a_file_the_description_included(
+    tmp_path: Path, write: Write
+) -> None:
+    part = write("part.xacro", two_wheel_urdf(xacro=True).replace("two", "part"))
+    before = part.read_text(encoding="utf-8")
+    robot = write(
+        "robot.urdf.xacro",
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:include filename="part.xacro"/></robot>\n',
+    )
+    result = CliRunner().invoke(main, ["urdf", str(robot), "-o", str(part), "--force"])
+    assert result.exit_code == 2, result.output
+    one_error_line(result.stderr, "is an input")
+    assert part.read_text(encoding="utf-8") == before
+
+
+def test_an_expansion_lists_every_file_it_read(tmp_path: Path, write: Write) -> None:
+    write("config/sizes.yaml", "r: 0.05\n")
+    write("part.xacro", two_wheel_urdf(xacro=True).replace("two", "part"))
+    robot = write(
+        "robot.urdf.xacro",
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:property name="s" value="${xacro.load_yaml(\'config/sizes.yaml\')}"/>'
+        '<xacro:include filename="part.xacro"/><link name="r${s.r}"/></robot>\n',
+    )
+    files = {Path(f).resolve() for f in diffbot.expand(robot).files}
+    expected = {tmp_path / "robot.urdf.xacro", tmp_path / "part.xacro"}
+    assert files == {p.resolve() for p in expected | {tmp_path / "config" / "sizes.yaml"}}
+
+
+# --- signals, full disks, closed stdout -------------------------------------------------------
+
+
+#: diffbot's command line, with a pause after the temporary output is written and before it is
+#: moved into place (a large output, or a slow disk), so that a signal lands in that window.
+SLOW_WRITER = """
+import os, sys, time
+chmod = os.chmod
+def slow_chmod(path, mode):
+    chmod(path, mode)
+    print("written", flush=True)
+    time.sleep(60)
+os.chmod = slow_chmod
+from diffbot.cli import main
+main(sys.argv[1:], prog_name="diffbot")
+"""
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP])
+def test_a_signal_while_an_output_is_written_leaves_no_temporary_file(
+    tmp_path: Path, signum: int
+) -> None:
+    out = tmp_path / "o.csv"
+    run = subprocess.Popen(
+        [sys.executable, "-c", SLOW_WRITER, "simulate", "straight 1", "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert run.stdout is not None
+    assert run.stdout.readline() == "written\n"
+    assert debris(tmp_path), "no temporary file while writing"
+    run.send_signal(signum)
+    assert run.wait(timeout=30) == 128 + signum
+    assert debris(tmp_path) == []
+    assert not out.exists()
+
+
+def test_a_full_disk_under_an_output_file_is_one_error_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    mkstemp = tempfile.mkstemp
+
+    def on_a_full_disk(**kwargs: Any) -> tuple[int, str]:
+        fd, name = mkstemp(**kwargs)
+        os.close(fd)
+        return os.open("/dev/full", os.O_WRONLY), name  # every write fails with ENOSPC
+
+    monkeypatch.setattr(tempfile, "mkstemp", on_a_full_disk)
+    result = CliRunner().invoke(main, ["simulate", "straight 1", "--out", str(tmp_path / "o.csv")])
+    assert result.exit_code == 2, result.output
+    one_error_line(result.stderr, "No space left on device")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_full_disk_under_a_bag_is_one_error_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from rosbags.rosbag2 import Writer
+
+    def full(*args: Any, **kwargs: Any) -> None:
+        raise sqlite3.OperationalError("database or disk is full")
+
+    monkeypatch.setattr(Writer, "write", full)
+    result = CliRunner().invoke(
+        main, ["simulate", "straight 1", "--out", str(tmp_path / "bag"), "--bag"]
+    )
+    assert result.exit_code == 2, result.output
+    one_error_line(result.stderr, "database or disk is full")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_stdout_on_a_full_disk_is_one_error_line() -> None:
+    with open("/dev/full", "w", encoding="utf-8") as full:
+        done = subprocess.run(
+            [sys.executable, "-m", "diffbot", "plan", "straight 1"],
+            stdout=full,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=30,
+            check=False,
+        )
+    assert done.returncode == 2, done.stderr
+    one_error_line(done.stderr, "No space left on device")
+
+
+def test_a_closed_stdout_is_one_error_line() -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", "diffbot", "plan", "straight 1"],
+        stderr=subprocess.PIPE,
+        text=True,
+        timeout=30,
+        check=False,
+        preexec_fn=lambda: os.close(1),  # as the shell's >&- does
+    )
+    assert done.returncode == 2, done.stderr
+    one_error_line(done.stderr, "standard output is closed")
