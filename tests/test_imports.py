@@ -48,6 +48,7 @@ def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ["--help"],
         ["params"],
         ["params", "--json"],
+        ["params", "--trust"],
         ["urdf"],
         ["ik", "0.1", "0"],
         ["fk", "2.86", "2.86"],

@@ -1,0 +1,80 @@
+"""The parameter cache: entries are checked on read, and any entry that fails is derived again."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+from robots import two_wheel_urdf
+
+import diffbot
+
+Write = Callable[[str, str], Path]
+
+
+@pytest.fixture
+def cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    folder = tmp_path / "cache"
+    monkeypatch.setenv("DIFFBOT_CACHE_DIR", str(folder))
+    return folder
+
+
+def only_entry(cache: Path) -> Path:
+    (entry,) = cache.glob("params-*.json")
+    return entry
+
+
+def test_an_entry_holds_only_json_data_and_no_temporary_file_is_left(
+    cache: Path, write: Write
+) -> None:
+    diffbot.load_params(write("robot.urdf", two_wheel_urdf()))
+    entry = json.loads(only_entry(cache).read_text(encoding="utf-8"))
+    assert set(entry) == {"key", "digest", "fields"}
+    assert entry["fields"]["wheel_radius"] == pytest.approx(0.05, abs=1e-12)
+    assert [p.name for p in cache.iterdir() if not p.name.startswith("params-")] == []
+
+
+def test_a_hand_edited_entry_is_not_trusted(cache: Path, write: Write) -> None:
+    path = write("robot.urdf", two_wheel_urdf())
+    first = diffbot.load_params(path)
+    entry = only_entry(cache)
+    data = json.loads(entry.read_text(encoding="utf-8"))
+    data["fields"]["wheel_radius"] = 0.5  # well typed, but not what the description says
+    entry.write_text(json.dumps(data), encoding="utf-8")
+    again = diffbot.load_params(path)
+    assert again.wheel_radius == pytest.approx(0.05, abs=1e-12)
+    assert again == first
+
+
+@pytest.mark.parametrize(
+    "broken",
+    [
+        '{"key": "x", "digest": "y", "fields": {"wheel_radius": -1}}',
+        "[" * 100_000 + "]" * 100_000,
+        "\xff not json",
+        "",
+    ],
+)
+def test_an_entry_that_fails_validation_is_derived_again(
+    cache: Path, write: Write, broken: str
+) -> None:
+    path = write("robot.urdf", two_wheel_urdf())
+    first = diffbot.load_params(path)
+    entry = only_entry(cache)
+    entry.write_text(broken, encoding="utf-8")
+    assert diffbot.load_params(path) == first
+    assert json.loads(entry.read_text(encoding="utf-8"))["fields"]["wheel_separation"] == (
+        pytest.approx(0.2, abs=1e-12)
+    )
+
+
+def test_a_directory_where_an_entry_should_be_is_ignored(cache: Path, write: Write) -> None:
+    path = write("robot.urdf", two_wheel_urdf())
+    first = diffbot.load_params(path)
+    entry = only_entry(cache)
+    entry.unlink()
+    entry.mkdir()
+    assert diffbot.load_params(path) == first
+    assert entry.is_dir()
