@@ -8,6 +8,8 @@ from pathlib import Path
 from diffbot.errors import RecordingError
 from diffbot.io.bag import DEFAULT_TOPIC, is_bag, read_bag
 from diffbot.io.csvfile import read_csv
+from diffbot.io.outputs import BAG_FILES
+from diffbot.io.textfile import check_regular
 from diffbot.kinematics import DiffDriveParams
 from diffbot.samples import Recording
 
@@ -33,6 +35,11 @@ def read_recording(
     p = Path(path)
     if not p.exists():
         raise RecordingError(f"{p}: no such file or directory")
+    # Only regular files are read: a FIFO or device would block or feed endless data.
+    parts = [p] if not p.is_dir() else sorted(p.iterdir())
+    for part in parts:
+        if part is p or part.name == "metadata.yaml" or part.suffix.lower() in BAG_FILES:
+            check_regular(part, RecordingError, "a recording")
     if is_bag(p):
         return read_bag(p, topic)
     return read_csv(p, params.left_joint, params.right_joint)

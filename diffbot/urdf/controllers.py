@@ -47,6 +47,7 @@ import yaml
 
 from diffbot.controller_config import AxisLimits, ControllerConfig, default_of, first_of
 from diffbot.errors import DescriptionError
+from diffbot.io.textfile import check_regular
 
 __all__ = [
     "DIFF_DRIVE_TYPES",
@@ -256,6 +257,8 @@ def load_controllers(path: str | os.PathLike[str]) -> list[ControllerConfig]:
             is malformed (see :func:`read_controllers`).
     """
     source = os.fspath(path)
+    if os.path.exists(source):  # never a FIFO or device
+        check_regular(source, ControllerConfigError, "a controllers file")
     try:
         with open(source, "rb") as stream:
             data = stream.read(MAX_FILE_BYTES + 1)

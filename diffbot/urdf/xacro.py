@@ -89,6 +89,8 @@ def _needed_packages(source: Path) -> list[str]:
     names: list[str] = []
     files = [source, *sorted(source.parent.rglob("*.xacro"))[:_SCANNED]]
     for path in files:
+        if not path.is_file():  # a FIFO or device would block or never end
+            continue
         with contextlib.suppress(OSError, UnicodeDecodeError):
             for name in _FIND.findall(path.read_text(encoding="utf-8")):
                 if name not in names:

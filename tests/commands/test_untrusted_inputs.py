@@ -225,3 +225,30 @@ def test_wheel_positions_of_1e300_are_skipped_and_reported(write: Write) -> None
     result = run(CliRunner(), "odom", str(write("big.csv", text)), "--json")
     assert result.exit_code == 0, result.output
     assert json.loads(result.stdout)["skipped"] == {"position out of range": 2}
+
+
+@pytest.mark.parametrize("name", ["joints.mcap", "joints.db3", "bag/bag.mcap"])
+def test_a_fifo_as_a_recording_or_inside_a_bag_folder_is_refused_by_type(
+    tmp_path: Path, name: str
+) -> None:
+    fifo = tmp_path / name
+    fifo.parent.mkdir(exist_ok=True)
+    os.mkfifo(fifo)
+    if fifo.parent != tmp_path:
+        (fifo.parent / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
+    given = fifo if fifo.parent == tmp_path else fifo.parent
+    assert_process_error(run_process("odom", str(given)), "not a regular file")
+
+
+def test_a_fifo_as_the_controllers_file_is_refused_by_type(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "controllers.yaml")
+    done = run_process("params", "--controllers", str(tmp_path / "controllers.yaml"))
+    assert_process_error(done, "not a regular file")
+
+
+def test_a_fifo_beside_a_description_with_a_missing_package_is_skipped(
+    tmp_path: Path, write: Write
+) -> None:
+    os.mkfifo(tmp_path / "jam.xacro")
+    path = xacro_robot(write, '<xacro:include filename="$(find nowhere)/x.xacro"/>')
+    assert_process_error(run_process("urdf", str(path)), "package 'nowhere' not found")
