@@ -8,6 +8,7 @@ unchanged.
 from __future__ import annotations
 
 import array
+import math
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
@@ -27,6 +28,7 @@ __all__ = [
     "ColumnView",
     "JointSample",
     "Recording",
+    "beyond_range",
     "ns_from_seconds",
     "seconds_text",
 ]
@@ -81,6 +83,12 @@ class Recording:
     samples: Sequence[JointSample]
     skipped: Mapping[str, int] = field(default_factory=dict)
     clock: str | None = None
+
+
+def beyond_range(position: float) -> bool:
+    """A finite wheel position beyond :data:`MAX_POSITION` (infinities and NaN are the replay's
+    to skip)."""
+    return (position > MAX_POSITION or position < -MAX_POSITION) and math.isfinite(position)
 
 
 def seconds_text(stamp_ns: int) -> str:

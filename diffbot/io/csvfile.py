@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import csv
 import io
-import math
 import os
 from collections.abc import Iterable, Iterator, Sequence
 from typing import TYPE_CHECKING, Final, TextIO
@@ -23,7 +22,6 @@ from diffbot.odometry import SKIP_NOT_FINITE
 from diffbot.replay import OdometryRow, OdometryRows
 from diffbot.samples import (
     INT64,
-    MAX_POSITION,
     NS_PER_S,
     SKIP_MISSING_STAMP,
     SKIP_POSITION_RANGE,
@@ -31,6 +29,7 @@ from diffbot.samples import (
     SKIP_UNREADABLE,
     ColumnSamples,
     Recording,
+    beyond_range,
     ns_from_seconds,
     seconds_text,
 )
@@ -169,7 +168,7 @@ def _read_rows(
         except ValueError:
             skipped[SKIP_UNREADABLE] = skipped.get(SKIP_UNREADABLE, 0) + 1
             continue
-        if _out_of_range(left) or _out_of_range(right):
+        if beyond_range(left) or beyond_range(right):
             skipped[SKIP_POSITION_RANGE] = skipped.get(SKIP_POSITION_RANGE, 0) + 1
             continue
         add_stamp(stamp_ns)
@@ -183,11 +182,6 @@ def _position(text: str) -> float:
     if "_" in text:
         raise ValueError(text)
     return float(text)
-
-
-def _out_of_range(position: float) -> bool:
-    """A finite position too large to compute with (infinities and NaN are the replay's)."""
-    return (position > MAX_POSITION or position < -MAX_POSITION) and math.isfinite(position)
 
 
 def _stamp_ns(text: str) -> int | None:

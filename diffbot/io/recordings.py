@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from pathlib import Path
 
@@ -11,7 +12,7 @@ from diffbot.io.csvfile import read_csv
 from diffbot.io.outputs import BAG_FILES
 from diffbot.io.textfile import check_regular
 from diffbot.kinematics import DiffDriveParams
-from diffbot.samples import Recording
+from diffbot.samples import SKIP_POSITION_RANGE, Recording, beyond_range
 
 __all__ = ["read_recording"]
 
@@ -41,5 +42,25 @@ def read_recording(
         if part is p or part.name == "metadata.yaml" or part.suffix.lower() in BAG_FILES:
             check_regular(part, RecordingError, "a recording")
     if is_bag(p):
-        return read_bag(p, topic)
+        wheels = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
+        return _within_range(read_bag(p, topic), wheels)
     return read_csv(p, params.left_joint, params.right_joint)
+
+
+def _within_range(recording: Recording, wheels: set[str]) -> Recording:
+    """The recording without the samples whose wheel positions are too large to compute with
+    (counted as skipped, as a CSV reader counts them)."""
+    kept = [
+        sample
+        for sample in recording.samples
+        if not any(
+            name in wheels and beyond_range(value)
+            for name, value in zip(sample.names, sample.positions, strict=False)
+        )
+    ]
+    dropped = len(recording.samples) - len(kept)
+    if not dropped:
+        return recording
+    skipped = dict(recording.skipped)
+    skipped[SKIP_POSITION_RANGE] = skipped.get(SKIP_POSITION_RANGE, 0) + dropped
+    return dataclasses.replace(recording, samples=kept, skipped=skipped)

@@ -252,3 +252,20 @@ def test_a_fifo_beside_a_description_with_a_missing_package_is_skipped(
     os.mkfifo(tmp_path / "jam.xacro")
     path = xacro_robot(write, '<xacro:include filename="$(find nowhere)/x.xacro"/>')
     assert_process_error(run_process("urdf", str(path)), "package 'nowhere' not found")
+
+
+def test_bag_wheel_positions_of_1e308_are_skipped_and_reported(tmp_path: Path) -> None:
+    from bags import write_bag
+
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    second = 1_000_000_000
+    messages = [
+        (k * second, k * second, names, positions)
+        for k, positions in enumerate(
+            [[0.0, 0.0], [1e308, -1e308], [-1e300, 1e300], [0.1, 0.1]], start=1
+        )
+    ]
+    bag = write_bag(tmp_path / "huge", messages)
+    result = run(CliRunner(), "odom", str(bag), "--json")
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout)["skipped"] == {"position out of range": 2}
