@@ -19,7 +19,7 @@ from wheel_motion import angle_error
 import diffbot
 from diffbot.cli import main
 from diffbot.io.bag import read_bag
-from diffbot.io.csvfile import read_csv
+from diffbot.io.csv_chunks import read_csv
 from diffbot.kinematics import DiffDriveParams
 from diffbot.odometry import integrate
 from diffbot.planfile import parse_plan

@@ -2,60 +2,115 @@
 
 from __future__ import annotations
 
+import glob
 import io
+import json
 import math
+import re
 import sys
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from diffbot.commands import options as opt
 from diffbot.commands.options import OutOptions, RobotOptions
+from diffbot.commands.progress import progress
+from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
-from diffbot.io.bag import write_odometry_bag
-from diffbot.io.csvfile import format_odometry_csv, read_csv
-from diffbot.io.outputs import write_text_atomic
-from diffbot.io.recordings import read_recording
-from diffbot.kinematics import DiffDriveParams
-from diffbot.odometry import Odometry
-from diffbot.replay import run_odometry
-from diffbot.samples import Recording
+
+if TYPE_CHECKING:
+    from diffbot.fleet import OdometryResult, OdometryTask
 
 __all__ = ["odom"]
 
+_GLOB = re.compile(r"[*?[]")
 
-def _read_stdin_csv(params: DiffDriveParams) -> Recording:
-    """The CSV on stdin, read whole (``diffbot simulate | diffbot odom -``)."""
 
-    data = sys.stdin.buffer.read()
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        opt.fail("-: stdin is not a text (UTF-8) CSV")
-    return read_csv(
-        io.StringIO(text, newline=""), params.left_joint, params.right_joint, source="-"
-    )
+def _expand(sources: list[str]) -> list[str]:
+    """The inputs, globs expanded (for shells that pass them on, or quoted ones)."""
+    found: list[str] = []
+    for source in sources:
+        if not source.strip():
+            opt.fail("INPUT is empty: give a CSV file, - for stdin, or a rosbag2 recording")
+        if _GLOB.search(source) and not Path(source).exists():
+            matches = sorted(glob.glob(source))
+            if not matches:
+                opt.fail(f"{source}: no file or directory matches")
+            found.extend(matches)
+        else:
+            found.append(source)
+    return found
+
+
+def _stdin_stream() -> io.TextIOWrapper:
+    """The CSV on stdin as text, read as it comes (``diffbot simulate | diffbot odom -``)."""
+    return io.TextIOWrapper(sys.stdin.buffer, encoding="utf-8-sig", newline="")
 
 
 def _skipped_text(skipped: Mapping[str, int]) -> str:
     return ", ".join(f"{count} {reason}" for reason, count in sorted(skipped.items()))
 
 
+def _summary(result: OdometryResult) -> dict[str, Any]:
+    run = result.run
+    assert run is not None
+    summary = run.summary
+    pose = summary.final_pose
+    return {
+        "input": result.task.input,
+        "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},
+        "distance": summary.distance,
+        "samples": summary.samples,
+        "skipped": dict(sorted(summary.skipped.items())),
+        "duration": summary.duration,
+        "clock": run.clock,
+        "output": result.task.output,
+    }
+
+
+def _error_text(result: OdometryResult) -> str:
+    from diffbot.cli import FLAGS
+
+    assert result.error is not None
+    return " ".join(result.error.render(FLAGS.__getitem__).split())
+
+
 @click.command()
-@click.argument("tokens", nargs=-1, metavar="INPUT [NAME:=VALUE]...")
+@click.argument("tokens", nargs=-1, metavar="INPUT... [NAME:=VALUE]...")
 @opt.robot_options
 @opt.topic_option("The sensor_msgs/JointState topic of a bag.")
 @opt.out_options(
-    "Write the poses: a CSV file (time,x,y,theta,linear,angular), or a bag with --bag.",
+    "Write the poses: a CSV file (time,x,y,theta,linear,angular), or a bag with --bag; "
+    "with several inputs, a directory that gets one output per input.",
     "Write --out as a rosbag2 directory: nav_msgs/Odometry on /odom, TF on /tf.",
 )
+@click.option(
+    "--jobs",
+    "-j",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    metavar="N",
+    help="Read several inputs in N processes at once.",
+)
+@click.option(
+    "--dask",
+    "dask_address",
+    metavar="ADDRESS",
+    help="Run the inputs on a Dask cluster (its scheduler, tcp://HOST:PORT; extra 'fleet').",
+)
+@opt.quiet_option
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable summary.")
 def odom(
     robot: RobotOptions,
     tokens: tuple[str, ...],
     topic: str,
     out: OutOptions,
+    jobs: int,
+    dask_address: str | None,
+    quiet: bool,
     as_json: bool,
 ) -> None:
     """Odometry from recorded wheel joint positions.
@@ -66,9 +121,15 @@ def odom(
     directory (sqlite3 or mcap) or one of its .db3/.mcap files holding sensor_msgs/JointState on
     --topic. A bag's samples are all stamped by their header stamps, or all by the bag's receive
     times when any header stamp is zero (the summary says which). Each step is integrated
-    exactly along its arc; the first sample sets the encoder baseline. Samples
-    without both wheel joints, with NaN/inf or with a stamp not after the previous one are
-    skipped and reported.
+    exactly along its arc; the first sample sets the encoder baseline. A side with several
+    wheels moves by the mean of its joints present in a sample. Samples without a whole side,
+    with NaN/inf or with a stamp not after the previous one are skipped and reported.
+
+    Inputs are read in chunks and the poses written as they come, in constant memory; a
+    progress bar shows on stderr when it is a terminal (not with --quiet). Several inputs
+    (files, bag folders, globs) give one row each (JSON lines with --json) and, with --out DIR,
+    one output each; a recording that cannot be read is reported in its row, and the exit code
+    is then 1.
 
     \b
     Reading bags needs the optional rosbags dependency:
@@ -80,60 +141,77 @@ def odom(
       diffbot simulate "straight 1; spin 90" | diffbot odom -
       diffbot odom my_bag/ --topic /joint_states --out odom.csv
       diffbot odom run.mcap --out odom_bag --bag --json
+      diffbot odom 'fleet/*.mcap' --jobs 4 --out poses/ --json
     """
+    from diffbot.fleet import OdometryTask
 
     rest, xacro_args = opt.split_xacro_args(tokens)
-    if len(rest) != 1:
+    if not rest:
         opt.fail(
-            "expected one INPUT (a CSV file, - for a CSV on stdin, a rosbag2 directory or a "
-            f".db3/.mcap file), got {rest}"
+            "expected an INPUT (a CSV file, - for a CSV on stdin, a rosbag2 directory or a "
+            ".db3/.mcap file)"
         )
-    source = rest[0]
-    from_stdin = source == "-"
-    if not source.strip():
-        opt.fail("INPUT is empty: give a CSV file, - for stdin, or a rosbag2 recording")
-    if not from_stdin and not Path(source).exists():
-        opt.fail(f"{source}: no such file or directory")
+    sources = _expand(rest)
     out.require_out_for_bag()
     robot = robot.with_path(None, xacro_args)
+    if len(sources) > 1:
+        if "-" in sources:
+            opt.fail("- (a CSV on stdin) cannot be read with other inputs")
+        p = robot.load()
+        outputs = _outputs(sources, out)
+        tasks = [
+            OdometryTask(source, p, topic, output, out.as_bag, out.force)
+            for source, output in zip(sources, outputs, strict=True)
+        ]
+        _many(tasks, jobs, dask_address, quiet=quiet, as_json=as_json)
+        return
+    source = sources[0]
+    from_stdin = source == "-"
+    if not from_stdin and not Path(source).exists():
+        opt.fail(f"{source}: no such file or directory")
     inputs = [Path(path) for path in (None if from_stdin else source, robot.robot) if path]
     out_path = out.path(inputs)
     p = robot.load()
-    recording = _read_stdin_csv(p) if from_stdin else read_recording(source, p, topic)
-    integrator = Odometry(p)
-    run = run_odometry(recording, integrator)
-    if out_path is not None:
-        if out.as_bag:
-            write_odometry_bag(out_path, run.rows, integrator, force=out.force)
-        else:
-            write_text_atomic(out_path, format_odometry_csv(run.rows), force=out.force)
-    skipped_total = sum(run.skipped.values())
+    task = OdometryTask(
+        source, p, topic, None if out_path is None else str(out_path), out.as_bag, out.force
+    )
+    _one(task, quiet, as_json, out)
+
+
+def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> None:
+    """One input: the detailed summary."""
+    from diffbot.fleet import run_task
+    from diffbot.io.bag import is_bag
+    from diffbot.io.recordings import recording_size
+
+    source, topic = task.input, task.topic
+    from_stdin = source == "-"
+    total = None if from_stdin else recording_size(source, topic)
+    unit = "B" if from_stdin or not is_bag(source) else "msg"
+    stream = _stdin_stream() if from_stdin else None
+    with progress(total, Path(source).name, unit, quiet=quiet) as advance:
+        result = run_task(task, advance, stream)
+    if result.error is not None:
+        raise result.error
+    run = result.run
+    assert run is not None
+    summary = run.summary
+    skipped_total = sum(summary.skipped.values())
     if skipped_total:
         opt.warn(
-            f"skipped {skipped_total} of {run.samples + skipped_total} samples: "
-            f"{_skipped_text(run.skipped)}"
+            f"skipped {skipped_total} of {summary.samples + skipped_total} samples: "
+            f"{_skipped_text(summary.skipped)}"
         )
-    pose = run.final_pose
+    pose = summary.final_pose
     if as_json:
-        opt.emit_json(
-            {
-                "input": source,
-                "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},
-                "distance": run.distance,
-                "samples": run.samples,
-                "skipped": dict(sorted(run.skipped.items())),
-                "duration": run.duration,
-                "clock": recording.clock,
-                "output": out.out,
-            }
-        )
+        opt.emit_json(_summary(result) | {"output": out.out})
         return
-    kind = "CSV" if recording.kind == "csv" else f"rosbag2, topic {topic}, {recording.clock} stamps"
+    kind = "CSV" if run.kind == "csv" else f"rosbag2, topic {topic}, {run.clock} stamps"
     rows = [
         ("input", f"{source} ({kind})"),
-        ("samples", f"{run.samples} used, {skipped_total} skipped"),
-        ("duration", f"{fmt(run.duration)} s"),
-        ("distance", f"{fmt(run.distance)} m"),
+        ("samples", f"{summary.samples} used, {skipped_total} skipped"),
+        ("duration", f"{fmt(summary.duration)} s"),
+        ("distance", f"{fmt(summary.distance)} m"),
         (
             # Rounded to the nanometre (nanoradian) so rounding noise reads as 0; --json has all.
             "final pose",
@@ -144,10 +222,60 @@ def odom(
     ]
     if out.out is not None:
         what = "rosbag2: /odom, /tf" if out.as_bag else "CSV"
-        rows.append(("output", f"{out.out} ({what}, {len(run.rows)} poses)"))
+        rows.append(("output", f"{out.out} ({what}, {result.poses} poses)"))
     for label, value in rows:
         click.echo(f"{label:<11} {value}")
 
 
-# --------------------------------------------------------------------------------------------
-# simulate: the wheel joint states a plan would produce
+def _outputs(sources: list[str], out: OutOptions) -> list[str | None]:
+    """The output of each input in the --out directory (made if missing), or None each."""
+    from diffbot.fleet import output_name
+
+    if out.out is None:
+        return [None] * len(sources)
+    folder = Path(out.out)
+    if folder.exists() and not folder.is_dir():
+        opt.fail(f"--out {out.out} is not a directory: several inputs write one output each")
+    names = [output_name(source, out.as_bag) for source in sources]
+    twice = sorted({name for name in names if names.count(name) > 1})
+    if twice:
+        opt.fail(f"several inputs would write --out {out.out}/{twice[0]}: rename one")
+    folder.mkdir(parents=True, exist_ok=True)
+    return [str(folder / name) for name in names]
+
+
+def _many(
+    tasks: list[OdometryTask], jobs: int, dask_address: str | None, *, quiet: bool, as_json: bool
+) -> None:
+    """Several inputs: one row (or JSON line) each; exit 1 when any failed."""
+    from diffbot.fleet import run_tasks
+
+    failed = 0
+    with progress(len(tasks), "recordings", "rec", quiet=quiet) as advance:
+        results = list(
+            run_tasks(tasks, jobs=jobs, dask_address=dask_address, done=lambda _: advance(1))
+        )
+    if not as_json:
+        click.echo(f"{'input':<24} {'samples':>9} {'skipped':>8} {'distance m':>11} final pose")
+    for result in results:
+        if result.error is not None:
+            failed += 1
+            if as_json:
+                line = {"input": result.task.input, "error": _error_text(result)}
+                click.echo(json.dumps(line, allow_nan=False))
+            else:
+                click.echo(f"{result.task.input:<24} error: {_error_text(result)}")
+            continue
+        data = _summary(result)
+        if as_json:
+            click.echo(json.dumps(data, allow_nan=False))
+            continue
+        pose = data["final_pose"]
+        click.echo(
+            f"{result.task.input:<24} {data['samples']:>9} {sum(data['skipped'].values()):>8} "
+            f"{fmt(data['distance']):>11} x {fmt(round(pose['x'], 9))} m, "
+            f"y {fmt(round(pose['y'], 9))} m, theta {fmt(round(pose['theta'], 9))} rad"
+        )
+    if failed:
+        opt.warn(f"{failed} of {len(results)} recordings could not be read")
+        sys.exit(EXIT_CHECK_FAILED)

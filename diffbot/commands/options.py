@@ -357,3 +357,10 @@ def topic_option(help_text: str) -> Callable[[F], F]:
     return click.option(
         "--topic", metavar="TOPIC", default="/joint_states", show_default=True, help=help_text
     )
+
+
+def quiet_option(command: F) -> F:
+    """``--quiet``: no progress bar (it shows only when stderr is a terminal anyway)."""
+    return click.option(
+        "--quiet", "-q", is_flag=True, help="No progress bar on stderr (shown on a terminal)."
+    )(command)

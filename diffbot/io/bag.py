@@ -14,7 +14,8 @@ import shutil
 import tempfile
 from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Final, cast
+from types import TracebackType
+from typing import TYPE_CHECKING, Final, TypeVar, cast
 
 from diffbot.errors import DiffbotError, OutputError, RecordingError
 from diffbot.formats.text import listing
@@ -43,6 +44,8 @@ __all__ = [
     "BAG_INSTALL_HINT",
     "DEFAULT_TOPIC",
     "JOINT_STATE",
+    "JointStatesBagWriter",
+    "OdometryBagWriter",
     "is_bag",
     "read_bag",
     "require_rosbags",
@@ -207,6 +210,160 @@ def _check_stamps(stamps_ns: Iterable[int], path: Path) -> None:
             )
 
 
+_Stream = TypeVar("_Stream", bound="_BagStream")
+
+
+class _BagStream:
+    """A bag written message by message as the data comes, whole or not at all: a temporary
+    directory beside ``path``, renamed to it when the ``with`` block ends without an error."""
+
+    def __init__(self, path: str | os.PathLike[str], *, force: bool) -> None:
+        self.path = Path(path)
+        self.force = force
+        check_bag_output(self.path, force)
+        require_rosbags()
+        self.typestore = _typestore()
+        self._stack: contextlib.ExitStack | None = None
+
+    def _connect(self, writer: Writer) -> None:
+        raise NotImplementedError
+
+    def _open(self) -> None:
+        self._stack = contextlib.ExitStack()
+        self.writer = self._stack.enter_context(_bag_writer(self.path, self.force))
+        self._connect(self.writer)
+
+    def __enter__(self: _Stream) -> _Stream:
+        self._open()
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        stack, self._stack = self._stack, None
+        if stack is not None:
+            stack.__exit__(exc_type, exc, traceback)
+
+    def restart(self) -> None:
+        """Drop every message written so far and start an empty bag."""
+        stack, self._stack = self._stack, None
+        if stack is not None:
+            stack.__exit__(_DroppedError, _DroppedError(), None)
+        self._open()
+
+    def _check_stamps(self, stamps_ns: Iterable[int]) -> None:
+        _check_stamps(stamps_ns, self.path)
+
+
+class _DroppedError(Exception):
+    """Thrown into a bag being written to throw it away."""
+
+
+class OdometryBagWriter(_BagStream):
+    """Poses written as they come to a rosbag2 of nav_msgs/msg/Odometry and
+    tf2_msgs/msg/TFMessage (use it as a context manager).
+
+    Args:
+        path: the bag directory to create.
+        odom: the integrator whose frame ids and covariances the messages carry.
+        force: replace an existing file or bag at ``path``.
+        odom_topic: the Odometry topic.
+        tf_topic: the transform topic (odom -> base_link).
+
+    Raises:
+        OutputExistsError: ``path`` exists and ``force`` is false, or it is a directory that is
+            not a bag.
+        RecordingError: rosbags is missing, or (when writing) a stamp is outside ROS time.
+    """
+
+    def __init__(
+        self,
+        path: str | os.PathLike[str],
+        odom: Odometry,
+        *,
+        force: bool = False,
+        odom_topic: str = "/odom",
+        tf_topic: str = "/tf",
+    ) -> None:
+        import numpy as np
+
+        super().__init__(path, force=force)
+        self.frame_id = odom.frame_id
+        self.child_frame_id = odom.child_frame_id
+        self.pose_cov = np.array(odom.pose_covariance, dtype=np.float64)
+        self.twist_cov = np.array(odom.twist_covariance, dtype=np.float64)
+        self.topics = (odom_topic, tf_topic)
+        self.count = 0
+
+    def _connect(self, writer: Writer) -> None:
+        from rosbags.typesys.stores import ros2_humble as m
+
+        self.m = m
+        self.odom_type = m.nav_msgs__msg__Odometry.__msgtype__
+        self.tf_type = m.tf2_msgs__msg__TFMessage.__msgtype__
+        odom_topic, tf_topic = self.topics
+        self.odom_conn = writer.add_connection(odom_topic, self.odom_type, typestore=self.typestore)
+        self.tf_conn = writer.add_connection(tf_topic, self.tf_type, typestore=self.typestore)
+        self.count = 0
+
+    def write(
+        self,
+        stamps_ns: Sequence[int],
+        x: Iterable[float],
+        y: Iterable[float],
+        theta: Iterable[float],
+        linear: Iterable[float],
+        angular: Iterable[float],
+    ) -> None:
+        """Append one message of each topic per pose (theta in (-pi, pi])."""
+        self._check_stamps(stamps_ns)
+        m, serialize = self.m, self.typestore.serialize_cdr
+        for stamp_ns, x_, y_, theta_, linear_, angular_ in zip(
+            stamps_ns, x, y, theta, linear, angular, strict=True
+        ):
+            sec, nanosec = divmod(stamp_ns, NS_PER_S)
+            header = m.std_msgs__msg__Header(
+                stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec),
+                frame_id=self.frame_id,
+            )
+            q = quaternion_from_yaw(theta_)
+            orientation = m.geometry_msgs__msg__Quaternion(x=q.x, y=q.y, z=q.z, w=q.w)
+            message = m.nav_msgs__msg__Odometry(
+                header=header,
+                child_frame_id=self.child_frame_id,
+                pose=m.geometry_msgs__msg__PoseWithCovariance(
+                    pose=m.geometry_msgs__msg__Pose(
+                        position=m.geometry_msgs__msg__Point(x=x_, y=y_, z=0.0),
+                        orientation=orientation,
+                    ),
+                    covariance=self.pose_cov,
+                ),
+                twist=m.geometry_msgs__msg__TwistWithCovariance(
+                    twist=m.geometry_msgs__msg__Twist(
+                        linear=m.geometry_msgs__msg__Vector3(x=float(linear_), y=0.0, z=0.0),
+                        angular=m.geometry_msgs__msg__Vector3(x=0.0, y=0.0, z=float(angular_)),
+                    ),
+                    covariance=self.twist_cov,
+                ),
+            )
+            transform = m.geometry_msgs__msg__TransformStamped(
+                header=header,
+                child_frame_id=self.child_frame_id,
+                transform=m.geometry_msgs__msg__Transform(
+                    translation=m.geometry_msgs__msg__Vector3(x=x_, y=y_, z=0.0),
+                    rotation=orientation,
+                ),
+            )
+            tf_message = m.tf2_msgs__msg__TFMessage(transforms=[transform])
+            stamp = int(stamp_ns)
+            self.writer.write(self.odom_conn, stamp, serialize(message, self.odom_type))
+            self.writer.write(self.tf_conn, stamp, serialize(tf_message, self.tf_type))
+            self.count += 1
+
+
 def write_odometry_bag(
     path: str | os.PathLike[str],
     rows: Sequence[OdometryRow],
@@ -216,73 +373,84 @@ def write_odometry_bag(
     odom_topic: str = "/odom",
     tf_topic: str = "/tf",
 ) -> None:
-    """Write poses as a rosbag2 of nav_msgs/msg/Odometry and tf2_msgs/msg/TFMessage.
+    """Write poses whole as a rosbag2 of nav_msgs/msg/Odometry and tf2_msgs/msg/TFMessage.
+
+    ``rows`` are the poses and twists, stamped (ns) from the input; the other arguments and the
+    errors are those of :class:`OdometryBagWriter` (every stamp is checked before writing).
+    """
+    records = list(rows)
+    _check_stamps((row.stamp_ns for row in records), Path(path))
+    with OdometryBagWriter(
+        path, odom, force=force, odom_topic=odom_topic, tf_topic=tf_topic
+    ) as bag:
+        bag.write(
+            [row.stamp_ns for row in records],
+            (float(row.pose.x) for row in records),
+            (float(row.pose.y) for row in records),
+            (float(row.pose.theta) for row in records),
+            (float(row.twist.linear) for row in records),
+            (float(row.twist.angular) for row in records),
+        )
+
+
+class JointStatesBagWriter(_BagStream):
+    """Joint states written as they come to a rosbag2 of sensor_msgs/msg/JointState (use it
+    as a context manager).
 
     Args:
         path: the bag directory to create.
-        rows: the poses and twists, stamped (ns) from the input.
-        odom: the integrator that produced them: its frame ids and covariances are used.
+        names: the joint names of every message.
         force: replace an existing file or bag at ``path``.
-        odom_topic: the Odometry topic.
-        tf_topic: the transform topic (odom -> base_link).
+        topic: the topic.
 
     Raises:
-        OutputExistsError: ``path`` exists and ``force`` is false, or it is a directory that is
-            not a bag.
-        RecordingError: rosbags is missing, or a stamp is outside ROS time.
+        OutputExistsError, RecordingError: as :class:`OdometryBagWriter`.
     """
-    import numpy as np
 
-    p = Path(path)
-    _check_stamps((row.stamp_ns for row in rows), p)
-    require_rosbags()
-    from rosbags.typesys.stores import ros2_humble as m
+    def __init__(
+        self,
+        path: str | os.PathLike[str],
+        names: Sequence[str],
+        *,
+        force: bool = False,
+        topic: str = DEFAULT_TOPIC,
+    ) -> None:
+        super().__init__(path, force=force)
+        self.names = list(names)
+        self.topic = topic
 
-    typestore = _typestore()
-    pose_cov = np.array(odom.pose_covariance, dtype=np.float64)
-    twist_cov = np.array(odom.twist_covariance, dtype=np.float64)
-    odom_type = m.nav_msgs__msg__Odometry.__msgtype__
-    tf_type = m.tf2_msgs__msg__TFMessage.__msgtype__
-    with _bag_writer(p, force) as writer:
-        odom_conn = writer.add_connection(odom_topic, odom_type, typestore=typestore)
-        tf_conn = writer.add_connection(tf_topic, tf_type, typestore=typestore)
-        for stamp_ns, (x, y, theta), (linear, angular) in rows:
+    def _connect(self, writer: Writer) -> None:
+        from rosbags.typesys.stores import ros2_humble as m
+
+        self.m = m
+        self.conn = writer.add_connection(self.topic, JOINT_STATE, typestore=self.typestore)
+
+    def write(self, stamps_ns: Sequence[int], positions: ArrayLike) -> None:
+        """Append one message per stamp.
+
+        Args:
+            stamps_ns: the stamps (ns), one per message.
+            positions: joint angles (rad), shape (len(names), len(stamps_ns)).
+        """
+        import numpy as np
+
+        self._check_stamps(stamps_ns)
+        m = self.m
+        columns = np.array(positions, dtype=np.float64).reshape(len(self.names), len(stamps_ns))
+        empty = np.empty(0, dtype=np.float64)
+        serialize = self.typestore.serialize_cdr
+        for k, stamp_ns in enumerate(stamps_ns):
             sec, nanosec = divmod(stamp_ns, NS_PER_S)
-            header = m.std_msgs__msg__Header(
-                stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec),
-                frame_id=odom.frame_id,
-            )
-            q = quaternion_from_yaw(theta)
-            orientation = m.geometry_msgs__msg__Quaternion(x=q.x, y=q.y, z=q.z, w=q.w)
-            message = m.nav_msgs__msg__Odometry(
-                header=header,
-                child_frame_id=odom.child_frame_id,
-                pose=m.geometry_msgs__msg__PoseWithCovariance(
-                    pose=m.geometry_msgs__msg__Pose(
-                        position=m.geometry_msgs__msg__Point(x=x, y=y, z=0.0),
-                        orientation=orientation,
-                    ),
-                    covariance=pose_cov,
+            message = m.sensor_msgs__msg__JointState(
+                header=m.std_msgs__msg__Header(
+                    stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id=""
                 ),
-                twist=m.geometry_msgs__msg__TwistWithCovariance(
-                    twist=m.geometry_msgs__msg__Twist(
-                        linear=m.geometry_msgs__msg__Vector3(x=float(linear), y=0.0, z=0.0),
-                        angular=m.geometry_msgs__msg__Vector3(x=0.0, y=0.0, z=float(angular)),
-                    ),
-                    covariance=twist_cov,
-                ),
+                name=self.names,
+                position=np.ascontiguousarray(columns[:, k]),
+                velocity=empty,
+                effort=empty,
             )
-            transform = m.geometry_msgs__msg__TransformStamped(
-                header=header,
-                child_frame_id=odom.child_frame_id,
-                transform=m.geometry_msgs__msg__Transform(
-                    translation=m.geometry_msgs__msg__Vector3(x=x, y=y, z=0.0),
-                    rotation=orientation,
-                ),
-            )
-            tf_message = m.tf2_msgs__msg__TFMessage(transforms=[transform])
-            writer.write(odom_conn, stamp_ns, typestore.serialize_cdr(message, odom_type))
-            writer.write(tf_conn, stamp_ns, typestore.serialize_cdr(tf_message, tf_type))
+            self.writer.write(self.conn, stamp_ns, serialize(message, JOINT_STATE))
 
 
 def write_joint_states_bag(
@@ -309,27 +477,6 @@ def write_joint_states_bag(
             not a bag.
         RecordingError: rosbags is missing, or a stamp is outside ROS time.
     """
-    import numpy as np
-
-    p = Path(path)
-    _check_stamps(stamps_ns, p)
-    require_rosbags()
-    from rosbags.typesys.stores import ros2_humble as m
-
-    typestore = _typestore()
-    columns = np.array(positions, dtype=np.float64).reshape(len(names), len(stamps_ns))
-    empty = np.empty(0, dtype=np.float64)
-    with _bag_writer(p, force) as writer:
-        conn = writer.add_connection(topic, JOINT_STATE, typestore=typestore)
-        for k, stamp_ns in enumerate(stamps_ns):
-            sec, nanosec = divmod(stamp_ns, NS_PER_S)
-            message = m.sensor_msgs__msg__JointState(
-                header=m.std_msgs__msg__Header(
-                    stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id=""
-                ),
-                name=list(names),
-                position=np.ascontiguousarray(columns[:, k]),
-                velocity=empty,
-                effort=empty,
-            )
-            writer.write(conn, stamp_ns, typestore.serialize_cdr(message, JOINT_STATE))
+    _check_stamps(stamps_ns, Path(path))
+    with JointStatesBagWriter(path, names, force=force, topic=topic) as bag:
+        bag.write(stamps_ns, positions)

@@ -11,18 +11,21 @@ recording this tool could have written (``metadata.yaml`` and storage files, not
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import stat
 import sys
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
+from typing import TextIO
 
 from diffbot.errors import OutputError, OutputExistsError
 
 __all__ = [
     "BAG_FILES",
+    "atomic_text",
     "check_bag_output",
     "input_clash",
     "move_new",
@@ -94,15 +97,16 @@ def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Pa
     return target
 
 
-def write_text_atomic(
+@contextlib.contextmanager
+def atomic_text(
     path: Path,
-    text: str,
     *,
     force: bool,
     inputs: Sequence[Path] = (),
     executable: bool = False,
-) -> None:
-    """Write a whole file or nothing: a temporary file beside it, then a rename.
+) -> Iterator[TextIO]:
+    """A text file to write as it comes that appears whole or not at all: a temporary file
+    beside it, renamed over it when the block ends without an error (removed otherwise).
 
     The file gets the permissions of the file it replaces, or the usual ones (umask applied;
     executable ones for scripts).
@@ -118,12 +122,15 @@ def write_text_atomic(
         mode |= (mode & 0o444) >> 2  # x wherever r
     fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
     try:
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8") as out:
-                out.write(text)
-            os.chmod(tmp, mode)
-        except OSError as err:  # a full disk, a quota
-            raise OutputError(f"{path}: cannot write ({err.strerror})", path=str(path)) from None
+        with os.fdopen(fd, "w", encoding="utf-8") as out:
+            yield out
+            try:
+                out.flush()
+            except OSError as err:  # a full disk, a quota
+                raise OutputError(
+                    f"{path}: cannot write ({err.strerror})", path=str(path)
+                ) from None
+        os.chmod(tmp, mode)
         if force:
             os.replace(tmp, target)
         else:
@@ -200,6 +207,22 @@ def _link(source: Path, target: Path) -> bool:
             return False
         raise
     return True
+
+
+def write_text_atomic(
+    path: Path,
+    text: str,
+    *,
+    force: bool,
+    inputs: Sequence[Path] = (),
+    executable: bool = False,
+) -> None:
+    """Write a whole file or nothing (see :func:`atomic_text`)."""
+    with atomic_text(path, force=force, inputs=inputs, executable=executable) as out:
+        try:
+            out.write(text)
+        except OSError as err:  # a full disk, a quota
+            raise OutputError(f"{path}: cannot write ({err.strerror})", path=str(path)) from None
 
 
 def check_bag_output(path: Path, force: bool) -> None:

@@ -1,26 +1,261 @@
-"""Reading a recording from a path: a CSV file or a rosbag2 recording, by what the path is."""
+"""Odometry of a recording given by path: a CSV file or a rosbag2 JointState topic, read and
+integrated chunk by chunk in memory that does not grow with the recording.
+
+The result is that of reading the whole recording and feeding its samples one by one to
+:class:`diffbot.odometry.Odometry` (stamps in seconds since the first sample), bit for bit. A
+side with several drive wheels is the mean of its joints present in a sample; a sample is
+skipped only when a whole side is missing.
+
+A bag topic is stamped by one clock: the header stamps when every readable message has a
+non-zero one, otherwise the bag's receive times. A zero header stamp is seen only while
+reading, so a topic that turns out to need the receive times is read a second time: the sink
+is then told to start again (:meth:`PoseSink.restart`).
+"""
 
 from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Callable
+from contextlib import closing
 from pathlib import Path
+from typing import Protocol, TextIO
 
+import numpy as np
+
+from diffbot.chunk_odometry import ChunkOdometry, ChunkPoses, OdometrySummary, side_means
 from diffbot.errors import RecordingError
-from diffbot.io.bag import DEFAULT_TOPIC, is_bag, read_bag
-from diffbot.io.csvfile import read_csv
+from diffbot.io.bag import DEFAULT_TOPIC, JOINT_STATE, is_bag, read_bag
+from diffbot.io.bag_chunks import CHUNK_MESSAGES, TopicChunks
+from diffbot.io.csv_chunks import CHUNK_BYTES, open_csv_chunks, read_csv
+from diffbot.io.jointstate_cdr import decode_positions
 from diffbot.io.outputs import BAG_FILES
 from diffbot.io.textfile import check_regular
 from diffbot.kinematics import DiffDriveParams
-from diffbot.samples import SKIP_POSITION_RANGE, Recording, beyond_range
+from diffbot.samples import (
+    CLOCK_HEADER,
+    CLOCK_RECEIVE,
+    MAX_POSITION,
+    SKIP_POSITION_RANGE,
+    SKIP_UNREADABLE,
+    Recording,
+    beyond_range,
+)
 
-__all__ = ["read_recording"]
+__all__ = [
+    "PoseSink",
+    "RecordingOdometry",
+    "bag_odometry",
+    "csv_odometry",
+    "read_recording",
+    "recording_odometry",
+    "recording_size",
+]
+
+#: Called with how much of the input a chunk used (messages of a bag, characters of a CSV).
+Progress = Callable[[int], None]
+
+
+class PoseSink(Protocol):
+    """Where the poses of a run go as they come."""
+
+    def write(self, poses: ChunkPoses) -> None:
+        """Take the poses after the used samples of one chunk, in order."""
+
+    def restart(self) -> None:
+        """Drop every pose written so far: the run starts again from the first sample."""
+
+
+class RecordingOdometry:
+    """The odometry of one recording.
+
+    Attributes:
+        source: the input's name.
+        kind: ``"csv"`` or ``"rosbag2"``.
+        summary: the end of the run.
+        clock: for a bag, :data:`~diffbot.samples.CLOCK_HEADER` or
+            :data:`~diffbot.samples.CLOCK_RECEIVE`; None for a CSV.
+    """
+
+    def __init__(self, source: str, kind: str, summary: OdometrySummary, clock: str | None) -> None:
+        self.source = source
+        self.kind = kind
+        self.summary = summary
+        self.clock = clock
+
+
+def csv_odometry(
+    path: str | os.PathLike[str] | TextIO,
+    params: DiffDriveParams,
+    *,
+    sink: PoseSink | None = None,
+    progress: Progress | None = None,
+    source: str | None = None,
+    chunk_bytes: int = CHUNK_BYTES,
+) -> RecordingOdometry:
+    """The odometry of the wheel columns of a recording CSV (a file or a text stream).
+
+    Raises:
+        RecordingError: missing, empty or non-text input, no time column, no column for a side,
+            malformed CSV, or no usable sample.
+    """
+    odom = ChunkOdometry(params)
+    with open_csv_chunks(
+        path, (params.left_joints, params.right_joints), chunk_bytes=chunk_bytes, source=source
+    ) as chunks:
+        for chunk in chunks:
+            for reason, count in chunk.skipped.items():
+                odom.skip(reason, count)
+            left, right, both = side_means(chunk.positions, chunk.present, chunks.left_count)
+            poses = odom.feed(chunk.stamp_ns, left, right, both)
+            if sink is not None:
+                sink.write(poses)
+            if progress is not None:
+                progress(chunk.chars)
+        return RecordingOdometry(chunks.source, "csv", odom.summary(chunks.source), None)
+
+
+def _bag_pass(
+    topic: TopicChunks,
+    params: DiffDriveParams,
+    clock: str,
+    sink: PoseSink | None,
+    progress: Progress | None,
+) -> ChunkOdometry | None:
+    """One pass over the topic; None when a zero header stamp asks for the receive clock."""
+    odom = ChunkOdometry(params)
+    joints = (*params.left_joints, *params.right_joints)
+    for chunk in topic.chunks(receive_times=clock == CLOCK_RECEIVE):
+        decoded = decode_positions(chunk.blobs, joints)
+        readable = decoded.readable
+        header = decoded.stamp_ns[readable]
+        if clock == CLOCK_HEADER and not np.all(header):
+            return None
+        unreadable = int(readable.size - np.count_nonzero(readable))
+        odom.skip(SKIP_UNREADABLE, unreadable)
+        positions, present = decoded.positions, decoded.present
+        if clock == CLOCK_HEADER:
+            stamps = header
+        else:
+            assert chunk.receive_ns is not None  # asked for
+            stamps = chunk.receive_ns[readable]
+        # Readable messages with a finite wheel position too large to compute with are
+        # skipped, as read_recording skips them.
+        with np.errstate(invalid="ignore"):
+            large = (np.abs(positions) > MAX_POSITION) & np.isfinite(positions) & present
+        out_of_range = large.any(axis=1)[readable]
+        if unreadable:
+            positions, present = positions[readable], present[readable]
+        if out_of_range.any():
+            odom.skip(SKIP_POSITION_RANGE, int(np.count_nonzero(out_of_range)))
+            keep = ~out_of_range
+            positions, present, stamps = positions[keep], present[keep], stamps[keep]
+        left, right, both = side_means(positions, present, len(params.left_joints))
+        poses = odom.feed(stamps, left, right, both)
+        if sink is not None:
+            sink.write(poses)
+        if progress is not None:
+            progress(len(chunk.blobs))
+    return odom
+
+
+def bag_odometry(
+    path: str | os.PathLike[str],
+    params: DiffDriveParams,
+    topic: str = DEFAULT_TOPIC,
+    *,
+    chunk_size: int = CHUNK_MESSAGES,
+    sink: PoseSink | None = None,
+    progress: Progress | None = None,
+) -> RecordingOdometry:
+    """The odometry of the sensor_msgs/msg/JointState messages of one bag topic.
+
+    Messages of a repeating layout are decoded in bulk (fixed byte offsets, NumPy over many
+    messages at once), any other one by rosbags' deserializer.
+
+    Raises:
+        RecordingError: rosbags is missing (for storage it must read), the path is not a
+            readable bag, the topic is absent or does not carry JointState messages, or no
+            sample could be used.
+    """
+    with closing(TopicChunks(path, topic, chunk_size=chunk_size)) as chunks:
+        if chunks.msgtype != JOINT_STATE:
+            raise RecordingError(
+                f"{chunks.source}: topic {topic!r} carries {chunks.msgtype}, not {JOINT_STATE}"
+            )
+        clock = CLOCK_HEADER
+        odom = _bag_pass(chunks, params, clock, sink, progress)
+        if odom is None:
+            clock = CLOCK_RECEIVE
+            if sink is not None:
+                sink.restart()
+            odom = _bag_pass(chunks, params, clock, sink, progress)
+        assert odom is not None  # the receive clock never asks for another pass
+        return RecordingOdometry(chunks.source, "rosbag2", odom.summary(chunks.source), clock)
+
+
+def _existing(path: str | os.PathLike[str]) -> Path:
+    """The path of a recording whose files are all regular files (a FIFO or a device would
+    block or feed endless data).
+
+    Raises:
+        RecordingError: it is missing, or one of its files is not a regular file.
+    """
+    p = Path(path)
+    if not p.exists():
+        raise RecordingError(f"{p}: no such file or directory")
+    parts = [p] if not p.is_dir() else sorted(p.iterdir())
+    for part in parts:
+        if part is p or part.name == "metadata.yaml" or part.suffix.lower() in BAG_FILES:
+            check_regular(part, RecordingError, "a recording")
+    return p
+
+
+def recording_odometry(
+    path: str | os.PathLike[str],
+    params: DiffDriveParams,
+    topic: str = DEFAULT_TOPIC,
+    *,
+    sink: PoseSink | None = None,
+    progress: Progress | None = None,
+) -> RecordingOdometry:
+    """The odometry of a CSV file or a rosbag2 recording, by what the path is.
+
+    Args:
+        path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
+        params: the robot, whose wheel joints are looked up by name.
+        topic: the JointState topic of a bag.
+        sink: where the poses go as they come, if anywhere.
+        progress: called after each chunk with how much of the input it used (see
+            :func:`recording_size`).
+
+    Raises:
+        RecordingError: missing, empty or unreadable input; missing columns or topic; no
+            usable sample.
+    """
+    p = _existing(path)
+    if is_bag(p):
+        return bag_odometry(p, params, topic, sink=sink, progress=progress)
+    return csv_odometry(p, params, sink=sink, progress=progress)
+
+
+def recording_size(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> int | None:
+    """How much :func:`recording_odometry` will report to ``progress`` in all: a bag topic's
+    message count from its metadata, a CSV file's size; None when not known cheaply."""
+    p = Path(path)
+    try:
+        if not is_bag(p):
+            return p.stat().st_size
+        with closing(TopicChunks(p, topic)) as chunks:
+            return chunks.message_count
+    except (OSError, RecordingError):
+        return None
 
 
 def read_recording(
     path: str | os.PathLike[str], params: DiffDriveParams, topic: str = DEFAULT_TOPIC
 ) -> Recording:
-    """Read wheel joint samples from a CSV file or a rosbag2 recording.
+    """Read wheel joint samples whole from a CSV file or a rosbag2 recording.
 
     Args:
         path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
@@ -33,18 +268,11 @@ def read_recording(
     Raises:
         RecordingError: missing, empty or unreadable input; missing columns or topic.
     """
-    p = Path(path)
-    if not p.exists():
-        raise RecordingError(f"{p}: no such file or directory")
-    # Only regular files are read: a FIFO or device would block or feed endless data.
-    parts = [p] if not p.is_dir() else sorted(p.iterdir())
-    for part in parts:
-        if part is p or part.name == "metadata.yaml" or part.suffix.lower() in BAG_FILES:
-            check_regular(part, RecordingError, "a recording")
+    p = _existing(path)
     if is_bag(p):
         wheels = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
         return _within_range(read_bag(p, topic), wheels)
-    return read_csv(p, params.left_joint, params.right_joint)
+    return read_csv(p, params.left_joints, params.right_joints)
 
 
 def _within_range(recording: Recording, wheels: set[str]) -> Recording:

@@ -184,8 +184,9 @@ def test_odom_refuses_bad_csv_with_one_error_line(
     ("args", "message"),
     [
         (["missing.csv"], "missing.csv: no such file or directory"),
-        ([], "expected one INPUT"),
-        (["a.csv", "b.csv"], "expected one INPUT"),
+        ([], "expected an INPUT"),
+        (["a.csv", "-"], "cannot be read with other inputs"),
+        (["nothing*.csv"], "nothing*.csv: no file or directory matches"),
         (["emptydir"], "not a readable rosbag2 recording"),
         (["bad.mcap"], "not a readable rosbag2 recording"),
         (["a.csv", "--wheel-radius", "-1"], "'-1' must be > 0"),
@@ -211,15 +212,21 @@ def test_odom_refuses_bad_arguments_with_exit_code_2(
     assert "Traceback" not in result.output
 
 
-def test_odom_without_rosbags_says_what_to_install(
+def test_odom_without_rosbags_reads_sqlite3_and_says_what_to_install_for_mcap(
     runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    bag = write_bag(tmp_path / "in", [(1, 1, [LEFT, RIGHT], [0.0, 0.0])])
+    messages = [(1, 1, [LEFT, RIGHT], [0.0, 0.0]), (2, 2, [LEFT, RIGHT], [1.0, 1.0])]
+    sqlite_bag = write_bag(tmp_path / "in", messages)
+    mcap_bag = write_bag(tmp_path / "in_mcap", messages, storage="mcap")
     monkeypatch.setitem(sys.modules, "rosbags.typesys", None)
-    result = runner.invoke(main, ["odom", str(bag)])
+    monkeypatch.setitem(sys.modules, "rosbags.rosbag2", None)
+    result = runner.invoke(main, ["odom", str(sqlite_bag), "--json"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout)["samples"] == 2
+    result = runner.invoke(main, ["odom", str(mcap_bag)])
     assert result.exit_code == 2
     assert result.stderr == (
-        "error: reading and writing ROS 2 bags needs the rosbags library: "
+        "error: reading this ROS 2 bag needs the rosbags library: "
         "pip install 'rosbags>=0.11' (the bag extra of diffbot-kinematics)\n"
     )
 
@@ -334,7 +341,7 @@ def test_odom_reads_a_csv_from_stdin(runner: CliRunner) -> None:
         (["a.csv", "--out", ""], None, "error: --out needs a file or directory name, got ''"),
         (["a.csv", "--out", " ", "--bag"], None, "error: --out needs a file or directory name"),
         (["-"], b"", "error: -: empty file"),
-        (["-"], b"\xff\xfe\x00", "error: -: stdin is not a text (UTF-8) CSV"),
+        (["-"], b"\xff\xfe\x00", "error: -: not a text (UTF-8) CSV file"),
         (["-"], b"time,a,b\n0,0,0\n", "error: -: no column for the left wheel joint"),
         (["-", "--out", "-"], b"time\n", "error: -: no column for the left wheel joint"),
     ],

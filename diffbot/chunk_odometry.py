@@ -1,0 +1,337 @@
+"""Odometry over a recording read in chunks, equal bit for bit to the sample-by-sample run.
+
+The odometry of a recording feeds every sample to :class:`diffbot.odometry.Odometry` with its
+stamp in seconds since the first sample, ``(stamp_ns - first_stamp_ns) / 10**9``. This module
+does the same over NumPy chunks: it applies the integrator's skip rules (a wheel joint missing,
+a NaN or infinite position, a stamp not after the previous used one) to a whole chunk at once,
+then integrates the used samples with the integrator's formulas, in the same order of
+operations, continuing from the state the previous chunk left. The pose, twist and distance
+after the last sample are then those of the sample-by-sample run, to the last bit, wherever
+NumPy's sin and cos equal libm's (they do on the platforms measured; see the tests).
+
+:func:`diffbot.batch_odometry.integrate` cannot continue a run: it takes the first sample of its
+arrays as the encoder baseline, while the heading must be computed from the run's first
+sample (the integrator derives it from the angles travelled since the baseline).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Final, NamedTuple
+
+import numpy as np
+
+from diffbot.errors import ParameterError, RecordingError
+from diffbot.kinematics import DiffDriveParams, Pose, Twist, norm_angle
+from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, SKIP_STAMP_NOT_AFTER
+from diffbot.samples import NS_PER_S
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "ChunkOdometry",
+    "ChunkPoses",
+    "OdometrySummary",
+    "seconds_since",
+    "side_means",
+]
+
+#: Integers up to 2**53 convert to float64 exactly, so below it ``a / b`` in Python is one
+#: rounding of float(a) / float(b), which NumPy reproduces.
+_EXACT: Final = 2**53
+_INT64_MIN: Final = -(2**63)
+_INT64_MAX: Final = 2**63 - 1
+
+
+class ChunkPoses(NamedTuple):
+    """The state after each used sample of one chunk (float64 unless said otherwise, shape (k,)).
+
+    Attributes:
+        stamp_ns: the samples' stamps (ns), int64.
+        x: x (m).
+        y: y (m).
+        heading: the unwrapped heading (rad).
+        linear: linear velocity over the step that ends at the sample (m/s); 0 for the baseline.
+        angular: angular velocity over that step (rad/s); 0 for the baseline.
+    """
+
+    stamp_ns: NDArray[np.int64]
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    heading: NDArray[np.float64]
+    linear: NDArray[np.float64]
+    angular: NDArray[np.float64]
+
+
+class OdometrySummary(NamedTuple):
+    """The end of a run over a whole recording.
+
+    Attributes:
+        final_pose: the pose after the last used sample, theta in (-pi, pi].
+        heading: the unwrapped heading (rad) after the last used sample.
+        twist: the velocity over the last step.
+        samples: how many samples were used, the baseline included.
+        skipped: how many samples were skipped, by reason.
+        distance: path length travelled (m), the sum of |ds|.
+        duration: time (s) from the first to the last used sample.
+    """
+
+    final_pose: Pose
+    heading: float
+    twist: Twist
+    samples: int
+    skipped: Mapping[str, int]
+    distance: float
+    duration: float
+
+
+def seconds_since(stamps_ns: ArrayLike, origin_ns: int) -> NDArray[np.float64]:
+    """``(stamp_ns - origin_ns) / 10**9`` for each stamp, rounded exactly as Python rounds it.
+
+    Args:
+        stamps_ns: stamps (ns), int64, shape (n,).
+        origin_ns: the stamp (ns) that is time zero.
+
+    Returns:
+        Seconds since ``origin_ns``, float64, shape (n,).
+    """
+    stamps = np.asarray(stamps_ns, dtype=np.int64)
+    lo = max(origin_ns - _EXACT, _INT64_MIN)
+    hi = min(origin_ns + _EXACT, _INT64_MAX)
+    far = (stamps < lo) | (stamps > hi)
+    near = np.where(far, origin_ns, stamps)
+    seconds: NDArray[np.float64] = (near - np.int64(origin_ns)).astype(np.float64) / NS_PER_S
+    if far.any():
+        # Python divides big integers exactly, then rounds once; float64 would round twice.
+        for k in np.flatnonzero(far).tolist():
+            seconds[k] = (int(stamps[k]) - origin_ns) / NS_PER_S
+    return seconds
+
+
+def side_means(
+    positions: NDArray[np.float64], present: NDArray[np.bool_], left_count: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+    """Each side's wheel angle per sample: the mean of that side's joints present in it.
+
+    As diff_drive_controller averages the wheels of a side: the present positions are added in
+    the order of the side's joints, left to right, then divided by how many there are (one
+    joint: its position unchanged).
+
+    Args:
+        positions: joint angles (rad), shape (n, joints): the left joints first, then the right.
+        present: whether each sample has each joint, bool, same shape.
+        left_count: how many of the columns are left joints.
+
+    Returns:
+        The left and right angles (rad), shape (n,) each, and whether the sample has at least
+        one joint of each side.
+    """
+    means = []
+    have = np.ones(positions.shape[0], dtype=np.bool_)
+    for columns in (slice(0, left_count), slice(left_count, positions.shape[1])):
+        values, mask = positions[:, columns], present[:, columns]
+        if values.shape[1] == 1:
+            means.append(np.where(mask[:, 0], values[:, 0], 0.0))
+            have &= mask[:, 0]
+            continue
+        total = np.zeros(positions.shape[0])
+        count = np.zeros(positions.shape[0])
+        for j in range(values.shape[1]):
+            total = np.where(mask[:, j], total + values[:, j], total)
+            count += mask[:, j]
+        side = count > 0
+        with np.errstate(invalid="ignore", divide="ignore"):
+            means.append(np.where(side, total / np.where(side, count, 1.0), 0.0))
+        have &= side
+    return means[0], means[1], have
+
+
+class ChunkOdometry:
+    """The odometry of a recording fed chunk by chunk, in constant memory.
+
+    Args:
+        params: the robot.
+        x: initial x (m).
+        y: initial y (m).
+        theta: initial heading (rad).
+
+    Raises:
+        ParameterError: a non-finite initial pose.
+    """
+
+    def __init__(
+        self, params: DiffDriveParams, x: float = 0.0, y: float = 0.0, theta: float = 0.0
+    ) -> None:
+        left_radius, right_radius = params.radii
+        self._left_scale = params.left_sign * left_radius
+        self._right_scale = params.right_sign * right_radius
+        self._turn = 1.0 / params.wheel_separation
+        self._half_turn = 0.5 / params.wheel_separation
+        x, y, theta = float(x), float(y), float(theta)
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(theta)):
+            raise ParameterError(f"initial pose must be finite, got ({x!r}, {y!r}, {theta!r})")
+        self._x = x
+        self._y = y
+        self._heading = self._heading0 = theta
+        self._linear = 0.0
+        self._angular = 0.0
+        self._distance = 0.0
+        self._origin_ns: int | None = None
+        self._baseline: tuple[float, float] | None = None
+        self._last: tuple[float, float, float] = (0.0, 0.0, -math.inf)
+        self._first_used_ns: int | None = None
+        self._last_used_ns: int | None = None
+        self._samples = 0
+        self._skipped: dict[str, int] = {}
+
+    def _skip(self, reason: str, count: int) -> None:
+        if count:
+            self._skipped[reason] = self._skipped.get(reason, 0) + count
+
+    def feed(
+        self,
+        stamps_ns: ArrayLike,
+        left: ArrayLike,
+        right: ArrayLike,
+        present: ArrayLike | None = None,
+    ) -> ChunkPoses:
+        """Integrate the next chunk of samples, in recording order.
+
+        Args:
+            stamps_ns: the samples' stamps (ns), int64, shape (n,). The first sample ever fed
+                is time zero, whether or not it is used.
+            left: the left wheel joint's angle (rad), shape (n,).
+            right: the right wheel joint's angle (rad), shape (n,).
+            present: whether the sample has both wheel joints, bool, shape (n,); all if None.
+
+        Returns:
+            The state after each used sample of the chunk.
+        """
+        stamps = np.asarray(stamps_ns, dtype=np.int64)
+        lefts = np.asarray(left, dtype=np.float64)
+        rights = np.asarray(right, dtype=np.float64)
+        n = stamps.shape[0]
+        have = np.ones(n, dtype=np.bool_) if present is None else np.asarray(present, bool)
+        if n == 0:
+            empty = np.empty(0)
+            return ChunkPoses(stamps, empty, empty, empty, empty, empty)
+        if self._origin_ns is None:
+            self._origin_ns = int(stamps[0])
+        seconds = seconds_since(stamps, self._origin_ns)
+        with np.errstate(invalid="ignore"):
+            finite = (lefts - lefts) + (rights - rights) == 0.0
+        valid = have & finite
+        self._skip(SKIP_MISSING_JOINT, int(n - np.count_nonzero(have)))
+        self._skip(SKIP_NOT_FINITE, int(np.count_nonzero(have & ~finite)))
+        index = np.flatnonzero(valid)
+        t = seconds[index]
+        # A sample is used when it is after the latest stamp of all valid samples before it:
+        # each valid sample that was skipped was no later than the used one before it.
+        before = np.empty_like(t)
+        if t.size:
+            before[0] = self._last[2]
+            np.maximum.accumulate(t[:-1], out=before[1:])
+            np.maximum(before, self._last[2], out=before)
+        used = t > before
+        self._skip(SKIP_STAMP_NOT_AFTER, int(t.size - np.count_nonzero(used)))
+        index = index[used]
+        return self._integrate(stamps[index], lefts[index], rights[index], seconds[index])
+
+    def _integrate(
+        self,
+        stamps: NDArray[np.int64],
+        left: NDArray[np.float64],
+        right: NDArray[np.float64],
+        t: NDArray[np.float64],
+    ) -> ChunkPoses:
+        k = stamps.shape[0]
+        xs = np.empty(k)
+        ys = np.empty(k)
+        heading = np.empty(k)
+        linear = np.zeros(k)
+        angular = np.zeros(k)
+        if k == 0:
+            return ChunkPoses(stamps, xs, ys, heading, linear, angular)
+        start = 0
+        if self._baseline is None:
+            # The first used sample sets the encoder baseline and does not move the robot.
+            self._baseline = (float(left[0]), float(right[0]))
+            self._first_used_ns = int(stamps[0])
+            xs[0], ys[0], heading[0] = self._x, self._y, self._heading
+            self._last = (float(left[0]), float(right[0]), float(t[0]))
+            start = 1
+        left0, right0 = self._baseline
+        prev_left = np.empty(k - start)
+        prev_right = np.empty(k - start)
+        prev_t = np.empty(k - start)
+        if k > start:
+            prev_left[0], prev_right[0], prev_t[0] = self._last
+            prev_left[1:] = left[start:-1]
+            prev_right[1:] = right[start:-1]
+            prev_t[1:] = t[start:-1]
+        steps = slice(start, k)
+        with np.errstate(all="ignore"):
+            dl = (left[steps] - prev_left) * self._left_scale
+            dr = (right[steps] - prev_right) * self._right_scale
+            ds = (dl + dr) * 0.5
+            half = (dr - dl) * self._half_turn
+            sinc = np.sin(half) / half
+            sinc[half == 0.0] = 1.0
+            chord = ds * sinc
+            heading[steps] = (
+                (right[steps] - right0) * self._right_scale
+                - (left[steps] - left0) * self._left_scale
+            ) * self._turn + self._heading0
+            previous = np.empty(k - start)
+            if k > start:
+                previous[0] = self._heading
+                previous[1:] = heading[start:-1]
+            along = previous + half
+            dx = chord * np.cos(along)
+            dy = chord * np.sin(along)
+            dt = t[steps] - prev_t
+            linear[steps] = ds / dt
+            angular[steps] = 2.0 * half / dt
+        # Running sums in the integrator's order: cumsum adds one term at a time, left to right.
+        xs[steps] = np.cumsum(np.concatenate(([self._x], dx)))[1:]
+        ys[steps] = np.cumsum(np.concatenate(([self._y], dy)))[1:]
+        self._distance = float(np.cumsum(np.concatenate(([self._distance], np.abs(ds))))[-1])
+        self._x, self._y, self._heading = float(xs[-1]), float(ys[-1]), float(heading[-1])
+        if k > start:
+            self._linear, self._angular = float(linear[-1]), float(angular[-1])
+        self._last = (float(left[-1]), float(right[-1]), float(t[-1]))
+        self._last_used_ns = int(stamps[-1])
+        self._samples += k
+        return ChunkPoses(stamps, xs, ys, heading, linear, angular)
+
+    def skip(self, reason: str, count: int = 1) -> None:
+        """Count samples the reader could not turn into samples (unreadable, no stamp)."""
+        self._skip(reason, count)
+
+    def summary(self, source: str) -> OdometrySummary:
+        """The run so far.
+
+        Args:
+            source: the recording's name, for the error message.
+
+        Raises:
+            RecordingError: no sample could be used.
+        """
+        skipped = dict(self._skipped)
+        if self._first_used_ns is None or self._last_used_ns is None:
+            reasons = ", ".join(f"{reason}: {n}" for reason, n in sorted(skipped.items()))
+            raise RecordingError(
+                f"{source}: no usable sample"
+                + (f" (skipped: {reasons})" if reasons else " (the recording holds no samples)")
+            )
+        return OdometrySummary(
+            final_pose=Pose(self._x, self._y, norm_angle(self._heading)),
+            heading=self._heading,
+            twist=Twist(self._linear, self._angular),
+            samples=self._samples,
+            skipped=skipped,
+            distance=self._distance,
+            duration=(self._last_used_ns - self._first_used_ns) / NS_PER_S,
+        )

@@ -1,0 +1,217 @@
+"""Odometry of many recordings: one task per recording, run in turn, in a process pool of the
+standard library, or on a Dask cluster (``pip install 'diffbot-kinematics[fleet]'``).
+
+A task reads its recording in chunks and writes its poses as they come (a CSV file or a bag,
+whole or not at all); a recording that cannot be read is reported in its result and does not
+stop the others. Results come back in the order of the tasks.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Final, TextIO
+
+from diffbot.chunk_odometry import ChunkPoses
+from diffbot.errors import DiffbotError, RecordingError
+from diffbot.io.bag import DEFAULT_TOPIC, OdometryBagWriter
+from diffbot.io.csvfile import ODOMETRY_HEADER, odometry_lines
+from diffbot.io.outputs import atomic_text
+from diffbot.io.recordings import Progress, RecordingOdometry, csv_odometry, recording_odometry
+from diffbot.kinematics import DiffDriveParams, norm_angle
+from diffbot.odometry import Odometry
+
+__all__ = [
+    "DASK_INSTALL_HINT",
+    "OdometryResult",
+    "OdometryTask",
+    "output_name",
+    "run_task",
+    "run_tasks",
+]
+
+#: What to install for --dask.
+DASK_INSTALL_HINT: Final = "pip install 'dask[distributed]' (the fleet extra of diffbot-kinematics)"
+
+
+@dataclass(frozen=True)
+class OdometryTask:
+    """The odometry of one recording, and where its poses go.
+
+    Attributes:
+        input: a CSV file, a rosbag2 directory or one of its storage files; ``-`` for the CSV
+            on ``stream``.
+        params: the robot.
+        topic: the JointState topic of a bag.
+        output: where to write the poses (a CSV file, or a bag directory with ``as_bag``).
+        as_bag: write ``output`` as a rosbag2 of nav_msgs/Odometry and TF.
+        force: replace an existing output.
+    """
+
+    input: str
+    params: DiffDriveParams
+    topic: str = DEFAULT_TOPIC
+    output: str | None = None
+    as_bag: bool = False
+    force: bool = False
+
+
+@dataclass(frozen=True)
+class OdometryResult:
+    """What a task gave: the run, or the error that stopped it; and how many poses it wrote."""
+
+    task: OdometryTask
+    run: RecordingOdometry | None
+    error: DiffbotError | None = None
+    poses: int = 0
+
+
+def output_name(path: str | os.PathLike[str], as_bag: bool) -> str:
+    """The name of a recording's output in an output directory: its stem, ``.csv`` unless a
+    bag (``run.mcap`` -> ``run.csv``; the bag folder ``day1/`` -> ``day1``)."""
+    p = Path(path)
+    stem = p.name if p.is_dir() else p.stem
+    return stem if as_bag else f"{stem}.csv"
+
+
+class _CsvSink:
+    def __init__(self, out: TextIO) -> None:
+        self.out = out
+        self.count = 0
+        out.write(ODOMETRY_HEADER)
+
+    def write(self, poses: ChunkPoses) -> None:
+        self.out.write(odometry_lines(*(column.tolist() for column in poses)))
+        self.count += poses.stamp_ns.size
+
+    def restart(self) -> None:
+        self.out.seek(0)
+        self.out.truncate()
+        self.out.write(ODOMETRY_HEADER)
+        self.count = 0
+
+
+class _BagSink:
+    def __init__(self, bag: OdometryBagWriter) -> None:
+        self.bag = bag
+
+    @property
+    def count(self) -> int:
+        return self.bag.count
+
+    def write(self, poses: ChunkPoses) -> None:
+        theta = [norm_angle(h) for h in poses.heading.tolist()]
+        self.bag.write(
+            poses.stamp_ns.tolist(),
+            poses.x.tolist(),
+            poses.y.tolist(),
+            theta,
+            poses.linear.tolist(),
+            poses.angular.tolist(),
+        )
+
+    def restart(self) -> None:
+        self.bag.restart()
+
+
+def run_task(
+    task: OdometryTask, progress: Progress | None = None, stream: TextIO | None = None
+) -> OdometryResult:
+    """Run one task; a :class:`DiffbotError` is returned in the result, not raised.
+
+    Args:
+        task: the task.
+        progress: called after each chunk with how much of the input it used.
+        stream: the CSV text when ``task.input`` is ``-``.
+    """
+    try:
+
+        def odometry(sink: _CsvSink | _BagSink | None) -> RecordingOdometry:
+            if task.input == "-":
+                assert stream is not None
+                return csv_odometry(stream, task.params, source="-", sink=sink, progress=progress)
+            return recording_odometry(
+                task.input, task.params, task.topic, sink=sink, progress=progress
+            )
+
+        inputs = [] if task.input == "-" else [Path(task.input)]
+        if task.output is None:
+            return OdometryResult(task, odometry(None))
+        if task.as_bag:
+            with OdometryBagWriter(task.output, Odometry(task.params), force=task.force) as bag:
+                bag_sink = _BagSink(bag)
+                run = odometry(bag_sink)
+            return OdometryResult(task, run, poses=bag_sink.count)
+        with atomic_text(Path(task.output), force=task.force, inputs=inputs) as out:
+            csv_sink = _CsvSink(out)
+            run = odometry(csv_sink)
+        return OdometryResult(task, run, poses=csv_sink.count)
+    except DiffbotError as err:
+        return OdometryResult(task, None, err)
+    except OSError as err:
+        where = f"{err.filename}: " if err.filename else f"{task.input}: "
+        return OdometryResult(task, None, RecordingError(f"{where}{err.strerror or err}"))
+
+
+def run_tasks(
+    tasks: Sequence[OdometryTask],
+    *,
+    jobs: int = 1,
+    dask_address: str | None = None,
+    done: Callable[[OdometryResult], None] | None = None,
+) -> Iterator[OdometryResult]:
+    """Run the tasks and yield their results in order.
+
+    Args:
+        tasks: the tasks.
+        jobs: processes to run them in (1: in this process, one after another).
+        dask_address: the scheduler of a Dask cluster to run them on instead (``tcp://...``).
+        done: called as each task finishes, in the order they finish.
+
+    Raises:
+        RecordingError: dask is missing, or its scheduler cannot be reached.
+    """
+    if dask_address is not None:
+        yield from _run_dask(tasks, dask_address, done)
+        return
+    if jobs <= 1 or len(tasks) <= 1:
+        for task in tasks:
+            result = run_task(task)
+            if done is not None:
+                done(result)
+            yield result
+        return
+    with ProcessPoolExecutor(max_workers=min(jobs, len(tasks))) as pool:
+        futures = [pool.submit(run_task, task) for task in tasks]
+        if done is not None:
+            for future in futures:
+                future.add_done_callback(lambda f: done(f.result()))
+        for future in futures:
+            yield future.result()
+
+
+def _run_dask(
+    tasks: Sequence[OdometryTask],
+    address: str,
+    done: Callable[[OdometryResult], None] | None,
+) -> Iterator[OdometryResult]:
+    try:
+        from distributed import Client
+    except ImportError:
+        raise RecordingError(
+            f"running on a Dask cluster needs dask.distributed: {DASK_INSTALL_HINT}"
+        ) from None
+    try:
+        client = Client(address, timeout=10)  # type: ignore[no-untyped-call]
+    except (OSError, TimeoutError) as err:
+        raise RecordingError(f"cannot reach the Dask scheduler at {address}: {err}") from None
+    with client:
+        futures = client.map(run_task, list(tasks), pure=False)
+        results = client.gather(futures)  # type: ignore[no-untyped-call]
+        for result in results:
+            if done is not None:
+                done(result)
+            yield result

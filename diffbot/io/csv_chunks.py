@@ -1,0 +1,474 @@
+"""Read the wheel columns of a recording CSV in chunks, without Python objects per cell.
+
+A recording CSV has a time column (``time``, ``stamp``, ``t`` or ``__time``, any case, in
+seconds) and one position column per wheel joint, named by the joint or ending with
+``/<joint>/position`` (as bag export tools name the fields of a JointState); other columns are
+ignored and an empty cell means the joint is missing from that row. A side with several drive
+wheels needs a column for at least one of them. The rules are those of :mod:`csv` (excel
+dialect, UTF-8 with an optional byte order mark): the first row that is not blank names the
+columns. Stamps are decimal seconds turned into integer nanoseconds exactly (ties to even).
+
+A chunk of lines is parsed by :func:`numpy.loadtxt` (the wheel cells as float64, the time cells
+as bytes) and the stamps by integer arithmetic on those bytes. Python's rules take over where
+NumPy's could differ: a chunk that loadtxt refuses (an empty or odd cell, a short row) is read
+row by row with :mod:`csv`, and so is the rest of a file from the first quote character or NUL
+on; a time cell that is not plain digits with at most 9 decimals is converted on its own.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import io
+import itertools
+import os
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING, Final, NamedTuple, TextIO
+
+import numpy as np
+
+from diffbot.chunk_odometry import side_means
+from diffbot.errors import RecordingError
+from diffbot.formats.text import listing
+from diffbot.io.textfile import open_text
+from diffbot.odometry import SKIP_NOT_FINITE
+from diffbot.samples import (
+    INT64,
+    MAX_POSITION,
+    NS_PER_S,
+    SKIP_MISSING_STAMP,
+    SKIP_POSITION_RANGE,
+    SKIP_STAMP_RANGE,
+    SKIP_UNREADABLE,
+    ColumnSamples,
+    Recording,
+    beyond_range,
+    ns_from_seconds,
+)
+
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
+__all__ = [
+    "CHUNK_BYTES",
+    "TIME_COLUMNS",
+    "CsvChunk",
+    "CsvChunks",
+    "open_csv_chunks",
+    "read_csv",
+    "stamp_ns_from_text",
+    "stamps_from_digits",
+]
+
+#: Names a time column may have (seconds), case-insensitive, in order of preference.
+TIME_COLUMNS: Final = ("time", "stamp", "t", "__time")
+#: Characters of text read per chunk: about 17,000 rows of a simulator's CSV. Larger chunks are
+#: no faster and leave more memory behind (measured: 48 MB peak at 1 MiB, 84 MB at 4 MiB).
+CHUNK_BYTES: Final = 1 << 20
+
+#: Width of the time cells as loadtxt returns them; a cell that fills it may have been cut.
+_TIME_WIDTH: Final = 32
+#: Rows parsed per chunk on the row-by-row path.
+_EXACT_ROWS: Final = 65536
+_POW10: Final = np.array([10**k for k in range(19)], dtype=np.uint64)
+
+
+class CsvChunk(NamedTuple):
+    """The samples of consecutive rows (n of them; the rows skipped are not among them).
+
+    Attributes:
+        stamp_ns: stamps (ns), int64, shape (n,).
+        positions: the wheel joints' angles (rad), float64, shape (n, joints), in the order of
+            :attr:`CsvChunks.joints`; 0.0 where the cell is empty.
+        present: whether each cell is set, bool, same shape.
+        skipped: rows of the chunk that are no sample, by reason.
+        chars: characters of text the chunk was read from (for progress; 0 when not known).
+    """
+
+    stamp_ns: NDArray[np.int64]
+    positions: NDArray[np.float64]
+    present: NDArray[np.bool_]
+    skipped: Mapping[str, int]
+    chars: int = 0
+
+
+def stamp_ns_from_text(text: str) -> int | None:
+    """A time cell (decimal seconds) as integer ns, exactly rounded (ties to even).
+
+    Returns:
+        The stamp (ns), or None when the text is NaN or infinite.
+
+    Raises:
+        ValueError: not a plain decimal number (digit grouping ``1_0`` included).
+    """
+    whole, _, frac = text.strip().partition(".")
+    # The usual forms ("12", "1700000000.123456789") without Decimal's cost per cell.
+    if (
+        whole.isdigit()
+        and whole.isascii()
+        and len(whole) <= 12
+        and len(frac) <= 9
+        and (not frac or (frac.isdigit() and frac.isascii()))
+    ):
+        return int(whole) * NS_PER_S + int(frac.ljust(9, "0"))
+    return ns_from_seconds(text)
+
+
+def _stamp(text: str) -> int | str:
+    """A time cell as ns in int64, or the reason the row is skipped."""
+    try:
+        stamp_ns = stamp_ns_from_text(text)
+    except ValueError:
+        return SKIP_MISSING_STAMP if not text.strip() else SKIP_UNREADABLE
+    if stamp_ns is None:
+        return SKIP_NOT_FINITE
+    if not -INT64 <= stamp_ns < INT64:
+        return SKIP_STAMP_RANGE
+    return stamp_ns
+
+
+def _position(text: str) -> float:
+    if "_" in text:
+        raise ValueError(text)
+    return float(text)
+
+
+def _columns(
+    headers: Sequence[str], joints: Sequence[str], side: str, source: str
+) -> list[tuple[str, int]]:
+    """The columns of a side's joints that the file has, as (joint, index); at least one."""
+    found: list[tuple[str, int]] = []
+    for joint in joints:
+        suffix = f"/{joint}/position"
+        matches = [i for i, h in enumerate(headers) if h == joint or h.endswith(suffix)]
+        if len(matches) > 1:
+            raise RecordingError(
+                f"{source}: several columns for the {side} wheel joint {joint!r}: "
+                f"{listing(headers[i] for i in matches)}"
+            )
+        found.extend((joint, i) for i in matches)
+    if not found:
+        names = " or ".join(repr(j) for j in joints)
+        raise RecordingError(
+            f"{source}: no column for the {side} wheel joint {names} (named by the joint or "
+            f"ending with '/<joint>/position'); columns found: {listing(headers)}"
+        )
+    return found
+
+
+def _rows_exactly(rows: Iterable[list[str]], indexes: Sequence[int]) -> CsvChunk:
+    """Rows parsed by :mod:`csv` into one chunk, cell by cell."""
+    time_index, *joint_indexes = indexes
+    width = max(indexes) + 1
+    stamps: list[int] = []
+    positions: list[float] = []
+    present: list[bool] = []
+    skipped: dict[str, int] = {}
+    for row in rows:
+        if len(row) < width:
+            if not any(cell.strip() for cell in row):
+                continue  # a blank line is no sample
+            row = row + [""] * (width - len(row))  # the cells a short row lacks are empty
+        stamp = _stamp(row[time_index])
+        if isinstance(stamp, str):
+            if any(cell.strip() for cell in row):  # a line of empty cells is no sample
+                skipped[stamp] = skipped.get(stamp, 0) + 1
+            continue
+        values: list[float] = []
+        bits: list[bool] = []
+        try:
+            for i in joint_indexes:
+                text = row[i]
+                if text and not text.isspace():
+                    values.append(_position(text))
+                    bits.append(True)
+                else:
+                    values.append(0.0)
+                    bits.append(False)
+        except ValueError:
+            skipped[SKIP_UNREADABLE] = skipped.get(SKIP_UNREADABLE, 0) + 1
+            continue
+        if any(beyond_range(value) for value in values):
+            skipped[SKIP_POSITION_RANGE] = skipped.get(SKIP_POSITION_RANGE, 0) + 1
+            continue
+        stamps.append(stamp)
+        positions.extend(values)
+        present.extend(bits)
+    joints = len(joint_indexes)
+    return CsvChunk(
+        np.array(stamps, dtype=np.int64),
+        np.array(positions, dtype=np.float64).reshape(-1, joints),
+        np.array(present, dtype=np.bool_).reshape(-1, joints),
+        skipped,
+    )
+
+
+def stamps_from_digits(cells: NDArray[np.bytes_]) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+    """Time cells of plain digits (``12``, ``1700000000.123``) as ns, by integer arithmetic.
+
+    Args:
+        cells: the cells as bytes, shape (n,).
+
+    Returns:
+        The stamps (ns) and whether each cell was of that form (at most 10 digits before the
+        point, at most 9 after, in int64); the stamps of the others are 0.
+    """
+    n = cells.shape[0]
+    width = cells.dtype.itemsize
+    if n == 0 or width == 0:
+        return np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.bool_)
+    chars = np.ascontiguousarray(cells).view(np.uint8).reshape(n, width)
+    used = np.flatnonzero(chars.any(axis=0))
+    # One row per character position, so that each step below reads contiguous memory.
+    columns = np.ascontiguousarray(chars[:, : (int(used[-1]) + 1 if used.size else 1)].T)
+    value = np.zeros(n, dtype=np.uint64)
+    digits = np.zeros(n, dtype=np.uint8)
+    decimals = np.zeros(n, dtype=np.uint8)
+    dots = np.zeros(n, dtype=np.uint8)
+    padded = np.zeros(n, dtype=np.bool_)
+    bad = np.zeros(n, dtype=np.bool_)
+    ten = np.uint64(10)
+    for column in columns:
+        digit = column - np.uint8(ord("0"))
+        is_digit = digit < 10
+        is_dot = column == ord(".")
+        is_nul = column == 0
+        bad |= ~(is_digit | is_dot | is_nul) | (padded & ~is_nul)
+        padded |= is_nul
+        dots += is_dot
+        digits += is_digit
+        decimals += is_digit & (dots > 0)
+        value = np.where(is_digit, value * ten + digit, value)
+    whole = digits - decimals
+    ok = ~bad & (dots <= 1) & (whole >= 1) & (whole <= 10) & (decimals <= 9)
+    scale = _POW10[9 - np.minimum(decimals, 9)]
+    total = value * scale
+    ok &= total < np.uint64(INT64)
+    stamps = np.where(ok, total, np.uint64(0)).astype(np.int64)
+    return stamps, ok
+
+
+class CsvChunks:
+    """The samples of a recording CSV stream, chunk by chunk, in constant memory.
+
+    The header is read on construction (so a missing column fails at once). Iterate once.
+
+    Args:
+        stream: the text, read from where it stands (opened with ``newline=""``).
+        sides: the left wheel joints and the right wheel joints.
+        chunk_bytes: text read per chunk (characters, about).
+        source: the input's name in messages.
+
+    Attributes:
+        joints: the wheel joints that have a column, the left ones first.
+        left_count: how many of them are on the left.
+
+    Raises:
+        RecordingError: empty or non-text input, no time column, no column for a side, several
+            columns for a joint.
+    """
+
+    def __init__(
+        self,
+        stream: TextIO,
+        sides: tuple[Sequence[str], Sequence[str]],
+        *,
+        chunk_bytes: int = CHUNK_BYTES,
+        source: str = "<stream>",
+    ) -> None:
+        self.chunk_bytes = chunk_bytes
+        self.source = source
+        self._stream = stream
+        headers: list[str] | None = None
+        with self._errors():
+            for row in csv.reader(self._stream):
+                if any(cell.strip() for cell in row):
+                    headers = [h.strip() for h in row]
+                    break
+        if headers is None:
+            raise RecordingError(f"{source}: empty file")
+        lowered = [h.lower() for h in headers]
+        time_index = next((lowered.index(n) for n in TIME_COLUMNS if n in lowered), None)
+        if time_index is None:
+            raise RecordingError(
+                f"{source}: no time column ({', '.join(TIME_COLUMNS)}, in seconds); "
+                f"columns found: {listing(headers)}"
+            )
+        left = _columns(headers, sides[0], "left", source)
+        right = _columns(headers, sides[1], "right", source)
+        self.joints = tuple(joint for joint, _ in left + right)
+        self.left_count = len(left)
+        self.indexes = (time_index, *(index for _, index in left + right))
+
+    def _errors(self) -> contextlib.AbstractContextManager[None]:
+        return _translated(self.source)
+
+    def __iter__(self) -> Iterator[CsvChunk]:
+        fields = [("t", f"S{_TIME_WIDTH}")] + [(f"p{j}", "f8") for j in range(len(self.joints))]
+        dtype = np.dtype(fields)
+        carry = ""
+        while True:
+            with self._errors():
+                block = self._stream.read(self.chunk_bytes)
+            text = carry + block
+            if not text:
+                return
+            carry = ""
+            if block:  # cut after the last complete line; the rest starts the next chunk
+                cut = text.rfind("\n") + 1
+                text, carry = text[:cut], text[cut:]
+            if not text or '"' in text or "\0" in text:
+                # Quotes may hold delimiters and line breaks across chunks: csv from here on.
+                yield from self._exact_rest(text, carry)
+                return
+            yield self._fast(text, dtype)._replace(chars=len(text))
+
+    def _exact_rest(self, text: str, carry: str) -> Iterator[CsvChunk]:
+        """The rest of the input, row by row with csv, in chunks of rows."""
+
+        def lines() -> Iterator[str]:
+            yield from io.StringIO(text, newline="")
+            if carry:
+                yield from io.StringIO(carry + self._stream.readline(), newline="")
+            yield from self._stream
+
+        rows = csv.reader(lines())
+        while True:
+            with self._errors():
+                batch = list(itertools.islice(rows, _EXACT_ROWS))
+            if not batch:
+                return
+            yield _rows_exactly(batch, self.indexes)
+
+    def _fast(self, text: str, dtype: np.dtype[np.void]) -> CsvChunk:
+        """Complete lines without quotes: loadtxt when it can, else csv row by row."""
+        if len(set(self.indexes)) != len(self.indexes):
+            return self._exact(text)
+        if text.isspace():
+            return _rows_exactly([], self.indexes)  # blank lines are no samples
+        try:
+            table = np.loadtxt(
+                io.StringIO(text),
+                delimiter=",",
+                usecols=self.indexes,
+                dtype=dtype,
+                comments=None,
+                quotechar=None,
+                ndmin=1,
+            )
+        except ValueError:
+            return self._exact(text)
+        cells = np.ascontiguousarray(table["t"])
+        if cells.size and np.any(cells.view(np.uint8).reshape(cells.size, -1)[:, -1]):
+            return self._exact(text)  # a time cell may have been cut to _TIME_WIDTH bytes
+        stamps, ok = stamps_from_digits(cells)
+        keep = np.ones(cells.size, dtype=np.bool_)
+        skipped: dict[str, int] = {}
+        for k in np.flatnonzero(~ok).tolist():
+            stamp = _stamp(bytes(cells[k]).decode("latin-1"))
+            if isinstance(stamp, str):
+                skipped[stamp] = skipped.get(stamp, 0) + 1
+                keep[k] = False
+            else:
+                stamps[k] = stamp
+        rows = table[keep]
+        positions = np.empty((rows.size, len(self.joints)), dtype=np.float64)
+        for j in range(len(self.joints)):
+            positions[:, j] = rows[f"p{j}"]
+        stamps = stamps[keep]
+        with np.errstate(invalid="ignore"):
+            large = ((np.abs(positions) > MAX_POSITION) & np.isfinite(positions)).any(axis=1)
+        if large.any():
+            skipped[SKIP_POSITION_RANGE] = int(np.count_nonzero(large))
+            positions, stamps = positions[~large], stamps[~large]
+        present = np.ones(positions.shape, dtype=np.bool_)
+        return CsvChunk(stamps, positions, present, skipped)
+
+    def _exact(self, text: str) -> CsvChunk:
+        with self._errors():
+            return _rows_exactly(csv.reader(io.StringIO(text, newline="")), self.indexes)
+
+
+@contextlib.contextmanager
+def _translated(source: str) -> Iterator[None]:
+    """Turn decoding and csv errors into a :class:`RecordingError` naming the input."""
+    try:
+        yield
+    except UnicodeDecodeError:
+        raise RecordingError(f"{source}: not a text (UTF-8) CSV file") from None
+    except csv.Error as err:
+        raise RecordingError(f"{source}: malformed CSV: {err}") from None
+
+
+@contextlib.contextmanager
+def open_csv_chunks(
+    path: str | os.PathLike[str] | TextIO,
+    sides: tuple[Sequence[str], Sequence[str]],
+    *,
+    chunk_bytes: int = CHUNK_BYTES,
+    source: str | None = None,
+) -> Iterator[CsvChunks]:
+    """The chunks of a recording CSV file or stream; the file is closed at the end.
+
+    Args:
+        path: the file, or an open text stream (read from where it stands).
+        sides: the left wheel joints and the right wheel joints.
+        chunk_bytes: text read per chunk (characters, about).
+        source: the input's name in messages (default: the path, or the stream's name).
+
+    Raises:
+        RecordingError: missing, empty or non-text input, no time column, no column for a
+            side, several columns for a joint, malformed CSV.
+    """
+    if isinstance(path, (str, os.PathLike)):
+        name = source if source is not None else os.fspath(path)
+        with open_text(path, RecordingError, "a CSV file", name=name, newline="") as stream:
+            yield CsvChunks(stream, sides, chunk_bytes=chunk_bytes, source=name)
+        return
+    name = source if source is not None else str(getattr(path, "name", "<stream>"))
+    yield CsvChunks(path, sides, chunk_bytes=chunk_bytes, source=name)
+
+
+def read_csv(
+    path: str | os.PathLike[str] | TextIO,
+    left_joint: str | Sequence[str],
+    right_joint: str | Sequence[str],
+    *,
+    source: str | None = None,
+) -> Recording:
+    """Read the wheel joint samples of a recording CSV whole, as compact columns.
+
+    A side with several joints gives the mean of its joints present in each row (see
+    :func:`diffbot.chunk_odometry.side_means`).
+
+    Args:
+        path: the file, or an open text stream (read from where it stands).
+        left_joint: the left wheel joint's name, or all of the left side's.
+        right_joint: likewise on the right.
+        source: the input's name in messages (default: the path, or the stream's name).
+
+    Returns:
+        One sample per data row, holding the sides whose cells are not all empty. Rows whose
+        time is empty, NaN or infinite, or outside the int64 nanosecond range of ROS time, and
+        rows with a cell that is not a number are counted in ``skipped``.
+
+    Raises:
+        RecordingError: missing, empty or non-text file, no time column, no (or several)
+            columns for a wheel.
+    """
+    sides = tuple((s,) if isinstance(s, str) else tuple(s) for s in (left_joint, right_joint))
+    first = (sides[0][0], sides[1][0])
+    skipped: dict[str, int] = {}
+    with open_csv_chunks(path, (sides[0], sides[1]), source=source) as chunks:
+        samples = ColumnSamples(*first)
+        for chunk in chunks:
+            for reason, count in chunk.skipped.items():
+                skipped[reason] = skipped.get(reason, 0) + count
+            left, right, _ = side_means(chunk.positions, chunk.present, chunks.left_count)
+            have_left = chunk.present[:, : chunks.left_count].any(axis=1)
+            have_right = chunk.present[:, chunks.left_count :].any(axis=1)
+            samples.stamps_ns.extend(chunk.stamp_ns.tolist())
+            samples.left.extend(left.tolist())
+            samples.right.extend(right.tolist())
+            samples.present.extend((have_left + 2 * have_right.astype(np.uint8)).tolist())
+        return Recording(chunks.source, "csv", samples, skipped)
