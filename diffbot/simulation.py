@@ -10,8 +10,9 @@ the bundled robot) are reported at 0: the caster is not modelled.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Final, Protocol
+from typing import TYPE_CHECKING, Final, NamedTuple, Protocol
 
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
@@ -23,15 +24,19 @@ if TYPE_CHECKING:
     from diffbot.trajectory import Plan
 
 __all__ = [
+    "CHUNK_SAMPLES",
     "MAX_RATE",
     "MAX_SAMPLES",
     "MAX_TICKS",
+    "JointStateChunks",
     "JointStates",
     "Motion",
     "quantise",
     "sample_count",
+    "sample_time_chunks",
     "sample_times",
     "simulate",
+    "simulate_chunks",
 ]
 
 #: Highest sampling rate (Hz): samples stay a microsecond apart, far more than the nanosecond
@@ -117,33 +122,9 @@ def sample_times(
     """
     import numpy as np
 
-    if not math.isfinite(duration) or duration < 0.0:
-        raise ParameterError(f"duration must be finite and >= 0, got {duration!r}")
-    if not math.isfinite(rate) or not 0.0 < rate <= MAX_RATE:
-        raise ParameterError(
-            f"rate must be a positive number up to {MAX_RATE:g} (Hz), got {rate!r}"
-        )
-    count = sample_count(duration, rate, len(boundaries))
-    if count > max_samples:
-        raise ParameterError(
-            f"{duration:g} s at {rate:g} Hz would take {count:.4g} samples, more than "
-            f"{max_samples}: lower the rate or shorten the duration"
-        )
-    exact = [0.0]
-    for boundary in sorted(b for b in boundaries if 0.0 < b < duration - _SAME_TIME):
-        if boundary - exact[-1] > _SAME_TIME:
-            exact.append(boundary)
-    if duration > _SAME_TIME:
-        if duration - exact[-1] <= _SAME_TIME:
-            exact.pop()  # the end replaces a boundary within a nanosecond of it
-        exact.append(duration)
-    fixed = np.array(exact)
-    grid = np.arange(math.ceil(duration * rate) + 1, dtype=np.float64) / rate
-    grid = grid[grid < duration]
-    after = np.searchsorted(fixed, grid).clip(max=fixed.size - 1)
-    before = (after - 1).clip(min=0)
-    distance = np.minimum(np.abs(fixed[after] - grid), np.abs(grid - fixed[before]))
-    return np.sort(np.concatenate((grid[distance > _SAME_TIME], fixed)))
+    return np.concatenate(
+        list(sample_time_chunks(duration, rate, boundaries, max_samples=max_samples))
+    )
 
 
 def boundaries(plan: Plan | Motion) -> tuple[float, ...]:
@@ -187,6 +168,153 @@ def quantise(angles: NDArray[np.float64], ticks: int) -> NDArray[np.float64]:
     return np.round(angles / step) * step
 
 
+#: Samples per chunk of :func:`simulate_chunks`: a few MB of joint angles, whatever the length.
+CHUNK_SAMPLES: Final = 65536
+
+
+def _fixed_times(duration: float, boundaries: tuple[float, ...]) -> list[float]:
+    """0, the boundaries and the end, a nanosecond apart at least (see :func:`sample_times`)."""
+    exact = [0.0]
+    for boundary in sorted(b for b in boundaries if 0.0 < b < duration - _SAME_TIME):
+        if boundary - exact[-1] > _SAME_TIME:
+            exact.append(boundary)
+    if duration > _SAME_TIME:
+        if duration - exact[-1] <= _SAME_TIME:
+            exact.pop()  # the end replaces a boundary within a nanosecond of it
+        exact.append(duration)
+    return exact
+
+
+def sample_time_chunks(
+    duration: float,
+    rate: float,
+    boundaries: tuple[float, ...] = (),
+    *,
+    max_samples: int = MAX_SAMPLES,
+    chunk: int = CHUNK_SAMPLES,
+) -> Iterator[NDArray[np.float64]]:
+    """The times of :func:`sample_times`, equal value for value, in chunks of about ``chunk``
+    grid times: memory does not grow with the duration.
+
+    Raises:
+        ParameterError: as :func:`sample_times`.
+    """
+    import numpy as np
+
+    if not math.isfinite(duration) or duration < 0.0:
+        raise ParameterError(f"duration must be finite and >= 0, got {duration!r}")
+    if not math.isfinite(rate) or not 0.0 < rate <= MAX_RATE:
+        raise ParameterError(
+            f"rate must be a positive number up to {MAX_RATE:g} (Hz), got {rate!r}"
+        )
+    count = sample_count(duration, rate, len(boundaries))
+    if count > max_samples:
+        raise ParameterError(
+            f"{duration:g} s at {rate:g} Hz would take {count:.4g} samples, more than "
+            f"{max_samples}: lower the rate or shorten the duration"
+        )
+    fixed = np.array(_fixed_times(duration, boundaries))
+    grid_count = math.ceil(duration * rate) + 1
+    for start in range(0, grid_count, chunk):
+        stop = min(start + chunk, grid_count)
+        grid = np.arange(start, stop, dtype=np.float64) / rate
+        grid = grid[grid < duration]
+        after = np.searchsorted(fixed, grid).clip(max=fixed.size - 1)
+        before = (after - 1).clip(min=0)
+        distance = np.minimum(np.abs(fixed[after] - grid), np.abs(grid - fixed[before]))
+        low = -math.inf if start == 0 else start / rate
+        high = math.inf if stop == grid_count else stop / rate
+        mine = fixed[(fixed >= low) & (fixed < high)]
+        yield np.sort(np.concatenate((grid[distance > _SAME_TIME], mine)))
+
+
+class JointStateChunks(NamedTuple):
+    """The joint states of :func:`simulate_chunks`.
+
+    Attributes:
+        names: the joint names.
+        samples: how many samples there are in all.
+        chunks: (times (s), positions (rad), one row per joint) chunk by chunk.
+    """
+
+    names: tuple[str, ...]
+    samples: int
+    chunks: Iterator[tuple[NDArray[np.float64], NDArray[np.float64]]]
+
+
+@dataclass(frozen=True)
+class Sampling:
+    """How joint states are sampled: see :func:`simulate` for each field."""
+
+    rate: float = 50.0
+    ticks: int | None = None
+    noise: float = 0.0
+    seed: int | None = None
+
+
+def simulate_chunks(
+    plan: Plan | Motion,
+    params: DiffDriveParams,
+    sampling: Sampling,
+    *,
+    extra_joints: tuple[str, ...] | None = None,
+    max_samples: int = MAX_SAMPLES,
+    chunk: int = CHUNK_SAMPLES,
+) -> JointStateChunks:
+    """The joint states of :func:`simulate`, equal value for value (noise included), made a
+    chunk at a time so that memory does not grow with the number of samples.
+
+    Raises:
+        ParameterError: as :func:`simulate`.
+    """
+    import numpy as np
+
+    from diffbot import trajectory
+
+    rate, ticks, noise, seed = sampling.rate, sampling.ticks, sampling.noise, sampling.seed
+    if not math.isfinite(noise) or noise < 0.0:
+        raise ParameterError(f"noise must be a finite number >= 0 (rad), got {noise!r}")
+    if seed is not None and (not isinstance(seed, int) or seed < 0):
+        raise ParameterError(f"seed must be an integer >= 0, got {seed!r}")
+    if ticks is not None:
+        _check_ticks(ticks)
+    ends = boundaries(plan)
+
+    def times() -> Iterator[NDArray[np.float64]]:
+        return sample_time_chunks(plan.duration, rate, ends, max_samples=max_samples, chunk=chunk)
+
+    samples = sum(t.size for t in times())
+    extra = params.passive_joints if extra_joints is None else extra_joints
+    repeats = (len(params.left_joints), len(params.right_joints))
+    names = (*params.left_joints, *params.right_joints, *extra)
+
+    def chunks() -> Iterator[tuple[NDArray[np.float64], NDArray[np.float64]]]:
+        # simulate() drew the noise as one (2, count) array: every left value, then every
+        # right one. A second generator, moved past the left values, gives the right ones.
+        left_noise = right_noise = None
+        if noise > 0.0:
+            left_noise = np.random.default_rng(seed)
+            right_noise = np.random.default_rng(seed)
+            for start in range(0, samples, chunk):
+                right_noise.normal(0.0, noise, min(chunk, samples - start))
+        for t in times():
+            left, right = (
+                trajectory.wheel_positions(plan, t)
+                if isinstance(plan, trajectory.Plan)
+                else plan.wheel_positions(t)
+            )
+            wheels = np.vstack((left, right))
+            if left_noise is not None and right_noise is not None:
+                wheels[0] += left_noise.normal(0.0, noise, t.size)
+                wheels[1] += right_noise.normal(0.0, noise, t.size)
+            if ticks is not None:
+                wheels = quantise(wheels, ticks)
+            sides = np.repeat(wheels, repeats, axis=0)
+            yield t, np.vstack((sides, np.zeros((len(extra), t.size))))
+
+    return JointStateChunks(names, samples, chunks())
+
+
 def simulate(
     plan: Plan | Motion,
     params: DiffDriveParams,
@@ -224,27 +352,11 @@ def simulate(
     """
     import numpy as np
 
-    from diffbot import trajectory
-
-    if not math.isfinite(noise) or noise < 0.0:
-        raise ParameterError(f"noise must be a finite number >= 0 (rad), got {noise!r}")
-    if seed is not None and (not isinstance(seed, int) or seed < 0):
-        raise ParameterError(f"seed must be an integer >= 0, got {seed!r}")
-    if ticks is not None:
-        _check_ticks(ticks)
-    times = sample_times(plan.duration, rate, boundaries(plan), max_samples=max_samples)
-    left, right = (
-        trajectory.wheel_positions(plan, times)
-        if isinstance(plan, trajectory.Plan)
-        else plan.wheel_positions(times)
+    sampling = Sampling(rate, ticks, noise, seed)
+    states = simulate_chunks(
+        plan, params, sampling, extra_joints=extra_joints, max_samples=max_samples
     )
-    wheels = np.vstack((left, right))
-    if noise > 0.0:
-        wheels += np.random.default_rng(seed).normal(0.0, noise, wheels.shape)
-    if ticks is not None:
-        wheels = quantise(wheels, ticks)
-    extra = params.passive_joints if extra_joints is None else extra_joints
-    sides = np.repeat(wheels, (len(params.left_joints), len(params.right_joints)), axis=0)
-    positions = np.vstack((sides, np.zeros((len(extra), times.size))))
-    names = (*params.left_joints, *params.right_joints, *extra)
-    return JointStates(times, names, positions)
+    parts = list(states.chunks)
+    times = np.concatenate([t for t, _ in parts]) if parts else np.empty(0)
+    positions = np.hstack([p for _, p in parts]) if parts else np.empty((len(states.names), 0))
+    return JointStates(times, states.names, positions)

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import sys
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -17,6 +20,7 @@ from diffbot.commands.options import (
     emit_json,
     fail,
     out_options,
+    quiet_option,
     robot_options,
     split_xacro_args,
     topic_option,
@@ -27,18 +31,30 @@ from diffbot.commands.plan_options import (
     plan_input,
     plan_input_options,
 )
+from diffbot.commands.progress import progress
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.plan_table import violation_lines
 from diffbot.formats.text import fmt
-from diffbot.io.bag import write_joint_states_bag
-from diffbot.io.csvfile import format_joint_states_csv
-from diffbot.io.outputs import write_text_atomic
+from diffbot.io.bag import JointStatesBagWriter
+from diffbot.io.csvfile import joint_states_header, joint_states_lines
+from diffbot.io.outputs import atomic_text
 from diffbot.samples import ns_from_seconds
-from diffbot.simulation import MAX_RATE, MAX_SAMPLES, Motion, boundaries, sample_count
-from diffbot.simulation import simulate as simulate_plan
+from diffbot.simulation import (
+    MAX_RATE,
+    MAX_SAMPLES,
+    JointStateChunks,
+    Motion,
+    Sampling,
+    boundaries,
+    sample_count,
+    simulate_chunks,
+)
 from diffbot.trajectory import Plan
 
 if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
     from diffbot.execution import Execution
     from diffbot.kinematics import DiffDriveParams
     from diffbot.ramps import RampedPlan
@@ -80,6 +96,36 @@ class _StartType(click.ParamType):  # type: ignore[type-arg,unused-ignore]
         if stamp_ns >= 2**63:
             self.fail(f"{value!r} is past 2262, the end of int64 nanosecond stamps", param, ctx)
         return stamp_ns
+
+
+def _write(
+    states: JointStateChunks,
+    start_ns: int,
+    out_path: Path | None,
+    out: OutOptions,
+    topic: str,
+    advance: Callable[[int], None],
+) -> None:
+    """Write the samples chunk by chunk: CSV on stdout or --out, or a bag with --bag."""
+
+    def stamped() -> Iterator[tuple[list[int], NDArray[np.float64]]]:
+        for times, positions in states.chunks:
+            yield [start_ns + round(t * 1e9) for t in times.tolist()], positions
+            advance(times.size)
+
+    if out_path is not None and out.as_bag:
+        with JointStatesBagWriter(out_path, states.names, force=out.force, topic=topic) as bag:
+            for stamps, positions in stamped():
+                bag.write(stamps, positions)
+        return
+    with contextlib.ExitStack() as stack:
+        if out_path is None:
+            write: Callable[[str], object] = functools.partial(click.echo, nl=False)
+        else:
+            write = stack.enter_context(atomic_text(out_path, force=out.force)).write
+        write(joint_states_header(states.names))
+        for stamps, positions in stamped():
+            write(joint_states_lines(stamps, positions))
 
 
 @click.command(context_settings=NUMBERS)
@@ -128,6 +174,7 @@ class _StartType(click.ParamType):  # type: ignore[type-arg,unused-ignore]
     "Write to this file (CSV) or, with --bag, this rosbag2 directory; default: CSV on stdout.",
     "Write --out as a rosbag2 directory of sensor_msgs/JointState.",
 )
+@quiet_option
 def simulate(
     robot: RobotOptions,
     tokens: tuple[str, ...],
@@ -140,6 +187,7 @@ def simulate(
     out: OutOptions,
     topic: str,
     as_json: bool,
+    quiet: bool,
 ) -> None:
     """Wheel joint states that executing a plan would produce.
 
@@ -158,7 +206,9 @@ def simulate(
     like the plan is ramped (see `diffbot plan --help`).
 
     Output: CSV (time in s, then one column per joint in rad) on stdout or --out, or with --bag a
-    rosbag2 directory of sensor_msgs/JointState on --topic. Exit code 1 when the plan exceeds the
+    rosbag2 directory of sensor_msgs/JointState on --topic, written as the samples are made
+    (constant memory; a file appears only when whole), with a progress bar on stderr when it is
+    a terminal (not with --quiet). Exit code 1 when the plan exceeds the
     motor limit (the output is still written).
 
     \b
@@ -199,24 +249,16 @@ def simulate(
             f"--start plus the plan's {fmt(duration)} s ends past 2262, the end of int64 "
             "nanosecond stamps"
         )
-    states = simulate_plan(motion, params, rate, ticks=ticks, noise=noise, seed=seed)
-    stamps = [start_ns + round(t * 1e9) for t in states.times.tolist()]
-    if out_path is None:
-        click.echo(format_joint_states_csv(stamps, states.names, states.positions), nl=False)
-    elif out.as_bag:
-        write_joint_states_bag(
-            out_path, stamps, states.names, states.positions, force=out.force, topic=topic
-        )
-    else:
-        text = format_joint_states_csv(stamps, states.names, states.positions)
-        write_text_atomic(out_path, text, force=out.force)
+    states = simulate_chunks(motion, params, Sampling(rate, ticks, noise, seed))
+    with progress(states.samples, "simulate", "samples", quiet=quiet) as advance:
+        _write(states, start_ns, out_path, out, topic, advance)
     if out_path is not None:
         pose = p.final_pose
         if as_json:
             summary = {
                 "plan": source.label,
                 "duration": duration,
-                "samples": int(states.times.size),
+                "samples": states.samples,
                 "rate": rate,
                 "joints": list(states.names),
                 "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},
@@ -238,7 +280,7 @@ def simulate(
                 ),
                 (
                     "samples",
-                    f"{states.times.size} at {fmt(rate)} Hz and segment ends, "
+                    f"{states.samples} at {fmt(rate)} Hz and segment ends, "
                     f"{len(states.names)} joints",
                 ),
                 (
