@@ -36,3 +36,25 @@ def two_wheel_urdf(
         + "\n".join(wheels)
         + f"\n{body}\n</robot>\n"
     )
+
+
+#: Joints named ``left`` and ``right``, with a 5 rad/s motor limit.
+NAMED = DiffDriveParams(
+    wheel_radius=0.035,
+    wheel_separation=0.135,
+    max_wheel_speed=5.0,
+    left_joint="left",
+    right_joint="right",
+)
+#: The same with the right joint mounted mirrored (sign -1).
+MIRRORED = NAMED.replace(right_sign=-1)
+
+#: Two drive wheels per side (a skid steer): front and rear on each side.
+SKID = DiffDriveParams(
+    wheel_radius=0.035,
+    wheel_separation=0.135,
+    left_joint="front_left",
+    right_joint="front_right",
+    left_joints=("front_left", "rear_left"),
+    right_joints=("front_right", "rear_right"),
+)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-HEAVY = ("numpy", "yourdfpy", "trimesh", "rosbags", "matplotlib", "scipy")
+HEAVY = ("numpy", "yourdfpy", "trimesh", "rosbags", "matplotlib", "scipy", "dask", "distributed")
 
 PROBE = """
 import contextlib, io, json, sys
@@ -71,3 +71,12 @@ def test_simulating_loads_numpy_but_not_bags_or_plots(warm_cache: Path) -> None:
 
 def test_ramped_plans_load_numpy_but_not_bags(warm_cache: Path) -> None:
     assert loaded_by(["plan", "--max-accel", "0.1"], warm_cache) == {"numpy"}
+
+
+def test_odometry_of_a_csv_loads_numpy_but_not_bags_or_dask(
+    warm_cache: Path, tmp_path: Path
+) -> None:
+    path = tmp_path / "a.csv"
+    path.write_text("time,front_left_wheel_joint,front_right_wheel_joint\n0,0,0\n1,1,1\n")
+    assert loaded_by(["odom", str(path)], warm_cache) == {"numpy"}
+    assert loaded_by(["odom", str(path), str(path), "--jobs", "2"], warm_cache) == {"numpy"}

@@ -6,6 +6,7 @@ from __future__ import annotations
 import itertools
 import json
 import math
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -24,8 +25,15 @@ from diffbot.kinematics import DiffDriveParams
 from diffbot.odometry import integrate
 from diffbot.planfile import parse_plan
 from diffbot.replay import run_odometry
-from diffbot.simulation import quantise, sample_times, simulate
-from diffbot.trajectory import EXAMPLES, Arc, Segment, Spin, Straight, plan
+from diffbot.simulation import (
+    Sampling,
+    quantise,
+    sample_time_chunks,
+    sample_times,
+    simulate,
+    simulate_chunks,
+)
+from diffbot.trajectory import EXAMPLES, Arc, Segment, Spin, Straight, plan, wheel_positions
 
 BOT = BOT_50_RPM
 
@@ -429,3 +437,73 @@ def test_the_robots_own_joints_are_written_every_wheel_of_a_side_alike() -> None
         BOT.left_joint,
         BOT.right_joint,
     )
+
+
+def whole_sample_times(duration: float, rate: float, boundaries: list[float]) -> np.ndarray:
+    """The sampling rule over whole arrays, as simulate had it before it made chunks."""
+    exact = [0.0]
+    for boundary in sorted(b for b in boundaries if 0.0 < b < duration - 1e-9):
+        if boundary - exact[-1] > 1e-9:
+            exact.append(boundary)
+    if duration > 1e-9:
+        if duration - exact[-1] <= 1e-9:
+            exact.pop()
+        exact.append(duration)
+    fixed = np.array(exact)
+    grid = np.arange(math.ceil(duration * rate) + 1, dtype=np.float64) / rate
+    grid = grid[grid < duration]
+    after = np.searchsorted(fixed, grid).clip(max=fixed.size - 1)
+    before = (after - 1).clip(min=0)
+    distance = np.minimum(np.abs(fixed[after] - grid), np.abs(grid - fixed[before]))
+    return np.sort(np.concatenate((grid[distance > 1e-9], fixed)))
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.floats(0.0, 5.0),
+    st.floats(0.5, 200.0),
+    st.lists(st.floats(0.0, 5.0), max_size=5),
+    st.integers(1, 40),
+)
+def test_time_chunks_join_into_the_whole_array_sampling(
+    duration: float, rate: float, boundaries: list[float], chunk: int
+) -> None:
+    chunks = list(sample_time_chunks(duration, rate, tuple(boundaries), chunk=chunk))
+    got = np.concatenate(chunks)
+    want = whole_sample_times(duration, rate, boundaries)
+    assert got.tobytes() == want.tobytes()
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.01])
+def test_simulated_chunks_equal_the_whole_array_simulation_noise_included(noise: float) -> None:
+    p = plan(parse_plan("ccw 0.25 90 2s; straight 0.3 1.5s; spin -45 1s"), BOT)
+    states = simulate_chunks(p, BOT, Sampling(97.0, 4096, noise, 7), chunk=13)
+    parts = list(states.chunks)
+    times = whole_sample_times(p.duration, 97.0, [2.0, 3.5, 4.5])
+    left, right = wheel_positions(p, times)
+    wheels = np.vstack((left, right))
+    if noise:
+        wheels += np.random.default_rng(7).normal(0.0, noise, wheels.shape)
+    wheels = quantise(wheels, 4096)
+    assert states.samples == times.size
+    assert np.concatenate([t for t, _ in parts]).tobytes() == times.tobytes()
+    got = np.hstack([positions for _, positions in parts])
+    assert got[: len(BOT.left_joints)].tobytes() == np.repeat(wheels[:1], 1, axis=0).tobytes()
+    assert got[-1].tobytes() == wheels[1].tobytes()
+
+
+def test_simulated_chunks_keep_memory_flat() -> None:
+    p = plan(parse_plan("straight 10 200s"), BOT)
+    peaks = []
+    for rate in (1000.0, 4000.0):
+        tracemalloc.start()
+        try:
+            states = simulate_chunks(p, BOT, Sampling(rate, noise=0.001, seed=1))
+            total = sum(t.size for t, _ in states.chunks)
+            peaks.append(tracemalloc.get_traced_memory()[1])
+        finally:
+            tracemalloc.stop()
+        assert total == states.samples
+    # Four times the samples (8e5 at the end, 26 MB as whole arrays): about the same peak.
+    assert peaks[1] < 1.3 * peaks[0]
+    assert peaks[1] < 12e6

@@ -33,6 +33,7 @@ def progress(
         label=label,
         file=sys.stderr,
         show_pos=True,
+        show_percent=True,
         show_eta=True,
         item_show_func=lambda rate: rate,
     ) as bar:
@@ -45,3 +46,5 @@ def progress(
             bar.update(done, rate)
 
         yield advance
+        if count < total:  # what the reader did not count (a CSV header line)
+            bar.update(total - count)

@@ -26,7 +26,7 @@ import numpy as np
 from diffbot.chunk_odometry import ChunkOdometry, ChunkPoses, OdometrySummary, side_means
 from diffbot.errors import RecordingError
 from diffbot.io.bag import DEFAULT_TOPIC, JOINT_STATE, is_bag, read_bag
-from diffbot.io.bag_chunks import CHUNK_MESSAGES, TopicChunks
+from diffbot.io.bag_chunks import CHUNK_MESSAGES, BagError, TopicChunks
 from diffbot.io.csv_chunks import CHUNK_BYTES, open_csv_chunks, read_csv
 from diffbot.io.jointstate_cdr import decode_positions
 from diffbot.io.outputs import BAG_FILES
@@ -180,7 +180,7 @@ def bag_odometry(
     """
     with closing(TopicChunks(path, topic, chunk_size=chunk_size)) as chunks:
         if chunks.msgtype != JOINT_STATE:
-            raise RecordingError(
+            raise BagError(
                 f"{chunks.source}: topic {topic!r} carries {chunks.msgtype}, not {JOINT_STATE}"
             )
         clock = CLOCK_HEADER

@@ -1,0 +1,101 @@
+"""``diffbot odom`` over several recordings: one row each, serially, in a process pool and on a
+Dask cluster, with the same results; one broken recording does not stop the others."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from bags import write_bag
+from click.testing import CliRunner
+from robots import BOT
+
+from diffbot.cli import main
+
+LEFT, RIGHT = BOT.left_joint, BOT.right_joint
+
+
+@pytest.fixture
+def fleet(tmp_path: Path) -> list[str]:
+    """Three CSV recordings and one bag of different runs, and a broken CSV (third)."""
+    paths = []
+    for k in range(3):
+        lines = [f"time,{LEFT},{RIGHT}"]
+        lines += [f"{i / 10!r},{i * 0.1 * (k + 1)!r},{i * 0.12!r}" for i in range(50)]
+        path = tmp_path / f"run{k}.csv"
+        path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        paths.append(str(path))
+    broken = tmp_path / "broken.csv"
+    broken.write_text(f"when,{LEFT},{RIGHT}\n0,0,0\n", encoding="utf-8")
+    messages = [
+        (10**9 + i * 10**8, 10**9 + i * 10**8, [LEFT, RIGHT], [i * 0.2, i * 0.1]) for i in range(40)
+    ]
+    bag = write_bag(tmp_path / "bag_run", messages)
+    return [paths[0], paths[1], str(broken), paths[2], str(bag)]
+
+
+def json_lines(runner: CliRunner, *args: str, code: int = 1) -> list[dict[str, object]]:
+    result = runner.invoke(main, ["odom", *args, "--json"])
+    assert result.exit_code == code, result.output
+    return [json.loads(line) for line in result.stdout.splitlines()]
+
+
+def test_each_input_gets_a_json_line_and_a_broken_one_its_error(
+    runner: CliRunner, fleet: list[str]
+) -> None:
+    rows = json_lines(runner, *fleet)
+    assert [row["input"] for row in rows] == fleet
+    assert "no time column" in str(rows[2]["error"])
+    for k in (0, 1, 3, 4):
+        alone = json.loads(runner.invoke(main, ["odom", fleet[k], "--json"]).stdout)
+        assert rows[k] == alone  # the same figures as the input read on its own
+
+
+def test_the_table_has_one_row_per_input_and_exit_code_1_on_a_failure(
+    runner: CliRunner, fleet: list[str]
+) -> None:
+    result = runner.invoke(main, ["odom", *fleet])
+    assert result.exit_code == 1
+    lines = result.stdout.splitlines()
+    assert lines[0].split()[:2] == ["input", "samples"]
+    assert [line.split()[0] for line in lines[1:]] == fleet
+    assert "error: " in lines[3]
+    assert result.stderr == "warning: 1 of 5 recordings could not be read\n"
+
+
+def test_globs_are_expanded_in_order(runner: CliRunner, fleet: list[str], tmp_path: Path) -> None:
+    rows = json_lines(runner, str(tmp_path / "run*.csv"), code=0)
+    assert [row["input"] for row in rows] == sorted(fleet[k] for k in (0, 1, 3))
+
+
+def test_out_dir_gets_one_output_per_input(
+    runner: CliRunner, fleet: list[str], tmp_path: Path
+) -> None:
+    out = tmp_path / "poses"
+    rows = json_lines(runner, *fleet, "--out", str(out))
+    assert sorted(p.name for p in out.iterdir()) == [
+        "bag_run.csv",
+        "run0.csv",
+        "run1.csv",
+        "run2.csv",
+    ]
+    text = (out / "run1.csv").read_text(encoding="utf-8").splitlines()
+    assert text[0] == "time,x,y,theta,linear,angular"
+    assert len(text) == 1 + int(str(rows[1]["samples"]))
+    again = runner.invoke(main, ["odom", *fleet[:2], "--out", str(out), "--json"])
+    assert again.exit_code == 1  # outputs exist and --force was not given
+    assert "exists: use --force to overwrite it" in again.stdout
+
+
+def test_a_process_pool_gives_the_serial_results(runner: CliRunner, fleet: list[str]) -> None:
+    assert json_lines(runner, *fleet, "--jobs", "2") == json_lines(runner, *fleet)
+
+
+def test_a_dask_cluster_gives_the_serial_results(runner: CliRunner, fleet: list[str]) -> None:
+    distributed = pytest.importorskip("distributed")
+    serial = json_lines(runner, *fleet)
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
+    ) as cluster:
+        assert json_lines(runner, *fleet, "--dask", cluster.scheduler_address) == serial

@@ -1,0 +1,219 @@
+"""Bags read in chunks: the storage reader, and odometry equal to the message-by-message run."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from contextlib import closing
+from pathlib import Path
+from typing import cast
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from robots import NAMED
+from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.typesys import Stores, get_typestore
+from rosbags.typesys.stores import ros2_humble as m
+from sinks import Collect
+
+from diffbot.errors import RecordingError
+from diffbot.io.bag_chunks import BagError, TopicChunks
+from diffbot.io.recordings import bag_odometry
+from diffbot.odometry import Odometry
+from diffbot.samples import CLOCK_HEADER, CLOCK_RECEIVE, SKIP_UNREADABLE
+
+TYPESTORE = get_typestore(Stores.ROS2_HUMBLE)
+JOINT_STATE = "sensor_msgs/msg/JointState"
+
+#: header stamp (ns), receive time (ns), names, positions; or raw bytes for a damaged message.
+Message = tuple[int, int, Sequence[str], Sequence[float]] | tuple[int, bytes]
+
+
+def joint_state(stamp_ns: int, names: Sequence[str], positions: Sequence[float]) -> bytes:
+    sec, nanosec = divmod(stamp_ns, 1_000_000_000)
+    msg = m.sensor_msgs__msg__JointState(
+        header=m.std_msgs__msg__Header(
+            stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id="odom"
+        ),
+        name=list(names),
+        position=np.array(positions, dtype=np.float64),
+        velocity=np.empty(0),
+        effort=np.empty(0),
+    )
+    return bytes(TYPESTORE.serialize_cdr(msg, JOINT_STATE))
+
+
+def write_bag(path: Path, messages: Sequence[Message], storage: str = "sqlite3") -> Path:
+    plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
+    with Writer(path, version=9, storage_plugin=plugin) as writer:
+        conn = writer.add_connection("/joint_states", JOINT_STATE, typestore=TYPESTORE)
+        other = writer.add_connection("/chatter", "std_msgs/msg/String", typestore=TYPESTORE)
+        text = bytes(
+            TYPESTORE.serialize_cdr(m.std_msgs__msg__String(data="hi"), "std_msgs/msg/String")
+        )
+        for message in messages:
+            if len(message) == 2:
+                received_ns, raw = message
+            else:
+                stamp_ns, received_ns, names, positions = message
+                raw = joint_state(stamp_ns, names, positions)
+            writer.write(conn, received_ns, raw)
+            writer.write(other, received_ns, text)
+    return path
+
+
+def reference(path: Path) -> tuple[Odometry, str, list[tuple[int, float, float, float]]]:
+    """The odometry as read message by message with rosbags (the recording reader's rules)."""
+    from rosbags.rosbag2 import Reader
+
+    samples = []
+    with Reader(path) as reader:
+        conns = [c for c in reader.connections if c.topic == "/joint_states"]
+        for _, received, raw in reader.messages(connections=conns):
+            try:
+                msg = cast(
+                    "m.sensor_msgs__msg__JointState", TYPESTORE.deserialize_cdr(raw, JOINT_STATE)
+                )
+            except Exception:
+                continue
+            header = int(msg.header.stamp.sec) * 10**9 + int(msg.header.stamp.nanosec)
+            samples.append((header, received, list(msg.name), msg.position.tolist()))
+    use_header = all(s[0] for s in samples)
+    odom = Odometry(NAMED)
+    stamps = [s[0] if use_header else s[1] for s in samples]
+    origin = stamps[0] if stamps else 0
+    rows = []
+    for stamp, (_, _, names, positions) in zip(stamps, samples, strict=True):
+        if odom.update_joint_state(names, positions, (stamp - origin) / 10**9):
+            rows.append((stamp, odom.pose.x, odom.pose.y, odom.heading))
+    return odom, CLOCK_HEADER if use_header else CLOCK_RECEIVE, rows
+
+
+def bits(values: Sequence[float]) -> list[int]:
+    return [int(v) for v in np.array(values, dtype=np.float64).view(np.int64)]
+
+
+wheel = st.floats(-20.0, 20.0) | st.sampled_from([math.nan, math.inf, -0.0])
+
+
+@st.composite
+def recordings(draw: st.DrawFn) -> list[Message]:
+    received = 1_700_000_000 * 10**9
+    header = draw(st.sampled_from([0, 5 * 10**9, 1_700_000_000 * 10**9]))
+    out: list[Message] = []
+    for _ in range(draw(st.integers(1, 30))):
+        received += draw(st.integers(1, 10**8))
+        header += draw(st.integers(-(10**7), 10**8))
+        kind = draw(st.sampled_from(["both", "both", "both", "swapped", "left only", "damaged"]))
+        left, right = draw(wheel), draw(wheel)
+        if kind == "damaged":
+            out.append((received, b"\x00\x01\x00\x00\xff"))
+        elif kind == "left only":
+            out.append((max(header, 0), received, ["left"], [left]))
+        elif kind == "swapped":
+            out.append((max(header, 0), received, ["right", "x", "left"], [right, 0.0, left]))
+        else:
+            out.append((max(header, 0), received, ["left", "right"], [left, right]))
+    return out
+
+
+@settings(
+    max_examples=25,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+@given(recordings(), st.integers(1, 7), st.sampled_from(["sqlite3", "mcap"]))
+def test_bag_odometry_equals_the_message_by_message_run_bit_for_bit(
+    tmp_path_factory: pytest.TempPathFactory,
+    messages: list[Message],
+    chunk_size: int,
+    storage: str,
+) -> None:
+    path = write_bag(tmp_path_factory.mktemp("bag") / "rec", messages, storage)
+    want, want_clock, want_rows = reference(path)
+    if want.samples == 0:
+        with pytest.raises(RecordingError, match="no usable sample"):
+            bag_odometry(path, NAMED, chunk_size=chunk_size)
+        return
+    sink = Collect()
+    got = bag_odometry(path, NAMED, chunk_size=chunk_size, sink=sink)
+    assert got.clock == want_clock
+    assert sink.restarts == (got.clock == CLOCK_RECEIVE)  # header pass dropped
+    rows = sink.rows
+    assert [r[0] for r in rows] == [r[0] for r in want_rows]
+    for k in (1, 2, 3):
+        assert bits([r[k] for r in rows]) == bits([r[k] for r in want_rows])
+    summary = got.summary
+    assert bits([*summary.final_pose, summary.distance]) == bits([*want.pose, want.distance])
+    assert summary.samples == want.samples
+    unreadable = sum(1 for msg in messages if len(msg) == 2)
+    expected = dict(want.skipped)
+    if unreadable:
+        expected[SKIP_UNREADABLE] = unreadable
+    assert summary.skipped == expected
+
+
+def test_chunks_hold_the_topic_in_receive_order_and_no_other(tmp_path: Path) -> None:
+    messages: list[Message] = [(k + 1, 30 - k, ["left"], [float(k)]) for k in range(10)]
+    path = write_bag(tmp_path / "rec", messages)
+    with closing(TopicChunks(path, "/joint_states", chunk_size=4)) as chunks:
+        assert chunks.msgtype == JOINT_STATE
+        assert chunks.message_count == 10
+        got = list(chunks)
+    assert [len(c.blobs) for c in got] == [4, 4, 2]
+    assert np.concatenate([c.receive_ns for c in got]).tolist() == list(range(21, 31))
+
+
+def test_a_bag_stamped_with_zero_headers_is_read_on_the_receive_clock(tmp_path: Path) -> None:
+    messages: list[Message] = [
+        (10**9, 10**9, ["left", "right"], [0.0, 0.0]),
+        (0, 2 * 10**9, ["left", "right"], [1.0, 1.0]),
+    ]
+    got = bag_odometry(write_bag(tmp_path / "rec", messages), NAMED)
+    assert got.clock == CLOCK_RECEIVE
+    assert got.summary.final_pose.x == pytest.approx(0.035, abs=1e-15)
+    assert got.summary.duration == 1.0
+
+
+def test_a_missing_topic_names_the_topics_found(tmp_path: Path) -> None:
+    path = write_bag(tmp_path / "rec", [(1, 1, ["left"], [0.0])])
+    with pytest.raises(
+        BagError, match=r"no topic '/odom' in the bag; topics found: '/chatter', '/joint_states'"
+    ):
+        bag_odometry(path, NAMED, "/odom")
+
+
+def test_a_topic_of_another_type_is_refused(tmp_path: Path) -> None:
+    path = write_bag(tmp_path / "rec", [(1, 1, ["left"], [0.0])])
+    with pytest.raises(
+        BagError, match=r"topic '/chatter' carries std_msgs/msg/String, not sensor_msgs"
+    ):
+        bag_odometry(path, NAMED, "/chatter")
+
+
+def test_a_file_that_is_no_bag_is_a_recording_error(tmp_path: Path) -> None:
+    path = tmp_path / "rec.db3"
+    path.write_bytes(b"not sqlite at all" * 10)
+    with pytest.raises(RecordingError, match="not a readable rosbag2 recording"):
+        bag_odometry(path, NAMED)
+
+
+def test_a_missing_path_is_a_recording_error(tmp_path: Path) -> None:
+    with pytest.raises(RecordingError, match="no such file or directory"):
+        TopicChunks(tmp_path / "absent", "/joint_states")
+
+
+def test_a_lone_storage_file_is_read_through_its_topics_table(tmp_path: Path) -> None:
+    messages: list[Message] = [(k + 1, k + 1, ["left", "right"], [0.0, float(k)]) for k in range(5)]
+    bag = write_bag(tmp_path / "rec", messages)
+    (storage,) = bag.glob("*.db3")
+    with closing(TopicChunks(storage, "/joint_states")) as chunks:
+        assert chunks.msgtype == JOINT_STATE
+        assert chunks.message_count is None  # counting would read the whole file
+        assert [len(c.blobs) for c in chunks] == [5]
+        without = list(chunks.chunks(receive_times=False))
+        assert [c.receive_ns for c in without] == [None]
+        assert without[0].blobs == next(iter(chunks)).blobs
+    assert bag_odometry(storage, NAMED).summary == bag_odometry(bag, NAMED).summary

@@ -1,0 +1,266 @@
+"""Recording CSVs read in chunks: the same samples, skips and odometry as row by row."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from collections.abc import Sequence
+from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from robots import NAMED
+from sinks import Collect
+
+from diffbot.errors import RecordingError
+from diffbot.io.csv_chunks import CsvChunks, open_csv_chunks, stamp_ns_from_text, stamps_from_digits
+from diffbot.io.recordings import csv_odometry
+from diffbot.odometry import Odometry
+
+Row = tuple[int, float, float, int]
+
+
+def exact_ns(text: str) -> int | str | None:
+    """The documented stamp rule, spelled out: exact decimal seconds, ties to even, in int64."""
+    if not text.strip():
+        return "missing stamp"
+    if "_" in text:
+        return "unreadable value"
+    try:
+        seconds = Decimal(text.strip())
+    except InvalidOperation:
+        return "unreadable value"
+    if not seconds.is_finite():
+        return "not finite"
+    if abs(seconds) >= Decimal(2**63) / 10**9 + 1:
+        return "stamp out of range"
+    ns = int((seconds * 10**9).quantize(Decimal(1), rounding=ROUND_HALF_EVEN))
+    return ns if -(2**63) <= ns < 2**63 else "stamp out of range"
+
+
+def reference(text: str) -> tuple[list[Row], dict[str, int]]:
+    """Samples and skips of a CSV whose header is ``time,left,x,right``, row by row."""
+    rows = csv.reader(io.StringIO(text, newline=""))
+    next(rows)
+    samples: list[Row] = []
+    skipped: dict[str, int] = {}
+    for row in rows:
+        if not any(c.strip() for c in row):
+            continue
+        cells = [row[i] if i < len(row) else "" for i in (0, 1, 3)]
+        stamp = exact_ns(cells[0])
+        if not isinstance(stamp, int):
+            reason = stamp if isinstance(stamp, str) else "not finite"
+            skipped[reason] = skipped.get(reason, 0) + 1
+            continue
+        values, bits = [0.0, 0.0], 0
+        try:
+            for k, cell in enumerate(cells[1:]):
+                if cell.strip():
+                    if "_" in cell:
+                        raise ValueError(cell)
+                    values[k] = float(cell)
+                    bits += 1 << k
+        except ValueError:
+            skipped["unreadable value"] = skipped.get("unreadable value", 0) + 1
+            continue
+        samples.append((stamp, values[0], values[1], bits))
+    return samples, skipped
+
+
+def chunked(text: str, chunk_bytes: int) -> tuple[list[Row], dict[str, int]]:
+    samples: list[Row] = []
+    skipped: dict[str, int] = {}
+    stream = io.StringIO(text, newline="")
+    for chunk in CsvChunks(stream, (["left"], ["right"]), chunk_bytes=chunk_bytes):
+        samples += zip(
+            chunk.stamp_ns.tolist(),
+            chunk.positions[:, 0].tolist(),
+            chunk.positions[:, 1].tolist(),
+            (chunk.present[:, 0] + 2 * chunk.present[:, 1].astype(np.uint8)).tolist(),
+            strict=True,
+        )
+        for reason, n in chunk.skipped.items():
+            skipped[reason] = skipped.get(reason, 0) + n
+    return samples, skipped
+
+
+def read_all(path: Path) -> int:
+    """How many samples the chunks of a file hold."""
+    with open_csv_chunks(path, (["left"], ["right"])) as chunks:
+        return sum(chunk.stamp_ns.size for chunk in chunks)
+
+
+def bits(values: Sequence[float]) -> list[int]:
+    return [int(v) for v in np.array(values, dtype=np.float64).view(np.int64)]
+
+
+stamp_cells = st.one_of(
+    st.integers(0, 10**10).map(str),
+    st.builds(
+        lambda s, f: f"{s}.{f}",
+        st.integers(0, 9_999_999_999),
+        st.text("0123456789", min_size=1, max_size=12),
+    ),
+    st.sampled_from(
+        [
+            "",
+            " ",
+            "nan",
+            "-inf",
+            "1e3",
+            "-1.5",
+            ".5",
+            "5.",
+            " 7 ",
+            "1_0",
+            "x",
+            "9223372036.854775807",
+            "9223372036.854775808",
+            "1e400",
+            "0.0000000005",
+            "0.0000000015",
+            "١٢",
+        ]
+    ),
+)
+position_cells = st.one_of(
+    st.floats(allow_nan=False).map(repr),
+    st.sampled_from(
+        ["", " ", "nan", "-inf", "1e5", " 2.5 ", "1_0", "abc", "-0.0", "0x1", "1e-400"]
+    ),
+)
+
+
+@st.composite
+def csv_texts(draw: st.DrawFn) -> str:
+    lines = ["time,left,x,right"]
+    for _ in range(draw(st.integers(0, 30))):
+        kind = draw(st.sampled_from(["row"] * 6 + ["blank", "short", "commas", "quoted"]))
+        if kind == "blank":
+            lines.append("")
+        elif kind == "short":
+            lines.append(f"{draw(stamp_cells)},{draw(position_cells)}")
+        elif kind == "commas":
+            lines.append(",,,")
+        else:
+            cells = [draw(stamp_cells), draw(position_cells), "0", draw(position_cells)]
+            if kind == "quoted":
+                cells[2] = '"a,\nb"'
+            lines.append(",".join(cells))
+    ending = draw(st.sampled_from(["\n", "\r\n"]))
+    return ending.join(lines) + ending
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(csv_texts(), st.integers(1, 200))
+def test_chunks_give_the_row_by_row_samples_and_skips_bit_for_bit(
+    text: str, chunk_bytes: int
+) -> None:
+    want, want_skipped = reference(text)
+    got, got_skipped = chunked(text, chunk_bytes)
+    assert [(s, p) for s, _, _, p in got] == [(s, p) for s, _, _, p in want]
+    assert bits([v for row in got for v in row[1:3]]) == bits([v for row in want for v in row[1:3]])
+    assert got_skipped == want_skipped
+
+
+@settings(max_examples=60, deadline=None)
+@given(csv_texts())
+def test_csv_odometry_equals_the_streaming_run_over_the_same_rows(text: str) -> None:
+    rows, _ = reference(text)
+    odom = Odometry(NAMED)
+    origin = rows[0][0] if rows else 0
+    want_rows = []
+    for stamp, left, right, present in rows:
+        if present == 3 and odom.update(left, right, (stamp - origin) / 10**9):
+            want_rows.append((stamp, odom.pose.x, odom.pose.y, odom.heading))
+    sink = Collect()
+
+    if odom.samples == 0:
+        with pytest.raises(RecordingError, match="no usable sample"):
+            csv_odometry(io.StringIO(text, newline=""), NAMED, chunk_bytes=64)
+        return
+    got = csv_odometry(io.StringIO(text, newline=""), NAMED, chunk_bytes=64, sink=sink).summary
+    streamed = sink.rows
+    assert [r[0] for r in streamed] == [r[0] for r in want_rows]
+    for k in (1, 2, 3):
+        assert bits([r[k] for r in streamed]) == bits([r[k] for r in want_rows])
+    assert bits([*got.final_pose, got.distance]) == bits([*odom.pose, odom.distance])
+    assert got.samples == odom.samples
+
+
+@given(st.integers(0, 9_999_999_999), st.integers(0, 999_999_999), st.integers(0, 9))
+def test_digit_stamps_are_exact_integer_nanoseconds(whole: int, frac: int, cut: int) -> None:
+    text = f"{whole}.{frac:09d}"[: 11 + len(str(whole)) - cut] if cut else f"{whole}.{frac:09d}"
+    text = text.rstrip(".")
+    stamps, ok = stamps_from_digits(np.array([text.encode()], dtype="S32"))
+    want = stamp_ns_from_text(text)
+    assert want is not None
+    assert bool(ok[0]) == (want < 2**63)
+    if ok[0]:
+        assert int(stamps[0]) == want
+
+
+def test_known_stamps_follow_the_documented_rounding() -> None:
+    assert stamp_ns_from_text("1700000000.123456789") == 1_700_000_000_123_456_789
+    assert stamp_ns_from_text("0.0000000005") == 0  # a tie rounds to even
+    assert stamp_ns_from_text("0.0000000015") == 2
+    assert stamp_ns_from_text("nan") is None
+    with pytest.raises(ValueError, match="1_0"):
+        stamp_ns_from_text("1_0")
+
+
+def test_columns_are_found_by_joint_name_or_position_suffix(tmp_path: Path) -> None:
+    path = tmp_path / "r.csv"
+    path.write_text("\ufeff__time,/js/right/position,/js/left/position\n1.5,2.0,3.0\n", "utf-8")
+    with open_csv_chunks(path, (["left"], ["right"])) as chunks:
+        (chunk,) = list(chunks)
+    assert chunk.stamp_ns.tolist() == [1_500_000_000]
+    assert chunk.positions.tolist() == [[3.0, 2.0]]
+
+
+def test_a_file_without_a_time_column_names_the_columns_found(tmp_path: Path) -> None:
+    path = tmp_path / "r.csv"
+    path.write_text("when,left,right\n1,2,3\n", "utf-8")
+    with pytest.raises(
+        RecordingError, match=r"no time column .*columns found: 'when', 'left', 'right'"
+    ):
+        read_all(path)
+
+
+def test_a_missing_wheel_column_is_named(tmp_path: Path) -> None:
+    path = tmp_path / "r.csv"
+    path.write_text("t,left\n1,2\n", "utf-8")
+    with pytest.raises(RecordingError, match="no column for the right wheel joint 'right'"):
+        read_all(path)
+
+
+def test_a_binary_file_is_not_a_text_csv(tmp_path: Path) -> None:
+    path = tmp_path / "r.csv"
+    path.write_bytes(b"t,left,right\n1,2,3\n\xff\xfe\x00\x01\n")
+    with pytest.raises(RecordingError, match="not a text"):
+        read_all(path)
+
+
+def test_an_empty_file_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "r.csv"
+    path.write_text("", "utf-8")
+    with pytest.raises(RecordingError, match="empty file"):
+        read_all(path)
+
+
+def test_a_straight_run_ends_at_its_length(tmp_path: Path) -> None:
+    path = tmp_path / "r.csv"
+    angle = 1.0 / NAMED.wheel_radius  # 1 m of travel
+    path.write_text(
+        f"time,left,right\n0,0,0\n0.5,{angle / 2!r},{angle / 2!r}\n1,{angle!r},{angle!r}\n"
+    )
+    summary = csv_odometry(path, NAMED).summary
+    assert summary.final_pose.x == pytest.approx(1.0, abs=1e-12)
+    assert summary.final_pose.y == 0.0
+    assert math.remainder(summary.final_pose.theta, math.tau) == 0.0
+    assert summary.duration == 1.0

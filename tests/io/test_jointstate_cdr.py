@@ -1,0 +1,186 @@
+"""The batch JointState decoder against rosbags' own deserializer."""
+
+from __future__ import annotations
+
+from typing import cast
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from rosbags.typesys import Stores, get_typestore
+from rosbags.typesys.stores import ros2_humble as m
+
+from diffbot.errors import RecordingError
+from diffbot.io.jointstate_cdr import CdrError, decode_positions, parse_layout
+
+TYPESTORE = get_typestore(Stores.ROS2_HUMBLE)
+JOINT_STATE = "sensor_msgs/msg/JointState"
+
+floats = st.floats(allow_nan=True, allow_infinity=True) | st.sampled_from(
+    [-0.0, 0.0, float("nan"), float("inf"), -float("inf"), 5e-324]
+)
+joint_names = st.sampled_from(["left", "right", "l", "wheel_left_joint", "ü", ""]) | st.text(
+    max_size=6
+)
+
+
+def serialize(
+    sec: int,
+    nanosec: int,
+    frame_id: str,
+    names: list[str],
+    arrays: tuple[list[float], list[float], list[float]],
+    *,
+    little_endian: bool = True,
+) -> bytes:
+    position, velocity, effort = (np.array(a, dtype=np.float64) for a in arrays)
+    msg = m.sensor_msgs__msg__JointState(
+        header=m.std_msgs__msg__Header(
+            stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id=frame_id
+        ),
+        name=names,
+        position=position,
+        velocity=velocity,
+        effort=effort,
+    )
+    return bytes(TYPESTORE.serialize_cdr(msg, JOINT_STATE, little_endian=little_endian))
+
+
+@st.composite
+def messages(draw: st.DrawFn, layouts: int = 3) -> list[bytes]:
+    """Runs of messages drawn from a few layouts, so that both decoding paths are exercised."""
+    shapes = [
+        (
+            draw(st.text(max_size=5)),
+            draw(st.lists(joint_names, max_size=4)),
+            draw(st.integers(0, 5)),
+            draw(st.integers(0, 3)),
+            draw(st.integers(0, 3)),
+        )
+        for _ in range(draw(st.integers(1, layouts)))
+    ]
+    out = []
+    for _ in range(draw(st.integers(1, 12))):
+        frame_id, names, n_pos, n_vel, n_eff = draw(st.sampled_from(shapes))
+        arrays = tuple(
+            draw(st.lists(floats, min_size=k, max_size=k)) for k in (n_pos, n_vel, n_eff)
+        )
+        sec = draw(st.integers(-(2**31), 2**31 - 1))
+        nanosec = draw(st.integers(0, 2**32 - 1))
+        little = draw(st.booleans() | st.just(True))
+        out.append(serialize(sec, nanosec, frame_id, names, arrays, little_endian=little))  # type: ignore[arg-type]
+    return out
+
+
+def reference(
+    blobs: list[bytes], joints: list[str]
+) -> tuple[list[int], list[list[float]], list[list[bool]], list[bool]]:
+    """What rosbags gives, joint by joint, as read_bag and Odometry look the joints up."""
+    stamps, positions, present, readable = [], [], [], []
+    for blob in blobs:
+        try:
+            msg = cast(
+                "m.sensor_msgs__msg__JointState", TYPESTORE.deserialize_cdr(blob, JOINT_STATE)
+            )
+        except Exception:
+            stamps.append(0)
+            positions.append([0.0] * len(joints))
+            present.append([False] * len(joints))
+            readable.append(False)
+            continue
+        stamps.append(int(msg.header.stamp.sec) * 10**9 + int(msg.header.stamp.nanosec))
+        row, have = [], []
+        for joint in joints:
+            names = list(msg.name)
+            k = names.index(joint) if joint in names else len(msg.position)
+            have.append(k < len(msg.position))
+            row.append(float(msg.position[k]) if k < len(msg.position) else 0.0)
+        positions.append(row)
+        present.append(have)
+        readable.append(True)
+    return stamps, positions, present, readable
+
+
+def assert_same(blobs: list[bytes], joints: list[str]) -> None:
+    got = decode_positions(blobs, joints)
+    stamps, positions, present, readable = reference(blobs, joints)
+    assert got.stamp_ns.tolist() == stamps
+    assert got.present.tolist() == present
+    assert got.readable.tolist() == readable
+    # Bit patterns, so NaN payloads and the sign of zero count.
+    want = np.array(positions, dtype=np.float64).reshape(len(blobs), len(joints))
+    assert got.positions.view(np.int64).tolist() == want.view(np.int64).tolist()
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(messages(), st.lists(joint_names, min_size=1, max_size=3))
+def test_decoded_positions_equal_rosbags_deserializer_bit_for_bit(
+    blobs: list[bytes], joints: list[str]
+) -> None:
+    assert_same(blobs, joints)
+
+
+@settings(max_examples=40, deadline=None)
+@given(messages(layouts=1), st.data())
+def test_damaged_messages_are_unreadable_exactly_when_rosbags_rejects_them(
+    blobs: list[bytes], data: st.DataObject
+) -> None:
+    damaged = []
+    for blob in blobs:
+        k = data.draw(st.integers(0, len(blob) - 1))
+        cut = data.draw(st.booleans())
+        damaged.append(blob[:k] if cut else blob[:k] + bytes([blob[k] ^ 0xFF]) + blob[k + 1 :])
+    assert_same(damaged + blobs, ["left", "right"])
+
+
+def test_trailing_padding_up_to_three_bytes_is_accepted_like_rosbags() -> None:
+    blob = serialize(1, 2, "", ["left"], ([1.5], [], []))
+    blobs = [blob + b"\0" * k for k in range(6)]
+    assert decode_positions(blobs, ["left"]).readable.tolist() == [True] * 4 + [False] * 2
+    assert_same(blobs, ["left"])
+
+
+def test_known_message_gives_its_stamp_and_positions_by_name() -> None:
+    blob = serialize(3, 250_000_000, "base", ["a", "right", "left"], ([0.1, -2.5, 7.25], [], []))
+    got = decode_positions([blob] * 3, ["left", "right", "missing"])
+    assert got.stamp_ns.tolist() == [3_250_000_000] * 3
+    assert got.positions.tolist() == [[7.25, -2.5, 0.0]] * 3
+    assert got.present.tolist() == [[True, True, False]] * 3
+
+
+def test_a_joint_named_but_without_a_position_is_absent() -> None:
+    blob = serialize(0, 1, "", ["left", "right"], ([4.0], [], []))
+    got = decode_positions([blob], ["left", "right"])
+    assert got.present.tolist() == [[True, False]]
+
+
+def test_layout_offsets_follow_cdr_alignment() -> None:
+    # frame id "ab" (4 + 3 bytes, padded to 8), names "l" and "r": position[0] after padding to 8.
+    blob = serialize(5, 7, "ab", ["l", "r"], ([1.0, 2.0], [], [3.0]))
+    layout = parse_layout(blob)
+    assert layout.names == ("l", "r")
+    assert layout.frame_id == "ab"
+    assert layout.counts == (2, 0, 1)
+    assert layout.position_offset % 8 == 4  # 8-aligned within the payload, after 4 header bytes
+    assert blob[layout.position_offset : layout.position_offset + 8] == np.float64(1.0).tobytes()
+
+
+def test_big_endian_messages_are_decoded_through_rosbags() -> None:
+    blob = serialize(1, 0, "", ["left"], ([0.25], [], []), little_endian=False)
+    with pytest.raises(CdrError, match="not a little-endian CDR message"):
+        parse_layout(blob)
+    got = decode_positions([blob], ["left"])
+    assert got.positions.tolist() == [[0.25]]
+    assert got.readable.tolist() == [True]
+
+
+def test_cdr_errors_are_recording_errors() -> None:
+    with pytest.raises(RecordingError, match="bad string of length"):
+        parse_layout(b"\x00\x01\x00\x00" + bytes(8) + b"\x05\x00\x00\x00ab")
+
+
+def test_no_messages_give_empty_arrays_of_the_right_shape() -> None:
+    got = decode_positions([], ["left", "right"])
+    assert got.positions.shape == (0, 2)
+    assert got.stamp_ns.dtype == np.int64
