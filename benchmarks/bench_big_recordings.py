@@ -1,0 +1,222 @@
+"""Big recordings: throughput against the storage floor, memory and time by length, and fleets.
+Run by hand: ``python benchmarks/bench_big_recordings.py [--samples N] [--sizes N ...]
+[--rounds R] [--baseline REV]``.
+
+1. Goals, at ``--samples`` joint states (Trajectory A written by ``diffbot simulate`` as a
+   sqlite3 rosbag2 and as CSV), interleaved round by round, each run a fresh process timed
+   from launch to exit: ``sqlite`` (every message blob read with :mod:`sqlite3`, the bag's
+   floor), ``odom bag``, ``loadtxt`` (:func:`numpy.loadtxt` of the whole CSV, the CSV's floor)
+   and ``odom csv``. The ratios are medians of the per-round ratios.
+2. Growth: for each of ``--sizes``, wall time and peak resident memory of ``simulate`` (CSV
+   and bag) and ``odom`` (bag and CSV), for the baseline revision (before) and this checkout
+   (after), one run each; the final poses of both ``odom`` runs must be equal bit for bit.
+3. Fleets: ``odom`` of 8 recordings (copies of the CSV) serially and with ``--jobs 2``.
+
+Peak memory is the child's maximum resident set (``os.wait4``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+from checkout import Tree, revision_tree, working_tree
+from interleave import interleave
+
+#: Trajectory A lasts 40 s; simulate samples it at --rate plus once at each segment end.
+PLAN_SECONDS = 40
+
+SQLITE_FLOOR = """
+import sqlite3, sys
+from pathlib import Path
+db = next(Path(sys.argv[1]).glob("*.db3"))
+connection = sqlite3.connect(db.resolve().as_uri() + "?mode=ro&immutable=1", uri=True)
+cursor = connection.execute("SELECT data FROM messages")
+count = 0
+while rows := cursor.fetchmany(65536):
+    count += sum(len(r[0]) for r in rows)
+"""
+LOADTXT_FLOOR = """
+import sys, numpy
+numpy.loadtxt(sys.argv[1], delimiter=",", skiprows=1)
+"""
+
+
+def run(argv: Sequence[str], tree: Tree | None = None) -> tuple[float, float, str]:
+    """Run a command once: wall time (s), peak resident memory (MB), standard output."""
+    env = dict(os.environ)
+    if tree is not None:
+        env["PYTHONPATH"] = str(tree.root)
+    start = time.perf_counter()
+    with tempfile.TemporaryFile() as out:
+        process = subprocess.Popen(list(argv), stdout=out, stderr=subprocess.PIPE, env=env)
+        assert process.stderr is not None
+        error = process.stderr.read()
+        _, status, usage = os.wait4(process.pid, 0)
+        seconds = time.perf_counter() - start
+        process.returncode = os.waitstatus_to_exitcode(status)
+        if process.returncode != 0:
+            raise RuntimeError(f"{' '.join(argv)}: {error.decode(errors='replace').strip()}")
+        out.seek(0)
+        text = out.read().decode()
+    return seconds, usage.ru_maxrss / 1024, text
+
+
+def diffbot(*args: str) -> list[str]:
+    return [sys.executable, "-m", "diffbot", *args]
+
+
+def make_inputs(folder: Path, samples: int) -> tuple[Path, Path]:
+    """Trajectory A as ``samples`` joint states: a sqlite3 bag and a CSV."""
+    rate = str((samples - 3) / PLAN_SECONDS)
+    bag, csv = folder / f"a{samples}_bag", folder / f"a{samples}.csv"
+    if not bag.exists():
+        run(
+            diffbot(
+                "simulate",
+                "--rate",
+                rate,
+                "--start",
+                "1700000000",
+                "--out",
+                str(bag),
+                "--bag",
+                "-q",
+            )
+        )
+    if not csv.exists():
+        run(diffbot("simulate", "--rate", rate, "--out", str(csv), "-q"))
+    return bag, csv
+
+
+def goals(folder: Path, samples: int, rounds: int) -> None:
+    bag, csv = make_inputs(folder, samples)
+    peaks: dict[str, float] = {}
+
+    def side(name: str, argv: list[str]):
+        def once() -> float:
+            seconds, peak, _ = run(argv)
+            peaks[name] = max(peaks.get(name, 0.0), peak)
+            return seconds
+
+        return once
+
+    sides = {
+        "sqlite": side("sqlite", [sys.executable, "-c", SQLITE_FLOOR, str(bag)]),
+        "odom bag": side("odom bag", diffbot("odom", str(bag), "-q")),
+        "loadtxt": side("loadtxt", [sys.executable, "-c", LOADTXT_FLOOR, str(csv)]),
+        "odom csv": side("odom csv", diffbot("odom", str(csv), "-q")),
+    }
+    timings = interleave(sides, rounds)
+    print(f"\n## Goals at {samples} samples ({rounds} rounds, interleaved)")
+    for name in sides:
+        print(f"{name:<9} {timings.median(name):7.2f} s  peak {peaks[name]:6.0f} MB")
+    print(f"odom bag / sqlite : {timings.ratio('odom bag', 'sqlite').describe()}  (goal < 3)")
+    print(f"odom csv / loadtxt: {timings.ratio('odom csv', 'loadtxt').describe()}  (goal < 1.5)")
+
+
+def growth(folder: Path, sizes: Sequence[int], before: Tree | None) -> None:
+    print("\n## Growth: wall time (s) and peak memory (MB), one run each")
+    print(f"{'work':<16} {'samples':>9} {'before':>18} {'after':>18}")
+    trees = {"after": working_tree()} | ({"before": before} if before is not None else {})
+    for samples in sizes:
+        rate = str((samples - 3) / PLAN_SECONDS)
+        poses: dict[str, dict[str, str]] = {}
+        work: dict[str, list[str]] = {
+            "simulate csv": ["simulate", "--rate", rate, "--out", "{out}.csv", "--force"],
+            "simulate bag": [
+                "simulate",
+                "--rate",
+                rate,
+                "--out",
+                "{out}_bag",
+                "--bag",
+                "--force",
+                "--start",
+                "1700000000",
+            ],
+            "odom bag": ["odom", "{out}_bag", "--json"],
+            "odom csv": ["odom", "{out}.csv", "--json"],
+        }
+        for name, args in work.items():
+            cells = {}
+            for label in ("before", "after"):
+                tree = trees.get(label)
+                if tree is None:
+                    cells[label] = "-"
+                    continue
+                if label == "before" and name.startswith("simulate bag") and samples > 2_000_000:
+                    cells[label] = "skipped"  # minutes of rosbags serialisation, as after
+                    continue
+                out = str(folder / f"{label}{samples}")
+                argv = [a.replace("{out}", out) for a in args]
+                quiet = ["-q"] if label == "after" else []
+                seconds, peak, text = run(diffbot(*argv, *quiet), tree)
+                cells[label] = f"{seconds:7.2f} s {peak:6.0f} MB"
+                if name.startswith("odom"):
+                    poses.setdefault(name, {})[label] = json.dumps(json.loads(text)["final_pose"])
+            print(f"{name:<16} {samples:>9} {cells['before']:>18} {cells['after']:>18}")
+        for name, by_label in poses.items():
+            if len(by_label) == 2:
+                same = by_label["before"] == by_label["after"]
+                verdict = "bit-identical" if same else "DIFFER"
+                print(f"{'':<27} final poses of {name}: {verdict}")
+        for label in ("before", "after"):
+            for path in folder.glob(f"{label}{samples}*"):
+                shutil.rmtree(path) if path.is_dir() else path.unlink()
+
+
+def fleet(folder: Path, samples: int, rounds: int) -> None:
+    _, csv = make_inputs(folder, samples)
+    copies = []
+    for k in range(8):
+        copy = folder / f"fleet{k}.csv"
+        shutil.copyfile(csv, copy)
+        copies.append(str(copy))
+    sides = {
+        "serial": lambda: run(diffbot("odom", *copies, "-q"))[0],
+        "jobs 2": lambda: run(diffbot("odom", *copies, "-q", "--jobs", "2"))[0],
+    }
+    timings = interleave(sides, rounds)
+    print(f"\n## Fleet: 8 recordings of {samples} samples ({os.cpu_count()} cores)")
+    print(f"serial {timings.median('serial'):.2f} s, --jobs 2 {timings.median('jobs 2'):.2f} s")
+    print(f"speed-up (serial / jobs 2): {timings.ratio('serial', 'jobs 2').describe()}")
+
+
+@contextlib.contextmanager
+def baseline(revision: str | None) -> Iterator[Tree | None]:
+    if revision is None:
+        yield None
+        return
+    with revision_tree(revision) as tree:
+        yield tree
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--samples", type=int, default=1_000_001, help="samples for the goals")
+    parser.add_argument("--sizes", type=int, nargs="*", default=[100_001, 1_000_001])
+    parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--baseline", default="main", help="revision for 'before' ('' for none)")
+    args = parser.parse_args()
+    with (
+        tempfile.TemporaryDirectory(prefix="diffbot-big-") as tmp,
+        baseline(args.baseline or None) as before,
+    ):
+        folder = Path(tmp)
+        goals(folder, args.samples, args.rounds)
+        fleet(folder, args.samples, max(1, args.rounds // 2))
+        growth(folder, args.sizes, before)
+
+
+if __name__ == "__main__":
+    main()
