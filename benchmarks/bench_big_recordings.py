@@ -36,18 +36,31 @@ from interleave import interleave
 PLAN_SECONDS = 40
 
 SQLITE_FLOOR = """
-import sqlite3, sys
+import sqlite3, sys, time
 from pathlib import Path
+start = time.perf_counter()
 db = next(Path(sys.argv[1]).glob("*.db3"))
 connection = sqlite3.connect(db.resolve().as_uri() + "?mode=ro&immutable=1", uri=True)
 cursor = connection.execute("SELECT data FROM messages")
 count = 0
 while rows := cursor.fetchmany(65536):
     count += sum(len(r[0]) for r in rows)
+print(time.perf_counter() - start)
 """
 LOADTXT_FLOOR = """
-import sys, numpy
+import sys, time, numpy
+start = time.perf_counter()
 numpy.loadtxt(sys.argv[1], delimiter=",", skiprows=1)
+print(time.perf_counter() - start)
+"""
+#: The odometry of a recording in the library, timed after the imports.
+ODOMETRY = """
+import sys, time, diffbot
+from diffbot.io.recordings import recording_odometry
+params = diffbot.load_params()
+start = time.perf_counter()
+recording_odometry(sys.argv[1], params)
+print(time.perf_counter() - start)
 """
 
 
@@ -204,18 +217,24 @@ def baseline(revision: str | None) -> Iterator[Tree | None]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--samples", type=int, default=1_000_001, help="samples for the goals")
-    parser.add_argument("--sizes", type=int, nargs="*", default=[100_001, 1_000_001])
+    parser.add_argument("--sizes", type=int, nargs="*", default=[100_001, 1_000_001, 9_999_991])
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--baseline", default="main", help="revision for 'before' ('' for none)")
+    parser.add_argument(
+        "--parts", nargs="*", default=["goals", "fleet", "growth"], help="what to measure"
+    )
     args = parser.parse_args()
     with (
         tempfile.TemporaryDirectory(prefix="diffbot-big-") as tmp,
         baseline(args.baseline or None) as before,
     ):
         folder = Path(tmp)
-        goals(folder, args.samples, args.rounds)
-        fleet(folder, args.samples, max(1, args.rounds // 2))
-        growth(folder, args.sizes, before)
+        if "goals" in args.parts:
+            goals(folder, args.samples, args.rounds)
+        if "fleet" in args.parts:
+            fleet(folder, args.samples, max(1, args.rounds // 2))
+        if "growth" in args.parts:
+            growth(folder, args.sizes, before)
 
 
 if __name__ == "__main__":

@@ -16,10 +16,10 @@ from pathlib import Path
 from typing import Final, TextIO
 
 from diffbot.chunk_odometry import ChunkPoses
-from diffbot.errors import DiffbotError, RecordingError
+from diffbot.errors import DiffbotError, OutputError, RecordingError
 from diffbot.io.bag import DEFAULT_TOPIC, OdometryBagWriter
 from diffbot.io.csvfile import ODOMETRY_HEADER, odometry_lines
-from diffbot.io.outputs import atomic_text
+from diffbot.io.outputs import atomic_text, input_clash
 from diffbot.io.recordings import Progress, RecordingOdometry, csv_odometry, recording_odometry
 from diffbot.kinematics import DiffDriveParams, norm_angle
 from diffbot.odometry import Odometry
@@ -140,6 +140,8 @@ def run_task(
         inputs = [] if task.input == "-" else [Path(task.input)]
         if task.output is None:
             return OdometryResult(task, odometry(None))
+        if input_clash(Path(task.output), inputs) is not None:
+            raise OutputError(f"{task.output} is or holds the input {task.input}: refusing it")
         if task.as_bag:
             with OdometryBagWriter(task.output, Odometry(task.params), force=task.force) as bag:
                 bag_sink = _BagSink(bag)

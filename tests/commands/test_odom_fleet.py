@@ -99,3 +99,14 @@ def test_a_dask_cluster_gives_the_serial_results(runner: CliRunner, fleet: list[
         n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
     ) as cluster:
         assert json_lines(runner, *fleet, "--dask", cluster.scheduler_address) == serial
+
+
+def test_out_dir_never_replaces_an_input_even_with_force(
+    runner: CliRunner, fleet: list[str], tmp_path: Path
+) -> None:
+    bag = Path(fleet[4])
+    before = sorted((p.name, p.read_bytes()) for p in bag.iterdir())
+    rows = json_lines(runner, fleet[4], fleet[0], "--out", str(tmp_path), "--bag", "--force")
+    assert "is or holds the input" in str(rows[0]["error"])
+    assert sorted((p.name, p.read_bytes()) for p in bag.iterdir()) == before
+    assert (tmp_path / "run0" / "metadata.yaml").is_file()  # the other input's bag
