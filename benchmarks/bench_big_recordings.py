@@ -137,7 +137,9 @@ def goals(folder: Path, samples: int, rounds: int) -> None:
     print(f"odom csv / loadtxt: {timings.ratio('odom csv', 'loadtxt').describe()}  (goal < 1.5)")
 
 
-def growth(folder: Path, sizes: Sequence[int], before: Tree | None) -> None:
+def growth(
+    folder: Path, sizes: Sequence[int], before: Tree | None, only: Sequence[str] = ()
+) -> None:
     print("\n## Growth: wall time (s) and peak memory (MB), one run each")
     print(f"{'work':<16} {'samples':>9} {'before':>18} {'after':>18}")
     trees = {"after": working_tree()} | ({"before": before} if before is not None else {})
@@ -157,10 +159,15 @@ def growth(folder: Path, sizes: Sequence[int], before: Tree | None) -> None:
                 "--start",
                 "1700000000",
             ],
-            "odom bag": ["odom", "{out}_bag", "--json"],
-            "odom csv": ["odom", "{out}.csv", "--json"],
+            "odom bag": ["odom", "{input}_bag", "--json"],
+            "odom csv": ["odom", "{input}.csv", "--json"],
         }
         for name, args in work.items():
+            if only and name not in only:
+                if name.startswith("simulate"):  # the odometry still needs the recordings
+                    out = str(folder / f"after{samples}")
+                    run(diffbot(*[a.replace("{out}", out) for a in args], "-q"))
+                continue
             cells = {}
             for label in ("before", "after"):
                 tree = trees.get(label)
@@ -171,7 +178,8 @@ def growth(folder: Path, sizes: Sequence[int], before: Tree | None) -> None:
                     cells[label] = "skipped"  # minutes of rosbags serialisation, as after
                     continue
                 out = str(folder / f"{label}{samples}")
-                argv = [a.replace("{out}", out) for a in args]
+                given = str(folder / f"after{samples}")  # the same data, whoever wrote it
+                argv = [a.replace("{out}", out).replace("{input}", given) for a in args]
                 quiet = ["-q"] if label == "after" else []
                 seconds, peak, text = run(diffbot(*argv, *quiet), tree)
                 cells[label] = f"{seconds:7.2f} s {peak:6.0f} MB"
@@ -220,6 +228,7 @@ def main() -> None:
     parser.add_argument("--sizes", type=int, nargs="*", default=[100_001, 1_000_001, 9_999_991])
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--baseline", default="main", help="revision for 'before' ('' for none)")
+    parser.add_argument("--work", nargs="*", default=[], help="growth rows to measure (all)")
     parser.add_argument(
         "--parts", nargs="*", default=["goals", "fleet", "growth"], help="what to measure"
     )
@@ -234,7 +243,7 @@ def main() -> None:
         if "fleet" in args.parts:
             fleet(folder, args.samples, max(1, args.rounds // 2))
         if "growth" in args.parts:
-            growth(folder, args.sizes, before)
+            growth(folder, args.sizes, before, args.work)
 
 
 if __name__ == "__main__":
