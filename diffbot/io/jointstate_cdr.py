@@ -50,25 +50,6 @@ class CdrError(RecordingError):
     """A JointState message that the fast path cannot parse (malformed or not little-endian)."""
 
 
-class DecodedPositions(NamedTuple):
-    """The wanted joints' positions of n messages, in the order given.
-
-    Attributes:
-        stamp_ns: header stamps (ns, ``sec * 10**9 + nanosec``), int64, shape (n,); 0 where the
-            message is unreadable.
-        positions: positions (rad), float64, shape (n, number of joints), bit for bit as in the
-            message (NaN payloads and -0.0 kept); 0.0 where absent.
-        present: whether the message names the joint and has a position for it, bool, shape
-            (n, number of joints).
-        readable: whether the message could be decoded at all, bool, shape (n,).
-    """
-
-    stamp_ns: NDArray[np.int64]
-    positions: NDArray[np.float64]
-    present: NDArray[np.bool_]
-    readable: NDArray[np.bool_]
-
-
 @dataclass(frozen=True)
 class Layout:
     """Where the fields of one JointState layout sit, as byte offsets from the message start.
@@ -99,6 +80,25 @@ class Layout:
         except ValueError:
             return None
         return index if index < self.counts[0] else None
+
+
+class DecodedPositions(NamedTuple):
+    """The wanted joints' positions of n messages, in the order given.
+
+    Attributes:
+        stamp_ns: header stamps (ns, ``sec * 10**9 + nanosec``), int64, shape (n,); 0 where the
+            message is unreadable.
+        positions: positions (rad), float64, shape (n, number of joints), bit for bit as in the
+            message (NaN payloads and -0.0 kept); 0.0 where absent.
+        present: whether the message names the joint and has a position for it, bool, shape
+            (n, number of joints).
+        readable: whether the message could be decoded at all, bool, shape (n,).
+    """
+
+    stamp_ns: NDArray[np.int64]
+    positions: NDArray[np.float64]
+    present: NDArray[np.bool_]
+    readable: NDArray[np.bool_]
 
 
 def _align(pos: int, to: int) -> int:
