@@ -115,9 +115,10 @@ def side_means(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
     """Each side's wheel angle per sample: the mean of that side's joints present in it.
 
-    As diff_drive_controller averages the wheels of a side: the present positions are added in
-    the order of the side's joints, left to right, then divided by how many there are (one
-    joint: its position unchanged).
+    As diff_drive_controller averages the wheels of a side, and as
+    :meth:`diffbot.odometry.Odometry.update_joint_state` does: the present positions are added
+    in the order of the side's joints, the first one starting the sum, then divided by how many
+    there are (one joint: its position unchanged).
 
     Args:
         positions: joint angles (rad), shape (n, joints): the left joints first, then the right.
@@ -139,7 +140,10 @@ def side_means(
         total = np.zeros(positions.shape[0])
         count = np.zeros(positions.shape[0])
         for j in range(values.shape[1]):
-            total = np.where(mask[:, j], total + values[:, j], total)
+            # The first present position starts the sum (not 0.0 + it: -0.0 stays -0.0).
+            with np.errstate(all="ignore"):
+                added = np.where(count > 0, total + values[:, j], values[:, j])
+            total = np.where(mask[:, j], added, total)
             count += mask[:, j]
         side = count > 0
         with np.errstate(invalid="ignore", divide="ignore"):

@@ -19,7 +19,7 @@ import os
 from collections.abc import Callable
 from contextlib import closing
 from pathlib import Path
-from typing import Protocol, TextIO
+from typing import TYPE_CHECKING, Protocol, TextIO
 
 import numpy as np
 
@@ -41,6 +41,9 @@ from diffbot.samples import (
     Recording,
     beyond_range,
 )
+
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
 
 __all__ = [
     "PoseSink",
@@ -143,7 +146,7 @@ def _bag_pass(
         # skipped, as read_recording skips them.
         with np.errstate(invalid="ignore"):
             large = (np.abs(positions) > MAX_POSITION) & np.isfinite(positions) & present
-        out_of_range = large.any(axis=1)[readable]
+        out_of_range: NDArray[np.bool_] = np.any(large, axis=1)[readable]
         if unreadable:
             positions, present = positions[readable], present[readable]
         if out_of_range.any():
@@ -242,8 +245,8 @@ def recording_odometry(
 def recording_size(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> int | None:
     """How much :func:`recording_odometry` will report to ``progress`` in all: a bag topic's
     message count from its metadata, a CSV file's size; None when not known cheaply."""
-    p = Path(path)
     try:
+        p = _existing(path)
         if not is_bag(p):
             return p.stat().st_size
         with closing(TopicChunks(p, topic)) as chunks:

@@ -20,8 +20,9 @@ from sinks import Collect
 
 from diffbot.errors import RecordingError
 from diffbot.io.bag_chunks import BagError, TopicChunks
-from diffbot.io.recordings import bag_odometry
+from diffbot.io.recordings import bag_odometry, read_recording
 from diffbot.odometry import Odometry
+from diffbot.replay import run_odometry
 from diffbot.samples import CLOCK_HEADER, CLOCK_RECEIVE, SKIP_UNREADABLE
 
 TYPESTORE = get_typestore(Stores.ROS2_HUMBLE)
@@ -217,3 +218,19 @@ def test_a_lone_storage_file_is_read_through_its_topics_table(tmp_path: Path) ->
         assert [c.receive_ns for c in without] == [None]
         assert without[0].blobs == next(iter(chunks)).blobs
     assert bag_odometry(storage, NAMED).summary == bag_odometry(bag, NAMED).summary
+
+
+def test_wheel_positions_too_large_are_skipped_as_read_recording_skips_them(
+    tmp_path: Path,
+) -> None:
+    messages: list[Message] = [
+        (10**9, 10**9, ["left", "right"], [0.0, 0.0]),
+        (2 * 10**9, 2 * 10**9, ["left", "right"], [2e12, 1.0]),
+        (3 * 10**9, 3 * 10**9, ["left", "right"], [1.0, 1.0]),
+    ]
+    path = write_bag(tmp_path / "rec", messages)
+    got = bag_odometry(path, NAMED).summary
+    want = run_odometry(read_recording(path, NAMED), Odometry(NAMED))
+    assert got.skipped == want.skipped == {"position out of range": 1}
+    assert got.final_pose == want.final_pose
+    assert got.samples == want.samples == 2

@@ -68,6 +68,9 @@ def reference(text: str) -> tuple[list[Row], dict[str, int]]:
         except ValueError:
             skipped["unreadable value"] = skipped.get("unreadable value", 0) + 1
             continue
+        if any(math.isfinite(v) and abs(v) > 1e12 for v in values):
+            skipped["position out of range"] = skipped.get("position out of range", 0) + 1
+            continue
         samples.append((stamp, values[0], values[1], bits))
     return samples, skipped
 

@@ -23,28 +23,24 @@ JOINTS = (*SKID.left_joints, *SKID.right_joints)
 #: One sample: the position of each of the four joints, or None where it is missing.
 Sample = tuple[float | None, float | None, float | None, float | None]
 
-cells = st.none() | st.floats(-20.0, 20.0, allow_nan=False)
+cells = st.none() | st.floats(-20.0, 20.0, allow_nan=False) | st.just(-0.0)
 samples = st.lists(st.tuples(cells, cells, cells, cells), min_size=1, max_size=25)
 
 
 def side_mean(values: list[float | None]) -> float | None:
     """A side's angle: its present positions added left to right, divided by their count."""
     present = [v for v in values if v is not None]
-    if not present:
-        return None
-    total = 0.0
-    for value in present:
-        total += value
-    return total / len(present)
+    return sum(present) / len(present) if present else None
 
 
 def reference(rows: list[Sample]) -> Odometry:
-    """The streaming integrator fed each sample's side means (stamps 0.01 s apart)."""
+    """The streaming integrator fed each sample as a JointState of its present joints (stamps
+    0.01 s apart), which averages the joints of each side itself."""
     odom = Odometry(SKID)
     for k, row in enumerate(rows):
-        left, right = side_mean(list(row[:2])), side_mean(list(row[2:]))
-        if left is not None and right is not None:
-            odom.update(left, right, k / 100)
+        names = [joint for joint, value in zip(JOINTS, row, strict=True) if value is not None]
+        values = [value for value in row if value is not None]
+        odom.update_joint_state(names, values, k / 100)
     return odom
 
 
