@@ -439,13 +439,16 @@ def _scale_to_limit(speeds: WheelSpeeds, lim: float) -> WheelSpeeds:
     if isinstance(peak, float | int):
         if not math.isfinite(peak):
             raise ParameterError(f"cannot saturate non-finite wheel speeds {tuple(speeds)!r}")
-        scale = 1.0 if peak <= lim else lim / peak
+        # Speeds within_limit() accepts (the limit's rounding slack) are left as they are.
+        within = peak <= lim if lim == 0.0 else peak / lim <= 1.0 + LIMIT_TOLERANCE
+        scale = 1.0 if within else lim / peak
         return WheelSpeeds(speeds.left * scale, speeds.right * scale)
     import numpy as np
 
     # Samples with a non-finite speed come out NaN: there is no direction to keep for them.
     with np.errstate(divide="ignore", invalid="ignore"):
-        factor = np.where(peak > lim, lim / np.where(peak > 0, peak, 1.0), 1.0)
+        over = peak > lim if lim == 0.0 else peak / lim > 1.0 + LIMIT_TOLERANCE
+        factor = np.where(over, lim / np.where(peak > 0, peak, 1.0), 1.0)
         factor = np.where(np.isfinite(peak), factor, np.nan)
         return WheelSpeeds(speeds.left * factor, speeds.right * factor)
 

@@ -406,3 +406,12 @@ def test_saturating_arrays_apart_leaves_non_finite_samples_nan() -> None:
 def test_a_range_without_zero_or_two_numbers_is_refused(bounds: object, match: str) -> None:
     with pytest.raises(diffbot.ParameterError, match=f"linear_range {match}"):
         diffbot.saturate(RC_BOT, WheelSpeeds(1.0, 1.0), linear_range=bounds)  # type: ignore[arg-type]
+
+
+def test_speeds_within_the_limits_rounding_slack_are_not_scaled() -> None:
+    # Found by hypothesis: the right wheel at 1 + 2e-11 of the limit is within_limit(), so
+    # saturate() must leave both wheels alone rather than scale them by 1 - 2e-11.
+    params = DiffDriveParams(wheel_radius=0.005, wheel_separation=0.01, max_wheel_speed=1.0)
+    wheels = diffbot.inverse(params, 1e-13, 1.0)
+    assert diffbot.within_limit(params, wheels)
+    assert diffbot.saturate(params, wheels) == wheels
