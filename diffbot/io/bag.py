@@ -46,9 +46,12 @@ __all__ = [
     "JOINT_STATE",
     "JointStatesBagWriter",
     "OdometryBagWriter",
+    "bag_writer",
+    "check_stamps",
     "is_bag",
     "read_bag",
     "require_rosbags",
+    "typestore",
     "write_joint_states_bag",
     "write_odometry_bag",
 ]
@@ -79,7 +82,8 @@ def require_rosbags() -> None:
         ) from None
 
 
-def _typestore() -> Typestore:
+def typestore() -> Typestore:
+    """The ROS 2 Humble message types, for reading and writing bags."""
     from rosbags.typesys import Stores, get_typestore
 
     return get_typestore(Stores.ROS2_HUMBLE)
@@ -117,7 +121,7 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
         raise RecordingError(f"{source}: no such file or directory")
     if p.is_file() and p.stat().st_size == 0:
         raise RecordingError(f"{source}: empty file")
-    typestore = _typestore()
+    store = typestore()
     names_seen: list[Sequence[str]] = []
     positions_seen: list[list[float]] = []
     header_ns: list[int] = []
@@ -139,7 +143,7 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
             last_names: list[str] = []
             for _, timestamp, raw in reader.messages(connections=connections):
                 try:
-                    msg = cast("JointState", typestore.deserialize_cdr(raw, JOINT_STATE))
+                    msg = cast("JointState", store.deserialize_cdr(raw, JOINT_STATE))
                     stamp = msg.header.stamp
                     stamp_ns = int(stamp.sec) * NS_PER_S + int(stamp.nanosec)
                     names = list(msg.name)
@@ -175,7 +179,7 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
 
 
 @contextlib.contextmanager
-def _bag_writer(path: Path, force: bool) -> Iterator[Writer]:
+def bag_writer(path: Path, force: bool) -> Iterator[Writer]:
     """A rosbags Writer on a temporary directory beside ``path``, renamed to it on success.
 
     Raises:
@@ -201,7 +205,8 @@ def _bag_writer(path: Path, force: bool) -> Iterator[Writer]:
         shutil.rmtree(staging, ignore_errors=True)
 
 
-def _check_stamps(stamps_ns: Iterable[int], path: Path) -> None:
+def check_stamps(stamps_ns: Iterable[int], path: Path) -> None:
+    """Refuse stamps outside what a bag can hold (0 to 2**31 s)."""
     for stamp_ns in stamps_ns:
         if not 0 <= stamp_ns < 2**31 * NS_PER_S:
             raise RecordingError(
@@ -222,7 +227,7 @@ class _BagStream:
         self.force = force
         check_bag_output(self.path, force)
         require_rosbags()
-        self.typestore = _typestore()
+        self.typestore = typestore()
         self._stack: contextlib.ExitStack | None = None
 
     def _connect(self, writer: Writer) -> None:
@@ -230,7 +235,7 @@ class _BagStream:
 
     def _open(self) -> None:
         self._stack = contextlib.ExitStack()
-        self.writer = self._stack.enter_context(_bag_writer(self.path, self.force))
+        self.writer = self._stack.enter_context(bag_writer(self.path, self.force))
         self._connect(self.writer)
 
     def __enter__(self: _Stream) -> _Stream:
@@ -255,7 +260,7 @@ class _BagStream:
         self._open()
 
     def _check_stamps(self, stamps_ns: Iterable[int]) -> None:
-        _check_stamps(stamps_ns, self.path)
+        check_stamps(stamps_ns, self.path)
 
 
 class _DroppedError(Exception):
@@ -379,7 +384,7 @@ def write_odometry_bag(
     errors are those of :class:`OdometryBagWriter` (every stamp is checked before writing).
     """
     records = list(rows)
-    _check_stamps((row.stamp_ns for row in records), Path(path))
+    check_stamps((row.stamp_ns for row in records), Path(path))
     with OdometryBagWriter(
         path, odom, force=force, odom_topic=odom_topic, tf_topic=tf_topic
     ) as bag:
@@ -477,6 +482,6 @@ def write_joint_states_bag(
             not a bag.
         RecordingError: rosbags is missing, or a stamp is outside ROS time.
     """
-    _check_stamps(stamps_ns, Path(path))
+    check_stamps(stamps_ns, Path(path))
     with JointStatesBagWriter(path, names, force=force, topic=topic) as bag:
         bag.write(stamps_ns, positions)

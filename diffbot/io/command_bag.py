@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from diffbot.errors import RecordingError
-from diffbot.io.bag import _bag_writer, _check_stamps, _typestore, require_rosbags
+from diffbot.io.bag import bag_writer, check_stamps, require_rosbags, typestore
 from diffbot.ros.messages import command_type
 from diffbot.samples import NS_PER_S
 
@@ -68,7 +68,7 @@ def write_command_bag(
 
     p = Path(path)
     stamps = [round(t * NS_PER_S) for t in stream.times.tolist()]
-    _check_stamps(stamps, p)
+    check_stamps(stamps, p)
     sides = [(left_topic, stream.left, joints[0]), (right_topic, stream.right, joints[1])]
     per_wheel = [
         (_topic(topic), values, count) for topic, values, count in sides if topic is not None
@@ -77,14 +77,14 @@ def write_command_bag(
     require_rosbags()
     from rosbags.typesys.stores import ros2_humble as m
 
-    typestore = _typestore()
+    store = typestore()
     twist_type = command_type(frame_id if stamped else None)
     array_type = "std_msgs/msg/Float64MultiArray"
     layout = m.std_msgs__msg__MultiArrayLayout(dim=[], data_offset=0)
-    with _bag_writer(p, force) as writer:
-        body = writer.add_connection(body_topic, twist_type, typestore=typestore)
+    with bag_writer(p, force) as writer:
+        body = writer.add_connection(body_topic, twist_type, typestore=store)
         wheels = [
-            (writer.add_connection(topic, array_type, typestore=typestore), values, count)
+            (writer.add_connection(topic, array_type, typestore=store), values, count)
             for topic, values, count in per_wheel
         ]
         for k, stamp_ns in enumerate(stamps):
@@ -100,9 +100,9 @@ def write_command_bag(
                     frame_id=frame_id,
                 )
                 message = m.geometry_msgs__msg__TwistStamped(header=header, twist=twist)
-            writer.write(body, stamp_ns, typestore.serialize_cdr(message, twist_type))
+            writer.write(body, stamp_ns, store.serialize_cdr(message, twist_type))
             for connection, values, count in wheels:
                 array = m.std_msgs__msg__Float64MultiArray(
                     layout=layout, data=np.full(count, values[k], dtype=np.float64)
                 )
-                writer.write(connection, stamp_ns, typestore.serialize_cdr(array, array_type))
+                writer.write(connection, stamp_ns, store.serialize_cdr(array, array_type))

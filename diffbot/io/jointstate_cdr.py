@@ -24,6 +24,7 @@ import numpy as np
 
 from diffbot.errors import RecordingError
 from diffbot.io.bag import BAG_INSTALL_HINT, JOINT_STATE
+from diffbot.io.bag import typestore as bag_typestore
 from diffbot.samples import NS_PER_S
 
 if TYPE_CHECKING:
@@ -258,12 +259,6 @@ class _Decoder:
         return DecodedPositions(self.stamp_ns, self.positions, self.present, self.readable)
 
 
-def _typestore() -> Typestore:
-    from rosbags.typesys import Stores, get_typestore
-
-    return get_typestore(Stores.ROS2_HUMBLE)
-
-
 def decode_positions(blobs: Sequence[bytes], joints: Sequence[str]) -> DecodedPositions:
     """Decode the header stamps and some joints' positions from JointState CDR messages.
 
@@ -307,7 +302,7 @@ def decode_positions(blobs: Sequence[bytes], joints: Sequence[str]) -> DecodedPo
         leftover.extend(index.tolist())
     if leftover:
         try:
-            typestore = _typestore()
+            typestore = bag_typestore()
         except ImportError:
             raise RecordingError(
                 f"decoding these JointState messages needs the rosbags library: {BAG_INSTALL_HINT}"
