@@ -125,6 +125,7 @@ class DiffDriveParams:
         disagreements: the values on which the sources disagree.
         controller: the diff_drive_controller configuration the robot runs with, if one was
             read (its limits, frame ids, odometry settings).
+        description_files: every file the description was read from (outputs never go there).
     """
 
     wheel_radius: float
@@ -144,6 +145,7 @@ class DiffDriveParams:
     sources: Mapping[str, str] = field(default_factory=dict, compare=False)
     disagreements: tuple[Disagreement, ...] = field(default=(), compare=False)
     controller: ControllerConfig | None = field(default=None, compare=False)
+    description_files: tuple[str, ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "wheel_radius", _check_positive("wheel radius", self.wheel_radius))

@@ -170,8 +170,9 @@ def odom(
     if not from_stdin and not Path(source).exists():
         opt.fail(f"{source}: no such file or directory")
     inputs = [Path(path) for path in (None if from_stdin else source, robot.robot) if path]
-    out_path = out.path(inputs)
+    out.path(inputs)
     p = robot.load()
+    out_path = out.path([*inputs, *(Path(path) for path in p.description_files)])
     task = OdometryTask(
         source, p, topic, None if out_path is None else str(out_path), out.as_bag, out.force
     )

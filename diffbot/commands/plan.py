@@ -291,7 +291,7 @@ def plan_command(
     if output is None:
         click.echo(text, nl=False)
     else:
-        inputs = [path for path in (source.path, robot.robot) if path is not None]
+        inputs = [path for path in (source.path, *params.description_files) if path is not None]
         write_text_atomic(
             Path(output),
             text,

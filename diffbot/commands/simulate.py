@@ -226,8 +226,9 @@ def simulate(
         fail("--json prints a summary, so the samples need --out")
     robot = robot.with_path(None, xacro_args)
     inputs = [path for path in (source.path, robot.robot) if path is not None]
-    out_path = out.path([Path(path) for path in inputs])
+    out.path([Path(path) for path in inputs])
     params = robot.load()
+    out_path = out.path([Path(path) for path in (*inputs, *params.description_files)])
     made = plan_options.make(source.segments, params)
     p = made if isinstance(made, Plan) else made.steps
     motion, executed = _executed(made, params)

@@ -16,6 +16,7 @@ turns it off.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Mapping
 from xml.etree import ElementTree
@@ -92,4 +93,6 @@ def load_params(
         return cached_fields(expansion.urdf, source, left, right)
 
     given = Overriding(left_joint, right_joint, wheel_radius, wheel_separation, max_wheel_speed)
-    return reconcile(derive, root, source, warnings, config, given)
+    params = reconcile(derive, root, source, warnings, config, given)
+    files = tuple(str(path) for path in expansion.files)
+    return dataclasses.replace(params, description_files=files)

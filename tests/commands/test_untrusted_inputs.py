@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -269,3 +270,38 @@ def test_bag_wheel_positions_of_1e308_are_skipped_and_reported(tmp_path: Path) -
     result = run(CliRunner(), "odom", str(bag), "--json")
     assert result.exit_code == 0, result.output
     assert json.loads(result.stdout)["skipped"] == {"position out of range": 2}
+
+
+@pytest.mark.parametrize(
+    ("command", "option"),
+    [(["plan"], "-o"), (["simulate"], "--out"), (["odom", "IN"], "--out")],
+)
+def test_no_output_goes_over_a_file_the_description_included(
+    tmp_path: Path, command: list[str], option: str
+) -> None:
+    package = tmp_path / "rover"
+    shutil.copytree(Path(__file__).resolve().parents[2] / "docs/examples/rover", package)
+    included = package / "urdf" / "wheel.xacro"
+    before = included.read_bytes()
+    recording = tmp_path / "in.csv"
+    recording.write_text(
+        "time,left_wheel_joint,right_wheel_joint\n0,0,0\n1,1,1\n", encoding="utf-8"
+    )
+    args = [str(recording) if arg == "IN" else arg for arg in command]
+    result = CliRunner().invoke(
+        main,
+        [
+            *args,
+            "--robot",
+            str(package / "urdf" / "rover.urdf.xacro"),
+            "--package",
+            f"rover_description={package}",
+            option,
+            str(included),
+            "--force",
+        ],
+    )
+    assert result.exit_code == 2, result.output
+    assert result.stderr.startswith("error: ")
+    assert "wheel.xacro" in result.stderr
+    assert included.read_bytes() == before
