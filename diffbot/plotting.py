@@ -1,0 +1,302 @@
+"""Figures of plans: the path in the odom frame and the wheel speeds against the motor limit.
+
+matplotlib is an optional extra (``pip install 'diffbot-kinematics[plot]'``); it is imported only
+when a figure is made, never with this module. Figures are drawn on the Agg canvas, without
+pyplot, so nothing ever opens a window or needs a display.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Final
+
+from diffbot.errors import DiffbotError
+from diffbot.io.outputs import atomic_text
+from diffbot.kinematics import DiffDriveParams, Pose, rad_s_from_rpm, rpm_from_rad_s
+from diffbot.trajectory import Plan, pose_at
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
+
+__all__ = [
+    "INSTALL_COMMAND",
+    "LEFT_COLOUR",
+    "LIMIT_COLOUR",
+    "OVER_LIMIT_COLOUR",
+    "PATH_COLOUR",
+    "RECORDING_COLOURS",
+    "RIGHT_COLOUR",
+    "SUFFIXES",
+    "PlotError",
+    "Recording",
+    "plan_figure",
+    "save",
+]
+
+#: How to install what plotting needs.
+INSTALL_COMMAND: Final = "pip install 'diffbot-kinematics[plot]'"
+#: The file types :func:`save` writes, by suffix.
+SUFFIXES: Final = (".png", ".svg", ".pdf")
+
+PATH_COLOUR: Final = "#1f77b4"
+LEFT_COLOUR: Final = "#2ca02c"
+RIGHT_COLOUR: Final = "#9467bd"
+LIMIT_COLOUR: Final = "#d62728"
+OVER_LIMIT_COLOUR: Final = "#ff9896"
+#: Colours of recordings, in turn: none is the path's.
+RECORDING_COLOURS: Final = ("#ff7f0e", "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f")
+_POSE_COLOUR: Final = "#333333"
+_FOOTPRINT_COLOUR: Final = "#7f7f7f"
+
+#: Points sampled along each segment of the path (segments are arcs: 100 points draw a half
+#: circle within a fraction of a pixel of its true shape at any usual size).
+_SAMPLES_PER_SEGMENT: Final = 100
+
+#: An odometry path drawn over a plan: a label, and the x and y positions (m) in the odom frame.
+Recording = tuple[str, "ArrayLike", "ArrayLike"]
+
+
+class PlotError(DiffbotError):
+    """A figure cannot be made or saved: matplotlib is missing, or an output type is unknown."""
+
+
+def _require_matplotlib() -> None:
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError as err:
+        raise PlotError(
+            f"plotting needs matplotlib, which is not installed: {INSTALL_COMMAND}"
+        ) from err
+
+
+def plan_figure(
+    plan: Plan, params: DiffDriveParams, *, recordings: Iterable[Recording] = ()
+) -> Figure:
+    """A figure of a plan: its path above, its wheel speeds below.
+
+    The top axes (label ``"path"``) show the path in the odom frame with equal scales, sampled
+    from :func:`~diffbot.trajectory.pose_at`; the start (square) and end (circle) poses with
+    arrows along their headings; the robot's footprint at the end of each segment (the track,
+    ``wheel_separation`` wide, and both wheels, ``2 wheel_radius`` long, at ``±b/2``); and each
+    segment's number at its midpoint. The bottom axes (label ``"wheel speeds"``) show both wheels'
+    speeds (rpm, with rad/s on the right) over time, the motor limit as ``±limit`` lines, and the
+    segments over the limit shaded.
+
+    Args:
+        plan: the plan (see :func:`diffbot.trajectory.plan`).
+        params: the robot whose footprint is drawn.
+        recordings: odometry paths to draw over the plan: ``(label, x, y)`` with x and y in m;
+            each one's legend entry gives the distance (m) from its last position to the plan's
+            end.
+
+    Returns:
+        A matplotlib Figure on an Agg canvas (``figure.canvas.draw()`` renders it).
+
+    Raises:
+        PlotError: matplotlib is not installed, or a recording is empty or has x and y of
+            different lengths.
+    """
+    _require_matplotlib()
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(8.0, 9.0), dpi=100, layout="constrained")
+    FigureCanvasAgg(figure)
+    path_axes, speed_axes = figure.subplots(2, 1, height_ratios=(2, 1))
+    path_axes.set_label("path")
+    speed_axes.set_label("wheel speeds")
+    _draw_path(path_axes, plan, params, list(recordings))
+    _draw_speeds(speed_axes, plan)
+    return figure
+
+
+def _draw_path(
+    axes: Axes, plan: Plan, params: DiffDriveParams, recordings: list[Recording]
+) -> None:
+    import numpy as np
+
+    starts = np.concatenate(([0.0], np.cumsum([s.duration for s in plan.segments])[:-1]))
+    times = np.concatenate(
+        [
+            np.linspace(start, start + planned.duration, _SAMPLES_PER_SEGMENT)
+            for start, planned in zip(starts, plan.segments, strict=True)
+        ]
+    )
+    poses = [pose_at(plan, float(t)) for t in times]
+    xs = [pose.x for pose in poses]
+    ys = [pose.y for pose in poses]
+    # The path is drawn above the markers, arrows and footprints so that it stays visible
+    # through them; recordings go above it.
+    axes.plot(xs, ys, color=PATH_COLOUR, linewidth=2.0, label="plan", zorder=3)
+    final = plan.final_pose
+    axes.plot(0.0, 0.0, "s", color=_POSE_COLOUR, markersize=9, label="start", zorder=2)
+    axes.plot(final.x, final.y, "o", color=_POSE_COLOUR, markersize=9, label="end", zorder=2)
+    extent = max(max(xs) - min(xs), max(ys) - min(ys), 4.0 * params.wheel_separation)
+    for pose in (Pose(0.0, 0.0, 0.0), final):
+        _heading_arrow(axes, pose, 0.08 * extent)
+    for planned in plan.segments:
+        _footprint(axes, planned.end_pose, params)
+        middle = pose_at(plan, float(starts[planned.index]) + 0.5 * planned.duration)
+        axes.annotate(
+            str(planned.index + 1),
+            (middle.x, middle.y),
+            xytext=(6, 6),
+            textcoords="offset points",
+            fontsize=9,
+            zorder=2,
+            bbox={"boxstyle": "round,pad=0.2", "facecolor": "white", "edgecolor": "none"},
+        )
+    for number, (label, x, y) in enumerate(recordings):
+        rx = np.asarray(x, dtype=np.float64).ravel()
+        ry = np.asarray(y, dtype=np.float64).ravel()
+        if rx.size == 0 or rx.size != ry.size:
+            raise PlotError(
+                f"recording {label!r} needs as many x as y positions, and some: "
+                f"got {rx.size} and {ry.size}"
+            )
+        miss = math.hypot(float(rx[-1]) - final.x, float(ry[-1]) - final.y)
+        axes.plot(
+            rx,
+            ry,
+            color=RECORDING_COLOURS[number % len(RECORDING_COLOURS)],
+            linestyle="--",
+            linewidth=1.2,
+            label=f"{label} (ends {miss:.3g} m from the plan's end)",
+            zorder=4,
+        )
+    axes.set_aspect("equal", adjustable="datalim")
+    axes.set_xlabel("x (m)")
+    axes.set_ylabel("y (m)")
+    axes.set_title("Path in the odom frame")
+    axes.grid(True, color="#e0e0e0", linewidth=0.6)
+    axes.legend(loc="best", fontsize=8)
+
+
+def _heading_arrow(axes: Axes, pose: Pose, length: float) -> None:
+    tip = (pose.x + length * math.cos(pose.theta), pose.y + length * math.sin(pose.theta))
+    axes.annotate(
+        "",
+        xy=tip,
+        xytext=(pose.x, pose.y),
+        arrowprops={"arrowstyle": "-|>", "color": _POSE_COLOUR, "linewidth": 1.2},
+        zorder=2,
+    )
+
+
+def _footprint(axes: Axes, pose: Pose, params: DiffDriveParams) -> None:
+    """The track (b wide, 2r long) and both wheels (2r long) of the robot at a pose."""
+    from matplotlib.patches import Rectangle
+    from matplotlib.transforms import Affine2D
+
+    r, b = params.wheel_radius, params.wheel_separation
+    place = Affine2D().rotate(pose.theta).translate(pose.x, pose.y) + axes.transData
+    track = Rectangle(
+        (-r, -0.5 * b),
+        2.0 * r,
+        b,
+        fill=False,
+        edgecolor=_FOOTPRINT_COLOUR,
+        linewidth=0.8,
+        transform=place,
+        zorder=1,
+        gid="footprint",
+    )
+    axes.add_patch(track)
+    width = 0.25 * r
+    for side in (1.0, -1.0):
+        wheel = Rectangle(
+            (-r, side * 0.5 * b - 0.5 * width),
+            2.0 * r,
+            width,
+            facecolor=_FOOTPRINT_COLOUR,
+            edgecolor="none",
+            transform=place,
+            zorder=1,
+            gid="wheel",
+        )
+        axes.add_patch(wheel)
+
+
+def _draw_speeds(axes: Axes, plan: Plan) -> None:
+    import numpy as np
+
+    edges = np.concatenate(([0.0], np.cumsum([s.duration for s in plan.segments])))
+    left = [rpm_from_rad_s(float(s.wheels.left)) for s in plan.segments]
+    right = [rpm_from_rad_s(float(s.wheels.right)) for s in plan.segments]
+    axes.stairs(left, edges, baseline=None, color=LEFT_COLOUR, linewidth=1.8, label="left wheel")
+    axes.stairs(right, edges, baseline=None, color=RIGHT_COLOUR, linewidth=1.8, label="right wheel")
+    peak = max(abs(v) for v in [*left, *right])
+    if plan.limit is not None:
+        limit = rpm_from_rad_s(plan.limit)
+        peak = max(peak, limit)
+        label: str | None = f"motor limit ±{limit:.3g} rpm"
+        for level in (limit, -limit):
+            axes.axhline(level, color=LIMIT_COLOUR, linestyle="--", linewidth=1.2, label=label)
+            label = None
+        over_label: str | None = "over the limit"
+        for index in sorted({found.index for found in plan.violations()}):
+            axes.axvspan(
+                float(edges[index]),
+                float(edges[index + 1]),
+                color=OVER_LIMIT_COLOUR,
+                alpha=0.5,
+                linewidth=0,
+                zorder=0,
+                label=over_label,
+            )
+            over_label = None
+    margin = 0.15 * peak if peak > 0 else 1.0
+    axes.set_ylim(min(-peak, *left, *right) - margin, max(*left, *right, peak) + margin)
+    axes.set_xlim(0.0, float(edges[-1]))
+    axes.set_xlabel("time (s)")
+    axes.set_ylabel("wheel speed (rpm)")
+    axes.set_title("Wheel speeds")
+    axes.secondary_yaxis("right", functions=(_rad_s, _rpm)).set_ylabel("rad/s")
+    axes.grid(True, color="#e0e0e0", linewidth=0.6)
+    axes.legend(loc="best", fontsize=8)
+
+
+def _rad_s(rpm: Any) -> Any:
+    return rad_s_from_rpm(rpm)
+
+
+def _rpm(rad_s: Any) -> Any:
+    return rpm_from_rad_s(rad_s)
+
+
+def save(
+    figure: Figure,
+    path: str | os.PathLike[str],
+    *,
+    force: bool = False,
+    inputs: Sequence[Path] = (),
+) -> None:
+    """Write a figure to a file, whole or not at all (see :func:`diffbot.io.outputs.atomic_text`).
+
+    Args:
+        figure: from :func:`plan_figure`.
+        path: the file; its suffix (``.png``, ``.svg`` or ``.pdf``, any case) picks the type.
+        force: replace the file if it exists.
+        inputs: files the figure was made from, which it must never replace.
+
+    Raises:
+        PlotError: an unknown suffix.
+        OutputExistsError: the file exists and ``force`` is not given.
+        OutputError: it is not a regular file, lies in a missing directory, or is an input.
+    """
+    target = Path(path)
+    suffix = target.suffix.lower()
+    if suffix not in SUFFIXES:
+        shown = repr(suffix) if suffix else "no suffix"
+        raise PlotError(
+            f"cannot tell what type of file to write from {shown} in {str(target)!r}: "
+            "use .png, .svg or .pdf"
+        )
+    # atomic_text's temporary file is opened for text; the figure goes to its byte stream.
+    with atomic_text(Path(path), force=force, inputs=inputs) as out:
+        figure.savefig(out.buffer, format=suffix[1:])

@@ -1,0 +1,256 @@
+"""Plan figures: drawn where the plan goes, with the motor limit and over-limit times marked."""
+
+from __future__ import annotations
+
+import struct
+import subprocess
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import pytest
+from robots import BOT_50_RPM
+
+from diffbot.errors import OutputExistsError
+from diffbot.planfile import parse_plan
+from diffbot.plotting import (
+    LEFT_COLOUR,
+    LIMIT_COLOUR,
+    OVER_LIMIT_COLOUR,
+    PATH_COLOUR,
+    RIGHT_COLOUR,
+    PlotError,
+    plan_figure,
+    save,
+)
+from diffbot.trajectory import EXAMPLES, Plan, plan
+
+if TYPE_CHECKING:
+    import numpy as np
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from numpy.typing import NDArray
+
+pytest.importorskip("matplotlib", reason="plotting needs the 'plot' extra")
+
+
+def _plan(text: str) -> Plan:
+    return plan(parse_plan(text), BOT_50_RPM)
+
+
+@pytest.fixture(scope="module")
+def trajectory_a() -> Figure:
+    figure = plan_figure(_plan(EXAMPLES["A"]), BOT_50_RPM)
+    figure.canvas.draw()
+    return figure
+
+
+def _axes(figure: Figure, label: str) -> Axes:
+    return next(axes for axes in figure.axes if axes.get_label() == label)
+
+
+def _pixels(figure: Figure) -> NDArray[np.uint8]:
+    import numpy as np
+
+    return np.asarray(figure.canvas.buffer_rgba())  # type: ignore[attr-defined]
+
+
+def _rgb(colour: str) -> tuple[int, int, int]:
+    from matplotlib.colors import to_rgb
+
+    red, green, blue = to_rgb(colour)
+    return round(255 * red), round(255 * green), round(255 * blue)
+
+
+def _pixel_of(figure: Figure, axes: Axes, x: float, y: float) -> tuple[int, int]:
+    """(row, column) in the rendered buffer of a point in the axes' data coordinates."""
+    display_x, display_y = axes.transData.transform((x, y))
+    height = _pixels(figure).shape[0]
+    return round(height - display_y), round(display_x)
+
+
+def _near(
+    figure: Figure,
+    axes: Axes,
+    x: float,
+    y: float,
+    colour: str,
+    radius: int = 3,
+    tolerance: int = 8,
+) -> bool:
+    """True when a pixel within ``radius`` of the point has the colour (within ``tolerance`` per
+    channel: thin lines are antialiased and never quite reach their colour)."""
+    import numpy as np
+
+    row, column = _pixel_of(figure, axes, x, y)
+    patch = _pixels(figure)[row - radius : row + radius + 1, column - radius : column + radius + 1]
+    difference = np.abs(patch[..., :3].astype(int) - np.array(_rgb(colour)))
+    return bool((difference.max(axis=-1) <= tolerance).any())
+
+
+def _colour_at(figure: Figure, axes: Axes, x: float, y: float) -> tuple[int, int, int]:
+    row, column = _pixel_of(figure, axes, x, y)
+    red, green, blue = (int(v) for v in _pixels(figure)[row, column, :3])
+    return red, green, blue
+
+
+def test_a_saved_png_has_the_figure_size_in_pixels(trajectory_a: Figure, tmp_path: Path) -> None:
+    target = tmp_path / "plan.png"
+    save(trajectory_a, target)
+    header = target.read_bytes()[:24]
+    assert header[:8] == b"\x89PNG\r\n\x1a\n"
+    width, height = struct.unpack(">II", header[16:24])
+    assert (width, height) == (800, 900)
+
+
+@pytest.mark.parametrize(
+    ("x", "y"),
+    [(0.0, 0.0), (0.25, 0.25), (0.0, 0.5), (-1.0, 0.5), (-1.25, 0.75), (-1.0, 1.0), (0.0, 1.0)],
+)
+def test_the_path_of_trajectory_a_is_drawn_through_its_known_points(
+    trajectory_a: Figure, x: float, y: float
+) -> None:
+    # the start, the far point of the first half circle, its end, ..., the end (0, 1)
+    assert _near(trajectory_a, _axes(trajectory_a, "path"), x, y, PATH_COLOUR)
+
+
+@pytest.mark.parametrize(("x", "y"), [(-0.63, 0.77), (-0.37, 0.23), (0.13, 0.83)])
+def test_points_away_from_the_path_are_background(trajectory_a: Figure, x: float, y: float) -> None:
+    path = _axes(trajectory_a, "path")
+    assert not _near(trajectory_a, path, x, y, PATH_COLOUR, radius=6)
+    assert _colour_at(trajectory_a, path, x, y) == (255, 255, 255)
+
+
+def test_the_footprint_is_drawn_at_every_segment_end(trajectory_a: Figure) -> None:
+    path = _axes(trajectory_a, "path")
+    from matplotlib.patches import Rectangle
+
+    rectangles = [patch for patch in path.patches if isinstance(patch, Rectangle)]
+    wheels = [patch for patch in rectangles if patch.get_gid() == "wheel"]
+    tracks = [patch for patch in rectangles if patch.get_gid() == "footprint"]
+    assert (len(tracks), len(wheels)) == (4, 8)
+    # the track rectangle is b wide across the heading and 2r long along it
+    assert (tracks[0].get_width(), tracks[0].get_height()) == pytest.approx((0.07, 0.135))
+
+
+def test_segments_are_numbered_at_their_midpoints(trajectory_a: Figure) -> None:
+    path = _axes(trajectory_a, "path")
+    from matplotlib.text import Annotation
+
+    labels = {
+        text.get_text(): text.xy
+        for text in path.texts
+        if isinstance(text, Annotation) and text.get_text()
+    }
+    assert set(labels) == {"1", "2", "3", "4"}
+    assert labels["1"] == pytest.approx((0.25, 0.25), abs=1e-9)
+    assert labels["2"] == pytest.approx((-0.5, 0.5), abs=1e-9)
+
+
+def test_the_wheel_speed_axes_draw_the_limit_at_plus_and_minus_50_rpm(
+    trajectory_a: Figure,
+) -> None:
+    speeds = _axes(trajectory_a, "wheel speeds")
+    import numpy as np
+
+    levels = sorted(
+        float(np.asarray(line.get_ydata())[0])
+        for line in speeds.lines
+        if line.get_color() == LIMIT_COLOUR
+    )
+    assert levels == pytest.approx([-50.0, 50.0], rel=1e-9)
+    # and it is drawn there: the dashed line is drawn a few pixels either side of t = 15 s
+    assert any(
+        _near(trajectory_a, speeds, t, level, LIMIT_COLOUR, radius=1, tolerance=45)
+        for t in (14.6, 14.8, 15.0, 15.2, 15.4)
+        for level in (50.0,)
+    )
+    assert _near(trajectory_a, speeds, 15.0, -50.0, LIMIT_COLOUR, radius=8, tolerance=45)
+
+
+def test_the_wheel_speeds_are_drawn_at_their_rpm(trajectory_a: Figure) -> None:
+    speeds = _axes(trajectory_a, "wheel speeds")
+    # exercise 6, the counter-clockwise half circle (0 s to 10 s): left 15.6 rpm, right 27.2 rpm
+    assert _near(trajectory_a, speeds, 5.0, 15.64, LEFT_COLOUR)
+    assert _near(trajectory_a, speeds, 5.0, 27.21, RIGHT_COLOUR)
+    assert not _near(trajectory_a, speeds, 5.0, 21.0, LEFT_COLOUR, radius=6)
+
+
+def test_a_plan_over_the_limit_is_shaded_while_it_is_over() -> None:
+    # The middle straight, 1 m in 2 s, turns the wheels at 136 rpm: over 50 rpm from 10 s to 12 s.
+    figure = plan_figure(_plan("straight 1 10s; straight 1 2s; straight 1 10s"), BOT_50_RPM)
+    figure.canvas.draw()
+    speeds = _axes(figure, "wheel speeds")
+    white = (255, 255, 255)
+    for inside in (10.3, 11.0, 11.7):
+        shade = _colour_at(figure, speeds, inside, -13.0)
+        assert shade != white
+        assert shade[0] > shade[1]
+        assert shade[0] > shade[2]
+    for outside in (5.3, 9.6, 12.4, 17.3):
+        assert _colour_at(figure, speeds, outside, -13.0) == white
+    assert not _near(figure, speeds, 5.3, -13.0, OVER_LIMIT_COLOUR, radius=2)
+
+
+def test_a_plan_within_the_limit_has_no_shading(trajectory_a: Figure) -> None:
+    speeds = _axes(trajectory_a, "wheel speeds")
+    labels = speeds.get_legend_handles_labels()[1]
+    assert "over the limit" not in labels
+    assert "left wheel" in labels
+
+
+def test_a_recording_is_drawn_with_its_distance_to_the_plan_end() -> None:
+    import numpy as np
+
+    figure = plan_figure(
+        _plan(EXAMPLES["A"]),
+        BOT_50_RPM,
+        recordings=[("odometry", np.array([0.0, -0.5, 0.03]), np.array([0.0, 0.5, 1.04]))],
+    )
+    labels = _axes(figure, "path").get_legend_handles_labels()[1]
+    assert "odometry (ends 0.05 m from the plan's end)" in labels
+
+
+def test_a_recording_with_unequal_x_and_y_is_refused() -> None:
+    with pytest.raises(PlotError, match=r"recording 'odom' needs as many x as y positions"):
+        plan_figure(_plan(EXAMPLES["A"]), BOT_50_RPM, recordings=[("odom", [0.0, 1.0], [0.0])])
+
+
+@pytest.mark.parametrize(("suffix", "magic"), [(".svg", b"<?xml"), (".PDF", b"%PDF")])
+def test_svg_and_pdf_are_written_by_suffix(tmp_path: Path, suffix: str, magic: bytes) -> None:
+    target = tmp_path / f"plan{suffix}"
+    save(plan_figure(_plan("straight 1"), BOT_50_RPM), target)
+    assert target.read_bytes().startswith(magic)
+    assert [p.name for p in tmp_path.iterdir()] == [target.name]
+
+
+def test_an_unknown_suffix_is_refused_and_nothing_is_written(tmp_path: Path) -> None:
+    target = tmp_path / "plan.jpeg"
+    with pytest.raises(PlotError, match=r"from '\.jpeg' .*: use \.png, \.svg or \.pdf"):
+        save(plan_figure(_plan("straight 1"), BOT_50_RPM), target)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_existing_file_is_replaced_only_with_force(tmp_path: Path) -> None:
+    target = tmp_path / "plan.svg"
+    target.write_bytes(b"mine")
+    figure = plan_figure(_plan("straight 1"), BOT_50_RPM)
+    with pytest.raises(OutputExistsError, match=r"plan\.svg exists: use force=True"):
+        save(figure, target)
+    assert target.read_bytes() == b"mine"
+    save(figure, target, force=True)
+    assert target.read_bytes().startswith(b"<?xml")
+
+
+def test_missing_matplotlib_names_the_install_command(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    with pytest.raises(PlotError, match=r"pip install 'diffbot-kinematics\[plot\]'"):
+        plan_figure(_plan("straight 1"), BOT_50_RPM)
+
+
+def test_importing_the_module_does_not_import_matplotlib() -> None:
+    code = "import sys, diffbot.plotting; print('matplotlib' in sys.modules)"
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    )
+    assert result.stdout.strip() == "False"
