@@ -31,6 +31,7 @@ COMMANDS = {
     "plan": "diffbot.commands.plan:plan_command",
     "odom": "diffbot.commands.odom:odom",
     "simulate": "diffbot.commands.simulate:simulate",
+    "explain": "diffbot.commands.explain:explain",
 }
 
 #: How the command line spells a library parameter named in an error message.

@@ -59,6 +59,11 @@ def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ["odom", "--help"],
         ["simulate", "--help"],
         ["check"],
+        ["explain", "--help"],
+        ["explain", "ik", "0.1", "0", "--lang", "es"],
+        ["explain", "fk", "2.86", "2.86", "--format", "md"],
+        ["explain", "plan", "--example", "B"],
+        ["explain", "odom", "0", "0", "1", "1.5", "0.1"],
     ],
 )
 def test_quick_commands_load_no_heavy_module(args: list[str], warm_cache: Path) -> None:

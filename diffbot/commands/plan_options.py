@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from diffbot.commands.options import POSITIVE, fail, option_group
+from diffbot.commands.options import POSITIVE, F, fail, option_group, robot_options
 from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
 from diffbot.planfile import load_plan, parse_plan
 from diffbot.trajectory import EXAMPLES, Plan, Segment
@@ -26,6 +26,7 @@ __all__ = [
     "PlanOptions",
     "check_topic",
     "join_plan_arguments",
+    "plan_arguments",
     "plan_input",
     "plan_input_options",
 ]
@@ -234,3 +235,11 @@ plan_input_options = option_group(
     "plan_options",
     _plan_options,
 )
+
+
+def plan_arguments(command: F) -> F:
+    """Add what says which plan to make, for which robot: the SPEC | FILE and NAME:=VALUE
+    arguments (``tokens``), the robot options (``robot``) and the plan options
+    (``plan_options``)."""
+    decorated = plan_input_options(robot_options(command))
+    return click.argument("tokens", nargs=-1, metavar="[SPEC | FILE] [NAME:=VALUE]...")(decorated)
