@@ -31,6 +31,7 @@ COMMANDS = {
     "plan": "diffbot.commands.plan:plan_command",
     "odom": "diffbot.commands.odom:odom",
     "simulate": "diffbot.commands.simulate:simulate",
+    "plot": "diffbot.commands.plot:plot",
     "explain": "diffbot.commands.explain:explain",
 }
 

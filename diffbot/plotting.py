@@ -2,7 +2,8 @@
 
 matplotlib is an optional extra (``pip install 'diffbot-kinematics[plot]'``); it is imported only
 when a figure is made, never with this module. Figures are drawn on the Agg canvas, without
-pyplot, so nothing ever opens a window or needs a display.
+pyplot, so that nothing opens a window or needs a display; only a figure asked for with
+``window=True`` goes through pyplot, for :func:`show`.
 """
 
 from __future__ import annotations
@@ -24,6 +25,9 @@ if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
 __all__ = [
+    "FIGURE_DPI",
+    "FIGURE_SIZE",
+    "FILE_BACKENDS",
     "INSTALL_COMMAND",
     "LEFT_COLOUR",
     "LIMIT_COLOUR",
@@ -34,12 +38,22 @@ __all__ = [
     "SUFFIXES",
     "PlotError",
     "Recording",
+    "end_distance",
+    "file_format",
     "plan_figure",
+    "require_matplotlib",
+    "require_window",
     "save",
+    "show",
 ]
 
 #: How to install what plotting needs.
 INSTALL_COMMAND: Final = "pip install 'diffbot-kinematics[plot]'"
+#: The size of a plan figure (inches) and its resolution (dots per inch): 800 x 900 pixels.
+FIGURE_SIZE: Final = (8.0, 9.0)
+FIGURE_DPI: Final = 100
+#: matplotlib backends that draw into files only: :func:`show` cannot open a window with them.
+FILE_BACKENDS: Final = ("agg", "cairo", "pdf", "pgf", "ps", "svg", "template")
 #: The file types :func:`save` writes, by suffix.
 SUFFIXES: Final = (".png", ".svg", ".pdf")
 
@@ -65,7 +79,12 @@ class PlotError(DiffbotError):
     """A figure cannot be made or saved: matplotlib is missing, or an output type is unknown."""
 
 
-def _require_matplotlib() -> None:
+def require_matplotlib() -> None:
+    """Check that matplotlib can be imported (without importing pyplot).
+
+    Raises:
+        PlotError: it is not installed; the message names the install command.
+    """
     try:
         import matplotlib  # noqa: F401
     except ImportError as err:
@@ -75,7 +94,11 @@ def _require_matplotlib() -> None:
 
 
 def plan_figure(
-    plan: Plan, params: DiffDriveParams, *, recordings: Iterable[Recording] = ()
+    plan: Plan,
+    params: DiffDriveParams,
+    *,
+    recordings: Iterable[Recording] = (),
+    window: bool = False,
 ) -> Figure:
     """A figure of a plan: its path above, its wheel speeds below.
 
@@ -93,20 +116,27 @@ def plan_figure(
         recordings: odometry paths to draw over the plan: ``(label, x, y)`` with x and y in m;
             each one's legend entry gives the distance (m) from its last position to the plan's
             end.
+        window: make the figure through pyplot, so that :func:`show` opens it in a window;
+            by default it is drawn on an Agg canvas, which needs no display.
 
     Returns:
-        A matplotlib Figure on an Agg canvas (``figure.canvas.draw()`` renders it).
+        A matplotlib Figure (``figure.canvas.draw()`` renders it).
 
     Raises:
         PlotError: matplotlib is not installed, or a recording is empty or has x and y of
             different lengths.
     """
-    _require_matplotlib()
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+    require_matplotlib()
+    if window:
+        from matplotlib import pyplot
 
-    figure = Figure(figsize=(8.0, 9.0), dpi=100, layout="constrained")
-    FigureCanvasAgg(figure)
+        figure = pyplot.figure(figsize=FIGURE_SIZE, dpi=FIGURE_DPI, layout="constrained")
+    else:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
+        figure = Figure(figsize=FIGURE_SIZE, dpi=FIGURE_DPI, layout="constrained")
+        FigureCanvasAgg(figure)
     path_axes, speed_axes = figure.subplots(2, 1, height_ratios=(2, 1))
     path_axes.set_label("path")
     speed_axes.set_label("wheel speeds")
@@ -159,7 +189,7 @@ def _draw_path(
                 f"recording {label!r} needs as many x as y positions, and some: "
                 f"got {rx.size} and {ry.size}"
             )
-        miss = math.hypot(float(rx[-1]) - final.x, float(ry[-1]) - final.y)
+        miss = end_distance(plan, float(rx[-1]), float(ry[-1]))
         axes.plot(
             rx,
             ry,
@@ -261,12 +291,64 @@ def _draw_speeds(axes: Axes, plan: Plan) -> None:
     axes.legend(loc="best", fontsize=8)
 
 
+def end_distance(plan: Plan, x: float, y: float) -> float:
+    """How far (m) a position is from where the plan ends: a recording's miss."""
+    final = plan.final_pose
+    return math.hypot(x - final.x, y - final.y)
+
+
+def require_window() -> None:
+    """Check that matplotlib can open a window here (this imports pyplot).
+
+    Raises:
+        PlotError: matplotlib is not installed, or its backend only writes files (no display).
+    """
+    require_matplotlib()
+    import matplotlib
+    from matplotlib import pyplot  # noqa: F401  (picks the backend)
+
+    backend = matplotlib.get_backend().lower()
+    if backend in FILE_BACKENDS:
+        raise PlotError(
+            f"cannot open a window: matplotlib's backend here is {backend!r}, which only writes "
+            "files (is there a display?); save the figure to a .png, .svg or .pdf file instead"
+        )
+
+
+def show() -> None:
+    """Open the figures made with ``window=True`` in windows; return when they are closed.
+
+    Raises:
+        PlotError: see :func:`require_window`.
+    """
+    require_window()
+    from matplotlib import pyplot
+
+    pyplot.show()
+
+
 def _rad_s(rpm: Any) -> Any:
     return rad_s_from_rpm(rpm)
 
 
 def _rpm(rad_s: Any) -> Any:
     return rpm_from_rad_s(rad_s)
+
+
+def file_format(path: str | os.PathLike[str]) -> str:
+    """The type of figure file a path asks for by its suffix: ``"png"``, ``"svg"`` or ``"pdf"``.
+
+    Raises:
+        PlotError: a suffix other than ``.png``, ``.svg`` or ``.pdf`` (in any case), or none.
+    """
+    suffix = Path(path).suffix.lower()
+    if suffix not in SUFFIXES:
+        shown = repr(suffix) if suffix else "no suffix"
+        raise PlotError(
+            f"cannot tell what type of file to write from {shown} in {os.fspath(path)!r}: "
+            "use .png, .svg or .pdf"
+        )
+    return suffix[1:]
 
 
 def save(
@@ -289,14 +371,7 @@ def save(
         OutputExistsError: the file exists and ``force`` is not given.
         OutputError: it is not a regular file, lies in a missing directory, or is an input.
     """
-    target = Path(path)
-    suffix = target.suffix.lower()
-    if suffix not in SUFFIXES:
-        shown = repr(suffix) if suffix else "no suffix"
-        raise PlotError(
-            f"cannot tell what type of file to write from {shown} in {str(target)!r}: "
-            "use .png, .svg or .pdf"
-        )
+    kind = file_format(path)
     # atomic_text's temporary file is opened for text; the figure goes to its byte stream.
     with atomic_text(Path(path), force=force, inputs=inputs) as out:
-        figure.savefig(out.buffer, format=suffix[1:])
+        figure.savefig(out.buffer, format=kind)

@@ -59,6 +59,7 @@ def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ["odom", "--help"],
         ["simulate", "--help"],
         ["check"],
+        ["plot", "--help"],
         ["explain", "--help"],
         ["explain", "ik", "0.1", "0", "--lang", "es"],
         ["explain", "fk", "2.86", "2.86", "--format", "md"],
@@ -85,3 +86,8 @@ def test_odometry_of_a_csv_loads_numpy_but_not_bags_or_dask(
     path.write_text("time,front_left_wheel_joint,front_right_wheel_joint\n0,0,0\n1,1,1\n")
     assert loaded_by(["odom", str(path)], warm_cache) == {"numpy"}
     assert loaded_by(["odom", str(path), str(path), "--jobs", "2"], warm_cache) == {"numpy"}
+
+
+def test_plotting_loads_matplotlib_and_numpy_but_not_bags(warm_cache: Path, tmp_path: Path) -> None:
+    assert loaded_by(["plot", "-o", str(tmp_path / "a.png")], warm_cache) == {"matplotlib", "numpy"}
+    assert (tmp_path / "a.png").stat().st_size > 0

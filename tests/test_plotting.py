@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import pytest
+from figures import axes_labelled, colour_at, near, rendered
 from robots import BOT_50_RPM
 
 from diffbot.errors import OutputExistsError
@@ -26,10 +27,7 @@ from diffbot.plotting import (
 from diffbot.trajectory import EXAMPLES, Plan, plan
 
 if TYPE_CHECKING:
-    import numpy as np
-    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
-    from numpy.typing import NDArray
 
 pytest.importorskip("matplotlib", reason="plotting needs the 'plot' extra")
 
@@ -43,55 +41,6 @@ def trajectory_a() -> Figure:
     figure = plan_figure(_plan(EXAMPLES["A"]), BOT_50_RPM)
     figure.canvas.draw()
     return figure
-
-
-def _axes(figure: Figure, label: str) -> Axes:
-    return next(axes for axes in figure.axes if axes.get_label() == label)
-
-
-def _pixels(figure: Figure) -> NDArray[np.uint8]:
-    import numpy as np
-
-    return np.asarray(figure.canvas.buffer_rgba())  # type: ignore[attr-defined]
-
-
-def _rgb(colour: str) -> tuple[int, int, int]:
-    from matplotlib.colors import to_rgb
-
-    red, green, blue = to_rgb(colour)
-    return round(255 * red), round(255 * green), round(255 * blue)
-
-
-def _pixel_of(figure: Figure, axes: Axes, x: float, y: float) -> tuple[int, int]:
-    """(row, column) in the rendered buffer of a point in the axes' data coordinates."""
-    display_x, display_y = axes.transData.transform((x, y))
-    height = _pixels(figure).shape[0]
-    return round(height - display_y), round(display_x)
-
-
-def _near(
-    figure: Figure,
-    axes: Axes,
-    x: float,
-    y: float,
-    colour: str,
-    radius: int = 3,
-    tolerance: int = 8,
-) -> bool:
-    """True when a pixel within ``radius`` of the point has the colour (within ``tolerance`` per
-    channel: thin lines are antialiased and never quite reach their colour)."""
-    import numpy as np
-
-    row, column = _pixel_of(figure, axes, x, y)
-    patch = _pixels(figure)[row - radius : row + radius + 1, column - radius : column + radius + 1]
-    difference = np.abs(patch[..., :3].astype(int) - np.array(_rgb(colour)))
-    return bool((difference.max(axis=-1) <= tolerance).any())
-
-
-def _colour_at(figure: Figure, axes: Axes, x: float, y: float) -> tuple[int, int, int]:
-    row, column = _pixel_of(figure, axes, x, y)
-    red, green, blue = (int(v) for v in _pixels(figure)[row, column, :3])
-    return red, green, blue
 
 
 def test_a_saved_png_has_the_figure_size_in_pixels(trajectory_a: Figure, tmp_path: Path) -> None:
@@ -111,18 +60,18 @@ def test_the_path_of_trajectory_a_is_drawn_through_its_known_points(
     trajectory_a: Figure, x: float, y: float
 ) -> None:
     # the start, the far point of the first half circle, its end, ..., the end (0, 1)
-    assert _near(trajectory_a, _axes(trajectory_a, "path"), x, y, PATH_COLOUR)
+    assert near(rendered(trajectory_a), axes_labelled(trajectory_a, "path"), x, y, PATH_COLOUR)
 
 
 @pytest.mark.parametrize(("x", "y"), [(-0.63, 0.77), (-0.37, 0.23), (0.13, 0.83)])
 def test_points_away_from_the_path_are_background(trajectory_a: Figure, x: float, y: float) -> None:
-    path = _axes(trajectory_a, "path")
-    assert not _near(trajectory_a, path, x, y, PATH_COLOUR, radius=6)
-    assert _colour_at(trajectory_a, path, x, y) == (255, 255, 255)
+    path = axes_labelled(trajectory_a, "path")
+    assert not near(rendered(trajectory_a), path, x, y, PATH_COLOUR, radius=6)
+    assert colour_at(rendered(trajectory_a), path, x, y) == (255, 255, 255)
 
 
 def test_the_footprint_is_drawn_at_every_segment_end(trajectory_a: Figure) -> None:
-    path = _axes(trajectory_a, "path")
+    path = axes_labelled(trajectory_a, "path")
     from matplotlib.patches import Rectangle
 
     rectangles = [patch for patch in path.patches if isinstance(patch, Rectangle)]
@@ -134,7 +83,7 @@ def test_the_footprint_is_drawn_at_every_segment_end(trajectory_a: Figure) -> No
 
 
 def test_segments_are_numbered_at_their_midpoints(trajectory_a: Figure) -> None:
-    path = _axes(trajectory_a, "path")
+    path = axes_labelled(trajectory_a, "path")
     from matplotlib.text import Annotation
 
     labels = {
@@ -150,7 +99,7 @@ def test_segments_are_numbered_at_their_midpoints(trajectory_a: Figure) -> None:
 def test_the_wheel_speed_axes_draw_the_limit_at_plus_and_minus_50_rpm(
     trajectory_a: Figure,
 ) -> None:
-    speeds = _axes(trajectory_a, "wheel speeds")
+    speeds = axes_labelled(trajectory_a, "wheel speeds")
     import numpy as np
 
     levels = sorted(
@@ -161,39 +110,39 @@ def test_the_wheel_speed_axes_draw_the_limit_at_plus_and_minus_50_rpm(
     assert levels == pytest.approx([-50.0, 50.0], rel=1e-9)
     # and it is drawn there: the dashed line is drawn a few pixels either side of t = 15 s
     assert any(
-        _near(trajectory_a, speeds, t, level, LIMIT_COLOUR, radius=1, tolerance=45)
+        near(rendered(trajectory_a), speeds, t, level, LIMIT_COLOUR, radius=1, tolerance=45)
         for t in (14.6, 14.8, 15.0, 15.2, 15.4)
         for level in (50.0,)
     )
-    assert _near(trajectory_a, speeds, 15.0, -50.0, LIMIT_COLOUR, radius=8, tolerance=45)
+    assert near(rendered(trajectory_a), speeds, 15.0, -50.0, LIMIT_COLOUR, radius=8, tolerance=45)
 
 
 def test_the_wheel_speeds_are_drawn_at_their_rpm(trajectory_a: Figure) -> None:
-    speeds = _axes(trajectory_a, "wheel speeds")
+    speeds = axes_labelled(trajectory_a, "wheel speeds")
     # exercise 6, the counter-clockwise half circle (0 s to 10 s): left 15.6 rpm, right 27.2 rpm
-    assert _near(trajectory_a, speeds, 5.0, 15.64, LEFT_COLOUR)
-    assert _near(trajectory_a, speeds, 5.0, 27.21, RIGHT_COLOUR)
-    assert not _near(trajectory_a, speeds, 5.0, 21.0, LEFT_COLOUR, radius=6)
+    assert near(rendered(trajectory_a), speeds, 5.0, 15.64, LEFT_COLOUR)
+    assert near(rendered(trajectory_a), speeds, 5.0, 27.21, RIGHT_COLOUR)
+    assert not near(rendered(trajectory_a), speeds, 5.0, 21.0, LEFT_COLOUR, radius=6)
 
 
 def test_a_plan_over_the_limit_is_shaded_while_it_is_over() -> None:
     # The middle straight, 1 m in 2 s, turns the wheels at 136 rpm: over 50 rpm from 10 s to 12 s.
     figure = plan_figure(_plan("straight 1 10s; straight 1 2s; straight 1 10s"), BOT_50_RPM)
     figure.canvas.draw()
-    speeds = _axes(figure, "wheel speeds")
+    speeds = axes_labelled(figure, "wheel speeds")
     white = (255, 255, 255)
     for inside in (10.3, 11.0, 11.7):
-        shade = _colour_at(figure, speeds, inside, -13.0)
+        shade = colour_at(rendered(figure), speeds, inside, -13.0)
         assert shade != white
         assert shade[0] > shade[1]
         assert shade[0] > shade[2]
     for outside in (5.3, 9.6, 12.4, 17.3):
-        assert _colour_at(figure, speeds, outside, -13.0) == white
-    assert not _near(figure, speeds, 5.3, -13.0, OVER_LIMIT_COLOUR, radius=2)
+        assert colour_at(rendered(figure), speeds, outside, -13.0) == white
+    assert not near(rendered(figure), speeds, 5.3, -13.0, OVER_LIMIT_COLOUR, radius=2)
 
 
 def test_a_plan_within_the_limit_has_no_shading(trajectory_a: Figure) -> None:
-    speeds = _axes(trajectory_a, "wheel speeds")
+    speeds = axes_labelled(trajectory_a, "wheel speeds")
     labels = speeds.get_legend_handles_labels()[1]
     assert "over the limit" not in labels
     assert "left wheel" in labels
@@ -207,7 +156,7 @@ def test_a_recording_is_drawn_with_its_distance_to_the_plan_end() -> None:
         BOT_50_RPM,
         recordings=[("odometry", np.array([0.0, -0.5, 0.03]), np.array([0.0, 0.5, 1.04]))],
     )
-    labels = _axes(figure, "path").get_legend_handles_labels()[1]
+    labels = axes_labelled(figure, "path").get_legend_handles_labels()[1]
     assert "odometry (ends 0.05 m from the plan's end)" in labels
 
 

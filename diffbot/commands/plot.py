@@ -1,0 +1,132 @@
+"""``diffbot plot``: a figure of a plan's path and wheel speeds, with recorded odometry over it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from diffbot import plotting
+from diffbot.commands.options import (
+    NUMBERS,
+    RobotOptions,
+    fail,
+    split_xacro_args,
+    topic_option,
+    warn,
+)
+from diffbot.commands.plan_options import PlanOptions, plan_arguments, plan_input
+from diffbot.formats.text import fmt
+from diffbot.io.outputs import output_target
+from diffbot.kinematics import DiffDriveParams
+from diffbot.trajectory import Plan
+
+__all__ = ["plot"]
+
+
+def _odometry(
+    inputs: tuple[str, ...], params: DiffDriveParams, topic: str
+) -> list[tuple[str, list[float], list[float]]]:
+    """The odometry path of each recording, labelled by its file name."""
+    from diffbot.io.recordings import read_recording
+    from diffbot.odometry import Odometry
+    from diffbot.replay import run_odometry
+
+    recordings: list[tuple[str, list[float], list[float]]] = []
+    for source in inputs:
+        run = run_odometry(read_recording(source, params, topic), Odometry(params))
+        skipped = sum(run.skipped.values())
+        if skipped:
+            warn(
+                f"{source}: skipped {skipped} of {run.samples + skipped} samples "
+                f"('diffbot odom {source}' says why)"
+            )
+        poses = [row.pose for row in run.rows]
+        recordings.append((source, [pose.x for pose in poses], [pose.y for pose in poses]))
+    return recordings
+
+
+@click.command(context_settings=NUMBERS)
+@plan_arguments
+@click.option(
+    "--odom",
+    "odom_inputs",
+    metavar="INPUT",
+    multiple=True,
+    help="A recording of the wheel joints (CSV or rosbag2, as for 'diffbot odom') whose "
+    "odometry is drawn over the plan. Repeatable.",
+)
+@topic_option("The sensor_msgs/JointState topic of --odom bags.")
+@click.option(
+    "-o",
+    "--output",
+    metavar="FILE",
+    help="Write the figure to FILE, its type by suffix: .png, .svg or .pdf (whole or not at all).",
+)
+@click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
+@click.option("--show", is_flag=True, help="Open the figure in a window (needs a display).")
+def plot(
+    robot: RobotOptions,
+    plan_options: PlanOptions,
+    tokens: tuple[str, ...],
+    odom_inputs: tuple[str, ...],
+    topic: str,
+    output: str | None,
+    force: bool,
+    show: bool,
+) -> None:
+    """A figure of a plan's path and wheel speeds, with recordings over it.
+
+    SPEC, FILE and the plan options are those of 'diffbot plan'; without a plan, the seed's
+    Trajectory A is drawn. Above: the path in the odom frame (equal axes), the start and end
+    poses, the robot's footprint at each segment's end and the segment numbers; with --odom,
+    each recording's odometry path, its legend giving how far it ends from the plan's end.
+    Below: both wheels' speeds over time (rpm, rad/s on the right), the motor limit, and the
+    segments over it shaded (a warning names them; the exit code stays 0).
+
+    Writing a file needs no display. Plotting needs the optional matplotlib dependency:
+
+    \b
+      pip install 'diffbot-kinematics[plot]'
+
+    \b
+    Examples:
+      diffbot plot --example A -o a.png
+      diffbot plot "straight 1 10s; spin 90" --odom joints.csv -o run.svg
+      diffbot plot --example B --fastest --show
+    """
+    if output is None and not show:
+        fail("nothing to do: give -o FILE (.png, .svg or .pdf) to write the figure, or --show")
+    if output is not None and not output.strip():
+        fail("-o needs a file name, got ''")
+    rest, xacro_args = split_xacro_args(tokens)
+    source = plan_input(rest, plan_options.example)
+    robot = robot.with_path(None, xacro_args)
+    given = [source.path, robot.robot, *odom_inputs]
+    inputs = [Path(path) for path in given if path is not None]
+    if output is not None:
+        plotting.file_format(output)
+        output_target(Path(output), force=force, inputs=inputs)
+    if show:
+        plotting.require_window()
+    else:
+        plotting.require_matplotlib()
+    params = robot.load()
+    made = plan_options.make(source.segments, params)
+    if not isinstance(made, Plan):
+        # The step plan holds the cruise speeds, the motor limit check and the poses.
+        warn("a ramped plan is drawn at its cruise speeds: the ramps are not drawn")
+        made = made.steps
+    p = made
+    recordings = _odometry(odom_inputs, params, topic)
+    figure = plotting.plan_figure(p, params, recordings=recordings, window=show)
+    for label, xs, ys in recordings:
+        miss = plotting.end_distance(p, xs[-1], ys[-1])
+        click.echo(f"{label}: odometry ends {fmt(miss, 3)} m from the plan's end")
+    for found in sorted({v.index for v in p.violations()}):
+        segment = p.segments[found]
+        warn(f"segment {found + 1} ({segment.kind}) is over the motor limit: shaded in the figure")
+    if output is not None:
+        plotting.save(figure, output, force=force, inputs=inputs)
+    if show:
+        plotting.show()

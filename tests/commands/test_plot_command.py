@@ -1,0 +1,167 @@
+"""``diffbot plot``: the figure file it writes (read back pixel by pixel), and bad input."""
+
+from __future__ import annotations
+
+import math
+import struct
+import sys
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner, Result
+from figures import axes_labelled, colour_at, near, png_pixels
+
+from diffbot.cli import main
+from diffbot.kinematics import DiffDriveParams
+from diffbot.planfile import parse_plan
+from diffbot.plotting import (
+    LEFT_COLOUR,
+    PATH_COLOUR,
+    RECORDING_COLOURS,
+    RIGHT_COLOUR,
+    plan_figure,
+)
+from diffbot.trajectory import EXAMPLES, plan
+
+pytest.importorskip("matplotlib", reason="plotting needs the 'plot' extra")
+
+
+def run(runner: CliRunner, *args: str) -> Result:
+    return runner.invoke(main, ["plot", *args], catch_exceptions=False, prog_name="diffbot")
+
+
+def assert_bad_input(result: Result, fragment: str) -> None:
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("error: ")
+    assert fragment in lines[0]
+
+
+def test_example_a_draws_the_path_and_the_wheel_speeds(
+    runner: CliRunner, params: DiffDriveParams, tmp_path: Path
+) -> None:
+    target = tmp_path / "a.png"
+    result = run(runner, "--example", "A", "-o", str(target))
+    assert result.exit_code == 0, result.output
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert struct.unpack(">II", target.read_bytes()[16:24]) == (800, 900)
+    image = png_pixels(target)
+    # The same figure made in the library places the axes: where its data points fall in pixels.
+    layout = plan_figure(plan(parse_plan(EXAMPLES["A"]), params), params)
+    layout.canvas.draw()
+    path = axes_labelled(layout, "path")
+    for x, y in [(0.0, 0.0), (0.25, 0.25), (-0.5, 0.5), (-1.25, 0.75), (-0.5, 1.0), (0.0, 1.0)]:
+        assert near(image, path, x, y, PATH_COLOUR), (x, y)
+    for x, y in [(-0.63, 0.77), (-0.37, 0.23), (0.13, 0.83)]:
+        assert colour_at(image, path, x, y) == (255, 255, 255), (x, y)
+    speeds = axes_labelled(layout, "wheel speeds")
+    # the first half circle: left 15.6 rpm, right 27.2 rpm; the straight after it: both 27.3 rpm
+    assert near(image, speeds, 5.0, 15.64, LEFT_COLOUR)
+    assert near(image, speeds, 5.0, 27.21, RIGHT_COLOUR)
+    assert not near(image, speeds, 15.0, 15.64, LEFT_COLOUR, radius=6)
+
+
+def test_a_recording_is_drawn_over_the_plan_and_its_miss_reported(
+    runner: CliRunner, params: DiffDriveParams, tmp_path: Path
+) -> None:
+    # The wheels roll 1 m straight ahead while the plan turns a quarter circle of 0.5 m.
+    turns = 1.0 / params.wheel_radius
+    rows = [f"{k / 10},{k / 10 * turns!r},{k / 10 * turns!r}" for k in range(11)]
+    csv = tmp_path / "straight.csv"
+    csv.write_text(f"time,{params.left_joint},{params.right_joint}\n" + "\n".join(rows) + "\n")
+    target = tmp_path / "run.png"
+    result = run(runner, "ccw 0.5 90 10s", "--odom", str(csv), "-o", str(target))
+    assert result.exit_code == 0, result.output
+    miss = math.hypot(1.0 - 0.5, 0.0 - 0.5)
+    assert result.stdout == f"{csv}: odometry ends {miss:.3g} m from the plan's end\n"
+    image = png_pixels(target)
+    drawn = plan(parse_plan("ccw 0.5 90 10s"), params)
+    layout = plan_figure(drawn, params, recordings=[(str(csv), [0.0, 1.0], [0.0, 0.0])])
+    layout.canvas.draw()
+    path = axes_labelled(layout, "path")
+    # a thin dashed line, antialiased across two pixel rows: its colour is never reached exactly
+    assert near(image, path, 0.8, 0.0, RECORDING_COLOURS[0], tolerance=45)
+    assert not near(image, path, 0.8, 0.2, RECORDING_COLOURS[0], tolerance=45)
+    assert near(image, path, 0.5, 0.5, PATH_COLOUR)
+    assert not near(image, path, 0.8, 0.0, PATH_COLOUR, radius=5)
+
+
+def test_svg_and_pdf_by_suffix_and_over_limit_segments_warned(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    for name, magic in (("p.svg", b"<?xml"), ("p.PDF", b"%PDF")):
+        result = run(runner, "straight 1 2s", "-o", str(tmp_path / name))
+        assert result.exit_code == 0, result.output
+        assert (tmp_path / name).read_bytes().startswith(magic)
+        assert result.stderr == (
+            "warning: segment 1 (straight) is over the motor limit: shaded in the figure\n"
+        )
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.PDF", "p.svg"]
+
+
+def test_an_existing_file_is_replaced_only_with_force(runner: CliRunner, tmp_path: Path) -> None:
+    target = tmp_path / "a.png"
+    target.write_bytes(b"mine")
+    assert_bad_input(run(runner, "-o", str(target)), "a.png exists: use --force to overwrite it")
+    assert target.read_bytes() == b"mine"
+    assert run(runner, "-o", str(target), "--force").exit_code == 0
+    assert target.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_an_input_is_never_overwritten(runner: CliRunner, tmp_path: Path) -> None:
+    plan_file = tmp_path / "plan.png"
+    plan_file.write_text("straight 1\n")
+    result = run(runner, "--odom", str(plan_file), "-o", str(plan_file), "--force")
+    assert_bad_input(result, "plan.png is an input: refusing to overwrite it")
+    assert plan_file.read_text() == "straight 1\n"
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        ([], "nothing to do: give -o FILE (.png, .svg or .pdf) to write the figure, or --show"),
+        (["-o", "a.jpg"], "from '.jpg' in 'a.jpg': use .png, .svg or .pdf"),
+        (["-o", "a"], "from no suffix in 'a'"),
+        (["-o", "no/such/dir/a.png"], "directory no/such/dir does not exist"),
+        (["--odom", "missing.csv", "-o", "x.png"], "missing.csv: no such file or directory"),
+        (["straight 1 zz", "-o", "x.png"], "zz"),
+    ],
+)
+def test_bad_input_is_one_error_line_and_writes_nothing(
+    runner: CliRunner,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    args: list[str],
+    fragment: str,
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    assert_bad_input(run(runner, *args), fragment)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_missing_matplotlib_names_the_install_command(
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    result = run(runner, "-o", str(tmp_path / "a.png"))
+    assert_bad_input(result, "pip install 'diffbot-kinematics[plot]'")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_show_without_a_display_says_so_before_writing(runner: CliRunner, tmp_path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("agg")
+    result = run(runner, "--show", "-o", str(tmp_path / "a.png"))
+    assert_bad_input(result, "cannot open a window: matplotlib's backend here is 'agg'")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_ramped_plan_is_drawn_at_its_cruise_speeds(runner: CliRunner, tmp_path: Path) -> None:
+    result = run(runner, "straight 1", "--max-accel", "0.1", "-o", str(tmp_path / "r.svg"))
+    assert result.exit_code == 0, result.output
+    assert result.stderr == (
+        "warning: a ramped plan is drawn at its cruise speeds: the ramps are not drawn\n"
+    )
+    assert (tmp_path / "r.svg").read_bytes().startswith(b"<?xml")
