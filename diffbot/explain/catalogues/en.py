@@ -7,7 +7,7 @@ from typing import Final
 STRINGS: Final[dict[str, str]] = {
     "title.ik": "Inverse kinematics: wheel speeds for v = {v} and ω = {w}",
     "title.fk": "Forward kinematics: robot velocity for ω_L = {left} and ω_R = {right}",
-    "title.plan": "Motion plan: {count} segments in {duration}",
+    "title.plan": "Motion plan of {duration}, segments: {count}",
     "title.odom": "Odometry: one step of {dt}",
     "section.given": "Given",
     "section.wheels": "Wheel speeds",

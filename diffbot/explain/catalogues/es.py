@@ -7,7 +7,7 @@ from typing import Final
 STRINGS: Final[dict[str, str]] = {
     "title.ik": "Cinemática inversa: velocidades de las ruedas para v = {v} y ω = {w}",
     "title.fk": "Cinemática directa: velocidad del robot para ω_L = {left} y ω_R = {right}",
-    "title.plan": "Plan de movimiento: {count} segmentos en {duration}",
+    "title.plan": "Plan de movimiento de {duration}, segmentos: {count}",
     "title.odom": "Odometría: un paso de {dt}",
     "section.given": "Datos",
     "section.wheels": "Velocidades de las ruedas",
