@@ -23,6 +23,7 @@ from diffbot.plotting import (
     PlotError,
     plan_figure,
     save,
+    show,
 )
 from diffbot.trajectory import EXAMPLES, Plan, plan
 
@@ -189,6 +190,23 @@ def test_an_existing_file_is_replaced_only_with_force(tmp_path: Path) -> None:
     assert target.read_bytes() == b"mine"
     save(figure, target, force=True)
     assert target.read_bytes().startswith(b"<?xml")
+
+
+def test_a_window_figure_is_made_through_pyplot_and_refused_without_a_display() -> None:
+    import matplotlib
+    from matplotlib import pyplot
+
+    matplotlib.use("agg")
+    figure = plan_figure(_plan("straight 1"), BOT_50_RPM, window=True)
+    try:
+        assert figure.number in pyplot.get_fignums()  # type: ignore[attr-defined]
+        assert {axes.get_label() for axes in figure.axes} >= {"path", "wheel speeds"}
+        assert figure.get_size_inches() == pytest.approx((8.0, 9.0))
+        with pytest.raises(PlotError, match=r"cannot open a window: .* 'agg', which only writes"):
+            show()
+    finally:
+        pyplot.close(figure)
+    assert figure.number not in pyplot.get_fignums()  # type: ignore[attr-defined]
 
 
 def test_missing_matplotlib_names_the_install_command(monkeypatch: pytest.MonkeyPatch) -> None:
