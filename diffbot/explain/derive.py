@@ -13,6 +13,7 @@ import math
 
 from diffbot.errors import ParameterError
 from diffbot.explain.model import Derivation, Quantity, Section, Step, Text
+from diffbot.formats.text import ceil_text
 from diffbot.kinematics import (
     DiffDriveParams,
     Pose,
@@ -124,7 +125,9 @@ def _limit_step(
     over = share > 1.0
     args = {"peak": _rpm(peak), "limit": _rpm(limit)}
     if over and shortest is not None:
-        note = Text("check.over_plan", {**args, "duration": _q(shortest, "s")})
+        # Rounded up, as diffbot plan shows it: a duration rounded down would not fit.
+        fits = _q(float(ceil_text(shortest, DIGITS)), "s")
+        note = Text("check.over_plan", {**args, "duration": fits})
     else:
         note = Text("check.over" if over else "check.within", args)
     return [

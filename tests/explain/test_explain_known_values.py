@@ -97,6 +97,12 @@ def test_plan_over_the_limit_names_the_shortest_duration() -> None:
     )
 
 
+def test_the_shortest_duration_is_rounded_up_so_that_it_fits() -> None:
+    # 0.3 m at 50 rpm needs 0.3 / (5.236 rad/s · 0.035 m) = 1.63702 s: 1.637 s would not fit.
+    text = render(explain_plan(plan(parse_plan("straight 0.3 1s"), BOT_50_RPM)), "text", "en")
+    assert "the segment needs at least 1.638 s" in text
+
+
 def test_odometry_of_a_spin_in_place_turns_without_moving() -> None:
     # wheels turned by -1 and +1 rad: d = 0.035 m each way, dθ = 0.07 / 0.135 = 0.5185 rad
     text = render(explain_odom(BOT_50_RPM, 0.0, 0.0, -1.0, 1.0, 0.5), "text", "en")

@@ -21,6 +21,7 @@ from diffbot.explain import (
     explain_plan,
     render,
 )
+from diffbot.formats.text import ceil_text
 from diffbot.kinematics import (
     DiffDriveParams,
     Pose,
@@ -244,7 +245,10 @@ def test_plan_shows_the_planned_velocities_wheels_and_poses(
             peak = max(abs(float(s)) for s in planned.wheels)
             numbers = [rpm_from_rad_s(peak), rpm_from_rad_s(p.limit)]
             if planned.index in shortest:
-                numbers.append(shortest[planned.index])
+                # rounded up to the digits shown, so that the duration printed still fits
+                fits = float(ceil_text(shortest[planned.index], 4))
+                assert fits >= shortest[planned.index]
+                numbers.append(fits)
             expected_notes.append(numbers)
         _check_notes(rendered, fmt, expected_notes)
 
