@@ -67,9 +67,26 @@ def _given(label: str, symbol: str, value: Quantity, also: Quantity | None = Non
     return Step(Text(label), symbol, value, also=also)
 
 
+#: The label of each wheel radius symbol.
+_RADIUS_LABELS = {
+    "r": "label.wheel_radius",
+    "rL": "label.left_wheel_radius",
+    "rR": "label.right_wheel_radius",
+}
+
+
+def _radii(params: DiffDriveParams) -> tuple[dict[str, Quantity], str]:
+    """The wheel radii to show, by symbol, and the suffix of the formulas that use them: one
+    radius r when both sides roll with the same, else r_L and r_R (``_sides`` formulas)."""
+    left, right = params.radii
+    if left == right:
+        return {"r": _q(left, "m")}, ""
+    return {"rL": _q(left, "m"), "rR": _q(right, "m")}, "_sides"
+
+
 def _robot(params: DiffDriveParams) -> list[Step]:
     steps = [
-        _given("label.wheel_radius", "r", _q(params.wheel_radius, "m")),
+        *(_given(_RADIUS_LABELS[symbol], symbol, r) for symbol, r in _radii(params)[0].items()),
         _given("label.wheel_separation", "b", _q(params.wheel_separation, "m")),
     ]
     if params.max_wheel_speed is not None:
@@ -85,11 +102,12 @@ def _robot(params: DiffDriveParams) -> list[Step]:
 
 
 def _wheel_steps(params: DiffDriveParams, v: float, w: float, speeds: WheelSpeeds) -> list[Step]:
+    radii, sides = _radii(params)
     values = {
         "v": _q(v, "m/s"),
         "w": _q(w, "rad/s"),
         "b": _q(params.wheel_separation, "m"),
-        "r": _q(params.wheel_radius, "m"),
+        **radii,
     }
     left, right = float(speeds.left), float(speeds.right)
     return [
@@ -97,7 +115,7 @@ def _wheel_steps(params: DiffDriveParams, v: float, w: float, speeds: WheelSpeed
             Text("label.left_speed"),
             "wL",
             _q(left, "rad/s"),
-            "ik_left",
+            f"ik_left{sides}",
             values,
             _rpm(left),
         ),
@@ -105,7 +123,7 @@ def _wheel_steps(params: DiffDriveParams, v: float, w: float, speeds: WheelSpeed
             Text("label.right_speed"),
             "wR",
             _q(right, "rad/s"),
-            "ik_right",
+            f"ik_right{sides}",
             values,
             _rpm(right),
         ),
@@ -199,8 +217,9 @@ def explain_fk(params: DiffDriveParams, left: float, right: float) -> Derivation
     wl = _finite(left, "left")
     wr = _finite(right, "right")
     twist = forward(params, wl, wr)
+    radii, sides = _radii(params)
     values = {
-        "r": _q(params.wheel_radius, "m"),
+        **radii,
         "wL": _q(wl, "rad/s"),
         "wR": _q(wr, "rad/s"),
         "b": _q(params.wheel_separation, "m"),
@@ -210,9 +229,10 @@ def explain_fk(params: DiffDriveParams, left: float, right: float) -> Derivation
         _given("label.left_speed", "wL", _q(wl, "rad/s"), _rpm(wl)),
         _given("label.right_speed", "wR", _q(wr, "rad/s"), _rpm(wr)),
     ]
+    linear, angular = float(twist.linear), float(twist.angular)
     body = [
-        Step(Text("label.linear"), "v", _q(float(twist.linear), "m/s"), "fk_linear", values),
-        Step(Text("label.angular"), "w", _q(float(twist.angular), "rad/s"), "fk_angular", values),
+        Step(Text("label.linear"), "v", _q(linear, "m/s"), f"fk_linear{sides}", values),
+        Step(Text("label.angular"), "w", _q(angular, "rad/s"), f"fk_angular{sides}", values),
     ]
     sections = [
         Section(Text("section.given"), tuple(given)),
@@ -409,12 +429,12 @@ def explain_odom(
     odom.update(angles[0], angles[1], stamp=0.0)
     odom.update(angles[2], angles[3], stamp=step_time)
     pose, twist = odom.pose, odom.twist
-    r = params.wheel_radius
-    arc_left, arc_right = r * (angles[2] - angles[0]), r * (angles[3] - angles[1])
-    # forward() of the wheel angles travelled is (ds, dθ): the same linear map as for speeds.
-    ds, dth = (
-        float(value) for value in forward(robot, angles[2] - angles[0], angles[3] - angles[1])
-    )
+    left_radius, right_radius = params.radii
+    arc_left = left_radius * (angles[2] - angles[0])
+    arc_right = right_radius * (angles[3] - angles[1])
+    # From the wheel arcs, as Odometry computes them (and as the formulas show).
+    ds = 0.5 * (arc_left + arc_right)
+    dth = (arc_right - arc_left) / params.wheel_separation
     half = 0.5 * dth
     chord = ds * (math.sin(half) / half if half != 0.0 else 1.0)
     given = [
@@ -428,21 +448,21 @@ def explain_odom(
         _given("label.start_y", "y0", _q(start.y, "m")),
         _given("label.start_heading", "th0", _q(start.theta, "rad"), _deg(start.theta)),
     ]
-    rq = _q(r, "m")
+    radii, sides = _radii(params)
     travel = [
         Step(
             Text("label.left_arc"),
             "dL",
             _q(arc_left, "m"),
-            "wheel_arc_left",
-            {"r": rq, "phiL0": _q(angles[0], "rad"), "phiL1": _q(angles[2], "rad")},
+            f"wheel_arc_left{sides}",
+            {**radii, "phiL0": _q(angles[0], "rad"), "phiL1": _q(angles[2], "rad")},
         ),
         Step(
             Text("label.right_arc"),
             "dR",
             _q(arc_right, "m"),
-            "wheel_arc_right",
-            {"r": rq, "phiR0": _q(angles[1], "rad"), "phiR1": _q(angles[3], "rad")},
+            f"wheel_arc_right{sides}",
+            {**radii, "phiR0": _q(angles[1], "rad"), "phiR1": _q(angles[3], "rad")},
         ),
         Step(
             Text("label.distance"),

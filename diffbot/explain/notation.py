@@ -25,6 +25,8 @@ class Notation(NamedTuple):
 
 SYMBOLS: Final[dict[str, Notation]] = {
     "r": Notation("r", "r"),
+    "rL": Notation("r_L", "r_L"),
+    "rR": Notation("r_R", "r_R"),
     "b": Notation("b", "b"),
     "v": Notation("v", "v"),
     "w": Notation("ω", r"\omega"),
@@ -57,6 +59,14 @@ SYMBOLS: Final[dict[str, Notation]] = {
 FORMULAS: Final[dict[str, Notation]] = {
     "ik_left": Notation(f"($v {MINUS} $w·$b/2) / $r", r"\frac{$v - $w \cdot $b/2}{$r}"),
     "ik_right": Notation("($v + $w·$b/2) / $r", r"\frac{$v + $w \cdot $b/2}{$r}"),
+    "ik_left_sides": Notation(f"($v {MINUS} $w·$b/2) / $rL", r"\frac{$v - $w \cdot $b/2}{$rL}"),
+    "ik_right_sides": Notation("($v + $w·$b/2) / $rR", r"\frac{$v + $w \cdot $b/2}{$rR}"),
+    "fk_linear_sides": Notation(
+        "($rL·$wL + $rR·$wR) / 2", r"\frac{$rL \cdot $wL + $rR \cdot $wR}{2}"
+    ),
+    "fk_angular_sides": Notation(
+        f"($rR·$wR {MINUS} $rL·$wL) / $b", r"\frac{$rR \cdot $wR - $rL \cdot $wL}{$b}"
+    ),
     "fk_linear": Notation("$r·($wL + $wR) / 2", r"\frac{$r \cdot ($wL + $wR)}{2}"),
     "fk_angular": Notation(f"$r·($wR {MINUS} $wL) / $b", r"\frac{$r \cdot ($wR - $wL)}{$b}"),
     "limit": Notation("max(|$wL|, |$wR|) / $wmax", r"\frac{\max(|$wL|, |$wR|)}{$wmax}"),
@@ -77,6 +87,12 @@ FORMULAS: Final[dict[str, Notation]] = {
     "pose_theta": Notation("wrap($th0 + $dtheta)", r"\mathrm{wrap}($th0 + $dtheta)"),
     "wheel_arc_left": Notation(f"$r·($phiL1 {MINUS} $phiL0)", r"$r \cdot ($phiL1 - $phiL0)"),
     "wheel_arc_right": Notation(f"$r·($phiR1 {MINUS} $phiR0)", r"$r \cdot ($phiR1 - $phiR0)"),
+    "wheel_arc_left_sides": Notation(
+        f"$rL·($phiL1 {MINUS} $phiL0)", r"$rL \cdot ($phiL1 - $phiL0)"
+    ),
+    "wheel_arc_right_sides": Notation(
+        f"$rR·($phiR1 {MINUS} $phiR0)", r"$rR \cdot ($phiR1 - $phiR0)"
+    ),
     "odom_ds": Notation("($dL + $dR) / 2", r"\frac{$dL + $dR}{2}"),
     "odom_dth": Notation(f"($dR {MINUS} $dL) / $b", r"\frac{$dR - $dL}{$b}"),
     "chord": Notation("$ds·sinc($dth/2)", r"$ds \cdot \mathrm{sinc}\left(\frac{$dth}{2}\right)"),

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from click.testing import CliRunner, Result
 from rendered import equations
@@ -12,6 +14,7 @@ from diffbot.explain.notation import MINUS
 from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
 from diffbot.planfile import parse_plan
 from diffbot.trajectory import EXAMPLES, plan
+from diffbot.urdf import load_params
 
 
 def run(runner: CliRunner, *args: str) -> Result:
@@ -121,3 +124,17 @@ def test_a_ramped_plan_is_derived_at_its_cruise_speeds(
     assert result.stderr == (
         "warning: a ramped plan is derived at its cruise speeds: the ramps are not derived\n"
     )
+
+
+def test_a_robot_whose_controller_scales_each_side_shows_both_radii(runner: CliRunner) -> None:
+    rover = Path(__file__).resolve().parents[2] / "docs" / "examples" / "rover"
+    description = rover / "urdf" / "rover.urdf.xacro"
+    controllers = rover / "config" / "controllers.yaml"
+    robot = load_params(description, packages={"rover_description": rover}, controllers=controllers)
+    args = ["--robot", str(description), "--package", f"rover_description={rover}"]
+    result = run(runner, "ik", "0.5", "0.5", *args, "--controllers", str(controllers))
+    assert result.exit_code == 0, result.output
+    assert result.stdout == render(explain_ik(robot, 0.5, 0.5))
+    # the controller's radius multipliers, 1.002 and 0.998, of a 0.05 m wheel
+    assert "r_L = 0.0501 m" in result.stdout
+    assert "r_R = 0.0499 m" in result.stdout

@@ -152,3 +152,17 @@ def test_a_nan_velocity_is_refused_by_name() -> None:
 def test_an_odometry_step_without_time_is_refused() -> None:
     with pytest.raises(ParameterError, match=r"dt must be > 0 \(s\)"):
         explain_odom(BOT_50_RPM, 0.0, 0.0, 1.0, 1.0, 0.0)
+
+
+def test_wheels_of_different_radii_are_shown_side_by_side() -> None:
+    # a right wheel 1 mm larger: at 0.1 m/s it turns at 0.1 / 0.036 = 2.778 rad/s (26.5 rpm)
+    robot = BOT_50_RPM.replace(left_wheel_radius=0.035, right_wheel_radius=0.036)
+    text = render(explain_ik(robot, 0.1, 0.0), "text", "es")
+    assert "Radio de las ruedas izquierdas\n    r_L = 0.035 m\n" in text
+    assert "Radio de las ruedas derechas\n    r_R = 0.036 m\n" in text
+    assert "/ r_R = (0.1 + 0·0.135/2) / 0.036 = 2.778 rad/s (26.5 rpm)" in text
+    assert "\n    r = " not in text
+    fk = render(explain_fk(robot, 1.0, 1.0), "text", "en")
+    # v = (0.035·1 + 0.036·1) / 2 = 0.0355 m/s; ω = (0.036·1 - 0.035·1) / 0.135 = 0.007407 rad/s
+    assert "v = (r_L·ω_L + r_R·ω_R) / 2 = (0.035·1 + 0.036·1) / 2 = 0.0355 m/s" in fk
+    assert "= (0.036·1 \N{MINUS SIGN} 0.035·1) / 0.135 = 0.007407 rad/s" in fk

@@ -46,11 +46,14 @@ def _value(low: float, high: float) -> st.SearchStrategy[float]:
     return st.floats(low, high, allow_nan=False, allow_infinity=False)
 
 
+#: Robots with one wheel radius or (some of them) one per side.
 ROBOTS = st.builds(
     DiffDriveParams,
     wheel_radius=_value(0.01, 0.5),
     wheel_separation=_value(0.05, 1.5),
     max_wheel_speed=st.one_of(st.none(), _value(0.5, 50.0)),
+    left_wheel_radius=st.one_of(st.none(), st.none(), _value(0.01, 0.5)),
+    right_wheel_radius=st.one_of(st.none(), st.none(), _value(0.01, 0.5)),
 )
 SEGMENTS: st.SearchStrategy[Segment] = st.one_of(
     st.builds(Straight, _value(0.01, 5.0), st.one_of(st.none(), _value(0.5, 30.0))),
@@ -69,8 +72,10 @@ def _robot_values(params: DiffDriveParams, step: Step) -> list[float] | None:
     """The exact numbers of a given robot value, or None for other steps."""
     if step.formula is not None:
         return None
-    if step.symbol == "r":
-        return [params.wheel_radius]
+    if step.symbol in ("r", "rL"):
+        return [params.radii[0]]
+    if step.symbol == "rR":
+        return [params.radii[1]]
     if step.symbol == "b":
         return [params.wheel_separation]
     if step.symbol == "wmax":
@@ -84,11 +89,13 @@ def _wheels(
 ) -> tuple[list[float], list[float]] | None:
     """Substituted and result numbers of the wheel and limit steps, or None for other steps."""
     left, right = (float(s) for s in inverse(params, v, w))
-    r, b = params.wheel_radius, params.wheel_separation
-    if step.formula == "ik_left":
-        return [v, w, b, 2, r], [left, rpm_from_rad_s(left)]
-    if step.formula == "ik_right":
-        return [v, w, b, 2, r], [right, rpm_from_rad_s(right)]
+    (r_left, r_right), b = params.radii, params.wheel_separation
+    # one radius r for both wheels (ik_left), or each side's (ik_left_sides)
+    assert (step.formula in ("ik_left", "ik_right")) <= (r_left == r_right)
+    if step.formula in ("ik_left", "ik_left_sides"):
+        return [v, w, b, 2, r_left], [left, rpm_from_rad_s(left)]
+    if step.formula in ("ik_right", "ik_right_sides"):
+        return [v, w, b, 2, r_right], [right, rpm_from_rad_s(right)]
     if step.formula == "limit":
         assert limit is not None
         share = limit_fraction(params, inverse(params, v, w), limit)
@@ -154,7 +161,7 @@ def test_fk_shows_the_body_velocity_forward_computes(
     derivation = explain_fk(params, left, right)
     rendered = render(derivation, fmt, lang)
     twist = forward(params, left, right)
-    r, b = params.wheel_radius, params.wheel_separation
+    (r_left, r_right), b = params.radii, params.wheel_separation
     expect: list[Expected] = []
     for step in derivation.steps:
         given_robot = _robot_values(params, step)
@@ -164,9 +171,15 @@ def test_fk_shows_the_body_velocity_forward_computes(
             speed = left if step.symbol == "wL" else right
             expect.append(([], [speed, rpm_from_rad_s(speed)], NONE))
         elif step.formula == "fk_linear":
-            expect.append(([r, left, right, 2], [float(twist.linear)], NONE))
+            assert r_left == r_right
+            expect.append(([r_left, left, right, 2], [float(twist.linear)], NONE))
         elif step.formula == "fk_angular":
-            expect.append(([r, right, left, b], [float(twist.angular)], NONE))
+            expect.append(([r_left, right, left, b], [float(twist.angular)], NONE))
+        elif step.formula == "fk_linear_sides":
+            assert r_left != r_right
+            expect.append(([r_left, left, r_right, right, 2], [float(twist.linear)], NONE))
+        elif step.formula == "fk_angular_sides":
+            expect.append(([r_right, right, r_left, left, b], [float(twist.angular)], NONE))
         else:
             assert step.formula == "limit"
             share = limit_fraction(params, WheelSpeeds(left, right))
@@ -271,13 +284,15 @@ def test_odom_shows_the_step_the_odometry_class_integrates(
     odom = Odometry(params, start.x, start.y, start.theta)
     odom.update(l0, r0, stamp=0.0)
     odom.update(l1, r1, stamp=dt)
-    r, b = params.wheel_radius, params.wheel_separation
-    d_left, d_right = r * (l1 - l0), r * (r1 - r0)
+    (r_left, r_right), b = params.radii, params.wheel_separation
+    d_left, d_right = r_left * (l1 - l0), r_right * (r1 - r0)
     ds, dth = (d_left + d_right) / 2, (d_right - d_left) / b
     chord = ds * (math.sin(dth / 2) / (dth / 2) if dth != 0 else 1.0)
     pose, twist = odom.pose, odom.twist
     by_symbol: dict[str, Expected] = {
-        "r": ([], [r], NONE),
+        "r": ([], [r_left], NONE),
+        "rL": ([], [r_left], NONE),
+        "rR": ([], [r_right], NONE),
         "b": ([], [b], NONE),
         "phiL0": ([], [l0], NONE),
         "phiL1": ([], [l1], NONE),
@@ -287,8 +302,8 @@ def test_odom_shows_the_step_the_odometry_class_integrates(
         "x0": ([], [start.x], NONE),
         "y0": ([], [start.y], NONE),
         "th0": ([], [start.theta, degrees(start.theta)], FIRST),
-        "dL": ([r, l1, l0], [d_left], NONE),
-        "dR": ([r, r1, r0], [d_right], NONE),
+        "dL": ([r_left, l1, l0], [d_left], NONE),
+        "dR": ([r_right, r1, r0], [d_right], NONE),
         "ds": ([d_left, d_right, 2], [ds], NONE),
         "dth": ([d_right, d_left, b], [dth, degrees(dth)], NONE),
         "c": ([ds, dth, 2], [chord], NONE),

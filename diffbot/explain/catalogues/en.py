@@ -21,6 +21,8 @@ STRINGS: Final[dict[str, str]] = {
     "kind.cw": "clockwise arc of radius {radius} through {angle}",
     "kind.spin": "turn in place through {angle}",
     "label.wheel_radius": "Wheel radius",
+    "label.left_wheel_radius": "Radius of the left wheels",
+    "label.right_wheel_radius": "Radius of the right wheels",
     "label.wheel_separation": "Wheel separation",
     "label.motor_limit": "Motor limit",
     "label.linear": "Linear velocity",

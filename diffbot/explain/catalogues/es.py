@@ -21,6 +21,8 @@ STRINGS: Final[dict[str, str]] = {
     "kind.cw": "giro horario con radio {radius} y ángulo {angle}",
     "kind.spin": "giro sobre sí mismo de {angle}",
     "label.wheel_radius": "Radio de las ruedas",
+    "label.left_wheel_radius": "Radio de las ruedas izquierdas",
+    "label.right_wheel_radius": "Radio de las ruedas derechas",
     "label.wheel_separation": "Separación de las ruedas",
     "label.motor_limit": "Límite del motor",
     "label.linear": "Velocidad lineal",
