@@ -219,7 +219,8 @@ def _heading_arrow(axes: Axes, pose: Pose, length: float) -> None:
 
 
 def _footprint(axes: Axes, pose: Pose, params: DiffDriveParams) -> None:
-    """The track (b wide, 2r long) and both wheels (2r long) of the robot at a pose."""
+    """The track (b wide, 2r long) and both wheels (each 2r long, with its side's radius) of the
+    robot at a pose."""
     from matplotlib.patches import Rectangle
     from matplotlib.transforms import Affine2D
 
@@ -238,10 +239,10 @@ def _footprint(axes: Axes, pose: Pose, params: DiffDriveParams) -> None:
     )
     axes.add_patch(track)
     width = 0.25 * r
-    for side in (1.0, -1.0):
+    for side, radius in zip((1.0, -1.0), params.radii, strict=True):  # left (+y), then right
         wheel = Rectangle(
-            (-r, side * 0.5 * b - 0.5 * width),
-            2.0 * r,
+            (-radius, side * 0.5 * b - 0.5 * width),
+            2.0 * radius,
             width,
             facecolor=_FOOTPRINT_COLOUR,
             edgecolor="none",

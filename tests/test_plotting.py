@@ -83,6 +83,19 @@ def test_the_footprint_is_drawn_at_every_segment_end(trajectory_a: Figure) -> No
     assert (tracks[0].get_width(), tracks[0].get_height()) == pytest.approx((0.07, 0.135))
 
 
+def test_each_wheel_is_drawn_with_its_sides_radius() -> None:
+    from matplotlib.patches import Rectangle
+
+    robot = BOT_50_RPM.replace(left_wheel_radius=0.03, right_wheel_radius=0.04)
+    path = axes_labelled(plan_figure(_plan("straight 1"), robot), "path")
+    wheels = [p for p in path.patches if isinstance(p, Rectangle) and p.get_gid() == "wheel"]
+    # (length along the heading, offset across it): left at +b/2, right at -b/2
+    drawn = sorted((w.get_width(), w.get_y() + 0.5 * w.get_height()) for w in wheels)
+    assert [value for wheel in drawn for value in wheel] == pytest.approx(
+        [0.06, 0.0675, 0.08, -0.0675], abs=1e-12
+    )
+
+
 def test_segments_are_numbered_at_their_midpoints(trajectory_a: Figure) -> None:
     path = axes_labelled(trajectory_a, "path")
     from matplotlib.text import Annotation
