@@ -63,14 +63,9 @@ def test_python_examples_print_what_the_page_shows(page: Path) -> None:
     assert result.failed == 0
 
 
-def test_the_figure_shown_is_the_size_the_command_writes(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    pytest.importorskip("matplotlib", reason="plotting needs the 'plot' extra")
-    monkeypatch.chdir(tmp_path)
-    result = CliRunner().invoke(main, ["plot", "--example", "A", "-o", "a.png"])
-    assert result.exit_code == 0, result.output
+def test_the_figure_shown_is_small_and_the_size_plot_writes() -> None:
     shown = DOCS / "img" / "trajectory_a_odometry.png"
     assert shown.stat().st_size < 40_000
-    sizes = [struct.unpack(">II", path.read_bytes()[16:24]) for path in (shown, tmp_path / "a.png")]
-    assert sizes == [(800, 900), (800, 900)]
+    header = shown.read_bytes()[:24]
+    assert header[:8] == b"\x89PNG\r\n\x1a\n"
+    assert struct.unpack(">II", header[16:24]) == (800, 900)  # as tests/commands checks plot's
