@@ -102,7 +102,7 @@ def plot(
     rest, xacro_args = split_xacro_args(tokens)
     source = plan_input(rest, plan_options.example)
     robot = robot.with_path(None, xacro_args)
-    given = [source.path, robot.robot, *odom_inputs]
+    given = [source.path, robot.robot, robot.controllers, *odom_inputs]
     inputs = [Path(path) for path in given if path is not None]
     if output is not None:
         plotting.file_format(output)

@@ -106,12 +106,13 @@ def test_an_existing_file_is_replaced_only_with_force(runner: CliRunner, tmp_pat
     assert target.read_bytes()[:4] == b"\x89PNG"
 
 
-def test_an_input_is_never_overwritten(runner: CliRunner, tmp_path: Path) -> None:
-    plan_file = tmp_path / "plan.png"
-    plan_file.write_text("straight 1\n")
-    result = run(runner, "--odom", str(plan_file), "-o", str(plan_file), "--force")
-    assert_bad_input(result, "plan.png is an input: refusing to overwrite it")
-    assert plan_file.read_text() == "straight 1\n"
+@pytest.mark.parametrize("option", ["--odom", "--controllers", "--robot"])
+def test_an_input_is_never_overwritten(runner: CliRunner, tmp_path: Path, option: str) -> None:
+    given = tmp_path / "input.png"
+    given.write_text("not a figure\n")
+    result = run(runner, option, str(given), "-o", str(given), "--force")
+    assert_bad_input(result, "input.png is an input: refusing to overwrite it")
+    assert given.read_text() == "not a figure\n"
 
 
 @pytest.mark.parametrize(
