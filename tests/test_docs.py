@@ -33,9 +33,9 @@ def sessions(text: str) -> list[tuple[str, list[str]]]:
             if not lines[k].startswith("$ "):
                 raise AssertionError(f"output before any command: {lines[k]!r}")
             command = lines[k][2:]
-            while command.endswith("\\"):
+            while command.endswith("\\"):  # bash reads backslash-newline as one line
                 k += 1
-                command = command[:-1] + "\n" + lines[k]
+                command = command + "\n" + lines[k]
             k += 1
             output: list[str] = []
             while k < len(lines) and not lines[k].startswith("$ "):
@@ -95,7 +95,23 @@ def test_the_matcher_takes_ellipsis_for_any_lines() -> None:
     assert matches(["a", "...", "d"], ["a", "d"])
     assert not matches(["a", "...", "d"], ["a", "b"])
     assert not matches(["a"], ["a", "b"])
-    assert sessions("```console\n$ echo a \\\nb\na b\n```\n") == [("echo a \nb", ["a b"])]
+    assert sessions("```console\n$ echo a \\\nb\na b\n```\n") == [("echo a \\\nb", ["a b"])]
+
+
+def test_a_continued_command_runs_as_one_command() -> None:
+    ((command, expected),) = sessions("```console\n$ echo a \\\n  b\na b\n```\n")
+    done = subprocess.run(["bash", "-c", command], capture_output=True, text=True, check=True)
+    assert done.stdout.splitlines() == expected
+
+
+LINK = re.compile(r"\]\(([^)#\s]+)(?:#[^)\s]*)?\)")
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
+def test_links_between_pages_lead_to_files_that_exist(page: Path) -> None:
+    targets = [t for t in LINK.findall(page.read_text(encoding="utf-8")) if "://" not in t]
+    missing = [t for t in targets if not (page.parent / t).exists()]
+    assert not missing, f"{page.name} links to missing files: {missing}"
 
 
 def test_the_pages_have_examples() -> None:
