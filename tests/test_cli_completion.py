@@ -38,12 +38,18 @@ def test_source_mode_prints_a_script_that_registers_diffbot(shell: str, registra
 
 
 @pytest.mark.skipif(shutil.which("bash") is None, reason="needs bash")
-def test_the_bash_script_is_valid_bash() -> None:
-    script = run_completion("bash_source").stdout
-    checked = subprocess.run(
-        ["bash", "-n"], input=script, capture_output=True, text=True, timeout=60, check=False
+def test_the_bash_setup_the_readme_gives_completes_command_names() -> None:
+    session = (
+        'eval "$(_DIFFBOT_COMPLETE=bash_source diffbot)"; '
+        "COMP_WORDS=(diffbot p); COMP_CWORD=1; _diffbot_completion diffbot; "
+        'printf "%s\\n" "${COMPREPLY[@]}"'
     )
-    assert checked.returncode == 0, checked.stderr
+    env = {**os.environ, "PATH": f"{Path(DIFFBOT).parent}{os.pathsep}{os.environ.get('PATH', '')}"}
+    done = subprocess.run(
+        ["bash", "-c", session], env=env, capture_output=True, text=True, timeout=60, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines() == ["params", "plan"]
 
 
 def test_bash_completes_command_names_from_the_command_table() -> None:
