@@ -41,7 +41,7 @@ def test_source_mode_prints_a_script_that_registers_diffbot(shell: str, registra
 def test_the_bash_setup_the_readme_gives_completes_command_names() -> None:
     session = (
         'eval "$(_DIFFBOT_COMPLETE=bash_source diffbot)"; '
-        "COMP_WORDS=(diffbot p); COMP_CWORD=1; _diffbot_completion diffbot; "
+        "COMP_WORDS=(diffbot si); COMP_CWORD=1; _diffbot_completion diffbot; "
         'printf "%s\\n" "${COMPREPLY[@]}"'
     )
     env = {**os.environ, "PATH": f"{Path(DIFFBOT).parent}{os.pathsep}{os.environ.get('PATH', '')}"}
@@ -49,7 +49,7 @@ def test_the_bash_setup_the_readme_gives_completes_command_names() -> None:
         ["bash", "-c", session], env=env, capture_output=True, text=True, timeout=60, check=False
     )
     assert done.returncode == 0, done.stderr
-    assert done.stdout.splitlines() == ["params", "plan"]
+    assert done.stdout.splitlines() == ["simulate"]
 
 
 def test_bash_completes_command_names_from_the_command_table() -> None:
