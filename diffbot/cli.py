@@ -47,6 +47,8 @@ FLAGS = {
     "trust": "--trust",
     "controllers": "--controllers",
     "controller": "--controller",
+    "window": "--window",
+    "max_relative_stderr": "--max-stderr",
 }
 
 

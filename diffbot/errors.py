@@ -31,12 +31,15 @@ PARAMETERS: Mapping[str, str] = {
     "trust": "trust=True",
     "controllers": "controllers=",
     "controller": "controller=",
+    "window": "window=",
+    "max_relative_stderr": "max_relative_stderr=",
 }
 
 __all__ = [
     "EXIT_BAD_INPUT",
     "EXIT_CHECK_FAILED",
     "PARAMETERS",
+    "CalibrationError",
     "DescriptionError",
     "DiffbotError",
     "DriveWheelError",
@@ -132,3 +135,7 @@ class OutputError(DiffbotError):
 
 class OutputExistsError(OutputError):
     """An output file exists and overwriting it was not asked for."""
+
+
+class CalibrationError(RecordingError):
+    """Calibration data cannot determine the robot (too little motion, errors too large)."""

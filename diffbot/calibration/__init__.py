@@ -1,0 +1,49 @@
+"""Odometry calibration: wheel radii and separation from UMBmark runs or from recordings
+against a ground truth, and the results in the forms a robot's configuration takes.
+
+- :mod:`~diffbot.calibration.umbmark`: Borenstein and Feng's square test.
+- :mod:`~diffbot.calibration.fit`: least squares over windows of a recording (needs SciPy:
+  ``pip install 'diffbot-kinematics[calibrate]'``).
+- :mod:`~diffbot.calibration.results`: multipliers, xacro arguments, calibrated copies.
+- :mod:`~diffbot.calibration.truth`: the ground truth of a simulated robot.
+
+The derivations are in ``docs/calibration.md``.
+"""
+
+from __future__ import annotations
+
+from diffbot.calibration.fit import DEFAULT_WINDOW, FitResult, fit, fit_recording
+from diffbot.calibration.results import (
+    ApplyResult,
+    WheelGeometry,
+    XacroArguments,
+    apply_to,
+    calibrated_path,
+    controller_yaml_lines,
+    params_json,
+    xacro_arguments,
+)
+from diffbot.calibration.truth import ground_truth, true_robot
+from diffbot.calibration.umbmark import UmbmarkResult, umbmark, umbmark_segments
+from diffbot.errors import CalibrationError
+
+__all__ = [
+    "DEFAULT_WINDOW",
+    "ApplyResult",
+    "CalibrationError",
+    "FitResult",
+    "UmbmarkResult",
+    "WheelGeometry",
+    "XacroArguments",
+    "apply_to",
+    "calibrated_path",
+    "controller_yaml_lines",
+    "fit",
+    "fit_recording",
+    "ground_truth",
+    "params_json",
+    "true_robot",
+    "umbmark",
+    "umbmark_segments",
+    "xacro_arguments",
+]

@@ -1,0 +1,386 @@
+"""Least-squares calibration: the wheel radii and separation that make odometry match a
+ground-truth pose track (motion capture, a simulator).
+
+The motion over short windows, each in its own start frame, is compared between the odometry
+(:func:`diffbot.batch_odometry.integrate`, exact arcs, a radius per wheel) and the truth, so
+that the drift of the odometry does not pile up into the residuals; ``scipy.optimize.
+least_squares`` minimises the errors. The derivation is in ``docs/calibration.md``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from diffbot.calibration.checks import positive, vector
+from diffbot.errors import CalibrationError, ParameterError
+from diffbot.kinematics import DiffDriveParams, norm_angle
+from diffbot.samples import NS_PER_S, ColumnSamples, Recording
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import ArrayLike, NDArray
+
+    from diffbot.io.poses import PoseTrack
+
+__all__ = [
+    "DEFAULT_WINDOW",
+    "SCIPY_INSTALL_HINT",
+    "FitResult",
+    "fit",
+    "fit_recording",
+    "require_scipy",
+]
+
+#: Sample intervals per window of :func:`fit` when no window is given.
+DEFAULT_WINDOW = 50
+#: What to install for the least-squares fit.
+SCIPY_INSTALL_HINT = "pip install 'diffbot-kinematics[calibrate]'"
+
+#: Smallest ratio of the Jacobian's singular values (parameters scaled to 1) that :func:`fit`
+#: accepts: below it one combination of the parameters does not change the residuals.
+_OBSERVABLE = 1e-7
+#: Below this total turn (rad) over all windows a recording says nothing about the separation.
+_MIN_TURN = 1e-3
+#: How far from its starting value the fit may move a parameter (as a factor): far beyond any
+#: real calibration, and it keeps every trial robot physical.
+_SCALE_BOUNDS = (0.01, 100.0)
+
+
+def require_scipy() -> None:
+    """Raise a CalibrationError saying what to install when SciPy is missing."""
+    try:
+        import scipy.optimize  # noqa: F401
+    except ImportError:
+        raise CalibrationError(f"the least-squares fit needs SciPy: {SCIPY_INSTALL_HINT}") from None
+
+
+# --------------------------------------------------------------------------------------------
+# Least-squares fit
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """A least-squares calibration.
+
+    Attributes:
+        left_wheel_radius: estimated left wheel radius (m).
+        right_wheel_radius: estimated right wheel radius (m).
+        wheel_separation: estimated wheel separation (m).
+        left_wheel_radius_stderr: its standard error (m), from ``s² (JᵀJ)⁻¹`` at the solution.
+        right_wheel_radius_stderr: standard error of the right radius (m).
+        wheel_separation_stderr: standard error of the separation (m).
+        position_rms_before: RMS of the windows' position errors (m) with the initial values.
+        heading_rms_before: RMS of the windows' heading errors (rad) with the initial values.
+        position_rms_after: RMS of the position errors (m) with the estimates.
+        heading_rms_after: RMS of the heading errors (rad) with the estimates.
+        windows: how many windows were compared.
+    """
+
+    left_wheel_radius: float
+    right_wheel_radius: float
+    wheel_separation: float
+    left_wheel_radius_stderr: float
+    right_wheel_radius_stderr: float
+    wheel_separation_stderr: float
+    position_rms_before: float
+    heading_rms_before: float
+    position_rms_after: float
+    heading_rms_after: float
+    windows: int
+
+
+def _increasing(name: str, stamps: NDArray[np.float64]) -> None:
+    import numpy as np
+
+    if stamps.size < 2 or not (np.diff(stamps) > 0.0).all():
+        raise ParameterError(f"{name} must be at least two strictly increasing times (s)")
+
+
+def _window_bounds(
+    stamps: NDArray[np.float64], window: int | None, window_duration: float | None
+) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """First and last sample index of each window (consecutive windows share a sample)."""
+    import numpy as np
+
+    n = stamps.size
+    if window is not None and window_duration is not None:
+        raise ParameterError("give window or window_duration, not both")
+    if window_duration is not None:
+        step = positive("window_duration", window_duration)
+        marks = stamps[0] + step * np.arange(1, math.floor((stamps[-1] - stamps[0]) / step) + 1)
+        cuts = np.unique(np.concatenate(([0], np.searchsorted(stamps, marks), [n - 1])))
+    else:
+        size = DEFAULT_WINDOW if window is None else window
+        if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+            raise ParameterError(
+                f"{{window}} must be an integer >= 1 (sample intervals), got {window!r}"
+            )
+        cuts = np.unique(np.concatenate((np.arange(0, n - 1, size), [n - 1])))
+    return cuts[:-1], cuts[1:]
+
+
+def _relative(
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    theta: NDArray[np.float64],
+    starts: NDArray[np.intp],
+    ends: NDArray[np.intp],
+) -> NDArray[np.float64]:
+    """Motion over each window in its start frame: rows (dx, dy, dtheta), shape (3, windows)."""
+    import numpy as np
+
+    ex = x[ends] - x[starts]
+    ey = y[ends] - y[starts]
+    c = np.cos(theta[starts])
+    s = np.sin(theta[starts])
+    return np.stack((c * ex + s * ey, c * ey - s * ex, theta[ends] - theta[starts]))
+
+
+def fit(
+    stamps: ArrayLike,
+    left_positions: ArrayLike,
+    right_positions: ArrayLike,
+    truth_stamps: ArrayLike,
+    truth_x: ArrayLike,
+    truth_y: ArrayLike,
+    truth_theta: ArrayLike,
+    params: DiffDriveParams,
+    *,
+    window: int | None = None,
+    window_duration: float | None = None,
+    heading_weight: float | None = None,
+    max_relative_stderr: float = 0.01,
+) -> FitResult:
+    """Wheel radii and separation that make odometry match a ground-truth pose track.
+
+    The truth is interpolated linearly at the wheel stamps (its heading unwrapped first, so
+    the interpolation never goes the long way round); wheel samples outside the truth's time span
+    are dropped. The samples are cut into windows, and for each the motion from its first to its
+    last sample, in the frame of its first, is compared between the odometry (exact arcs) and
+    the truth; ``scipy.optimize.least_squares`` minimises the sum of squares of these errors.
+
+    Args:
+        stamps: times of the wheel samples (s), strictly increasing, shape (n,).
+        left_positions: the left wheel joint's absolute angles (rad), shape (n,).
+        right_positions: the right wheel joint's angles (rad), shape (n,).
+        truth_stamps: times of the ground-truth poses (s), strictly increasing, shape (m,).
+        truth_x: ground-truth x (m), shape (m,).
+        truth_y: ground-truth y (m), shape (m,).
+        truth_theta: ground-truth heading (rad, wrapped or not), shape (m,).
+        params: the nominal robot: its radii and separation are the starting values, its
+            direction signs say which way each joint rolls the robot forward.
+        window: sample intervals per window (default :data:`DEFAULT_WINDOW`); consecutive
+            windows share their boundary sample.
+        window_duration: length of a window (s) instead of a number of intervals.
+        heading_weight: how many metres of position error one radian of heading error weighs
+            (m/rad); default half the initial separation, the wheel travel of a turn.
+        max_relative_stderr: the largest standard error, relative to its estimate, that any
+            parameter may have; beyond it the data do not determine the robot.
+
+    Returns:
+        The estimates, their standard errors and the residuals before and after.
+
+    Raises:
+        ParameterError: malformed arrays or stamps, a bad window or both ``window`` and
+            ``window_duration``.
+        CalibrationError: fewer than two windows, or motion that cannot determine all three
+            parameters (no translation, no turning, or only one kind of curve, which noise
+            shows as a standard error over ``max_relative_stderr``); the message says what to
+            drive.
+    """
+    import numpy as np
+
+    from diffbot.batch_odometry import integrate
+
+    require_scipy()
+    from scipy.optimize import least_squares
+
+    t = vector("stamps", stamps)
+    left = vector("left_positions", left_positions)
+    right = vector("right_positions", right_positions)
+    if not t.size == left.size == right.size:
+        raise ParameterError(
+            f"stamps, left_positions and right_positions must have equal lengths, got "
+            f"{t.size}, {left.size} and {right.size}"
+        )
+    tt = vector("truth_stamps", truth_stamps)
+    tx = vector("truth_x", truth_x)
+    ty = vector("truth_y", truth_y)
+    tth = vector("truth_theta", truth_theta)
+    if not tt.size == tx.size == ty.size == tth.size:
+        raise ParameterError(
+            f"truth_stamps, truth_x, truth_y and truth_theta must have equal lengths, got "
+            f"{tt.size}, {tx.size}, {ty.size} and {tth.size}"
+        )
+    _increasing("stamps", t)
+    _increasing("truth_stamps", tt)
+    start = np.array([*params.radii, params.wheel_separation])
+    weight = (
+        0.5 * float(start[2])
+        if heading_weight is None
+        else positive("heading_weight", heading_weight)
+    )
+    limit = positive("max_relative_stderr", max_relative_stderr)
+
+    inside = (t >= tt[0]) & (t <= tt[-1])
+    t, left, right = t[inside], left[inside], right[inside]
+    if t.size < 3:
+        raise CalibrationError(
+            f"only {t.size} wheel samples fall within the ground truth's time span "
+            f"({tt[0]:.6g} s to {tt[-1]:.6g} s)"
+        )
+    starts, ends = _window_bounds(t, window, window_duration)
+    if starts.size < 2:
+        raise CalibrationError(
+            f"the recording makes {starts.size} window: at least two are needed (shorten "
+            "{window})"
+        )
+    truth = _relative(
+        np.interp(t, tt, tx),
+        np.interp(t, tt, ty),
+        np.interp(t, tt, np.unwrap(tth)),
+        starts,
+        ends,
+    )
+    if np.hypot(truth[0], truth[1]).sum() < 1e-9:
+        raise CalibrationError(
+            "the ground truth does not move: wheel radii need driving (straights or arcs)"
+        )
+    if np.abs(truth[2]).sum() < _MIN_TURN:
+        raise CalibrationError(
+            "the ground truth does not turn: straight driving cannot determine wheel_separation; "
+            "record turns or arcs as well"
+        )
+
+    def errors(scale: NDArray[np.float64]) -> NDArray[np.float64]:
+        rl, rr, b = (float(v) for v in scale * start)
+        robot = params.replace(
+            left_wheel_radius=rl, right_wheel_radius=rr, wheel_separation=b, max_wheel_speed=None
+        )
+        odo = _relative(*integrate(robot, left, right), starts, ends)
+        diff = odo - truth
+        diff[2] = weight * norm_angle(diff[2])
+        return diff.ravel()
+
+    before = errors(np.ones(3)).reshape(3, -1)
+    solution = least_squares(
+        errors,
+        np.ones(3),
+        jac="3-point",
+        bounds=_SCALE_BOUNDS,
+        method="trf",
+        xtol=1e-15,
+        ftol=1e-15,
+        gtol=1e-15,
+    )
+    after = solution.fun.reshape(3, -1)
+    jac = np.asarray(solution.jac)
+    singular = np.linalg.svd(jac, compute_uv=False)
+    if singular[0] == 0.0 or singular[-1] < _OBSERVABLE * singular[0]:
+        raise CalibrationError(
+            "the recording cannot tell the left wheel_radius, right wheel_radius and "
+            "wheel_separation apart (the motion has one kind of curve only): drive turns both "
+            "ways and straights"
+        )
+    dof = max(jac.shape[0] - 3, 1)
+    variance = 2.0 * float(solution.cost) / dof
+    stderr = np.sqrt(np.diag(variance * np.linalg.inv(jac.T @ jac))) * start
+    estimate = solution.x * start
+    relative = stderr / np.abs(estimate)
+    worst = int(np.argmax(relative))
+    if not relative[worst] <= limit:
+        name = ("the left wheel_radius", "the right wheel_radius", "wheel_separation")[worst]
+        raise CalibrationError(
+            f"the recording determines {name} only to {100.0 * relative[worst]:.2g} % "
+            f"(standard error; {{max_relative_stderr}} is {100.0 * limit:.2g} %): drive turns both "
+            "ways and straights, or record for longer"
+        )
+
+    def rms(residual: NDArray[np.float64]) -> tuple[float, float]:
+        position = float(np.sqrt(np.mean(residual[0] ** 2 + residual[1] ** 2)))
+        return position, float(np.sqrt(np.mean(residual[2] ** 2))) / weight
+
+    position_before, heading_before = rms(before)
+    position_after, heading_after = rms(after)
+    return FitResult(
+        left_wheel_radius=float(estimate[0]),
+        right_wheel_radius=float(estimate[1]),
+        wheel_separation=float(estimate[2]),
+        left_wheel_radius_stderr=float(stderr[0]),
+        right_wheel_radius_stderr=float(stderr[1]),
+        wheel_separation_stderr=float(stderr[2]),
+        position_rms_before=position_before,
+        heading_rms_before=heading_before,
+        position_rms_after=position_after,
+        heading_rms_after=heading_after,
+        windows=int(starts.size),
+    )
+
+
+def _wheel_series(
+    recording: Recording, params: DiffDriveParams
+) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
+    """Stamps (ns) and the two wheel joints' angles (rad) of the samples that hold both."""
+    import numpy as np
+
+    samples = recording.samples
+    if isinstance(samples, ColumnSamples):
+        both = np.frombuffer(bytes(samples.present), dtype=np.uint8) == 3
+        return (
+            np.asarray(samples.stamps_ns, dtype=np.int64)[both],
+            np.asarray(samples.left, dtype=np.float64)[both],
+            np.asarray(samples.right, dtype=np.float64)[both],
+        )
+    stamps: list[int] = []
+    left: list[float] = []
+    right: list[float] = []
+    for stamp_ns, names, positions in samples:
+        index = {name: k for k, name in enumerate(names)}
+        if params.left_joint in index and params.right_joint in index:
+            stamps.append(stamp_ns)
+            left.append(positions[index[params.left_joint]])
+            right.append(positions[index[params.right_joint]])
+    return np.array(stamps, dtype=np.int64), np.array(left), np.array(right)
+
+
+def fit_recording(
+    recording: Recording,
+    truth: PoseTrack,
+    params: DiffDriveParams,
+    **options: Any,
+) -> FitResult:
+    """:func:`fit` of a recording of wheel joint states against a ground-truth pose track.
+
+    Samples without both wheel joints are left out; stamps become seconds from the earlier of
+    the two first stamps, so that stamps since 1970 keep their precision.
+
+    Args:
+        recording: the wheel joint samples (:func:`diffbot.io.recordings.read_recording`).
+        truth: the ground truth (:func:`diffbot.io.poses.read_pose_track`).
+        params: the nominal robot.
+        **options: ``window``, ``window_duration``, ``heading_weight``,
+            ``max_relative_stderr``, as for :func:`fit`.
+
+    Raises:
+        CalibrationError: fewer than two samples with both wheels, or what :func:`fit` raises.
+    """
+    stamps_ns, left, right = _wheel_series(recording, params)
+    if stamps_ns.size < 2:
+        raise CalibrationError(
+            f"{recording.source}: {stamps_ns.size} samples hold both wheel joints "
+            f"({params.left_joint!r}, {params.right_joint!r}): at least two are needed"
+        )
+    origin = min(int(stamps_ns[0]), int(truth.stamps_ns[0]))
+    return fit(
+        (stamps_ns - origin) / NS_PER_S,
+        left,
+        right,
+        (truth.stamps_ns - origin) / NS_PER_S,
+        truth.x,
+        truth.y,
+        truth.theta,
+        params,
+        **options,
+    )

@@ -1,0 +1,187 @@
+"""Ground-truth pose tracks: a CSV with x, y and theta columns, or a pose topic of a rosbag2
+recording (geometry_msgs/PoseStamped from motion capture, nav_msgs/Odometry from a simulator)."""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Final
+
+from diffbot.errors import DiffbotError, RecordingError
+from diffbot.formats.text import listing
+from diffbot.io.csv_chunks import TIME_COLUMNS
+from diffbot.io.textfile import open_text
+from diffbot.samples import NS_PER_S, ns_from_seconds
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
+__all__ = ["POSE_COLUMNS", "POSE_TYPES", "PoseTrack", "read_pose_track", "yaw_from_quaternion"]
+
+#: The CSV columns of a pose (m, m, rad), case-insensitive; ``yaw`` is read as ``theta`` too.
+POSE_COLUMNS: Final = ("x", "y", "theta")
+#: The message types a pose topic may carry.
+POSE_TYPES: Final = ("geometry_msgs/msg/PoseStamped", "nav_msgs/msg/Odometry")
+
+
+@dataclass(frozen=True)
+class PoseTrack:
+    """Poses over time, in file order.
+
+    Attributes:
+        source: where they came from (a path, and a topic for a bag), for messages.
+        stamps_ns: stamps (ns), int64, shape (n,).
+        x: x (m), shape (n,).
+        y: y (m), shape (n,).
+        theta: heading (rad) as recorded (wrapped or not), shape (n,).
+    """
+
+    source: str
+    stamps_ns: NDArray[np.int64]
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    theta: NDArray[np.float64]
+
+
+def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
+    """The heading (rad, about z) of a rotation given as a quaternion (any norm but 0)."""
+    return math.atan2(2.0 * (w * z + x * y), w * w + x * x - y * y - z * z)
+
+
+def read_pose_track(path: str | os.PathLike[str], topic: str | None = None) -> PoseTrack:
+    """Read a ground-truth pose track.
+
+    Args:
+        path: a CSV file (a time column as for recordings, and ``x``, ``y``, ``theta`` or
+            ``yaw``; rows with an empty pose cell are skipped), or a rosbag2 recording.
+        topic: the pose topic of a bag; by default its one topic of PoseStamped or Odometry.
+
+    Returns:
+        The poses, stamped by their header stamps in a bag (by the receive times when any
+        header stamp is zero).
+
+    Raises:
+        RecordingError: a missing or malformed file, missing columns, no (or several) pose
+            topics, or no pose at all.
+    """
+    from diffbot.io.bag import is_bag
+
+    p = Path(path)
+    if not p.exists():
+        raise RecordingError(f"{p}: no such file or directory")
+    if is_bag(p):
+        return _read_bag(p, topic)
+    return _read_csv(p)
+
+
+def _track(source: str, rows: list[tuple[int, float, float, float]]) -> PoseTrack:
+    import numpy as np
+
+    if not rows:
+        raise RecordingError(f"{source}: no ground-truth pose")
+    stamps, x, y, theta = zip(*rows, strict=True)
+    return PoseTrack(
+        source,
+        np.array(stamps, dtype=np.int64),
+        np.array(x, dtype=np.float64),
+        np.array(y, dtype=np.float64),
+        np.array(theta, dtype=np.float64),
+    )
+
+
+def _read_csv(path: Path) -> PoseTrack:
+    source = str(path)
+    rows: list[tuple[int, float, float, float]] = []
+    with open_text(path, RecordingError, "a CSV file", newline="") as stream:
+        reader = csv.reader(stream)
+        headers = [h.strip().lower() for h in next(reader, [])]
+        time_index = next((headers.index(n) for n in TIME_COLUMNS if n in headers), None)
+        names = {"yaw": "theta"}
+        columns = {names.get(h, h): i for i, h in reversed(list(enumerate(headers)))}
+        missing = [c for c in POSE_COLUMNS if c not in columns]
+        if time_index is None or missing:
+            wanted = "a time column" if time_index is None else ", ".join(missing)
+            raise RecordingError(
+                f"{source}: no ground truth: needs {wanted} (time in s, x and y in m, theta "
+                f"in rad); columns found: {listing(headers)}"
+            )
+        indexes = [time_index, *(columns[c] for c in POSE_COLUMNS)]
+        try:
+            for line, row in enumerate(reader, start=2):
+                cells = [row[i].strip() if i < len(row) else "" for i in indexes]
+                if not all(cells[1:]):
+                    continue
+                try:
+                    stamp_ns = ns_from_seconds(cells[0]) if cells[0] else None
+                    values = [float(cell) for cell in cells[1:]]
+                except ValueError:
+                    stamp_ns = None
+                    values = []
+                if stamp_ns is None or not all(math.isfinite(v) for v in values):
+                    raise RecordingError(f"{source}: line {line}: not a finite time and pose")
+                rows.append((stamp_ns, values[0], values[1], values[2]))
+        except csv.Error as err:
+            raise RecordingError(f"{source}: malformed CSV: {err}") from None
+    return _track(source, rows)
+
+
+def _pose_of(message: Any) -> tuple[Any, Any]:
+    """The header and the geometry_msgs/Pose of a PoseStamped or an Odometry."""
+    pose = message.pose
+    return message.header, getattr(pose, "pose", pose)
+
+
+def _read_bag(path: Path, topic: str | None) -> PoseTrack:
+    from diffbot.io.bag import require_rosbags
+
+    require_rosbags()
+    from rosbags.rosbag2 import Reader
+    from rosbags.typesys import Stores, get_typestore
+
+    source = str(path)
+    typestore = get_typestore(Stores.ROS2_HUMBLE)
+    header_rows: list[tuple[int, float, float, float]] = []
+    receive_rows: list[tuple[int, float, float, float]] = []
+    try:
+        with Reader(path) as reader:
+            poses = sorted({c.topic for c in reader.connections if c.msgtype in POSE_TYPES})
+            if topic is None:
+                if not poses:
+                    raise RecordingError(
+                        f"{source}: no topic of {' or '.join(POSE_TYPES)}: no ground truth"
+                    )
+                if len(poses) > 1:
+                    raise RecordingError(
+                        f"{source}: several topics of {' or '.join(POSE_TYPES)} "
+                        f"({listing(poses)}): name the ground truth's topic"
+                    )
+                topic = poses[0]
+            connections = [c for c in reader.connections if c.topic == topic]
+            if not connections or any(c.msgtype not in POSE_TYPES for c in connections):
+                found = sorted({f"{c.topic} ({c.msgtype})" for c in reader.connections})
+                raise RecordingError(
+                    f"{source}: no topic {topic!r} of {' or '.join(POSE_TYPES)}; topics "
+                    f"found: {listing(found)}"
+                )
+            for connection, received_ns, raw in reader.messages(connections=connections):
+                header, pose = _pose_of(typestore.deserialize_cdr(raw, connection.msgtype))
+                q = pose.orientation
+                values = (
+                    float(pose.position.x),
+                    float(pose.position.y),
+                    yaw_from_quaternion(q.x, q.y, q.z, q.w),
+                )
+                stamp_ns = int(header.stamp.sec) * NS_PER_S + int(header.stamp.nanosec)
+                header_rows.append((stamp_ns, *values))
+                receive_rows.append((int(received_ns), *values))
+    except DiffbotError:
+        raise
+    except Exception as err:
+        detail = " ".join(str(err).split()) or type(err).__name__
+        raise RecordingError(f"{source}: not a readable rosbag2 recording: {detail}") from None
+    use_header = all(row[0] for row in header_rows)
+    return _track(f"{source} {topic}", header_rows if use_header else receive_rows)

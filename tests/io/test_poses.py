@@ -1,0 +1,141 @@
+"""Ground-truth pose tracks from CSV files and from the pose topics of bags."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from bags import TYPESTORE, write_bag
+from rosbags.rosbag2 import Writer
+from rosbags.typesys.stores import ros2_humble as m
+
+from diffbot.errors import RecordingError
+from diffbot.io.poses import read_pose_track, yaw_from_quaternion
+from diffbot.ros.messages import quaternion_from_yaw
+
+POSE_STAMPED = "geometry_msgs/msg/PoseStamped"
+ODOMETRY = "nav_msgs/msg/Odometry"
+
+
+def header(stamp_ns: int) -> m.std_msgs__msg__Header:
+    sec, nanosec = divmod(stamp_ns, 1_000_000_000)
+    return m.std_msgs__msg__Header(
+        stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id="map"
+    )
+
+
+def pose(x: float, y: float, theta: float) -> m.geometry_msgs__msg__Pose:
+    q = quaternion_from_yaw(theta)
+    return m.geometry_msgs__msg__Pose(
+        position=m.geometry_msgs__msg__Point(x=x, y=y, z=0.3),
+        orientation=m.geometry_msgs__msg__Quaternion(x=q.x, y=q.y, z=q.z, w=q.w),
+    )
+
+
+def pose_bag(path: Path, topics: dict[str, str], stamps_ns: list[int]) -> Path:
+    """A bag with the poses (k, -k, 3k rad) at the stamps on each topic (PoseStamped or
+    Odometry), received a second after their header stamps."""
+    with Writer(path, version=9) as writer:
+        for topic, msgtype in topics.items():
+            conn = writer.add_connection(topic, msgtype, typestore=TYPESTORE)
+            for k, stamp_ns in enumerate(stamps_ns):
+                msg: object
+                if msgtype == POSE_STAMPED:
+                    msg = m.geometry_msgs__msg__PoseStamped(header(stamp_ns), pose(k, -k, 3 * k))
+                else:
+                    cov = np.zeros(36)
+                    msg = m.nav_msgs__msg__Odometry(
+                        header(stamp_ns),
+                        "base_link",
+                        m.geometry_msgs__msg__PoseWithCovariance(pose(k, -k, 3 * k), cov),
+                        m.geometry_msgs__msg__TwistWithCovariance(
+                            m.geometry_msgs__msg__Twist(
+                                m.geometry_msgs__msg__Vector3(0, 0, 0),
+                                m.geometry_msgs__msg__Vector3(0, 0, 0),
+                            ),
+                            cov,
+                        ),
+                    )
+                raw = TYPESTORE.serialize_cdr(msg, msgtype)
+                writer.write(conn, stamp_ns + 1_000_000_000, raw)
+    return path
+
+
+@pytest.mark.parametrize("theta", [0.0, 1.0, -2.5, math.pi, 3.0])
+def test_yaw_from_quaternion_inverts_quaternion_from_yaw(theta: float) -> None:
+    q = quaternion_from_yaw(theta)
+    assert abs(math.remainder(yaw_from_quaternion(q.x, q.y, q.z, q.w) - theta, math.tau)) < 1e-12
+    assert yaw_from_quaternion(2 * q.x, 2 * q.y, 2 * q.z, 2 * q.w) == pytest.approx(
+        yaw_from_quaternion(q.x, q.y, q.z, q.w), abs=1e-12
+    )
+
+
+def test_a_csv_track_reads_time_x_y_theta_and_skips_rows_without_a_pose(tmp_path: Path) -> None:
+    path = tmp_path / "truth.csv"
+    path.write_text("stamp,X,y,yaw,other\n1.5,1,2,0.5,a\n2,,,,b\n2.25,3,4,-1,c\n", "utf-8")
+    track = read_pose_track(path)
+    assert track.stamps_ns.tolist() == [1_500_000_000, 2_250_000_000]
+    assert track.x.tolist() == [1.0, 3.0]
+    assert track.y.tolist() == [2.0, 4.0]
+    assert track.theta.tolist() == [0.5, -1.0]
+
+
+def test_a_csv_track_without_theta_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "joints.csv"
+    path.write_text("time,left,right\n0,0,0\n", "utf-8")
+    with pytest.raises(RecordingError, match="no ground truth: needs x, y, theta"):
+        read_pose_track(path)
+
+
+def test_a_csv_track_with_a_bad_cell_names_its_line(tmp_path: Path) -> None:
+    path = tmp_path / "truth.csv"
+    path.write_text("time,x,y,theta\n0,0,0,0\n1,nan,0,0\n", "utf-8")
+    with pytest.raises(RecordingError, match="line 3: not a finite time and pose"):
+        read_pose_track(path)
+
+
+def test_a_csv_track_of_no_rows_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "truth.csv"
+    path.write_text("time,x,y,theta\n", "utf-8")
+    with pytest.raises(RecordingError, match="no ground-truth pose"):
+        read_pose_track(path)
+
+
+@pytest.mark.parametrize("msgtype", [POSE_STAMPED, ODOMETRY])
+def test_a_bag_track_is_found_by_its_type_and_stamped_by_its_headers(
+    tmp_path: Path, msgtype: str
+) -> None:
+    path = pose_bag(tmp_path / "bag", {"/mocap": msgtype}, [10**9, 2 * 10**9, 3 * 10**9])
+    track = read_pose_track(path)
+    assert track.source.endswith("bag /mocap")
+    assert track.stamps_ns.tolist() == [10**9, 2 * 10**9, 3 * 10**9]
+    assert track.x.tolist() == [0.0, 1.0, 2.0]
+    assert track.y.tolist() == [0.0, -1.0, -2.0]
+    assert track.theta == pytest.approx([0.0, 3.0, 6.0 - 2 * math.pi], abs=1e-12)
+
+
+def test_a_bag_track_without_header_stamps_uses_the_receive_times(tmp_path: Path) -> None:
+    path = pose_bag(tmp_path / "bag", {"/mocap": POSE_STAMPED}, [0, 10**9])
+    assert read_pose_track(path).stamps_ns.tolist() == [10**9, 2 * 10**9]
+
+
+def test_a_bag_with_several_pose_topics_needs_one_named(tmp_path: Path) -> None:
+    path = pose_bag(tmp_path / "bag", {"/a": POSE_STAMPED, "/b": ODOMETRY}, [10**9, 2 * 10**9])
+    with pytest.raises(RecordingError, match=r"several topics of .*'/a', '/b'.*name the ground"):
+        read_pose_track(path)
+    assert read_pose_track(path, "/b").x.tolist() == [0.0, 1.0]
+
+
+def test_a_bag_without_the_pose_topic_is_refused(tmp_path: Path) -> None:
+    path = write_bag(tmp_path / "bag", [(10**9, 10**9, ["a"], [0.0])])
+    with pytest.raises(RecordingError, match=r"no topic of .*Odometry: no ground truth"):
+        read_pose_track(path)
+    with pytest.raises(RecordingError, match=r"no topic '/joint_states' of .*found: .*JointState"):
+        read_pose_track(path, "/joint_states")
+
+
+def test_a_missing_track_is_refused(tmp_path: Path) -> None:
+    with pytest.raises(RecordingError, match="no such file or directory"):
+        read_pose_track(tmp_path / "none.csv")
