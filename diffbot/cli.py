@@ -33,6 +33,7 @@ COMMANDS = {
     "simulate": "diffbot.commands.simulate:simulate",
     "plot": "diffbot.commands.plot:plot",
     "explain": "diffbot.commands.explain:explain",
+    "calibrate": "diffbot.commands.calibrate:calibrate",
 }
 
 #: How the command line spells a library parameter named in an error message.

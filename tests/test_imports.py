@@ -65,6 +65,9 @@ def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ["explain", "fk", "2.86", "2.86", "--format", "md"],
         ["explain", "plan", "--example", "B"],
         ["explain", "odom", "0", "0", "1", "1.5", "0.1"],
+        ["calibrate", "--help"],
+        ["calibrate", "fit", "--help"],
+        ["calibrate", "umbmark", "--help"],
     ],
 )
 def test_quick_commands_load_no_heavy_module(args: list[str], warm_cache: Path) -> None:
@@ -91,3 +94,8 @@ def test_odometry_of_a_csv_loads_numpy_but_not_bags_or_dask(
 def test_plotting_loads_matplotlib_and_numpy_but_not_bags(warm_cache: Path, tmp_path: Path) -> None:
     assert loaded_by(["plot", "-o", str(tmp_path / "a.png")], warm_cache) == {"matplotlib", "numpy"}
     assert (tmp_path / "a.png").stat().st_size > 0
+
+
+def test_umbmark_loads_numpy_but_not_scipy(warm_cache: Path) -> None:
+    args = ["calibrate", "umbmark", "--side", "4", "--cw", "0,0", "--ccw", "0,0"]
+    assert loaded_by(args, warm_cache) == {"numpy"}

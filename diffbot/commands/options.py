@@ -80,6 +80,33 @@ class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
         return number
 
 
+class NumberPair(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+    """Two finite numbers, comma-separated (``X,Y``), optionally both positive."""
+
+    def __init__(self, name: str, unit: str, *, positive: bool = False) -> None:
+        self.name = name
+        self.unit = unit
+        self.positive = positive
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> tuple[float, float]:
+        if isinstance(value, tuple):
+            return value
+        parts = str(value).split(",")
+        kind = "positive numbers" if self.positive else "numbers"
+        if len(parts) != 2:
+            self.fail(
+                f"{value!r} is not {self.name}: two {kind} ({self.unit}), comma-separated",
+                param,
+                ctx,
+            )
+        first, second = (parse_number(part.strip(), repr(value)) for part in parts)
+        if self.positive and not (first > 0.0 and second > 0.0):
+            self.fail(f"{value!r}: both must be > 0", param, ctx)
+        return first, second
+
+
 POSITIVE = FiniteFloat(0.0, open_min=True)
 NON_NEGATIVE = FiniteFloat(0.0)
 #: Highest --rate of the ros2 script (Hz): 'ros2 topic pub' is a Python loop, far from this fast.

@@ -23,7 +23,6 @@ from diffbot.commands.plan_options import (
     PLAN_FORMATS,
     PlanOptions,
     check_topic,
-    plan_input,
     plan_input_options,
 )
 from diffbot.errors import EXIT_CHECK_FAILED
@@ -199,7 +198,7 @@ def plan_command(
     check_topic("--cmd-vel-topic", cmd_vel_topic)
     check_topic("--left-topic", left_topic)
     check_topic("--right-topic", right_topic)
-    source = plan_input(rest, plan_options.example)
+    source = plan_options.source(rest)
     # Early, before any work, and in the plan's own words; write_text_atomic checks again.
     plan_file = [Path(source.path)] if source.path is not None else []
     if output is not None and input_clash(Path(output), plan_file) is not None:

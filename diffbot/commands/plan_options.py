@@ -6,7 +6,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import click
 
@@ -46,8 +46,17 @@ class PlanInput:
     path: Path | None
 
 
-def plan_input(tokens: Sequence[str], example: str | None) -> PlanInput:
-    """The plan named by positional tokens (text or a file) or ``--example``."""
+def plan_input(
+    tokens: Sequence[str],
+    example: str | None,
+    *,
+    side: float | None = None,
+    clockwise: bool = False,
+) -> PlanInput:
+    """The plan named by positional tokens (text or a file) or ``--example``; the UMBmark
+    square (``--example umbmark``) has a ``side`` (m) and turns ``clockwise`` or not."""
+    if (side is not None or clockwise) and (example or "").lower() != "umbmark":
+        fail("--side, --cw and --ccw shape the UMBmark square: give --example umbmark")
     for token in tokens:
         if token.startswith("--") or (
             token.startswith("-") and len(token) > 1 and not token[1].isdigit() and token[1] != "."
@@ -56,6 +65,8 @@ def plan_input(tokens: Sequence[str], example: str | None) -> PlanInput:
     if example is not None:
         if tokens:
             fail(f"give a plan (SPEC or FILE) or --example, not both (got {' '.join(tokens)!r})")
+        if example.lower() == "umbmark":
+            return _umbmark_input(side, clockwise)
         return PlanInput(
             parse_plan(EXAMPLES[example.upper()]), f"Trajectory {example.upper()}", None
         )
@@ -69,6 +80,16 @@ def plan_input(tokens: Sequence[str], example: str | None) -> PlanInput:
         if named_file or file_like:
             return PlanInput(load_plan(path), str(path), path)
     return PlanInput(parse_plan(join_plan_arguments(tokens)), "plan", None)
+
+
+def _umbmark_input(side: float | None, clockwise: bool) -> PlanInput:
+    from diffbot.calibration.umbmark import umbmark_segments
+
+    if side is None:
+        fail("--example umbmark needs --side M, the side of the square (m)")
+    direction: Literal["cw", "ccw"] = "cw" if clockwise else "ccw"
+    segments: list[Segment] = list(umbmark_segments(side, direction))
+    return PlanInput(segments, f"UMBmark {direction} square, side {side:g} m", None)
 
 
 def join_plan_arguments(tokens: Sequence[str]) -> str:
@@ -107,6 +128,12 @@ class PlanOptions:
     max_wheel_accel: float | None = None
     max_jerk: float | None = None
     steps: bool = False
+    side: float | None = None
+    clockwise: bool = False
+
+    def source(self, tokens: Sequence[str]) -> PlanInput:
+        """The plan that positional ``tokens`` or these options name (see :func:`plan_input`)."""
+        return plan_input(tokens, self.example, side=self.side, clockwise=self.clockwise)
 
     @property
     def limit(self) -> float | None:
@@ -185,8 +212,9 @@ _RAMPS = {
 def _plan_options(kw: dict[str, Any]) -> PlanOptions:
     names = ("example", "speed", "spin_rate", "fastest", "rpm_limit")
     ramps = ("max_accel", "max_angular_accel", "max_wheel_accel", "max_jerk", "steps")
+    keywords = (*ramps, "side", "clockwise")
     options = PlanOptions(
-        *(kw.pop(name) for name in names), **{name: kw.pop(name) for name in ramps}
+        *(kw.pop(name) for name in names), **{name: kw.pop(name) for name in keywords}
     )
     if options.steps and any(v is not None for v in options.ramp_options.values()):
         fail("--steps plans velocity steps: give it without --max-accel, --max-jerk and the like")
@@ -199,9 +227,17 @@ plan_input_options = option_group(
     [
         click.option(
             "--example",
-            type=click.Choice(["A", "B"], case_sensitive=False),
-            metavar="A|B",
-            help="One of the seed's Figure 1 paths (A is used when nothing is given).",
+            type=click.Choice(["A", "B", "umbmark"], case_sensitive=False),
+            metavar="A|B|umbmark",
+            help="One of the seed's Figure 1 paths (A is used when nothing is given), or the "
+            "UMBmark square of --side M (first leg along +x, turns in place).",
+        ),
+        click.option("--side", type=POSITIVE, metavar="M", help="Side of the UMBmark square (m)."),
+        click.option(
+            "--cw/--ccw",
+            "clockwise",
+            default=False,
+            help="Drive the UMBmark square clockwise or counter-clockwise (the default).",
         ),
         *(
             click.option(

@@ -11,10 +11,13 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from diffbot.calibration.truth import TRUTH_COLUMNS, TruthStream, true_robot
 from diffbot.commands.options import (
     NON_NEGATIVE,
     NUMBERS,
+    POSITIVE,
     FiniteFloat,
+    NumberPair,
     OutOptions,
     RobotOptions,
     emit_json,
@@ -28,7 +31,6 @@ from diffbot.commands.options import (
 from diffbot.commands.plan_options import (
     PlanOptions,
     check_topic,
-    plan_input,
     plan_input_options,
 )
 from diffbot.commands.progress import progress
@@ -105,27 +107,36 @@ def _write(
     out: OutOptions,
     topic: str,
     advance: Callable[[int], None],
+    truth: TruthStream | None = None,
 ) -> None:
-    """Write the samples chunk by chunk: CSV on stdout or --out, or a bag with --bag."""
+    """Write the samples chunk by chunk: CSV on stdout or --out, or a bag with --bag; with
+    ``truth``, its poses too (CSV columns x, y, theta, or a pose topic)."""
 
-    def stamped() -> Iterator[tuple[list[int], NDArray[np.float64]]]:
+    def stamped() -> Iterator[tuple[list[int], NDArray[np.float64], NDArray[np.float64] | None]]:
         for times, positions in states.chunks:
-            yield [start_ns + round(t * 1e9) for t in times.tolist()], positions
+            poses = None if truth is None else truth.rows(times)
+            yield [start_ns + round(t * 1e9) for t in times.tolist()], positions, poses
             advance(times.size)
 
     if out_path is not None and out.as_bag:
-        with JointStatesBagWriter(out_path, states.names, force=out.force, topic=topic) as bag:
-            for stamps, positions in stamped():
+        with JointStatesBagWriter(
+            out_path, states.names, force=out.force, topic=topic, poses=truth is not None
+        ) as bag:
+            for stamps, positions, poses in stamped():
                 bag.write(stamps, positions)
+                if poses is not None:
+                    bag.write_poses(stamps, poses)
         return
     with contextlib.ExitStack() as stack:
         if out_path is None:
             write: Callable[[str], object] = functools.partial(click.echo, nl=False)
         else:
             write = stack.enter_context(atomic_text(out_path, force=out.force)).write
-        write(joint_states_header(states.names))
-        for stamps, positions in stamped():
-            write(joint_states_lines(stamps, positions))
+        names = states.names if truth is None else (*states.names, *TRUTH_COLUMNS)
+        write(joint_states_header(names))
+        for stamps, positions, poses in stamped():
+            rows = positions if poses is None else [*positions, *poses]
+            write(joint_states_lines(stamps, rows))
 
 
 @click.command(context_settings=NUMBERS)
@@ -168,6 +179,19 @@ def _write(
     metavar="S",
     help="Stamp of the first sample (s since 1970, read exactly to the nanosecond).",
 )
+@click.option(
+    "--true-wheel-radius",
+    "true_radii",
+    type=NumberPair("L,R", "m", positive=True),
+    help="The real left and right wheel radii (m): the robot moves by them, and the output "
+    "gains its ground-truth pose (x, y, theta).",
+)
+@click.option(
+    "--true-separation",
+    type=POSITIVE,
+    metavar="M",
+    help="The real wheel separation (m); likewise adds the ground-truth pose.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable summary (needs --out).")
 @topic_option("The JointState topic of --bag.")
 @out_options(
@@ -186,6 +210,8 @@ def simulate(
     start_ns: int,
     out: OutOptions,
     topic: str,
+    true_radii: tuple[float, float] | None,
+    true_separation: float | None,
     as_json: bool,
     quiet: bool,
 ) -> None:
@@ -211,6 +237,12 @@ def simulate(
     a terminal (not with --quiet). Exit code 1 when the plan exceeds the
     motor limit (the output is still written).
 
+    --true-wheel-radius and --true-separation give the robot's real geometry, which differs
+    from the description's: the commands come from the description, the wheels turn as
+    commanded, and the real robot's exact pose is added as columns x, y, theta (m, m, rad) of
+    the CSV, or as geometry_msgs/PoseStamped on /ground_truth in a bag: data for `diffbot
+    calibrate fit`.
+
     \b
     Examples:
       diffbot simulate --out a.csv && diffbot odom a.csv
@@ -220,7 +252,7 @@ def simulate(
 
     rest, xacro_args = split_xacro_args(tokens)
     check_topic("--topic", topic)
-    source = plan_input(rest, plan_options.example)
+    source = plan_options.source(rest)
     out.require_out_for_bag()
     if as_json and out.out is None:
         fail("--json prints a summary, so the samples need --out")
@@ -252,7 +284,10 @@ def simulate(
         )
     states = simulate_chunks(motion, params, Sampling(rate, ticks, noise, seed))
     with progress(states.samples, "simulate", "samples", quiet=quiet) as advance:
-        _write(states, start_ns, out_path, out, topic, advance)
+        truth = None
+        if true_radii is not None or true_separation is not None:
+            truth = TruthStream(motion, true_robot(params, true_radii, true_separation))
+        _write(states, start_ns, out_path, out, topic, advance, truth)
     if out_path is not None:
         pose = p.final_pose
         if as_json:

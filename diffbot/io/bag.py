@@ -43,6 +43,7 @@ if TYPE_CHECKING:
 __all__ = [
     "BAG_INSTALL_HINT",
     "DEFAULT_TOPIC",
+    "GROUND_TRUTH_TOPIC",
     "JOINT_STATE",
     "JointStatesBagWriter",
     "OdometryBagWriter",
@@ -398,6 +399,10 @@ def write_odometry_bag(
         )
 
 
+#: The topic of the ground-truth poses (geometry_msgs/PoseStamped) a simulation writes.
+GROUND_TRUTH_TOPIC: Final = "/ground_truth"
+
+
 class JointStatesBagWriter(_BagStream):
     """Joint states written as they come to a rosbag2 of sensor_msgs/msg/JointState (use it
     as a context manager).
@@ -419,16 +424,48 @@ class JointStatesBagWriter(_BagStream):
         *,
         force: bool = False,
         topic: str = DEFAULT_TOPIC,
+        poses: bool = False,
     ) -> None:
         super().__init__(path, force=force)
         self.names = list(names)
         self.topic = topic
+        self.poses = poses
 
     def _connect(self, writer: Writer) -> None:
         from rosbags.typesys.stores import ros2_humble as m
 
         self.m = m
         self.conn = writer.add_connection(self.topic, JOINT_STATE, typestore=self.typestore)
+        self.pose_type = m.geometry_msgs__msg__PoseStamped.__msgtype__
+        if self.poses:
+            self.pose_conn = writer.add_connection(
+                GROUND_TRUTH_TOPIC, self.pose_type, typestore=self.typestore
+            )
+
+    def write_poses(self, stamps_ns: Sequence[int], poses: ArrayLike) -> None:
+        """Append ground-truth poses (rows x, y in m and theta in rad, one column per stamp) as
+        geometry_msgs/msg/PoseStamped (frame ``odom``) on :data:`GROUND_TRUTH_TOPIC`; the
+        writer must have been made with ``poses=True``."""
+        import numpy as np
+
+        m = self.m
+        rows = np.asarray(poses, dtype=np.float64).reshape(3, len(stamps_ns)).T.tolist()
+        for stamp_ns, (x, y, theta) in zip(stamps_ns, rows, strict=True):
+            sec, nanosec = divmod(stamp_ns, NS_PER_S)
+            q = quaternion_from_yaw(theta)
+            message = m.geometry_msgs__msg__PoseStamped(
+                header=m.std_msgs__msg__Header(
+                    stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec),
+                    frame_id="odom",
+                ),
+                pose=m.geometry_msgs__msg__Pose(
+                    position=m.geometry_msgs__msg__Point(x=x, y=y, z=0.0),
+                    orientation=m.geometry_msgs__msg__Quaternion(x=q.x, y=q.y, z=q.z, w=q.w),
+                ),
+            )
+            self.writer.write(
+                self.pose_conn, stamp_ns, self.typestore.serialize_cdr(message, self.pose_type)
+            )
 
     def write(self, stamps_ns: Sequence[int], positions: ArrayLike) -> None:
         """Append one message per stamp.

@@ -1,0 +1,277 @@
+"""``diffbot calibrate umbmark|fit``: wheel radii and separation from test runs or recordings."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import click
+
+from diffbot.commands.options import (
+    NUMBERS,
+    POSITIVE,
+    NumberPair,
+    RobotOptions,
+    emit_json,
+    fail,
+    option_group,
+    parse_number,
+    robot_options,
+    split_xacro_args,
+    topic_option,
+)
+from diffbot.commands.plan_options import check_topic
+from diffbot.errors import CalibrationError
+from diffbot.formats.calibration import calibration_data, calibration_lines
+from diffbot.io.textfile import read_text
+from diffbot.kinematics import DiffDriveParams
+
+if TYPE_CHECKING:
+    from diffbot.calibration.fit import FitResult
+    from diffbot.calibration.umbmark import UmbmarkResult
+
+__all__ = ["calibrate"]
+
+
+_POINT = NumberPair("X,Y", "m")
+
+
+@dataclass(frozen=True)
+class _Output:
+    """What a calibration prints (--json) and writes (--apply-to, --force)."""
+
+    as_json: bool
+    apply_to: str | None
+    force: bool
+
+
+_output_options = option_group(
+    [
+        click.option("--json", "as_json", is_flag=True, help="Machine-readable output."),
+        click.option(
+            "--apply-to",
+            metavar="FILE",
+            help="Write a calibrated copy of FILE beside it (FILE.calibrated...): a controllers "
+            "YAML gets the multipliers, a .urdf/.xacro the wheel_radius and wheel_separation "
+            "argument defaults. FILE itself is never changed.",
+        ),
+        click.option("--force", is_flag=True, help="Overwrite the calibrated copy if it exists."),
+    ],
+    "output",
+    lambda kw: _Output(kw.pop("as_json"), kw.pop("apply_to"), kw.pop("force")),
+)
+
+
+def _report(result: UmbmarkResult | FitResult, params: DiffDriveParams, output: _Output) -> None:
+    """Print a calibration and write the calibrated copy of --apply-to."""
+    from diffbot.calibration.results import apply_to as calibrated_text
+    from diffbot.calibration.results import calibrated_path
+    from diffbot.io.outputs import write_text_atomic
+
+    nominal = (*params.radii, params.wheel_separation)
+    written: str | None = None
+    if output.apply_to is not None:
+        source = Path(output.apply_to)
+        target = calibrated_path(source)
+        applied = calibrated_text(source, result)
+        write_text_atomic(target, applied.text, force=output.force, inputs=[source])
+        written = str(target)
+    if output.as_json:
+        emit_json({**calibration_data(result, nominal), "applied_to": written})
+        return
+    for line in calibration_lines(result, nominal):
+        click.echo(line)
+    if written is not None:
+        click.echo(f"wrote {written} (a calibrated copy of {output.apply_to})")
+
+
+def _robot(robot: RobotOptions, tokens: tuple[str, ...]) -> tuple[list[str], DiffDriveParams]:
+    rest, xacro_args = split_xacro_args(tokens)
+    return rest, robot.with_path(None, xacro_args).load()
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+def calibrate() -> None:
+    """Calibrate the wheel radii and separation of a real robot.
+
+    \b
+    umbmark  from where square test runs ended (Borenstein and Feng's UMBmark)
+    fit      by least squares, from a recording with a ground-truth pose track
+
+    Both print the corrected left and right wheel radii and separation, the
+    diff_drive_controller multipliers and the xacro arguments; --apply-to writes a calibrated
+    copy of a controllers YAML or a description beside it. The derivations are in
+    docs/calibration.md.
+    """
+
+
+def _runs_file(path: str) -> tuple[list[tuple[float, float]], list[tuple[float, float]]]:
+    """The cw and ccw end points of a runs file: YAML ``{cw: [[x, y], ...], ccw: [...]}`` or
+    CSV with columns ``direction,x,y``."""
+    import yaml
+
+    text = read_text(path, CalibrationError, "a runs file (CSV or YAML)")
+    runs: dict[str, list[tuple[float, float]]] = {"cw": [], "ccw": []}
+    if path.lower().endswith(".csv"):
+        lines = [line.split(",") for line in text.splitlines() if line.strip()]
+        header = [cell.strip().lower() for cell in lines[0]] if lines else []
+        if header != ["direction", "x", "y"]:
+            fail(f"{path}: a runs CSV has the columns direction,x,y (got {','.join(header)})")
+        rows = [(cells[0].strip().lower(), cells[1:]) for cells in lines[1:]]
+    else:
+        try:
+            data = yaml.safe_load(text)
+        except yaml.YAMLError as err:
+            fail(f"{path}: not YAML: {' '.join(str(err).split())}")
+        if not isinstance(data, dict) or not set(data) <= {"cw", "ccw"}:
+            fail(f"{path}: a runs YAML maps cw and ccw to lists of [x, y] (m)")
+        rows = [(str(key), point) for key, points in data.items() for point in points or []]
+    for direction, point in rows:
+        if direction not in runs or not isinstance(point, list) or len(point) != 2:
+            fail(f"{path}: {direction} {point!r}: expected cw or ccw and two numbers x, y (m)")
+        x, y = (parse_number(str(v).strip(), f"{path}: {direction}") for v in point)
+        runs[direction].append((x, y))
+    return runs["cw"], runs["ccw"]
+
+
+@calibrate.command(context_settings=NUMBERS)
+@click.argument("tokens", nargs=-1, metavar="[NAME:=VALUE]...")
+@robot_options
+@click.option("--side", type=POSITIVE, required=True, metavar="M", help="Side of the square (m).")
+@click.option("--cw", "cw", type=_POINT, multiple=True, help="End of a clockwise run (m).")
+@click.option("--ccw", "ccw", type=_POINT, multiple=True, help="End of a counter-clockwise run.")
+@click.option(
+    "--runs", metavar="FILE", help="The ends in a file: CSV direction,x,y or YAML {cw, ccw}."
+)
+@click.option(
+    "--exact",
+    is_flag=True,
+    help="Fit the exact model of the squares instead of the first-order formulas.",
+)
+@_output_options
+def umbmark(
+    robot: RobotOptions,
+    tokens: tuple[str, ...],
+    side: float,
+    cw: tuple[tuple[float, float], ...],
+    ccw: tuple[tuple[float, float], ...],
+    runs: str | None,
+    exact: bool,
+    output: _Output,
+) -> None:
+    """Wheel diameter ratio Ed and separation error Eb from UMBmark runs.
+
+    Drive the square `diffbot plan --example umbmark --side L` gives, clockwise (--cw) and
+    counter-clockwise (--ccw), several times each (5 is usual), and measure where the robot
+    stopped relative to its start pose: X forward, Y left (m). Give each run as --cw X,Y or
+    --ccw X,Y, or all of them in a --runs file. The robot options name the nominal robot the
+    runs were commanded with.
+
+    \b
+    Examples:
+      diffbot calibrate umbmark --side 4 --cw -0.31,-0.40 --cw -0.36,-0.39 \\
+          --ccw 0.12,-0.09 --ccw 0.10,-0.12
+      diffbot calibrate umbmark --side 4 --runs runs.yaml --json
+    """
+    from diffbot.calibration.umbmark import umbmark as run_umbmark
+
+    rest, params = _robot(robot, tokens)
+    if rest:
+        fail(f"unexpected argument {rest[0]!r}: give the runs as --cw X,Y and --ccw X,Y")
+    cw_ends, ccw_ends = list(cw), list(ccw)
+    if runs is not None:
+        more_cw, more_ccw = _runs_file(runs)
+        cw_ends += more_cw
+        ccw_ends += more_ccw
+    if not cw_ends or not ccw_ends:
+        fail(
+            "UMBmark needs at least one clockwise and one counter-clockwise run: --cw X,Y "
+            "and --ccw X,Y (or --runs FILE)"
+        )
+    result = run_umbmark(side, cw_ends, ccw_ends, params, exact=exact)
+    _report(result, params, output)
+
+
+@calibrate.command(context_settings=NUMBERS)
+@click.argument("tokens", nargs=-1, metavar="INPUT [NAME:=VALUE]...")
+@robot_options
+@_output_options
+@topic_option("The sensor_msgs/JointState topic of a bag.")
+@click.option(
+    "--truth",
+    metavar="FILE",
+    help="The ground truth: a CSV with time, x, y, theta, or a bag. Default: INPUT itself.",
+)
+@click.option(
+    "--truth-topic",
+    metavar="TOPIC",
+    help="The ground truth's PoseStamped or Odometry topic of a bag (default: its only one).",
+)
+@click.option(
+    "--window",
+    type=click.IntRange(min=1),
+    metavar="N",
+    help="Sample intervals per window (default 50).",
+)
+@click.option("--window-duration", type=POSITIVE, metavar="S", help="Windows of S seconds instead.")
+@click.option(
+    "--max-stderr",
+    type=POSITIVE,
+    default=0.01,
+    show_default=True,
+    metavar="FRACTION",
+    help="Refuse results whose standard error exceeds this fraction of a parameter.",
+)
+def fit(
+    robot: RobotOptions,
+    tokens: tuple[str, ...],
+    topic: str,
+    truth: str | None,
+    truth_topic: str | None,
+    window: int | None,
+    window_duration: float | None,
+    max_stderr: float,
+    output: _Output,
+) -> None:
+    """Left and right wheel radii and separation by least squares against a ground truth.
+
+    INPUT holds the wheel joint positions, as for `diffbot odom` (CSV, or a rosbag2 recording
+    with sensor_msgs/JointState on --topic). The ground truth is a pose track: CSV columns x, y,
+    theta (m, m, rad) beside a time column, or a bag's geometry_msgs/PoseStamped or
+    nav_msgs/Odometry topic; it is interpolated at the wheel stamps. The motion over windows
+    of --window samples is compared, starting from the description's values. Drive straights
+    and turns both ways (the seed's Trajectory A is enough).
+
+    Needs SciPy: pip install 'diffbot-kinematics[calibrate]'
+
+    \b
+    Examples:
+      diffbot simulate --example A --true-wheel-radius 0.0352,0.0348 --true-separation 0.138 \\
+          --out run.csv && diffbot calibrate fit run.csv
+      diffbot calibrate fit run_bag --truth-topic /mocap/pose --json
+    """
+    from diffbot.calibration.fit import fit_recording, require_scipy
+    from diffbot.io.poses import read_pose_track
+    from diffbot.io.recordings import read_recording
+
+    require_scipy()
+    rest, params = _robot(robot, tokens)
+    if len(rest) != 1:
+        fail("give one INPUT: the recording of wheel joint positions")
+    check_topic("--topic", topic)
+    if truth_topic is not None:
+        check_topic("--truth-topic", truth_topic)
+    if window is not None and window_duration is not None:
+        fail("give --window or --window-duration, not both")
+    recording = read_recording(rest[0], params, topic)
+    track = read_pose_track(rest[0] if truth is None else truth, truth_topic)
+    result = fit_recording(
+        recording,
+        track,
+        params,
+        window=window,
+        window_duration=window_duration,
+        max_relative_stderr=max_stderr,
+    )
+    _report(result, params, output)

@@ -1,0 +1,240 @@
+"""``diffbot calibrate umbmark|fit``, the UMBmark plans and simulate's ground truth, end to end."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner, Result
+from robots import BOT
+
+from diffbot.cli import main
+from diffbot.io.poses import read_pose_track
+
+TRUE = {"left_wheel_radius": 0.0352, "right_wheel_radius": 0.0348, "wheel_separation": 0.138}
+SIMULATE_TRUTH = ["--true-wheel-radius", "0.0352,0.0348", "--true-separation", "0.138"]
+
+
+def run(runner: CliRunner, *args: str) -> Result:
+    result = runner.invoke(main, list(args))
+    assert result.exit_code == 0, result.output
+    return result
+
+
+def bad_input(runner: CliRunner, *args: str) -> str:
+    """The one error line of a run that fails with exit code 2."""
+    result = runner.invoke(main, list(args))
+    assert result.exit_code == 2, result.output
+    assert result.stdout == ""
+    (line,) = result.stderr.splitlines()
+    assert line.startswith("error: ")
+    return line
+
+
+@pytest.fixture
+def run_csv(runner: CliRunner, tmp_path: Path) -> Path:
+    """Trajectory A driven by the robot whose real geometry is TRUE, as CSV."""
+    path = tmp_path / "run.csv"
+    run(runner, "simulate", "--example", "A", *SIMULATE_TRUTH, "--out", str(path))
+    return path
+
+
+# --------------------------------------------------------------------------------------------
+# plan --example umbmark
+
+
+@pytest.mark.parametrize(("flag", "turn"), [("--cw", -90.0), ("--ccw", 90.0), (None, 90.0)])
+def test_plan_gives_the_umbmark_square(runner: CliRunner, flag: str | None, turn: float) -> None:
+    args = ["plan", "--example", "umbmark", "--side", "4", "--json"]
+    data = json.loads(run(runner, *args, *([flag] if flag else [])).stdout)
+    segments = data["segments"]
+    assert len(segments) == 8
+    first, corner = segments[0], segments[1]
+    assert first["end_pose"]["x"] == pytest.approx(4.0, abs=1e-12)
+    assert first["end_pose"]["y"] == pytest.approx(0.0, abs=1e-12)
+    assert corner["end_pose"]["theta"] == pytest.approx(turn * 3.141592653589793 / 180, abs=1e-12)
+    end = data["final_pose"]
+    assert (end["x"], end["y"]) == pytest.approx((0.0, 0.0), abs=1e-12)
+
+
+def test_plan_of_the_umbmark_square_needs_its_side(runner: CliRunner) -> None:
+    line = bad_input(runner, "plan", "--example", "umbmark")
+    assert line == "error: --example umbmark needs --side M, the side of the square (m)"
+
+
+def test_the_side_belongs_to_the_umbmark_square(runner: CliRunner) -> None:
+    line = bad_input(runner, "plan", "--example", "A", "--side", "4")
+    assert "give --example umbmark" in line
+
+
+# --------------------------------------------------------------------------------------------
+# simulate --true-wheel-radius --true-separation, then calibrate fit
+
+
+def test_simulate_adds_the_ground_truth_columns(run_csv: Path) -> None:
+    header = run_csv.read_text(encoding="utf-8").splitlines()[0].split(",")
+    assert header[-3:] == ["x", "y", "theta"]
+    track = read_pose_track(run_csv)
+    # The real robot's right wheel is smaller: it ends off the plan's (0, 1).
+    assert abs(track.x[-1]) > 1e-3
+
+
+def test_fit_recovers_the_simulated_truth(runner: CliRunner, run_csv: Path) -> None:
+    data = json.loads(run(runner, "calibrate", "fit", str(run_csv), "--json").stdout)
+    for key, value in TRUE.items():
+        assert data[key] == pytest.approx(value, rel=1e-9)  # the goal is 1e-6
+    assert (
+        data["residuals"]["position_rms_after"] < 1e-12 < data["residuals"]["position_rms_before"]
+    )
+    assert data["controller_yaml"][0] == "wheel_separation_multiplier: 1.02222222"
+    assert data["xacro_arguments"] == "wheel_radius:=0.035 wheel_separation:=0.138"
+
+
+def test_fit_recovers_the_truth_through_noisy_encoders(runner: CliRunner, tmp_path: Path) -> None:
+    path = tmp_path / "noisy.csv"
+    noise = ["--ticks", "4096", "--noise", "0.001", "--seed", "3"]
+    run(runner, "simulate", "--example", "A", *SIMULATE_TRUTH, *noise, "--out", str(path))
+    data = json.loads(run(runner, "calibrate", "fit", str(path), "--json").stdout)
+    for key, value in TRUE.items():
+        assert data[key] == pytest.approx(value, rel=2e-3)
+
+
+def test_fit_reads_a_bag_with_its_ground_truth_topic(runner: CliRunner, tmp_path: Path) -> None:
+    bag = tmp_path / "run_bag"
+    run(runner, "simulate", "--example", "A", *SIMULATE_TRUTH, "--out", str(bag), "--bag")
+    data = json.loads(run(runner, "calibrate", "fit", str(bag), "--json").stdout)
+    for key, value in TRUE.items():
+        assert data[key] == pytest.approx(value, rel=1e-9)
+
+
+def test_fit_prints_the_geometry_and_how_to_apply_it(runner: CliRunner, run_csv: Path) -> None:
+    lines = run(runner, "calibrate", "fit", str(run_csv)).stdout.splitlines()
+    assert lines[0] == "windows       40"
+    assert lines[2].startswith("left radius   0.0352 m ± ")
+    assert "  left_wheel_radius_multiplier: 1.00571429" in lines
+    assert lines[-1].startswith("note: the radii differ")
+
+
+def test_fit_takes_the_truth_from_another_file(
+    runner: CliRunner, run_csv: Path, tmp_path: Path
+) -> None:
+    rows = [line.split(",") for line in run_csv.read_text(encoding="utf-8").splitlines()]
+    joints = tmp_path / "joints.csv"
+    joints.write_text("\n".join(",".join(r[:3]) for r in rows) + "\n", encoding="utf-8")
+    truth = tmp_path / "truth.csv"
+    truth.write_text("\n".join(",".join([r[0], *r[-3:]]) for r in rows[::3]) + "\n", "utf-8")
+    args = ["calibrate", "fit", str(joints), "--truth", str(truth), "--json"]
+    data = json.loads(run(runner, *args).stdout)
+    for key, value in TRUE.items():  # the truth interpolated between its samples
+        assert data[key] == pytest.approx(value, rel=1e-4)
+    line = bad_input(runner, "calibrate", "fit", str(joints))
+    assert "no ground truth: needs x, y, theta" in line
+
+
+def test_fit_writes_a_calibrated_copy_beside_the_file(
+    runner: CliRunner, run_csv: Path, tmp_path: Path
+) -> None:
+    source = tmp_path / "robot.urdf.xacro"
+    text = '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
+    text += '<xacro:arg name="wheel_radius" default="0.035"/>\n'
+    text += '<xacro:arg name="wheel_separation" default="0.135"/>\n</robot>\n'
+    source.write_text(text, encoding="utf-8")
+    args = ["calibrate", "fit", str(run_csv), "--apply-to", str(source)]
+    result = run(runner, *args)
+    copy = tmp_path / "robot.calibrated.urdf.xacro"
+    assert f"wrote {copy}" in result.stdout
+    assert 'name="wheel_separation" default="0.138"' in copy.read_text(encoding="utf-8")
+    assert source.read_text(encoding="utf-8") == text
+    line = bad_input(runner, *args)
+    assert line == f"error: {copy} exists: use --force to overwrite it"
+    run(runner, *args, "--force")
+
+
+def test_fit_refuses_both_kinds_of_window(runner: CliRunner, run_csv: Path) -> None:
+    line = bad_input(
+        runner, "calibrate", "fit", str(run_csv), "--window", "5", "--window-duration", "1"
+    )
+    assert line == "error: give --window or --window-duration, not both"
+
+
+def test_fit_spells_the_window_as_its_option(runner: CliRunner, run_csv: Path) -> None:
+    line = bad_input(runner, "calibrate", "fit", str(run_csv), "--window", "100000")
+    assert line.endswith("at least two are needed (shorten --window)")
+
+
+def test_fit_without_scipy_says_what_to_install(
+    runner: CliRunner, run_csv: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setitem(sys.modules, "scipy", None)
+    monkeypatch.setitem(sys.modules, "scipy.optimize", None)
+    line = bad_input(runner, "calibrate", "fit", str(run_csv))
+    assert line == (
+        "error: the least-squares fit needs SciPy: pip install 'diffbot-kinematics[calibrate]'"
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# calibrate umbmark
+
+RUNS = ["--cw", "-0.31,-0.40", "--cw", "-0.36,-0.39", "--ccw", "0.12,-0.09", "--ccw", "0.10,-0.12"]
+
+
+def test_umbmark_json_has_the_params_keys_and_the_errors(runner: CliRunner) -> None:
+    data = json.loads(run(runner, "calibrate", "umbmark", "--side", "4", *RUNS, "--json").stdout)
+    assert list(data)[:5] == [
+        "left_wheel_radius",
+        "right_wheel_radius",
+        "wheel_separation",
+        "ed",
+        "eb",
+    ]
+    assert data["cw_centre"] == pytest.approx([-0.335, -0.395], abs=1e-12)
+    assert data["eb"] == pytest.approx(data["wheel_separation"] / BOT.wheel_separation, rel=1e-12)
+    assert data["ed"] == pytest.approx(
+        data["right_wheel_radius"] / data["left_wheel_radius"], rel=1e-12
+    )
+    assert data["applied_to"] is None
+
+
+def test_umbmark_reads_its_runs_from_yaml_and_csv(runner: CliRunner, tmp_path: Path) -> None:
+    given = json.loads(run(runner, "calibrate", "umbmark", "--side", "4", *RUNS, "--json").stdout)
+    runs_yaml = tmp_path / "runs.yaml"
+    runs_yaml.write_text("cw: [[-0.31, -0.40], [-0.36, -0.39]]\nccw:\n  - [0.12, -0.09]\n", "utf-8")
+    runs_csv = tmp_path / "runs.csv"
+    runs_csv.write_text("direction,x,y\nccw,0.10,-0.12\n", "utf-8")
+    args = ["--runs", str(runs_yaml), "--ccw", "0.10,-0.12", "--json"]
+    from_yaml = json.loads(run(runner, "calibrate", "umbmark", "--side", "4", *args).stdout)
+    assert from_yaml == given
+    args = [*RUNS[:6], "--runs", str(runs_csv), "--json"]
+    from_csv = json.loads(run(runner, "calibrate", "umbmark", "--side", "4", *args).stdout)
+    assert from_csv == given
+
+
+def test_umbmark_prints_the_errors_for_people(runner: CliRunner) -> None:
+    lines = run(runner, "calibrate", "umbmark", "--side", "4", *RUNS).stdout.splitlines()
+    assert lines[0] == "cw centre     x -0.335 m, y -0.395 m"
+    assert lines[4].startswith("Ed            1.00100")
+    assert lines[5].startswith("Eb            1.0103")
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--cw", "0,0"], "needs at least one clockwise and one counter-clockwise run"),
+        (["--cw", "1", "--ccw", "0,0"], "'1' is not X,Y"),
+        (["--cw", "a,0", "--ccw", "0,0"], "'a' is not a number"),
+        (["--cw", "-7,-7", "--ccw", "-7,7", "--side", "1"], "small-error approximation"),
+    ],
+)
+def test_umbmark_refuses_bad_runs(runner: CliRunner, args: list[str], message: str) -> None:
+    side = [] if "--side" in args else ["--side", "4"]
+    assert message in bad_input(runner, "calibrate", "umbmark", *side, *args)
+
+
+def test_umbmark_refuses_a_runs_file_of_another_shape(runner: CliRunner, tmp_path: Path) -> None:
+    path = tmp_path / "runs.yaml"
+    path.write_text("left: [[0, 0]]\n", "utf-8")
+    line = bad_input(runner, "calibrate", "umbmark", "--side", "4", "--runs", str(path))
+    assert "a runs YAML maps cw and ccw to lists of [x, y]" in line
