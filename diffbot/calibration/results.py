@@ -186,7 +186,7 @@ def _apply_controllers(text: str, source: str, result: WheelGeometry) -> ApplyRe
             "wheel_separation, which the multipliers scale"
         )
     lines = controller_yaml_lines(result, config.wheel_radius, config.wheel_separation)
-    for line in lines:
+    for line in reversed(lines):  # each new line goes right after wheel_separation
         key, _, value = line.partition(": ")
         text = _set_key(text, key, value, "wheel_separation", source)
     return ApplyResult(text, lines, None)

@@ -136,6 +136,12 @@ def test_a_calibrated_controllers_yaml_reads_back_as_the_calibration(tmp_path: P
     assert source.read_text(encoding="utf-8") == CONTROLLERS
     assert applied.changed == controller_yaml_lines(CALIBRATED, 0.035, 0.135)
     assert yaml.safe_load(applied.text)["controller_manager"] is not None
+    lines = applied.text.splitlines()
+    at = lines.index("    wheel_separation: 0.135  # centre to centre")
+    assert lines[at + 1 : at + 3] == [  # added after it, in the order printed
+        "    wheel_separation_multiplier: 1.02",
+        "    right_wheel_radius_multiplier: 1.00571429",
+    ]
 
 
 def test_a_calibrated_description_sets_the_argument_defaults(tmp_path: Path) -> None:
