@@ -101,7 +101,16 @@ class NumberPair(click.ParamType):  # type: ignore[type-arg,unused-ignore]
                 param,
                 ctx,
             )
-        first, second = (parse_number(part.strip(), repr(value)) for part in parts)
+        numbers = []
+        for part in parts:
+            try:
+                number = float(part.strip())
+            except ValueError:
+                self.fail(f"{value!r}: {part.strip()!r} is not a number", param, ctx)
+            if not math.isfinite(number):
+                self.fail(f"{value!r}: {part.strip()!r} is not a finite number", param, ctx)
+            numbers.append(number)
+        first, second = numbers
         if self.positive and not (first > 0.0 and second > 0.0):
             self.fail(f"{value!r}: both must be > 0", param, ctx)
         return first, second

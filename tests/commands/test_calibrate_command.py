@@ -81,6 +81,16 @@ def test_simulate_adds_the_ground_truth_columns(run_csv: Path) -> None:
     assert abs(track.x[-1]) > 1e-3
 
 
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [("0.035", "'0.035' is not L,R"), ("0.035,0", "'0.035,0': both must be > 0")],
+)
+def test_simulate_refuses_true_radii_that_are_not_two_positive_numbers(
+    runner: CliRunner, value: str, message: str
+) -> None:
+    assert message in bad_input(runner, "simulate", "--true-wheel-radius", value)
+
+
 def test_fit_recovers_the_simulated_truth(runner: CliRunner, run_csv: Path) -> None:
     data = json.loads(run(runner, "calibrate", "fit", str(run_csv), "--json").stdout)
     for key, value in TRUE.items():
@@ -224,7 +234,8 @@ def test_umbmark_prints_the_errors_for_people(runner: CliRunner) -> None:
     [
         (["--cw", "0,0"], "needs at least one clockwise and one counter-clockwise run"),
         (["--cw", "1", "--ccw", "0,0"], "'1' is not X,Y"),
-        (["--cw", "a,0", "--ccw", "0,0"], "'a' is not a number"),
+        (["--cw", "a,0", "--ccw", "0,0"], "'--cw': 'a,0': 'a' is not a number"),
+        (["--cw", "0,0", "--ccw", "0,-inf"], "'--ccw': '0,-inf': '-inf' is not a finite"),
         (["--cw", "-7,-7", "--ccw", "-7,7", "--side", "1"], "small-error approximation"),
     ],
 )
