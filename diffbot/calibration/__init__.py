@@ -20,6 +20,7 @@ from diffbot.calibration.results import (
     apply_to,
     calibrated_path,
     controller_yaml_lines,
+    multiplier_base,
     params_json,
     xacro_arguments,
 )
@@ -41,6 +42,7 @@ __all__ = [
     "fit",
     "fit_recording",
     "ground_truth",
+    "multiplier_base",
     "params_json",
     "true_robot",
     "umbmark",

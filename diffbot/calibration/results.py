@@ -11,6 +11,7 @@ from typing import NamedTuple, Protocol
 
 from diffbot.calibration.checks import positive
 from diffbot.errors import CalibrationError
+from diffbot.kinematics import DiffDriveParams
 
 __all__ = [
     "ApplyResult",
@@ -19,6 +20,7 @@ __all__ = [
     "apply_to",
     "calibrated_path",
     "controller_yaml_lines",
+    "multiplier_base",
     "params_json",
     "xacro_arguments",
 ]
@@ -69,6 +71,18 @@ def controller_yaml_lines(
         f"left_wheel_radius_multiplier: {_number(result.left_wheel_radius / radius)}",
         f"right_wheel_radius_multiplier: {_number(result.right_wheel_radius / radius)}",
     ]
+
+
+def multiplier_base(params: DiffDriveParams) -> tuple[float, float]:
+    """The radius and separation (m) a robot's diff_drive_controller multipliers scale: its
+    controller's ``wheel_radius`` and ``wheel_separation`` when it was loaded with one that sets
+    both, else the robot's ``wheel_radius`` and ``wheel_separation``."""
+    config = params.controller
+    radius = None if config is None else config.wheel_radius
+    separation = None if config is None else config.wheel_separation
+    if radius is None or separation is None:
+        return params.wheel_radius, params.wheel_separation
+    return radius, separation
 
 
 class XacroArguments(NamedTuple):

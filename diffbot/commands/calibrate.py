@@ -66,10 +66,11 @@ _output_options = option_group(
 def _report(result: UmbmarkResult | FitResult, params: DiffDriveParams, output: _Output) -> None:
     """Print a calibration and write the calibrated copy of --apply-to."""
     from diffbot.calibration.results import apply_to as calibrated_text
-    from diffbot.calibration.results import calibrated_path
+    from diffbot.calibration.results import calibrated_path, multiplier_base
     from diffbot.io.outputs import write_text_atomic
 
     nominal = (*params.radii, params.wheel_separation)
+    base = multiplier_base(params)
     written: str | None = None
     if output.apply_to is not None:
         source = Path(output.apply_to)
@@ -78,9 +79,9 @@ def _report(result: UmbmarkResult | FitResult, params: DiffDriveParams, output: 
         write_text_atomic(target, applied.text, force=output.force, inputs=[source])
         written = str(target)
     if output.as_json:
-        emit_json({**calibration_data(result, nominal), "applied_to": written})
+        emit_json({**calibration_data(result, nominal, base), "applied_to": written})
         return
-    for line in calibration_lines(result, nominal):
+    for line in calibration_lines(result, nominal, base):
         click.echo(line)
     if written is not None:
         click.echo(f"wrote {written} (a calibrated copy of {output.apply_to})")

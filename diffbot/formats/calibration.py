@@ -32,13 +32,16 @@ def _geometry_rows(
 
 
 def calibration_lines(
-    result: UmbmarkResult | FitResult, nominal: tuple[float, float, float]
+    result: UmbmarkResult | FitResult,
+    nominal: tuple[float, float, float],
+    base: tuple[float, float],
 ) -> list[str]:
     """The report of a calibration: the errors, the geometry and how to apply it.
 
     Args:
         result: the calibration.
         nominal: the robot's left radius, right radius and separation before it (m).
+        base: the radius and separation the controller's multipliers scale (m).
     """
     rows: list[tuple[str, str]] = []
     stderr: tuple[float, ...] | None = None
@@ -70,9 +73,8 @@ def calibration_lines(
         ]
     rows += _geometry_rows(result, nominal, stderr)
     lines = [f"{label:<13} {value}" for label, value in rows]
-    radius = 0.5 * (nominal[0] + nominal[1])
     lines.append("diff_drive_controller (ros__parameters):")
-    lines += [f"  {line}" for line in controller_yaml_lines(result, radius, nominal[2])]
+    lines += [f"  {line}" for line in controller_yaml_lines(result, *base)]
     arguments = xacro_arguments(result)
     lines.append(f"xacro arguments: {arguments.arguments}")
     if arguments.note is not None:
@@ -81,11 +83,13 @@ def calibration_lines(
 
 
 def calibration_data(
-    result: UmbmarkResult | FitResult, nominal: tuple[float, float, float]
+    result: UmbmarkResult | FitResult,
+    nominal: tuple[float, float, float],
+    base: tuple[float, float],
 ) -> dict[str, Any]:
-    """The calibration as JSON-ready data: the ``params`` keys first, then the details."""
+    """The calibration as JSON-ready data: the ``params`` keys first, then the details (the
+    arguments as for :func:`calibration_lines`)."""
     data: dict[str, Any] = dict(params_json(result))
-    radius = 0.5 * (nominal[0] + nominal[1])
     if isinstance(result, UmbmarkResult):
         data.update(
             method="umbmark",
@@ -115,7 +119,7 @@ def calibration_data(
             "right_wheel_radius": nominal[1],
             "wheel_separation": nominal[2],
         },
-        controller_yaml=controller_yaml_lines(result, radius, nominal[2]),
+        controller_yaml=controller_yaml_lines(result, *base),
         xacro_arguments=arguments.arguments,
         note=arguments.note,
     )

@@ -17,10 +17,12 @@ from diffbot.calibration import (
     apply_to,
     calibrated_path,
     controller_yaml_lines,
+    multiplier_base,
     params_json,
     umbmark,
     xacro_arguments,
 )
+from diffbot.controller_config import ControllerConfig
 from diffbot.errors import CalibrationError
 from diffbot.urdf.controllers import load_controllers
 
@@ -177,3 +179,21 @@ def test_a_description_without_the_arguments_is_refused(tmp_path: Path) -> None:
 def test_other_files_are_refused(tmp_path: Path) -> None:
     with pytest.raises(CalibrationError, match="applies to a controllers YAML"):
         apply_to(tmp_path / "notes.txt", CALIBRATED)
+
+
+def test_multipliers_scale_the_controllers_own_radius_and_separation() -> None:
+    config = ControllerConfig(
+        "diff",
+        "c.yaml",
+        2,
+        wheel_separation=0.3,
+        wheel_radius=0.05,
+        wheel_separation_multiplier=1.1,
+    )
+    robot = BOT.replace(wheel_radius=0.05, wheel_separation=0.33, controller=config)
+    assert multiplier_base(robot) == (0.05, 0.3)
+    assert multiplier_base(BOT) == (0.035, 0.135)
+    assert multiplier_base(BOT.replace(controller=ControllerConfig("d", "c.yaml", 2))) == (
+        0.035,
+        0.135,
+    )

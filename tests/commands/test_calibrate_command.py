@@ -162,6 +162,34 @@ def test_fit_writes_a_calibrated_copy_beside_the_file(
     run(runner, *args, "--force")
 
 
+ROVER = Path(__file__).resolve().parents[2] / "docs" / "examples" / "rover"
+
+
+def test_fit_of_a_robot_with_a_controller_rewrites_its_multipliers(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # The rover's controller scales wheel_radius 0.05 m by 1.002 and 0.998; the real robot
+    # rolls on 0.0503 m and 0.0497 m, 0.306 m apart.
+    robot = ["--robot", str(ROVER / "urdf" / "rover.urdf.xacro")]
+    robot += ["--package", f"rover_description={ROVER}"]
+    path = tmp_path / "rover.csv"
+    truth = ["--true-wheel-radius", "0.0503,0.0497", "--true-separation", "0.306"]
+    run(runner, "simulate", *robot, "--example", "A", *truth, "--out", str(path))
+    controllers = tmp_path / "controllers.yaml"
+    controllers.write_bytes((ROVER / "config" / "controllers.yaml").read_bytes())
+    args = ["calibrate", "fit", str(path), *robot, "--apply-to", str(controllers), "--json"]
+    data = json.loads(run(runner, *args).stdout)
+    assert data["nominal"]["left_wheel_radius"] == pytest.approx(0.0501, rel=1e-12)
+    assert data["left_wheel_radius"] == pytest.approx(0.0503, rel=1e-9)
+    assert data["controller_yaml"] == [
+        "wheel_separation_multiplier: 1.02",
+        "left_wheel_radius_multiplier: 1.006",
+        "right_wheel_radius_multiplier: 0.994",
+    ]
+    copy = (tmp_path / "controllers.calibrated.yaml").read_text(encoding="utf-8")
+    assert "      left_wheel_radius_multiplier: 1.006\n" in copy
+
+
 def test_fit_refuses_both_kinds_of_window(runner: CliRunner, run_csv: Path) -> None:
     line = bad_input(
         runner, "calibrate", "fit", str(run_csv), "--window", "5", "--window-duration", "1"
