@@ -236,6 +236,28 @@ def test_umbmark_json_has_the_params_keys_and_the_errors(runner: CliRunner) -> N
     assert data["applied_to"] is None
 
 
+def test_umbmark_of_simulated_squares_recovers_the_truth(runner: CliRunner, tmp_path: Path) -> None:
+    # Radii 0.1 % apart, separation 1 % off: the squares simulate drives end where UMBmark
+    # measures; --exact recovers the robot to rounding, the first-order formulas within their
+    # bound (docs/calibration.md: 5 % of the separation's error).
+    truth = ["--true-wheel-radius", "0.0349825,0.0350175", "--true-separation", "0.13635"]
+    ends = []
+    for direction in ("--cw", "--ccw"):
+        path = tmp_path / f"{direction[2:]}.csv"
+        square = ["--example", "umbmark", "--side", "4", direction, "--rate", "1"]
+        run(runner, "simulate", *square, *truth, "--out", str(path))
+        last = path.read_text(encoding="utf-8").splitlines()[-1].split(",")
+        ends += [direction, f"{last[-3]},{last[-2]}"]
+    exact = json.loads(
+        run(runner, "calibrate", "umbmark", "--side", "4", *ends, "--exact", "--json").stdout
+    )
+    assert exact["left_wheel_radius"] == pytest.approx(0.0349825, rel=1e-9)
+    assert exact["right_wheel_radius"] == pytest.approx(0.0350175, rel=1e-9)
+    assert exact["wheel_separation"] == pytest.approx(0.13635, rel=1e-9)
+    first = json.loads(run(runner, "calibrate", "umbmark", "--side", "4", *ends, "--json").stdout)
+    assert abs(first["wheel_separation"] - 0.13635) < 0.05 * (0.13635 - 0.135)
+
+
 def test_umbmark_reads_its_runs_from_yaml_and_csv(runner: CliRunner, tmp_path: Path) -> None:
     given = json.loads(run(runner, "calibrate", "umbmark", "--side", "4", *RUNS, "--json").stdout)
     runs_yaml = tmp_path / "runs.yaml"
