@@ -45,6 +45,18 @@ class _Output:
     apply_to: str | None
     force: bool
 
+    def check(self) -> None:
+        """Refuse, before any work, a --apply-to that is missing or whose copy may not be
+        written (it exists and --force is not given)."""
+        from diffbot.calibration.results import calibrated_path
+        from diffbot.io.outputs import output_target
+
+        if self.apply_to is not None:
+            source = Path(self.apply_to)
+            if not source.exists():
+                fail(f"--apply-to {self.apply_to}: no such file")
+            output_target(calibrated_path(source), force=self.force, inputs=[source])
+
 
 _output_options = option_group(
     [
@@ -177,6 +189,7 @@ def umbmark(
     """
     from diffbot.calibration.umbmark import umbmark as run_umbmark
 
+    output.check()
     rest, params = _robot(robot, tokens)
     if rest:
         fail(f"unexpected argument {rest[0]!r}: give the runs as --cw X,Y and --ccw X,Y")
@@ -257,6 +270,7 @@ def fit(
     from diffbot.io.recordings import read_recording
 
     require_scipy()
+    output.check()
     rest, params = _robot(robot, tokens)
     if len(rest) != 1:
         fail("give one INPUT: the recording of wheel joint positions")

@@ -159,6 +159,8 @@ def test_fit_writes_a_calibrated_copy_beside_the_file(
     assert source.read_text(encoding="utf-8") == text
     line = bad_input(runner, *args)
     assert line == f"error: {copy} exists: use --force to overwrite it"
+    line = bad_input(runner, "calibrate", "fit", str(run_csv), "--apply-to", "none.yaml")
+    assert line == "error: --apply-to none.yaml: no such file"
     run(runner, *args, "--force")
 
 
