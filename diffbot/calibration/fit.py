@@ -185,7 +185,8 @@ def fit(
     Raises:
         ParameterError: malformed arrays or stamps, a bad window or both ``window`` and
             ``window_duration``.
-        CalibrationError: fewer than two windows, or motion that cannot determine all three
+        CalibrationError: SciPy is not installed (the message says what to install), fewer
+            than two windows, or motion that cannot determine all three
             parameters (no translation, no turning, or only one kind of curve, which noise
             shows as a standard error over ``max_relative_stderr``); the message says what to
             drive.
