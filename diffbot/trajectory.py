@@ -64,14 +64,15 @@ __all__ = [
     "wheel_positions",
 ]
 
-#: Cruise path speed (m/s) of segments without a duration: the seed's 1 m in 10 s.
+#: Cruise path speed (m/s) of segments without a duration: 1 m in 10 s, as in the course's paths.
 DEFAULT_SPEED = 0.1
 #: Turn rate (rad/s) of spins without a duration. 0.5 rad/s (about 28.6 deg/s) turns the bundled
 #: robot's wheels at 0.96 rad/s (9.2 rpm): a quarter turn takes about 3.1 s.
 DEFAULT_SPIN_RATE = 0.5
 
-#: The seed's Figure 1 paths. A: a counter-clockwise half circle of radius 0.25 m, 1 m, a clockwise
-#: half circle, 1 m; B: the same pieces starting with a straight. Both end at (0, 1) heading x.
+#: The course's two example paths. A: a counter-clockwise half circle of radius 0.25 m, 1 m, a
+#: clockwise half circle, 1 m; B: the same pieces starting with a straight. Both end at (0, 1)
+#: heading x.
 EXAMPLES: dict[str, str] = {
     "A": "ccw 0.25 180 10s; straight 1 10s; cw 0.25 180 10s; straight 1 10s",
     "B": "straight 1 10s; ccw 0.25 180 10s; straight 1 10s; cw 0.25 180 10s",

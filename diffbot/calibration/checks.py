@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from diffbot.errors import ParameterError
-from diffbot.kinematics import _check_positive as check_positive
+from diffbot.numbers import positive_finite
 
 if TYPE_CHECKING:
     import numpy as np
@@ -14,9 +14,10 @@ if TYPE_CHECKING:
 __all__ = ["positive", "vector"]
 
 
-#: ``positive(name, value)``: ``value`` as a float; ParameterError naming ``name`` unless it is
-#: positive and finite (the check the robot's parameters get).
-positive = check_positive
+def positive(name: str, value: float) -> float:
+    """``value`` as a float; ParameterError naming ``name`` unless it is positive and finite
+    (the check the robot's parameters get)."""
+    return positive_finite(value, name)
 
 
 def vector(name: str, values: ArrayLike) -> NDArray[np.float64]:

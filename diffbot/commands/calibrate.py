@@ -255,7 +255,7 @@ def fit(
     theta (m, m, rad) beside a time column, or a bag's geometry_msgs/PoseStamped or
     nav_msgs/Odometry topic; it is interpolated at the wheel stamps. The motion over windows
     of --window samples is compared, starting from the description's values. Drive straights
-    and turns both ways (the seed's Trajectory A is enough).
+    and turns both ways (Trajectory A is enough).
 
     Needs SciPy: pip install 'diffbot-kinematics[calibrate]'
 

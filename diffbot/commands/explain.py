@@ -145,7 +145,7 @@ def plan(
     """A plan segment by segment: v, ω, each wheel's speed, the rpm check and the end pose.
 
     SPEC, FILE and the plan options are those of 'diffbot plan' (see 'diffbot plan --help');
-    without a plan, the seed's Trajectory A is explained.
+    without a plan, Trajectory A is explained.
     """
     rest, xacro_args = split_xacro_args(tokens)
     source = plan_input(rest, plan_options.example)

@@ -163,7 +163,7 @@ def plan_command(
     straight 1 10s and spin -90deg need no quotes).
     FILE is a .yaml/.yml list such as [{straight: 1, duration: 10}, {arc: ccw, radius: 0.25,
     angle: 180}, {spin: 90}], the same in .json ([{"straight": 1, "duration": 10}, {"spin":
-    90}]), or a .txt file in text form. Without either, the seed's Trajectory A is planned
+    90}]), or a .txt file in text form. Without either, Trajectory A is planned
     (--example A).
 
     With --max-accel, --max-angular-accel, --max-wheel-accel or --max-jerk (or the limits of the
@@ -178,7 +178,7 @@ def plan_command(
 
     \b
     Examples:
-      diffbot plan                                    the seed's Trajectory A
+      diffbot plan                                    Trajectory A (the default)
       diffbot plan "straight 1 10s; ccw 25cm 90; spin -90 2s"
       diffbot plan --example B --fastest
       diffbot plan path.yaml --format ros2 -o run.sh  a script of 'ros2 topic pub' commands

@@ -229,8 +229,8 @@ plan_input_options = option_group(
             "--example",
             type=click.Choice(["A", "B", "umbmark"], case_sensitive=False),
             metavar="A|B|umbmark",
-            help="One of the seed's Figure 1 paths (A is used when nothing is given), or the "
-            "UMBmark square of --side M (first leg along +x, turns in place).",
+            help="An example path: A or B, the course's two paths (A is used when nothing is "
+            "given), or the UMBmark square of --side M (first leg along +x, turns in place).",
         ),
         click.option("--side", type=POSITIVE, metavar="M", help="Side of the UMBmark square (m)."),
         click.option(

@@ -77,7 +77,7 @@ def plot(
 ) -> None:
     """A figure of a plan's path and wheel speeds, with recordings over it.
 
-    SPEC, FILE and the plan options are those of 'diffbot plan'; without a plan, the seed's
+    SPEC, FILE and the plan options are those of 'diffbot plan'; without a plan,
     Trajectory A is drawn. Above: the path in the odom frame (equal axes), the start and end
     poses, the robot's footprint at each segment's end and the segment numbers; with --odom,
     each recording's odometry path, its legend giving how far it ends from the plan's end.

@@ -222,7 +222,7 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
 
     \b
     Example:
-      diffbot fk 1.637 2.848            the seed's counter-clockwise arc: 0.0785 m/s, 0.314 rad/s
+      diffbot fk 1.637 2.848            Trajectory A's first arc: 0.0785 m/s, 0.314 rad/s
     """
     rest, xacro_args = split_xacro_args(tokens)
     if len(rest) != 2:

@@ -24,7 +24,7 @@ __all__ = ["BUNDLED_DESCRIPTION", "BUNDLED_PACKAGES", "Expansion", "check_xml", 
 
 _DESCRIPTION_DIR = Path(__file__).resolve().parent.parent / "description"
 
-#: The bundled robot description (the class's diffbot).
+#: The bundled robot description (the course's diffbot).
 BUNDLED_DESCRIPTION = _DESCRIPTION_DIR / "diffbot.urdf.xacro"
 
 #: ROS packages the bundled description refers to with ``$(find ...)``.
