@@ -454,13 +454,22 @@ def finish(
         )
     # A value counts as the description's when no override replaced it, or when the caller
     # passed the description's own value on (its ``sources`` say so).
+    # A controllers file is a description too: its values get the same check.
     sources = extra.get("sources") or {}
     wheels = f"the cylinders of wheel links {fields.left_child!r} and {fields.right_child!r}"
-    if wheel_radius is None or sources.get("wheel_radius") == "description":
-        _check_size(radius, "wheel radius", "wheel_radius", wheels, source)
-    if wheel_separation is None or sources.get("wheel_separation") == "description":
-        joints = f"joints {fields.left_joint!r} and {fields.right_joint!r}"
-        _check_size(fields.wheel_separation, "wheel separation", "wheel_separation", joints, source)
+    joints = f"joints {fields.left_joint!r} and {fields.right_joint!r}"
+    separation = fields.wheel_separation if wheel_separation is None else wheel_separation
+    for value, what, name, where in (
+        (radius, "wheel radius", "wheel_radius", wheels),
+        (separation, "wheel separation", "wheel_separation", joints),
+    ):
+        given = sources.get(name, "override")
+        if given.startswith("controllers:"):
+            _check_size(value, what, name, f"the controller's {name} in {given[12:]}", source)
+        elif (wheel_radius if name == "wheel_radius" else wheel_separation) is None or (
+            given == "description"
+        ):
+            _check_size(value, what, name, where, source)
     try:
         return DiffDriveParams(
             wheel_radius=radius,

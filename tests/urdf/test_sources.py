@@ -236,3 +236,12 @@ def test_a_file_of_macros_says_so(tmp_path: Path) -> None:
     robot = workspace(tmp_path, controllers=None)
     with pytest.raises(diffbot.DescriptionError, match="defines no links: is it a file of macros"):
         diffbot.load_params(robot.parent / "wheels.xacro")
+
+
+def test_a_controllers_file_gets_the_descriptions_size_check(tmp_path: Path) -> None:
+    absurd = CONTROLLERS.replace("wheel_separation: 0.36", "wheel_separation: 1200.0")
+    with pytest.raises(
+        diffbot.DescriptionError,
+        match=r"wheel separation 1260 m \(from the controller's wheel_separation in .*\) is out",
+    ):
+        load(workspace(tmp_path, controllers=absurd))
