@@ -13,15 +13,18 @@ from rosbags.typesys.stores import ros2_humble as m
 TYPESTORE = get_typestore(Stores.ROS2_HUMBLE)
 JOINT_STATE = "sensor_msgs/msg/JointState"
 
-#: One message: header stamp (ns), bag receive time (ns), joint names, positions (rad).
-Message = tuple[int, int, Sequence[str], Sequence[float]]
+#: One message: header stamp (ns), bag receive time (ns), joint names, positions (rad); or a
+#: receive time (ns) and raw bytes, for a damaged message.
+Message = tuple[int, int, Sequence[str], Sequence[float]] | tuple[int, bytes]
 
 
-def joint_state(stamp_ns: int, names: Sequence[str], positions: Sequence[float]) -> bytes:
+def joint_state(
+    stamp_ns: int, names: Sequence[str], positions: Sequence[float], frame_id: str = ""
+) -> bytes:
     sec, nanosec = divmod(stamp_ns, 1_000_000_000)
     msg = m.sensor_msgs__msg__JointState(
         header=m.std_msgs__msg__Header(
-            stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id=""
+            stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id=frame_id
         ),
         name=list(names),
         position=np.array(positions, dtype=np.float64),
@@ -38,6 +41,7 @@ def write_bag(
     topic: str = "/joint_states",
     storage: str = "sqlite3",
     chatter: bool = True,
+    frame_id: str = "",
 ) -> Path:
     """A rosbag2 directory with JointState messages on ``topic`` (and a String on /chatter)."""
     plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
@@ -46,8 +50,13 @@ def write_bag(
         other = None
         if chatter:
             other = writer.add_connection("/chatter", "std_msgs/msg/String", typestore=TYPESTORE)
-        for stamp_ns, received_ns, names, positions in messages:
-            writer.write(conn, received_ns, joint_state(stamp_ns, names, positions))
+        for message in messages:
+            if len(message) == 2:
+                received_ns, raw = message
+            else:
+                stamp_ns, received_ns, names, positions = message
+                raw = joint_state(stamp_ns, names, positions, frame_id)
+            writer.write(conn, received_ns, raw)
             if other is not None:
                 text = TYPESTORE.serialize_cdr(
                     m.std_msgs__msg__String(data="hi"), "std_msgs/msg/String"

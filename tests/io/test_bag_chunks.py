@@ -8,13 +8,13 @@ from contextlib import closing
 from pathlib import Path
 from typing import cast
 
+import bags
 import numpy as np
 import pytest
+from bags import JOINT_STATE, TYPESTORE, Message
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from robots import NAMED
-from rosbags.rosbag2 import StoragePlugin, Writer
-from rosbags.typesys import Stores, get_typestore
 from rosbags.typesys.stores import ros2_humble as m
 from sinks import Collect
 
@@ -25,44 +25,10 @@ from diffbot.odometry import Odometry
 from diffbot.replay import run_odometry
 from diffbot.samples import CLOCK_HEADER, CLOCK_RECEIVE, SKIP_UNREADABLE
 
-TYPESTORE = get_typestore(Stores.ROS2_HUMBLE)
-JOINT_STATE = "sensor_msgs/msg/JointState"
-
-#: header stamp (ns), receive time (ns), names, positions; or raw bytes for a damaged message.
-Message = tuple[int, int, Sequence[str], Sequence[float]] | tuple[int, bytes]
-
-
-def joint_state(stamp_ns: int, names: Sequence[str], positions: Sequence[float]) -> bytes:
-    sec, nanosec = divmod(stamp_ns, 1_000_000_000)
-    msg = m.sensor_msgs__msg__JointState(
-        header=m.std_msgs__msg__Header(
-            stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id="odom"
-        ),
-        name=list(names),
-        position=np.array(positions, dtype=np.float64),
-        velocity=np.empty(0),
-        effort=np.empty(0),
-    )
-    return bytes(TYPESTORE.serialize_cdr(msg, JOINT_STATE))
-
 
 def write_bag(path: Path, messages: Sequence[Message], storage: str = "sqlite3") -> Path:
-    plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
-    with Writer(path, version=9, storage_plugin=plugin) as writer:
-        conn = writer.add_connection("/joint_states", JOINT_STATE, typestore=TYPESTORE)
-        other = writer.add_connection("/chatter", "std_msgs/msg/String", typestore=TYPESTORE)
-        text = bytes(
-            TYPESTORE.serialize_cdr(m.std_msgs__msg__String(data="hi"), "std_msgs/msg/String")
-        )
-        for message in messages:
-            if len(message) == 2:
-                received_ns, raw = message
-            else:
-                stamp_ns, received_ns, names, positions = message
-                raw = joint_state(stamp_ns, names, positions)
-            writer.write(conn, received_ns, raw)
-            writer.write(other, received_ns, text)
-    return path
+    """A bag of these messages, with header frame ids set (and a String topic beside them)."""
+    return bags.write_bag(path, messages, storage=storage, frame_id="odom")
 
 
 def reference(path: Path) -> tuple[Odometry, str, list[tuple[int, float, float, float]]]:
