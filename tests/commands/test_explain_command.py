@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from cli_results import assert_one_error_line
 from click.testing import CliRunner, Result
 from rendered import equations
 
@@ -22,11 +23,7 @@ def run(runner: CliRunner, *args: str) -> Result:
 
 
 def assert_bad_input(result: Result, fragment: str) -> None:
-    assert result.exit_code == 2, result.output
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1, result.stderr
-    assert lines[0].startswith("error: ")
-    assert fragment in lines[0]
+    assert_one_error_line(result, fragment)
     assert result.stdout == ""
 
 

@@ -19,6 +19,7 @@ from typing import Any
 
 import pytest
 import yaml
+from cli_results import assert_one_error_line as assert_bad_input
 from click.testing import CliRunner, Result
 from hypothesis import given
 from hypothesis import strategies as st
@@ -34,17 +35,6 @@ Write = Callable[[str, str], Path]
 
 def run(runner: CliRunner, *args: str) -> Result:
     return runner.invoke(main, ["plan", *args])
-
-
-def assert_bad_input(result: Result, *fragments: str) -> None:
-    """Exit 2, one ``error:`` line on stderr holding every fragment, no traceback."""
-    assert result.exit_code == 2, result.output
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1, result.stderr
-    assert lines[0].startswith("error: ")
-    for fragment in fragments:
-        assert fragment in lines[0]
-    assert "Traceback" not in result.output
 
 
 # --------------------------------------------------------------------------------------------

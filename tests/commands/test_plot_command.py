@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from cli_results import assert_one_error_line as assert_bad_input
 from click.testing import CliRunner, Result
 from figures import axes_labelled, colour_at, near, png_pixels
 
@@ -28,14 +29,6 @@ pytest.importorskip("matplotlib", reason="plotting needs the 'plot' extra")
 
 def run(runner: CliRunner, *args: str) -> Result:
     return runner.invoke(main, ["plot", *args], catch_exceptions=False, prog_name="diffbot")
-
-
-def assert_bad_input(result: Result, fragment: str) -> None:
-    assert result.exit_code == 2, result.output
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1, result.stderr
-    assert lines[0].startswith("error: ")
-    assert fragment in lines[0]
 
 
 def test_example_a_draws_the_path_and_the_wheel_speeds(

@@ -10,6 +10,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from cli_results import assert_one_error_line as assert_one_line_error
 from click.testing import CliRunner, Result
 
 from diffbot.cli import main
@@ -32,15 +33,6 @@ TWO_WHEELS = """<robot name="r">
 
 def run(runner: CliRunner, *args: str) -> Result:
     return runner.invoke(main, list(args), catch_exceptions=False, prog_name="diffbot")
-
-
-def assert_one_line_error(result: Result, fragment: str, code: int = 2) -> None:
-    assert result.exit_code == code, result.output
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1, result.stderr
-    assert lines[0].startswith("error: ")
-    assert fragment in lines[0]
-    assert "Traceback" not in result.output
 
 
 def test_version_names_the_program(runner: CliRunner) -> None:
