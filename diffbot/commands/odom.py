@@ -19,6 +19,7 @@ from diffbot.commands.options import OutOptions, RobotOptions
 from diffbot.commands.progress import progress
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
+from diffbot.io.outputs import check_not_input, note_input
 
 if TYPE_CHECKING:
     from diffbot.fleet import OdometryResult, OdometryTask
@@ -157,6 +158,8 @@ def odom(
     if len(sources) > 1:
         if "-" in sources:
             opt.fail("- (a CSV on stdin) cannot be read with other inputs")
+        for source in sources:  # all of them before any output is written
+            note_input(source)
         p = robot.load()
         outputs = _outputs(sources, out)
         tasks = [
@@ -241,6 +244,8 @@ def _outputs(sources: list[str], out: OutOptions) -> list[str | None]:
     twice = sorted({name for name in names if names.count(name) > 1})
     if twice:
         opt.fail(f"several inputs would write --out {out.out}/{twice[0]}: rename one")
+    for name in names:  # each output against every input, not only its own
+        check_not_input(folder / name)
     folder.mkdir(parents=True, exist_ok=True)
     return [str(folder / name) for name in names]
 

@@ -32,7 +32,7 @@ from diffbot.formats.plan_messages import plan_twist, plan_wheels
 from diffbot.formats.plan_table import plan_table, violation_lines
 from diffbot.formats.text import fmt
 from diffbot.io.command_bag import write_command_bag
-from diffbot.io.outputs import input_clash, write_text_atomic
+from diffbot.io.outputs import check_not_input, input_clash, write_text_atomic
 from diffbot.ros.script import ros2_script
 from diffbot.trajectory import Plan
 
@@ -201,8 +201,11 @@ def plan_command(
     source = plan_options.source(rest)
     # Early, before any work, and in the plan's own words; write_text_atomic checks again.
     plan_file = [Path(source.path)] if source.path is not None else []
-    if output is not None and input_clash(Path(output), plan_file) is not None:
-        fail(f"{output} is the plan file itself: write the output elsewhere")
+    if output is not None:
+        clash = input_clash(Path(output), plan_file)
+        if clash is not None and clash[1] in plan_file:
+            fail(f"{output} is the plan file itself: write the output elsewhere")
+        check_not_input(Path(output))
     params = robot.with_path(None, xacro_args).load()
     if plan_options.fastest and plan_options.limit is None and params.max_wheel_speed is None:
         fail(

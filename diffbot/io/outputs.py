@@ -6,7 +6,14 @@ whole: they are written to a temporary file beside the target, then moved into p
 ``force`` is given, the move itself refuses to replace anything (a hard link, or a rename
 without replace), so of two runs writing the same new output one wins and the other fails
 cleanly, with nothing lost. ``force`` replaces a directory only when it holds a rosbag2
-recording this tool could have written (``metadata.yaml`` and storage files, nothing else).
+recording this tool could have written (``metadata.yaml`` and storage files, nothing else),
+and never anything but a regular file or such a directory (a device, a FIFO, a socket).
+
+Every file a run reads is noted (:func:`note_input`) while a run is guarded (:func:`guarded_run`,
+which the command line opens around every command): the files named on the command line before
+the command starts, and each file as its reader opens it (descriptions and what they include,
+controllers files, plans, recordings, truth files). Every output check here compares the output
+with all of them, so a command cannot forget one.
 """
 
 from __future__ import annotations
@@ -17,7 +24,8 @@ import os
 import stat
 import sys
 import tempfile
-from collections.abc import Iterator, Sequence
+import threading
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import TextIO
 
@@ -27,8 +35,13 @@ __all__ = [
     "BAG_FILES",
     "atomic_text",
     "check_bag_output",
+    "check_not_input",
+    "check_replaceable",
+    "guarded_run",
     "input_clash",
     "move_new",
+    "note_input",
+    "noted_inputs",
     "output_target",
     "replace_bag",
     "write_text_atomic",
@@ -36,6 +49,62 @@ __all__ = [
 
 #: Storage files of a rosbag2 recording: given one of them, the recording is its directory.
 BAG_FILES = (".db3", ".mcap")
+
+# The inputs of the guarded run, in the order noted; None when no run is guarded (library use).
+_noted: dict[Path, None] | None = None
+_noted_lock = threading.Lock()
+
+
+@contextlib.contextmanager
+def guarded_run(inputs: Iterable[str | os.PathLike[str]] = ()) -> Iterator[None]:
+    """Guard one run: the inputs noted inside it are kept off every output checked inside it.
+
+    Args:
+        inputs: inputs known from the start (the files named on the command line).
+    """
+    global _noted
+    with _noted_lock:
+        saved, _noted = _noted, {}
+    try:
+        for path in inputs:
+            note_input(path)
+        yield
+    finally:
+        with _noted_lock:
+            _noted = saved
+
+
+def note_input(path: str | os.PathLike[str]) -> None:
+    """Note a file (or a recording's directory) the run reads, before it is read; outputs
+    checked afterwards may not be, lie inside or contain it. Does nothing outside a guarded run."""
+    with _noted_lock:
+        if _noted is not None:
+            _noted[Path(os.path.abspath(path))] = None
+
+
+def noted_inputs() -> tuple[Path, ...]:
+    """The inputs noted so far in the guarded run (absolute paths); empty outside one."""
+    with _noted_lock:
+        return () if _noted is None else tuple(_noted)
+
+
+def check_replaceable(path: Path) -> None:
+    """Refuse to replace what ``path`` names unless it is a regular file or a directory (whose
+    content the caller judges): never a device, a FIFO or a socket, even with ``force``.
+
+    Raises:
+        OutputError: it names a device, a FIFO or a socket (links followed).
+    """
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:  # nothing there, or a dangling link: nothing to lose
+        return
+    if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+        raise OutputError(
+            f"{path} is not a regular file (a device, FIFO or socket): refusing to replace it, "
+            "even with {force}",
+            path=str(path),
+        )
 
 
 def _occupied(path: Path) -> Path:
@@ -50,14 +119,15 @@ def _occupied(path: Path) -> Path:
     return resolved
 
 
-def input_clash(target: Path, inputs: Sequence[Path]) -> tuple[str, Path] | None:
+def input_clash(target: Path, inputs: Sequence[Path] = ()) -> tuple[str, Path] | None:
     """How an output path would touch an input: ("is" | "inside" | "contains", that input).
 
+    The inputs are ``inputs`` and every input noted in the guarded run (:func:`note_input`).
     Paths are compared resolved, links followed; a bag given as one of its files is its whole
     directory. None when the output touches no input.
     """
     resolved = target.resolve()
-    for given in inputs:
+    for given in dict.fromkeys([*inputs, *noted_inputs()]):
         occupied = _occupied(given)
         if resolved == occupied:
             return "is", given
@@ -80,13 +150,29 @@ def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Pa
     if path.exists() or path.is_symlink():
         if not force:
             raise OutputExistsError(f"{path} exists: use {{force}} to overwrite it", path=str(path))
+        check_replaceable(target)
         if target.exists() and not target.is_file():
             raise OutputError(
                 f"{path} is not a regular file: refusing to replace it", path=str(path)
             )
     if not target.parent.is_dir():
         raise OutputError(f"{path}: directory {target.parent} does not exist", path=str(path))
-    clash = input_clash(target, inputs)
+    check_not_input(path, target, inputs)
+    return target
+
+
+def check_not_input(path: Path, target: Path | None = None, inputs: Sequence[Path] = ()) -> None:
+    """Refuse an output that is, lies inside or contains an input (given or noted).
+
+    Args:
+        path: the output, as given.
+        target: where it really goes (links followed), if known; else ``path``.
+        inputs: inputs besides those noted in the guarded run.
+
+    Raises:
+        OutputError: it is, lies inside or contains an input.
+    """
+    clash = input_clash(path if target is None else target, inputs)
     if clash is not None:
         relation, given = clash
         what = {"is": "is an input", "inside": "lies inside the input", "contains": "contains"}
@@ -94,7 +180,6 @@ def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Pa
         raise OutputError(
             f"{path} {what[relation]}{detail}: refusing to overwrite it", path=str(path)
         )
-    return target
 
 
 @contextlib.contextmanager
@@ -231,10 +316,13 @@ def check_bag_output(path: Path, force: bool) -> None:
     Raises:
         OutputExistsError: ``path`` exists and ``force`` is false, or it is a directory that
             holds anything but a rosbag2 recording (``metadata.yaml`` and storage files).
-        OutputError: its directory does not exist.
+        OutputError: its directory does not exist, it is a device, FIFO or socket, or it is,
+            lies inside or contains an input.
     """
+    check_not_input(path, path)
     if (path.exists() or path.is_symlink()) and not force:
         raise OutputExistsError(f"{path} exists: use {{force}} to overwrite it", path=str(path))
+    check_replaceable(path)
     _check_replaceable_bag(path)
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
@@ -265,12 +353,14 @@ def _check_replaceable_bag(path: Path) -> None:
 def replace_bag(new: Path, path: Path, force: bool) -> None:
     """Move a finished bag directory ``new`` to ``path``, replacing what is there if ``force``
     and it is a file or a bag (checked again now, not only before the work)."""
+    check_not_input(path, path)
     if not force:
         move_new(new, path)
         return
     if not (path.exists() or path.is_symlink()):
         os.replace(new, path)
         return
+    check_replaceable(path)
     _check_replaceable_bag(path)
     old = Path(tempfile.mkdtemp(dir=new.parent, prefix="old."))
     os.replace(path, old / path.name)

@@ -9,6 +9,7 @@ from collections.abc import Iterator
 from typing import TextIO
 
 from diffbot.errors import DiffbotError
+from diffbot.io.outputs import note_input
 
 __all__ = ["check_regular", "open_text", "read_text"]
 
@@ -18,12 +19,14 @@ def check_regular(
 ) -> None:
     """Refuse, by its type and before it is opened, anything but an existing regular file.
 
-    A FIFO would block its reader and a device (``/dev/zero``) feed it endless data.
+    A FIFO would block its reader and a device (``/dev/zero``) feed it endless data. The file is
+    noted as an input of the run (:func:`diffbot.io.outputs.note_input`): no output goes over it.
 
     Raises:
         error: the file is missing, a directory, a FIFO, socket or device, or cannot be examined.
     """
     name = os.fspath(path) if name is None else name
+    note_input(path)
     try:
         mode = os.stat(path).st_mode
     except FileNotFoundError:

@@ -106,7 +106,10 @@ def test_out_dir_never_replaces_an_input_even_with_force(
 ) -> None:
     bag = Path(fleet[4])
     before = sorted((p.name, p.read_bytes()) for p in bag.iterdir())
-    rows = json_lines(runner, fleet[4], fleet[0], "--out", str(tmp_path), "--bag", "--force")
-    assert "is or holds the input" in str(rows[0]["error"])
+    args = ["odom", fleet[4], fleet[0], "--out", str(tmp_path), "--bag", "--force"]
+    result = runner.invoke(main, args)
+    # Refused before any output is written: every output is checked against every input first.
+    assert result.exit_code == 2, result.output
+    assert result.stderr.startswith(f"error: {bag} is an input")
     assert sorted((p.name, p.read_bytes()) for p in bag.iterdir()) == before
-    assert (tmp_path / "run0" / "metadata.yaml").is_file()  # the other input's bag
+    assert not (tmp_path / "run0").exists()

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import signal
+import stat
 import sqlite3
 import subprocess
 import sys
@@ -230,3 +231,105 @@ def test_a_closed_stdout_is_one_error_line() -> None:
     )
     assert done.returncode == 2, done.stderr
     one_error_line(done.stderr, "standard output is closed")
+
+
+# --- one guard for every run: the inputs noted, and what --force may replace ---------------------
+
+
+def test_an_output_checked_in_a_guarded_run_avoids_every_noted_input(tmp_path: Path) -> None:
+    from diffbot.errors import OutputError
+    from diffbot.io.outputs import check_bag_output, guarded_run, note_input, output_target
+
+    folder = tmp_path / "recording"
+    folder.mkdir()
+    plan = tmp_path / "plan.txt"
+    plan.write_text("straight 1\n", encoding="utf-8")
+    with guarded_run([plan]):
+        note_input(folder)
+        with pytest.raises(OutputError, match="is an input"):
+            output_target(plan, force=True)
+        with pytest.raises(OutputError, match="lies inside the input"):
+            output_target(folder / "poses.csv", force=False)
+        with pytest.raises(OutputError, match="contains"):
+            check_bag_output(tmp_path, force=True)
+    # Outside a guarded run (the library called directly) nothing is noted.
+    note_input(plan)
+    assert output_target(plan, force=True) == plan
+
+
+def test_guarded_runs_do_not_leak_their_inputs(tmp_path: Path) -> None:
+    from diffbot.io.outputs import guarded_run, noted_inputs
+
+    with guarded_run([tmp_path / "a"]):
+        with guarded_run([tmp_path / "b"]):
+            assert noted_inputs() == (tmp_path / "b",)
+        assert noted_inputs() == (tmp_path / "a",)
+    assert noted_inputs() == ()
+
+
+def test_a_text_input_is_noted_when_it_is_checked(tmp_path: Path) -> None:
+    from diffbot.errors import PlanError
+    from diffbot.io.outputs import guarded_run, noted_inputs
+    from diffbot.io.textfile import read_text
+
+    plan = tmp_path / "plan.txt"
+    plan.write_text("straight 1\n", encoding="utf-8")
+    with guarded_run():
+        read_text(plan, PlanError, "a plan file")
+        assert noted_inputs() == (plan,)
+
+
+@pytest.mark.parametrize("force", [False, True])
+def test_a_bag_output_over_a_fifo_is_refused_with_or_without_force(
+    tmp_path: Path, force: bool
+) -> None:
+    from diffbot.errors import OutputError
+    from diffbot.io.outputs import check_bag_output
+
+    fifo = tmp_path / "jam"
+    os.mkfifo(fifo)
+    with pytest.raises(OutputError, match="not a regular file|exists"):
+        check_bag_output(fifo, force=force)
+    assert stat.S_ISFIFO(fifo.lstat().st_mode)
+
+
+def test_a_fifo_put_in_place_of_a_bag_during_the_work_is_kept(tmp_path: Path) -> None:
+    from diffbot.errors import OutputError
+
+    new = tmp_path / ".staging" / "run"
+    new.mkdir(parents=True)
+    (new / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n", encoding="utf-8")
+    fifo = tmp_path / "run"
+    os.mkfifo(fifo)  # appeared after the early check
+    with pytest.raises(OutputError, match="not a regular file"):
+        replace_bag(new, fifo, force=True)
+    assert stat.S_ISFIFO(fifo.lstat().st_mode)
+
+
+def test_a_file_output_over_a_fifo_is_refused_with_force(tmp_path: Path) -> None:
+    from diffbot.errors import OutputError
+
+    fifo = tmp_path / "jam"
+    os.mkfifo(fifo)
+    with pytest.raises(OutputError, match="not a regular file"):
+        write_text_atomic(fifo, "x", force=True)
+    assert stat.S_ISFIFO(fifo.lstat().st_mode)
+
+
+def test_the_command_line_names_its_inputs_but_not_its_outputs(tmp_path: Path) -> None:
+    from diffbot.cli import named_inputs
+
+    for name in ("robot.urdf", "plan.txt", "in.csv", "out.csv", "o.csv", "x.png", "bag"):
+        (tmp_path / name).write_text("", encoding="utf-8")
+    given = {name: str(tmp_path / name) for name in os.listdir(tmp_path)}
+    tokens = [
+        *("plan", given["plan.txt"], f"--robot={given['robot.urdf']}", "wheel_radius:=0.1"),
+        *("--odom", given["in.csv"], "--out", given["out.csv"], f"-o{given['o.csv']}"),
+        *(f"--output={given['x.png']}", "-", "--force", given["bag"], "missing.csv"),
+    ]
+    assert named_inputs(tokens) == [
+        given["plan.txt"],
+        given["robot.urdf"],
+        given["in.csv"],
+        given["bag"],
+    ]
