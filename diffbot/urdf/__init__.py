@@ -87,7 +87,14 @@ def load_params(
     expansion = expand(path, args, packages, trust=trust)
     root = ElementTree.fromstring(expansion.urdf)
     warnings = list(expansion.warnings)
-    config = find_controller(root, controllers, controller, warnings)
+    config = find_controller(
+        root,
+        controllers,
+        controller,
+        warnings,
+        description=expansion.files[0] if expansion.files else None,
+        folders=None if trust else expansion.folders,
+    )
 
     def derive(left: JointChoice, right: JointChoice) -> Derived:
         return cached_fields(expansion.urdf, source, left, right)

@@ -35,6 +35,7 @@ __all__ = [
     "MAX_ELEMENTS",
     "XACRO_LOCK",
     "description_roots",
+    "inside_folders",
     "process",
     "sandboxed",
 ]
@@ -75,6 +76,13 @@ def description_roots(path: str | os.PathLike[str]) -> tuple[Path, ...]:
     return tuple(roots)
 
 
+def inside_folders(path: str | os.PathLike[str], folders: Iterable[Path]) -> bool:
+    """Whether ``path``, symbolic links resolved, is one of ``folders`` (resolved) or lies
+    inside one."""
+    real = Path(path).resolve()
+    return any(real == f or f in real.parents for f in (Path(f).resolve() for f in folders))
+
+
 class _Roots:
     """The folders files may be read from; ``$(find PKG)`` adds the folders it resolves."""
 
@@ -89,8 +97,7 @@ class _Roots:
             self.folders.append(folder)
 
     def check(self, filename: str, what: str) -> None:
-        real = Path(filename).resolve()
-        if any(real == f or f in real.parents for f in self.folders):
+        if inside_folders(filename, self.folders):
             return
         folders = ", ".join(str(f) for f in self.folders)
         raise OutsideRootsError(
@@ -226,6 +233,7 @@ def sandboxed(
     max_bytes: int = MAX_BYTES,
     max_depth: int = MAX_DEPTH,
     max_elements: int = MAX_ELEMENTS,
+    folders: list[Path] | None = None,
 ) -> Iterator[list[Path]]:
     """Patch xacro so that the expansion of ``path`` run inside is sandboxed and bounded.
 
@@ -241,6 +249,9 @@ def sandboxed(
         max_bytes: most characters of text evaluated in the whole expansion.
         max_depth: deepest nesting of macro calls and of included files.
         max_elements: most elements processed (macro bodies and blocks count each time).
+        folders: a list that receives, on exit, the folders the description may read (its own,
+            its package's, ``roots`` and the packages ``$(find PKG)`` resolved), so that files
+            its text names (a controllers file) can be held to the same sandbox.
 
     Yields:
         The files the expansion reads (included files and YAML data, not ``path`` itself), filled
@@ -355,6 +366,8 @@ def sandboxed(
                 subst._eval = subst_eval
             yield read
         finally:
+            if folders is not None:
+                folders.extend(allowed.folders)
             for name in _PATCHED:
                 setattr(xacro, name, saved[name])
             xacro.safe_eval = saved["safe_eval"]
@@ -399,7 +412,7 @@ def process(
         mappings: xacro arguments (``NAME:=VALUE``).
         files: a list that receives the files the expansion read besides ``path``.
         **options: the keywords of :func:`sandboxed` (``roots``, ``find``, ``trust``,
-            ``max_bytes``, ``max_depth``, ``max_elements``).
+            ``max_bytes``, ``max_depth``, ``max_elements``, ``folders``).
 
     Returns:
         The expanded URDF text.

@@ -17,10 +17,11 @@ from typing import Final
 from xml.etree import ElementTree
 
 from diffbot.controller_config import ControllerConfig
-from diffbot.errors import DriveWheelError
+from diffbot.errors import DriveWheelError, OutsideRootsError
 from diffbot.kinematics import DiffDriveParams, Disagreement
 from diffbot.urdf.controllers import choose_controller, load_controllers
 from diffbot.urdf.gazebo import gazebo_drives, ros2_control_parameter_files
+from diffbot.urdf.sandbox import inside_folders
 from diffbot.urdf.wheels import Derived, JointChoice, finish
 
 __all__ = [
@@ -61,25 +62,53 @@ def find_controller(
     controllers: str | os.PathLike[str] | None,
     controller: str | None,
     warnings: list[str],
+    *,
+    description: str | os.PathLike[str] | None = None,
+    folders: Sequence[Path] | None = None,
 ) -> ControllerConfig | None:
     """The diff-drive controller the robot runs with: from ``controllers`` when given, else from
     the parameters file its ros2_control Gazebo plugin names (a missing file is a warning).
 
+    A file the description names is the description's to choose, so it is held to the
+    description's sandbox: a relative name is taken from the description's folder (not the
+    current directory), and unless ``folders`` is None (a trusted description) the file,
+    symbolic links resolved, must lie in one of ``folders``; it must be a regular file.
+
+    Args:
+        root: the expanded URDF.
+        controllers: the controllers file the user gives, read wherever it is.
+        controller: which diff-drive controller of the file.
+        warnings: receives a warning for a named file that does not exist.
+        description: the description file, whose folder relative names start from.
+        folders: the folders an untrusted description may read; None to read any file.
+
     Returns None when no file is given or found, or the files found hold no diff-drive
     controller (and none was asked for by name).
+
+    Raises:
+        OutsideRootsError: a file the description names lies outside ``folders``.
+        ControllerConfigError: a file is not a regular file, or is malformed.
     """
     if controllers is not None:
         return choose_controller(load_controllers(controllers), controller)
     configs = []
+    base = Path(description).resolve().parent if description is not None else Path.cwd()
     for name in ros2_control_parameter_files(root):
-        path = _shown(Path(name.strip()))
-        if not path.is_file():
+        named = Path(name.strip())
+        path = named if named.is_absolute() else base / named
+        if folders is not None and not inside_folders(path, folders):
+            raise OutsideRootsError(
+                f"{name.strip()}: the controllers file the description's ros2_control plugin "
+                "names is outside the description's folders, so it is not read; trust the "
+                "description ({trust}) or give the file ({controllers})"
+            )
+        if not (path.exists() or path.is_symlink()):
             warnings.append(
                 f"the ros2_control plugin names the parameters file {name.strip()!r}, which does "
                 "not exist here: its controller settings are not read"
             )
             continue
-        configs += load_controllers(path)
+        configs += load_controllers(_shown(path))
     if not configs and controller is None:
         return None
     return choose_controller(configs, controller)

@@ -43,11 +43,15 @@ class Expansion:
         warnings: what xacro warned about, and xacro arguments the description never declares.
         files: every file the description was read from: the file itself, then what it
             included and the YAML data it loaded.
+        folders: the folders an untrusted description may read (its own, its package's, the
+            packages given or found by ``$(find PKG)``): files its text names, such as a
+            controllers file, are read only there.
     """
 
     urdf: str
     warnings: tuple[str, ...] = ()
     files: tuple[Path, ...] = ()
+    folders: tuple[Path, ...] = ()
 
 
 class _RecordingArgs(dict[str, str]):
@@ -156,13 +160,15 @@ def expand(
     source = Path(path) if path is not None else BUNDLED_DESCRIPTION
     text = _check_file(source)
     given = {str(k): str(v) for k, v in (args or {}).items()}
-    if not _is_xacro(source, text):
-        check_xml(text, str(source))
-        warnings = [f"{source} is plain URDF: xacro argument {name!r} ignored" for name in given]
-        return Expansion(text, tuple(warnings), (source,))
-
     known: dict[str, str | os.PathLike[str]] = dict(BUNDLED_PACKAGES)
     known.update(packages or {})
+    if not _is_xacro(source, text):
+        from diffbot.urdf.sandbox import description_roots
+
+        check_xml(text, str(source))
+        warnings = [f"{source} is plain URDF: xacro argument {name!r} ignored" for name in given]
+        folders = (*description_roots(source), *(Path(p).resolve() for p in known.values()))
+        return Expansion(text, tuple(warnings), (source,), folders)
     return _run_xacro(source, given, known, trust)
 
 
@@ -178,6 +184,7 @@ def _run_xacro(
     find = _package_resolver(source, packages)
     stderr = io.StringIO()
     files: list[Path] = []
+    folders: list[Path] = []
     with contextlib.redirect_stderr(stderr):
         urdf = process(
             source,
@@ -186,13 +193,14 @@ def _run_xacro(
             find=find,
             trust=trust,
             files=files,
+            folders=folders,
         )
     warnings = [one_line(line.removeprefix("warning: ")) for line in stderr.getvalue().splitlines()]
     warnings = [w for w in warnings if w]
     for name in given:
         if name not in mappings.seen:
             warnings.append(f"xacro argument {name!r} is not declared by {source.name}: ignored")
-    return Expansion(urdf, tuple(warnings), tuple(dict.fromkeys([source, *files])))
+    return Expansion(urdf, tuple(warnings), tuple(dict.fromkeys([source, *files])), tuple(folders))
 
 
 def check_xml(text: str, source: str) -> ET.Element:
