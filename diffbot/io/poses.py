@@ -69,10 +69,9 @@ def read_pose_track(path: str | os.PathLike[str], topic: str | None = None) -> P
             topics, or no pose at all.
     """
     from diffbot.io.bag import is_bag
+    from diffbot.io.recordings import existing_recording
 
-    p = Path(path)
-    if not p.exists():
-        raise RecordingError(f"{p}: no such file or directory")
+    p = existing_recording(path)
     if is_bag(p):
         return _read_bag(p, topic)
     return _read_csv(p)

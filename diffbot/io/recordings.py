@@ -29,7 +29,7 @@ from diffbot.io.bag import DEFAULT_TOPIC, JOINT_STATE, is_bag, read_bag
 from diffbot.io.bag_chunks import CHUNK_MESSAGES, BagError, TopicChunks
 from diffbot.io.csv_chunks import CHUNK_BYTES, open_csv_chunks, read_csv
 from diffbot.io.jointstate_cdr import decode_positions
-from diffbot.io.outputs import BAG_FILES
+from diffbot.io.outputs import note_input
 from diffbot.io.textfile import check_regular
 from diffbot.kinematics import DiffDriveParams
 from diffbot.samples import (
@@ -50,6 +50,7 @@ __all__ = [
     "RecordingOdometry",
     "bag_odometry",
     "csv_odometry",
+    "existing_recording",
     "read_recording",
     "recording_odometry",
     "recording_size",
@@ -197,9 +198,13 @@ def bag_odometry(
         return RecordingOdometry(chunks.source, "rosbag2", odom.summary(chunks.source), clock)
 
 
-def _existing(path: str | os.PathLike[str]) -> Path:
+def existing_recording(path: str | os.PathLike[str]) -> Path:
     """The path of a recording whose files are all regular files (a FIFO or a device would
-    block or feed endless data).
+    block or feed endless data), noted as an input of the run.
+
+    A bag folder's storage files are the ones its ``metadata.yaml`` names, under any name and
+    read from the folder itself, so every file in the folder is checked, not only ``.db3`` and
+    ``.mcap`` ones.
 
     Raises:
         RecordingError: it is missing, or one of its files is not a regular file.
@@ -207,9 +212,10 @@ def _existing(path: str | os.PathLike[str]) -> Path:
     p = Path(path)
     if not p.exists():
         raise RecordingError(f"{p}: no such file or directory")
+    note_input(p)
     parts = [p] if not p.is_dir() else sorted(p.iterdir())
     for part in parts:
-        if part is p or part.name == "metadata.yaml" or part.suffix.lower() in BAG_FILES:
+        if part is p or not part.is_dir():
             check_regular(part, RecordingError, "a recording")
     return p
 
@@ -236,7 +242,7 @@ def recording_odometry(
         RecordingError: missing, empty or unreadable input; missing columns or topic; no
             usable sample.
     """
-    p = _existing(path)
+    p = existing_recording(path)
     if is_bag(p):
         return bag_odometry(p, params, topic, sink=sink, progress=progress)
     return csv_odometry(p, params, sink=sink, progress=progress)
@@ -246,7 +252,7 @@ def recording_size(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> 
     """How much :func:`recording_odometry` will report to ``progress`` in all: a bag topic's
     message count from its metadata, a CSV file's size; None when not known cheaply."""
     try:
-        p = _existing(path)
+        p = existing_recording(path)
         if not is_bag(p):
             return p.stat().st_size
         with closing(TopicChunks(p, topic)) as chunks:
@@ -271,7 +277,7 @@ def read_recording(
     Raises:
         RecordingError: missing, empty or unreadable input; missing columns or topic.
     """
-    p = _existing(path)
+    p = existing_recording(path)
     if is_bag(p):
         wheels = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
         return _within_range(read_bag(p, topic), wheels)
