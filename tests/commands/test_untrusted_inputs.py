@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import stat
 import subprocess
 import sys
 import time
@@ -298,3 +299,383 @@ def test_no_output_goes_over_a_file_the_description_included(
     assert result.stderr.startswith("error: ")
     assert "wheel.xacro" in result.stderr
     assert included.read_bytes() == before
+
+
+# --- files a description names ------------------------------------------------------------------
+
+#: A controllers file whose separation (0.5 m) differs from the robots' joints (0.2 m).
+CONTROLLERS_YAML = """controller_manager:
+  ros__parameters:
+    diff_cont: {type: diff_drive_controller/DiffDriveController}
+diff_cont:
+  ros__parameters: {wheel_separation: 0.5, wheel_radius: 0.05}
+"""
+
+#: Content no error message may ever show (it would leak a file outside the description).
+SECRET = "SECRET-a1b2c3"
+
+
+def plugin_body(parameters: str) -> str:
+    """A ros2_control Gazebo plugin naming ``parameters`` as its controllers file."""
+    return (
+        '<gazebo><plugin filename="gz_ros2_control-system" name="gz_ros2_control::Plugin">'
+        f"<parameters>{parameters}</parameters></plugin></gazebo>"
+    )
+
+
+def plugin_robot(folder: Path, parameters: str, *, xacro: bool = False) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / ("robot.urdf.xacro" if xacro else "robot.urdf")
+    path.write_text(two_wheel_urdf(body=plugin_body(parameters), xacro=xacro), encoding="utf-8")
+    return path
+
+
+def outside_files(tmp_path: Path) -> tuple[Path, Path]:
+    """A readable controllers file and a secret, both outside the description's tree."""
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    good = outside / "controllers.yaml"
+    good.write_text(CONTROLLERS_YAML, encoding="utf-8")
+    secret = outside / "secret.yaml"
+    secret.write_text(f"{SECRET}: [\n", encoding="utf-8")  # malformed: its text would show
+    return good, secret
+
+
+def separation(result: Result) -> float:
+    assert result.exit_code == 0, result.output
+    return float(json.loads(result.stdout)["wheel_separation"])
+
+
+def test_a_controllers_file_named_by_absolute_path_outside_the_tree_is_refused(
+    tmp_path: Path,
+) -> None:
+    good, secret = outside_files(tmp_path)
+    for named in (good, secret):
+        robot = plugin_robot(tmp_path / "robot", str(named))
+        result = run(CliRunner(), "params", str(robot), "--json")
+        assert_one_line_error(result, str(named), "--trust")
+        assert SECRET not in result.output
+    # Trusted, the description may name any file: the old behaviour.
+    robot = plugin_robot(tmp_path / "robot", str(good))
+    assert separation(run(CliRunner(), "params", str(robot), "--json", "--trust")) == 0.5
+
+
+@pytest.mark.parametrize("named", ["/etc/passwd", "/proc/self/environ"])
+def test_system_files_named_as_controllers_are_never_read(tmp_path: Path, named: str) -> None:
+    robot = plugin_robot(tmp_path / "robot", named)
+    result = run(CliRunner(), "params", str(robot))
+    assert_one_line_error(result, named, "--trust")
+    assert "root:" not in result.output
+    assert "PATH=" not in result.output
+
+
+def test_a_link_in_the_tree_to_a_controllers_file_outside_is_refused(tmp_path: Path) -> None:
+    _, secret = outside_files(tmp_path)
+    robot = plugin_robot(tmp_path / "robot", "config/controllers.yaml")
+    (robot.parent / "config").mkdir()
+    (robot.parent / "config" / "controllers.yaml").symlink_to(secret)
+    result = run(CliRunner(), "params", str(robot))
+    assert_one_line_error(result, "config/controllers.yaml", "--trust")
+    assert SECRET not in result.output
+
+
+def test_find_then_dot_dot_out_of_the_package_is_refused(tmp_path: Path) -> None:
+    outside_files(tmp_path)
+    package = tmp_path / "pkg"
+    robot = plugin_robot(package / "urdf", "$(find pkg)/../outside/controllers.yaml", xacro=True)
+    (package / "package.xml").write_text("<package/>", encoding="utf-8")
+    result = run(CliRunner(), "params", str(robot), "--package", f"pkg={package}")
+    assert_one_line_error(result, "outside/controllers.yaml", "--trust")
+
+
+def test_a_controllers_file_in_the_package_is_read(tmp_path: Path) -> None:
+    package = tmp_path / "pkg"
+    robot = plugin_robot(package / "urdf", "$(find pkg)/config/controllers.yaml", xacro=True)
+    (package / "package.xml").write_text("<package/>", encoding="utf-8")
+    (package / "config").mkdir()
+    (package / "config" / "controllers.yaml").write_text(CONTROLLERS_YAML, encoding="utf-8")
+    result = run(CliRunner(), "params", str(robot), "--package", f"pkg={package}", "--json")
+    assert separation(result) == 0.5
+
+
+def test_a_relative_controllers_path_is_taken_from_the_description_folder(
+    tmp_path: Path,
+) -> None:
+    robot = plugin_robot(tmp_path / "robot", "config/controllers.yaml")
+    (robot.parent / "config").mkdir()
+    (robot.parent / "config" / "controllers.yaml").write_text(CONTROLLERS_YAML, encoding="utf-8")
+    elsewhere = tmp_path / "elsewhere"
+    (elsewhere / "config").mkdir(parents=True)
+    (elsewhere / "config" / "controllers.yaml").write_text(
+        CONTROLLERS_YAML.replace("0.5", "0.7"), encoding="utf-8"
+    )
+    done = run_process("params", str(robot), "--json", cwd=elsewhere)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["wheel_separation"] == 0.5
+
+
+def test_a_relative_controllers_path_never_reads_the_current_folder(tmp_path: Path) -> None:
+    robot = plugin_robot(tmp_path / "robot", "secret.yaml")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "secret.yaml").write_text(f"{SECRET}: [\n", encoding="utf-8")
+    done = run_process("params", str(robot), "--json", cwd=elsewhere)
+    assert done.returncode == 0, done.stderr
+    assert SECRET not in done.stdout + done.stderr
+    data = json.loads(done.stdout)
+    assert any("does not exist here" in warning for warning in data["warnings"])
+    assert data["wheel_separation"] == 0.2
+
+
+def test_a_fifo_named_as_controllers_in_the_tree_is_refused_by_type(tmp_path: Path) -> None:
+    robot = plugin_robot(tmp_path / "robot", "controllers.yaml")
+    os.mkfifo(robot.parent / "controllers.yaml")
+    assert_process_error(run_process("params", str(robot)), "not a regular file")
+
+
+def test_meshes_a_description_names_are_never_opened(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "wheel.stl")
+    mesh = f'<link name="shell"><visual><geometry><mesh filename="file://{tmp_path}/wheel.stl"/>'
+    robot = tmp_path / "robot" / "robot.urdf"
+    robot.parent.mkdir()
+    fixed = '<joint name="shell_joint" type="fixed"><parent link="base_link"/><child link="shell"/>'
+    body = f"{mesh}</geometry></visual></link>{fixed}</joint>"
+    robot.write_text(two_wheel_urdf(body=body), encoding="utf-8")
+    done = run_process("params", str(robot), "--json")
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["wheel_separation"] == 0.2
+
+
+# --- no output over any input, nor over what is not a file ------------------------------------
+
+ROVER = Path(__file__).resolve().parents[2] / "docs" / "examples" / "rover"
+#: Wheel positions for the rover's joints and the bundled robot's.
+RECORDING = (
+    "time,left_wheel_joint,right_wheel_joint,front_left_wheel_joint,front_right_wheel_joint\n"
+    "0,0,0,0,0\n1,1,1,1,1\n2,2,2,2,2\n"
+)
+
+#: Each command that writes --out, as a CSV (or plan text) file and as a bag; IN is a recording.
+WRITERS = {
+    "plan": (["plan", "straight 1"], "-o"),
+    "plan bag": (["plan", "straight 1", "--rate", "10", "--bag"], "--out"),
+    "simulate": (["simulate", "straight 1"], "--out"),
+    "simulate bag": (["simulate", "straight 1", "--bag"], "--out"),
+    "odom": (["odom", "IN"], "--out"),
+    "odom bag": (["odom", "IN", "--bag"], "--out"),
+}
+BAG_WRITERS = [name for name in WRITERS if name.endswith("bag")]
+
+
+def rover(tmp_path: Path) -> tuple[Path, list[str]]:
+    """A copy of the example rover package, and the options that load it."""
+    package = tmp_path / "rover"
+    shutil.copytree(ROVER, package)
+    robot = package / "urdf" / "rover.urdf.xacro"
+    return package, ["--robot", str(robot), "--package", f"rover_description={package}"]
+
+
+def writing(tmp_path: Path, writer: str, output: Path, *more: str) -> Result:
+    """Run ``writer`` with ``--force`` and its output option at ``output``."""
+    recording = tmp_path / "in.csv"
+    recording.write_text(RECORDING, encoding="utf-8")
+    command, option = WRITERS[writer]
+    args = [str(recording) if arg == "IN" else arg for arg in command]
+    return run(CliRunner(), *args, *more, option, str(output), "--force")
+
+
+def snapshot(folder: Path) -> dict[str, bytes]:
+    return {
+        str(path.relative_to(folder)): path.read_bytes()
+        for path in sorted(folder.rglob("*"))
+        if path.is_file()
+    }
+
+
+@pytest.mark.parametrize("writer", list(WRITERS))
+def test_force_never_writes_over_the_controllers_file_given(tmp_path: Path, writer: str) -> None:
+    controllers = tmp_path / "controllers.yaml"
+    shutil.copy(ROVER / "config" / "controllers.yaml", controllers)
+    before = controllers.read_bytes()
+    result = writing(tmp_path, writer, controllers, "--controllers", str(controllers))
+    assert_one_line_error(result, "controllers.yaml", "input")
+    assert controllers.read_bytes() == before
+
+
+@pytest.mark.parametrize("writer", list(WRITERS))
+def test_force_never_writes_over_the_controllers_file_a_plugin_names(
+    tmp_path: Path, writer: str
+) -> None:
+    package, robot = rover(tmp_path)
+    before = snapshot(package)
+    result = writing(tmp_path, writer, package / "config" / "controllers.yaml", *robot)
+    assert_one_line_error(result, "controllers.yaml", "input")
+    assert snapshot(package) == before
+
+
+@pytest.mark.parametrize("name", ["rover.urdf.xacro", "wheel.xacro"])
+@pytest.mark.parametrize("writer", BAG_WRITERS)
+def test_bag_force_never_replaces_the_description_or_its_includes(
+    tmp_path: Path, writer: str, name: str
+) -> None:
+    package, robot = rover(tmp_path)
+    before = snapshot(package)
+    result = writing(tmp_path, writer, package / "urdf" / name, *robot)
+    assert_one_line_error(result, name, "input")
+    assert snapshot(package) == before
+
+
+def test_calibrate_apply_to_never_writes_over_the_robot(tmp_path: Path) -> None:
+    import diffbot.urdf
+
+    source = tmp_path / "robot.urdf.xacro"
+    robot = tmp_path / "robot.calibrated.urdf.xacro"  # where --apply-to would write
+    shutil.copy(diffbot.urdf.BUNDLED_DESCRIPTION, source)
+    shutil.copy(diffbot.urdf.BUNDLED_DESCRIPTION, robot)
+    before = robot.read_bytes()
+    result = run(
+        CliRunner(),
+        *("calibrate", "umbmark", "--side", "4", "--cw", "-0.31,-0.40", "--ccw", "0.12,-0.09"),
+        *("--robot", str(robot), "--apply-to", str(source), "--force"),
+    )
+    assert_one_line_error(result, "robot.calibrated.urdf.xacro", "input")
+    assert robot.read_bytes() == before
+
+
+def make_device(path: Path, kind: str) -> None:
+    if kind == "fifo":
+        os.mkfifo(path)
+        return
+    try:
+        os.mknod(path, 0o666 | stat.S_IFCHR, os.makedev(1, 3))  # what /dev/null is
+    except PermissionError:
+        pytest.skip("making a device node needs CAP_MKNOD")
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device"])
+@pytest.mark.parametrize("writer", list(WRITERS))
+def test_force_never_replaces_a_device_or_a_fifo(tmp_path: Path, writer: str, kind: str) -> None:
+    node = tmp_path / "null"
+    make_device(node, kind)
+    mode = node.lstat().st_mode
+    result = writing(tmp_path, writer, node)
+    assert_one_line_error(result, "null", "not a regular file")
+    assert node.lstat().st_mode == mode
+
+
+# --- odom over several inputs ------------------------------------------------------------------
+
+
+def recording(path: Path) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(RECORDING, encoding="utf-8")
+    return path
+
+
+def joint_bag(path: Path) -> Path:
+    from bags import write_bag
+
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    second = 1_000_000_000
+    return write_bag(path, [(k * second, k * second, names, [k, k]) for k in range(1, 4)])
+
+
+def test_odom_of_several_inputs_never_replaces_a_later_input(tmp_path: Path) -> None:
+    first = recording(tmp_path / "c.csv")
+    bag = joint_bag(tmp_path / "d")
+    (tmp_path / "out").mkdir()
+    later = bag.rename(tmp_path / "out" / "c")  # where the first input's bag would go
+    before = snapshot(later)
+    result = run(
+        CliRunner(),
+        *("odom", str(first), str(later / "d.db3"), "--out", str(tmp_path / "out")),
+        *("--bag", "--force"),
+    )
+    assert_one_line_error(result, "out/c", "input")
+    assert snapshot(later) == before
+
+
+def test_odom_of_several_inputs_never_replaces_the_robot(tmp_path: Path) -> None:
+    import diffbot
+
+    a, b = recording(tmp_path / "in" / "a.csv"), recording(tmp_path / "in" / "b.csv")
+    robot = tmp_path / "out" / "a"
+    robot.parent.mkdir()
+    robot.write_text(diffbot.expand().urdf, encoding="utf-8")  # the bundled robot, as URDF
+    before = robot.read_bytes()
+    result = run(
+        CliRunner(),
+        *("odom", str(a), str(b), "--robot", str(robot), "--out", str(tmp_path / "out")),
+        *("--bag", "--force"),
+    )
+    assert_one_line_error(result, "out/a", "input")
+    assert robot.read_bytes() == before
+
+
+def test_odom_of_several_inputs_writes_nothing_inside_another_input(tmp_path: Path) -> None:
+    a = recording(tmp_path / "a.csv")
+    bag = joint_bag(tmp_path / "b")
+    before = snapshot(bag)
+    result = run(CliRunner(), "odom", str(a), str(bag), "--out", str(bag))
+    assert_one_line_error(result, "lies inside")
+    assert snapshot(bag) == before
+
+
+# --- only regular files are opened, also those named inside bags -------------------------------
+
+
+def fifo_storage_bag(path: Path) -> Path:
+    """A bag whose metadata.yaml names a FIFO, without a storage suffix, as its storage."""
+    bag = joint_bag(path)
+    (storage,) = bag.glob("*.db3")
+    storage.unlink()
+    os.mkfifo(bag / "pipe")
+    metadata = bag / "metadata.yaml"
+    metadata.write_text(metadata.read_text().replace(storage.name, "pipe"), encoding="utf-8")
+    return bag
+
+
+def fifo_metadata_bag(path: Path) -> Path:
+    bag = joint_bag(path)
+    (bag / "metadata.yaml").unlink()
+    os.mkfifo(bag / "metadata.yaml")
+    return bag
+
+
+@pytest.mark.parametrize("make", [fifo_storage_bag, fifo_metadata_bag])
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["odom", "BAG"],
+        ["plot", "straight 1", "--odom", "BAG", "-o", "OUT/x.png"],
+        ["calibrate", "fit", "IN", "--truth", "BAG"],
+        ["calibrate", "fit", "BAG"],
+    ],
+)
+def test_a_fifo_named_by_a_bag_never_blocks(
+    tmp_path: Path, make: Callable[[Path], Path], command: list[str]
+) -> None:
+    bag = make(tmp_path / "bag")
+    given = recording(tmp_path / "in.csv")
+    args = [
+        arg.replace("BAG", str(bag)).replace("OUT", str(tmp_path)).replace("IN", str(given))
+        for arg in command
+    ]
+    assert_process_error(run_process(*args), "not a regular file")
+
+
+def test_a_fifo_named_by_a_bag_never_blocks_a_worker(tmp_path: Path) -> None:
+    bag = fifo_storage_bag(tmp_path / "bag")
+    given = recording(tmp_path / "in.csv")
+    done = run_process("odom", str(given), str(bag), "--jobs", "2", "--json")
+    assert done.returncode == 1, done.stderr
+    rows = [json.loads(line) for line in done.stdout.splitlines()]
+    assert "error" not in rows[0]
+    assert "not a regular file" in rows[1]["error"]
+
+
+def test_a_fifo_as_the_truth_never_blocks(tmp_path: Path) -> None:
+    given = recording(tmp_path / "in.csv")
+    os.mkfifo(tmp_path / "truth.mcap")
+    done = run_process("calibrate", "fit", str(given), "--truth", str(tmp_path / "truth.mcap"))
+    assert_process_error(done, "not a regular file")
