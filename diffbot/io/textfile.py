@@ -11,7 +11,7 @@ from typing import TextIO
 from diffbot.errors import DiffbotError
 from diffbot.io.outputs import note_input
 
-__all__ = ["check_regular", "open_text", "read_text"]
+__all__ = ["check_regular", "open_regular", "open_text", "read_text"]
 
 
 def check_regular(
@@ -67,11 +67,7 @@ def open_text(
     name = os.fspath(path) if name is None else name
     check_regular(path, error, kind, name=name)
     try:
-        # Opened without blocking and checked again, in case the file was swapped for a FIFO.
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            os.close(fd)
-            raise error(f"{name}: not a regular file (a FIFO, socket or device), not {kind}")
+        fd = open_regular(path, error, kind, name=name)
         # a BOM is not part of the content
         with open(fd, encoding="utf-8-sig", newline=newline) as handle:
             yield handle
@@ -83,6 +79,24 @@ def open_text(
         raise error(f"{name}: not a text file ({err.reason})") from None
     except OSError as err:
         raise error(f"{name}: cannot read ({err.strerror})") from None
+
+
+def open_regular(
+    path: str | os.PathLike[str], error: type[DiffbotError], kind: str, *, name: str | None = None
+) -> int:
+    """A descriptor for reading a file already checked by :func:`check_regular`: opened without
+    blocking and checked again, in case the file was swapped for a FIFO in between.
+
+    Raises:
+        error: it is no longer a regular file.
+        OSError: it cannot be opened.
+    """
+    name = os.fspath(path) if name is None else name
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise error(f"{name}: not a regular file (a FIFO, socket or device), not {kind}")
+    return fd
 
 
 def read_text(path: str | os.PathLike[str], error: type[DiffbotError], kind: str) -> str:

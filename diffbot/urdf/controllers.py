@@ -47,7 +47,7 @@ import yaml
 
 from diffbot.controller_config import AxisLimits, ControllerConfig, default_of, first_of
 from diffbot.errors import DescriptionError
-from diffbot.io.textfile import check_regular
+from diffbot.io.textfile import check_regular, open_regular
 
 __all__ = [
     "DIFF_DRIVE_TYPES",
@@ -260,7 +260,9 @@ def load_controllers(path: str | os.PathLike[str]) -> list[ControllerConfig]:
     if os.path.exists(source):  # never a FIFO or device
         check_regular(source, ControllerConfigError, "a controllers file")
     try:
-        with open(source, "rb") as stream:
+        with open(
+            open_regular(source, ControllerConfigError, "a controllers file"), "rb"
+        ) as stream:
             data = stream.read(MAX_FILE_BYTES + 1)
     except OSError as err:
         reason = err.strerror or str(err)
