@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import os
 import signal
-import stat
 import sqlite3
+import stat
 import subprocess
 import sys
 import tempfile
@@ -288,7 +288,7 @@ def test_a_bag_output_over_a_fifo_is_refused_with_or_without_force(
 
     fifo = tmp_path / "jam"
     os.mkfifo(fifo)
-    with pytest.raises(OutputError, match="not a regular file|exists"):
+    with pytest.raises(OutputError, match=r"not a regular file|exists"):
         check_bag_output(fifo, force=force)
     assert stat.S_ISFIFO(fifo.lstat().st_mode)
 

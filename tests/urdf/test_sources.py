@@ -245,3 +245,51 @@ def test_a_controllers_file_gets_the_descriptions_size_check(tmp_path: Path) -> 
         match=r"wheel separation 1260 m \(from the controller's wheel_separation in .*\) is out",
     ):
         load(workspace(tmp_path, controllers=absurd))
+
+
+# --- the controllers file a description names stays in its sandbox ------------------------------
+
+
+def named_elsewhere(tmp_path: Path, parameters: str) -> Path:
+    """The workspace's robot naming ``parameters`` as its controllers file, and a controllers
+    file outside the package at ``tmp_path/outside/controllers.yaml``."""
+    robot = workspace(tmp_path)
+    text = robot.read_text(encoding="utf-8")
+    robot.write_text(
+        text.replace("$(find rover_description)/config/controllers.yaml", parameters),
+        encoding="utf-8",
+    )
+    (tmp_path / "outside").mkdir()
+    (tmp_path / "outside" / "controllers.yaml").write_text(
+        CONTROLLERS.replace("0.36", "0.5"), encoding="utf-8"
+    )
+    return robot
+
+
+def test_a_controllers_file_outside_the_package_is_read_only_when_trusted(tmp_path: Path) -> None:
+    from diffbot.errors import OutsideRootsError
+
+    robot = named_elsewhere(tmp_path, str(tmp_path / "outside" / "controllers.yaml"))
+    with pytest.raises(OutsideRootsError, match=r"outside/controllers.yaml.*trust=True"):
+        load(robot)
+    trusted = load(robot, trust=True)
+    assert trusted.wheel_separation == pytest.approx(0.5 * 1.05, rel=1e-12)
+
+
+def test_a_relative_controllers_name_starts_from_the_description_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    robot = named_elsewhere(tmp_path, "../config/controllers.yaml")
+    monkeypatch.chdir(tmp_path / "outside")  # a ../config/controllers.yaml here would not count
+    params = load(robot)
+    assert params.wheel_separation == pytest.approx(0.36 * 1.05, rel=1e-12)
+    assert params.sources["wheel_separation"].endswith("config/controllers.yaml")
+
+
+def test_an_expansion_lists_the_folders_it_may_read(tmp_path: Path) -> None:
+    robot = workspace(tmp_path)
+    package = robot.parent.parent
+    expansion = diffbot.expand(robot, packages={"rover_description": package})
+    assert robot.parent.resolve() in expansion.folders
+    assert package.resolve() in expansion.folders
+    assert tmp_path.resolve() not in expansion.folders
