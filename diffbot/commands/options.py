@@ -282,7 +282,8 @@ _ROBOT_OPTIONS = [
         "packages",
         metavar="NAME=DIR",
         multiple=True,
-        help="Directory of ROS package NAME, for $(find NAME). Repeatable.",
+        help="Directory of ROS package NAME, for $(find NAME), when the description's source "
+        "tree does not hold it. Repeatable.",
     ),
     click.option(
         "--left-joint",

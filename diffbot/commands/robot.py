@@ -98,8 +98,9 @@ def urdf(
 ) -> None:
     """Print the expanded URDF of a description (like xacro).
 
-    $(find NAME) is resolved from --package NAME=DIR, the bundled packages, then
-    AMENT_PREFIX_PATH; no ROS install is needed.
+    $(find NAME) is resolved from --package NAME=DIR, the packages of the description's source
+    tree (folders holding a package.xml), the bundled packages, then AMENT_PREFIX_PATH and
+    ROS_PACKAGE_PATH; no ROS install is needed.
 
     \b
     Example:

@@ -19,6 +19,7 @@ from xml.etree import ElementTree as ET
 from diffbot.errors import DescriptionError, PackageNotFoundError
 from diffbot.formats.text import one_line
 from diffbot.io.textfile import read_text
+from diffbot.urdf.packages import PackageFinder
 
 __all__ = ["BUNDLED_DESCRIPTION", "BUNDLED_PACKAGES", "Expansion", "check_xml", "expand"]
 
@@ -71,51 +72,26 @@ class _RecordingArgs(dict[str, str]):
         return super().__getitem__(key)
 
 
-def _locate(pkg: str, packages: Mapping[str, str | os.PathLike[str]]) -> str | None:
-    """A package's directory: given (a relative one is taken from the current directory, as a
-    shell user means it), then under AMENT_PREFIX_PATH; None when unknown."""
-    if pkg in packages:
-        return str(Path(packages[pkg]).absolute())
-    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-        candidate = Path(prefix) / "share" / pkg
-        if prefix and candidate.is_dir():
-            return str(candidate)
-    return None
+def _asked_by(source: Path) -> str:
+    """The include chain being expanded (innermost first), for a message."""
+    import xacro
+
+    files = [Path(str(f)).name for f in (xacro.filestack or ()) if f]
+    if not files:
+        return source.name
+    return " <- ".join(reversed(files))
 
 
-_FIND = re.compile(r"\$\(find\s+([A-Za-z0-9_\-]+)\s*\)")
-#: Files of a description's folder scanned for the packages it needs, at most.
-_SCANNED = 200
-
-
-def _needed_packages(source: Path) -> list[str]:
-    """Packages named in `$(find ...)` by the description and the xacro files beside it."""
-    names: list[str] = []
-    files = [source, *sorted(source.parent.rglob("*.xacro"))[:_SCANNED]]
-    for path in files:
-        if not path.is_file():  # a FIFO or device would block or never end
-            continue
-        with contextlib.suppress(OSError, UnicodeDecodeError):
-            for name in _FIND.findall(path.read_text(encoding="utf-8")):
-                if name not in names:
-                    names.append(name)
-    return names
-
-
-def _package_resolver(source: Path, packages: Mapping[str, str | os.PathLike[str]]) -> Any:
+def _package_resolver(source: Path, finder: PackageFinder) -> Any:
     def find(pkg: str) -> str:
-        found = _locate(pkg, packages)
+        found = finder.locate(pkg)
         if found is not None:
-            return found
-        missing = [name for name in _needed_packages(source) if _locate(name, packages) is None]
-        missing = [pkg, *(name for name in missing if name != pkg)]
-        listed = " ".join(f"{{packages}} {name}=DIR" for name in missing)
-        what = f"package {pkg!r}" if len(missing) == 1 else f"packages {missing}"
-        which = "its directory" if len(missing) == 1 else "their directories"
+            return str(found)
         raise PackageNotFoundError(
-            f"{what} not found: give {which} with {listed}",
+            f"package {pkg!r} not found (needed by {_asked_by(source)}): give its directory "
+            f"with {{packages}} {pkg}=DIR",
             package=pkg,
-            missing=missing,
+            missing=[pkg],
         )
 
     return find
@@ -141,8 +117,9 @@ def expand(
     Args:
         path: a .urdf or .urdf.xacro file; None for the bundled robot.
         args: xacro arguments (``NAME:=VALUE`` on a xacro command line).
-        packages: directories of ROS packages, for ``$(find PKG)``; the bundled robot's packages
-            are always known, and ``AMENT_PREFIX_PATH`` is searched last.
+        packages: directories of ROS packages, for ``$(find PKG)``. Packages not given are
+            looked for in the description's source tree, among the bundled ones, then under
+            ``AMENT_PREFIX_PATH`` and ``ROS_PACKAGE_PATH`` (:mod:`diffbot.urdf.packages`).
         trust: let the description run xacro's full Python and read any file. Otherwise its
             expressions are evaluated in a sandbox and it reads files only inside its own folder
             tree (and its ROS package's) and the packages given or found.
@@ -153,35 +130,36 @@ def expand(
     Raises:
         DescriptionError: the file cannot be read or is not well-formed XML.
         XacroError: xacro failed (bad macro, expression, include).
-        PackageNotFoundError: a ``$(find PKG)`` names an unknown package.
+        PackageNotFoundError: a ``$(find PKG)`` the expansion reaches names an unknown package
+            (the message names the include chain that asked for it).
         SandboxError: an untrusted description uses Python the sandbox refuses, reads a file
             outside its folders, or any description grows past the expansion limits.
     """
     source = Path(path) if path is not None else BUNDLED_DESCRIPTION
     text = _check_file(source)
     given = {str(k): str(v) for k, v in (args or {}).items()}
-    known: dict[str, str | os.PathLike[str]] = dict(BUNDLED_PACKAGES)
-    known.update(packages or {})
+    finder = PackageFinder(None if path is None else source, packages or {}, BUNDLED_PACKAGES)
     if not _is_xacro(source, text):
         from diffbot.urdf.sandbox import description_roots
 
         check_xml(text, str(source))
         warnings = [f"{source} is plain URDF: xacro argument {name!r} ignored" for name in given]
-        folders = (*description_roots(source), *(Path(p).resolve() for p in known.values()))
+        known = [*finder.given.values(), *finder.bundled.values()]
+        folders = (*description_roots(source), *(p.resolve() for p in known))
         return Expansion(text, tuple(warnings), (source,), folders)
-    return _run_xacro(source, given, known, trust)
+    return _run_xacro(source, given, finder, trust)
 
 
 def _run_xacro(
     source: Path,
     given: dict[str, str],
-    packages: Mapping[str, str | os.PathLike[str]],
+    finder: PackageFinder,
     trust: bool,
 ) -> Expansion:
     from diffbot.urdf.sandbox import process
 
     mappings = _RecordingArgs(given)
-    find = _package_resolver(source, packages)
+    find = _package_resolver(source, finder)
     stderr = io.StringIO()
     files: list[Path] = []
     folders: list[Path] = []
@@ -189,7 +167,7 @@ def _run_xacro(
         urdf = process(
             source,
             mappings,
-            roots=packages.values(),
+            roots=[*finder.given.values(), *finder.bundled.values()],
             find=find,
             trust=trust,
             files=files,

@@ -1,0 +1,162 @@
+"""Where a description's ROS packages are, without a ROS install.
+
+``$(find PKG)`` and ``model://NAME`` are resolved, in this order, from the folders the caller
+gives, the description's own source tree, the bundled packages, then the folders of
+``AMENT_PREFIX_PATH`` (``<prefix>/share/PKG``) and ``ROS_PACKAGE_PATH`` (searched below each
+entry). A package is a folder holding a ``package.xml``, named by its ``<name>``.
+
+The source tree is what a clone or a workspace holds: from the description's own package (the
+nearest folder holding a ``package.xml``, at most :data:`PACKAGE_LEVELS` up), the nearest folder
+above it that is a repository (holds ``.git``) or a workspace's ``src``, at most
+:data:`TREE_LEVELS` up; else the package's parent folder, which holds its sibling packages. The
+search is bounded (:data:`MAX_FOLDERS` folders, :data:`MAX_DEPTH` deep), follows no symbolic link
+out of the tree, skips hidden, build and ignored folders, and is cached per tree.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import os
+from collections import deque
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Final
+from xml.etree import ElementTree
+
+__all__ = [
+    "MAX_DEPTH",
+    "MAX_FOLDERS",
+    "PACKAGE_LEVELS",
+    "TREE_LEVELS",
+    "PackageFinder",
+    "own_package",
+    "package_name",
+    "packages_under",
+    "source_tree",
+]
+
+#: Folders above a description searched for its own ``package.xml`` (the description's folder
+#: counts as the first).
+PACKAGE_LEVELS: Final = 3
+#: Folders above a description's package searched for the root of its source tree.
+TREE_LEVELS: Final = 4
+#: Most folders one search of a tree visits.
+MAX_FOLDERS: Final = 20_000
+#: Deepest folder below a tree's root a search visits.
+MAX_DEPTH: Final = 8
+#: Largest ``package.xml`` read (bytes): real ones are a few kB.
+MAX_MANIFEST: Final = 1 << 20
+
+_SKIPPED = frozenset({"build", "install", "log", "node_modules", "__pycache__", "site-packages"})
+_IGNORE_MARKERS = ("COLCON_IGNORE", "CATKIN_IGNORE", "AMENT_IGNORE")
+
+
+def package_name(folder: Path) -> str:
+    """A package's name: the ``<name>`` of its ``package.xml``, else the folder's name."""
+    manifest = folder / "package.xml"
+    with contextlib.suppress(OSError, ElementTree.ParseError, ValueError):
+        if manifest.is_file() and manifest.stat().st_size <= MAX_MANIFEST:
+            name = ElementTree.parse(manifest).getroot().findtext("name")
+            if name and name.strip():
+                return name.strip()
+    return folder.name
+
+
+def own_package(description: Path) -> Path | None:
+    """The folder of the package a description lies in, or None when it lies in none."""
+    folder = description.resolve().parent
+    for candidate in [folder, *folder.parents][:PACKAGE_LEVELS]:
+        if candidate == Path(candidate.anchor):
+            break
+        if (candidate / "package.xml").is_file():
+            return candidate
+    return None
+
+
+def source_tree(description: Path) -> Path | None:
+    """The root of the source tree a description's package lies in, or None outside a package."""
+    package = own_package(description)
+    if package is None:
+        return None
+    for candidate in [package, *package.parents][: TREE_LEVELS + 1]:
+        if candidate == Path(candidate.anchor) or candidate == Path.home():
+            break
+        if (candidate / ".git").exists() or (candidate.name == "src" and candidate != package):
+            return candidate
+    parent = package.parent
+    if parent == Path(parent.anchor) or parent == Path.home():
+        return package
+    return parent
+
+
+def _searched(folder: Path) -> bool:
+    if folder.name.startswith(".") or folder.name in _SKIPPED or folder.is_symlink():
+        return False
+    return not any((folder / marker).exists() for marker in _IGNORE_MARKERS)
+
+
+@functools.lru_cache(maxsize=64)
+def packages_under(root: Path) -> Mapping[str, Path]:
+    """Every package below ``root`` (itself included), by name; the shallowest wins a name.
+
+    Bounded and cached: see the module's description.
+    """
+    found: dict[str, Path] = {}
+    queue: deque[tuple[Path, int]] = deque([(root, 0)])
+    visited = 0
+    while queue and visited < MAX_FOLDERS:
+        folder, depth = queue.popleft()
+        visited += 1
+        if (folder / "package.xml").is_file():
+            found.setdefault(package_name(folder), folder)
+            continue  # packages do not nest
+        if depth >= MAX_DEPTH:
+            continue
+        try:
+            children = sorted(entry for entry in folder.iterdir() if entry.is_dir())
+        except OSError:
+            continue
+        queue.extend((child, depth + 1) for child in children if _searched(child))
+    return found
+
+
+class PackageFinder:
+    """Resolves package names to folders for one description.
+
+    Args:
+        description: the description file, whose source tree is searched; None for none.
+        given: packages the caller names (a relative folder is taken from the current folder).
+        bundled: packages that are always known (searched after the source tree).
+    """
+
+    def __init__(
+        self,
+        description: Path | None,
+        given: Mapping[str, str | os.PathLike[str]],
+        bundled: Mapping[str, str | os.PathLike[str]] | None = None,
+    ) -> None:
+        self.given = {name: Path(folder).absolute() for name, folder in given.items()}
+        self.bundled = {name: Path(folder) for name, folder in (bundled or {}).items()}
+        self.tree = source_tree(description) if description is not None else None
+
+    def locate(self, name: str) -> Path | None:
+        """The package's folder, or None when no place knows it."""
+        if name in self.given:
+            return self.given[name]
+        if self.tree is not None:
+            found = packages_under(self.tree).get(name)
+            if found is not None:
+                return found
+        if name in self.bundled:
+            return self.bundled[name]
+        for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
+            candidate = Path(prefix) / "share" / name
+            if prefix and candidate.is_dir():
+                return candidate
+        for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
+            if entry and Path(entry).is_dir():
+                found = packages_under(Path(entry).resolve()).get(name)
+                if found is not None:
+                    return found
+        return None
