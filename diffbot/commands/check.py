@@ -15,7 +15,7 @@ from diffbot.commands.options import (
     warn,
 )
 from diffbot.errors import EXIT_CHECK_FAILED
-from diffbot.formats.robot import check_lines, disagreement_json
+from diffbot.formats.robot import check_lines, disagreement_json, multipliers_json
 
 __all__ = ["check"]
 
@@ -30,8 +30,10 @@ def check(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
     Compares the wheel separation and radius (within 0.5 mm) and the wheel joints of each side
     that the URDF/xacro geometry, the diff_drive_controller configuration (--controllers, or the
     file the description's ros2_control Gazebo plugin names) and any Gazebo diff-drive plugin
-    (classic gazebo_ros_diff_drive, gz-sim DiffDrive) give. Exit code 0 when they agree, 1 when
-    they disagree: a lint a robot repository can run in its CI.
+    (classic gazebo_ros_diff_drive, gz-sim DiffDrive) give. The controller's base values are
+    compared; its multipliers are deliberate settings (a skid steer's separation correction),
+    shown but not compared. Exit code 0 when they agree, 1 when they disagree: a lint a robot
+    repository can run in its CI.
 
     \b
     Examples:
@@ -48,6 +50,7 @@ def check(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
                 "robot": p.source,
                 "controller": None if p.controller is None else p.controller.name,
                 "sources": dict(p.sources),
+                "multipliers": multipliers_json(p),
                 "disagreements": [disagreement_json(d) for d in p.disagreements],
                 "agree": not p.disagreements,
             }

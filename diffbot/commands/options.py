@@ -206,6 +206,8 @@ class RobotOptions:
     controllers: str | None = None
     controller: str | None = None
     trust: bool = False
+    source: str = "auto"
+    no_controllers: bool = False
 
     def with_path(self, path: str | None, xacro_args: Mapping[str, str]) -> RobotOptions:
         """The same options with a positional PATH and ``NAME:=VALUE`` tokens merged in."""
@@ -234,6 +236,8 @@ class RobotOptions:
             controllers=self.controllers,
             controller=self.controller,
             trust=self.trust,
+            source=self.source,
+            no_controllers=self.no_controllers,
         )
         if not quiet:
             for message in params.warnings:
@@ -319,6 +323,20 @@ _ROBOT_OPTIONS = [
         metavar="NAME",
         help="Which diff-drive controller of the file, when it holds several.",
     ),
+    click.option(
+        "--no-controllers",
+        is_flag=True,
+        help="Read no controllers file, not even the one the description names.",
+    ),
+    click.option(
+        "--source",
+        type=click.Choice(["auto", "description", "controllers", "plugin"]),
+        default="auto",
+        show_default=True,
+        help="Where the radius, separation and wheels come from: auto takes the controllers "
+        "file, else the simulator's diff-drive plugin, else the geometry; the others are still "
+        "cross-checked.",
+    ),
     trust_option,
 ]
 
@@ -326,6 +344,8 @@ _ROBOT_OPTIONS = [
 def _robot_from(kwargs: dict[str, Any]) -> RobotOptions:
     # Every option is named after its field, but for the two built from other values.
     packages = parse_packages(kwargs.pop("packages"))
+    if kwargs.get("controllers") is not None and kwargs.get("no_controllers"):
+        fail("--controllers and --no-controllers: choose one")
     names = [f.name for f in dataclasses.fields(RobotOptions)]
     given = {name: kwargs.pop(name) for name in names if name not in ("xacro_args", "packages")}
     return RobotOptions(xacro_args={}, packages=packages, **given)

@@ -11,6 +11,7 @@ from diffbot.kinematics import DiffDriveParams, Disagreement
 __all__ = [
     "check_lines",
     "disagreement_json",
+    "multipliers_json",
     "params_json",
     "params_lines",
     "robot_json",
@@ -88,6 +89,17 @@ def _shown(value: object) -> str:
     return ", ".join(str(name) for name in value) if isinstance(value, tuple) else str(value)
 
 
+def multipliers_json(p: DiffDriveParams) -> dict[str, float] | None:
+    """The controller's multipliers by name, or None without a controller."""
+    if p.controller is None:
+        return None
+    return {
+        "wheel_separation_multiplier": p.controller.wheel_separation_multiplier,
+        "left_wheel_radius_multiplier": p.controller.left_wheel_radius_multiplier,
+        "right_wheel_radius_multiplier": p.controller.right_wheel_radius_multiplier,
+    }
+
+
 def check_lines(p: DiffDriveParams) -> list[str]:
     """The cross-check of the description, controller and Gazebo plugins, for people."""
     lines = [f"robot             {p.source}"]
@@ -95,6 +107,10 @@ def check_lines(p: DiffDriveParams) -> list[str]:
         lines.append(f"controller        {p.controller.name} in {p.controller.source}")
     for field in ("wheel_separation", "wheel_radius", "left_joints", "right_joints"):
         lines.append(f"{field.replace('_', ' '):<17} from {p.sources.get(field, 'description')}")
+    multipliers = multipliers_json(p)
+    if multipliers is not None and set(multipliers.values()) != {1.0}:
+        shown = ", ".join(f"{key} {fmt(value)}" for key, value in multipliers.items())
+        lines.append(f"{'multipliers':<17} {shown} (the controller's settings, not compared)")
     if not p.disagreements:
         lines.append("all sources agree (within 0.5 mm, same joints)")
     for found in p.disagreements:

@@ -21,6 +21,7 @@ import os
 from collections.abc import Mapping
 from xml.etree import ElementTree
 
+from diffbot.errors import DescriptionError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.urdf.cache import cached_fields
 from diffbot.urdf.sources import Overriding, find_controller, reconcile
@@ -50,15 +51,19 @@ def load_params(
     controllers: str | os.PathLike[str] | None = None,
     controller: str | None = None,
     trust: bool = False,
+    source: str = "auto",
+    no_controllers: bool = False,
 ) -> DiffDriveParams:
     """Robot parameters from a URDF/xacro description and its controller configuration.
 
-    The values the robot's diff_drive_controller runs with win over the geometry: its
-    ``wheel_separation * wheel_separation_multiplier``, its ``wheel_radius`` times each side's
-    multiplier and its wheel names. The controllers file is ``controllers``, or else the one the
-    description's ros2_control Gazebo plugin names. Gazebo diff-drive plugins are read as a
-    cross-check; ``params.sources`` says where each value came from and
-    ``params.disagreements`` where the sources differ (each is also a warning).
+    The values the robot runs with win over the geometry (``source="auto"``): its
+    diff_drive_controller's ``wheel_separation * wheel_separation_multiplier``, its
+    ``wheel_radius`` times each side's multiplier and its wheel names; without a controller, the
+    simulator's diff-drive plugin (Gazebo classic or gz-sim). The controllers file is
+    ``controllers``, or else the one the description's ros2_control Gazebo plugin names.
+    ``params.sources`` says where each value came from and ``params.disagreements`` where the
+    sources differ (each is also a warning); a controller's multipliers are settings, so its
+    base values are what is compared with the geometry.
 
     Args:
         path: a .urdf or .urdf.xacro file; None for the bundled diffbot.
@@ -74,6 +79,9 @@ def load_params(
         controller: which diff-drive controller in it, when it holds several.
         trust: let the description run xacro's full Python and read any file (see
             :func:`expand`); off by default, for descriptions from anywhere.
+        source: where the values come from: ``auto``, ``description`` (the geometry),
+            ``controllers`` or ``plugin``; the other sources are still cross-checked.
+        no_controllers: read no controllers file, not even the one the description names.
 
     Returns:
         The robot's :class:`DiffDriveParams`.
@@ -83,23 +91,35 @@ def load_params(
             no or ambiguous drive wheels, wheels without a radius, a bad controllers file.
         ParameterError: an override or derived value is not a positive finite number.
     """
-    source = str(path) if path is not None else "bundled diffbot"
+    label = str(path) if path is not None else "bundled diffbot"
     expansion = expand(path, args, packages, trust=trust)
     root = ElementTree.fromstring(expansion.urdf)
     warnings = list(expansion.warnings)
-    config = find_controller(
-        root,
-        controllers,
-        controller,
-        warnings,
-        description=expansion.files[0] if expansion.files else None,
-        folders=None if trust else expansion.folders,
+    if no_controllers and controllers is not None:
+        raise DescriptionError(
+            "a controllers file is given ({controllers}) and refused (no_controllers=True): "
+            "choose one"
+        )
+    config = (
+        None
+        if no_controllers
+        else find_controller(
+            root,
+            controllers,
+            controller,
+            warnings,
+            description=expansion.files[0] if expansion.files else None,
+            folders=None if trust else expansion.folders,
+            args=args,
+        )
     )
+    if config is not None:
+        warnings += [f"controller {config.name!r}: {note}" for note in config.warnings]
 
     def derive(left: JointChoice, right: JointChoice) -> Derived:
-        return cached_fields(expansion.urdf, source, left, right)
+        return cached_fields(expansion.urdf, label, left, right)
 
     given = Overriding(left_joint, right_joint, wheel_radius, wheel_separation, max_wheel_speed)
-    params = reconcile(derive, root, source, warnings, config, given)
+    params = reconcile(derive, root, label, warnings, config, given, source)
     files = tuple(str(path) for path in expansion.files)
     return dataclasses.replace(params, description_files=files)

@@ -36,6 +36,7 @@ flags leaves one out, as Humble would then ignore that group.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import re
@@ -57,7 +58,10 @@ __all__ = [
     "ControllerConfigError",
     "choose_controller",
     "load_controllers",
+    "load_other_drive_controllers",
+    "other_drive_controllers",
     "read_controllers",
+    "substitute_args",
 ]
 
 #: The plugin names under which the diff-drive controller is declared.
@@ -177,12 +181,90 @@ def _ros1_controllers(
             yield from _ros1_controllers(value, (*path, str(key)))
 
 
-def read_controllers(text: str, source: str) -> list[ControllerConfig]:
+_ARG = re.compile(r"\$\(arg\s+([A-Za-z0-9_\-]+)\s*\)")
+#: Controller types that drive a base but not as a differential drive (named in a warning).
+_OTHER_DRIVE = re.compile(r"(mecanum|omni|ackermann|tricycle|bicycle|steering|swerve|drive)", re.I)
+
+
+def substitute_args(text: str, args: Mapping[str, str] | None) -> tuple[str, list[str]]:
+    """``$(arg NAME)`` replaced by the value of ``NAME:=VALUE``, as roslaunch does for a
+    ``rosparam`` file loaded with ``subst_value``; returns the text and the names left unresolved.
+    """
+    given = args or {}
+    unresolved: list[str] = []
+
+    def value(match: re.Match[str]) -> str:
+        name = match.group(1)
+        if name in given:
+            return str(given[name])
+        if name not in unresolved:
+            unresolved.append(name)
+        return match.group(0)
+
+    return _ARG.sub(value, text), unresolved
+
+
+def other_drive_controllers(text: str, source: str) -> list[tuple[str, str]]:
+    """The controllers of a file that drive a base but are no diff-drive controller, as
+    ``(name, type)`` (a mecanum, omni, Ackermann, tricycle or steering controller)."""
+    tree = _parse_yaml(text, source)
+    if not isinstance(tree, Mapping):
+        return []
+    found: list[tuple[str, str]] = []
+    for node in _ros2_nodes(tree, source):
+        for key, value in node.params.items():
+            if key == "type" or key.endswith(".type"):
+                name = node.name if key == "type" else _base_name((key[: -len(".type")],))
+                if (
+                    isinstance(value, str)
+                    and value not in DIFF_DRIVE_TYPES
+                    and _OTHER_DRIVE.search(value.rsplit("/", 1)[-1].rsplit(":", 1)[-1])
+                    and (name, value) not in found
+                ):
+                    found.append((name, value))
+    return found
+
+
+def _follow_chain(config: ControllerConfig, nodes: Sequence[_Node]) -> ControllerConfig:
+    """Wheel names that are another controller's reference (``pid_left/left_wheel_joint``, a
+    chained controller) followed to the joint behind it."""
+    notes: list[str] = []
+
+    def joint_of(name: str) -> str:
+        if "/" not in name:
+            return name
+        prefix, _, joint = name.rpartition("/")
+        ahead = [n for n in nodes if n.name == prefix.rsplit("/", 1)[-1]]
+        dofs = [v for n in ahead for k in ("dof_names", "joints") for v in n.params.get(k) or ()]
+        if ahead and joint not in dofs:
+            return name
+        notes.append(
+            f"wheel {name!r} is the reference of the chained controller {prefix!r}: "
+            f"followed to joint {joint!r}"
+        )
+        return joint
+
+    left = tuple(joint_of(n) for n in config.left_wheel_names)
+    right = tuple(joint_of(n) for n in config.right_wheel_names)
+    if not notes:
+        return config
+    return dataclasses.replace(
+        config,
+        left_wheel_names=left,
+        right_wheel_names=right,
+        warnings=(*config.warnings, *notes),
+    )
+
+
+def read_controllers(
+    text: str, source: str, args: Mapping[str, str] | None = None
+) -> list[ControllerConfig]:
     """Every diff-drive controller configured in a controllers YAML.
 
     Args:
         text: the YAML text.
         source: where it came from (a path), for messages and :attr:`ControllerConfig.source`.
+        args: values of ``$(arg NAME)`` substitutions (a ROS 1 launch file's arguments).
 
     Returns:
         The diff-drive controllers in the order the file declares them; empty when there is none.
@@ -192,6 +274,7 @@ def read_controllers(text: str, source: str) -> list[ControllerConfig]:
             with a value of the wrong type or out of its domain (the message names the file, the
             controller and the key).
     """
+    text, unresolved = substitute_args(text, args)
     tree = _parse_yaml(text, source)
     if tree is None:
         return []
@@ -240,22 +323,18 @@ def read_controllers(text: str, source: str) -> list[ControllerConfig]:
             configs.append(_config(node.name, source, 2, params_of(node.name), rate))
     for name, params in _ros1_controllers(tree):
         configs.append(_config(name, source, 1, params, None))
-    return configs
+    unset = [
+        f"$(arg {name}) has no value: give it as {name}:=VALUE, as the launch file would"
+        for name in unresolved
+    ]
+    return [
+        dataclasses.replace(c, warnings=(*c.warnings, *unset)) if unset else c
+        for c in (_follow_chain(c, nodes) for c in configs)
+    ]
 
 
-def load_controllers(path: str | os.PathLike[str]) -> list[ControllerConfig]:
-    """Every diff-drive controller configured in a controllers YAML file.
-
-    Args:
-        path: the file.
-
-    Returns:
-        As :func:`read_controllers`, with the path as source.
-
-    Raises:
-        ControllerConfigError: the file cannot be read, is larger than :data:`MAX_FILE_BYTES`, or
-            is malformed (see :func:`read_controllers`).
-    """
+def _read_file(path: str | os.PathLike[str]) -> str:
+    """A controllers file's text, bounded in size, never from a FIFO or device."""
     source = os.fspath(path)
     if os.path.exists(source):  # never a FIFO or device
         check_regular(source, ControllerConfigError, "a controllers file")
@@ -272,10 +351,33 @@ def load_controllers(path: str | os.PathLike[str]) -> list[ControllerConfig]:
             f"{source}: controllers file is larger than {MAX_FILE_BYTES} bytes"
         )
     try:
-        text = data.decode("utf-8")
+        return data.decode("utf-8")
     except UnicodeDecodeError as err:
         raise ControllerConfigError(f"{source}: controllers file is not UTF-8 text") from err
-    return read_controllers(text, source)
+
+
+def load_controllers(
+    path: str | os.PathLike[str], args: Mapping[str, str] | None = None
+) -> list[ControllerConfig]:
+    """Every diff-drive controller configured in a controllers YAML file.
+
+    Args:
+        path: the file.
+        args: values of ``$(arg NAME)`` substitutions.
+
+    Returns:
+        As :func:`read_controllers`, with the path as source.
+
+    Raises:
+        ControllerConfigError: the file cannot be read, is larger than :data:`MAX_FILE_BYTES`, or
+            is malformed (see :func:`read_controllers`).
+    """
+    return read_controllers(_read_file(path), os.fspath(path), args)
+
+
+def load_other_drive_controllers(path: str | os.PathLike[str]) -> list[tuple[str, str]]:
+    """:func:`other_drive_controllers` of a file."""
+    return other_drive_controllers(_read_file(path), os.fspath(path))
 
 
 def choose_controller(
@@ -341,6 +443,13 @@ class _Reader:
         expected = "a positive finite number"
         value = self.number(key, expected)
         if value is not None and not (math.isfinite(value) and value > 0.0):
+            raise self.fail(key, expected, value)
+        return value
+
+    def nonzero(self, key: str) -> float | None:
+        expected = "a finite number other than 0 (negative: the wheels turn the other way)"
+        value = self.number(key, expected)
+        if value is not None and not (math.isfinite(value) and value != 0.0):
             raise self.fail(key, expected, value)
         return value
 
@@ -491,9 +600,13 @@ def _config(
             f"{source}: controller {name!r}: {len(left)} left and {len(right)} right wheel names; "
             f"both sides need as many"
         )
-    common_multiplier = reader.positive("wheel_radius_multiplier")  # ROS 1
-    left_multiplier = reader.positive("left_wheel_radius_multiplier")
-    right_multiplier = reader.positive("right_wheel_radius_multiplier")
+    # A negative radius multiplier turns that side's wheels the other way (the controller divides
+    # by the radius): read as a direction flip. ROS 1's common multiplier wins over the sides'.
+    common_multiplier = reader.nonzero("wheel_radius_multiplier")  # ROS 1
+    left_multiplier = reader.nonzero("left_wheel_radius_multiplier")
+    right_multiplier = reader.nonzero("right_wheel_radius_multiplier")
+    if ros_version == 1 and common_multiplier is not None:
+        left_multiplier = right_multiplier = common_multiplier
     rate: float | None = None
     if update_rate is not None:
         rate = _Reader("controller_manager", source, {"update_rate": update_rate}).positive(

@@ -9,6 +9,7 @@ disagree by more than :data:`TOLERANCE`, or name other joints, are reported.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -17,10 +18,16 @@ from typing import Final
 from xml.etree import ElementTree
 
 from diffbot.controller_config import ControllerConfig
-from diffbot.errors import DriveWheelError, OutsideRootsError
+from diffbot.errors import DescriptionError, DriveWheelError, OutsideRootsError
 from diffbot.kinematics import DiffDriveParams, Disagreement
-from diffbot.urdf.controllers import choose_controller, load_controllers
-from diffbot.urdf.gazebo import gazebo_drives, ros2_control_parameter_files
+from diffbot.urdf.controllers import (
+    choose_controller,
+    load_controllers,
+    load_other_drive_controllers,
+)
+from diffbot.urdf.gazebo import GazeboDrive, gazebo_drives, ros2_control_parameter_files
+from diffbot.urdf.ros1 import urdf_radius, urdf_separation
+from diffbot.urdf.ros2_control import velocity_limits
 from diffbot.urdf.sandbox import inside_folders
 from diffbot.urdf.wheels import Derived, JointChoice, finish
 
@@ -28,6 +35,8 @@ __all__ = [
     "DESCRIPTION",
     "GAZEBO",
     "OVERRIDE",
+    "PLUGIN",
+    "SOURCE_MODES",
     "TOLERANCE",
     "Overriding",
     "find_controller",
@@ -39,7 +48,11 @@ TOLERANCE: Final = 5e-4
 #: Source names, as ``params --json`` reports them (a controllers file is ``controllers:<path>``).
 DESCRIPTION: Final = "description"
 GAZEBO: Final = "gazebo plugin"
+#: The source of a value taken from the simulator's diff-drive plugin.
+PLUGIN: Final = "plugin"
 OVERRIDE: Final = "override"
+#: Where the values may be asked from (``--source``).
+SOURCE_MODES: Final = ("auto", "description", "controllers", "plugin")
 
 
 @dataclass(frozen=True)
@@ -65,6 +78,7 @@ def find_controller(
     *,
     description: str | os.PathLike[str] | None = None,
     folders: Sequence[Path] | None = None,
+    args: Mapping[str, object] | None = None,
 ) -> ControllerConfig | None:
     """The diff-drive controller the robot runs with: from ``controllers`` when given, else from
     the parameters file its ros2_control Gazebo plugin names (a missing file is a warning).
@@ -72,7 +86,9 @@ def find_controller(
     A file the description names is the description's to choose, so it is held to the
     description's sandbox: a relative name is taken from the description's folder (not the
     current directory), and unless ``folders`` is None (a trusted description) the file,
-    symbolic links resolved, must lie in one of ``folders``; it must be a regular file.
+    symbolic links resolved, must lie in one of ``folders``; it must be a regular file. A file
+    holding only controllers of other drives (mecanum, omni, Ackermann...) is named in a warning
+    with their types.
 
     Args:
         root: the expanded URDF.
@@ -81,6 +97,7 @@ def find_controller(
         warnings: receives a warning for a named file that does not exist.
         description: the description file, whose folder relative names start from.
         folders: the folders an untrusted description may read; None to read any file.
+        args: the values of ``$(arg NAME)`` in ROS 1 files.
 
     Returns None when no file is given or found, or the files found hold no diff-drive
     controller (and none was asked for by name).
@@ -89,10 +106,15 @@ def find_controller(
         OutsideRootsError: a file the description names lies outside ``folders``.
         ControllerConfigError: a file is not a regular file, or is malformed.
     """
+    values = {str(k): str(v) for k, v in (args or {}).items()}
     if controllers is not None:
-        return choose_controller(load_controllers(controllers), controller)
+        configs = load_controllers(controllers, values)
+        if not configs:
+            _other_drives([Path(controllers)], warnings)
+        return choose_controller(configs, controller)
     configs = []
     base = Path(description).resolve().parent if description is not None else Path.cwd()
+    read = []
     for name in ros2_control_parameter_files(root):
         named = Path(name.strip())
         path = named if named.is_absolute() else base / named
@@ -108,10 +130,24 @@ def find_controller(
                 "not exist here: its controller settings are not read"
             )
             continue
-        configs += load_controllers(_shown(path))
+        configs += load_controllers(_shown(path), values)
+        read.append(_shown(path))
+    if not configs:
+        _other_drives(read, warnings)
     if not configs and controller is None:
         return None
     return choose_controller(configs, controller)
+
+
+def _other_drives(paths: Sequence[Path], warnings: list[str]) -> None:
+    for path in paths:
+        others = load_other_drive_controllers(path)
+        if others:
+            listed = ", ".join(f"{name!r} ({kind})" for name, kind in others)
+            warnings.append(
+                f"{path} configures no diff-drive controller, only {listed}: not a differential "
+                "drive's settings, so they are not used"
+            )
 
 
 def _shown(path: Path) -> Path:
@@ -151,6 +187,65 @@ def _describe(found: Disagreement) -> str:
     return f"the sources disagree on {found.field.replace('_', ' ')} by {mm:.3g} mm: {shown}"
 
 
+def _choose_mode(mode: str, config: ControllerConfig | None, drives: Sequence[GazeboDrive]) -> str:
+    """The source the values are taken from: ``controllers``, ``plugin`` or ``description``."""
+    if mode not in SOURCE_MODES:
+        raise DescriptionError(f"source {mode!r} is none of {', '.join(SOURCE_MODES)}", value=mode)
+    if mode == "controllers" and config is None:
+        raise DescriptionError(
+            "the values were asked from the controllers, but no diff-drive controller was "
+            "found: give its file with {controllers}"
+        )
+    if mode == "plugin" and not drives:
+        raise DescriptionError(
+            "the values were asked from the simulator's plugin, but the description has no "
+            "diff-drive plugin (gazebo_ros_diff_drive or gz-sim DiffDrive)"
+        )
+    if mode != "auto":
+        return mode
+    if config is not None:
+        return "controllers"
+    return "plugin" if drives else "description"
+
+
+@dataclass(frozen=True)
+class _Controlled:
+    """What the controller runs with: its base values (m) and where they came from."""
+
+    separation: float | None  # base, before the multiplier
+    radius: float | None
+    separation_from_file: bool
+    radius_from_file: bool
+
+
+def _controller_values(
+    config: ControllerConfig, root: ElementTree.Element, warnings: list[str]
+) -> _Controlled:
+    """The controller's base separation and radius; ROS 1 looks absent ones up in the URDF."""
+    separation, radius = config.wheel_separation, config.wheel_radius
+    from_file = (separation is not None, radius is not None)
+    if config.ros_version == 1 and config.left_wheel_names and None in (separation, radius):
+        left, right = config.left_wheel_names[0], config.right_wheel_names[0]
+        if separation is None:
+            separation = urdf_separation(root, left, right)
+            if separation is not None:
+                warnings.append(
+                    f"the controller {config.name!r} has no wheel_separation: taken from the "
+                    f"URDF as ROS 1's diff_drive_controller does (the distance of {left!r} and "
+                    f"{right!r}, {separation:.6g} m), times its multiplier "
+                    f"{config.wheel_separation_multiplier:g}"
+                )
+        if radius is None:
+            radius = urdf_radius(root, left)
+            if radius is not None:
+                warnings.append(
+                    f"the controller {config.name!r} has no wheel_radius: taken from the URDF as "
+                    f"ROS 1's diff_drive_controller does (the collision of {left!r}'s link, "
+                    f"{radius:.6g} m)"
+                )
+    return _Controlled(separation, radius, *from_file)
+
+
 def reconcile(
     derive: Callable[[JointChoice, JointChoice], Derived],
     root: ElementTree.Element,
@@ -158,6 +253,7 @@ def reconcile(
     warnings: list[str],
     config: ControllerConfig | None,
     given: Overriding,
+    mode: str = "auto",
 ) -> DiffDriveParams:
     """The robot's parameters, each from the source that wins, with the cross-check.
 
@@ -169,27 +265,47 @@ def reconcile(
         warnings: warnings so far (expansion, controller files); more are added.
         config: the diff-drive controller, or None.
         given: the caller's overrides.
+        mode: which source the values come from (:data:`SOURCE_MODES`): ``auto`` takes the
+            controller when there is one, else the simulator's plugin, else the geometry.
     """
+    drives = gazebo_drives(root)
+    chosen = _choose_mode(mode, config, drives)
     ctl = _controller_source(config) if config is not None else ""
+    plugin = drives[0] if drives else None
     auto = None
     left_choice, right_choice = given.left_joint, given.right_joint
     joint_source = OVERRIDE if left_choice or right_choice else DESCRIPTION
-    if config is not None and not (left_choice or right_choice) and config.left_wheel_names:
+    named: tuple[tuple[str, ...], tuple[str, ...], str] | None = None
+    if not (left_choice or right_choice):
+        if chosen == "controllers" and config is not None and config.left_wheel_names:
+            named = (config.left_wheel_names, config.right_wheel_names, ctl)
+        elif chosen == "plugin" and plugin is not None and plugin.left_joints:
+            named = (plugin.left_joints, plugin.right_joints, PLUGIN)
+    if named is not None:
         try:
-            fields = derive(config.left_wheel_names, config.right_wheel_names)
-            joint_source = ctl
+            fields = derive(named[0], named[1])
+            joint_source = named[2]
         except DriveWheelError as err:
-            warnings.append(f"the controller's wheels cannot be used: {err}")
+            owner = "controller" if named[2] == ctl else "plugin"
+            warnings.append(f"the {owner}'s wheels cannot be used: {err}")
             fields = auto = derive(None, None)
     else:
         fields = derive(left_choice, right_choice)
         auto = fields if joint_source == DESCRIPTION else None
 
-    drives = gazebo_drives(root)
+    controlled = _controller_values(config, root, warnings) if config is not None else None
     found: list[Disagreement] = []
     lengths = (
-        ("wheel_separation", fields.wheel_separation, config and config.effective_separation),
-        ("wheel_radius", fields.wheel_radius, config and config.wheel_radius),
+        (
+            "wheel_separation",
+            fields.wheel_separation,
+            controlled and controlled.separation_from_file and controlled.separation,
+        ),
+        (
+            "wheel_radius",
+            fields.wheel_radius,
+            controlled and controlled.radius_from_file and controlled.radius,
+        ),
     )
     for field, described, from_controller in lengths:
         values: dict[str, float | None] = {DESCRIPTION: described}
@@ -218,17 +334,31 @@ def reconcile(
             found.append(disagreement)
     warnings += [_describe(d) for d in found]
 
-    radius_source = OVERRIDE if given.wheel_radius is not None else DESCRIPTION
-    radius = given.wheel_radius
+    radius, radius_source = given.wheel_radius, OVERRIDE
     left_radius = right_radius = given.wheel_radius
-    if radius is None and config is not None and config.wheel_radius is not None:
-        radius, radius_source = config.wheel_radius, ctl
-        left_radius, right_radius = config.left_radius, config.right_radius
     separation, separation_source = given.wheel_separation, OVERRIDE
+    if chosen == "controllers" and config is not None and controlled is not None:
+        if radius is None and controlled.radius is not None:
+            radius, radius_source = controlled.radius, ctl
+            left_radius = controlled.radius * config.left_wheel_radius_multiplier
+            right_radius = controlled.radius * config.right_wheel_radius_multiplier
+        if separation is None and controlled.separation is not None:
+            separation = controlled.separation * config.wheel_separation_multiplier
+            separation_source = ctl
+    elif chosen == "plugin" and plugin is not None:
+        if radius is None and plugin.wheel_radius is not None:
+            radius, radius_source = plugin.wheel_radius, PLUGIN
+            left_radius = right_radius = radius
+        if separation is None and plugin.wheel_separation is not None:
+            separation, separation_source = plugin.wheel_separation, PLUGIN
+    if radius is None:
+        radius_source = DESCRIPTION
     if separation is None:
         separation, separation_source = fields.wheel_separation, DESCRIPTION
-        if config is not None and config.effective_separation is not None:
-            separation, separation_source = config.effective_separation, ctl
+    fields = _flipped(fields, left_radius, right_radius, warnings)
+    left_radius = None if left_radius is None else abs(left_radius)
+    right_radius = None if right_radius is None else abs(right_radius)
+    max_speed, speed_source = _motor_limit(root, fields, given, warnings)
     sources = {
         "wheel_radius": radius_source,
         "left_wheel_radius": radius_source,
@@ -236,7 +366,7 @@ def reconcile(
         "wheel_separation": separation_source,
         "left_joints": joint_source,
         "right_joints": joint_source,
-        "max_wheel_speed": OVERRIDE if given.max_wheel_speed is not None else DESCRIPTION,
+        "max_wheel_speed": speed_source,
     }
     return finish(
         fields,
@@ -244,13 +374,53 @@ def reconcile(
         tuple(warnings),
         radius,
         separation,
-        given.max_wheel_speed,
+        max_speed,
         left_wheel_radius=left_radius,
         right_wheel_radius=right_radius,
         sources=sources,
         disagreements=tuple(found),
         controller=config,
     )
+
+
+def _flipped(
+    fields: Derived, left: float | None, right: float | None, warnings: list[str]
+) -> Derived:
+    """The fields with each side's direction turned where a negative radius multiplier turns
+    the controller's commands to it."""
+    flips = {}
+    for side, radius in (("left", left), ("right", right)):
+        if radius is not None and radius < 0.0:
+            sign = -getattr(fields, f"{side}_sign")
+            flips[f"{side}_sign"] = sign
+            warnings.append(
+                f"the controller's {side}_wheel_radius_multiplier is negative: it turns the "
+                f"{side} wheels the other way, read as direction {sign:+d}"
+            )
+    return dataclasses.replace(fields, **flips) if flips else fields
+
+
+def _motor_limit(
+    root: ElementTree.Element, fields: Derived, given: Overriding, warnings: list[str]
+) -> tuple[float | None, str]:
+    """The motor limit (rad/s) and its source: the override, else the lower of the joints'
+    ``<limit velocity>`` and their ros2_control velocity command interface's ``max``."""
+    if given.max_wheel_speed is not None:
+        return given.max_wheel_speed, OVERRIDE
+    limits = velocity_limits(root)
+    wheels = [*fields.left_joints, *fields.right_joints]
+    tagged = [limits[name] for name in wheels if name in limits]
+    if not tagged:
+        return None, DESCRIPTION
+    tag = min(tagged)
+    if fields.max_wheel_speed is not None and fields.max_wheel_speed <= tag:
+        return None, DESCRIPTION
+    if fields.max_wheel_speed is not None:
+        warnings.append(
+            f"the ros2_control velocity command interfaces allow {tag:g} rad/s, less than the "
+            f"joints' velocity limit {fields.max_wheel_speed:g} rad/s: using the lower"
+        )
+    return tag, DESCRIPTION
 
 
 def _gazebo_name(index: int) -> str:

@@ -56,9 +56,13 @@ class _Wheel:
 
 
 def _wheel_radius(tree: Tree, joint: Joint, source: str) -> tuple[float | None, str, Any]:
-    """Radius of the wheel link's cylinder (collision first, then visual), and its origin."""
+    """Radius of the wheel link's cylinder (collision first, then visual), and its element.
+
+    A link with several cylinders (a hub and a tyre) rolls on the largest: that one is taken.
+    """
     link = tree.links[joint.child]
     for kind, elements in (("collision", link.collisions), ("visual", link.visuals)):
+        shapes = []
         for element in elements:
             geometry = element.geometry
             if geometry is None:
@@ -66,8 +70,24 @@ def _wheel_radius(tree: Tree, joint: Joint, source: str) -> tuple[float | None, 
             shape = geometry.cylinder or geometry.sphere
             if shape is not None and shape.radius is not None:
                 shape_name = "cylinder" if geometry.cylinder is not None else "sphere"
-                return float(shape.radius), f"{kind} {shape_name}", element
+                shapes.append((float(shape.radius), f"{kind} {shape_name}", element))
+        if shapes:
+            return max(shapes, key=lambda found: found[0])
     return None, "", None
+
+
+def _other_radii(tree: Tree, wheel: _Wheel) -> list[float]:
+    """The radii of the wheel link's other cylinders and spheres of the kind taken (m)."""
+    link = tree.links[wheel.joint.child]
+    elements = link.collisions if wheel.radius_from.startswith("collision") else link.visuals
+    radii = []
+    for element in elements:
+        geometry = element.geometry
+        shape = None if geometry is None else geometry.cylinder or geometry.sphere
+        if shape is not None and shape.radius is not None:
+            radii.append(float(shape.radius))
+    radii.remove(max(radii))
+    return radii
 
 
 def _wheel(tree: Tree, joint: Joint, source: str, *, fixed: bool = False) -> _Wheel:
@@ -320,6 +340,14 @@ def derive(
                     f"wheel link {wheel.joint.child!r} has no collision cylinder: radius taken "
                     f"from its {wheel.radius_from}"
                 )
+            others = _other_radii(tree, wheel) if wheel.radius is not None else []
+            if others:
+                shown = ", ".join(f"{r:.6g}" for r in others)
+                warnings.append(
+                    f"wheel link {wheel.joint.child!r} has several {wheel.radius_from}s: the "
+                    f"largest ({wheel.radius:.6g} m) is taken as the one it rolls on, not "
+                    f"{shown} m"
+                )
             axis_warning = _shape_axis_warning(tree, wheel)
             if axis_warning:
                 warnings.append(axis_warning)
@@ -466,6 +494,8 @@ def finish(
         given = sources.get(name, "override")
         if given.startswith("controllers:"):
             _check_size(value, what, name, f"the controller's {name} in {given[12:]}", source)
+        elif given == "plugin":
+            _check_size(value, what, name, "the simulator's diff-drive plugin", source)
         elif (wheel_radius if name == "wheel_radius" else wheel_separation) is None or (
             given == "description"
         ):

@@ -109,11 +109,9 @@ def test_the_controllers_file_the_plugin_names_wins_with_its_multipliers(tmp_pat
     assert params.sources["left_joints"] == f"controllers:{controllers}"
     assert params.controller is not None
     assert params.controller.linear.max_velocity == 0.5
-    # The multiplied separation differs from the joints' by 18 mm: a disagreement, and a warning.
-    (found,) = params.disagreements
-    assert found.field == "wheel_separation"
-    assert found.difference == pytest.approx(0.018, abs=1e-12)
-    assert any("disagree on wheel separation by 18 mm" in w for w in params.warnings)
+    # The multiplier is a setting: the base separation is what agrees with the joints.
+    assert params.disagreements == ()
+    assert not any("disagree" in w for w in params.warnings)
 
 
 def test_overrides_win_over_the_controller(tmp_path: Path) -> None:
