@@ -222,8 +222,10 @@ class RobotOptions:
             path = Path(self.robot)
             if not path.exists():
                 fail(f"{self.robot}: no such file")
-            if path.is_dir():
-                fail(f"{self.robot}: is a directory, not a URDF or xacro file")
+            if path.is_dir() and not (
+                (path / "model.config").is_file() or (path / "model.sdf").is_file()
+            ):
+                fail(f"{self.robot}: is a directory, not a URDF, xacro or SDF model")
         params = load_params(
             self.robot,
             self.xacro_args,

@@ -115,7 +115,8 @@ def expand(
     """Expand a xacro description (or read a plain URDF) into URDF text.
 
     Args:
-        path: a .urdf or .urdf.xacro file; None for the bundled robot.
+        path: a .urdf or .urdf.xacro file, an SDF model (``.sdf``, or a model folder with its
+            ``model.config``, read by :mod:`diffbot.urdf.sdf`); None for the bundled robot.
         args: xacro arguments (``NAME:=VALUE`` on a xacro command line).
         packages: directories of ROS packages, for ``$(find PKG)``. Packages not given are
             looked for in the description's source tree, among the bundled ones, then under
@@ -136,9 +137,13 @@ def expand(
             outside its folders, or any description grows past the expansion limits.
     """
     source = Path(path) if path is not None else BUNDLED_DESCRIPTION
-    text = _check_file(source)
     given = {str(k): str(v) for k, v in (args or {}).items()}
     finder = PackageFinder(None if path is None else source, packages or {}, BUNDLED_PACKAGES)
+    if source.is_dir() or source.suffix == ".sdf":
+        return _read_sdf(source, given, finder, trust)
+    text = _check_file(source)
+    if _is_sdf_text(text):
+        return _read_sdf(source, given, finder, trust)
     if not _is_xacro(source, text):
         from diffbot.urdf.sandbox import description_roots
 
@@ -148,6 +153,25 @@ def expand(
         folders = (*description_roots(source), *(p.resolve() for p in known))
         return Expansion(text, tuple(warnings), (source,), folders)
     return _run_xacro(source, given, finder, trust)
+
+
+def _is_sdf_text(text: str) -> bool:
+    return re.match(r"\s*(<\?xml[^>]*\?>\s*)?(<!--.*?-->\s*)*<sdf[\s>]", text, re.S) is not None
+
+
+def _read_sdf(
+    source: Path, given: Mapping[str, str], finder: PackageFinder, trust: bool
+) -> Expansion:
+    from diffbot.urdf.sandbox import description_roots
+    from diffbot.urdf.sdf import expand_sdf
+
+    anchor = source / "model.config" if source.is_dir() else source
+    roots = description_roots(anchor)
+    urdf, files = expand_sdf(source, finder, roots, trust=trust)
+    warnings = [f"{source} is SDF: xacro argument {name!r} ignored" for name in given]
+    # the folders of the models it included count as its own, as a xacro's packages do
+    folders = tuple(dict.fromkeys([*roots, *(f.resolve().parent for f in files)]))
+    return Expansion(urdf, tuple(warnings), files, folders)
 
 
 def _run_xacro(

@@ -1,0 +1,432 @@
+"""SDF models read into the same tree the URDF reader gives.
+
+A Gazebo robot is often described in SDF only: a ``model.sdf`` (in a model folder with its
+``model.config``) of links, joints, collisions, nested models and ``<include>``d models, with the
+simulator's diff-drive plugin in it. :func:`expand_sdf` turns such a model into URDF text (each
+joint's origin the pose of its child link relative to its parent link, axes in the child's
+frame, plugins kept under ``<gazebo>``), so that wheels, radii and plugins are found as for any
+URDF.
+
+An SDF model is untrusted like a xacro description: a ``model://NAME`` or ``package://`` include
+is resolved like a package (the description's source tree, the given packages, the folders of
+``GZ_SIM_RESOURCE_PATH``, ``IGN_GAZEBO_RESOURCE_PATH`` and ``GAZEBO_MODEL_PATH``), no file
+outside the description's folders and those packages is read, files are bounded in size
+(:data:`MAX_FILE_BYTES`) and includes in depth (:data:`MAX_DEPTH`) and number
+(:data:`MAX_INCLUDES`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Final
+from xml.etree import ElementTree as ET
+
+from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsError
+from diffbot.io.textfile import check_regular
+from diffbot.urdf.packages import PackageFinder
+
+__all__ = ["MAX_DEPTH", "MAX_FILE_BYTES", "MAX_INCLUDES", "expand_sdf", "model_file"]
+
+#: Largest SDF or model.config file read (bytes).
+MAX_FILE_BYTES: Final = 8 * 1024 * 1024
+#: Deepest nesting of included and nested models.
+MAX_DEPTH: Final = 16
+#: Most included models in one description.
+MAX_INCLUDES: Final = 256
+
+_RESOURCE_PATHS = ("GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_MODEL_PATH")
+
+Matrix = list[list[float]]
+
+
+def _identity() -> Matrix:
+    return [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+
+
+def _mul(a: Matrix, b: Matrix) -> Matrix:
+    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
+
+
+def _inverse(m: Matrix) -> Matrix:
+    rotation = [[m[j][i] for j in range(3)] for i in range(3)]  # transposed
+    position = [-sum(rotation[i][k] * m[k][3] for k in range(3)) for i in range(3)]
+    return [[*rotation[i], position[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
+
+
+def _from_pose(x: float, y: float, z: float, roll: float, pitch: float, yaw: float) -> Matrix:
+    # Fixed-axis roll, pitch, yaw (R = Rz Ry Rx): SDF's convention, the same as URDF's rpy.
+    cr, sr, cp, sp, cy, sy = (
+        math.cos(roll),
+        math.sin(roll),
+        math.cos(pitch),
+        math.sin(pitch),
+        math.cos(yaw),
+        math.sin(yaw),
+    )
+    return [
+        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr, x],
+        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr, y],
+        [-sp, cp * sr, cp * cr, z],
+        [0.0, 0.0, 0.0, 1.0],
+    ]
+
+
+def _rpy(m: Matrix) -> tuple[float, float, float]:
+    pitch = math.asin(max(-1.0, min(1.0, -m[2][0])))
+    if abs(m[2][0]) < 1.0 - 1e-12:
+        return math.atan2(m[2][1], m[2][2]), pitch, math.atan2(m[1][0], m[0][0])
+    # gimbal lock: yaw folded into roll
+    return math.atan2(-m[1][2], m[1][1]), pitch, 0.0
+
+
+def _quaternion(x: float, y: float, z: float, w: float) -> Matrix:
+    norm = math.sqrt(x * x + y * y + z * z + w * w) or 1.0
+    x, y, z, w = x / norm, y / norm, z / norm, w / norm
+    return [
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w), 0.0],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w), 0.0],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y), 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]
+
+
+def _numbers(text: str | None, count: int, where: str) -> list[float]:
+    parts = (text or "").split()
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        values = []
+    if len(values) != count or not all(math.isfinite(v) for v in values):
+        raise DescriptionError(f"{where}: expected {count} finite numbers, got {text!r}")
+    return values
+
+
+def _pose(element: ET.Element | None, where: str) -> tuple[Matrix, str | None]:
+    """An element's ``<pose>`` as a matrix, and the frame it is relative to (None: default)."""
+    pose = None if element is None else element.find("pose")
+    if pose is None or not (pose.text or "").strip():
+        return _identity(), None if pose is None else pose.get("relative_to")
+    words = (pose.text or "").split()
+    if pose.get("rotation_format") == "quat_xyzw" or len(words) == 7:
+        x, y, z, qx, qy, qz, qw = _numbers(pose.text, 7, f"{where} <pose>")
+        matrix = _quaternion(qx, qy, qz, qw)
+        matrix[0][3], matrix[1][3], matrix[2][3] = x, y, z
+        return matrix, pose.get("relative_to")
+    x, y, z, roll, pitch, yaw = _numbers(pose.text, 6, f"{where} <pose>")
+    if pose.get("degrees") == "true":
+        roll, pitch, yaw = (math.radians(a) for a in (roll, pitch, yaw))
+    return _from_pose(x, y, z, roll, pitch, yaw), pose.get("relative_to")
+
+
+def _origin(m: Matrix) -> str:
+    roll, pitch, yaw = _rpy(m)
+    xyz = " ".join(f"{m[i][3]:.17g}" for i in range(3))
+    return f'<origin xyz="{xyz}" rpy="{roll:.17g} {pitch:.17g} {yaw:.17g}"/>'
+
+
+@dataclass
+class _Link:
+    name: str
+    pose: Matrix  # in the top model's frame
+    shapes: list[str] = field(default_factory=list)
+
+
+@dataclass
+class _Joint:
+    name: str
+    type: str
+    parent: str
+    child: str
+    axis: tuple[float, float, float] | None
+    axis_in_model: Matrix | None  # the frame the axis is expressed in, when not the child's
+    limit: str
+
+
+@dataclass
+class _Model:
+    links: dict[str, _Link] = field(default_factory=dict)
+    joints: list[_Joint] = field(default_factory=list)
+    plugins: list[ET.Element] = field(default_factory=list)
+    files: list[Path] = field(default_factory=list)
+    includes: int = 0
+
+
+def model_file(folder: Path) -> Path:
+    """The SDF file of a model folder: the first ``<sdf>`` its ``model.config`` names, else
+    ``model.sdf``.
+
+    Raises:
+        DescriptionError: the folder holds neither.
+    """
+    config = folder / "model.config"
+    if config.is_file():
+        root = _parse(config, "a model.config")
+        for sdf in root.iter("sdf"):
+            name = (sdf.text or "").strip()
+            if name:
+                return folder / name
+    if (folder / "model.sdf").is_file():
+        return folder / "model.sdf"
+    raise DescriptionError(
+        f"{folder}: is a directory, but no model folder (no model.config naming an SDF file, "
+        "no model.sdf)"
+    )
+
+
+def _parse(path: Path, kind: str) -> ET.Element:
+    check_regular(path, DescriptionError, kind)
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise ExpansionLimitError(f"{path}: larger than {MAX_FILE_BYTES} bytes, refused")
+    try:
+        return ET.parse(path).getroot()
+    except ET.ParseError as err:
+        raise DescriptionError(f"{path}: malformed XML: {err}") from None
+
+
+class _Reader:
+    def __init__(self, source: Path, finder: PackageFinder, roots: Sequence[Path], trust: bool):
+        self.source = source
+        self.finder = finder
+        self.roots = [root.resolve() for root in roots]
+        self.trust = trust
+        self.model = _Model()
+
+    def check(self, path: Path) -> None:
+        real = path.resolve()
+        if self.trust or any(real == r or r in real.parents for r in self.roots):
+            return
+        folders = ", ".join(str(r) for r in self.roots)
+        raise OutsideRootsError(
+            f"{path}: reading refused in an untrusted description: it is outside the "
+            f"description's folders ({folders}); trust the description ({{trust}}) to let it "
+            "read any file"
+        )
+
+    def locate(self, uri: str, here: Path) -> Path:
+        """The model folder or file an include's URI names."""
+        for scheme in ("model://", "package://"):
+            if uri.startswith(scheme):
+                name, _, rest = uri[len(scheme) :].partition("/")
+                found = self.finder.locate(name)
+                if found is None:
+                    found = self._resource(name)
+                if found is None:
+                    raise DescriptionError(
+                        f"{self.source}: model {name!r} of {uri!r} not found: give its folder "
+                        f"with {{packages}} {name}=DIR"
+                    )
+                self.roots.append(found.resolve())
+                return found / rest if rest else found
+        if "://" in uri and not uri.startswith("file://"):
+            raise DescriptionError(
+                f"{self.source}: include {uri!r}: only model://, package:// and file URIs are read"
+            )
+        target = Path(uri.removeprefix("file://"))
+        return target if target.is_absolute() else here / target
+
+    def _resource(self, name: str) -> Path | None:
+        sibling = self.source.resolve().parent.parent / name  # models/<this>, models/<name>
+        if (sibling / "model.config").is_file():
+            return sibling
+        for variable in _RESOURCE_PATHS:
+            for entry in os.environ.get(variable, "").split(os.pathsep):
+                candidate = Path(entry) / name
+                if entry and candidate.is_dir():
+                    return candidate
+        return None
+
+    def read_file(self, path: Path, frame: Matrix, prefix: str, depth: int) -> None:
+        self.check(path)
+        root = _parse(path, "an SDF file")
+        self.model.files.append(path)
+        if root.tag != "sdf":
+            raise DescriptionError(f"{path}: not SDF: the root element is <{root.tag}>")
+        models = root.findall("model")
+        if not models:
+            world = root.find("world")
+            models = [] if world is None else world.findall("model")
+        if len(models) != 1:
+            raise DescriptionError(
+                f"{path}: expected one <model>, found {len(models)}: give the robot's model file"
+            )
+        self.read_model(models[0], frame, prefix, path.parent, depth, top=not prefix)
+
+    def read_model(
+        self, model: ET.Element, frame: Matrix, prefix: str, here: Path, depth: int, top: bool
+    ) -> None:
+        if depth > MAX_DEPTH:
+            raise ExpansionLimitError(
+                f"{self.source}: models nested more than {MAX_DEPTH} deep (max_depth)"
+            )
+        where = f"{self.source}: model {model.get('name')!r}"
+        pose, _ = _pose(model, where) if not top else (_identity(), None)
+        frame = _mul(frame, pose)
+        local: dict[str, Matrix] = {}
+        for link in model.findall("link"):
+            name = prefix + link.get("name", "")
+            link_pose, relative = _pose(link, f"{where} link {name!r}")
+            base = frame
+            if relative and prefix + relative in local:
+                base = local[prefix + relative]
+            matrix = _mul(base, link_pose)
+            local[name] = matrix
+            record = _Link(name, matrix)
+            for kind in ("collision", "visual"):
+                for element in link.findall(kind):
+                    record.shapes.append(self.shape(kind, element, f"{where} link {name!r}"))
+            self.model.links[name] = record
+        for joint in model.findall("joint"):
+            self.model.joints.append(self.joint(joint, prefix, frame, where))
+        self.model.plugins.extend(model.findall("plugin"))
+        for nested in model.findall("model"):
+            self.read_model(
+                nested, frame, f"{prefix}{nested.get('name', '')}::", here, depth + 1, top=False
+            )
+        for include in model.findall("include"):
+            self.model.includes += 1
+            if self.model.includes > MAX_INCLUDES:
+                raise ExpansionLimitError(
+                    f"{self.source}: more than {MAX_INCLUDES} included models, refused"
+                )
+            uri = (include.findtext("uri") or "").strip()
+            target = self.locate(uri, here)
+            if target.is_dir():
+                target = model_file(target)
+            name = (include.findtext("name") or "").strip() or target.parent.name
+            include_pose, _ = _pose(include, f"{where} include {uri!r}")
+            self.read_file(target, _mul(frame, include_pose), f"{prefix}{name}::", depth + 1)
+
+    def shape(self, kind: str, element: ET.Element, where: str) -> str:
+        pose, _ = _pose(element, where)
+        geometry = element.find("geometry")
+        inner = ""
+        if geometry is not None:
+            cylinder, sphere, box = (geometry.find(t) for t in ("cylinder", "sphere", "box"))
+            if cylinder is not None:
+                radius = _numbers(cylinder.findtext("radius"), 1, f"{where} radius")[0]
+                length = _numbers(cylinder.findtext("length"), 1, f"{where} length")[0]
+                inner = f'<cylinder radius="{radius!r}" length="{length!r}"/>'
+            elif sphere is not None:
+                radius = _numbers(sphere.findtext("radius"), 1, f"{where} radius")[0]
+                inner = f'<sphere radius="{radius!r}"/>'
+            elif box is not None:
+                size = " ".join(map(repr, _numbers(box.findtext("size"), 3, f"{where} size")))
+                inner = f'<box size="{size}"/>'
+        if not inner:
+            return ""
+        return f"<{kind}>{_origin(pose)}<geometry>{inner}</geometry></{kind}>"
+
+    def joint(self, joint: ET.Element, prefix: str, frame: Matrix, where: str) -> _Joint:
+        name = prefix + joint.get("name", "")
+        kind = joint.get("type", "fixed")
+        parent = (joint.findtext("parent") or "").strip()
+        child = (joint.findtext("child") or "").strip()
+        parent = parent if parent == "world" else prefix + parent
+        axis_element = joint.find("axis")
+        axis = None
+        in_model = None
+        limit = ""
+        if axis_element is not None:
+            xyz_element = axis_element.find("xyz")
+            x, y, z = _numbers(
+                None if xyz_element is None else xyz_element.text, 3, f"{where} joint {name!r}"
+            )
+            axis = (x, y, z)
+            expressed = "" if xyz_element is None else xyz_element.get("expressed_in", "")
+            if expressed == "__model__" or axis_element.findtext("use_parent_model_frame") in (
+                "true",
+                "1",
+            ):
+                in_model = frame
+            lower = axis_element.findtext("limit/lower")
+            upper = axis_element.findtext("limit/upper")
+            velocity = axis_element.findtext("limit/velocity")
+            bounded = lower is not None and upper is not None
+            if kind == "revolute" and (
+                not bounded or float(upper or 0) - float(lower or 0) >= 2 * math.pi
+            ):
+                kind = "continuous"
+            parts = []
+            if kind != "continuous" and bounded:
+                parts.append(f'lower="{float(lower or 0)!r}" upper="{float(upper or 0)!r}"')
+            if velocity is not None and float(velocity) > 0 and math.isfinite(float(velocity)):
+                parts.append(f'velocity="{float(velocity)!r}"')
+            if parts:
+                limit = f'<limit effort="0" {" ".join(parts)}/>'
+        if kind not in ("continuous", "revolute", "prismatic", "fixed"):
+            kind = "fixed" if kind in ("ball", "universal", "gearbox", "screw") else kind
+        return _Joint(name, kind, parent, prefix + child, axis, in_model, limit)
+
+    def urdf(self, name: str) -> str:
+        model = self.model
+        lines = [f'<?xml version="1.0"?>\n<robot name="{_attr(name)}">']
+        for link in model.links.values():
+            lines.append(f'<link name="{_attr(link.name)}">{"".join(link.shapes)}</link>')
+        for joint in model.joints:
+            if joint.parent == "world":
+                continue
+            for end in (joint.parent, joint.child):
+                if end not in model.links:
+                    raise DescriptionError(
+                        f"{self.source}: joint {joint.name!r} names the unknown link {end!r}"
+                    )
+            parent = model.links[joint.parent].pose
+            child = model.links[joint.child].pose
+            origin = _mul(_inverse(parent), child)
+            axis = ""
+            if joint.axis is not None:
+                x, y, z = joint.axis
+                if joint.axis_in_model is not None:
+                    # expressed in the model frame: brought into the child link's frame
+                    rotation = _mul(_inverse(child), joint.axis_in_model)
+                    x, y, z = (
+                        rotation[i][0] * x + rotation[i][1] * y + rotation[i][2] * z
+                        for i in range(3)
+                    )
+                axis = f'<axis xyz="{x!r} {y!r} {z!r}"/>'
+            lines.append(
+                f'<joint name="{_attr(joint.name)}" type="{_attr(joint.type)}">'
+                f'<parent link="{_attr(joint.parent)}"/><child link="{_attr(joint.child)}"/>'
+                f"{_origin(origin)}{axis}{joint.limit}</joint>"
+            )
+        for plugin in model.plugins:
+            lines.append(f"<gazebo>{ET.tostring(plugin, encoding='unicode')}</gazebo>")
+        lines.append("</robot>\n")
+        return "\n".join(lines)
+
+
+def _attr(text: str) -> str:
+    return text.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
+
+
+def expand_sdf(
+    path: Path, finder: PackageFinder, roots: Sequence[Path], *, trust: bool = False
+) -> tuple[str, tuple[Path, ...]]:
+    """An SDF model (a ``.sdf`` file or a model folder) as URDF text, and the files read.
+
+    Args:
+        path: the model file or folder.
+        finder: resolves ``model://NAME`` and ``package://NAME`` like ``$(find NAME)``.
+        roots: folders the model may read besides those of the packages it includes.
+        trust: read any file.
+
+    Raises:
+        DescriptionError: malformed XML, not SDF, no single model, an unknown include, a joint
+            naming an unknown link, a non-numeric pose or size.
+        OutsideRootsError: an include outside the description's folders (untrusted).
+        ExpansionLimitError: a file too large, includes nested too deep or too many.
+    """
+    file = model_file(path) if path.is_dir() else path
+    reader = _Reader(file, finder, [*roots, path if path.is_dir() else file.parent], trust)
+    reader.read_file(file, _identity(), "", 0)
+    root = _parse(file, "an SDF file")
+    model = root.find("model")
+    if model is None:
+        world = root.find("world")
+        model = None if world is None else world.find("model")
+    name = "" if model is None else model.get("name", "")
+    return reader.urdf(name or file.stem), tuple(reader.model.files)

@@ -1,0 +1,182 @@
+"""SDF models: links, joints, collisions, nested and included models, the diff-drive plugin as
+a source, and the untrusted-input rules of xacro descriptions."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from cli_results import assert_one_error_line
+from click.testing import CliRunner
+
+import diffbot
+from diffbot.cli import main
+from diffbot.errors import ExpansionLimitError, OutsideRootsError
+from diffbot.urdf import sdf
+
+#: Shaped like Dolly: a chassis, two sphere wheels turned so that their z axis is lateral, a ball
+#: caster, and gz-sim's DiffDrive system (the Ignition spelling).
+DOLLY = """<?xml version="1.0"?>
+<sdf version="1.6">
+  <model name="dolly">
+    <pose>0 0 0.225 0 0 0</pose>
+    <link name="chassis">
+      <collision name="collision"><geometry><box><size>2.01 1 0.57</size></box></geometry>
+      </collision>
+    </link>
+    <link name="left_wheel">
+      <pose>0.554283 0.625029 -0.025 -1.5707 0 0</pose>
+      <collision name="c"><geometry><sphere><radius>0.3</radius></sphere></geometry></collision>
+    </link>
+    <link name="right_wheel">
+      <pose>0.554283 -0.625029 -0.025 -1.5707 0 0</pose>
+      <collision name="c"><geometry><sphere><radius>0.3</radius></sphere></geometry></collision>
+    </link>
+    <link name="caster">
+      <pose>-0.957138 0 -0.125 0 0 0</pose>
+      <collision name="c"><geometry><sphere><radius>0.2</radius></sphere></geometry></collision>
+    </link>
+    <joint name="left_wheel_joint" type="revolute">
+      <parent>chassis</parent><child>left_wheel</child>
+      <axis><xyz>0 0 1</xyz>
+        <limit><lower>-1.79769e+308</lower><upper>1.79769e+308</upper></limit></axis>
+    </joint>
+    <joint name="right_wheel_joint" type="revolute">
+      <parent>chassis</parent><child>right_wheel</child><axis><xyz>0 0 1</xyz></axis>
+    </joint>
+    <joint name="caster_wheel" type="ball"><parent>chassis</parent><child>caster</child></joint>
+    <plugin filename="libignition-gazebo-diff-drive-system.so"
+            name="ignition::gazebo::systems::DiffDrive">
+      <left_joint>left_wheel_joint</left_joint><right_joint>right_wheel_joint</right_joint>
+      <wheel_separation>1.25</wheel_separation><wheel_radius>0.3</wheel_radius>
+    </plugin>
+  </model>
+</sdf>
+"""
+
+CONFIG = """<?xml version="1.0"?>
+<model><name>{name}</name><version>1.0</version><sdf version="1.6">{file}</sdf></model>
+"""
+
+
+def model_folder(parent: Path, name: str, text: str, file: str = "model.sdf") -> Path:
+    folder = parent / name
+    folder.mkdir(parents=True)
+    (folder / "model.config").write_text(CONFIG.format(name=name, file=file), encoding="utf-8")
+    (folder / file).write_text(text, encoding="utf-8")
+    return folder
+
+
+def test_an_sdf_model_gives_its_wheels_and_its_plugin(tmp_path: Path) -> None:
+    folder = model_folder(tmp_path / "models", "dolly", DOLLY)
+    params = diffbot.load_params(folder / "model.sdf")
+    # the plugin is the controller of a simulated robot: its values win
+    assert (params.wheel_separation, params.wheel_radius) == (1.25, 0.3)
+    assert params.sources["wheel_separation"] == "plugin"
+    assert (params.left_joint, params.right_joint) == ("left_wheel_joint", "right_wheel_joint")
+    assert (params.left_sign, params.right_sign) == (1, 1)
+    described = diffbot.load_params(folder / "model.sdf", source="description")
+    assert described.wheel_separation == pytest.approx(1.250058, abs=1e-9)
+    assert described.wheel_radius == 0.3
+    assert described.disagreements == ()  # 0.058 mm apart: within the tolerance
+
+
+def test_a_model_folder_is_read_through_its_model_config(tmp_path: Path) -> None:
+    folder = model_folder(tmp_path / "models", "dolly", DOLLY, file="dolly.sdf")
+    params = diffbot.load_params(folder)
+    assert params.wheel_radius == 0.3
+    assert str(folder / "dolly.sdf") in params.description_files
+
+
+def test_every_command_takes_a_model_folder(tmp_path: Path) -> None:
+    folder = model_folder(tmp_path / "models", "dolly", DOLLY)
+    result = CliRunner().invoke(main, ["params", str(folder), "--json"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout)["sources"]["wheel_radius"] == "plugin"
+    check = CliRunner().invoke(main, ["check", str(folder)])
+    assert check.exit_code == 0, check.output
+    ik = CliRunner().invoke(main, ["ik", "0.3", "0", "--robot", str(folder / "model.sdf")])
+    assert ik.exit_code == 0, ik.output
+    assert "1 rad/s" in ik.stdout  # 0.3 m/s on 0.3 m wheels
+    urdf = CliRunner().invoke(main, ["urdf", str(folder / "model.sdf")])
+    assert '<joint name="left_wheel_joint" type="continuous">' in urdf.stdout
+
+
+WHEEL = """<sdf version="1.7"><model name="wheel">
+  <link name="tyre"><pose>0 0 0 1.5707963 0 0</pose>
+    <collision name="hub"><geometry>
+      <cylinder><radius>0.05</radius><length>0.04</length></cylinder></geometry></collision>
+    <collision name="tyre"><geometry>
+      <cylinder><radius>0.08</radius><length>0.04</length></cylinder></geometry></collision>
+  </link></model></sdf>
+"""
+
+ROBOT = """<sdf version="1.7"><model name="rover">
+  <link name="base"/>
+  <include><uri>model://wheel</uri><name>left</name><pose>0 0.2 0 0 0 0</pose></include>
+  <include><uri>model://wheel</uri><name>right</name><pose>0 -0.2 0 0 0 0</pose></include>
+  <joint name="left_joint" type="revolute"><parent>base</parent><child>left::tyre</child>
+    <axis><xyz expressed_in="__model__">0 1 0</xyz></axis></joint>
+  <joint name="right_joint" type="revolute"><parent>base</parent><child>right::tyre</child>
+    <axis><xyz expressed_in="__model__">0 1 0</xyz></axis></joint>
+  <model name="mast"><pose>0 0 0.3 0 0 0</pose><link name="top"/>
+    <joint name="fix" type="fixed"><parent>top</parent><child>top</child></joint></model>
+  <joint name="mast_joint" type="fixed"><parent>base</parent><child>mast::top</child></joint>
+</model></sdf>
+"""
+
+
+def test_included_and_nested_models_join_the_tree(tmp_path: Path) -> None:
+    models = tmp_path / "models"
+    model_folder(models, "wheel", WHEEL)
+    robot = model_folder(
+        models,
+        "rover",
+        ROBOT.replace(
+            '<joint name="fix" type="fixed"><parent>top</parent><child>top</child></joint>', ""
+        ),
+    )
+    params = diffbot.load_params(robot)
+    assert params.wheel_separation == pytest.approx(0.4, abs=1e-12)
+    assert params.wheel_radius == 0.08  # the tyre, not the hub
+    assert (params.left_joint, params.right_joint) == ("left_joint", "right_joint")
+    assert (params.left_sign, params.right_sign) == (1, 1)
+    assert any("several collision cylinders" in w for w in params.warnings)
+
+
+def test_an_unknown_model_is_bad_input(tmp_path: Path) -> None:
+    robot = model_folder(tmp_path / "models", "rover", ROBOT)
+    result = CliRunner().invoke(main, ["params", str(robot)])
+    assert_one_error_line(
+        result, "model 'wheel' of 'model://wheel' not found", "--package wheel=DIR"
+    )
+
+
+def test_a_file_outside_the_tree_is_refused(tmp_path: Path) -> None:
+    secret = tmp_path / "secret.sdf"
+    secret.write_text(WHEEL, encoding="utf-8")
+    text = ROBOT.replace("model://wheel", f"file://{secret}")
+    robot = model_folder(tmp_path / "ws" / "models", "rover", text)
+    with pytest.raises(OutsideRootsError, match="outside the description's folders"):
+        diffbot.load_params(robot)
+
+
+def test_includes_are_bounded(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    selfish = '<sdf version="1.7"><model name="m"><link name="a"/><include><uri>model://loop</uri></include></model></sdf>'
+    robot = model_folder(tmp_path / "models", "loop", selfish)
+    with pytest.raises(ExpansionLimitError, match="nested more than 16 deep"):
+        diffbot.load_params(robot)
+    monkeypatch.setattr(sdf, "MAX_FILE_BYTES", 100)
+    with pytest.raises(ExpansionLimitError, match="larger than 100 bytes"):
+        diffbot.load_params(model_folder(tmp_path / "m2", "dolly", DOLLY))
+
+
+def test_malformed_sdf_is_one_error_line(tmp_path: Path) -> None:
+    path = tmp_path / "bad.sdf"
+    path.write_text(
+        '<sdf version="1.6"><model name="x"><link name="a"><pose>1 2</pose></link></model></sdf>',
+        encoding="utf-8",
+    )
+    result = CliRunner().invoke(main, ["params", str(path)])
+    assert_one_error_line(result, "expected 6 finite numbers")
