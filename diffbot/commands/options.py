@@ -222,8 +222,8 @@ class RobotOptions:
             path = Path(self.robot)
             if not path.exists():
                 fail(f"{self.robot}: no such file")
-            if path.is_dir() and not (
-                (path / "model.config").is_file() or (path / "model.sdf").is_file()
+            if path.is_dir() and not any(
+                (path / name).is_file() for name in ("model.config", "model.sdf", "metadata.yaml")
             ):
                 fail(f"{self.robot}: is a directory, not a URDF, xacro or SDF model")
         params = load_params(

@@ -24,7 +24,13 @@ from xml.etree import ElementTree
 from diffbot.errors import DescriptionError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.urdf.cache import cached_fields
-from diffbot.urdf.sources import Overriding, find_controller, reconcile
+from diffbot.urdf.sources import (
+    Overriding,
+    find_controller,
+    from_controller,
+    from_options,
+    reconcile,
+)
 from diffbot.urdf.wheels import Derived, JointChoice, derive_params
 from diffbot.urdf.xacro import BUNDLED_DESCRIPTION, BUNDLED_PACKAGES, Expansion, expand
 
@@ -83,6 +89,10 @@ def load_params(
             ``controllers`` or ``plugin``; the other sources are still cross-checked.
         no_controllers: read no controllers file, not even the one the description names.
 
+    With no ``path`` and all of ``left_joint``, ``right_joint``, ``wheel_radius`` and
+    ``wheel_separation`` given, no description is loaded: the robot is what they say. A
+    description without links (a Webots robot's) takes every value from its controller.
+
     Returns:
         The robot's :class:`DiffDriveParams`.
 
@@ -91,6 +101,9 @@ def load_params(
             no or ambiguous drive wheels, wheels without a radius, a bad controllers file.
         ParameterError: an override or derived value is not a positive finite number.
     """
+    given = Overriding(left_joint, right_joint, wheel_radius, wheel_separation, max_wheel_speed)
+    if path is None and None not in (left_joint, right_joint, wheel_radius, wheel_separation):
+        return from_options(given, controllers, controller, args, no_controllers)
     label = str(path) if path is not None else "bundled diffbot"
     expansion = expand(path, args, packages, trust=trust)
     root = ElementTree.fromstring(expansion.urdf)
@@ -119,7 +132,9 @@ def load_params(
     def derive(left: JointChoice, right: JointChoice) -> Derived:
         return cached_fields(expansion.urdf, label, left, right)
 
-    given = Overriding(left_joint, right_joint, wheel_radius, wheel_separation, max_wheel_speed)
-    params = reconcile(derive, root, label, warnings, config, given, source)
+    if root.find("link") is None and config is not None:
+        params = from_controller(config, root, label, warnings, given)
+    else:
+        params = reconcile(derive, root, label, warnings, config, given, source)
     files = tuple(str(path) for path in expansion.files)
     return dataclasses.replace(params, description_files=files)

@@ -40,6 +40,8 @@ __all__ = [
     "TOLERANCE",
     "Overriding",
     "find_controller",
+    "from_controller",
+    "from_options",
     "reconcile",
 ]
 
@@ -379,6 +381,132 @@ def reconcile(
         right_wheel_radius=right_radius,
         sources=sources,
         disagreements=tuple(found),
+        controller=config,
+    )
+
+
+def _split(names: JointChoice) -> tuple[str, ...]:
+    parts = names.split(",") if isinstance(names, str) else list(names or ())
+    return tuple(name.strip() for name in parts if name.strip())
+
+
+def from_options(
+    given: Overriding,
+    controllers: str | os.PathLike[str] | None,
+    controller: str | None,
+    args: Mapping[str, object] | None,
+    no_controllers: bool,
+) -> DiffDriveParams:
+    """A robot from the caller's joints, radius and separation alone (no description); a
+    controllers file given adds its limits and settings, not its geometry."""
+    config = None
+    if controllers is not None and not no_controllers:
+        config = choose_controller(
+            load_controllers(controllers, {str(k): str(v) for k, v in (args or {}).items()}),
+            controller,
+        )
+    left, right = _split(given.left_joint), _split(given.right_joint)
+    if not left or not right:
+        raise DriveWheelError("give both wheel joints by name ({left_joint}, {right_joint})")
+    return DiffDriveParams(
+        wheel_radius=given.wheel_radius,  # type: ignore[arg-type]  # checked by the caller
+        wheel_separation=given.wheel_separation,  # type: ignore[arg-type]
+        left_joints=left,
+        right_joints=right,
+        max_wheel_speed=given.max_wheel_speed,
+        source="(options)",
+        sources=dict.fromkeys(_FIELDS, OVERRIDE),
+        controller=config,
+    )
+
+
+#: The fields ``sources`` names.
+_FIELDS = (
+    "wheel_radius",
+    "left_wheel_radius",
+    "right_wheel_radius",
+    "wheel_separation",
+    "left_joints",
+    "right_joints",
+    "max_wheel_speed",
+)
+
+
+def from_controller(
+    config: ControllerConfig,
+    root: ElementTree.Element,
+    source: str,
+    warnings: list[str],
+    given: Overriding,
+) -> DiffDriveParams:
+    """A robot whose description has no links (a Webots robot's): every value from its
+    controller, the caller's overrides winning, the motor limit from ros2_control tags.
+
+    Raises:
+        DescriptionError: the controller leaves out its wheels, radius or separation.
+    """
+    ctl = _controller_source(config)
+    left = _split(given.left_joint) or config.left_wheel_names
+    right = _split(given.right_joint) or config.right_wheel_names
+    radius = given.wheel_radius if given.wheel_radius is not None else config.wheel_radius
+    separation = given.wheel_separation
+    if separation is None and config.wheel_separation is not None:
+        separation = config.wheel_separation * config.wheel_separation_multiplier
+    missing = [
+        name
+        for name, value in (
+            ("wheel names", left and right),
+            ("wheel_radius", radius),
+            ("wheel_separation", separation),
+        )
+        if not value
+    ]
+    if missing or radius is None or separation is None:
+        raise DescriptionError(
+            f"{source}: the description defines no links, and its controller {config.name!r} "
+            f"in {config.source} leaves out {', '.join(missing)}: give them with "
+            "{wheel_radius}, {wheel_separation}, {left_joint} and {right_joint}",
+            path=source,
+        )
+    signs = {}
+    radii = {}
+    for side in ("left", "right"):
+        multiplier = getattr(config, f"{side}_wheel_radius_multiplier")
+        signs[side] = -1 if multiplier < 0 and given.wheel_radius is None else 1
+        radii[side] = radius * (1.0 if given.wheel_radius is not None else abs(multiplier))
+    limits = velocity_limits(root)
+    tagged = [limits[name] for name in (*left, *right) if name in limits]
+    speed = given.max_wheel_speed
+    if speed is None and tagged:
+        speed = min(tagged)
+    warnings.append(
+        f"{source} defines no links: the robot is its controller {config.name!r} "
+        f"({config.source}), with no geometry to check it against"
+    )
+    sources = dict.fromkeys(_FIELDS, ctl)
+    for name, value in (
+        ("wheel_radius", given.wheel_radius),
+        ("wheel_separation", given.wheel_separation),
+        ("max_wheel_speed", given.max_wheel_speed),
+    ):
+        if value is not None:
+            sources[name] = OVERRIDE
+    sources["max_wheel_speed"] = OVERRIDE if given.max_wheel_speed is not None else DESCRIPTION
+    if given.wheel_radius is not None:
+        sources["left_wheel_radius"] = sources["right_wheel_radius"] = OVERRIDE
+    return DiffDriveParams(
+        wheel_radius=radius,
+        wheel_separation=separation,
+        left_joints=left,
+        right_joints=right,
+        left_sign=signs["left"],
+        right_sign=signs["right"],
+        left_wheel_radius=radii["left"],
+        right_wheel_radius=radii["right"],
+        max_wheel_speed=speed,
+        source=source,
+        warnings=tuple(warnings),
+        sources=sources,
         controller=config,
     )
 

@@ -116,7 +116,8 @@ def expand(
 
     Args:
         path: a .urdf or .urdf.xacro file, an SDF model (``.sdf``, or a model folder with its
-            ``model.config``, read by :mod:`diffbot.urdf.sdf`); None for the bundled robot.
+            ``model.config``, read by :mod:`diffbot.urdf.sdf`), a rosbag2 recording (its
+            ``/robot_description``); None for the bundled robot.
         args: xacro arguments (``NAME:=VALUE`` on a xacro command line).
         packages: directories of ROS packages, for ``$(find PKG)``. Packages not given are
             looked for in the description's source tree, among the bundled ones, then under
@@ -139,6 +140,10 @@ def expand(
     source = Path(path) if path is not None else BUNDLED_DESCRIPTION
     given = {str(k): str(v) for k, v in (args or {}).items()}
     finder = PackageFinder(None if path is None else source, packages or {}, BUNDLED_PACKAGES)
+    from diffbot.io.bag_description import is_description_bag
+
+    if path is not None and is_description_bag(source):
+        return _read_bag(source, given)
     if source.is_dir() or source.suffix == ".sdf":
         return _read_sdf(source, given, finder, trust)
     text = _check_file(source)
@@ -157,6 +162,15 @@ def expand(
 
 def _is_sdf_text(text: str) -> bool:
     return re.match(r"\s*(<\?xml[^>]*\?>\s*)?(<!--.*?-->\s*)*<sdf[\s>]", text, re.S) is not None
+
+
+def _read_bag(source: Path, given: Mapping[str, str]) -> Expansion:
+    from diffbot.io.bag_description import DESCRIPTION_TOPIC, read_description
+
+    text = read_description(source)
+    check_xml(text, f"{source} {DESCRIPTION_TOPIC}")
+    warnings = [f"{source} holds a URDF: xacro argument {name!r} ignored" for name in given]
+    return Expansion(text, tuple(warnings), (source,))
 
 
 def _read_sdf(
