@@ -281,7 +281,9 @@ _ROBOT_OPTIONS = [
     click.option(
         "--robot",
         metavar="PATH",
-        help="Robot description (.urdf or .urdf.xacro). Default: the bundled diffbot.",
+        help="Robot description: .urdf, .urdf.xacro, an SDF model (.sdf or model folder) or a "
+        "bag with /robot_description. Default: the bundled diffbot, unless both joints, the "
+        "radius and the separation are given.",
     ),
     click.option(
         "--package",

@@ -52,15 +52,17 @@ __all__ = ["fk", "ik", "params", "urdf"]
 def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
     """Show the robot parameters derived from a description.
 
-    PATH is a .urdf or .urdf.xacro file (default: the bundled diffbot); NAME:=VALUE tokens are
-    xacro arguments. Drive wheels are found from the structure: continuous joints with a lateral
-    axis hanging from base_link through fixed (or suspension) joints; left is +y (REP-103). A
-    skid steer's wheels, split evenly between the sides, are all used.
+    PATH is a .urdf or .urdf.xacro file, an SDF model (.sdf or model folder) or a bag holding
+    /robot_description (default: the bundled diffbot); NAME:=VALUE tokens are xacro arguments.
+    Drive wheels are found from the structure: continuous joints with a lateral axis hanging
+    from base_link through fixed (or suspension) joints; left is +y (REP-103). A skid steer's
+    wheels, split evenly between the sides, are all used.
 
     The robot's diff_drive_controller configuration (--controllers, or the file its ros2_control
     Gazebo plugin names) wins over the geometry: its separation times its multiplier, its radius
-    times each side's multiplier, its wheel names. Each value says where it came from when that
-    is not the description; sources that disagree are warnings (see `diffbot check`).
+    times each side's multiplier, its wheel names; without one, the simulator's diff-drive plugin
+    does (--source chooses). Each value says where it came from when that is not the
+    description; sources that disagree are warnings (see `diffbot check`).
 
     \b
     Examples:
