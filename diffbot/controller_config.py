@@ -110,6 +110,7 @@ class ControllerConfig:
         cmd_vel_timeout: age after which a command is stale (s); 0 disables the timeout.
         update_rate: the controller manager's update rate (Hz).
         warnings: things worth telling the user about the section, one sentence each.
+        arguments: the names of the ``$(arg NAME)`` substitutions of its file (ROS 1).
     """
 
     name: str
@@ -138,6 +139,7 @@ class ControllerConfig:
     cmd_vel_timeout: float | None = None
     update_rate: float | None = None
     warnings: tuple[str, ...] = field(default=(), compare=False)
+    arguments: tuple[str, ...] = field(default=(), compare=False)
 
     @property
     def effective_separation(self) -> float | None:

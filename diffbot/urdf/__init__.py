@@ -127,6 +127,9 @@ def load_params(
         )
     )
     if config is not None:
+        # an argument the controllers file substitutes is used, though the description has none
+        used = [f"xacro argument {name!r} " for name in config.arguments]
+        warnings = [w for w in warnings if not any(u in w for u in used)]
         warnings += [f"controller {config.name!r}: {note}" for note in config.warnings]
 
     def derive(left: JointChoice, right: JointChoice) -> Derived:

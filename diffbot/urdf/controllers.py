@@ -211,6 +211,9 @@ def other_drive_controllers(text: str, source: str) -> list[tuple[str, str]]:
     if not isinstance(tree, Mapping):
         return []
     found: list[tuple[str, str]] = []
+    for name, value in _ros1_types(tree):
+        if value not in DIFF_DRIVE_TYPES and _OTHER_DRIVE.search(value.rsplit("/", 1)[-1]):
+            found.append((name, value))
     for node in _ros2_nodes(tree, source):
         for key, value in node.params.items():
             if key == "type" or key.endswith(".type"):
@@ -223,6 +226,17 @@ def other_drive_controllers(text: str, source: str) -> list[tuple[str, str]]:
                 ):
                     found.append((name, value))
     return found
+
+
+def _ros1_types(tree: Mapping[Any, Any], path: tuple[str, ...] = ()) -> Iterator[tuple[str, str]]:
+    """Every ROS 1 controller mapping's name and ``type``, under any namespace keys."""
+    for key, value in tree.items():
+        if not isinstance(value, Mapping) or _ROS2_KEY in value:
+            continue
+        if isinstance(value.get("type"), str):
+            yield _base_name((*path, str(key))), value["type"]
+        else:
+            yield from _ros1_types(value, (*path, str(key)))
 
 
 def _follow_chain(config: ControllerConfig, nodes: Sequence[_Node]) -> ControllerConfig:
@@ -274,6 +288,7 @@ def read_controllers(
             with a value of the wrong type or out of its domain (the message names the file, the
             controller and the key).
     """
+    used = tuple(dict.fromkeys(_ARG.findall(text)))
     text, unresolved = substitute_args(text, args)
     tree = _parse_yaml(text, source)
     if tree is None:
@@ -328,7 +343,7 @@ def read_controllers(
         for name in unresolved
     ]
     return [
-        dataclasses.replace(c, warnings=(*c.warnings, *unset)) if unset else c
+        dataclasses.replace(c, warnings=(*c.warnings, *unset), arguments=used)
         for c in (_follow_chain(c, nodes) for c in configs)
     ]
 

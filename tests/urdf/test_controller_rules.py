@@ -317,3 +317,36 @@ def test_a_wheel_of_several_cylinders_rolls_on_the_largest(tmp_path: Path) -> No
     assert len(notes) == 2
     assert "not 0.057 m" in notes[0]
     assert math.isclose(params.wheel_separation, 0.359, abs_tol=1e-12)
+
+
+def test_an_argument_only_the_controllers_file_uses_is_not_called_ignored(tmp_path: Path) -> None:
+    ros1 = """base_controller:
+  type: diff_drive_controller/DiffDriveController
+  left_wheel: '$(arg prefix)left_wheel_joint'
+  right_wheel: '$(arg prefix)right_wheel_joint'
+"""
+    robot, yaml = files(tmp_path, TWO.replace("BODY", ""), ros1)
+    params = diffbot.load_params(robot, {"prefix": "", "other": "1"}, controllers=yaml)
+    assert params.left_joints == ("left_wheel_joint",)
+    assert params.wheel_separation == pytest.approx(0.3, abs=1e-12)  # from the URDF
+    ignored = [w for w in params.warnings if "ignored" in w]
+    assert len(ignored) == 1
+    assert "'other'" in ignored[0]
+
+
+def test_a_ros1_file_of_other_drives_is_named_too(tmp_path: Path) -> None:
+    robot, yaml = files(
+        tmp_path,
+        JACKAL,
+        "base:\n  mobile_base_controller:\n    type: steer_drive_controller/SteerDriveController\n",
+    )
+    plugin = (
+        '<gazebo><plugin filename="gazebo_ros2_control" name="c">'
+        f"<parameters>{yaml}</parameters></plugin></gazebo>"
+    )
+    robot.write_text(JACKAL.replace("</robot>", plugin + "</robot>"), encoding="utf-8")
+    params = diffbot.load_params(robot)
+    assert any(
+        "'mobile_base_controller' (steer_drive_controller/SteerDriveController)" in w
+        for w in params.warnings
+    )
