@@ -5,10 +5,10 @@ gives, the description's own source tree, the bundled packages, then the folders
 ``AMENT_PREFIX_PATH`` (``<prefix>/share/PKG``) and ``ROS_PACKAGE_PATH`` (searched below each
 entry). A package is a folder holding a ``package.xml``, named by its ``<name>``.
 
-The source tree is what a clone or a workspace holds: from the description's own package (the
-nearest folder holding a ``package.xml``, at most :data:`PACKAGE_LEVELS` up), the nearest folder
-above it that is a repository (holds ``.git``) or a workspace's ``src``, at most
-:data:`TREE_LEVELS` up; else the package's parent folder, which holds its sibling packages. The
+The source tree is what a workspace or a clone holds: from the description's own package (the
+nearest folder holding a ``package.xml``, at most :data:`PACKAGE_LEVELS` up), the workspace's
+``src`` folder above it, else the repository it lies in (the nearest folder holding ``.git``),
+at most :data:`TREE_LEVELS` up; else the package's parent folder, which holds its siblings. The
 search is bounded (:data:`MAX_FOLDERS` folders, :data:`MAX_DEPTH` deep), follows no symbolic link
 out of the tree, skips hidden, build and ignored folders, and is cached per tree.
 """
@@ -79,10 +79,17 @@ def source_tree(description: Path) -> Path | None:
     package = own_package(description)
     if package is None:
         return None
+    above = []
     for candidate in [package, *package.parents][: TREE_LEVELS + 1]:
         if candidate == Path(candidate.anchor) or candidate == Path.home():
             break
-        if (candidate / ".git").exists() or (candidate.name == "src" and candidate != package):
+        above.append(candidate)
+    # a workspace's src holds the repositories cloned side by side: it wins over the one repository
+    for candidate in above[1:]:
+        if candidate.name == "src":
+            return candidate
+    for candidate in above:
+        if (candidate / ".git").exists():
             return candidate
     parent = package.parent
     if parent == Path(parent.anchor) or parent == Path.home():

@@ -233,3 +233,17 @@ def test_a_tree_package_is_readable_but_nothing_outside_the_tree(tmp_path: Path)
     )
     with pytest.raises(OutsideRootsError, match="refused in an untrusted description"):
         diffbot.load_params(robot)
+
+
+def test_a_workspace_wins_over_the_repository_for_repositories_side_by_side(
+    tmp_path: Path,
+) -> None:
+    src = tmp_path / "ws" / "src"
+    (src / "robot" / ".git").mkdir(parents=True)
+    manifest(src / "robot" / "robot_description", "robot_description")
+    manifest(src / "sensors" / "lidar_description", "lidar_description")
+    description = src / "robot" / "robot_description" / "urdf" / "robot.urdf.xacro"
+    assert source_tree(description) == src
+    assert PackageFinder(description, {}).locate("lidar_description") == (
+        src / "sensors" / "lidar_description"
+    )
