@@ -1,4 +1,4 @@
-"""Robot parameters from a URDF or xacro description, without a ROS install.
+"""Robot parameters from a URDF, xacro or SDF description, without a ROS install.
 
 The pipeline is: expand xacro (:func:`expand`), check and parse the URDF with yourdfpy, find the
 drive wheels from the structure of the kinematic tree, and derive :class:`DiffDriveParams`
@@ -72,7 +72,8 @@ def load_params(
     base values are what is compared with the geometry.
 
     Args:
-        path: a .urdf or .urdf.xacro file; None for the bundled diffbot.
+        path: a .urdf or .urdf.xacro file, an SDF model (``.sdf`` or a model folder) or a
+            rosbag2 recording holding ``/robot_description``; None for the bundled diffbot.
         args: xacro arguments, e.g. ``{"wheel_radius": "0.04"}``.
         packages: ROS package directories for ``$(find PKG)``, e.g. ``{"my_robot": "/path/share"}``.
         left_joint: the left drive wheel joint(s) (a name, comma-separated names or a sequence),
