@@ -1,0 +1,363 @@
+"""Plans to a goal pose and through waypoints, in one of four shapes.
+
+- ``fastest``: the time-optimal path of a differential drive whose wheels share one speed bound
+  (Balkcom and Mason 2002; :mod:`diffbot.planning.balkcom_mason`): turns in place and straights,
+  backwards too unless ``forward_only``; it runs at the motor limit.
+- ``spin-straight-spin``: turn to face the goal, drive to it, turn to the goal heading.
+- ``dubins``: the shortest forward path whose arcs have the radius ``min_radius``
+  (:mod:`diffbot.planning.dubins`).
+- ``reeds-shepp``: the same driving both ways (:mod:`diffbot.planning.reeds_shepp`).
+
+The result is an ordinary :class:`~diffbot.trajectory.Plan` of ``spin``, ``straight`` and arc
+segments (``reverse`` ones driving backwards). A plan starts at its own origin: its poses are
+relative to the start pose, so the plan's final pose is the goal seen from the start. Positions
+in metres, headings in radians; pure functions, no I/O.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+from diffbot.errors import PlanError
+from diffbot.formats.text import brief
+from diffbot.kinematics import DiffDriveParams, Pose
+from diffbot.planning import Piece
+from diffbot.trajectory import (
+    DEFAULT_SPEED,
+    DEFAULT_SPIN_RATE,
+    Arc,
+    Plan,
+    Segment,
+    Spin,
+    Straight,
+    as_float,
+    plan,
+)
+
+__all__ = [
+    "SHAPES",
+    "Shape",
+    "ShapeTime",
+    "Waypoint",
+    "goal_segments",
+    "plan_through",
+    "plan_to",
+    "relative_pose",
+    "shape_times",
+    "waypoint_poses",
+]
+
+Shape = Literal["fastest", "spin-straight-spin", "dubins", "reeds-shepp"]
+SHAPES: tuple[Shape, ...] = ("fastest", "spin-straight-spin", "dubins", "reeds-shepp")
+#: A waypoint: x, y (m) and a heading (rad), or None for the direction of the next leg.
+Waypoint = tuple[float, float, float | None]
+
+
+def _number(value: object, what: str) -> float:
+    number = as_float(value)
+    if not math.isfinite(number):
+        raise PlanError(f"{what} must be a finite number, got {brief(value)}")
+    return number
+
+
+def _pose(value: Sequence[float], what: str) -> Pose:
+    if len(value) != 3:
+        raise PlanError(f"{what} must be x, y and a heading, got {brief(value)}")
+    x, y, heading = (_number(v, what) for v in value)
+    return Pose(x, y, heading)
+
+
+def _waypoint(value: Sequence[float | None], number: int) -> Waypoint:
+    what = f"waypoint {number}"
+    if len(value) not in (2, 3):
+        raise PlanError(f"{what} must be x, y and an optional heading, got {brief(value)}")
+    heading = value[2] if len(value) == 3 else None
+    x, y = (_number(v, what) for v in value[:2])
+    return x, y, None if heading is None else _number(heading, what)
+
+
+def relative_pose(start: Pose, goal: Pose) -> Pose:
+    """The goal seen from the start: its position in the start's frame (m) and the heading
+    change (rad, not wrapped)."""
+    c, s = math.cos(start.theta), math.sin(start.theta)
+    dx, dy = goal.x - start.x, goal.y - start.y
+    return Pose(c * dx + s * dy, -s * dx + c * dy, goal.theta - start.theta)
+
+
+def _check_shape(shape: str, min_radius: float | None, forward_only: bool) -> float | None:
+    if shape not in SHAPES:
+        raise PlanError(f"unknown shape {brief(shape)}: give one of {', '.join(SHAPES)}")
+    if min_radius is not None:
+        radius = as_float(min_radius)
+        if not (math.isfinite(radius) and radius > 0.0):
+            raise PlanError(
+                f"the minimum radius must be a positive finite number (m), got {brief(min_radius)}"
+            )
+        min_radius = radius
+    if shape in ("dubins", "reeds-shepp") and min_radius is None:
+        raise PlanError(f"the {shape} shape needs a minimum turning radius (min_radius, m)")
+    if shape == "reeds-shepp" and forward_only:
+        raise PlanError("reeds-shepp drives both ways: the forward-only shape is dubins")
+    return min_radius
+
+
+def _arcs(pieces: list[Piece], radius: float) -> list[Segment]:
+    """Reeds-Shepp or Dubins pieces (radii) as arcs and straights (m)."""
+    out: list[Segment] = []
+    for kind, length in pieces:
+        if length == 0.0:
+            continue
+        if kind == "S":
+            out.append(Straight(length * radius))
+            continue
+        # A left turn driven backwards turns the heading clockwise (and a right one, ccw).
+        left = (kind == "L") == (length > 0.0)
+        out.append(Arc(radius, abs(length), "ccw" if left else "cw", reverse=length < 0.0))
+    return out
+
+
+def _turns(pieces: list[Piece], half_track: float) -> list[Segment]:
+    """Time-optimal pieces (turns in rad, straights in half tracks) as spins and straights."""
+    return [
+        Spin(length) if kind == "T" else Straight(length * half_track)
+        for kind, length in pieces
+        if length != 0.0
+    ]
+
+
+def goal_segments(
+    goal: Sequence[float],
+    params: DiffDriveParams,
+    *,
+    start: Sequence[float] = (0.0, 0.0, 0.0),
+    shape: Shape = "fastest",
+    min_radius: float | None = None,
+    forward_only: bool = False,
+) -> list[Segment]:
+    """The segments of the path of ``shape`` from ``start`` to ``goal`` (x, y in m, heading in
+    rad); empty when the goal is the start. See :func:`plan_to`."""
+    radius = _check_shape(shape, min_radius, forward_only)
+    rel = relative_pose(_pose(start, "the start"), _pose(goal, "the goal"))
+    x, y = rel.x, rel.y
+    turn = math.remainder(rel.theta, 2.0 * math.pi)
+    if x == 0.0 and y == 0.0 and turn == 0.0:
+        return []
+    if shape == "fastest":
+        from diffbot.planning import balkcom_mason
+
+        half = 0.5 * params.wheel_separation
+        return _turns(balkcom_mason.path(x / half, y / half, turn, forward_only), half)
+    if shape == "spin-straight-spin":
+        distance = math.hypot(x, y)
+        if distance == 0.0:
+            return [Spin(turn)]
+        facing = math.atan2(y, x)
+        pieces = [
+            Piece("T", facing),
+            Piece("S", distance),
+            Piece("T", math.remainder(turn - facing, 2.0 * math.pi)),
+        ]
+        return _turns(pieces, 1.0)
+    assert radius is not None
+    if shape == "dubins":
+        from diffbot.planning import dubins
+
+        return _arcs(dubins.path(x / radius, y / radius, turn), radius)
+    from diffbot.planning import reeds_shepp
+
+    return _arcs(reeds_shepp.path(x / radius, y / radius, turn), radius)
+
+
+def _empty(params: DiffDriveParams, limit: float | None) -> Plan:
+    lim = params.max_wheel_speed if limit is None else limit
+    return Plan((), params, lim, 0.0, Pose(0.0, 0.0, 0.0), True)
+
+
+def _timing(shape: Shape, params: DiffDriveParams, fastest: bool, limit: float | None) -> bool:
+    """Whether the plan runs at the motor limit: asked for, or the fastest shape with a limit."""
+    has_limit = limit is not None or params.max_wheel_speed is not None
+    return fastest or (shape == "fastest" and has_limit)
+
+
+def plan_to(
+    goal: Sequence[float],
+    params: DiffDriveParams,
+    *,
+    start: Sequence[float] = (0.0, 0.0, 0.0),
+    shape: Shape = "fastest",
+    min_radius: float | None = None,
+    forward_only: bool = False,
+    speed: float = DEFAULT_SPEED,
+    spin_rate: float = DEFAULT_SPIN_RATE,
+    fastest: bool = False,
+    limit: float | None = None,
+) -> Plan:
+    """The plan that drives from ``start`` to ``goal`` along the path of ``shape``.
+
+    Args:
+        goal: x, y (m) and heading (rad) to reach.
+        params: the robot.
+        start: x, y (m) and heading (rad) to start from (default the origin, heading x).
+        shape: ``fastest``, ``spin-straight-spin``, ``dubins`` or ``reeds-shepp``.
+        min_radius: turning radius of the dubins and reeds-shepp arcs (m), > 0.
+        forward_only: never drive backwards (fastest; dubins always drives forwards).
+        speed, spin_rate: cruise speeds (m/s, rad/s) of the segments, as in
+            :func:`~diffbot.trajectory.plan`; the fastest shape runs at the motor limit when the
+            robot has one.
+        fastest: run every segment at the motor limit.
+        limit: motor limit (rad/s) instead of ``params.max_wheel_speed``.
+
+    Returns:
+        The plan; its poses are relative to ``start``, so its final pose is the goal seen from
+        the start. A goal equal to the start gives a plan without segments (duration 0).
+
+    Raises:
+        PlanError: a number that is not finite, an unknown shape, a minimum radius that is not
+            positive, dubins or reeds-shepp without one, reeds-shepp with ``forward_only``.
+    """
+    segments = goal_segments(
+        goal, params, start=start, shape=shape, min_radius=min_radius, forward_only=forward_only
+    )
+    if not segments:
+        return _empty(params, limit)
+    return plan(
+        segments,
+        params,
+        speed=speed,
+        spin_rate=spin_rate,
+        fastest=_timing(shape, params, fastest, limit),
+        limit=limit,
+    )
+
+
+def waypoint_poses(
+    waypoints: Sequence[Sequence[float | None]], start: Sequence[float] = (0.0, 0.0, 0.0)
+) -> list[Pose]:
+    """The waypoints as poses: one without a heading takes the direction of the next leg (the
+    last one, of the leg that reaches it; where a leg has no length, the heading before)."""
+    if not waypoints:
+        raise PlanError("no waypoints: give at least one")
+    points = [_waypoint(w, i + 1) for i, w in enumerate(waypoints)]
+    previous = _pose(start, "the start")
+    poses: list[Pose] = []
+    for i, (x, y, heading) in enumerate(points):
+        if heading is None:
+            if i + 1 < len(points):
+                leg = (points[i + 1][0] - x, points[i + 1][1] - y)
+            else:
+                leg = (x - previous.x, y - previous.y)
+            heading = math.atan2(leg[1], leg[0]) if leg != (0.0, 0.0) else previous.theta
+        previous = Pose(x, y, heading)
+        poses.append(previous)
+    return poses
+
+
+def plan_through(
+    waypoints: Sequence[Sequence[float | None]],
+    params: DiffDriveParams,
+    *,
+    start: Sequence[float] = (0.0, 0.0, 0.0),
+    shape: Shape = "fastest",
+    min_radius: float | None = None,
+    forward_only: bool = False,
+    speed: float = DEFAULT_SPEED,
+    spin_rate: float = DEFAULT_SPIN_RATE,
+    fastest: bool = False,
+    limit: float | None = None,
+) -> Plan:
+    """The plan through every waypoint in turn, consecutive legs joined with ``shape``.
+
+    Args:
+        waypoints: x, y (m) and optionally a heading (rad, or None): one without a heading takes
+            the direction of the next leg (see :func:`waypoint_poses`).
+        params, start, shape, min_radius, forward_only, speed, spin_rate, fastest, limit: as in
+            :func:`plan_to`.
+
+    Returns:
+        One plan of every leg's segments, poses relative to ``start``; without segments when
+        every waypoint is where the robot already is.
+
+    Raises:
+        PlanError: no waypoints, a waypoint that is not two or three finite numbers, and what
+            :func:`plan_to` raises.
+    """
+    segments: list[Segment] = []
+    here = _pose(start, "the start")
+    for pose in waypoint_poses(waypoints, here):
+        segments += goal_segments(
+            pose,
+            params,
+            start=here,
+            shape=shape,
+            min_radius=min_radius,
+            forward_only=forward_only,
+        )
+        here = pose
+    if not segments:
+        return _empty(params, limit)
+    return plan(
+        segments,
+        params,
+        speed=speed,
+        spin_rate=spin_rate,
+        fastest=_timing(shape, params, fastest, limit),
+        limit=limit,
+    )
+
+
+@dataclass(frozen=True)
+class ShapeTime:
+    """How long one shape takes through the same poses.
+
+    Attributes:
+        shape: the shape.
+        duration: its time (s), or None when it cannot be planned (no minimum radius; reeds-shepp
+            with forward only).
+        segments: how many segments it has (0 when None).
+    """
+
+    shape: Shape
+    duration: float | None
+    segments: int
+
+
+def shape_times(
+    waypoints: Sequence[Sequence[float | None]],
+    params: DiffDriveParams,
+    *,
+    start: Sequence[float] = (0.0, 0.0, 0.0),
+    min_radius: float | None = None,
+    forward_only: bool = False,
+    speed: float = DEFAULT_SPEED,
+    spin_rate: float = DEFAULT_SPIN_RATE,
+    fastest: bool = False,
+    limit: float | None = None,
+) -> list[ShapeTime]:
+    """Every shape's time through the same waypoints, timed alike: at the motor limit when the
+    robot has one, else at the cruise speeds (``fastest`` as in :func:`plan_to`)."""
+    at_limit = fastest or limit is not None or params.max_wheel_speed is not None
+    out: list[ShapeTime] = []
+    for shape in SHAPES:
+        if shape in ("dubins", "reeds-shepp") and min_radius is None:
+            out.append(ShapeTime(shape, None, 0))
+            continue
+        if shape == "reeds-shepp" and forward_only:
+            out.append(ShapeTime(shape, None, 0))
+            continue
+        p = plan_through(
+            waypoints,
+            params,
+            start=start,
+            shape=shape,
+            min_radius=min_radius,
+            forward_only=forward_only,
+            speed=speed,
+            spin_rate=spin_rate,
+            fastest=at_limit,
+            limit=limit,
+        )
+        out.append(ShapeTime(shape, p.duration, len(p.segments)))
+    return out
