@@ -119,12 +119,17 @@ def _arcs(pieces: list[Piece], radius: float) -> list[Segment]:
     return out
 
 
+#: Turns in place smaller than this (rad, a few rounding errors of an angle near pi) are the
+#: rounding of the start's heading, not a turn: they are left out.
+ROUNDING_TURN = 1e-15
+
+
 def _turns(pieces: list[Piece], half_track: float) -> list[Segment]:
     """Time-optimal pieces (turns in rad, straights in half tracks) as spins and straights."""
     return [
         Spin(length) if kind == "T" else Straight(length * half_track)
         for kind, length in pieces
-        if length != 0.0
+        if abs(length) > (ROUNDING_TURN if kind == "T" else 0.0)
     ]
 
 

@@ -1,0 +1,104 @@
+"""Time-optimal turn-and-drive paths: they reach the goal, and no four-action path is faster."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from path_pieces import end, same_pose
+
+from diffbot.planning import balkcom_mason
+
+#: Goals of the numerical search.
+GOALS = 1000
+coordinate = st.floats(-50.0, 50.0)
+heading = st.floats(-math.pi, math.pi)
+
+
+@given(coordinate, coordinate, heading, st.booleans())
+def test_path_ends_at_the_goal(x: float, y: float, theta: float, forward_only: bool) -> None:
+    pieces = balkcom_mason.path(x, y, theta, forward_only)
+    assert len(pieces) <= 4
+    assert same_pose(end(pieces), (x, y, theta), 1e-12 * max(1.0, abs(x), abs(y)))
+    if forward_only:
+        assert all(p.length > 0.0 for p in pieces if p.kind == "S")
+
+
+def test_known_values() -> None:
+    # Straight ahead or behind: one straight; in place: one turn.
+    assert balkcom_mason.path(2.0, 0.0, 0.0) == [("S", 2.0)]
+    assert balkcom_mason.path(-2.0, 0.0, 0.0) == [("S", -2.0)]
+    assert balkcom_mason.path(0.0, 0.0, 1.0) == [("T", 1.0)]
+    # Five half tracks to the side: a quarter turn each way around the straight (pi + 5).
+    assert balkcom_mason.distance(0.0, 5.0, 0.0) == pytest.approx(math.pi + 5.0, abs=1e-14)
+    # Forwards only, two behind: half turn, two, half turn back would be 2 pi + 2; turning
+    # around through a sideways step is faster, and still never backs up.
+    assert balkcom_mason.distance(-2.0, 0.0, 0.0, forward_only=True) <= 2 * math.pi + 2.0
+    # A small step sideways (eps half tracks): turn by phi, drive, turn back, back up costs
+    # 2 phi + d (1 + cos phi) with d sin phi = eps, about 4 sqrt(eps) at phi = sqrt(eps), far
+    # less than the pi + eps of turning to face the goal.
+    eps = 1e-4
+    best = min(
+        2 * phi + eps / math.sin(phi) * (1 + math.cos(phi)) for phi in np.linspace(1e-3, 0.1, 20001)
+    )
+    assert balkcom_mason.distance(0.0, eps, 0.0) == pytest.approx(best, rel=1e-6)
+    assert best == pytest.approx(4 * math.sqrt(eps), rel=1e-3)
+
+
+def _tgt(x: np.ndarray, y: np.ndarray, theta: np.ndarray, signs: tuple[int, ...]) -> np.ndarray:
+    """Time of turn, drive, turn to (x, y, theta), elementwise (the best of the signs given)."""
+    rho = np.hypot(x, y)
+    alpha = np.arctan2(y, x)
+    best = np.full(np.broadcast(x, y, theta).shape, np.inf)
+    for sign in signs:
+        h = alpha if sign > 0 else alpha + np.pi
+        turns = np.abs(np.remainder(h + np.pi, 2 * np.pi) - np.pi)
+        turns += np.abs(np.remainder(theta - h + np.pi, 2 * np.pi) - np.pi)
+        best = np.minimum(best, rho + turns)
+    return best
+
+
+def _search(
+    x: float, y: float, theta: float, forward_only: bool, rng: np.random.Generator
+) -> float:
+    """The fastest four-action path found by search: TGTG over its last straight's length and
+    GTGT over its first (the other three actions follow from the goal), from random restarts,
+    each of the three best refined by zooming in (four rounds of 64 samples, 8x closer each)."""
+    signs = (1,) if forward_only else (1, -1)
+    ct, st_ = math.cos(theta), math.sin(theta)
+    span = 4.0 + 2.0 * math.hypot(x, y)
+    lo = 0.0 if forward_only else -span
+
+    def tgtg(d: np.ndarray) -> np.ndarray:
+        return np.abs(d) + _tgt(x - d * ct, y - d * st_, np.full_like(d, theta), signs)
+
+    def gtgt(d: np.ndarray) -> np.ndarray:
+        return np.abs(d) + _tgt(x - d, np.full_like(d, y), np.full_like(d, theta), signs)
+
+    best = math.inf
+    for family in (tgtg, gtgt):
+        samples = rng.uniform(lo, span, 256)
+        values = family(samples)
+        for start in samples[np.argsort(values)[:3]]:
+            centre, width = float(start), (span - lo) / 64.0
+            for _ in range(4):
+                grid = np.clip(np.linspace(centre - width, centre + width, 64), lo, span)
+                found = family(grid)
+                centre, width = float(grid[np.argmin(found)]), width / 8.0
+                best = min(best, float(found.min()))
+    return best
+
+
+@pytest.mark.parametrize("forward_only", [False, True])
+def test_no_four_action_path_found_by_search_is_faster(forward_only: bool) -> None:
+    rng = np.random.default_rng(2002)
+    goals = np.column_stack(
+        (rng.uniform(-4, 4, (GOALS // 2, 2)), rng.uniform(-np.pi, np.pi, GOALS // 2))
+    )
+    for x, y, theta in goals:
+        ours = balkcom_mason.distance(x, y, theta, forward_only)
+        assert ours <= _search(x, y, theta, forward_only, rng) + 1e-9, (x, y, theta)
+        assert ours <= float(_tgt(np.array(x), np.array(y), np.array(theta), (1,))) + 1e-12
