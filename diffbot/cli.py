@@ -51,6 +51,8 @@ FLAGS = {
     "controller": "--controller",
     "window": "--window",
     "max_relative_stderr": "--max-stderr",
+    "min_radius": "--min-radius",
+    "forward_only": "--forward-only",
 }
 
 

@@ -33,6 +33,8 @@ PARAMETERS: Mapping[str, str] = {
     "controller": "controller=",
     "window": "window=",
     "max_relative_stderr": "max_relative_stderr=",
+    "min_radius": "min_radius=",
+    "forward_only": "forward_only=True",
 }
 
 __all__ = [

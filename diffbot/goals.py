@@ -98,9 +98,9 @@ def _check_shape(shape: str, min_radius: float | None, forward_only: bool) -> fl
             )
         min_radius = radius
     if shape in ("dubins", "reeds-shepp") and min_radius is None:
-        raise PlanError(f"the {shape} shape needs a minimum turning radius (min_radius, m)")
+        raise PlanError(f"the {shape} shape needs a minimum turning radius: give {{min_radius}}")
     if shape == "reeds-shepp" and forward_only:
-        raise PlanError("reeds-shepp drives both ways: the forward-only shape is dubins")
+        raise PlanError("reeds-shepp drives both ways: with {forward_only}, the shape is dubins")
     return min_radius
 
 

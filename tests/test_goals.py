@@ -110,8 +110,12 @@ def test_goal_at_the_start_is_an_empty_plan() -> None:
         ((math.nan, 0.0, 0.0), {}, "the goal must be a finite number"),
         ((1.0, math.inf, 0.0), {}, "the goal must be a finite number"),
         ((1.0, 0.0, 0.0), {"start": (0.0, 0.0, math.nan)}, "the start must be a finite"),
-        ((1.0, 0.0, 0.0), {"shape": "dubins"}, "needs a minimum turning radius"),
-        ((1.0, 0.0, 0.0), {"shape": "reeds-shepp"}, "needs a minimum turning radius"),
+        ((1.0, 0.0, 0.0), {"shape": "dubins"}, "needs a minimum turning radius: give min_radius="),
+        (
+            (1.0, 0.0, 0.0),
+            {"shape": "reeds-shepp"},
+            "needs a minimum turning radius: give min_radius=",
+        ),
         ((1.0, 0.0, 0.0), {"shape": "dubins", "min_radius": 0.0}, "positive finite"),
         ((1.0, 0.0, 0.0), {"shape": "dubins", "min_radius": -1.0}, "positive finite"),
         ((1.0, 0.0, 0.0), {"min_radius": math.nan}, "positive finite"),
@@ -119,7 +123,7 @@ def test_goal_at_the_start_is_an_empty_plan() -> None:
         (
             (1.0, 0.0, 0.0),
             {"shape": "reeds-shepp", "min_radius": 1.0, "forward_only": True},
-            "forward-only shape is dubins",
+            "with forward_only=True, the shape is dubins",
         ),
         ((1.0, 0.0), {}, "x, y and a heading"),
     ],

@@ -18,7 +18,7 @@ from diffbot.commands.options import (
     split_xacro_args,
     warn,
 )
-from diffbot.commands.plan_options import PlanOptions, plan_arguments, plan_input
+from diffbot.commands.plan_options import PlanOptions, plan_arguments
 from diffbot.explain import FORMATS, Derivation, languages, render
 from diffbot.explain import explain_fk as derive_fk
 from diffbot.explain import explain_ik as derive_ik
@@ -148,8 +148,9 @@ def plan(
     without a plan, Trajectory A is explained.
     """
     rest, xacro_args = split_xacro_args(tokens)
-    source = plan_input(rest, plan_options.example)
+    source = plan_options.source(rest)
     params = robot.with_path(None, xacro_args).load()
+    source = plan_options.resolve(source, params)
     made = plan_options.make(source.segments, params)
     if not isinstance(made, Plan):
         # The step plan holds the cruise speeds, the motor limit check and the poses.

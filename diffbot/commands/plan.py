@@ -182,6 +182,7 @@ def plan_command(
       diffbot plan "straight 1 10s; ccw 25cm 90; spin -90 2s"
       diffbot plan --example B --fastest
       diffbot plan path.yaml --format ros2 -o run.sh  a script of 'ros2 topic pub' commands
+      diffbot plan --to 0,1,0                         the fastest way to (0 m, 1 m, 0 deg)
     """
 
     rest, xacro_args = split_xacro_args(tokens)
@@ -212,6 +213,7 @@ def plan_command(
             "--fastest needs a motor limit, and the robot description has none: "
             "give one with --max-rpm RPM or --rpm-limit RPM"
         )
+    source = plan_options.resolve(source, params)
     made = plan_options.make(source.segments, params)
     ramped: RampedPlan | None = None
     p = steps = made if isinstance(made, Plan) else made.summary
@@ -287,7 +289,7 @@ def plan_command(
             frame_id=frame_id,
         )
     else:
-        text = plan_table(p, source.label)
+        text = plan_table(p, source.label) + source.note
         if ramped is not None:
             text += RAMP_NOTE
     if output is None:

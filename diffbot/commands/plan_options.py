@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import math
 import re
+import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -11,6 +13,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import click
 
 from diffbot.commands.options import POSITIVE, F, fail, option_group, robot_options
+from diffbot.formats.text import fmt
 from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
 from diffbot.planfile import load_plan, parse_plan
 from diffbot.trajectory import EXAMPLES, Plan, Segment
@@ -22,6 +25,7 @@ if TYPE_CHECKING:
 __all__ = [
     "PLAN_FORMATS",
     "PLAN_SUFFIXES",
+    "GoalOptions",
     "PlanInput",
     "PlanOptions",
     "check_topic",
@@ -44,6 +48,8 @@ class PlanInput:
     segments: list[Segment]
     label: str
     path: Path | None
+    #: What the table adds below the plan (a goal plan's shape and why).
+    note: str = ""
 
 
 def plan_input(
@@ -114,6 +120,42 @@ def check_topic(option: str, name: str) -> str:
 
 
 @dataclass(frozen=True)
+class GoalOptions:
+    """What the goal options say: --to (each a waypoint), --from, --waypoints, --shape,
+    --min-radius, --forward-only."""
+
+    targets: tuple[str, ...] = ()
+    start: str | None = None
+    waypoints: str | None = None
+    shape: str = "fastest"
+    min_radius: float | None = None
+    forward_only: bool = False
+
+    def points(self) -> list[tuple[float, float, float | None]]:
+        """The waypoints: the file's, then each --to."""
+        from diffbot.io.waypoints import parse_pose, read_waypoints
+
+        points = [] if self.waypoints is None else read_waypoints(self.waypoints)
+        points += [parse_pose(text, f"--to {text}") for text in self.targets]
+        return points
+
+    def start_pose(self) -> tuple[float, float, float]:
+        """The --from pose (m, m, rad); the origin heading x without it."""
+        from diffbot.io.waypoints import parse_pose
+
+        if self.start is None:
+            return 0.0, 0.0, 0.0
+        x, y, heading = parse_pose(self.start, f"--from {self.start}")
+        return x, y, 0.0 if heading is None else heading
+
+
+def _pose_text(x: float, y: float, heading: float | None) -> str:
+    if heading is None:
+        return f"({fmt(x)}, {fmt(y)})"
+    return f"({fmt(x)}, {fmt(y)}, {fmt(math.degrees(heading))} deg)"
+
+
+@dataclass(frozen=True)
 class PlanOptions:
     """What the plan options say: the example, cruise speeds, --fastest, the limit, and the
     acceleration and jerk limits of ramps."""
@@ -130,10 +172,71 @@ class PlanOptions:
     steps: bool = False
     side: float | None = None
     clockwise: bool = False
+    goal: GoalOptions | None = None
 
     def source(self, tokens: Sequence[str]) -> PlanInput:
-        """The plan that positional ``tokens`` or these options name (see :func:`plan_input`)."""
-        return plan_input(tokens, self.example, side=self.side, clockwise=self.clockwise)
+        """The plan that positional ``tokens`` or these options name (see :func:`plan_input`);
+        with --to or --waypoints, a goal plan whose segments :meth:`resolve` fills in."""
+        if self.goal is None:
+            return plan_input(tokens, self.example, side=self.side, clockwise=self.clockwise)
+        if tokens or self.example is not None:
+            fail("give a plan (SPEC, FILE or --example) or a goal (--to, --waypoints), not both")
+        path = None if self.goal.waypoints is None else Path(self.goal.waypoints)
+        return PlanInput([], "goal plan", path)
+
+    def at_limit(self, params: DiffDriveParams) -> bool:
+        """Whether segments run at the motor limit: --fastest, or a fastest goal plan for a
+        robot with a limit."""
+        if self.fastest:
+            return True
+        has_limit = self.limit is not None or params.max_wheel_speed is not None
+        return self.goal is not None and self.goal.shape == "fastest" and has_limit
+
+    def resolve(self, source: PlanInput, params: DiffDriveParams) -> PlanInput:
+        """The plan input with a goal plan's segments and its note; a plan input without a goal
+        as it is. A goal at the start is no plan: said so, and the command ends with exit code
+        0."""
+        goal = self.goal
+        if goal is None:
+            return source
+        from diffbot.goals import plan_through, shape_times
+
+        points, start = goal.points(), goal.start_pose()
+        options: dict[str, Any] = {
+            "start": start,
+            "min_radius": goal.min_radius,
+            "forward_only": goal.forward_only,
+            "speed": self.speed,
+            "spin_rate": self.spin_rate,
+            "fastest": self.fastest,
+            "limit": self.limit,
+        }
+        made = plan_through(points, params, shape=goal.shape, **options)  # type: ignore[arg-type]
+        where = " then ".join(_pose_text(*p) for p in points)
+        if not made.segments:
+            click.echo(f"the goal {where} is the start: an empty plan, nothing to drive")
+            sys.exit(0)
+        segments = [s.segment for s in made.segments]
+        times: dict[str, float | None] = {
+            t.shape: t.duration for t in shape_times(points, params, **options)
+        }
+        why = (
+            "the least time at the motor limit"
+            if goal.shape == "fastest"
+            else f"as asked; the fastest takes {fmt(times['fastest'] or 0.0, 4)} s"
+        )
+        others = ", ".join(
+            f"{shape} {fmt(t, 4)} s" if t is not None else f"{shape} (needs --min-radius)"
+            for shape, t in times.items()
+            if shape != goal.shape
+        )
+        timed = "" if made.limit is not None else " (times at the cruise speeds)"
+        chosen = fmt(times[goal.shape] or 0.0, 4)
+        note = f"shape {goal.shape} ({why}): {chosen} s; {others}{timed}\n"
+        if start != (0.0, 0.0, 0.0):
+            note += f"poses are relative to the start {_pose_text(*start)}\n"
+        label = f"to {where}" + (f" from {_pose_text(*start)}" if goal.start else "")
+        return PlanInput(segments, label, source.path, note)
 
     @property
     def limit(self) -> float | None:
@@ -172,7 +275,7 @@ class PlanOptions:
             params,
             speed=self.speed,
             spin_rate=self.spin_rate,
-            fastest=self.fastest,
+            fastest=self.at_limit(params),
             limit=self.limit,
         )
         if not self.ramped(params):
@@ -197,6 +300,46 @@ _CRUISE = {
 }
 
 
+#: The goal options: plan to a pose, or through waypoints.
+_GOAL_OPTIONS = [
+    click.option(
+        "--to",
+        "targets",
+        multiple=True,
+        metavar="X,Y[,HEADING]",
+        help="Plan to this pose (m, m, degrees, or 1.57rad); repeat for waypoints. Without a "
+        "heading, a waypoint faces the next leg.",
+    ),
+    click.option(
+        "--from",
+        "start",
+        metavar="X,Y,HEADING",
+        help="Start pose of a goal plan (default 0,0,0); the plan's poses are relative to it.",
+    ),
+    click.option(
+        "--waypoints",
+        type=click.Path(dir_okay=False),
+        metavar="FILE",
+        help="Plan through the waypoints of a CSV (x,y[,heading] rows), YAML or JSON file.",
+    ),
+    click.option(
+        "--shape",
+        type=click.Choice(["fastest", "spin-straight-spin", "dubins", "reeds-shepp"]),
+        default="fastest",
+        show_default=True,
+        help="fastest: the least time at the motor limit (turns in place and straights); "
+        "spin-straight-spin; dubins (forwards) and reeds-shepp (both ways): the shortest path "
+        "with arcs of --min-radius.",
+    ),
+    click.option(
+        "--min-radius",
+        type=POSITIVE,
+        metavar="M",
+        help="Turning radius of the dubins and reeds-shepp shapes (m).",
+    ),
+    click.option("--forward-only", is_flag=True, help="A goal plan never drives backwards."),
+]
+
 #: The ramp options, by name: (metavar, help).
 _RAMPS = {
     "--max-accel": (
@@ -209,13 +352,25 @@ _RAMPS = {
 }
 
 
+_GOAL_NAMES = ("targets", "start", "waypoints", "shape", "min_radius", "forward_only")
+
+
+def _goal_options(kw: dict[str, Any]) -> GoalOptions | None:
+    goal = GoalOptions(**{name: kw.pop(name) for name in _GOAL_NAMES})
+    if goal.targets or goal.waypoints is not None:
+        return goal
+    if goal != GoalOptions():
+        fail("--from, --shape, --min-radius and --forward-only shape a goal plan: give --to")
+    return None
+
+
 def _plan_options(kw: dict[str, Any]) -> PlanOptions:
     names = ("example", "speed", "spin_rate", "fastest", "rpm_limit")
     ramps = ("max_accel", "max_angular_accel", "max_wheel_accel", "max_jerk", "steps")
     keywords = (*ramps, "side", "clockwise")
-    options = PlanOptions(
-        *(kw.pop(name) for name in names), **{name: kw.pop(name) for name in keywords}
-    )
+    named: dict[str, Any] = {name: kw.pop(name) for name in keywords}
+    named["goal"] = _goal_options(kw)
+    options = PlanOptions(*(kw.pop(name) for name in names), **named)
     if options.steps and any(v is not None for v in options.ramp_options.values()):
         fail("--steps plans velocity steps: give it without --max-accel, --max-jerk and the like")
     return options
@@ -267,6 +422,7 @@ plan_input_options = option_group(
             help="Plan velocity steps even when the controller configuration has acceleration "
             "limits (to see what its limiter makes of them in simulate).",
         ),
+        *_GOAL_OPTIONS,
     ],
     "plan_options",
     _plan_options,

@@ -15,7 +15,7 @@ from diffbot.commands.options import (
     topic_option,
     warn,
 )
-from diffbot.commands.plan_options import PlanOptions, plan_arguments, plan_input
+from diffbot.commands.plan_options import PlanOptions, plan_arguments
 from diffbot.formats.text import fmt
 from diffbot.io.outputs import output_target
 from diffbot.kinematics import DiffDriveParams
@@ -100,7 +100,7 @@ def plot(
     if output is not None and not output.strip():
         fail("-o needs a file name, got ''")
     rest, xacro_args = split_xacro_args(tokens)
-    source = plan_input(rest, plan_options.example)
+    source = plan_options.source(rest)
     robot = robot.with_path(None, xacro_args)
     given = [source.path, robot.robot, robot.controllers, *odom_inputs]
     inputs = [Path(path) for path in given if path is not None]
@@ -112,6 +112,7 @@ def plot(
     else:
         plotting.require_matplotlib()
     params = robot.load()
+    source = plan_options.resolve(source, params)
     made = plan_options.make(source.segments, params)
     if not isinstance(made, Plan):
         # The step plan holds the cruise speeds, the motor limit check and the poses.

@@ -261,6 +261,7 @@ def simulate(
     out.path([Path(path) for path in inputs])
     params = robot.load()
     out_path = out.path([Path(path) for path in (*inputs, *params.description_files)])
+    source = plan_options.resolve(source, params)
     made = plan_options.make(source.segments, params)
     p = made if isinstance(made, Plan) else made.steps
     motion, executed = _executed(made, params)

@@ -1,0 +1,110 @@
+"""Goal poses and waypoints as people write them: ``X,Y[,HEADING]`` text and waypoint files.
+
+Positions are in metres, headings in degrees unless written with ``rad`` (``1.57rad``) or
+``deg``. A waypoint file is CSV (rows ``x,y[,heading]``, an optional header row naming the
+columns, ``#`` comments) or a YAML or JSON list whose items are ``[x, y]``, ``[x, y, heading]``
+or mappings ``{x: .., y: .., heading: ..}``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from typing import Any
+
+from diffbot.errors import PlanError
+from diffbot.formats.text import brief
+from diffbot.io.textfile import read_text
+
+__all__ = ["parse_pose", "read_waypoints"]
+
+Waypoint = tuple[float, float, float | None]
+
+_NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(m|rad|deg)?\s*")
+_HEADER = ("x", "y", "heading")
+
+
+def _value(text: object, angle: bool, what: str) -> float:
+    """One number: metres, or for an angle degrees (``rad`` for radians), SI out."""
+    if isinstance(text, bool) or not isinstance(text, int | float | str):
+        raise PlanError(f"{what}: {brief(text)} is not a number")
+    if isinstance(text, int | float):
+        number, unit = float(text), None
+    else:
+        match = _NUMBER.fullmatch(text)
+        if match is None:
+            raise PlanError(f"{what}: {brief(text)} is not a number")
+        number, unit = float(match.group(1)), match.group(2)
+        if unit is not None and (unit == "m") == angle:
+            raise PlanError(f"{what}: {brief(text)} has the wrong unit")
+    value = math.radians(number) if angle and unit != "rad" else number
+    if not math.isfinite(value):
+        raise PlanError(f"{what}: {brief(text)} is not a finite number")
+    return value
+
+
+def _waypoint(items: list[Any], what: str) -> Waypoint:
+    if len(items) not in (2, 3):
+        raise PlanError(f"{what}: give x,y or x,y,heading, got {len(items)} values")
+    x = _value(items[0], False, what)
+    y = _value(items[1], False, what)
+    empty = (
+        len(items) == 2 or items[2] is None or (isinstance(items[2], str) and not items[2].strip())
+    )
+    return x, y, None if empty else _value(items[2], True, what)
+
+
+def parse_pose(text: str, what: str) -> Waypoint:
+    """``X,Y[,HEADING]`` (m, m, degrees or ``...rad``) as x, y (m) and heading (rad) or None.
+
+    Raises:
+        PlanError: not two or three numbers, or one that is not finite; the message starts with
+            ``what``.
+    """
+    return _waypoint(text.split(","), what)
+
+
+def read_waypoints(path: str | os.PathLike[str]) -> list[Waypoint]:
+    """The waypoints of a CSV, YAML or JSON file (see the module's description).
+
+    Raises:
+        PlanError: the file cannot be read or parsed, has no waypoint, or a row or item is
+            malformed (the message names it: ``row 3``, ``item 2``).
+    """
+    source = os.fspath(path)
+    text = read_text(source, PlanError, "a waypoints file")
+    suffix = os.path.splitext(source)[1].lower()
+    if suffix in (".yaml", ".yml", ".json"):
+        from diffbot.planfile import _load_json, _load_yaml
+
+        data = _load_json(text, source) if suffix == ".json" else _load_yaml(text, source)
+        if data is None:
+            data = []
+        if not isinstance(data, list):
+            raise PlanError(f"{source}: a waypoints file is a list, got {brief(data)}")
+        points = [_item(item, f"{source}: item {i + 1}") for i, item in enumerate(data)]
+    else:
+        points = []
+        for number, line in enumerate(text.splitlines(), start=1):
+            row = line.split("#", 1)[0].strip()
+            if not row:
+                continue
+            cells = [cell.strip() for cell in row.split(",")]
+            if not points and tuple(c.lower() for c in cells) in (_HEADER[:2], _HEADER):
+                continue
+            points.append(_waypoint(cells, f"{source}: row {number}"))
+    if not points:
+        raise PlanError(f"{source}: no waypoints (give rows x,y[,heading])")
+    return points
+
+
+def _item(item: object, what: str) -> Waypoint:
+    if isinstance(item, dict):
+        unknown = set(item) - set(_HEADER)
+        if unknown or not {"x", "y"} <= set(item):
+            raise PlanError(f"{what}: give x, y and an optional heading, got {brief(item)}")
+        return _waypoint([item["x"], item["y"], item.get("heading")], what)
+    if isinstance(item, list):
+        return _waypoint(item, what)
+    raise PlanError(f"{what}: give [x, y], [x, y, heading] or a mapping, got {brief(item)}")
