@@ -33,6 +33,8 @@ def _value(text: object, angle: bool, what: str) -> float:
         number, unit = float(text), None
     else:
         match = _NUMBER.fullmatch(text)
+        if text.strip().lower().lstrip("+-") in ("nan", "inf", "infinity"):
+            raise PlanError(f"{what}: {brief(text)} is not a finite number")
         if match is None:
             raise PlanError(f"{what}: {brief(text)} is not a number")
         number, unit = float(match.group(1)), match.group(2)
