@@ -26,9 +26,8 @@ Among equally fast paths the one with fewest actions wins, then the one that doe
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
 
-from diffbot.planning import Piece, wrap
+from diffbot.planning import Piece
 
 __all__ = ["candidates", "distance", "path"]
 
@@ -36,71 +35,81 @@ __all__ = ["candidates", "distance", "path"]
 TIE = 1e-9
 
 
-def _tgt(x: float, y: float, theta: float, signs: tuple[int, ...]) -> Iterator[list[Piece]]:
+#: Turns smaller than this (rad) are rounding, not turns: a few ulps of an angle near pi.
+ROUNDING_TURN = 1e-15
+_PI = math.pi
+_TWO_PI = 2.0 * math.pi
+
+#: A candidate: its time, its pattern of kinds ("TST", ...) and the signed length of each.
+_Candidate = tuple[float, str, tuple[float, ...]]
+
+
+def _tgt(x: float, y: float, theta: float, signs: tuple[int, ...]) -> list[_Candidate]:
     """Turn to face (or back onto) the goal, drive, turn to the goal heading."""
     rho = math.hypot(x, y)
     if rho == 0.0:
-        yield [Piece("T", wrap(theta))]
-        return
+        turn = math.remainder(theta, _TWO_PI)
+        return [(abs(turn), "T", (turn,))]
     alpha = math.atan2(y, x)
+    out: list[_Candidate] = []
     for sign in signs:
-        heading = alpha if sign > 0 else alpha + math.pi
-        first = wrap(heading)
-        yield [Piece("T", first), Piece("S", sign * rho), Piece("T", wrap(theta - first))]
+        first = math.remainder(alpha if sign > 0 else alpha + _PI, _TWO_PI)
+        second = math.remainder(theta - first, _TWO_PI)
+        out.append((abs(first) + rho + abs(second), "TST", (first, sign * rho, second)))
+    return out
 
 
-def _gtg(x: float, y: float, theta: float, signs: tuple[int, ...]) -> Iterator[list[Piece]]:
+def _gtg(x: float, y: float, theta: float, signs: tuple[int, ...]) -> list[_Candidate]:
     """Drive along the start heading, turn to the goal heading, drive."""
     s = math.sin(theta)
     if abs(s) < 1e-12:
-        return
+        return []
     second = y / s
     first = x - second * math.cos(theta)
     if all(d == 0.0 or math.copysign(1, d) in signs for d in (first, second)):
-        yield [Piece("S", first), Piece("T", wrap(theta)), Piece("S", second)]
+        turn = math.remainder(theta, _TWO_PI)
+        return [(abs(first) + abs(turn) + abs(second), "STS", (first, turn, second))]
+    return []
 
 
-def _tgtg(x: float, y: float, theta: float, signs: tuple[int, ...]) -> Iterator[list[Piece]]:
+def _tgtg(x: float, y: float, theta: float, signs: tuple[int, ...]) -> list[_Candidate]:
     """TGTG paths whose last straight makes the time stationary, eq. (1)."""
     ct, st = math.cos(theta), math.sin(theta)
     a, c = x * ct + y * st, -x * st + y * ct
+    out: list[_Candidate] = []
     for sigma in signs:
         for s in (1, -1):
             cos_alpha = -sigma - s * c / 2.0
-            if not -1.0 <= cos_alpha <= 1.0:
+            if not -1.0 < cos_alpha < 1.0:
                 continue
-            sin_abs = math.sqrt(max(0.0, 1.0 - cos_alpha * cos_alpha))
-            for sin_alpha in (sin_abs, -sin_abs):
-                denominator = cos_alpha - sigma
-                if denominator == 0.0:
-                    continue
-                rho = 2.0 * s * sin_alpha / denominator
-                if not rho > 0.0:
-                    continue
-                last = a - rho * cos_alpha
-                if last == 0.0 or math.copysign(1, last) not in signs:
-                    continue
-                px, py = x - last * ct, y - last * st
-                for head in _tgt(px, py, theta, signs):
-                    yield [*head, Piece("S", last)]
+            # rho = 2 s sin(alpha) / (cos(alpha) - sigma) > 0 fixes the sign of sin(alpha).
+            sin_alpha = math.sqrt(1.0 - cos_alpha * cos_alpha) * (s if sigma < 0 else -s)
+            rho = 2.0 * s * sin_alpha / (cos_alpha - sigma)
+            last = a - rho * cos_alpha
+            if last == 0.0 or math.copysign(1, last) not in signs:
+                continue
+            for t, _, head in _tgt(x - last * ct, y - last * st, theta, signs):
+                out.append((t + abs(last), "TSTS", (*head, last)))
+    return out
 
 
-def _reversed(pieces: list[Piece]) -> list[Piece]:
+def _reversed(candidate: _Candidate) -> _Candidate:
     """The path driven back: pieces in reverse order, each negated."""
-    return [Piece(p.kind, -p.length) for p in reversed(pieces)]
+    t, kinds, lengths = candidate
+    return t, kinds[::-1], tuple(-v for v in reversed(lengths))
 
 
-def _normal(pieces: list[Piece]) -> list[Piece]:
-    """Without empty pieces, neighbours of one kind joined."""
+def _pieces(candidate: _Candidate) -> list[Piece]:
+    """The candidate's pieces without empty ones, neighbours of one kind joined."""
     out: list[Piece] = []
-    for piece in pieces:
-        if piece.length == 0.0:
+    for kind, length in zip(candidate[1], candidate[2], strict=True):
+        if length == 0.0 or (kind == "T" and abs(length) <= ROUNDING_TURN):
             continue
-        if out and out[-1].kind == piece.kind:
-            out[-1] = Piece(piece.kind, out[-1].length + piece.length)
+        if out and out[-1].kind == kind:
+            out[-1] = Piece(kind, out[-1].length + length)
         else:
-            out.append(piece)
-    return [p for p in out if p.length != 0.0]
+            out.append(Piece(kind, length))
+    return out
 
 
 def time(pieces: list[Piece]) -> float:
@@ -109,17 +118,23 @@ def time(pieces: list[Piece]) -> float:
     return math.fsum(abs(p.length) for p in pieces)
 
 
+def _candidates(
+    x: float, y: float, theta: float, forward_only: bool
+) -> tuple[list[_Candidate], list[_Candidate]]:
+    """The candidates, and those to be driven back (GTGT: the TGTG path from the goal back to
+    the start, driven the other way; reversing keeps the time)."""
+    signs = (1,) if forward_only else (1, -1)
+    found = _tgt(x, y, theta, signs) + _gtg(x, y, theta, signs) + _tgtg(x, y, theta, signs)
+    ct, st = math.cos(theta), math.sin(theta)
+    back = (-1,) if forward_only else signs
+    return found, _tgtg(-x * ct - y * st, x * st - y * ct, -theta, back)
+
+
 def candidates(x: float, y: float, theta: float, forward_only: bool = False) -> list[list[Piece]]:
     """Every candidate path to ``(x, y, theta)`` (x, y in half wheel separations, theta in rad):
     TGT, GTG, stationary TGTG and GTGT, without empty pieces."""
-    signs = (1,) if forward_only else (1, -1)
-    back = (-1,) if forward_only else (1, -1)
-    found = [*_tgt(x, y, theta, signs), *_gtg(x, y, theta, signs), *_tgtg(x, y, theta, signs)]
-    # GTGT: the TGTG path from the goal back to the start, driven the other way.
-    ct, st = math.cos(theta), math.sin(theta)
-    bx, by = -x * ct - y * st, x * st - y * ct
-    found.extend(_reversed(p) for p in _tgtg(bx, by, -theta, back))
-    return [_normal(p) for p in found]
+    found, driven_back = _candidates(x, y, theta, forward_only)
+    return [_pieces(c) for c in found] + [_pieces(_reversed(c)) for c in driven_back]
 
 
 def path(x: float, y: float, theta: float, forward_only: bool = False) -> list[Piece]:
@@ -134,16 +149,19 @@ def path(x: float, y: float, theta: float, forward_only: bool = False) -> list[P
         Turns in place (``"T"``, rad, positive counter-clockwise) and straights (``"S"``, in half
         wheel separations, negative backwards); empty for the start itself.
     """
+    found, driven_back = _candidates(x, y, theta, forward_only)
+    fastest = min(c[0] for c in (*found, *driven_back))
+    bound = fastest * (1.0 + TIE)
     best: list[Piece] = []
-    best_key = (math.inf, 0, 0)
-    for pieces in candidates(x, y, theta, forward_only):
-        t = time(pieces)
-        backs = any(p.kind == "S" and p.length < 0.0 for p in pieces)
-        key = (t, len(pieces), int(backs))
-        if t < best_key[0] * (1.0 - TIE):
+    best_key = (0, 0)
+    tied = [c for c in found if c[0] <= bound] + [
+        _reversed(c) for c in driven_back if c[0] <= bound
+    ]
+    for candidate in tied:
+        pieces = _pieces(candidate)
+        key = (len(pieces), int(any(p.kind == "S" and p.length < 0.0 for p in pieces)))
+        if not best_key[0] or key < best_key:
             best, best_key = pieces, key
-        elif t <= best_key[0] * (1.0 + TIE) and key[1:] < best_key[1:]:
-            best, best_key = pieces, (min(t, best_key[0]), *key[1:])
     return best
 
 
