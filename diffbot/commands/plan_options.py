@@ -220,19 +220,17 @@ class PlanOptions:
         times: dict[str, float | None] = {
             t.shape: t.duration for t in shape_times(points, params, **options)
         }
-        why = (
-            "the least time at the motor limit"
-            if goal.shape == "fastest"
-            else f"as asked; the fastest takes {fmt(times['fastest'] or 0.0, 4)} s"
-        )
         others = ", ".join(
             f"{shape} {fmt(t, 4)} s" if t is not None else f"{shape} (needs --min-radius)"
             for shape, t in times.items()
             if shape != goal.shape
         )
-        timed = "" if made.limit is not None else " (times at the cruise speeds)"
-        chosen = fmt(times[goal.shape] or 0.0, 4)
-        note = f"shape {goal.shape} ({why}): {chosen} s; {others}{timed}\n"
+        at = "at the motor limit" if made.limit is not None else "at the cruise speeds"
+        chosen = f"{fmt(times[goal.shape] or 0.0, 4)} s"
+        if goal.shape == "fastest":
+            note = f"shape fastest (the least time {at}): {chosen}; {others}\n"
+        else:
+            note = f"shape {goal.shape} (as asked); {at} it takes {chosen}, {others}\n"
         if start != (0.0, 0.0, 0.0):
             note += f"poses are relative to the start {_pose_text(*start)}\n"
         label = f"to {where}" + (f" from {_pose_text(*start)}" if goal.start else "")
