@@ -47,6 +47,7 @@ from diffbot.urdf import BUNDLED_DESCRIPTION, derive_params, expand, load_params
 # start-up of every CLI run (about 13 ms of it).
 if TYPE_CHECKING:
     from diffbot.execution import Execution, execute_plan
+    from diffbot.goals import plan_through, plan_to
     from diffbot.io.command_bag import write_command_bag
     from diffbot.odometry import Odometry, PoseSeries, integrate
     from diffbot.planfile import format_plan, load_plan, parse_plan
@@ -96,6 +97,8 @@ _LAZY = {
     "Execution": "diffbot.execution",
     "execute_plan": "diffbot.execution",
     "write_command_bag": "diffbot.io.command_bag",
+    "plan_to": "diffbot.goals",
+    "plan_through": "diffbot.goals",
 }
 
 
@@ -162,6 +165,8 @@ __all__ = [
     "norm_angle",
     "parse_plan",
     "plan",
+    "plan_through",
+    "plan_to",
     "pose_at",
     "rad_s_from_rpm",
     "ramp",

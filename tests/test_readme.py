@@ -14,6 +14,7 @@ PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 MINIMUM_EXAMPLES = {
     "README.md": 11,
     "library.md": 28,
+    "goal-plans.md": 8,
     "odometry.md": 21,
     "plan-files.md": 9,
     "robots.md": 6,
