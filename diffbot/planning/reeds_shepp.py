@@ -14,132 +14,164 @@ equally short words resolve alike.
 
 Units: lengths in turning radii (a turn's length is the angle it turns, rad); a negative length
 drives backwards.
+
+The formulas are written once for both numbers and NumPy arrays (a *backend* gives the
+functions): :func:`path` plans one goal with :mod:`math`, :func:`distances` measures many goals at
+once with NumPy.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
-from diffbot.planning import Piece, wrap
+from diffbot.planning import Piece
 
-__all__ = ["candidates", "distance", "path"]
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["candidates", "distance", "distances", "path"]
 
 #: Tolerance of the formulas' sign conditions, as in OMPL (10 machine epsilons).
 ZERO = 10.0 * 2.220446049250313e-16
 HALF_PI = 0.5 * math.pi
+TWO_PI = 2.0 * math.pi
 
-_Lengths = tuple[float, ...]
-_Formula = Callable[[float, float, float], "_Lengths | None"]
-
-
-def _polar(x: float, y: float) -> tuple[float, float]:
-    return math.hypot(x, y), math.atan2(y, x)
-
-
-def _tau_omega(u: float, v: float, xi: float, eta: float, phi: float) -> tuple[float, float]:
-    delta = wrap(u - v)
-    a = math.sin(u) - math.sin(delta)
-    b = math.cos(u) - math.cos(delta) - 1.0
-    t1 = math.atan2(eta * a - xi * b, xi * a + eta * b)
-    t2 = 2.0 * (math.cos(delta) - math.cos(v) - math.cos(u)) + 3.0
-    tau = wrap(t1 + math.pi) if t2 < 0.0 else wrap(t1)
-    return tau, wrap(tau - u + v - phi)
+# A value is a float or an array of them, a condition a bool or an array of them: the formulas
+# combine conditions with & and choose with the backend's where.
+_Lengths = tuple[Any, ...]
+_Formula = Callable[[Any, Any, Any, Any, Any, Any], tuple[Any, _Lengths]]
 
 
-def _lsl(x: float, y: float, phi: float) -> _Lengths | None:
+class _Math:
+    """The scalar backend: :mod:`math`."""
+
+    sin, cos, atan2, hypot, sqrt = math.sin, math.cos, math.atan2, math.hypot, math.sqrt
+    asin, acos, fmod = math.asin, math.acos, math.fmod
+
+    @staticmethod
+    def where(condition: bool, yes: float, no: float) -> float:
+        return yes if condition else no
+
+    @staticmethod
+    def wrap(angle: float) -> float:
+        v = math.fmod(angle, TWO_PI)
+        if v < -math.pi:
+            return v + TWO_PI
+        return v - TWO_PI if v > math.pi else v
+
+    @staticmethod
+    def clip(value: float, low: float, high: float) -> float:
+        return min(max(value, low), high)
+
+
+def _numpy_backend() -> Any:
+    import numpy as np
+
+    class _NumPy:
+        sin, cos, atan2, hypot, sqrt = np.sin, np.cos, np.arctan2, np.hypot, np.sqrt
+        asin, acos, fmod, where, clip = np.arcsin, np.arccos, np.fmod, np.where, np.clip
+
+        @staticmethod
+        def wrap(angle: Any) -> Any:
+            v = np.fmod(angle, TWO_PI)
+            return np.where(v < -math.pi, v + TWO_PI, np.where(v > math.pi, v - TWO_PI, v))
+
+    return _NumPy
+
+
+def _tau_omega(b: Any, u: Any, v: Any, xi: Any, eta: Any, phi: Any) -> tuple[Any, Any]:
+    delta = b.wrap(u - v)
+    a1 = b.sin(u) - b.sin(delta)
+    b1 = b.cos(u) - b.cos(delta) - 1.0
+    t1 = b.atan2(eta * a1 - xi * b1, xi * a1 + eta * b1)
+    t2 = 2.0 * (b.cos(delta) - b.cos(v) - b.cos(u)) + 3.0
+    tau = b.where(t2 < 0.0, b.wrap(t1 + math.pi), b.wrap(t1))
+    return tau, b.wrap(tau - u + v - phi)
+
+
+def _lsl(b: Any, x: Any, y: Any, s: Any, c: Any, phi: Any) -> tuple[Any, _Lengths]:
     """8.1: L+ S+ L+."""
-    u, t = _polar(x - math.sin(phi), y - 1.0 + math.cos(phi))
-    if t >= -ZERO:
-        v = wrap(phi - t)
-        if v >= -ZERO:
-            return t, u, v
-    return None
+    xi, eta = x - s, y - 1.0 + c
+    u, t = b.hypot(xi, eta), b.atan2(eta, xi)
+    v = b.wrap(phi - t)
+    return (t >= -ZERO) & (v >= -ZERO), (t, u, v)
 
 
-def _lsr(x: float, y: float, phi: float) -> _Lengths | None:
+def _lsr(b: Any, x: Any, y: Any, s: Any, c: Any, phi: Any) -> tuple[Any, _Lengths]:
     """8.2: L+ S+ R+."""
-    u1, t1 = _polar(x + math.sin(phi), y - 1.0 - math.cos(phi))
-    u1 *= u1
-    if u1 < 4.0:
-        return None
-    u = math.sqrt(u1 - 4.0)
-    t = wrap(t1 + math.atan2(2.0, u))
-    v = wrap(t - phi)
-    return (t, u, v) if t >= -ZERO and v >= -ZERO else None
+    xi, eta = x + s, y - 1.0 - c
+    u1 = b.hypot(xi, eta)
+    u1 = u1 * u1
+    u = b.sqrt(b.clip(u1 - 4.0, 0.0, math.inf))
+    t = b.wrap(b.atan2(eta, xi) + b.atan2(2.0, u))
+    v = b.wrap(t - phi)
+    return (u1 >= 4.0) & (t >= -ZERO) & (v >= -ZERO), (t, u, v)
 
 
-def _lrl(x: float, y: float, phi: float) -> _Lengths | None:
+def _lrl(b: Any, x: Any, y: Any, s: Any, c: Any, phi: Any) -> tuple[Any, _Lengths]:
     """8.3/8.4: L+ R- L."""
-    u1, theta = _polar(x - math.sin(phi), y - 1.0 + math.cos(phi))
-    if u1 > 4.0:
-        return None
-    u = -2.0 * math.asin(0.25 * u1)
-    t = wrap(theta + 0.5 * u + math.pi)
-    v = wrap(phi - t + u)
-    return (t, u, v) if t >= -ZERO and u <= ZERO else None
+    xi, eta = x - s, y - 1.0 + c
+    u1, theta = b.hypot(xi, eta), b.atan2(eta, xi)
+    u = -2.0 * b.asin(b.clip(0.25 * u1, -1.0, 1.0))
+    t = b.wrap(theta + 0.5 * u + math.pi)
+    v = b.wrap(phi - t + u)
+    return (u1 <= 4.0) & (t >= -ZERO) & (u <= ZERO), (t, u, v)
 
 
-def _lrlr_meet(x: float, y: float, phi: float) -> _Lengths | None:
+def _lrlr_meet(b: Any, x: Any, y: Any, s: Any, c: Any, phi: Any) -> tuple[Any, _Lengths]:
     """8.7: L+ R+ L- R-."""
-    xi, eta = x + math.sin(phi), y - 1.0 - math.cos(phi)
-    rho = 0.25 * (2.0 + math.hypot(xi, eta))
-    if rho > 1.0:
-        return None
-    u = math.acos(rho)
-    t, v = _tau_omega(u, -u, xi, eta, phi)
-    return (t, u, -u, v) if t >= -ZERO and v <= ZERO else None
+    xi, eta = x + s, y - 1.0 - c
+    rho = 0.25 * (2.0 + b.hypot(xi, eta))
+    u = b.acos(b.clip(rho, -1.0, 1.0))
+    t, v = _tau_omega(b, u, -u, xi, eta, phi)
+    return (rho <= 1.0) & (t >= -ZERO) & (v <= ZERO), (t, u, -u, v)
 
 
-def _lrlr_cusp(x: float, y: float, phi: float) -> _Lengths | None:
+def _lrlr_cusp(b: Any, x: Any, y: Any, s: Any, c: Any, phi: Any) -> tuple[Any, _Lengths]:
     """8.8: L+ R- L- R+."""
-    xi, eta = x + math.sin(phi), y - 1.0 - math.cos(phi)
+    xi, eta = x + s, y - 1.0 - c
     rho = (20.0 - xi * xi - eta * eta) / 16.0
-    if not 0.0 <= rho <= 1.0:
-        return None
-    u = -math.acos(rho)
-    if u < -HALF_PI:
-        return None
-    t, v = _tau_omega(u, u, xi, eta, phi)
-    return (t, u, u, v) if t >= -ZERO and v >= -ZERO else None
+    u = -b.acos(b.clip(rho, -1.0, 1.0))
+    t, v = _tau_omega(b, u, u, xi, eta, phi)
+    ok = (rho >= 0.0) & (rho <= 1.0) & (u >= -HALF_PI)
+    return ok & (t >= -ZERO) & (v >= -ZERO), (t, u, u, v)
 
 
-def _lrsl(x: float, y: float, phi: float) -> _Lengths | None:
+def _lrsl(b: Any, x: Any, y: Any, s: Any, c: Any, phi: Any) -> tuple[Any, _Lengths]:
     """8.9: L+ R-(pi/2) S- L-."""
-    rho, theta = _polar(x - math.sin(phi), y - 1.0 + math.cos(phi))
-    if rho < 2.0:
-        return None
-    r = math.sqrt(rho * rho - 4.0)
+    xi, eta = x - s, y - 1.0 + c
+    rho, theta = b.hypot(xi, eta), b.atan2(eta, xi)
+    r = b.sqrt(b.clip(rho * rho - 4.0, 0.0, math.inf))
     u = 2.0 - r
-    t = wrap(theta + math.atan2(r, -2.0))
-    v = wrap(phi - HALF_PI - t)
-    return (t, -HALF_PI, u, v) if t >= -ZERO and u <= ZERO and v <= ZERO else None
+    t = b.wrap(theta + b.atan2(r, -2.0))
+    v = b.wrap(phi - HALF_PI - t)
+    ok = (rho >= 2.0) & (t >= -ZERO) & (u <= ZERO) & (v <= ZERO)
+    return ok, (t, -HALF_PI + 0.0 * u, u, v)
 
 
-def _lrsr(x: float, y: float, phi: float) -> _Lengths | None:
+def _lrsr(b: Any, x: Any, y: Any, s: Any, c: Any, phi: Any) -> tuple[Any, _Lengths]:
     """8.10: L+ R-(pi/2) S- R-."""
-    xi, eta = x + math.sin(phi), y - 1.0 - math.cos(phi)
-    rho, theta = _polar(-eta, xi)
-    if rho < 2.0:
-        return None
-    t = theta
+    xi, eta = x + s, y - 1.0 - c
+    rho, t = b.hypot(-eta, xi), b.atan2(xi, -eta)
     u = 2.0 - rho
-    v = wrap(t + HALF_PI - phi)
-    return (t, -HALF_PI, u, v) if t >= -ZERO and u <= ZERO and v <= ZERO else None
+    v = b.wrap(t + HALF_PI - phi)
+    ok = (rho >= 2.0) & (t >= -ZERO) & (u <= ZERO) & (v <= ZERO)
+    return ok, (t, -HALF_PI + 0.0 * u, u, v)
 
 
-def _lrslr(x: float, y: float, phi: float) -> _Lengths | None:
+def _lrslr(b: Any, x: Any, y: Any, s: Any, c: Any, phi: Any) -> tuple[Any, _Lengths]:
     """8.11: L+ R-(pi/2) S- L-(pi/2) R+."""
-    xi, eta = x + math.sin(phi), y - 1.0 - math.cos(phi)
-    rho, _ = _polar(xi, eta)
-    if rho < 2.0:
-        return None
-    u = 4.0 - math.sqrt(rho * rho - 4.0)
-    if u > ZERO:
-        return None
-    t = wrap(math.atan2((4.0 - u) * xi - 2.0 * eta, -2.0 * xi + (u - 4.0) * eta))
-    v = wrap(t - phi)
-    return (t, -HALF_PI, u, -HALF_PI, v) if t >= -ZERO and v >= -ZERO else None
+    xi, eta = x + s, y - 1.0 - c
+    rho = b.hypot(xi, eta)
+    u = 4.0 - b.sqrt(b.clip(rho * rho - 4.0, 0.0, math.inf))
+    t = b.wrap(b.atan2((4.0 - u) * xi - 2.0 * eta, -2.0 * xi + (u - 4.0) * eta))
+    v = b.wrap(t - phi)
+    ok = (rho >= 2.0) & (u <= ZERO) & (t >= -ZERO) & (v >= -ZERO)
+    quarter = -HALF_PI + 0.0 * u
+    return ok, (t, quarter, u, quarter, v)
 
 
 #: (formula, its word, read backwards), in OMPL's order.
@@ -156,39 +188,54 @@ _FAMILIES: tuple[tuple[_Formula, str, bool], ...] = (
     (_lrsr, "LRSR", True),
     (_lrslr, "LRSLR", False),
 )
+#: The symmetries of section 7 as sign changes of (x, y, phi), and whether they swap L and R:
+#: identity, timeflip, reflect, both.
+_SYMMETRIES = (
+    (1.0, 1.0, 1.0, False),
+    (-1.0, 1.0, -1.0, False),
+    (1.0, -1.0, -1.0, True),
+    (-1.0, -1.0, 1.0, True),
+)
 _REFLECT = str.maketrans("LR", "RL")
 
 
-def _transforms(
-    formula: _Formula, word: str, x: float, y: float, phi: float
-) -> Iterator[tuple[str, _Lengths]]:
-    """The formula under the identity, timeflip, reflect and both (paper, section 7)."""
-    for sx, sy, sphi, flip in (
-        (1, 1, 1, False),
-        (-1, 1, -1, False),
-        (1, -1, -1, True),
-        (-1, -1, 1, True),
-    ):
-        found = formula(sx * x, sy * y, sphi * phi)
-        if found is None:
+def _word(word: str, flip: bool, backwards: bool) -> str:
+    flipped = word.translate(_REFLECT) if flip else word
+    return flipped[::-1] if backwards else flipped
+
+
+#: Every formula under every symmetry: (formula, read backwards, sign of x, of y, of phi, the
+#: word its lengths spell), in the order tried.
+_EVALUATIONS = tuple(
+    (formula, backwards, sx, sy, sphi, _word(word, flip, backwards))
+    for formula, word, backwards in _FAMILIES
+    for sx, sy, sphi, flip in _SYMMETRIES
+)
+
+
+def _evaluations(b: Any, x: Any, y: Any, phi: Any) -> list[tuple[str, Any, _Lengths]]:
+    """Every formula under every symmetry: (word, condition, lengths), in the order tried; with
+    the scalar backend only those whose condition holds."""
+    s, c = b.sin(phi), b.cos(phi)
+    xb, yb = x * c + y * s, x * s - y * c
+    scalar = b is _Math
+    found: list[tuple[str, Any, _Lengths]] = []
+    for formula, backwards, sx, sy, sphi, word in _EVALUATIONS:
+        px, py = (xb, yb) if backwards else (x, y)
+        # sin is odd and cos even: the symmetries only change signs.
+        ok, lengths = formula(b, sx * px, sy * py, sphi * s, c, sphi * phi)
+        if scalar and not ok:
             continue
-        lengths = tuple(-s for s in found) if sx < 0 else found
-        yield (word.translate(_REFLECT) if flip else word), lengths
+        if sx < 0:
+            lengths = tuple([-v for v in lengths])
+        found.append((word, ok, lengths[::-1] if backwards else lengths))
+    return found
 
 
 def candidates(x: float, y: float, phi: float) -> list[tuple[str, _Lengths]]:
     """Every feasible word and its piece lengths for the goal ``(x, y, phi)`` (radii, rad), in
     the order they are tried."""
-    found: list[tuple[str, _Lengths]] = []
-    c, s = math.cos(phi), math.sin(phi)
-    xb, yb = x * c + y * s, x * s - y * c
-    for formula, word, backwards in _FAMILIES:
-        if not backwards:
-            found.extend(_transforms(formula, word, x, y, phi))
-            continue
-        for w, lengths in _transforms(formula, word, xb, yb, phi):
-            found.append((w[::-1], lengths[::-1]))
-    return found
+    return [(w, lengths) for w, _, lengths in _evaluations(_Math, x, y, phi)]
 
 
 def path(x: float, y: float, phi: float) -> list[Piece]:
@@ -214,3 +261,18 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
 def distance(x: float, y: float, phi: float) -> float:
     """The length of the shortest Reeds-Shepp path to ``(x, y, phi)``, in turning radii."""
     return sum(abs(piece.length) for piece in path(x, y, phi))
+
+
+def distances(x: ArrayLike, y: ArrayLike, phi: ArrayLike) -> NDArray[np.float64]:
+    """The lengths of the shortest Reeds-Shepp paths to many goals at once (NumPy arrays of
+    ``x``, ``y`` in turning radii and ``phi`` in rad, broadcast together), in turning radii."""
+    import numpy as np
+
+    b = _numpy_backend()
+    arrays = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in (x, y, phi)))
+    best = np.full(arrays[0].shape, np.inf)
+    with np.errstate(all="ignore"):
+        for _, ok, lengths in _evaluations(b, *arrays):
+            total = sum(np.abs(v) for v in lengths)
+            np.minimum(best, np.where(ok, total, np.inf), out=best)
+    return best

@@ -77,3 +77,15 @@ def test_lengths_and_words_equal_ompls() -> None:
             done += abs(piece.length)
             assert same_pose(ompl.pose_at(x, y, phi, min(done / ours, 1.0)), pose, 1e-7)
     assert unique > PAIRS * 0.9
+
+
+def test_distances_of_many_goals_at_once_equal_one_by_one() -> None:
+    goals = _pairs()
+    at_once = reeds_shepp.distances(goals[:, 0], goals[:, 1], goals[:, 2])
+    one_by_one = np.array([reeds_shepp.distance(*goal) for goal in goals])
+    assert at_once.shape == (PAIRS,)
+    np.testing.assert_allclose(at_once, one_by_one, rtol=1e-12, atol=1e-12)
+    # Broadcasting: one goal heading for every position.
+    assert reeds_shepp.distances(goals[:3, 0], goals[:3, 1], 0.5) == pytest.approx(
+        [reeds_shepp.distance(x, y, 0.5) for x, y in goals[:3, :2]], rel=1e-12
+    )
