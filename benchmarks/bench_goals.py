@@ -1,0 +1,124 @@
+"""Goal-plan benchmarks: planning time per goal for every shape, against OMPL's Reeds-Shepp.
+
+Run by hand: ``python benchmarks/bench_goals.py [--goals N] [--rounds N] [--cpu]`` (OMPL from
+``pip install ompl``; without it the OMPL side and its ratios are left out).
+
+The same goals (default 10,000: x, y uniform in [-2, 2] m, heading uniform, from the origin) go
+through every side in each round, the sides taking turns round by round (the order reversed every
+other round), so a busy spell of the machine hits them alike. Sides:
+
+- ``ompl reeds-shepp``: ``ReedsSheppStateSpace.distance`` (OMPL's C++), called once per goal
+  through its Python bindings on states made beforehand;
+- ``reeds-shepp distances``: :func:`diffbot.planning.reeds_shepp.distances`, all goals at once
+  (NumPy); ``reeds-shepp path``, ``dubins path`` and ``fastest path``: the closed forms of
+  :mod:`diffbot.planning` goal by goal (words and lengths, no plan);
+- ``plan_to <shape>``: :func:`diffbot.goals.plan_to` goal by goal, the whole plan (segments,
+  wheel speeds, exact poses) for the bundled robot, turning radius 0.25 m.
+
+Goals: ``reeds-shepp distances`` within 3x of OMPL's C++ per goal; ``fastest path`` under 50 us
+per goal.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from collections.abc import Callable, Sequence
+
+import numpy as np
+from interleave import CPU_HELP, Side, interleave, timed
+
+from diffbot.goals import SHAPES, plan_to
+from diffbot.kinematics import DiffDriveParams
+from diffbot.planning import balkcom_mason, dubins, reeds_shepp
+
+PARAMS = DiffDriveParams(0.035, 0.135, max_wheel_speed=50 * 2 * math.pi / 60)
+RADIUS = 0.25  # m
+OMPL = "ompl reeds-shepp"
+RS_GOAL = 3.0
+FASTEST_GOAL_US = 50.0
+
+
+def goals(count: int) -> np.ndarray:
+    rng = np.random.default_rng(2002)
+    return np.column_stack(
+        (rng.uniform(-2.0, 2.0, (count, 2)), rng.uniform(-math.pi, math.pi, count))
+    )
+
+
+def ompl_side(points: np.ndarray, cpu: bool) -> Side | None:
+    try:
+        from ompl import base as ob
+    except ImportError:
+        return None
+    space = ob.ReedsSheppStateSpace(RADIUS)
+    start = space.allocState()
+    start.setX(0.0)
+    start.setY(0.0)
+    start.setYaw(0.0)
+    states = []
+    for x, y, heading in points.tolist():
+        state = space.allocState()
+        state.setX(x)
+        state.setY(y)
+        state.setYaw(heading)
+        states.append(state)
+    distance = space.distance
+    return timed(lambda: [distance(start, s) for s in states], cpu=cpu)
+
+
+def each(points: np.ndarray, work: Callable[[float, float, float], object], cpu: bool) -> Side:
+    rows = points.tolist()
+    return timed(lambda: [work(x, y, h) for x, y, h in rows], cpu=cpu)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--goals", type=int, default=10_000, help="goals, default 10000")
+    parser.add_argument("--rounds", type=int, default=5, help="timed rounds, default 5")
+    parser.add_argument("--cpu", action="store_true", help=CPU_HELP)
+    args = parser.parse_args(argv)
+    points = goals(args.goals)
+    scaled = points / np.array([RADIUS, RADIUS, 1.0])
+    half = 0.5 * PARAMS.wheel_separation
+    sides: dict[str, Side] = {}
+    ompl = ompl_side(points, args.cpu)
+    if ompl is not None:
+        sides[OMPL] = ompl
+    xs, ys, hs = scaled[:, 0].copy(), scaled[:, 1].copy(), scaled[:, 2].copy()
+    sides["reeds-shepp distances"] = timed(lambda: reeds_shepp.distances(xs, ys, hs), cpu=args.cpu)
+    sides["reeds-shepp path"] = each(scaled, reeds_shepp.path, args.cpu)
+    sides["dubins path"] = each(scaled, dubins.path, args.cpu)
+    sides["fastest path"] = each(points / np.array([half, half, 1.0]), balkcom_mason.path, args.cpu)
+    for shape in SHAPES:
+        sides[f"plan_to {shape}"] = each(
+            points,
+            lambda x, y, h, s=shape: plan_to((x, y, h), PARAMS, shape=s, min_radius=RADIUS),
+            args.cpu,
+        )
+    clock = "CPU" if args.cpu else "wall"
+    print(f"{args.goals} goals, {args.rounds} rounds interleaved ({clock} time), radius {RADIUS} m")
+    timings = interleave(sides, args.rounds)
+    width = max(len(name) for name in sides)
+    for name in sides:
+        per_goal = timings.median(name) / args.goals * 1e6
+        print(f"  {name:<{width}}  {per_goal:9.2f} us per goal (median of rounds)")
+    if OMPL in sides:
+        print(f"ratios to {OMPL}, median of per-round ratios:")
+        for name in sides:
+            if name != OMPL:
+                print(f"  {name:<{width}}  {timings.ratio(name, OMPL).describe(2)}")
+        rs = timings.ratio("reeds-shepp distances", OMPL).median
+        kept = "kept" if rs <= RS_GOAL else "not kept"
+        print(f"goal: reeds-shepp distances <= {RS_GOAL:g}x OMPL; {kept} ({rs:.2f}x)")
+    else:
+        print("OMPL is not installed (pip install ompl): no ratios")
+    fastest = timings.median("fastest path") / args.goals * 1e6
+    kept = "kept" if fastest <= FASTEST_GOAL_US else "not kept"
+    print(f"goal: fastest path < {FASTEST_GOAL_US:g} us per goal; {kept} ({fastest:.1f} us)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
