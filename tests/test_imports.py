@@ -56,6 +56,8 @@ def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ["plan", "--format", "ros2"],
         ["plan", "--stamped", "--format", "twist"],
         ["plan", "reverse ccw 0.25 90; straight -1"],
+        ["plan", "--to", "0,1,0", "--min-radius", "0.25"],
+        ["plan", "--to", "1,1", "--to", "0,2,90", "--shape", "reeds-shepp", "--min-radius", "0.2"],
         ["odom", "--help"],
         ["simulate", "--help"],
         ["check"],
