@@ -4,9 +4,10 @@ Balkcom and Mason (2002), "Time optimal trajectories for bounded velocity differ
 vehicles", Int. J. Robotics Research 21(3): with each wheel's ground speed bounded by ``v_max``,
 the set of body velocities is the diamond ``|v| / v_max + |w| b / v_max <= 1`` (``b`` half the
 wheel separation), whose corners are the straight line (forwards or backwards) at ``v_max`` and
-the turn in place at ``w_max = v_max / b``. Pontryagin's principle (their section 3) makes every
-time-optimal trajectory a sequence of those corners, turns in place (T) and straights (G), of at
-most five actions, and a sequence of at most four always does as well (their section 6, table 1).
+the turn in place at ``w_max = v_max / b``. Pontryagin's principle makes every time-optimal
+trajectory a sequence of those corners, turns in place (T) and straights (G), of at most five
+actions; this module takes the best sequence of at most four (the tests hold it against a
+numerical search over all four-action sequences).
 
 In units where a straight of length ``b`` and a turn of one radian take the same time, the time
 is ``sum |d| / b + sum |phi|``. Here the best of the families TGT, GTG, TGTG and GTGT is found in
@@ -14,8 +15,10 @@ closed form: TGT and GTG are fixed by the goal; TGTG has one free parameter, the
 its last straight, and the time is smooth in ``d`` except where a piece vanishes (TGT, GTG), so
 its minimum is either there or where the derivative vanishes. With the goal ``(a, c)`` in the
 frame of the goal heading and ``(u, c) = (a - d, c)`` the point before the last straight, at
-polar angle ``alpha``, that derivative is ``cos(alpha) - 2 s sin(alpha) / rho - sigma`` (``s``
-the turning direction of the two turns, which must differ, ``sigma`` the sign of ``d``), zero at
+polar angle ``alpha`` and distance ``rho``, the derivative of the time in ``u`` is
+``cos(alpha) - 2 s sin(alpha) / rho - sigma`` (``s`` the direction of the first turn, the second
+turning the other way, as it must for the derivative to vanish; ``sigma`` the sign of ``d``),
+zero at
 
     cos(alpha) = -sigma - s c / 2,   rho = 2 s sin(alpha) / (cos(alpha) - sigma)
 
