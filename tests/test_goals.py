@@ -41,7 +41,7 @@ def assert_reaches(final: Pose, expected: Pose) -> None:
     assert abs(math.remainder(final.theta - expected.theta, 2 * math.pi)) <= 1e-12
 
 
-@settings(max_examples=300)
+@settings(max_examples=300, deadline=None)
 @given(st.sampled_from(SHAPES), distance, bearing, heading, radius, st.booleans())
 def test_every_shape_ends_exactly_at_the_goal(
     shape: str, d: float, b: float, h: float, r: float, forward_only: bool
@@ -54,6 +54,7 @@ def test_every_shape_ends_exactly_at_the_goal(
         assert all(s.twist.linear >= 0.0 for s in p.segments)
 
 
+@settings(deadline=None)
 @given(starts, distance, bearing, heading, st.sampled_from(SHAPES))
 def test_from_a_start_the_plan_ends_at_the_goal_seen_from_it(
     start: tuple[float, float, float], d: float, b: float, h: float, shape: str
@@ -63,6 +64,7 @@ def test_from_a_start_the_plan_ends_at_the_goal_seen_from_it(
     assert_reaches(p.final_pose, relative_pose(Pose(*start), Pose(*goal)))
 
 
+@settings(deadline=None)
 @given(distance, bearing, heading, st.booleans())
 def test_fastest_within_its_bounds(d: float, b: float, h: float, forward_only: bool) -> None:
     goal = (d * math.cos(b), d * math.sin(b), h)
@@ -144,6 +146,7 @@ def test_waypoints_without_heading_face_the_next_leg() -> None:
     assert [s.kind for s in p.segments] == ["straight", "spin", "straight"]
 
 
+@settings(deadline=None)
 @given(st.lists(st.tuples(st.floats(-5, 5), st.floats(-5, 5), heading), min_size=1, max_size=5))
 def test_through_waypoints_ends_at_the_last(points: list[tuple[float, float, float]]) -> None:
     p = plan_through(points, ROBOT)
