@@ -19,12 +19,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
 from diffbot.kinematics import DiffDriveParams, Pose
-from diffbot.planning import Piece
+from diffbot.planning import ROUNDING, Piece
 from diffbot.trajectory import (
     DEFAULT_SPEED,
     DEFAULT_SPIN_RATE,
@@ -38,11 +38,12 @@ from diffbot.trajectory import (
 )
 
 __all__ = [
+    "OPTIONS",
+    "ORIGIN",
     "SHAPES",
     "Shape",
     "ShapeTime",
     "Waypoint",
-    "goal_segments",
     "plan_through",
     "plan_to",
     "relative_pose",
@@ -52,6 +53,8 @@ __all__ = [
 
 Shape = Literal["fastest", "spin-straight-spin", "dubins", "reeds-shepp"]
 SHAPES: tuple[Shape, ...] = ("fastest", "spin-straight-spin", "dubins", "reeds-shepp")
+#: The origin, heading along x.
+ORIGIN = (0.0, 0.0, 0.0)
 #: A waypoint: x, y (m) and a heading (rad), or None for the direction of the next leg.
 Waypoint = tuple[float, float, float | None]
 
@@ -108,7 +111,7 @@ def _arcs(pieces: list[Piece], radius: float) -> list[Segment]:
     """Reeds-Shepp or Dubins pieces (radii) as arcs and straights (m)."""
     out: list[Segment] = []
     for kind, length in pieces:
-        if length == 0.0:
+        if abs(length) * (radius if kind == "S" else 1.0) <= ROUNDING:
             continue
         if kind == "S":
             out.append(Straight(length * radius))
@@ -119,33 +122,21 @@ def _arcs(pieces: list[Piece], radius: float) -> list[Segment]:
     return out
 
 
-#: Turns in place smaller than this (rad, a few rounding errors of an angle near pi) are the
-#: rounding of the start's heading, not a turn: they are left out.
-ROUNDING_TURN = 1e-15
-
-
 def _turns(pieces: list[Piece], half_track: float) -> list[Segment]:
     """Time-optimal pieces (turns in rad, straights in half tracks) as spins and straights."""
     return [
         Spin(length) if kind == "T" else Straight(length * half_track)
         for kind, length in pieces
-        if abs(length) > (ROUNDING_TURN if kind == "T" else 0.0)
+        if abs(length) * (1.0 if kind == "T" else half_track) > ROUNDING
     ]
 
 
-def goal_segments(
-    goal: Sequence[float],
-    params: DiffDriveParams,
-    *,
-    start: Sequence[float] = (0.0, 0.0, 0.0),
-    shape: Shape = "fastest",
-    min_radius: float | None = None,
-    forward_only: bool = False,
+def _leg(
+    start: Pose, goal: Pose, half: float, shape: Shape, radius: float | None, forward_only: bool
 ) -> list[Segment]:
-    """The segments of the path of ``shape`` from ``start`` to ``goal`` (x, y in m, heading in
-    rad); empty when the goal is the start. See :func:`plan_to`."""
-    radius = _check_shape(shape, min_radius, forward_only)
-    rel = relative_pose(_pose(start, "the start"), _pose(goal, "the goal"))
+    """The segments of the path of ``shape`` from ``start`` to ``goal`` (m, rad) for a robot of
+    half wheel separation ``half`` (m); empty when the goal is the start."""
+    rel = relative_pose(start, goal)
     x, y = rel.x, rel.y
     turn = math.remainder(rel.theta, 2.0 * math.pi)
     if x == 0.0 and y == 0.0 and turn == 0.0:
@@ -153,7 +144,6 @@ def goal_segments(
     if shape == "fastest":
         from diffbot.planning import balkcom_mason
 
-        half = 0.5 * params.wheel_separation
         return _turns(balkcom_mason.path(x / half, y / half, turn, forward_only), half)
     if shape == "spin-straight-spin":
         distance = math.hypot(x, y)
@@ -191,7 +181,7 @@ def plan_to(
     goal: Sequence[float],
     params: DiffDriveParams,
     *,
-    start: Sequence[float] = (0.0, 0.0, 0.0),
+    start: Sequence[float] = ORIGIN,
     shape: Shape = "fastest",
     min_radius: float | None = None,
     forward_only: bool = False,
@@ -223,23 +213,22 @@ def plan_to(
         PlanError: a number that is not finite, an unknown shape, a minimum radius that is not
             positive, dubins or reeds-shepp without one, reeds-shepp with ``forward_only``.
     """
-    segments = goal_segments(
-        goal, params, start=start, shape=shape, min_radius=min_radius, forward_only=forward_only
-    )
-    if not segments:
-        return _empty(params, limit)
-    return plan(
-        segments,
+    return plan_through(
+        [_pose(goal, "the goal")],
         params,
+        start=start,
+        shape=shape,
+        min_radius=min_radius,
+        forward_only=forward_only,
         speed=speed,
         spin_rate=spin_rate,
-        fastest=_timing(shape, params, fastest, limit),
+        fastest=fastest,
         limit=limit,
     )
 
 
 def waypoint_poses(
-    waypoints: Sequence[Sequence[float | None]], start: Sequence[float] = (0.0, 0.0, 0.0)
+    waypoints: Sequence[Sequence[float | None]], start: Sequence[float] = ORIGIN
 ) -> list[Pose]:
     """The waypoints as poses: one without a heading takes the direction of the next leg (the
     last one, of the leg that reaches it; where a leg has no length, the heading before)."""
@@ -260,26 +249,27 @@ def waypoint_poses(
     return poses
 
 
+#: The keyword options of :func:`plan_to` that :func:`plan_through` and :func:`shape_times` take.
+OPTIONS = ("start", "shape", "min_radius", "forward_only", "speed", "spin_rate", "fastest", "limit")
+
+
+def _check_options(options: dict[str, Any], function: str) -> None:
+    unknown = sorted(set(options) - set(OPTIONS))
+    if unknown:
+        raise TypeError(f"{function}() got unexpected keyword arguments: {', '.join(unknown)}")
+
+
 def plan_through(
-    waypoints: Sequence[Sequence[float | None]],
-    params: DiffDriveParams,
-    *,
-    start: Sequence[float] = (0.0, 0.0, 0.0),
-    shape: Shape = "fastest",
-    min_radius: float | None = None,
-    forward_only: bool = False,
-    speed: float = DEFAULT_SPEED,
-    spin_rate: float = DEFAULT_SPIN_RATE,
-    fastest: bool = False,
-    limit: float | None = None,
+    waypoints: Sequence[Sequence[float | None]], params: DiffDriveParams, **options: Any
 ) -> Plan:
     """The plan through every waypoint in turn, consecutive legs joined with ``shape``.
 
     Args:
         waypoints: x, y (m) and optionally a heading (rad, or None): one without a heading takes
             the direction of the next leg (see :func:`waypoint_poses`).
-        params, start, shape, min_radius, forward_only, speed, spin_rate, fastest, limit: as in
-            :func:`plan_to`.
+        params: the robot.
+        **options: ``start``, ``shape``, ``min_radius``, ``forward_only``, ``speed``,
+            ``spin_rate``, ``fastest``, ``limit``: as in :func:`plan_to`.
 
     Returns:
         One plan of every leg's segments, poses relative to ``start``; without segments when
@@ -289,26 +279,24 @@ def plan_through(
         PlanError: no waypoints, a waypoint that is not two or three finite numbers, and what
             :func:`plan_to` raises.
     """
+    _check_options(options, "plan_through")
+    here = _pose(options.get("start", ORIGIN), "the start")
+    shape: Shape = options.get("shape", "fastest")
+    forward_only = bool(options.get("forward_only", False))
+    radius = _check_shape(shape, options.get("min_radius"), forward_only)
     segments: list[Segment] = []
-    here = _pose(start, "the start")
     for pose in waypoint_poses(waypoints, here):
-        segments += goal_segments(
-            pose,
-            params,
-            start=here,
-            shape=shape,
-            min_radius=min_radius,
-            forward_only=forward_only,
-        )
+        segments += _leg(here, pose, 0.5 * params.wheel_separation, shape, radius, forward_only)
         here = pose
+    limit = options.get("limit")
     if not segments:
         return _empty(params, limit)
     return plan(
         segments,
         params,
-        speed=speed,
-        spin_rate=spin_rate,
-        fastest=_timing(shape, params, fastest, limit),
+        speed=options.get("speed", DEFAULT_SPEED),
+        spin_rate=options.get("spin_rate", DEFAULT_SPIN_RATE),
+        fastest=_timing(shape, params, options.get("fastest", False), limit),
         limit=limit,
     )
 
@@ -330,39 +318,24 @@ class ShapeTime:
 
 
 def shape_times(
-    waypoints: Sequence[Sequence[float | None]],
-    params: DiffDriveParams,
-    *,
-    start: Sequence[float] = (0.0, 0.0, 0.0),
-    min_radius: float | None = None,
-    forward_only: bool = False,
-    speed: float = DEFAULT_SPEED,
-    spin_rate: float = DEFAULT_SPIN_RATE,
-    fastest: bool = False,
-    limit: float | None = None,
+    waypoints: Sequence[Sequence[float | None]], params: DiffDriveParams, **options: Any
 ) -> list[ShapeTime]:
-    """Every shape's time through the same waypoints, timed alike: at the motor limit when the
-    robot has one, else at the cruise speeds (``fastest`` as in :func:`plan_to`)."""
-    at_limit = fastest or limit is not None or params.max_wheel_speed is not None
+    """Every shape's time through the same waypoints (``options`` as in :func:`plan_through`,
+    without ``shape``), timed alike: at the motor limit when the robot has one (or ``fastest``
+    asks for it), else at the cruise speeds."""
+    _check_options(options, "shape_times")
+    limit = options.get("limit")
+    at_limit = (
+        options.get("fastest", False) or limit is not None or params.max_wheel_speed is not None
+    )
     out: list[ShapeTime] = []
     for shape in SHAPES:
-        if shape in ("dubins", "reeds-shepp") and min_radius is None:
+        arcs = shape in ("dubins", "reeds-shepp")
+        if (arcs and options.get("min_radius") is None) or (
+            shape == "reeds-shepp" and options.get("forward_only", False)
+        ):
             out.append(ShapeTime(shape, None, 0))
             continue
-        if shape == "reeds-shepp" and forward_only:
-            out.append(ShapeTime(shape, None, 0))
-            continue
-        p = plan_through(
-            waypoints,
-            params,
-            start=start,
-            shape=shape,
-            min_radius=min_radius,
-            forward_only=forward_only,
-            speed=speed,
-            spin_rate=spin_rate,
-            fastest=at_limit,
-            limit=limit,
-        )
+        p = plan_through(waypoints, params, **{**options, "shape": shape, "fastest": at_limit})
         out.append(ShapeTime(shape, p.duration, len(p.segments)))
     return out

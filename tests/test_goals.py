@@ -176,3 +176,13 @@ def test_shape_times_compare_alike() -> None:
     without = {t.shape: t.duration for t in shape_times([(0.0, 1.0, 0.0)], ROBOT)}
     assert without["dubins"] is None
     assert without["reeds-shepp"] is None
+
+
+def test_pieces_of_rounding_size_are_left_out() -> None:
+    # A Dubins word can start with an arc of 5e-324 rad (mod 2 pi of a rounding error): as a
+    # segment its duration would round to zero. It is left out, and so are straights of 1e-16 m.
+    from diffbot.goals import _arcs, _turns
+    from diffbot.planning import Piece
+
+    assert _arcs([Piece("L", 5e-324), Piece("S", 10.0), Piece("R", 1e-17)], 0.1) == [Straight(1.0)]
+    assert _turns([Piece("T", -4e-16), Piece("S", 1e-15), Piece("T", 0.5)], 0.0675) == [Spin(0.5)]

@@ -211,7 +211,7 @@ class PlanOptions:
             "fastest": self.fastest,
             "limit": self.limit,
         }
-        made = plan_through(points, params, shape=goal.shape, **options)  # type: ignore[arg-type]
+        made = plan_through(points, params, shape=goal.shape, **options)
         where = " then ".join(_pose_text(*p) for p in points)
         if not made.segments:
             click.echo(f"the goal {where} is the start: an empty plan, nothing to drive")

@@ -12,9 +12,12 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-__all__ = ["Piece", "mod2pi", "wrap"]
+__all__ = ["ROUNDING", "Piece", "mod2pi", "wrap"]
 
 TWO_PI = 2.0 * math.pi
+#: Turns smaller than this (rad) and straights shorter (m) are rounding, not motion (a few ulps
+#: of an angle near pi): plans leave them out.
+ROUNDING = 1e-15
 
 
 class Piece(NamedTuple):

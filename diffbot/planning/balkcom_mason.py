@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 
-from diffbot.planning import Piece
+from diffbot.planning import ROUNDING, Piece
 
 __all__ = ["candidates", "distance", "path"]
 
@@ -38,8 +38,6 @@ __all__ = ["candidates", "distance", "path"]
 TIE = 1e-9
 
 
-#: Turns smaller than this (rad) are rounding, not turns: a few ulps of an angle near pi.
-ROUNDING_TURN = 1e-15
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 
@@ -106,7 +104,7 @@ def _pieces(candidate: _Candidate) -> list[Piece]:
     """The candidate's pieces without empty ones, neighbours of one kind joined."""
     out: list[Piece] = []
     for kind, length in zip(candidate[1], candidate[2], strict=True):
-        if length == 0.0 or (kind == "T" and abs(length) <= ROUNDING_TURN):
+        if length == 0.0 or (kind == "T" and abs(length) <= ROUNDING):
             continue
         if out and out[-1].kind == kind:
             out[-1] = Piece(kind, out[-1].length + length)
