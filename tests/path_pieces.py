@@ -66,3 +66,52 @@ def same_pose(a: tuple[float, ...], b: tuple[float, ...], tol: float) -> bool:
         and abs(a[1] - b[1]) <= tol
         and abs(math.remainder(a[2] - b[2], 2 * math.pi)) <= tol
     )
+
+
+def random_pairs(count: int) -> Any:
+    """``count`` random start/goal pairs (positions in [-5, 5], headings in [-pi, pi]), as each
+    goal seen from its start: rows of (x, y, phi)."""
+    import numpy as np
+
+    rng = np.random.default_rng(20020)
+    starts = np.column_stack((rng.uniform(-5, 5, (count, 2)), rng.uniform(-np.pi, np.pi, count)))
+    goals = np.column_stack((rng.uniform(-5, 5, (count, 2)), rng.uniform(-np.pi, np.pi, count)))
+    rel = np.empty_like(goals)
+    c, s = np.cos(starts[:, 2]), np.sin(starts[:, 2])
+    dx, dy = goals[:, 0] - starts[:, 0], goals[:, 1] - starts[:, 1]
+    rel[:, 0], rel[:, 1] = c * dx + s * dy, -s * dx + c * dy
+    rel[:, 2] = goals[:, 2] - starts[:, 2]
+    return rel
+
+
+def assert_agrees_with_ompl(module: Any, space: Any, count: int) -> None:
+    """The shortest paths of a planning ``module`` (``path``, ``distance``, ``candidates``) have
+    the lengths of OMPL's ``space`` (unit radius) on ``count`` random pairs to 1e-9, and where
+    the shortest word is unique, OMPL's path passes through each piece's middle and end."""
+    ompl = Ompl(space)
+    unique = 0
+    for x, y, phi in random_pairs(count):
+        ours = module.distance(x, y, phi)
+        theirs = ompl.distance(x, y, phi)
+        assert abs(ours - theirs) <= 1e-9 * theirs + 1e-12, (x, y, phi, ours, theirs)
+        best = [
+            (word, lengths)
+            for word, lengths in module.candidates(x, y, phi)
+            if sum(abs(s) for s in lengths) <= ours * (1 + 1e-6)
+        ]
+        if any(
+            word != best[0][0]
+            or max(abs(a - b) for a, b in zip(lengths, best[0][1], strict=True)) > 1e-6
+            for word, lengths in best
+        ):
+            continue
+        unique += 1
+        pieces = module.path(x, y, phi)
+        done = 0.0
+        for k, (piece, pose) in enumerate(zip(pieces, walk(pieces), strict=True)):
+            middle = end([*pieces[:k], piece._replace(length=piece.length / 2)])
+            at = (done + abs(piece.length) / 2) / ours
+            assert same_pose(ompl.pose_at(x, y, phi, at), middle, 1e-7), (x, y, phi, pieces)
+            done += abs(piece.length)
+            assert same_pose(ompl.pose_at(x, y, phi, min(done / ours, 1.0)), pose, 1e-7)
+    assert unique > count * 0.9
