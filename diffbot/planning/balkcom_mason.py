@@ -77,6 +77,7 @@ def _tgtg(x: float, y: float, theta: float, signs: tuple[int, ...]) -> list[_Can
     """TGTG paths whose last straight makes the time stationary, eq. (1)."""
     ct, st = math.cos(theta), math.sin(theta)
     a, c = x * ct + y * st, -x * st + y * ct
+    remainder, hypot, atan2 = math.remainder, math.hypot, math.atan2
     out: list[_Candidate] = []
     for sigma in signs:
         for s in (1, -1):
@@ -87,10 +88,19 @@ def _tgtg(x: float, y: float, theta: float, signs: tuple[int, ...]) -> list[_Can
             sin_alpha = math.sqrt(1.0 - cos_alpha * cos_alpha) * (s if sigma < 0 else -s)
             rho = 2.0 * s * sin_alpha / (cos_alpha - sigma)
             last = a - rho * cos_alpha
-            if last == 0.0 or math.copysign(1, last) not in signs:
+            if last == 0.0 or (last > 0.0) != (sigma > 0):
                 continue
-            for t, _, head in _tgt(x - last * ct, y - last * st, theta, signs):
-                out.append((t + abs(last), "TSTS", (*head, last)))
+            # Turn, drive, turn to the point before the last straight (both ways, as in _tgt).
+            px, py = x - last * ct, y - last * st
+            distance = hypot(px, py)
+            if distance == 0.0:
+                continue
+            bearing = atan2(py, px)
+            for sign in signs:
+                first = remainder(bearing if sign > 0 else bearing + _PI, _TWO_PI)
+                second = remainder(theta - first, _TWO_PI)
+                t = abs(first) + distance + abs(second) + abs(last)
+                out.append((t, "TSTS", (first, sign * distance, second, last)))
     return out
 
 
