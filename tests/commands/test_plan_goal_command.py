@@ -173,3 +173,10 @@ def test_bad_waypoint_files(
 
 def test_missing_waypoint_file(runner: CliRunner, tmp_path: Path) -> None:
     assert_bad_input(run(runner, "plan", "--waypoints", str(tmp_path / "nope.csv")), "nope.csv")
+
+
+def test_output_never_over_the_waypoints_file(runner: CliRunner, write: Write) -> None:
+    path = write("w.csv", "1,0\n1,1,90\n")
+    result = run(runner, "plan", "--waypoints", str(path), "-o", str(path), "--force")
+    assert_bad_input(result, "is the plan file itself")
+    assert path.read_text(encoding="utf-8") == "1,0\n1,1,90\n"
