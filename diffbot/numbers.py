@@ -1,5 +1,10 @@
-"""Reading numbers from callers: one conversion and one positivity check, each error naming the
-quantity and the value given."""
+"""Reading numbers from callers and files: one conversion and one range check, each error naming
+where the number came from (a file and key, an option) and the value given.
+
+Every number that enters from outside (an option, a controllers file, a plan or runs file, a
+recording) passes :func:`finite_in_range` once, at the boundary, so the maths never meets an
+infinity, a NaN, an integer too large for a float, or a value outside its physical range.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +12,41 @@ import math
 
 from diffbot.errors import DiffbotError, ParameterError
 
-__all__ = ["as_number", "positive_finite"]
+__all__ = [
+    "MAX_COORDINATE",
+    "MAX_PLAN_DURATION",
+    "MAX_PLAN_SAMPLES",
+    "WHEEL_SIZE_RANGE",
+    "as_number",
+    "finite_in_range",
+    "positive_finite",
+    "shown",
+]
+
+#: Longest a plan may run (s): about 11.6 days; limits that need longer are unit mistakes.
+MAX_PLAN_DURATION = 1e6
+#: Most samples a plan may be cut into.
+MAX_PLAN_SAMPLES = 10_000_000
+
+#: Wheel radius and separation a robot may have (m). Outside, a value is taken for a unit mistake
+#: or a hostile file (a subnormal 1e-320, a 1e308) and refused.
+WHEEL_SIZE_RANGE = (1e-4, 1e3)
+
+#: Farthest a pose may lie from its origin (m): a million km, beyond any robot's drive.
+MAX_COORDINATE = 1e9
+
+#: Longest text of a value an error message shows (characters).
+_SHOWN = 40
+
+
+def shown(value: object) -> str:
+    """``repr(value)`` cut to a readable length (a 5000-digit integer has no repr at all)."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 128:
+        # Python refuses to print integers of more than 4300 digits: say how long it is.
+        digits = int(value.bit_length() * math.log10(2.0)) + 1
+        return f"an integer of about {digits} digits"
+    text = repr(value)
+    return text if len(text) <= _SHOWN else f"{text[: _SHOWN - 3]}..."
 
 
 def as_number(
@@ -18,12 +57,54 @@ def as_number(
 ) -> float:
     """``float(value)``, or ``error("WHAT must be EXPECTED, got VALUE")`` when it is not one.
 
-    NaN and infinities pass: the caller decides what they mean.
+    NaN and infinities pass: the caller decides what they mean. Booleans are not numbers.
     """
+    if isinstance(value, bool):
+        raise error(f"{what} must be {expected}, got {value!r}")
     try:
         return float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):
-        raise error(f"{what} must be {expected}, got {value!r}") from None
+        raise error(f"{what} must be {expected}, got {shown(value)}") from None
+
+
+def _bound(value: float) -> str:
+    return f"{value:g}"
+
+
+def finite_in_range(
+    value: object,
+    what: str,
+    low: float = -math.inf,
+    high: float = math.inf,
+    *,
+    error: type[DiffbotError] = ParameterError,
+    unit: str = "",
+    open_low: bool = False,
+) -> float:
+    """``value`` as a finite float within ``[low, high]`` (``(low, high]`` with ``open_low``).
+
+    Args:
+        value: the number as given (a float, an int of any size, a numeric string).
+        what: where it came from, for the message: ``"FILE: KEY"``, ``"--option"``.
+        low: the smallest physical value (``-inf``: none).
+        high: the largest physical value (``inf``: none).
+        error: the error class to raise.
+        unit: the unit shown with the range (``"m"``, ``"s"``).
+        open_low: exclude ``low`` itself (for quantities that must be > 0).
+
+    Raises:
+        error: ``"WHAT must be a finite number in RANGE, got VALUE"``.
+    """
+    lower = "" if math.isinf(low) else f"{'>' if open_low else '>='} {_bound(low)}"
+    upper = "" if math.isinf(high) else f"<= {_bound(high)}"
+    span = " and ".join(part for part in (lower, upper) if part)
+    suffix = f" {unit}" if unit and span else ""
+    expected = f"a finite number{f' {span}{suffix}' if span else ''}"
+    number = as_number(value, what, error, expected)
+    inside = number > low if open_low else number >= low
+    if not (math.isfinite(number) and inside and number <= high):
+        raise error(f"{what} must be {expected}, got {shown(value)}")
+    return number
 
 
 def positive_finite(value: object, what: str, error: type[DiffbotError] = ParameterError) -> float:
@@ -31,5 +112,5 @@ def positive_finite(value: object, what: str, error: type[DiffbotError] = Parame
     expected = "a positive finite number"
     number = as_number(value, what, error, expected)
     if not math.isfinite(number) or number <= 0.0:
-        raise error(f"{what} must be {expected}, got {value!r}")
+        raise error(f"{what} must be {expected}, got {shown(value)}")
     return number

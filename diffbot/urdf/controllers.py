@@ -49,6 +49,7 @@ import yaml
 from diffbot.controller_config import AxisLimits, ControllerConfig, default_of, first_of
 from diffbot.errors import DescriptionError
 from diffbot.io.textfile import check_regular, open_regular
+from diffbot.numbers import as_number, shown
 
 __all__ = [
     "DIFF_DRIVE_TYPES",
@@ -117,6 +118,8 @@ def _parse_yaml(text: str, source: str) -> Any:
         raise ControllerConfigError(f"{source}: malformed YAML{where}: {problem}") from err
     except RecursionError as err:
         raise ControllerConfigError(f"{source}: YAML nested too deeply") from err
+    except ValueError as err:  # Python reads no integer of more than 4300 digits
+        raise ControllerConfigError(f"{source}: malformed YAML: a number too long to read") from err
 
 
 def _flatten(params: Mapping[Any, Any], prefix: str = "") -> dict[str, Any]:
@@ -129,6 +132,11 @@ def _flatten(params: Mapping[Any, Any], prefix: str = "") -> dict[str, Any]:
         else:
             flat[name] = value
     return flat
+
+
+def _is_diff_drive(value: Any) -> bool:
+    """Whether a ``type:`` value names the diff-drive controller (any YAML value may be there)."""
+    return isinstance(value, str) and value in DIFF_DRIVE_TYPES
 
 
 def _base_name(path: Sequence[str]) -> str:
@@ -161,7 +169,8 @@ def _ros2_nodes(
                 params = {}
             if not isinstance(params, Mapping):
                 raise ControllerConfigError(
-                    f"{source}: {'/'.join(here)}: {_ROS2_KEY} must be a mapping, got {params!r}"
+                    f"{source}: {'/'.join(here)}: {_ROS2_KEY} must be a mapping, "
+                    f"got {shown(params)}"
                 )
             yield _Node(here, _flatten(params))
         else:
@@ -175,7 +184,7 @@ def _ros1_controllers(
     for key, value in tree.items():
         if not isinstance(value, Mapping) or _ROS2_KEY in value:
             continue
-        if value.get("type") in DIFF_DRIVE_TYPES:
+        if _is_diff_drive(value.get("type")):
             yield _base_name((*path, str(key))), _flatten(value)
         else:
             yield from _ros1_controllers(value, (*path, str(key)))
@@ -318,7 +327,7 @@ def read_controllers(
         declared = [
             _base_name((key[: -len(".type")],))
             for key, value in node.params.items()
-            if key.endswith(".type") and value in DIFF_DRIVE_TYPES
+            if key.endswith(".type") and _is_diff_drive(value)
         ]
         for name in declared:
             if name in seen:
@@ -329,7 +338,7 @@ def read_controllers(
             configs.append(
                 _config(name, source, 2, params_of(name), manager_rate, warnings=warnings)
             )
-        if node.params.get("type") in DIFF_DRIVE_TYPES and node.name not in (seen | _WILDCARDS):
+        if _is_diff_drive(node.params.get("type")) and node.name not in (seen | _WILDCARDS):
             seen.add(node.name)
             rate = next(
                 (n.params.get("update_rate") for n in nodes if n.name == "controller_manager"),
@@ -440,10 +449,12 @@ class _Reader:
         self.source = source
         self.params = params
 
+    def where(self, key: str) -> str:
+        """The file, controller and key, for messages."""
+        return f"{self.source}: controller {self.name!r}: {key}"
+
     def fail(self, key: str, expected: str, value: Any) -> ControllerConfigError:
-        return ControllerConfigError(
-            f"{self.source}: controller {self.name!r}: {key} must be {expected}, got {value!r}"
-        )
+        return ControllerConfigError(f"{self.where(key)} must be {expected}, got {shown(value)}")
 
     def number(self, key: str, expected: str = "a number") -> float | None:
         """A float; None when absent. NaN is returned as NaN (the caller decides)."""
@@ -452,7 +463,7 @@ class _Reader:
         value = self.params[key]
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise self.fail(key, expected, value)
-        return float(value)
+        return as_number(value, self.where(key), ControllerConfigError, expected)
 
     def positive(self, key: str) -> float | None:
         expected = "a positive finite number"

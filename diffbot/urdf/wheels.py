@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any, TypedDict
 
 from diffbot.errors import DescriptionError, DriveWheelError, ParameterError
 from diffbot.kinematics import DiffDriveParams
+from diffbot.numbers import WHEEL_SIZE_RANGE
 from diffbot.urdf.tree import Joint, Tree, joints_of, parse_urdf
 
 if TYPE_CHECKING:
@@ -35,7 +36,7 @@ __all__ = [
 #: Wheel radius and separation a description may give (m). Outside, the value is taken for a unit
 #: mistake or a hostile file (a subnormal 1e-320, a 1e308) and refused; a caller who means it
 #: gives the value as an override, which only has to be positive and finite.
-SIZE_RANGE = (1e-4, 1e3)
+SIZE_RANGE = WHEEL_SIZE_RANGE
 
 #: Drive wheel joints as given: one name, a comma-separated list, a sequence, or None.
 JointChoice = str | Sequence[str] | None
@@ -494,6 +495,14 @@ def finish(
         given = sources.get(name, "override")
         if given.startswith("controllers:"):
             _check_size(value, what, name, f"the controller's {name} in {given[12:]}", source)
+            if name == "wheel_radius":  # each side's multiplier makes a radius of its own
+                for side in ("left", "right"):
+                    origin = f"the controller's wheel_radius and {side}_wheel_radius_multiplier"
+                    wheel = extra.get(f"{side}_wheel_radius")
+                    if wheel is not None:
+                        _check_size(
+                            wheel, f"{side} wheel radius", name, f"{origin} in {given[12:]}", source
+                        )
         elif given == "plugin":
             _check_size(value, what, name, "the simulator's diff-drive plugin", source)
         elif (wheel_radius if name == "wheel_radius" else wheel_separation) is None or (
