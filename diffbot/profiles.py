@@ -19,7 +19,7 @@ import numpy as np
 
 from diffbot.errors import PlanError
 from diffbot.kinematics import DiffDriveParams
-from diffbot.numbers import as_number
+from diffbot.numbers import MAX_PLAN_DURATION, as_number
 
 if TYPE_CHECKING:
     from numpy.typing import NDArray
@@ -235,6 +235,7 @@ def trapezoid(
     a_max = _limit(a_max, "a_max")
     v_start = _boundary_speed(v_start, "v_start", v_max)
     v_end = _boundary_speed(v_end, "v_end", v_max)
+    _check_duration(length, v_max, a_max)
     if math.isinf(a_max):
         return _build(length, v_max, [(length / v_max, 0.0, 0.0)])
     least = abs(v_end * v_end - v_start * v_start) / (2.0 * a_max)
@@ -304,11 +305,15 @@ def scurve(length: float, v_max: float, a_max: float | None, j_max: float) -> Pr
         return trapezoid(length, v_max, a_max)
     if length == 0.0:
         return Profile(0.0, ())
+    _check_duration(length, v_max, a_max, j_max)
+    # An acceleration above sqrt(v_max·j_max) is never reached (the speed limit comes first):
+    # the profile is the same with it lowered to that, and the powers below stay finite.
+    a_max = min(a_max, math.sqrt(v_max) * math.sqrt(j_max))
     # Speed gained by a jerk-up, jerk-down pair that just touches a_max: above it, a plateau.
-    knee = a_max * a_max / j_max
+    knee = a_max * (a_max / j_max)
     if _ramp_length(v_max, a_max, j_max) * 2.0 <= length:
         peak = v_max
-    elif length >= 2.0 * a_max**3 / j_max**2:
+    elif length >= 2.0 * a_max * (a_max / j_max) ** 2:
         peak = (math.sqrt(knee * knee + 4.0 * a_max * length) - knee) / 2.0
     else:
         peak = (length * length * j_max / 4.0) ** (1.0 / 3.0)
@@ -337,6 +342,29 @@ def scurve(length: float, v_max: float, a_max: float | None, j_max: float) -> Pr
             (t_jerk, j, -a_peak),
         ],
     )
+
+
+def _check_duration(length: float, v_max: float, a_max: float, j_max: float = math.inf) -> None:
+    """Refuse limits under which ``length`` takes longer than :data:`MAX_PLAN_DURATION`.
+
+    Each limit alone bounds the fastest rest-to-rest time from below: ``length/v_max``,
+    ``2·sqrt(length/a_max)`` and ``(32·length/j_max)^(1/3)``; the profile takes at least the
+    largest of them.
+    """
+    names = ("speed", "acceleration", "jerk")
+    limits = (v_max, a_max, j_max)
+    least = (
+        length / v_max,
+        2.0 * math.sqrt(length / a_max),
+        (32.0 * (length / j_max)) ** (1.0 / 3.0),
+    )
+    longest = max(range(3), key=lambda k: least[k])
+    if least[longest] > MAX_PLAN_DURATION:
+        raise ProfileError(
+            f"at a {names[longest]} limit of {limits[longest]:.6g}, a run of {length:.6g} "
+            f"(m, or rad for a spin) takes more than {MAX_PLAN_DURATION:g} s: the limits are "
+            "too small (a unit mistake?)"
+        )
 
 
 def _snap(value: float, scale: float) -> float:

@@ -28,6 +28,7 @@ import numpy as np
 
 from diffbot.errors import PlanError
 from diffbot.kinematics import Pose, Twist, WheelSpeeds, inverse, joint_from_wheel, limit_fraction
+from diffbot.numbers import MAX_PLAN_DURATION, MAX_PLAN_SAMPLES
 from diffbot.profiles import Limits, PathLimits, Profile, path_limits, time_optimal, trapezoid
 from diffbot.trajectory import Plan, PlannedSegment, Spin, advance, geometry, reported_pose
 
@@ -189,13 +190,16 @@ class RampedPlan:
         zero command one period after the last run's last command.
 
         Args:
-            rate: commands per second (Hz), > 0.
+            rate: commands per second (Hz), at least one per :data:`MAX_PLAN_DURATION`.
 
         Returns:
             The commands; their times are ``k / rate``.
         """
-        if not (math.isfinite(rate) and rate > 0.0):
-            raise PlanError(f"the command rate must be a positive finite number, got {rate!r}")
+        lowest = 1.0 / MAX_PLAN_DURATION
+        if not (math.isfinite(rate) and rate >= lowest):
+            raise PlanError(
+                f"the command rate must be a finite number >= {lowest:g} Hz, got {rate!r}"
+            )
         if self.duration * rate + len(self.runs) > _MAX_COMMANDS:
             raise PlanError(
                 f"{self.duration:g} s at {rate:g} Hz would take more than {_MAX_COMMANDS} "
@@ -222,7 +226,7 @@ class RampedPlan:
 
 
 #: Most commands :meth:`RampedPlan.commands` makes.
-_MAX_COMMANDS = 10_000_000
+_MAX_COMMANDS = MAX_PLAN_SAMPLES
 
 
 def has_ramps(limits: Limits) -> bool:

@@ -20,6 +20,7 @@ import click
 from diffbot.errors import EXIT_BAD_INPUT
 from diffbot.io.outputs import input_clash
 from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
+from diffbot.numbers import MAX_PLAN_DURATION
 from diffbot.urdf import load_params
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -120,6 +121,8 @@ POSITIVE = FiniteFloat(0.0, open_min=True)
 NON_NEGATIVE = FiniteFloat(0.0)
 #: Highest --rate of the ros2 script (Hz): 'ros2 topic pub' is a Python loop, far from this fast.
 MAX_PUBLISH_RATE = 1000.0
+#: Lowest command --rate (Hz): one command per longest plan.
+MIN_COMMAND_RATE = 1.0 / MAX_PLAN_DURATION
 
 
 def check_finite(what: str, *values: float) -> None:

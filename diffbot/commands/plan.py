@@ -11,6 +11,7 @@ import click
 
 from diffbot.commands.options import (
     MAX_PUBLISH_RATE,
+    MIN_COMMAND_RATE,
     NUMBERS,
     FiniteFloat,
     RobotOptions,
@@ -72,11 +73,11 @@ __all__ = ["plan_command"]
 )
 @click.option(
     "--rate",
-    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
+    type=FiniteFloat(MIN_COMMAND_RATE, maximum=MAX_PUBLISH_RATE),
     metavar="HZ",
     help="Sample the commands in time, each the mean over its period (csv, json, --bag; "
     f"bags default to {BAG_RATE:g} Hz); ros2 script: publishing rate (default 10). "
-    f"At most {MAX_PUBLISH_RATE:g}.",
+    f"From {MIN_COMMAND_RATE:g} to {MAX_PUBLISH_RATE:g}.",
 )
 @click.option(
     "--stamped",
