@@ -50,6 +50,7 @@ FLAGS = {
     "controllers": "--controllers",
     "controller": "--controller",
     "window": "--window",
+    "window_duration": "--window-duration",
     "max_relative_stderr": "--max-stderr",
     "min_radius": "--min-radius",
     "forward_only": "--forward-only",

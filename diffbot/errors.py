@@ -32,6 +32,7 @@ PARAMETERS: Mapping[str, str] = {
     "controllers": "controllers=",
     "controller": "controller=",
     "window": "window=",
+    "window_duration": "window_duration=",
     "max_relative_stderr": "max_relative_stderr=",
     "min_radius": "min_radius=",
     "forward_only": "forward_only=True",

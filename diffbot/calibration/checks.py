@@ -2,16 +2,42 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import math
+from typing import TYPE_CHECKING, Protocol
 
-from diffbot.errors import ParameterError
-from diffbot.numbers import positive_finite
+from diffbot.errors import CalibrationError, ParameterError
+from diffbot.numbers import WHEEL_SIZE_RANGE, positive_finite
 
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["positive", "vector"]
+__all__ = ["Geometry", "check_geometry", "positive", "vector"]
+
+
+class Geometry(Protocol):
+    """Calibrated wheel radii and separation (m)."""
+
+    @property
+    def left_wheel_radius(self) -> float: ...
+    @property
+    def right_wheel_radius(self) -> float: ...
+    @property
+    def wheel_separation(self) -> float: ...
+
+
+def check_geometry(result: Geometry, cause: str) -> None:
+    """CalibrationError unless the calibrated radii and separation are finite and within the
+    sizes a robot may have (:data:`~diffbot.numbers.WHEEL_SIZE_RANGE`); ``cause`` says what
+    implied them (``"the runs"``, ``"the fit"``)."""
+    low, high = WHEEL_SIZE_RANGE
+    for name in ("left_wheel_radius", "right_wheel_radius", "wheel_separation"):
+        value = float(getattr(result, name))
+        if not (math.isfinite(value) and low <= value <= high):
+            raise CalibrationError(
+                f"{cause} imply a {name.replace('_', ' ')} of {value:.6g} m, outside "
+                f"{low:g}..{high:g} m: the measurements cannot be right (units? sign?)"
+            )
 
 
 def positive(name: str, value: float) -> float:

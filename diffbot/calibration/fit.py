@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 from diffbot.calibration.checks import positive, vector
 from diffbot.errors import CalibrationError, ParameterError
 from diffbot.kinematics import DiffDriveParams, norm_angle
-from diffbot.samples import NS_PER_S, ColumnSamples, Recording
+from diffbot.samples import INT64, NS_PER_S, ColumnSamples, Recording
 
 if TYPE_CHECKING:
     import numpy as np
@@ -109,7 +109,13 @@ def _window_bounds(
         raise ParameterError("give window or window_duration, not both")
     if window_duration is not None:
         step = positive("window_duration", window_duration)
-        marks = stamps[0] + step * np.arange(1, math.floor((stamps[-1] - stamps[0]) / step) + 1)
+        count = (stamps[-1] - stamps[0]) / step
+        if count > n - 1:  # more windows than sample intervals: most would be empty
+            raise ParameterError(
+                f"{{window_duration}} {step:.6g} s is shorter than the recording's mean sample "
+                f"interval: give at least {(stamps[-1] - stamps[0]) / (n - 1):.6g} s"
+            )
+        marks = stamps[0] + step * np.arange(1, math.floor(count) + 1)
         cuts = np.unique(np.concatenate(([0], np.searchsorted(stamps, marks), [n - 1])))
     else:
         size = DEFAULT_WINDOW if window is None else window
@@ -374,6 +380,12 @@ def fit_recording(
             f"({params.left_joint!r}, {params.right_joint!r}): at least two are needed"
         )
     origin = min(int(stamps_ns[0]), int(truth.stamps_ns[0]))
+    last = max(int(stamps_ns[-1]), int(truth.stamps_ns[-1]))
+    if last - origin >= INT64:  # the int64 differences below would wrap around
+        raise CalibrationError(
+            f"{recording.source} and {truth.source} lie {(last - origin) / NS_PER_S:.3g} s "
+            "apart: their times cannot be the same clock's"
+        )
     return fit(
         (stamps_ns - origin) / NS_PER_S,
         left,

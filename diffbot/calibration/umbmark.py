@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
-from diffbot.calibration.checks import positive
+from diffbot.calibration.checks import check_geometry, positive
 from diffbot.errors import CalibrationError, ParameterError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.trajectory import Spin, Straight
@@ -85,7 +85,11 @@ class UmbmarkResult:
     ccw_centre: tuple[float, float]
 
 
-def _centre(name: str, ends: Sequence[tuple[float, float]] | ArrayLike) -> tuple[float, float]:
+def _centre(
+    name: str, ends: Sequence[tuple[float, float]] | ArrayLike, side: float
+) -> tuple[float, float]:
+    """The mean end (m) of runs around a square of ``side`` (m); each end must lie within the
+    square's perimeter, the farthest a run can stop from its start."""
     import numpy as np
 
     try:
@@ -98,6 +102,16 @@ def _centre(name: str, ends: Sequence[tuple[float, float]] | ArrayLike) -> tuple
         )
     if not np.isfinite(array).all():
         raise ParameterError(f"{name} must be finite")
+    reach = 4.0 * side
+    distances = np.hypot(array[:, 0], array[:, 1])
+    if not (distances <= reach).all():
+        k = int(np.argmax(~(distances <= reach)))
+        x, y = (float(v) for v in array[k])
+        raise CalibrationError(
+            f"{name}: the run ending at x {x:.6g} m, y {y:.6g} m stopped farther from its start "
+            f"than the {reach:.6g} m it drove around a {side:.6g} m square: not a UMBmark run "
+            "(ends are measured in m from the start pose)"
+        )
     mean = array.mean(axis=0)
     return float(mean[0]), float(mean[1])
 
@@ -147,8 +161,8 @@ def umbmark(
             reversed: the runs do not look like squares).
     """
     length = positive("side", side)
-    x_cw, y_cw = _centre("cw_ends", cw_ends)
-    x_ccw, y_ccw = _centre("ccw_ends", ccw_ends)
+    x_cw, y_cw = _centre("cw_ends", cw_ends, length)
+    x_ccw, y_ccw = _centre("ccw_ends", ccw_ends, length)
     alpha = ((x_cw + x_ccw) + (y_cw - y_ccw)) / (8.0 * length)
     beta = ((x_ccw - x_cw) - (y_cw + y_ccw)) / (8.0 * length)
     if exact:
@@ -172,7 +186,7 @@ def umbmark(
         )
     ed = (1.0 + lean) / (1.0 - lean)
     radius = params.wheel_radius
-    return UmbmarkResult(
+    result = UmbmarkResult(
         ed=ed,
         eb=eb,
         alpha=alpha,
@@ -183,6 +197,8 @@ def umbmark(
         cw_centre=(x_cw, y_cw),
         ccw_centre=(x_ccw, y_ccw),
     )
+    check_geometry(result, "the runs")
+    return result
 
 
 def _square_end(
@@ -222,6 +238,7 @@ def _exact_errors(
     import numpy as np
 
     target = np.asarray(centres, dtype=np.float64)
+    quarter = 0.5 * math.pi
 
     def residual(a: float, b: float) -> NDArray[np.float64]:
         cw = _square_end(side, -1.0, separation, a, b)
@@ -231,6 +248,11 @@ def _exact_errors(
     step = 1e-7
     change = math.inf
     for _ in range(50):
+        # Corners turned backwards or sides bent by more than half a turn: not squares any
+        # more, and sin() of the huge angles of a diverging fit fails.
+        if not (abs(alpha) + step < quarter and abs(beta) + step < math.pi):
+            change = math.inf
+            break
         jac = np.column_stack(
             (
                 (residual(alpha + step, beta) - residual(alpha - step, beta)) / (2.0 * step),

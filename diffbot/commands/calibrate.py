@@ -16,7 +16,6 @@ from diffbot.commands.options import (
     emit_json,
     fail,
     option_group,
-    parse_number,
     robot_options,
     split_xacro_args,
     topic_option,
@@ -26,6 +25,7 @@ from diffbot.errors import CalibrationError
 from diffbot.formats.calibration import calibration_data, calibration_lines
 from diffbot.io.textfile import read_text
 from diffbot.kinematics import DiffDriveParams
+from diffbot.numbers import finite_in_range, shown
 
 if TYPE_CHECKING:
     from diffbot.calibration.fit import FitResult
@@ -137,13 +137,26 @@ def _runs_file(path: str) -> tuple[list[tuple[float, float]], list[tuple[float, 
             data = yaml.safe_load(text)
         except yaml.YAMLError as err:
             fail(f"{path}: not YAML: {' '.join(str(err).split())}")
+        except RecursionError:
+            fail(f"{path}: not a runs file: YAML nested too deeply")
+        except ValueError:  # Python reads no integer of more than 4300 digits
+            fail(f"{path}: not a runs file: a number too long to read")
         if not isinstance(data, dict) or not set(data) <= {"cw", "ccw"}:
             fail(f"{path}: a runs YAML maps cw and ccw to lists of [x, y] (m)")
-        rows = [(str(key), point) for key, points in data.items() for point in points or []]
+        rows = []
+        for key, points in data.items():
+            if points is not None and not isinstance(points, list):
+                fail(f"{path}: {key} must be a list of [x, y] (m), got {shown(points)}")
+            rows += [(str(key), point) for point in points or []]
     for direction, point in rows:
         if direction not in runs or not isinstance(point, list) or len(point) != 2:
-            fail(f"{path}: {direction} {point!r}: expected cw or ccw and two numbers x, y (m)")
-        x, y = (parse_number(str(v).strip(), f"{path}: {direction}") for v in point)
+            fail(f"{path}: {direction} {shown(point)}: expected cw or ccw and two numbers x, y (m)")
+        x, y = (
+            finite_in_range(
+                v.strip() if isinstance(v, str) else v, f"{path}: {direction} {name}", unit="m"
+            )
+            for v, name in zip(point, "xy", strict=True)
+        )
         runs[direction].append((x, y))
     return runs["cw"], runs["ccw"]
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import csv
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
@@ -14,7 +15,8 @@ from diffbot.errors import DiffbotError, RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.csv_chunks import TIME_COLUMNS
 from diffbot.io.textfile import open_text
-from diffbot.samples import NS_PER_S, ns_from_seconds
+from diffbot.numbers import MAX_COORDINATE, finite_in_range
+from diffbot.samples import INT64, MAX_POSITION, NS_PER_S, ns_from_seconds
 
 if TYPE_CHECKING:
     import numpy as np
@@ -92,6 +94,23 @@ def _track(source: str, rows: list[tuple[int, float, float, float]]) -> PoseTrac
     )
 
 
+def _pose(values: Sequence[float], where: str) -> tuple[float, float, float]:
+    """x, y (m) and theta (rad) of a ground-truth pose, each finite and within its range
+    (:data:`~diffbot.numbers.MAX_COORDINATE`, :data:`~diffbot.samples.MAX_POSITION`)."""
+    x, y, theta = values
+    return (
+        finite_in_range(
+            x, f"{where}: x", -MAX_COORDINATE, MAX_COORDINATE, error=RecordingError, unit="m"
+        ),
+        finite_in_range(
+            y, f"{where}: y", -MAX_COORDINATE, MAX_COORDINATE, error=RecordingError, unit="m"
+        ),
+        finite_in_range(
+            theta, f"{where}: theta", -MAX_POSITION, MAX_POSITION, error=RecordingError, unit="rad"
+        ),
+    )
+
+
 def _read_csv(path: Path) -> PoseTrack:
     source = str(path)
     rows: list[tuple[int, float, float, float]] = []
@@ -122,6 +141,12 @@ def _read_csv(path: Path) -> PoseTrack:
                     values = []
                 if stamp_ns is None or not all(math.isfinite(v) for v in values):
                     raise RecordingError(f"{source}: line {line}: not a finite time and pose")
+                values = list(_pose(values, f"{source}: line {line}"))
+                if not -INT64 <= stamp_ns < INT64:
+                    raise RecordingError(
+                        f"{source}: line {line}: time {cells[0]} s lies outside the int64 "
+                        f"nanosecond stamps of ROS (about ±{INT64 / NS_PER_S:.3g} s)"
+                    )
                 rows.append((stamp_ns, values[0], values[1], values[2]))
         except csv.Error as err:
             raise RecordingError(f"{source}: malformed CSV: {err}") from None
@@ -169,10 +194,13 @@ def _read_bag(path: Path, topic: str | None) -> PoseTrack:
             for connection, received_ns, raw in reader.messages(connections=connections):
                 header, pose = _pose_of(typestore.deserialize_cdr(raw, connection.msgtype))
                 q = pose.orientation
-                values = (
-                    float(pose.position.x),
-                    float(pose.position.y),
-                    yaw_from_quaternion(q.x, q.y, q.z, q.w),
+                values = _pose(
+                    (
+                        float(pose.position.x),
+                        float(pose.position.y),
+                        yaw_from_quaternion(q.x, q.y, q.z, q.w),
+                    ),
+                    f"{source}: {connection.topic} message {len(header_rows) + 1}",
                 )
                 stamp_ns = int(header.stamp.sec) * NS_PER_S + int(header.stamp.nanosec)
                 header_rows.append((stamp_ns, *values))

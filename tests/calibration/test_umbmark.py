@@ -177,8 +177,9 @@ def test_umbmark_rejects_runs_that_are_not_pairs() -> None:
 
 
 def test_umbmark_rejects_errors_beyond_the_small_error_approximation() -> None:
+    # On a square of 5 cm the wheels 13.5 cm apart cannot bend a side by 80 degrees.
     with pytest.raises(CalibrationError, match="small-error approximation"):
-        umbmark(1.0, [(-7.0, -7.0)], [(-7.0, 7.0)], BOT)
+        umbmark(0.05, [(-0.14, -0.14)], [(0.14, -0.14)], BOT)
 
 
 def test_umbmark_segments_reject_an_unknown_direction() -> None:

@@ -288,7 +288,11 @@ def test_umbmark_prints_the_errors_for_people(runner: CliRunner) -> None:
         (["--cw", "1", "--ccw", "0,0"], "'1' is not X,Y"),
         (["--cw", "a,0", "--ccw", "0,0"], "'--cw': 'a,0': 'a' is not a number"),
         (["--cw", "0,0", "--ccw", "0,-inf"], "'--ccw': '0,-inf': '-inf' is not a finite"),
-        (["--cw", "-7,-7", "--ccw", "-7,7", "--side", "1"], "small-error approximation"),
+        (
+            ["--cw", "-0.14,-0.14", "--ccw", "0.14,-0.14", "--side", "0.05"],
+            "small-error approximation",
+        ),
+        (["--cw", "-7,-7", "--ccw", "-7,7", "--side", "1"], "farther from its start than the 4 m"),
     ],
 )
 def test_umbmark_refuses_bad_runs(runner: CliRunner, args: list[str], message: str) -> None:
