@@ -236,7 +236,10 @@ class TopicChunks:
                 )
             ]
             marks = ",".join("?" * len(ids))
-            columns = "timestamp, data" if receive_times else "data"
+            # A damaged or hostile bag may hold TEXT, numbers or NULL where a message's bytes
+            # go: those arrive as empty messages, which decode as unreadable and are skipped.
+            blob = "CASE WHEN typeof(data) = 'blob' THEN data ELSE x'' END"
+            columns = f"timestamp, {blob}" if receive_times else blob
             cursor = connection.execute(
                 f"SELECT {columns} FROM messages WHERE topic_id IN ({marks}) "
                 "ORDER BY timestamp, id",
