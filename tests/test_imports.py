@@ -10,7 +10,17 @@ from pathlib import Path
 
 import pytest
 
-HEAVY = ("numpy", "yourdfpy", "trimesh", "rosbags", "matplotlib", "scipy", "dask", "distributed")
+HEAVY = (
+    "numpy",
+    "yourdfpy",
+    "trimesh",
+    "rosbags",
+    "matplotlib",
+    "scipy",
+    "dask",
+    "distributed",
+    "ruamel",
+)
 
 PROBE = """
 import contextlib, io, json, sys

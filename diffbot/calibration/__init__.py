@@ -4,7 +4,8 @@ against a ground truth, and the results in the forms a robot's configuration tak
 - :mod:`~diffbot.calibration.umbmark`: Borenstein and Feng's square test.
 - :mod:`~diffbot.calibration.fit`: least squares over windows of a recording (needs SciPy:
   ``pip install 'diffbot-kinematics[calibrate]'``).
-- :mod:`~diffbot.calibration.results`: multipliers, xacro arguments, calibrated copies.
+- :mod:`~diffbot.calibration.results`: multipliers and xacro arguments.
+- :mod:`~diffbot.calibration.apply`: calibrated copies of a controllers YAML or a description.
 - :mod:`~diffbot.calibration.truth`: the ground truth of a simulated robot.
 
 The derivations are in ``docs/calibration.md``.
@@ -12,17 +13,16 @@ The derivations are in ``docs/calibration.md``.
 
 from __future__ import annotations
 
+from diffbot.calibration.apply import ApplyResult, apply_to, calibrated_path
 from diffbot.calibration.fit import DEFAULT_WINDOW, FitResult, fit, fit_recording
 from diffbot.calibration.results import (
-    ApplyResult,
     WheelGeometry,
     XacroArguments,
-    apply_to,
-    calibrated_path,
     controller_yaml_lines,
     multiplier_base,
     params_json,
     xacro_arguments,
+    yaml_number,
 )
 from diffbot.calibration.truth import ground_truth, true_robot
 from diffbot.calibration.umbmark import UmbmarkResult, umbmark, umbmark_segments
@@ -48,4 +48,5 @@ __all__ = [
     "umbmark",
     "umbmark_segments",
     "xacro_arguments",
+    "yaml_number",
 ]

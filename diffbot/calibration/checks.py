@@ -29,13 +29,13 @@ class Geometry(Protocol):
 def check_geometry(result: Geometry, cause: str) -> None:
     """CalibrationError unless the calibrated radii and separation are finite and within the
     sizes a robot may have (:data:`~diffbot.numbers.WHEEL_SIZE_RANGE`); ``cause`` says what
-    implied them (``"the runs"``, ``"the fit"``)."""
+    gave them (``"the runs give"``)."""
     low, high = WHEEL_SIZE_RANGE
     for name in ("left_wheel_radius", "right_wheel_radius", "wheel_separation"):
         value = float(getattr(result, name))
         if not (math.isfinite(value) and low <= value <= high):
             raise CalibrationError(
-                f"{cause} imply a {name.replace('_', ' ')} of {value:.6g} m, outside "
+                f"{cause} a {name.replace('_', ' ')} of {value:.6g} m, outside "
                 f"{low:g}..{high:g} m: the measurements cannot be right (units? sign?)"
             )
 

@@ -1,28 +1,22 @@
 """Calibration results in the forms a robot's configuration takes: ``params``-style numbers,
-diff_drive_controller multiplier lines, xacro arguments, and calibrated copies of a controllers
-YAML or a description (written beside the original, never over it)."""
+diff_drive_controller multiplier lines and xacro arguments (the calibrated copies of files are
+:mod:`diffbot.calibration.apply`'s)."""
 
 from __future__ import annotations
 
-import os
-import re
-from pathlib import Path
 from typing import NamedTuple, Protocol
 
 from diffbot.calibration.checks import positive
-from diffbot.errors import CalibrationError
 from diffbot.kinematics import DiffDriveParams
 
 __all__ = [
-    "ApplyResult",
     "WheelGeometry",
     "XacroArguments",
-    "apply_to",
-    "calibrated_path",
     "controller_yaml_lines",
     "multiplier_base",
     "params_json",
     "xacro_arguments",
+    "yaml_number",
 ]
 
 #: Keys of the ``params`` JSON of a calibration (UMBmark adds ``ed`` and ``eb``).
@@ -44,6 +38,13 @@ def _number(value: float) -> str:
     return f"{value:.9g}"
 
 
+def yaml_number(value: float) -> str:
+    """A float as YAML for a ROS 2 double parameter: 9 significant digits, always with a
+    decimal point or an exponent (ROS 2 refuses ``1`` for a double parameter)."""
+    text = _number(value)
+    return text if any(c in text for c in ".en") else f"{text}.0"
+
+
 def controller_yaml_lines(
     result: WheelGeometry, nominal_radius: float, nominal_separation: float
 ) -> list[str]:
@@ -59,7 +60,7 @@ def controller_yaml_lines(
         nominal_separation: the controller's ``wheel_separation`` (m).
 
     Returns:
-        Three ``name: value`` lines (9 significant digits), to go under ``ros__parameters``.
+        Three ``name: value`` lines (:func:`yaml_number`), to go under ``ros__parameters``.
 
     Raises:
         ParameterError: a nominal value that is not a positive finite number.
@@ -67,9 +68,9 @@ def controller_yaml_lines(
     radius = positive("nominal_radius", nominal_radius)
     separation = positive("nominal_separation", nominal_separation)
     return [
-        f"wheel_separation_multiplier: {_number(result.wheel_separation / separation)}",
-        f"left_wheel_radius_multiplier: {_number(result.left_wheel_radius / radius)}",
-        f"right_wheel_radius_multiplier: {_number(result.right_wheel_radius / radius)}",
+        f"wheel_separation_multiplier: {yaml_number(result.wheel_separation / separation)}",
+        f"left_wheel_radius_multiplier: {yaml_number(result.left_wheel_radius / radius)}",
+        f"right_wheel_radius_multiplier: {yaml_number(result.right_wheel_radius / radius)}",
     ]
 
 
@@ -141,112 +142,3 @@ def params_json(result: WheelGeometry) -> dict[str, float]:
         if isinstance(value, float):
             data[key] = value
     return data
-
-
-def calibrated_path(path: Path) -> Path:
-    """Where the calibrated copy of ``path`` goes: beside it, ``.calibrated`` before its first
-    suffix (``robot.urdf.xacro`` -> ``robot.calibrated.urdf.xacro``)."""
-    name = path.name
-    stem, dot, suffixes = name.partition(".")
-    if not stem:  # a hidden file such as .robot.yaml
-        stem, dot, suffixes = name, "", ""
-    return path.with_name(f"{stem}.calibrated{dot}{suffixes}")
-
-
-class ApplyResult(NamedTuple):
-    """A calibrated copy of a configuration file.
-
-    Attributes:
-        text: the new file's text.
-        changed: what changed, one ``name: value`` line each.
-        note: something the copy cannot say (unequal radii in a description), or None.
-    """
-
-    text: str
-    changed: list[str]
-    note: str | None
-
-
-def _set_key(text: str, key: str, value: str, after: str, source: str) -> str:
-    """YAML text with ``key: value``: replacing the key's value where it is, else as a new line
-    after the line of ``after`` (with its indentation)."""
-    pattern = re.compile(rf"^(?P<indent>[ \t]*){re.escape(key)}[ \t]*:[^\n#]*", re.MULTILINE)
-    found = pattern.findall(text)
-    if len(found) > 1:
-        raise CalibrationError(f"{source}: {key} is set {len(found)} times: cannot tell which")
-    if found:
-        return pattern.sub(lambda m: f"{m.group('indent')}{key}: {value}", text, count=1)
-    anchor = re.compile(rf"^(?P<indent>[ \t]*){re.escape(after)}[ \t]*:.*$", re.MULTILINE)
-    match = anchor.search(text)
-    if match is None:
-        raise CalibrationError(f"{source}: no {after} line to add {key} beside")
-    end = match.end()
-    return f"{text[:end]}\n{match.group('indent')}{key}: {value}{text[end:]}"
-
-
-def _apply_controllers(text: str, source: str, result: WheelGeometry) -> ApplyResult:
-    from diffbot.urdf.controllers import read_controllers
-
-    configs = read_controllers(text, source)
-    if len(configs) != 1:
-        raise CalibrationError(
-            f"{source}: {len(configs)} diff-drive controllers configured: a calibrated copy "
-            "needs exactly one"
-        )
-    config = configs[0]
-    if config.wheel_radius is None or config.wheel_separation is None:
-        raise CalibrationError(
-            f"{source}: the controller {config.name!r} sets no wheel_radius or no "
-            "wheel_separation, which the multipliers scale"
-        )
-    lines = controller_yaml_lines(result, config.wheel_radius, config.wheel_separation)
-    for line in reversed(lines):  # each new line goes right after wheel_separation
-        key, _, value = line.partition(": ")
-        text = _set_key(text, key, value, "wheel_separation", source)
-    return ApplyResult(text, lines, None)
-
-
-def _apply_description(text: str, source: str, result: WheelGeometry) -> ApplyResult:
-    arguments = xacro_arguments(result)
-    changed: list[str] = []
-    for assignment in arguments.arguments.split():
-        name, _, value = assignment.partition(":=")
-        pattern = re.compile(
-            rf"(<xacro:arg\s+name\s*=\s*[\"']{name}[\"']\s+default\s*=\s*)([\"'])[^\"']*\2"
-        )
-        text, count = pattern.subn(rf"\g<1>\g<2>{value}\g<2>", text)
-        if count != 1:
-            raise CalibrationError(
-                f'{source}: {"no" if count == 0 else count} <xacro:arg name="{name}" '
-                "default=...> found: a calibrated copy needs exactly one"
-            )
-        changed.append(f"{name}: {value}")
-    return ApplyResult(text, changed, arguments.note)
-
-
-def apply_to(path: str | os.PathLike[str], result: WheelGeometry) -> ApplyResult:
-    """A calibrated copy of a configuration file's text (the file itself is only read).
-
-    A controllers YAML (``.yaml``, ``.yml``) with one diff-drive controller gets the three
-    multipliers (replaced where it sets them, else added after its ``wheel_separation``); a
-    description (``.xacro``, ``.urdf``) gets the defaults of its ``wheel_radius`` and
-    ``wheel_separation`` xacro arguments (the mean radius: a note says so when the radii differ).
-
-    Raises:
-        CalibrationError: a file that cannot take the calibration (no or several diff-drive
-            controllers, no radius or separation to scale, no such xacro arguments).
-        DiffbotError: the file cannot be read.
-    """
-    from diffbot.io.textfile import read_text
-
-    p = Path(path)
-    suffix = p.suffix.lower()
-    if suffix in (".yaml", ".yml"):
-        return _apply_controllers(read_text(p, CalibrationError, "a YAML file"), str(p), result)
-    if suffix in (".xacro", ".urdf"):
-        text = read_text(p, CalibrationError, "a robot description")
-        return _apply_description(text, str(p), result)
-    raise CalibrationError(
-        f"{p}: a calibration applies to a controllers YAML (.yaml, .yml) or a description "
-        "(.urdf, .xacro)"
-    )

@@ -197,7 +197,7 @@ def umbmark(
         cw_centre=(x_cw, y_cw),
         ccw_centre=(x_ccw, y_ccw),
     )
-    check_geometry(result, "the runs")
+    check_geometry(result, "the runs give")
     return result
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -26,6 +27,7 @@ from diffbot.formats.calibration import calibration_data, calibration_lines
 from diffbot.io.textfile import read_text
 from diffbot.kinematics import DiffDriveParams
 from diffbot.numbers import finite_in_range, shown
+from diffbot.urdf import load_params
 
 if TYPE_CHECKING:
     from diffbot.calibration.fit import FitResult
@@ -48,7 +50,7 @@ class _Output:
     def check(self) -> None:
         """Refuse, before any work, a --apply-to that is missing or whose copy may not be
         written (it exists and --force is not given)."""
-        from diffbot.calibration.results import calibrated_path
+        from diffbot.calibration.apply import calibrated_path
         from diffbot.io.outputs import output_target
 
         if self.apply_to is not None:
@@ -65,8 +67,9 @@ _output_options = option_group(
             "--apply-to",
             metavar="FILE",
             help="Write a calibrated copy of FILE beside it (FILE.calibrated...): a controllers "
-            "YAML gets the multipliers, a .urdf/.xacro the wheel_radius and wheel_separation "
-            "argument defaults. FILE itself is never changed.",
+            "YAML gets the multipliers of the robot's diff-drive controller, a .urdf/.xacro the "
+            "xacro:arg or xacro:property that defines wheel_radius and wheel_separation. The "
+            "copy is read back before it is written; FILE itself is never changed.",
         ),
         click.option("--force", is_flag=True, help="Overwrite the calibrated copy if it exists."),
     ],
@@ -75,19 +78,51 @@ _output_options = option_group(
 )
 
 
-def _report(result: UmbmarkResult | FitResult, params: DiffDriveParams, output: _Output) -> None:
+def _read_back(robot: RobotOptions, path: Path) -> Callable[[Path], DiffDriveParams]:
+    """How to load a calibrated copy of the description ``path``: as the robot was loaded
+    (its packages, joints, trust; its xacro arguments when it is the robot's own description)
+    but without the overrides and arguments of the calibrated values themselves."""
+    same = robot.robot is not None and Path(robot.robot).resolve() == path.resolve()
+    args = {
+        name: value
+        for name, value in (robot.xacro_args.items() if same else ())
+        if name not in ("wheel_radius", "wheel_separation")
+    }
+
+    def load(copy: Path) -> DiffDriveParams:
+        return load_params(
+            copy,
+            args,
+            robot.packages,
+            left_joint=robot.left_joint,
+            right_joint=robot.right_joint,
+            trust=robot.trust,
+        )
+
+    return load
+
+
+def _report(
+    result: UmbmarkResult | FitResult,
+    params: DiffDriveParams,
+    output: _Output,
+    robot: RobotOptions,
+) -> None:
     """Print a calibration and write the calibrated copy of --apply-to."""
-    from diffbot.calibration.results import apply_to as calibrated_text
-    from diffbot.calibration.results import calibrated_path, multiplier_base
+    from diffbot.calibration.apply import apply_to, calibrated_path
+    from diffbot.calibration.checks import check_geometry
+    from diffbot.calibration.results import multiplier_base
     from diffbot.io.outputs import write_text_atomic
 
+    check_geometry(result, "the calibration gives")
     nominal = (*params.radii, params.wheel_separation)
     base = multiplier_base(params)
     written: str | None = None
     if output.apply_to is not None:
         source = Path(output.apply_to)
         target = calibrated_path(source)
-        applied = calibrated_text(source, result)
+        controller = params.controller.name if params.controller is not None else None
+        applied = apply_to(source, result, controller=controller, load=_read_back(robot, source))
         write_text_atomic(target, applied.text, force=output.force, inputs=[source])
         written = str(target)
     if output.as_json:
@@ -99,9 +134,14 @@ def _report(result: UmbmarkResult | FitResult, params: DiffDriveParams, output: 
         click.echo(f"wrote {written} (a calibrated copy of {output.apply_to})")
 
 
-def _robot(robot: RobotOptions, tokens: tuple[str, ...]) -> tuple[list[str], DiffDriveParams]:
+def _robot(
+    robot: RobotOptions, tokens: tuple[str, ...]
+) -> tuple[list[str], RobotOptions, DiffDriveParams]:
+    """The tokens that are no xacro arguments, the robot options with those arguments, and the
+    robot."""
     rest, xacro_args = split_xacro_args(tokens)
-    return rest, robot.with_path(None, xacro_args).load()
+    robot = robot.with_path(None, xacro_args)
+    return rest, robot, robot.load()
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -203,7 +243,7 @@ def umbmark(
     from diffbot.calibration.umbmark import umbmark as run_umbmark
 
     output.check()
-    rest, params = _robot(robot, tokens)
+    rest, robot, params = _robot(robot, tokens)
     if rest:
         fail(f"unexpected argument {rest[0]!r}: give the runs as --cw X,Y and --ccw X,Y")
     cw_ends, ccw_ends = list(cw), list(ccw)
@@ -217,7 +257,7 @@ def umbmark(
             "and --ccw X,Y (or --runs FILE)"
         )
     result = run_umbmark(side, cw_ends, ccw_ends, params, exact=exact)
-    _report(result, params, output)
+    _report(result, params, output, robot)
 
 
 @calibrate.command(context_settings=NUMBERS)
@@ -284,7 +324,7 @@ def fit(
 
     require_scipy()
     output.check()
-    rest, params = _robot(robot, tokens)
+    rest, robot, params = _robot(robot, tokens)
     if len(rest) != 1:
         fail("give one INPUT: the recording of wheel joint positions")
     check_topic("--topic", topic)
@@ -302,4 +342,4 @@ def fit(
         window_duration=window_duration,
         max_relative_stderr=max_stderr,
     )
-    _report(result, params, output)
+    _report(result, params, output, robot)

@@ -60,6 +60,7 @@ __all__ = [
     "choose_controller",
     "load_controllers",
     "load_other_drive_controllers",
+    "node_base_name",
     "other_drive_controllers",
     "read_controllers",
     "substitute_args",
@@ -139,7 +140,7 @@ def _is_diff_drive(value: Any) -> bool:
     return isinstance(value, str) and value in DIFF_DRIVE_TYPES
 
 
-def _base_name(path: Sequence[str]) -> str:
+def node_base_name(path: Sequence[str]) -> str:
     """The last non-empty component of a node path (``/ns/diff_cont`` -> ``diff_cont``)."""
     parts = [part for key in path for part in str(key).split("/") if part]
     return parts[-1] if parts else ""
@@ -152,7 +153,7 @@ class _Node:
 
     @property
     def name(self) -> str:
-        return _base_name(self.path)
+        return node_base_name(self.path)
 
 
 def _ros2_nodes(
@@ -185,7 +186,7 @@ def _ros1_controllers(
         if not isinstance(value, Mapping) or _ROS2_KEY in value:
             continue
         if _is_diff_drive(value.get("type")):
-            yield _base_name((*path, str(key))), _flatten(value)
+            yield node_base_name((*path, str(key))), _flatten(value)
         else:
             yield from _ros1_controllers(value, (*path, str(key)))
 
@@ -226,7 +227,7 @@ def other_drive_controllers(text: str, source: str) -> list[tuple[str, str]]:
     for node in _ros2_nodes(tree, source):
         for key, value in node.params.items():
             if key == "type" or key.endswith(".type"):
-                name = node.name if key == "type" else _base_name((key[: -len(".type")],))
+                name = node.name if key == "type" else node_base_name((key[: -len(".type")],))
                 if (
                     isinstance(value, str)
                     and value not in DIFF_DRIVE_TYPES
@@ -243,7 +244,7 @@ def _ros1_types(tree: Mapping[Any, Any], path: tuple[str, ...] = ()) -> Iterator
         if not isinstance(value, Mapping) or _ROS2_KEY in value:
             continue
         if isinstance(value.get("type"), str):
-            yield _base_name((*path, str(key))), value["type"]
+            yield node_base_name((*path, str(key))), value["type"]
         else:
             yield from _ros1_types(value, (*path, str(key)))
 
@@ -325,7 +326,7 @@ def read_controllers(
     for node in nodes:
         manager_rate = node.params.get("update_rate")
         declared = [
-            _base_name((key[: -len(".type")],))
+            node_base_name((key[: -len(".type")],))
             for key, value in node.params.items()
             if key.endswith(".type") and _is_diff_drive(value)
         ]

@@ -9,7 +9,7 @@ import yaml
 from calibration_data import B0
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from robots import BOT
+from robots import BOT, two_wheel_urdf
 
 from diffbot.calibration import (
     FitResult,
@@ -146,20 +146,40 @@ def test_a_calibrated_controllers_yaml_reads_back_as_the_calibration(tmp_path: P
     ]
 
 
+#: A robot whose wheels take their size from xacro arguments (b = 0.135 m, r = 0.035 m).
+ARGUMENTS = (
+    '<xacro:arg name="wheel_radius" default="0.035"/>\n'
+    "<xacro:arg name='wheel_separation' default='0.135'/>\n"
+    '<xacro:property name="wheel_radius" value="$(arg wheel_radius)"/>\n'
+    '<xacro:property name="wheel_separation" value="$(arg wheel_separation)"/>\n'
+)
+
+
+def described(body: str) -> str:
+    """A description whose wheels follow the wheel_radius and wheel_separation values, which
+    ``body`` defines (it goes first: xacro reads in document order)."""
+    urdf = two_wheel_urdf(
+        radius="${wheel_radius}",
+        left_xyz="0 ${wheel_separation / 2} 0",
+        right_xyz="0 ${-wheel_separation / 2} 0",
+        xacro=True,
+    )
+    start = urdf.index(">", urdf.index("<robot")) + 1
+    return f"{urdf[:start]}\n{body}{urdf[start:]}"
+
+
 def test_a_calibrated_description_sets_the_argument_defaults(tmp_path: Path) -> None:
     source = tmp_path / "robot.urdf.xacro"
-    source.write_text(
-        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
-        '  <xacro:arg name="wheel_radius" default="0.035"/>\n'
-        "  <xacro:arg name='wheel_separation' default='0.135'/>\n"
-        "</robot>\n",
-        encoding="utf-8",
-    )
+    text = described(ARGUMENTS)
+    source.write_text(text, encoding="utf-8")
     applied = apply_to(source, CALIBRATED)
     assert '<xacro:arg name="wheel_radius" default="0.03505"/>' in applied.text
     assert "<xacro:arg name='wheel_separation' default='0.1377'/>" in applied.text
     assert applied.changed == ["wheel_radius: 0.03505", "wheel_separation: 0.1377"]
     assert applied.note is not None
+    assert applied.text.replace("0.03505", "0.035").replace("0.1377", "0.135") == text
+    assert source.read_text(encoding="utf-8") == text
+    assert [p.name for p in tmp_path.iterdir()] == ["robot.urdf.xacro"]  # no read-back left
 
 
 def test_a_controllers_yaml_without_a_diff_drive_controller_is_refused(tmp_path: Path) -> None:

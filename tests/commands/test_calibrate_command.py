@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 import sys
 from pathlib import Path
 
@@ -12,6 +13,7 @@ from robots import BOT
 
 from diffbot.cli import main
 from diffbot.io.poses import read_pose_track
+from diffbot.urdf import BUNDLED_DESCRIPTION, load_params
 
 TRUE = {"left_wheel_radius": 0.0352, "right_wheel_radius": 0.0348, "wheel_separation": 0.138}
 SIMULATE_TRUTH = ["--true-wheel-radius", "0.0352,0.0348", "--true-separation", "0.138"]
@@ -146,16 +148,19 @@ def test_fit_takes_the_truth_from_another_file(
 def test_fit_writes_a_calibrated_copy_beside_the_file(
     runner: CliRunner, run_csv: Path, tmp_path: Path
 ) -> None:
-    source = tmp_path / "robot.urdf.xacro"
-    text = '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
-    text += '<xacro:arg name="wheel_radius" default="0.035"/>\n'
-    text += '<xacro:arg name="wheel_separation" default="0.135"/>\n</robot>\n'
-    source.write_text(text, encoding="utf-8")
-    args = ["calibrate", "fit", str(run_csv), "--apply-to", str(source)]
+    folder = tmp_path / "description"
+    shutil.copytree(BUNDLED_DESCRIPTION.parent, folder)
+    source = folder / "robot.urdf.xacro"
+    (folder / BUNDLED_DESCRIPTION.name).rename(source)
+    text = source.read_text(encoding="utf-8")
+    packages = [f"--package=diffbot_{name}={folder}" for name in ("description", "control")]
+    args = ["calibrate", "fit", str(run_csv), *packages, "--apply-to", str(source)]
     result = run(runner, *args)
-    copy = tmp_path / "robot.calibrated.urdf.xacro"
+    copy = folder / "robot.calibrated.urdf.xacro"
     assert f"wrote {copy}" in result.stdout
-    assert 'name="wheel_separation" default="0.138"' in copy.read_text(encoding="utf-8")
+    assert '<xacro:arg name="wheel_separation" default="0.138"/>' in copy.read_text("utf-8")
+    params = load_params(copy, packages={"diffbot_description": folder, "diffbot_control": folder})
+    assert params.wheel_separation == pytest.approx(0.138, rel=1e-9)
     assert source.read_text(encoding="utf-8") == text
     line = bad_input(runner, *args)
     assert line == f"error: {copy} exists: use --force to overwrite it"
