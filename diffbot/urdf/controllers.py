@@ -49,7 +49,7 @@ import yaml
 from diffbot.controller_config import AxisLimits, ControllerConfig, default_of, first_of
 from diffbot.errors import DescriptionError
 from diffbot.io.textfile import check_regular, open_regular
-from diffbot.numbers import as_number, shown
+from diffbot.numbers import MAX_PLAN_DURATION, as_number, finite_in_range, shown
 
 __all__ = [
     "DIFF_DRIVE_TYPES",
@@ -73,6 +73,12 @@ DIFF_DRIVE_TYPES = frozenset(
 
 #: Controller files larger than this (bytes) are refused: real ones are a few kB.
 MAX_FILE_BYTES = 4 * 1024 * 1024
+
+#: Fastest controller manager loop accepted (Hz): real ones run at tens to a few thousand.
+MAX_UPDATE_RATE = 1e6
+#: Largest wheels_per_side and velocity_rolling_window_size accepted.
+MAX_WHEELS_PER_SIDE = 1000
+MAX_ROLLING_WINDOW = 1_000_000
 
 _ROS2_KEY = "ros__parameters"
 _WILDCARDS = frozenset({"*", "**"})
@@ -487,12 +493,12 @@ class _Reader:
             raise self.fail(key, expected, value)
         return value
 
-    def integer(self, key: str, minimum: int) -> int | None:
+    def integer(self, key: str, minimum: int, maximum: int) -> int | None:
         if key not in self.params:
             return None
         value = self.params[key]
-        if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
-            raise self.fail(key, f"an integer >= {minimum}", value)
+        if isinstance(value, bool) or not isinstance(value, int) or not minimum <= value <= maximum:
+            raise self.fail(key, f"an integer from {minimum} to {maximum}", value)
         return value
 
     def flag(self, key: str) -> bool | None:
@@ -528,16 +534,16 @@ class _Reader:
         if key not in self.params:
             return None
         value = self.params[key]
+        expected = "a list of 6 finite numbers"
         if (
             not isinstance(value, list)
             or len(value) != 6
-            or not all(
-                isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
-                for v in value
-            )
+            or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
         ):
-            raise self.fail(key, "a list of 6 finite numbers", value)
-        return tuple(float(v) for v in value)
+            raise self.fail(key, expected, value)
+        return tuple(
+            finite_in_range(v, self.where(key), error=ControllerConfigError) for v in value
+        )
 
     def limit(self, key: str, sign: int) -> float | None:
         """A limit: None when absent or NaN; ``sign`` +1 for limits >= 0, -1 for <= 0."""
@@ -636,8 +642,16 @@ def _config(
         left_multiplier = right_multiplier = common_multiplier
     rate: float | None = None
     if update_rate is not None:
-        rate = _Reader("controller_manager", source, {"update_rate": update_rate}).positive(
-            "update_rate"
+        manager = _Reader("controller_manager", source, {"update_rate": update_rate})
+        if isinstance(update_rate, bool) or not isinstance(update_rate, int | float):
+            raise manager.fail("update_rate", "a number (Hz)", update_rate)
+        rate = finite_in_range(
+            update_rate,
+            manager.where("update_rate"),
+            1.0 / MAX_PLAN_DURATION,
+            MAX_UPDATE_RATE,
+            error=ControllerConfigError,
+            unit="Hz",
         )
     separation_multiplier = default_of(reader.positive("wheel_separation_multiplier"), 1.0)
     return ControllerConfig(
@@ -648,7 +662,7 @@ def _config(
         right_wheel_names=right or (),
         wheel_separation=reader.positive("wheel_separation"),
         wheel_radius=reader.positive("wheel_radius"),
-        wheels_per_side=reader.integer("wheels_per_side", 0),
+        wheels_per_side=reader.integer("wheels_per_side", 0, MAX_WHEELS_PER_SIDE),
         wheel_separation_multiplier=separation_multiplier,
         left_wheel_radius_multiplier=default_of(first_of(left_multiplier, common_multiplier), 1.0),
         right_wheel_radius_multiplier=default_of(
@@ -665,7 +679,9 @@ def _config(
         twist_covariance_diagonal=reader.diagonal("twist_covariance_diagonal"),
         publish_rate=reader.positive("publish_rate"),
         enable_odom_tf=reader.flag("enable_odom_tf"),
-        velocity_rolling_window_size=reader.integer("velocity_rolling_window_size", 1),
+        velocity_rolling_window_size=reader.integer(
+            "velocity_rolling_window_size", 1, MAX_ROLLING_WINDOW
+        ),
         cmd_vel_timeout=reader.non_negative("cmd_vel_timeout"),
         update_rate=rate,
         warnings=tuple(notes),

@@ -540,7 +540,17 @@ def test_acceleration_bounds_always_contain_zero(up: float, down: float, previou
         ("open_loop: 'yes'", r"open_loop must be true or false, got 'yes'"),
         (
             "velocity_rolling_window_size: 0",
-            r"velocity_rolling_window_size must be an integer >= 1",
+            r"velocity_rolling_window_size must be an integer from 1 to 1000000",
+        ),
+        ("wheels_per_side: 1001", r"wheels_per_side must be an integer from 0 to 1000, got 1001"),
+        (  # a float cannot hold it: the message says how long it is rather than printing it
+            f"wheel_separation: {'1' * 400}",
+            r"wheel_separation must be a positive finite number, got an integer of about 400",
+        ),
+        (f"linear.x.max_jerk: {'9' * 400}", r"max_jerk must be a number, got an integer of about"),
+        (
+            f"pose_covariance_diagonal: [0, 0, 0, 0, 0, {'1' * 400}]",
+            r"pose_covariance_diagonal must be a finite number, got an integer of about 400",
         ),
         ("cmd_vel_timeout: -0.5", r"cmd_vel_timeout must be a finite number >= 0"),
         ("pose_covariance_diagonal: [0.1, 0.1]", r"pose_covariance_diagonal must be a list of 6"),
@@ -953,3 +963,23 @@ def test_ros1_controller_with_one_side_names_the_missing_key() -> None:
     text = "base:\n  type: diff_drive_controller/DiffDriveController\n  right_wheel: [r]\n"
     with pytest.raises(ControllerConfigError, match=r"'base': left_wheel is missing while right_"):
         read_controllers(text, "ros1.yaml")
+
+
+@pytest.mark.parametrize("rate", ["1.0e-300", "1.0e+300", "'fast'", "[50]", "1" * 400])
+def test_an_update_rate_outside_any_controller_manager_is_refused(rate: str) -> None:
+    text = section("wheel_separation: 0.3").replace("update_rate: 100", f"update_rate: {rate}")
+    with pytest.raises(ControllerConfigError, match=r"'controller_manager': update_rate must be"):
+        read_controllers(text, "robot.yaml")
+
+
+def test_a_yaml_integer_of_5000_digits_is_a_malformed_file() -> None:
+    text = section(f"wheel_separation: {'1' * 5000}")
+    with pytest.raises(ControllerConfigError, match=r"^robot\.yaml: .*a number too long to read"):
+        read_controllers(text, "robot.yaml")
+
+
+def test_a_type_given_as_a_list_is_no_controller_type() -> None:
+    text = section("type: [diff_drive_controller/DiffDriveController]").replace(
+        "type: diff_drive_controller/DiffDriveController", "type: [a, b]"
+    )
+    assert read_controllers(text, "robot.yaml") == []
