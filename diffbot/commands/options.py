@@ -20,7 +20,7 @@ import click
 from diffbot.errors import EXIT_BAD_INPUT
 from diffbot.io.outputs import input_clash
 from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
-from diffbot.numbers import MAX_PLAN_DURATION
+from diffbot.numbers import MAX_PLAN_DURATION, WHEEL_SIZE_RANGE
 from diffbot.urdf import load_params
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -84,10 +84,18 @@ class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
 class NumberPair(click.ParamType):  # type: ignore[type-arg,unused-ignore]
     """Two finite numbers, comma-separated (``X,Y``), optionally both positive."""
 
-    def __init__(self, name: str, unit: str, *, positive: bool = False) -> None:
+    def __init__(
+        self,
+        name: str,
+        unit: str,
+        *,
+        positive: bool = False,
+        bounds: tuple[float, float] | None = None,
+    ) -> None:
         self.name = name
         self.unit = unit
         self.positive = positive
+        self.bounds = bounds
 
     def convert(
         self, value: Any, param: click.Parameter | None, ctx: click.Context | None
@@ -114,10 +122,18 @@ class NumberPair(click.ParamType):  # type: ignore[type-arg,unused-ignore]
         first, second = numbers
         if self.positive and not (first > 0.0 and second > 0.0):
             self.fail(f"{value!r}: both must be > 0", param, ctx)
+        if self.bounds is not None:
+            low, high = self.bounds
+            if not (low <= first <= high and low <= second <= high):
+                self.fail(
+                    f"{value!r}: both must be from {low:g} to {high:g} {self.unit}", param, ctx
+                )
         return first, second
 
 
 POSITIVE = FiniteFloat(0.0, open_min=True)
+#: A wheel radius or separation of a real robot (m).
+WHEEL_SIZE = FiniteFloat(WHEEL_SIZE_RANGE[0], maximum=WHEEL_SIZE_RANGE[1])
 NON_NEGATIVE = FiniteFloat(0.0)
 #: Highest --rate of the ros2 script (Hz): 'ros2 topic pub' is a Python loop, far from this fast.
 MAX_PUBLISH_RATE = 1000.0

@@ -15,7 +15,7 @@ from diffbot.calibration.truth import TRUTH_COLUMNS, TruthStream, true_robot
 from diffbot.commands.options import (
     NON_NEGATIVE,
     NUMBERS,
-    POSITIVE,
+    WHEEL_SIZE,
     FiniteFloat,
     NumberPair,
     OutOptions,
@@ -40,6 +40,7 @@ from diffbot.formats.text import fmt
 from diffbot.io.bag import JointStatesBagWriter
 from diffbot.io.csvfile import joint_states_header, joint_states_lines
 from diffbot.io.outputs import atomic_text
+from diffbot.numbers import WHEEL_SIZE_RANGE
 from diffbot.samples import ns_from_seconds
 from diffbot.simulation import (
     MAX_RATE,
@@ -182,13 +183,13 @@ def _write(
 @click.option(
     "--true-wheel-radius",
     "true_radii",
-    type=NumberPair("L,R", "m", positive=True),
+    type=NumberPair("L,R", "m", positive=True, bounds=WHEEL_SIZE_RANGE),
     help="The real left and right wheel radii (m): the robot moves by them, and the output "
     "gains its ground-truth pose (x, y, theta).",
 )
 @click.option(
     "--true-separation",
-    type=POSITIVE,
+    type=WHEEL_SIZE,
     metavar="M",
     help="The real wheel separation (m); likewise adds the ground-truth pose.",
 )

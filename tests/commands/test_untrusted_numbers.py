@@ -280,3 +280,19 @@ def test_text_cells_in_a_bags_messages_are_skipped_as_unreadable(tmp_path: Path,
     data = json.loads(result.stdout)
     assert data["skipped"] == {"unreadable value": spoiled}
     assert data["samples"] == total - spoiled
+
+
+# --- options ------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "fragment"),
+    [
+        ("--true-wheel-radius", "1e308,1e308", "both must be from 0.0001 to 1000 m"),
+        ("--true-wheel-radius", "0.035,1e-9", "both must be from 0.0001 to 1000 m"),
+        ("--true-separation", "1e-5", "must be >= 0.0001"),
+        ("--true-separation", "1e308", "must be <= 1000"),
+    ],
+)
+def test_a_true_robot_of_no_real_size_is_refused(option: str, value: str, fragment: str) -> None:
+    assert_clean_error(run("simulate", "straight 1", option, value), option, fragment)
