@@ -7,7 +7,7 @@ import numpy as np
 from numpy.typing import NDArray
 from robots import BOT
 
-from diffbot.calibration import ground_truth, true_robot, umbmark_segments
+from diffbot.calibration import FitResult, ground_truth, true_robot, umbmark_segments
 from diffbot.planfile import parse_plan
 from diffbot.simulation import simulate
 from diffbot.trajectory import EXAMPLES, Plan, plan
@@ -21,6 +21,24 @@ TRUE_SEPARATION = B0 * 1.02
 TRUE_ROBOT = true_robot(BOT, (TRUE_LEFT, TRUE_RIGHT), TRUE_SEPARATION)
 #: Trajectory A twice, commanded with the nominal robot.
 TRAJECTORY_A = plan(parse_plan(EXAMPLES["A"]) * 2, BOT)
+
+
+def fit_result(left: float, right: float, separation: float) -> FitResult:
+    """A fit's result with these radii and separation (m) and small made-up errors."""
+    return FitResult(
+        left_wheel_radius=left,
+        right_wheel_radius=right,
+        wheel_separation=separation,
+        left_wheel_radius_stderr=1e-6,
+        right_wheel_radius_stderr=1e-6,
+        wheel_separation_stderr=1e-5,
+        position_rms_before=0.01,
+        heading_rms_before=0.1,
+        position_rms_after=0.001,
+        heading_rms_after=0.01,
+        windows=10,
+    )
+
 
 Track = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
 

@@ -58,3 +58,17 @@ SKID = DiffDriveParams(
     left_joints=("front_left", "rear_left"),
     right_joints=("front_right", "rear_right"),
 )
+
+
+def sized_by_properties(body: str) -> str:
+    """A xacro robot whose wheels take their size from the ``wheel_radius`` and
+    ``wheel_separation`` properties that ``body`` defines (it goes first: xacro reads in
+    document order)."""
+    urdf = two_wheel_urdf(
+        radius="${wheel_radius}",
+        left_xyz="0 ${wheel_separation / 2} 0",
+        right_xyz="0 ${-wheel_separation / 2} 0",
+        xacro=True,
+    )
+    start = urdf.index(">", urdf.index("<robot")) + 1
+    return f"{urdf[:start]}\n{body}{urdf[start:]}"

@@ -20,7 +20,7 @@ from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from diffbot.calibration.checks import Geometry, check_geometry, positive
+from diffbot.calibration.checks import WheelGeometry, check_geometry, positive
 from diffbot.calibration.results import controller_yaml_lines, xacro_arguments, yaml_number
 from diffbot.errors import CalibrationError, DiffbotError
 from diffbot.kinematics import DiffDriveParams
@@ -170,7 +170,7 @@ def _controller_edits(text: str, source: str, name: str, values: dict[str, str])
 
 
 def _apply_controllers(
-    text: str, source: str, result: Geometry, controller: str | None
+    text: str, source: str, result: WheelGeometry, controller: str | None
 ) -> ApplyResult:
     from diffbot.urdf.controllers import choose_controller, read_controllers
 
@@ -302,7 +302,7 @@ def _read_back_description(path: Path, data: bytes, wanted: dict[str, float], lo
             )
 
 
-def _apply_description(path: Path, data: bytes, result: Geometry, load: Loader) -> ApplyResult:
+def _apply_description(path: Path, data: bytes, result: WheelGeometry, load: Loader) -> ApplyResult:
     source = str(path)
     arguments = xacro_arguments(result)
     values = dict(item.split(":=") for item in arguments.arguments.split())
@@ -333,7 +333,7 @@ def _load(path: Path) -> DiffDriveParams:
 
 def apply_to(
     path: str | os.PathLike[str],
-    result: Geometry,
+    result: WheelGeometry,
     *,
     controller: str | None = None,
     load: Loader | None = None,

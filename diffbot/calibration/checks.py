@@ -12,11 +12,11 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["Geometry", "check_geometry", "positive", "vector"]
+__all__ = ["WheelGeometry", "check_geometry", "positive", "vector"]
 
 
-class Geometry(Protocol):
-    """Calibrated wheel radii and separation (m)."""
+class WheelGeometry(Protocol):
+    """What calibrated results share: wheel radii and separation (m)."""
 
     @property
     def left_wheel_radius(self) -> float: ...
@@ -26,7 +26,7 @@ class Geometry(Protocol):
     def wheel_separation(self) -> float: ...
 
 
-def check_geometry(result: Geometry, cause: str) -> None:
+def check_geometry(result: WheelGeometry, cause: str) -> None:
     """CalibrationError unless the calibrated radii and separation are finite and within the
     sizes a robot may have (:data:`~diffbot.numbers.WHEEL_SIZE_RANGE`); ``cause`` says what
     gave them (``"the runs give"``)."""

@@ -4,9 +4,9 @@ diff_drive_controller multiplier lines and xacro arguments (the calibrated copie
 
 from __future__ import annotations
 
-from typing import NamedTuple, Protocol
+from typing import NamedTuple
 
-from diffbot.calibration.checks import positive
+from diffbot.calibration.checks import WheelGeometry, positive
 from diffbot.kinematics import DiffDriveParams
 
 __all__ = [
@@ -21,17 +21,6 @@ __all__ = [
 
 #: Keys of the ``params`` JSON of a calibration (UMBmark adds ``ed`` and ``eb``).
 _EXTRA_KEYS = ("ed", "eb")
-
-
-class WheelGeometry(Protocol):
-    """What the text builders need: calibrated wheel radii and separation (m)."""
-
-    @property
-    def left_wheel_radius(self) -> float: ...
-    @property
-    def right_wheel_radius(self) -> float: ...
-    @property
-    def wheel_separation(self) -> float: ...
 
 
 def _number(value: float) -> str:

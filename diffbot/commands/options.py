@@ -43,8 +43,13 @@ def warn(message: str) -> None:
 
 
 def emit_json(data: Any) -> None:
-    """Print machine-readable output (strict JSON: no NaN)."""
-    click.echo(json.dumps(data, indent=2, allow_nan=False))
+    """Print machine-readable output (strict JSON: no NaN), or a bad-input error when a result
+    is not finite (inputs checked at the boundary should leave none)."""
+    try:
+        text = json.dumps(data, indent=2, allow_nan=False)
+    except ValueError:
+        fail("a result is infinite or NaN: the inputs are too large to compute with")
+    click.echo(text)
 
 
 class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]

@@ -8,29 +8,18 @@ import json
 from pathlib import Path
 
 import pytest
+from calibration_data import fit_result
 from cli_results import assert_one_error_line
 from click.testing import CliRunner
-from robots import two_wheel_urdf
+from robots import sized_by_properties
 
-from diffbot.calibration import FitResult, apply_to
+from diffbot.calibration import apply_to
 from diffbot.cli import main
 from diffbot.errors import CalibrationError, DiffbotError
 from diffbot.urdf import load_params
 from diffbot.urdf.controllers import choose_controller, read_controllers
 
-CALIBRATED = FitResult(
-    left_wheel_radius=0.0349,
-    right_wheel_radius=0.0352,
-    wheel_separation=0.138,
-    left_wheel_radius_stderr=1e-6,
-    right_wheel_radius_stderr=1e-6,
-    wheel_separation_stderr=1e-5,
-    position_rms_before=0.01,
-    heading_rms_before=0.1,
-    position_rms_after=0.001,
-    heading_rms_after=0.01,
-    windows=10,
-)
+CALIBRATED = fit_result(0.0349, 0.0352, 0.138)
 
 #: A tricycle controller first, whose wheel_separation a text search would find first.
 TRICYCLE_FIRST = """\
@@ -155,18 +144,6 @@ def test_a_multiplier_of_exactly_one_is_written_as_a_double(tmp_path: Path) -> N
 # --- descriptions -----------------------------------------------------------------------------
 
 
-def described(body: str) -> str:
-    """Two wheels sized by the wheel_radius and wheel_separation properties ``body`` defines."""
-    urdf = two_wheel_urdf(
-        radius="${wheel_radius}",
-        left_xyz="0 ${wheel_separation / 2} 0",
-        right_xyz="0 ${-wheel_separation / 2} 0",
-        xacro=True,
-    )
-    start = urdf.index(">", urdf.index("<robot")) + 1
-    return f"{urdf[:start]}\n{body}{urdf[start:]}"
-
-
 #: A commented-out argument first, then the real one with default= before name=.
 COMMENTED_FIRST = """\
 <!-- <xacro:arg name="wheel_separation" default="0.2"/> -->
@@ -182,7 +159,7 @@ def test_the_argument_that_defines_the_value_is_edited_whatever_its_attribute_or
     tmp_path: Path,
 ) -> None:
     source = tmp_path / "robot.urdf.xacro"
-    text = described(COMMENTED_FIRST)
+    text = sized_by_properties(COMMENTED_FIRST)
     source.write_text(text, encoding="utf-8")
     applied = apply_to(source, CALIBRATED)
     assert '<!-- <xacro:arg name="wheel_separation" default="0.2"/> -->' in applied.text
@@ -202,7 +179,7 @@ def test_a_property_with_a_number_is_the_definition_when_there_is_no_argument(
         "<xacro:property value='0.135' name='wheel_separation'/>\n"
         '<xacro:property name="wheel_radius" value="0.035"/>\n'
     )
-    source.write_text(described(body), encoding="utf-8")
+    source.write_text(sized_by_properties(body), encoding="utf-8")
     applied = apply_to(source, CALIBRATED)
     assert "<xacro:property value='0.138' name='wheel_separation'/>" in applied.text
     assert '<xacro:property name="wheel_radius" value="0.03505"/>' in applied.text
@@ -219,7 +196,7 @@ UNUSED_ARGUMENT = """\
 
 def test_a_copy_that_does_not_read_back_as_the_calibration_is_refused(tmp_path: Path) -> None:
     source = tmp_path / "robot.urdf.xacro"
-    source.write_text(described(UNUSED_ARGUMENT), encoding="utf-8")
+    source.write_text(sized_by_properties(UNUSED_ARGUMENT), encoding="utf-8")
     with pytest.raises(
         CalibrationError, match=r"gives wheel_separation 0\.2 m .*not the calibrated 0\.138 m"
     ):
@@ -230,7 +207,7 @@ def test_a_copy_that_does_not_read_back_as_the_calibration_is_refused(tmp_path: 
 def test_two_definitions_of_a_value_are_refused(tmp_path: Path) -> None:
     body = COMMENTED_FIRST + '<xacro:arg name="wheel_separation" default="0.14"/>\n'
     source = tmp_path / "robot.urdf.xacro"
-    source.write_text(described(body), encoding="utf-8")
+    source.write_text(sized_by_properties(body), encoding="utf-8")
     with pytest.raises(CalibrationError, match='2 <xacro:arg name="wheel_separation"'):
         apply_to(source, CALIBRATED)
 
@@ -281,7 +258,7 @@ def test_the_command_applies_to_the_controller_the_robot_was_loaded_with(tmp_pat
 
 def test_the_command_writes_no_copy_that_does_not_read_back(tmp_path: Path) -> None:
     source = tmp_path / "robot.urdf.xacro"
-    source.write_text(described(UNUSED_ARGUMENT), encoding="utf-8")
+    source.write_text(sized_by_properties(UNUSED_ARGUMENT), encoding="utf-8")
     args = ["calibrate", "umbmark", "--side", "4", "--cw", "-0.31,-0.40", "--ccw", "0.12,-0.09"]
     result = CliRunner().invoke(main, [*args, "--apply-to", str(source)])
     assert_one_error_line(result, "not the calibrated", "nothing written")

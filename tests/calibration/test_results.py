@@ -6,13 +6,12 @@ from pathlib import Path
 
 import pytest
 import yaml
-from calibration_data import B0
+from calibration_data import B0, fit_result
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from robots import BOT, two_wheel_urdf
+from robots import BOT, sized_by_properties
 
 from diffbot.calibration import (
-    FitResult,
     UmbmarkResult,
     apply_to,
     calibrated_path,
@@ -26,19 +25,7 @@ from diffbot.controller_config import ControllerConfig
 from diffbot.errors import CalibrationError
 from diffbot.urdf.controllers import load_controllers
 
-CALIBRATED = FitResult(
-    left_wheel_radius=0.0349,
-    right_wheel_radius=0.0352,
-    wheel_separation=0.1377,
-    left_wheel_radius_stderr=1e-6,
-    right_wheel_radius_stderr=1e-6,
-    wheel_separation_stderr=1e-5,
-    position_rms_before=0.01,
-    heading_rms_before=0.1,
-    position_rms_after=0.001,
-    heading_rms_after=0.01,
-    windows=10,
-)
+CALIBRATED = fit_result(0.0349, 0.0352, 0.1377)
 
 CONTROLLERS = """\
 controller_manager:
@@ -155,22 +142,9 @@ ARGUMENTS = (
 )
 
 
-def described(body: str) -> str:
-    """A description whose wheels follow the wheel_radius and wheel_separation values, which
-    ``body`` defines (it goes first: xacro reads in document order)."""
-    urdf = two_wheel_urdf(
-        radius="${wheel_radius}",
-        left_xyz="0 ${wheel_separation / 2} 0",
-        right_xyz="0 ${-wheel_separation / 2} 0",
-        xacro=True,
-    )
-    start = urdf.index(">", urdf.index("<robot")) + 1
-    return f"{urdf[:start]}\n{body}{urdf[start:]}"
-
-
 def test_a_calibrated_description_sets_the_argument_defaults(tmp_path: Path) -> None:
     source = tmp_path / "robot.urdf.xacro"
-    text = described(ARGUMENTS)
+    text = sized_by_properties(ARGUMENTS)
     source.write_text(text, encoding="utf-8")
     applied = apply_to(source, CALIBRATED)
     assert '<xacro:arg name="wheel_radius" default="0.03505"/>' in applied.text
