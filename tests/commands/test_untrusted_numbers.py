@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import sqlite3
 from collections.abc import Callable
 from pathlib import Path
@@ -15,6 +16,7 @@ from cli_results import assert_one_error_line
 from click.testing import CliRunner, Result
 
 from diffbot.cli import main
+from diffbot.commands.options import InputError, emit_json
 
 Write = Callable[[str, str], Path]
 
@@ -296,3 +298,8 @@ def test_text_cells_in_a_bags_messages_are_skipped_as_unreadable(tmp_path: Path,
 )
 def test_a_true_robot_of_no_real_size_is_refused(option: str, value: str, fragment: str) -> None:
     assert_clean_error(run("simulate", "straight 1", option, value), option, fragment)
+
+
+def test_json_that_cannot_hold_a_result_is_an_error_not_a_traceback() -> None:
+    with pytest.raises(InputError, match="infinite or NaN"):
+        emit_json({"wheel_separation": math.inf})
