@@ -278,9 +278,24 @@ class PlanOptions:
         )
         if not self.ramped(params):
             return steps
+        from diffbot.profiles import ProfileError
         from diffbot.ramps import controller_limits, ramp
 
-        return ramp(steps, controller_limits(params.controller, **self.ramp_options))
+        try:
+            return ramp(steps, controller_limits(params.controller, **self.ramp_options))
+        except ProfileError as err:
+            fail(f"{err} (limits from {self._limit_sources(params)})")
+
+    def _limit_sources(self, params: DiffDriveParams) -> str:
+        """Where the limits of a ramped plan come from: the cruise speeds, the options given,
+        the controller."""
+        flags = dict(zip(self.ramp_options, _RAMPS, strict=True))
+        given = [f"--speed {self.speed:g}", f"--spin-rate {self.spin_rate:g}"]
+        given += [f"{flags[name]} {value:g}" for name, value in self.ramp_options.items() if value]
+        controller = params.controller
+        if controller is not None:
+            given.append(f"the controller {controller.name!r} in {controller.source}")
+        return ", ".join(given)
 
 
 #: The cruise options, by name: (default, metavar, help).
