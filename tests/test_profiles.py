@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -496,3 +497,42 @@ def test_arc_bounds_use_each_wheels_own_radius() -> None:
 def test_negative_robot_limits_are_refused() -> None:
     with pytest.raises(ProfileError, match=r"linear\.velocity must be positive"):
         Limits(linear=PathLimits(velocity=-1.0))
+
+
+# --- limits that no plan can keep ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("build", "fragment"),
+    [
+        (lambda: scurve(1.0, 0.1, None, 1e-300), "jerk limit of 1e-300"),
+        (lambda: scurve(1.0, 0.1, 1e-300, 1.0), "acceleration limit of 1e-300"),
+        (lambda: trapezoid(1.0, 0.1, 1e-300), "acceleration limit of 1e-300"),
+        (lambda: trapezoid(1.0, 1e-12, None), "speed limit of 1e-12"),
+        (lambda: scurve(1e9, 1e-3, 1.0, 1.0), "speed limit of 0.001"),
+    ],
+)
+def test_limits_that_take_more_than_a_million_seconds_are_refused_before_any_maths(
+    build: Callable[[], Profile], fragment: str
+) -> None:
+    with pytest.raises(ProfileError, match=f"{fragment}.*more than 1e\\+06 s"):
+        build()
+
+
+def test_a_run_just_within_a_million_seconds_is_planned() -> None:
+    # 1e5 m at 0.1 m/s: 1e6 s exactly, the longest accepted.
+    assert trapezoid(1e5, 0.1, None).duration == pytest.approx(1e6, rel=1e-12)
+
+
+@given(st.floats(1e3, 1e300), st.floats(1e-6, 1e3))
+def test_an_acceleration_the_speed_limit_never_lets_the_ramp_reach_changes_nothing(
+    huge: float, jerk: float
+) -> None:
+    # Above sqrt(v·j) the acceleration limit never binds: the profile is that of sqrt(v·j),
+    # and no power of the huge value may overflow on the way.
+    v = 0.1
+    reached = math.sqrt(v * jerk)
+    assume(huge > reached)
+    assert scurve(1.0, v, huge, jerk).duration == pytest.approx(
+        scurve(1.0, v, reached, jerk).duration, rel=1e-9
+    )

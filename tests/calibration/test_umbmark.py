@@ -191,3 +191,17 @@ def test_calibration_errors_are_recording_errors_of_diffbot() -> None:
     assert issubclass(CalibrationError, RecordingError)
     assert issubclass(CalibrationError, DiffbotError)
     assert CalibrationError.exit_code == 2
+
+
+@pytest.mark.parametrize("end", [(1e10, 0.0), (0.0, -4.01), (1e308, 1e308)])
+def test_a_run_cannot_end_farther_than_the_square_it_drove(end: tuple[float, float]) -> None:
+    # Ends of 1e10 m on a 1 m square gave a separation of 8.5e-11 m; a run drives 4 m at most.
+    with pytest.raises(CalibrationError, match=r"farther from its start than the 4 m"):
+        umbmark(1.0, [end], [(0.0, 0.0)], BOT)
+    with pytest.raises(CalibrationError, match=r"farther from its start than the 4 m"):
+        umbmark(1.0, [(0.0, 0.0)], [end], BOT, exact=True)
+
+
+def test_an_exact_fit_that_leaves_the_square_model_is_refused_not_a_math_error() -> None:
+    with pytest.raises(CalibrationError, match="does not converge"):
+        umbmark(1.0, [(3.9, 0.0)], [(3.9, 0.0)], BOT, exact=True)

@@ -166,3 +166,17 @@ def test_wheels_of_different_radii_are_shown_side_by_side() -> None:
     # v = (0.035·1 + 0.036·1) / 2 = 0.0355 m/s; ω = (0.036·1 - 0.035·1) / 0.135 = 0.007407 rad/s
     assert "v = (r_L·ω_L + r_R·ω_R) / 2 = (0.035·1 + 0.036·1) / 2 = 0.0355 m/s" in fk
     assert "= (0.036·1 \N{MINUS SIGN} 0.035·1) / 0.135 = 0.007407 rad/s" in fk
+
+
+@pytest.mark.parametrize("angle", [1e308, -1.0000001e12])
+def test_odom_wheel_angles_beyond_a_recordings_range_are_refused(angle: float) -> None:
+    # Angles of 1e308 failed in sin(inf); 1e307 printed a heading change of inf degrees.
+    with pytest.raises(ParameterError, match=r"right1 must be a finite number >= -1e\+12"):
+        explain_odom(BOT_50_RPM, 0.0, 0.0, 0.0, angle, 1.0)
+
+
+def test_odom_of_the_largest_angles_prints_finite_degrees() -> None:
+    derivation = explain_odom(BOT_50_RPM, 0.0, 0.0, -1e12, 1e12, 1.0)
+    text = render(derivation, "text", "en")
+    assert "inf" not in text
+    assert "nan" not in text

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -139,3 +140,22 @@ def test_a_bag_without_the_pose_topic_is_refused(tmp_path: Path) -> None:
 def test_a_missing_track_is_refused(tmp_path: Path) -> None:
     with pytest.raises(RecordingError, match="no such file or directory"):
         read_pose_track(tmp_path / "none.csv")
+
+
+@pytest.mark.parametrize(
+    ("row", "fragment"),
+    [
+        ("1e10,0,0,0", "line 3: time 1e10 s lies outside the int64 nanosecond stamps"),
+        ("-1e10,0,0,0", "line 3: time -1e10 s"),
+        ("1,1e306,0,0", "line 3: x must be a finite number >= -1e+09 and <= 1e+09 m"),
+        ("1,0,-2e9,0", "line 3: y must be"),
+        ("1,0,0,1e13", "line 3: theta must be a finite number >= -1e+12 and <= 1e+12 rad"),
+    ],
+)
+def test_a_truth_beyond_any_clock_or_drive_is_refused_naming_the_line(
+    tmp_path: Path, row: str, fragment: str
+) -> None:
+    path = tmp_path / "truth.csv"
+    path.write_text(f"time,x,y,theta\n0,0,0,0\n{row}\n", encoding="utf-8")
+    with pytest.raises(RecordingError, match=re.escape(f"{path}: {fragment}")):
+        read_pose_track(path)

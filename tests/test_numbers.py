@@ -1,0 +1,59 @@
+"""The one boundary check of numbers: finite, in range, or an error naming where it came from."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from diffbot.errors import ParameterError, RecordingError
+from diffbot.numbers import as_number, finite_in_range, positive_finite, shown
+
+
+@given(st.floats(allow_nan=False, allow_infinity=False), st.floats(0.0, 1e300))
+def test_a_finite_number_within_its_range_passes_unchanged(value: float, width: float) -> None:
+    low, high = value - width, value + width
+    assert finite_in_range(value, "x", low, high) == value
+
+
+@pytest.mark.parametrize(
+    ("value", "low", "high", "message"),
+    [
+        (math.nan, -math.inf, math.inf, "x must be a finite number, got nan"),
+        (math.inf, -math.inf, math.inf, "x must be a finite number, got inf"),
+        (1e-5, 1e-4, 1e3, "x must be a finite number >= 0.0001 and <= 1000 m, got 1e-05"),
+        (2000, 1e-4, 1e3, "got 2000"),
+        (int("1" * 400), -math.inf, math.inf, "got an integer of about 400 digits"),
+        (True, -math.inf, math.inf, "got True"),
+        ([1.0], -math.inf, math.inf, "got [1.0]"),
+        ("1e999", -math.inf, math.inf, "got '1e999'"),
+    ],
+)
+def test_anything_else_is_an_error_naming_where_it_came_from(
+    value: object, low: float, high: float, message: str
+) -> None:
+    with pytest.raises(RecordingError, match=rf"^run\.csv: line 3: x: .*{re.escape(message[-9:])}"):
+        finite_in_range(value, "run.csv: line 3: x:", low, high, error=RecordingError, unit="m")
+    with pytest.raises(ParameterError) as caught:
+        finite_in_range(value, "x", low, high, unit="m")
+    assert message in str(caught.value)
+
+
+def test_an_open_lower_bound_excludes_it() -> None:
+    assert finite_in_range(1e-300, "x", 0.0, open_low=True) == 1e-300
+    with pytest.raises(ParameterError, match=r"x must be a finite number > 0, got 0\.0"):
+        finite_in_range(0.0, "x", 0.0, open_low=True)
+
+
+def test_integers_too_long_to_print_are_described_not_shown() -> None:
+    # Python refuses str() of an integer of more than 4300 digits: shown() must not need it.
+    assert shown(10**5000) == "an integer of about 5001 digits"
+    assert shown(12345) == "12345"
+    assert shown("x" * 100) == "'" + "x" * 36 + "..."
+    with pytest.raises(ParameterError, match="about 5001 digits"):
+        as_number(10**5000, "x")
+    with pytest.raises(ParameterError, match="about 5001 digits"):
+        positive_finite(-(10**5000), "x")
