@@ -314,11 +314,22 @@ class ChunkOdometry:
         """Count samples the reader could not turn into samples (unreadable, no stamp)."""
         self._skip(reason, count)
 
-    def summary(self, source: str) -> OdometrySummary:
+    @property
+    def used(self) -> int:
+        """How many samples were used so far."""
+        return self._samples
+
+    @property
+    def skipped(self) -> Mapping[str, int]:
+        """How many samples were skipped so far, by reason."""
+        return dict(self._skipped)
+
+    def summary(self, source: str, hint: str = "") -> OdometrySummary:
         """The run so far.
 
         Args:
             source: the recording's name, for the error message.
+            hint: added to the error message (what the recording holds, say).
 
         Raises:
             RecordingError: no sample could be used.
@@ -329,6 +340,7 @@ class ChunkOdometry:
             raise RecordingError(
                 f"{source}: no usable sample"
                 + (f" (skipped: {reasons})" if reasons else " (the recording holds no samples)")
+                + hint
             )
         return OdometrySummary(
             final_pose=Pose(self._x, self._y, norm_angle(self._heading)),

@@ -54,6 +54,7 @@ FLAGS = {
     "max_relative_stderr": "--max-stderr",
     "min_radius": "--min-radius",
     "forward_only": "--forward-only",
+    "topic": "--topic",
 }
 
 

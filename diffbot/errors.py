@@ -36,6 +36,7 @@ PARAMETERS: Mapping[str, str] = {
     "max_relative_stderr": "max_relative_stderr=",
     "min_radius": "min_radius=",
     "forward_only": "forward_only=True",
+    "topic": "topic=",
 }
 
 __all__ = [

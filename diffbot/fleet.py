@@ -16,8 +16,9 @@ from pathlib import Path
 from typing import Final, TextIO
 
 from diffbot.chunk_odometry import ChunkPoses
+from diffbot.conditioning import Conditioning
 from diffbot.errors import DiffbotError, OutputError, RecordingError
-from diffbot.io.bag import DEFAULT_TOPIC, OdometryBagWriter
+from diffbot.io.bag import OdometryBagWriter
 from diffbot.io.csvfile import ODOMETRY_HEADER, odometry_lines
 from diffbot.io.outputs import atomic_text, input_clash
 from diffbot.io.recordings import Progress, RecordingOdometry, csv_odometry, recording_odometry
@@ -45,18 +46,22 @@ class OdometryTask:
         input: a CSV file, a rosbag2 directory or one of its storage files; ``-`` for the CSV
             on ``stream``.
         params: the robot.
-        topic: the JointState topic of a bag.
+        topic: the JointState topic of a bag (None: ``/joint_states``, or else its only
+            JointState topic).
         output: where to write the poses (a CSV file, or a bag directory with ``as_bag``).
         as_bag: write ``output`` as a rosbag2 of nav_msgs/Odometry and TF.
         force: replace an existing output.
+        conditioning: the recorded positions' units and wrap (default: radians, wraps
+            detected).
     """
 
     input: str
     params: DiffDriveParams
-    topic: str = DEFAULT_TOPIC
+    topic: str | None = None
     output: str | None = None
     as_bag: bool = False
     force: bool = False
+    conditioning: Conditioning | None = None
 
 
 @dataclass(frozen=True)
@@ -132,9 +137,21 @@ def run_task(
         def odometry(sink: _CsvSink | _BagSink | None) -> RecordingOdometry:
             if task.input == "-":
                 assert stream is not None
-                return csv_odometry(stream, task.params, source="-", sink=sink, progress=progress)
+                return csv_odometry(
+                    stream,
+                    task.params,
+                    source="-",
+                    sink=sink,
+                    progress=progress,
+                    conditioning=task.conditioning,
+                )
             return recording_odometry(
-                task.input, task.params, task.topic, sink=sink, progress=progress
+                task.input,
+                task.params,
+                task.topic,
+                sink=sink,
+                progress=progress,
+                conditioning=task.conditioning,
             )
 
         inputs = [] if task.input == "-" else [Path(task.input)]

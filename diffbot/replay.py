@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 from diffbot.errors import RecordingError
+from diffbot.formats.text import listing
 from diffbot.kinematics import Pose, Twist, norm_angle
 from diffbot.odometry import SKIP_MISSING_JOINT, Odometry
 from diffbot.samples import NS_PER_S, ColumnSamples, ColumnView, Recording
@@ -132,9 +133,14 @@ def run_odometry(recording: Recording, odom: Odometry) -> OdometryRun:
         skipped[SKIP_MISSING_JOINT] = skipped.get(SKIP_MISSING_JOINT, 0) + missing
     if not rows:
         reasons = ", ".join(f"{reason}: {n}" for reason, n in sorted(skipped.items()))
+        hint = ""
+        if skipped.get(SKIP_MISSING_JOINT) and samples:
+            wanted = listing([*odom.params.left_joints, *odom.params.right_joints])
+            hint = f"; wheel joints wanted: {wanted}; joints found: {listing(samples[0].names)}"
         raise RecordingError(
             f"{recording.source}: no usable sample"
             + (f" (skipped: {reasons})" if reasons else " (the recording holds no samples)")
+            + hint
         )
     duration = (rows.stamps_ns[-1] - rows.stamps_ns[0]) / NS_PER_S
     return OdometryRun(rows, odom.samples, skipped, odom.distance, duration)

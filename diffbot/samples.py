@@ -12,7 +12,10 @@ import math
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
-from typing import Final, Generic, NamedTuple, TypeVar, overload
+from typing import TYPE_CHECKING, Final, Generic, NamedTuple, TypeVar, overload
+
+if TYPE_CHECKING:
+    from diffbot.conditioning import ConditioningReport
 
 __all__ = [
     "CLOCK_HEADER",
@@ -76,6 +79,9 @@ class Recording:
         clock: for a bag, what stamps the samples: :data:`CLOCK_HEADER` (the header stamps) or
             :data:`CLOCK_RECEIVE` (the bag's receive times); None for a CSV file (its time
             column).
+        conditioning: what was done to the recorded positions (units, wraps) and the steps
+            found implausible; None when they were read as they are.
+        topic: for a bag, the topic read; None for a CSV.
     """
 
     source: str
@@ -83,6 +89,8 @@ class Recording:
     samples: Sequence[JointSample]
     skipped: Mapping[str, int] = field(default_factory=dict)
     clock: str | None = None
+    conditioning: ConditioningReport | None = None
+    topic: str | None = None
 
 
 def beyond_range(position: float) -> bool:

@@ -63,3 +63,49 @@ def write_bag(
                 )
                 writer.write(other, received_ns, bytes(text))
     return path
+
+
+def write_ros1_bag(
+    path: Path,
+    messages: Sequence[tuple[int, int, Sequence[str], Sequence[float]]],
+    *,
+    topic: str = "/joint_states",
+) -> Path:
+    """A ROS 1 bag with JointState messages on ``topic`` (stamp, receive time, names, positions),
+    written by rosbags' rosbag1 writer with the ROS 1 Noetic types."""
+    from rosbags.rosbag1 import Writer as Writer1
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    types = store.types
+    with Writer1(path) as writer:
+        conn = writer.add_connection(topic, JOINT_STATE, typestore=store)
+        for stamp_ns, received_ns, names, positions in messages:
+            sec, nanosec = divmod(stamp_ns, 1_000_000_000)
+            msg = types[JOINT_STATE](
+                header=types["std_msgs/msg/Header"](
+                    seq=0,
+                    stamp=types["builtin_interfaces/msg/Time"](sec=sec, nanosec=nanosec),
+                    frame_id="",
+                ),
+                name=list(names),
+                position=np.array(positions, dtype=np.float64),
+                velocity=np.empty(0),
+                effort=np.empty(0),
+            )
+            writer.write(conn, received_ns, bytes(store.serialize_ros1(msg, JOINT_STATE)))
+    return path
+
+
+def lone_storage(bag: Path, target: Path) -> Path:
+    """The storage file of a one-file bag folder, copied alone to ``target`` (compressed with
+    zstd when ``target`` ends with ``.zstd``)."""
+    (storage,) = [p for p in bag.iterdir() if p.suffix in (".db3", ".mcap")]
+    data = storage.read_bytes()
+    if target.name.endswith(".zstd"):
+        try:
+            from compression import zstd  # type: ignore[import-not-found,unused-ignore]
+        except ImportError:
+            from backports import zstd  # type: ignore[no-redef,import-not-found,unused-ignore]
+        data = zstd.compress(data)
+    target.write_bytes(data)
+    return target

@@ -22,6 +22,11 @@ from diffbot.commands.options import (
     topic_option,
 )
 from diffbot.commands.plan_options import check_topic
+from diffbot.commands.recording_options import (
+    RecordingOptions,
+    recording_options,
+    warn_conditioning,
+)
 from diffbot.errors import CalibrationError
 from diffbot.formats.calibration import calibration_data, calibration_lines
 from diffbot.io.textfile import read_text
@@ -264,7 +269,8 @@ def umbmark(
 @click.argument("tokens", nargs=-1, metavar="INPUT [NAME:=VALUE]...")
 @robot_options
 @_output_options
-@topic_option("The sensor_msgs/JointState topic of a bag.")
+@topic_option("The sensor_msgs/JointState topic of a bag.", reading=True)
+@recording_options
 @click.option(
     "--truth",
     metavar="FILE",
@@ -293,7 +299,8 @@ def umbmark(
 def fit(
     robot: RobotOptions,
     tokens: tuple[str, ...],
-    topic: str,
+    topic: str | None,
+    recording: RecordingOptions,
     truth: str | None,
     truth_topic: str | None,
     window: int | None,
@@ -327,15 +334,18 @@ def fit(
     rest, robot, params = _robot(robot, tokens)
     if len(rest) != 1:
         fail("give one INPUT: the recording of wheel joint positions")
-    check_topic("--topic", topic)
+    if topic is not None:
+        check_topic("--topic", topic)
     if truth_topic is not None:
         check_topic("--truth-topic", truth_topic)
     if window is not None and window_duration is not None:
         fail("give --window or --window-duration, not both")
-    recording = read_recording(rest[0], params, topic)
+    wheels = read_recording(rest[0], params, topic, conditioning=recording.conditioning())
+    if wheels.conditioning is not None:
+        warn_conditioning(wheels.conditioning, rest[0])
     track = read_pose_track(rest[0] if truth is None else truth, truth_topic)
     result = fit_recording(
-        recording,
+        wheels,
         track,
         params,
         window=window,

@@ -17,6 +17,12 @@ import click
 from diffbot.commands import options as opt
 from diffbot.commands.options import OutOptions, RobotOptions
 from diffbot.commands.progress import progress
+from diffbot.commands.recording_options import (
+    RecordingOptions,
+    conditioning_lines,
+    recording_options,
+    warn_conditioning,
+)
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
 from diffbot.io.outputs import check_not_input, note_input
@@ -68,6 +74,8 @@ def _summary(result: OdometryResult) -> dict[str, Any]:
         "duration": summary.duration,
         "clock": run.clock,
         "output": result.task.output,
+        "implausible_steps": run.conditioning.implausible_steps,
+        "wrap": run.conditioning.wrap,
     }
 
 
@@ -81,7 +89,8 @@ def _error_text(result: OdometryResult) -> str:
 @click.command()
 @click.argument("tokens", nargs=-1, metavar="INPUT... [NAME:=VALUE]...")
 @opt.robot_options
-@opt.topic_option("The sensor_msgs/JointState topic of a bag.")
+@opt.topic_option("The sensor_msgs/JointState topic of a bag.", reading=True)
+@recording_options
 @opt.out_options(
     "Write the poses: a CSV file (time,x,y,theta,linear,angular), or a bag with --bag; "
     "with several inputs, a directory that gets one output per input.",
@@ -107,7 +116,8 @@ def _error_text(result: OdometryResult) -> str:
 def odom(
     robot: RobotOptions,
     tokens: tuple[str, ...],
-    topic: str,
+    topic: str | None,
+    recording: RecordingOptions,
     out: OutOptions,
     jobs: int,
     dask_address: str | None,
@@ -125,6 +135,11 @@ def odom(
     exactly along its arc; the first sample sets the encoder baseline. A side with several
     wheels moves by the mean of its joints present in a sample. Samples without a whole side,
     with NaN/inf or with a stamp not after the previous one are skipped and reported.
+
+    Positions may be encoder counts (--counts-per-rev) from a counter that wraps around
+    (--wrap; detected by itself when not given, and said so). A step no wheel can make (far
+    beyond the motor limit, or beyond a rim speed of 30 m/s without one) is counted and
+    reported with its first sample and time, and the exit code is then 1.
 
     Inputs are read in chunks and the poses written as they come, in constant memory; a
     progress bar shows on stderr when it is a terminal (not with --quiet). Several inputs
@@ -153,6 +168,7 @@ def odom(
             ".db3/.mcap file)"
         )
     sources = _expand(rest)
+    conditioning = recording.conditioning()
     out.require_out_for_bag()
     robot = robot.with_path(None, xacro_args)
     if len(sources) > 1:
@@ -163,7 +179,7 @@ def odom(
         p = robot.load()
         outputs = _outputs(sources, out)
         tasks = [
-            OdometryTask(source, p, topic, output, out.as_bag, out.force)
+            OdometryTask(source, p, topic, output, out.as_bag, out.force, conditioning)
             for source, output in zip(sources, outputs, strict=True)
         ]
         _many(tasks, jobs, dask_address, quiet=quiet, as_json=as_json)
@@ -176,9 +192,8 @@ def odom(
     out.path(inputs)
     p = robot.load()
     out_path = out.path([*inputs, *(Path(path) for path in p.description_files)])
-    task = OdometryTask(
-        source, p, topic, None if out_path is None else str(out_path), out.as_bag, out.force
-    )
+    output = None if out_path is None else str(out_path)
+    task = OdometryTask(source, p, topic, output, out.as_bag, out.force, conditioning)
     _one(task, quiet, as_json, out)
 
 
@@ -206,11 +221,15 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
             f"skipped {skipped_total} of {summary.samples + skipped_total} samples: "
             f"{_skipped_text(summary.skipped)}"
         )
+    warn_conditioning(run.conditioning, source)
     pose = summary.final_pose
     if as_json:
         opt.emit_json(_summary(result) | {"output": out.out})
+        _exit_if_implausible(result)
         return
-    kind = "CSV" if run.kind == "csv" else f"rosbag2, topic {topic}, {run.clock} stamps"
+    chosen = " (its only JointState topic)" if run.topic_chosen else ""
+    bag = "ROS 1 bag" if run.kind == "rosbag1" else "rosbag2"
+    kind = "CSV" if run.kind == "csv" else f"{bag}, topic {run.topic}{chosen}, {run.clock} stamps"
     rows = [
         ("input", f"{source} ({kind})"),
         ("samples", f"{summary.samples} used, {skipped_total} skipped"),
@@ -227,8 +246,16 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
     if out.out is not None:
         what = "rosbag2: /odom, /tf" if out.as_bag else "CSV"
         rows.append(("output", f"{out.out} ({what}, {result.poses} poses)"))
+    rows[1:1] = conditioning_lines(run.conditioning)
     for label, value in rows:
         click.echo(f"{label:<11} {value}")
+    _exit_if_implausible(result)
+
+
+def _exit_if_implausible(result: OdometryResult) -> None:
+    """Exit 1 after the summary when a step was implausible: the pose is not to be trusted."""
+    if result.run is not None and result.run.conditioning.implausible_steps:
+        sys.exit(EXIT_CHECK_FAILED)
 
 
 def _outputs(sources: list[str], out: OutOptions) -> list[str | None]:
@@ -261,8 +288,13 @@ def _many(
         results = list(
             run_tasks(tasks, jobs=jobs, dask_address=dask_address, done=lambda _: advance(1))
         )
+    # The inputs' column as wide as the longest name, so the other columns stay aligned.
+    width = max([24, *(len(result.task.input) for result in results)])
     if not as_json:
-        click.echo(f"{'input':<24} {'samples':>9} {'skipped':>8} {'distance m':>11} final pose")
+        click.echo(
+            f"{'input':<{width}} {'samples':>9} {'skipped':>8} {'distance m':>11} final pose"
+        )
+    implausible = 0
     for result in results:
         if result.error is not None:
             failed += 1
@@ -270,18 +302,24 @@ def _many(
                 line = {"input": result.task.input, "error": _error_text(result)}
                 click.echo(json.dumps(line, allow_nan=False))
             else:
-                click.echo(f"{result.task.input:<24} error: {_error_text(result)}")
+                click.echo(f"{result.task.input:<{width}} error: {_error_text(result)}")
             continue
+        assert result.run is not None
+        warn_conditioning(result.run.conditioning, result.task.input)
+        implausible += result.run.conditioning.implausible_steps > 0
         data = _summary(result)
         if as_json:
             click.echo(json.dumps(data, allow_nan=False))
             continue
         pose = data["final_pose"]
         click.echo(
-            f"{result.task.input:<24} {data['samples']:>9} {sum(data['skipped'].values()):>8} "
+            f"{result.task.input:<{width}} {data['samples']:>9} {sum(data['skipped'].values()):>8} "
             f"{fmt(data['distance']):>11} x {fmt(round(pose['x'], 9))} m, "
             f"y {fmt(round(pose['y'], 9))} m, theta {fmt(round(pose['theta'], 9))} rad"
         )
     if failed:
         opt.warn(f"{failed} of {len(results)} recordings could not be read")
+    if implausible:
+        opt.warn(f"{implausible} of {len(results)} recordings have implausible steps")
+    if failed or implausible:
         sys.exit(EXIT_CHECK_FAILED)

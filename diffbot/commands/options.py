@@ -437,8 +437,16 @@ def out_options(out_help: str, bag_help: str) -> Callable[[F], F]:
     )
 
 
-def topic_option(help_text: str) -> Callable[[F], F]:
-    """``--topic`` (default ``/joint_states``), the JointState topic of a bag."""
+def topic_option(help_text: str, *, reading: bool = False) -> Callable[[F], F]:
+    """``--topic``, the JointState topic of a bag: ``/joint_states`` by default, or, when
+    ``reading`` a bag, ``/joint_states`` or else the bag's only JointState topic (None)."""
+    if reading:
+        return click.option(
+            "--topic",
+            metavar="TOPIC",
+            default=None,
+            help=f"{help_text} Default: /joint_states, or else the bag's only JointState topic.",
+        )
     return click.option(
         "--topic", metavar="TOPIC", default="/joint_states", show_default=True, help=help_text
     )

@@ -16,6 +16,11 @@ from diffbot.commands.options import (
     warn,
 )
 from diffbot.commands.plan_options import PlanOptions, plan_arguments
+from diffbot.commands.recording_options import (
+    RecordingOptions,
+    recording_options,
+    warn_conditioning,
+)
 from diffbot.formats.text import fmt
 from diffbot.io.outputs import output_target
 from diffbot.kinematics import DiffDriveParams
@@ -25,7 +30,10 @@ __all__ = ["plot"]
 
 
 def _odometry(
-    inputs: tuple[str, ...], params: DiffDriveParams, topic: str
+    inputs: tuple[str, ...],
+    params: DiffDriveParams,
+    topic: str | None,
+    options: RecordingOptions,
 ) -> list[tuple[str, list[float], list[float]]]:
     """The odometry path of each recording, labelled by its file name."""
     from diffbot.io.recordings import read_recording
@@ -34,7 +42,10 @@ def _odometry(
 
     recordings: list[tuple[str, list[float], list[float]]] = []
     for source in inputs:
-        run = run_odometry(read_recording(source, params, topic), Odometry(params))
+        recording = read_recording(source, params, topic, conditioning=options.conditioning())
+        if recording.conditioning is not None:
+            warn_conditioning(recording.conditioning, source)
+        run = run_odometry(recording, Odometry(params))
         skipped = sum(run.skipped.values())
         if skipped:
             warn(
@@ -56,7 +67,8 @@ def _odometry(
     help="A recording of the wheel joints (CSV or rosbag2, as for 'diffbot odom') whose "
     "odometry is drawn over the plan. Repeatable.",
 )
-@topic_option("The sensor_msgs/JointState topic of --odom bags.")
+@topic_option("The sensor_msgs/JointState topic of --odom bags.", reading=True)
+@recording_options
 @click.option(
     "-o",
     "--output",
@@ -70,7 +82,8 @@ def plot(
     plan_options: PlanOptions,
     tokens: tuple[str, ...],
     odom_inputs: tuple[str, ...],
-    topic: str,
+    topic: str | None,
+    recording: RecordingOptions,
     output: str | None,
     force: bool,
     show: bool,
@@ -119,7 +132,7 @@ def plot(
         warn("a ramped plan is drawn at its cruise speeds: the ramps are not drawn")
         made = made.steps
     p = made
-    recordings = _odometry(odom_inputs, params, topic)
+    recordings = _odometry(odom_inputs, params, topic, recording)
     figure = plotting.plan_figure(p, params, recordings=recordings, window=show)
     for label, xs, ys in recordings:
         miss = plotting.end_distance(p, xs[-1], ys[-1])

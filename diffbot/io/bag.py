@@ -17,9 +17,8 @@ from pathlib import Path
 from types import TracebackType
 from typing import TYPE_CHECKING, Final, TypeVar, cast
 
-from diffbot.errors import DiffbotError, OutputError, RecordingError
-from diffbot.formats.text import listing
-from diffbot.io.outputs import BAG_FILES, check_bag_output, replace_bag
+from diffbot.errors import OutputError, RecordingError
+from diffbot.io.outputs import check_bag_output, replace_bag
 from diffbot.ros.messages import quaternion_from_yaw
 from diffbot.samples import (
     CLOCK_HEADER,
@@ -42,11 +41,13 @@ if TYPE_CHECKING:
 
 __all__ = [
     "BAG_INSTALL_HINT",
+    "BAG_SUFFIXES",
     "DEFAULT_TOPIC",
     "GROUND_TRUTH_TOPIC",
     "JOINT_STATE",
     "JointStatesBagWriter",
     "OdometryBagWriter",
+    "bag_suffix",
     "bag_writer",
     "check_stamps",
     "is_bag",
@@ -67,10 +68,21 @@ BAG_INSTALL_HINT: Final = "pip install 'rosbags>=0.11' (the bag extra of diffbot
 _BAG_VERSION: Final = 8
 
 
+#: The ends of the names of the files read as bags: rosbag2 storage (sqlite3, compressed or
+#: not, and mcap) and ROS 1 bags.
+BAG_SUFFIXES: Final = (".db3", ".db3.zstd", ".mcap", ".bag")
+
+
+def bag_suffix(path: str | os.PathLike[str]) -> str | None:
+    """The end of a file's name that makes it a bag (:data:`BAG_SUFFIXES`), or None."""
+    name = Path(path).name.lower()
+    return next((suffix for suffix in BAG_SUFFIXES if name.endswith(suffix)), None)
+
+
 def is_bag(path: str | os.PathLike[str]) -> bool:
-    """Whether a path is read as a rosbag2 recording (a directory, ``.mcap`` or ``.db3``)."""
-    p = Path(path)
-    return p.is_dir() or p.suffix.lower() in BAG_FILES
+    """Whether a path is read as a bag: a directory, or a file named as
+    :data:`BAG_SUFFIXES` says (``.db3``, ``.db3.zstd``, ``.mcap``, a ROS 1 ``.bag``)."""
+    return Path(path).is_dir() or bag_suffix(path) is not None
 
 
 def require_rosbags() -> None:
@@ -90,20 +102,22 @@ def typestore() -> Typestore:
     return get_typestore(Stores.ROS2_HUMBLE)
 
 
-def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Recording:
-    """Read the sensor_msgs/msg/JointState messages of one topic from a rosbag2 recording.
+def read_bag(path: str | os.PathLike[str], topic: str | None = None) -> Recording:
+    """Read the sensor_msgs/msg/JointState messages of one topic from a bag.
 
-    The recording is opened with rosbags' rosbag2 reader (never as ROS 1, whatever its name
-    ends with) and the messages are decoded with the ROS 2 Humble type store.
+    The bag is opened as :class:`diffbot.io.bag_chunks.TopicChunks` opens it (rosbag2 folders,
+    lone storage files, ROS 1 bags) and the messages are decoded with the ROS 2 Humble type
+    store.
 
     One clock stamps the whole topic: the header stamps when every message has a non-zero one,
     otherwise the bag's receive times for all of them (mixing the two would put samples decades
     apart). :attr:`Recording.clock` says which (:data:`CLOCK_HEADER` or :data:`CLOCK_RECEIVE`).
 
     Args:
-        path: a rosbag2 directory (sqlite3 or mcap storage), or one of its ``.db3`` or ``.mcap``
-            storage files.
-        topic: the topic to read; other topics are ignored.
+        path: a rosbag2 directory (sqlite3 or mcap storage), one of its storage files, or a ROS 1
+            ``.bag``.
+        topic: the topic to read (default: ``/joint_states``, or else the only JointState
+            topic); other topics are ignored.
 
     Returns:
         One sample per message, stamps in ns. Messages that cannot be decoded are counted in
@@ -113,36 +127,25 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
         RecordingError: rosbags is missing, the path is not a readable bag, the topic is absent
             or does not carry JointState messages.
     """
-    require_rosbags()
-    from rosbags.rosbag2 import Reader
+    from diffbot.io.bag_chunks import TopicChunks
 
-    p = Path(path)
-    source = str(p)
-    if not p.exists():
-        raise RecordingError(f"{source}: no such file or directory")
-    if p.is_file() and p.stat().st_size == 0:
-        raise RecordingError(f"{source}: empty file")
+    require_rosbags()
     store = typestore()
     names_seen: list[Sequence[str]] = []
     positions_seen: list[list[float]] = []
     header_ns: list[int] = []
     receive_ns: list[int] = []
     skipped: dict[str, int] = {}
-    try:
-        with Reader(p) as reader:
-            connections = [c for c in reader.connections if c.topic == topic]
-            if not connections:
-                topics = sorted({c.topic for c in reader.connections})
-                raise RecordingError(
-                    f"{source}: no topic {topic!r} in the bag; topics found: {listing(topics)}"
-                )
-            types = sorted({c.msgtype for c in connections})
-            if types != [JOINT_STATE]:
-                raise RecordingError(
-                    f"{source}: topic {topic!r} carries {', '.join(types)}, not {JOINT_STATE}"
-                )
-            last_names: list[str] = []
-            for _, timestamp, raw in reader.messages(connections=connections):
+    with contextlib.closing(TopicChunks(path, topic)) as chunks:
+        source = chunks.source
+        if chunks.msgtype != JOINT_STATE:
+            raise RecordingError(
+                f"{source}: topic {chunks.topic!r} carries {chunks.msgtype}, not {JOINT_STATE}"
+            )
+        last_names: list[str] = []
+        for chunk in chunks.chunks(receive_times=True):
+            assert chunk.receive_ns is not None  # asked for
+            for timestamp, raw in zip(chunk.receive_ns.tolist(), chunk.blobs, strict=True):
                 try:
                     msg = cast("JointState", store.deserialize_cdr(raw, JOINT_STATE))
                     stamp = msg.header.stamp
@@ -159,20 +162,14 @@ def read_bag(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> Record
                 positions_seen.append(positions)
                 header_ns.append(stamp_ns)
                 receive_ns.append(int(timestamp))
-    except DiffbotError:
-        raise
-    except Exception as err:
-        # rosbags raises assorted errors (its own, sqlite3, struct, OSError) on files that are
-        # not bags or are damaged; all of them mean the same thing to the user.
-        detail = " ".join(str(err).split()) or type(err).__name__
-        raise RecordingError(f"{source}: not a readable rosbag2 recording: {detail}") from None
+        chosen = chunks.topic
     use_header = all(header_ns)
     stamps = header_ns if use_header else receive_ns
     samples = [
         JointSample(*sample) for sample in zip(stamps, names_seen, positions_seen, strict=True)
     ]
     clock = CLOCK_HEADER if use_header else CLOCK_RECEIVE
-    return Recording(source, "rosbag2", samples, skipped, clock)
+    return Recording(source, "rosbag2", samples, skipped, clock, topic=chosen)
 
 
 # --------------------------------------------------------------------------------------------

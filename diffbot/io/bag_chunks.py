@@ -1,17 +1,24 @@
-"""Stream one topic of a rosbag2 recording in chunks of raw messages, in constant memory.
+"""Stream one topic of a bag in chunks of raw CDR messages, in constant memory.
 
-Uncompressed sqlite3 storage (a bag directory whose ``metadata.yaml`` names it, or one ``.db3``
-file) is read with :mod:`sqlite3` itself: the topic's type from the metadata or the file's
-``topics`` table, then its messages many rows per call, in the order rosbags reads them (by
-receive time; ties by insertion order, as the bag's timestamp index yields them). Anything else
-(mcap, compressed bags, metadata this module does not follow) is opened and read by rosbags'
-reader and cut into chunks.
+Uncompressed sqlite3 storage (a bag directory whose ``metadata.yaml`` names it, a directory of
+``.db3`` files without one, or one ``.db3`` file) is read with :mod:`sqlite3` itself: the
+topic's type from the metadata or the files' ``topics`` tables, then its messages many rows per
+call, in the order rosbags reads them (by receive time; ties by insertion order, as the bag's
+timestamp index yields them). A lone ``.db3.zstd`` file (or such files in a directory without
+metadata) is first decompressed to a temporary file, removed on :meth:`TopicChunks.close`.
+Anything else (mcap, compressed bags, metadata this module does not follow) is opened and read
+by rosbags' rosbag2 reader, and a ROS 1 ``.bag`` by its rosbag1 reader, its messages converted
+to CDR.
+
+Without a topic, ``/joint_states`` is read, or else the bag's only JointState topic.
 """
 
 from __future__ import annotations
 
 import os
+import shutil
 import sqlite3
+import tempfile
 from collections.abc import Iterator
 from operator import itemgetter
 from pathlib import Path, PurePath
@@ -21,11 +28,13 @@ import numpy as np
 
 from diffbot.errors import DiffbotError, RecordingError
 from diffbot.formats.text import listing
-from diffbot.io.bag import BAG_INSTALL_HINT
+from diffbot.io.bag import BAG_INSTALL_HINT, DEFAULT_TOPIC, JOINT_STATE, bag_suffix
+from diffbot.io.textfile import check_regular
 
 if TYPE_CHECKING:
     from numpy.typing import NDArray
     from rosbags.interfaces import Connection
+    from rosbags.rosbag1 import Reader as Reader1
     from rosbags.rosbag2 import Reader
 
 __all__ = ["CHUNK_MESSAGES", "BagChunk", "BagError", "TopicChunks"]
@@ -70,18 +79,66 @@ class _SqlitePlan(NamedTuple):
     counts: dict[str, int]
 
 
-def _sqlite_plan(path: Path) -> _SqlitePlan | None:
+def _storage_files(folder: Path, suffix: str) -> list[Path]:
+    """The files of a folder whose names end with ``suffix``, in name order, each checked to be
+    a regular file."""
+    found = sorted(p for p in folder.iterdir() if p.name.lower().endswith(suffix))
+    for p in found:
+        check_regular(p, BagError, "a bag's storage file")
+    return found
+
+
+def _decompressed(files: list[Path], into: Path) -> list[Path]:
+    """``.db3.zstd`` files decompressed into a folder (others as they are)."""
+    out = []
+    for k, path in enumerate(files):
+        if not path.name.lower().endswith(".zstd"):
+            out.append(path)
+            continue
+        try:
+            from compression import zstd  # type: ignore[import-not-found,unused-ignore]
+        except ImportError:
+            try:
+                from backports import zstd  # type: ignore[no-redef,import-not-found,unused-ignore]
+            except ImportError:
+                raise BagError(
+                    f"{path}: decompressing zstd needs the rosbags library: {BAG_INSTALL_HINT}"
+                ) from None
+        target = into / f"{k}_{path.name[: -len('.zstd')]}"
+        with zstd.open(path, "rb") as source, target.open("wb") as sink:
+            shutil.copyfileobj(source, sink, 1 << 20)
+        out.append(target)
+    return out
+
+
+def _sqlite_plan(path: Path, scratch: Path | None = None) -> _SqlitePlan | None:
     """The storage files and topics of an uncompressed sqlite3 bag; None for any other bag.
+
+    Args:
+        path: the bag (a directory or a storage file).
+        scratch: where compressed ``.db3.zstd`` files are decompressed (None: not read here).
 
     Raises:
         Exception: from sqlite3 or YAML on damaged files (the caller then lets rosbags judge).
     """
+    topics: dict[str, set[str]] = {}
+    counts: dict[str, int] = {}
     if path.is_file():
-        if path.suffix != ".db3":
+        suffix = bag_suffix(path)
+        if suffix == ".db3.zstd" and scratch is not None:
+            files = _decompressed([path], scratch)
+        elif suffix != ".db3":
             return None
-        files = [path]
-        topics: dict[str, set[str]] = {}
-        counts: dict[str, int] = {}
+        else:
+            files = [path]
+    elif not (path / "metadata.yaml").exists():
+        # A bag folder that lost its metadata: its storage files' own topic tables suffice.
+        files = _storage_files(path, ".db3")
+        packed = _storage_files(path, ".db3.zstd")
+        if packed and scratch is not None:
+            files = _decompressed(sorted(files + packed, key=lambda p: p.name), scratch)
+        if not files:
+            return None
     else:
         import yaml
 
@@ -97,8 +154,6 @@ def _sqlite_plan(path: Path) -> _SqlitePlan | None:
         files = [path / PurePath(name).name for name in info["relative_file_paths"]]
         if not all(f.is_file() for f in files):
             return None
-        topics = {}
-        counts = {}
         for entry in info["topics_with_message_count"]:
             meta = entry["topic_metadata"]
             topics.setdefault(meta["name"], set()).add(meta["type"])
@@ -135,51 +190,104 @@ class TopicChunks:
     """
 
     def __init__(
-        self, path: str | os.PathLike[str], topic: str, *, chunk_size: int = CHUNK_MESSAGES
+        self,
+        path: str | os.PathLike[str],
+        topic: str | None = None,
+        *,
+        chunk_size: int = CHUNK_MESSAGES,
     ) -> None:
         if chunk_size < 1:
             raise BagError(f"chunk_size must be at least 1, got {chunk_size}")
         p = Path(path)
         self.source = str(p)
-        self.topic = topic
+        self.topic = DEFAULT_TOPIC if topic is None else topic
+        #: Whether the topic was chosen here, as the bag's only JointState topic.
+        self.topic_chosen = False
+        self._wanted = topic
         self.chunk_size = chunk_size
         if not p.exists():
             raise BagError(f"{self.source}: no such file or directory")
         if p.is_file() and p.stat().st_size == 0:
             raise BagError(f"{self.source}: empty file")
-        self._reader: Reader | None = None
+        self._reader: Reader | Reader1 | None = None
+        self._ros1 = False
+        self._scratch: tempfile.TemporaryDirectory[str] | None = None
         self._sqlite: _SqlitePlan | None = None
+        if bag_suffix(p) == ".db3.zstd" or (p.is_dir() and any(p.glob("*.db3.zstd"))):
+            self._scratch = tempfile.TemporaryDirectory(prefix="diffbot-bag-")
         try:
-            self._sqlite = _sqlite_plan(p)
+            self._sqlite = _sqlite_plan(
+                p, None if self._scratch is None else Path(self._scratch.name)
+            )
+        except DiffbotError:
+            self.close()
+            raise
         except Exception:  # damaged or unusual: rosbags' reader decides what is wrong
             self._sqlite = None
         if self._sqlite is not None:
-            self._check_topic(self._sqlite.topics)
-            self.message_count: int | None = self._sqlite.counts.get(topic)
+            try:
+                self._check_topic(self._sqlite.topics)
+            except BaseException:
+                self.close()
+                raise
+            self.message_count: int | None = self._sqlite.counts.get(self.topic)
             return
-        try:
-            from rosbags.rosbag2 import Reader
-        except ImportError:
+        self._open_reader(self._reader_path(p))
+
+    def _reader_path(self, p: Path) -> Path:
+        """What rosbags opens: the path, or the one mcap file of a folder without metadata."""
+        if p.is_dir() and not (p / "metadata.yaml").exists():
+            mcaps = _storage_files(p, ".mcap")
+            if len(mcaps) == 1:
+                return mcaps[0]
             raise BagError(
-                f"reading this ROS 2 bag needs the rosbags library: {BAG_INSTALL_HINT}"
+                f"{self.source}: not a bag folder: no metadata.yaml, and no .db3 file or single "
+                f".mcap file to read without it"
+            )
+        return p
+
+    def _open_reader(self, p: Path) -> None:
+        self._ros1 = bag_suffix(p) == ".bag" and p.is_file()
+        try:
+            if self._ros1:
+                from rosbags.rosbag1 import Reader as Reader1
+            else:
+                from rosbags.rosbag2 import Reader
+        except ImportError:
+            kind = "ROS 1" if self._ros1 else "ROS 2"
+            raise BagError(
+                f"reading this {kind} bag needs the rosbags library: {BAG_INSTALL_HINT}"
             ) from None
         try:
-            self._reader = Reader(p)
+            self._reader = Reader1(p) if self._ros1 else Reader(p)
             self._reader.open()
         except Exception as err:
-            raise _unreadable(self.source, err) from None
+            kind = "ROS 1 bag" if self._ros1 else "rosbag2 recording"
+            raise BagError(
+                f"{self.source}: not a readable {kind}: {' '.join(str(err).split())}"
+            ) from None
         try:
-            self._connections = [c for c in self._reader.connections if c.topic == topic]
             topics: dict[str, set[str]] = {}
             for c in self._reader.connections:
                 topics.setdefault(c.topic, set()).add(c.msgtype)
             self._check_topic(topics)
+            self._connections = [c for c in self._reader.connections if c.topic == self.topic]
             self.message_count = sum(c.msgcount for c in self._connections)
         except BaseException:
-            self._reader.close()
+            self.close()
             raise
 
     def _check_topic(self, topics: dict[str, set[str]]) -> None:
+        if self._wanted is None and DEFAULT_TOPIC not in topics:
+            joint_topics = sorted(t for t, types in topics.items() if JOINT_STATE in types)
+            if len(joint_topics) == 1:
+                self.topic = joint_topics[0]
+                self.topic_chosen = True
+            elif joint_topics:
+                raise BagError(
+                    f"{self.source}: no topic {DEFAULT_TOPIC!r} and several {JOINT_STATE} "
+                    f"topics: {listing(joint_topics)}; give the one to read ({{topic}})"
+                )
         if self.topic not in topics:
             found = listing(sorted(topics))
             raise BagError(
@@ -192,10 +300,19 @@ class TopicChunks:
             )
         self.msgtype: str = types[0]
 
+    @property
+    def ros1(self) -> bool:
+        """Whether the bag is a ROS 1 bag (its messages converted to CDR as they are read)."""
+        return self._ros1
+
     def close(self) -> None:
         """Close the recording (and remove any files it decompressed)."""
-        if self._reader is not None and self._reader.is_open:
+        if self._reader is not None and getattr(self._reader, "is_open", True):
             self._reader.close()
+            self._reader = None
+        if self._scratch is not None:
+            self._scratch.cleanup()
+            self._scratch = None
 
     def __iter__(self) -> Iterator[BagChunk]:
         return self.chunks()
@@ -262,9 +379,15 @@ class TopicChunks:
         connections: list[Connection] = self._connections
         stamps: list[int] = []
         blobs: list[bytes] = []
+        convert = None
+        if self._ros1:
+            from diffbot.io.bag import typestore
+
+            store = typestore()
+            convert = store.ros1_to_cdr
         for _, timestamp, data in self._reader.messages(connections=connections):
             stamps.append(timestamp)
-            blobs.append(bytes(data))
+            blobs.append(bytes(data) if convert is None else bytes(convert(data, self.msgtype)))
             if len(blobs) == self.chunk_size:
                 yield BagChunk(np.array(stamps, dtype=np.int64), blobs)
                 stamps, blobs = [], []

@@ -22,7 +22,7 @@ import csv
 import io
 import itertools
 import os
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Final, NamedTuple, TextIO
 
 import numpy as np
@@ -48,6 +48,12 @@ from diffbot.samples import (
 
 if TYPE_CHECKING:
     from numpy.typing import NDArray
+
+    from diffbot.conditioning import Conditioner
+
+#: Makes the conditioner of a file's wheel columns from their joints (the left ones first) and
+#: how many are on the left.
+ConditionerFactory = Callable[[Sequence[str], int], "Conditioner"]
 
 __all__ = [
     "CHUNK_BYTES",
@@ -435,6 +441,7 @@ def read_csv(
     right_joint: str | Sequence[str],
     *,
     source: str | None = None,
+    conditioner: ConditionerFactory | None = None,
 ) -> Recording:
     """Read the wheel joint samples of a recording CSV whole, as compact columns.
 
@@ -446,6 +453,8 @@ def read_csv(
         left_joint: the left wheel joint's name, or all of the left side's.
         right_joint: likewise on the right.
         source: the input's name in messages (default: the path, or the stream's name).
+        conditioner: makes what turns each joint's recorded positions into angles (units,
+            wraps) before the sides are averaged; None to take them as they are.
 
     Returns:
         One sample per data row, holding the sides whose cells are not all empty. Rows whose
@@ -461,14 +470,19 @@ def read_csv(
     skipped: dict[str, int] = {}
     with open_csv_chunks(path, (sides[0], sides[1]), source=source) as chunks:
         samples = ColumnSamples(*first)
+        condition = None if conditioner is None else conditioner(chunks.joints, chunks.left_count)
         for chunk in chunks:
             for reason, count in chunk.skipped.items():
                 skipped[reason] = skipped.get(reason, 0) + count
-            left, right, _ = side_means(chunk.positions, chunk.present, chunks.left_count)
+            positions = chunk.positions
+            if condition is not None:
+                positions = condition.feed(chunk.stamp_ns, positions, chunk.present)
+            left, right, _ = side_means(positions, chunk.present, chunks.left_count)
             have_left = chunk.present[:, : chunks.left_count].any(axis=1)
             have_right = chunk.present[:, chunks.left_count :].any(axis=1)
             samples.stamps_ns.extend(chunk.stamp_ns.tolist())
             samples.left.extend(left.tolist())
             samples.right.extend(right.tolist())
             samples.present.extend((have_left + 2 * have_right.astype(np.uint8)).tolist())
-        return Recording(chunks.source, "csv", samples, skipped)
+        report = None if condition is None else condition.report()
+        return Recording(chunks.source, "csv", samples, skipped, conditioning=report)

@@ -16,28 +16,32 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from contextlib import closing
 from pathlib import Path
-from typing import TYPE_CHECKING, Protocol, TextIO
+from typing import TYPE_CHECKING, Any, Protocol, TextIO
 
 import numpy as np
 
 from diffbot.chunk_odometry import ChunkOdometry, ChunkPoses, OdometrySummary, side_means
+from diffbot.conditioning import Conditioner, Conditioning, ConditioningReport
 from diffbot.errors import RecordingError
-from diffbot.io.bag import DEFAULT_TOPIC, JOINT_STATE, is_bag, read_bag
+from diffbot.formats.text import listing
+from diffbot.io.bag import JOINT_STATE, bag_suffix, is_bag, read_bag
 from diffbot.io.bag_chunks import CHUNK_MESSAGES, BagError, TopicChunks
 from diffbot.io.csv_chunks import CHUNK_BYTES, open_csv_chunks, read_csv
 from diffbot.io.jointstate_cdr import decode_positions
 from diffbot.io.outputs import note_input
 from diffbot.io.textfile import check_regular
 from diffbot.kinematics import DiffDriveParams
+from diffbot.odometry import SKIP_MISSING_JOINT
 from diffbot.samples import (
     CLOCK_HEADER,
     CLOCK_RECEIVE,
     MAX_POSITION,
     SKIP_POSITION_RANGE,
     SKIP_UNREADABLE,
+    JointSample,
     Recording,
     beyond_range,
 )
@@ -75,17 +79,34 @@ class RecordingOdometry:
 
     Attributes:
         source: the input's name.
-        kind: ``"csv"`` or ``"rosbag2"``.
+        kind: ``"csv"``, ``"rosbag2"`` or ``"rosbag1"`` (a ROS 1 bag).
         summary: the end of the run.
         clock: for a bag, :data:`~diffbot.samples.CLOCK_HEADER` or
             :data:`~diffbot.samples.CLOCK_RECEIVE`; None for a CSV.
+        conditioning: what was done to the recorded positions (units, wraps) and the steps
+            found implausible.
+        topic: for a bag, the topic read; None for a CSV.
+        topic_chosen: whether the topic was not asked for but taken as the bag's only
+            JointState topic.
     """
 
-    def __init__(self, source: str, kind: str, summary: OdometrySummary, clock: str | None) -> None:
+    def __init__(
+        self,
+        source: str,
+        kind: str,
+        summary: OdometrySummary,
+        clock: str | None,
+        conditioning: ConditioningReport,
+        topic: str | None = None,
+        topic_chosen: bool = False,
+    ) -> None:
         self.source = source
         self.kind = kind
         self.summary = summary
         self.clock = clock
+        self.conditioning = conditioning
+        self.topic = topic
+        self.topic_chosen = topic_chosen
 
 
 def csv_odometry(
@@ -96,8 +117,12 @@ def csv_odometry(
     progress: Progress | None = None,
     source: str | None = None,
     chunk_bytes: int = CHUNK_BYTES,
+    conditioning: Conditioning | None = None,
 ) -> RecordingOdometry:
     """The odometry of the wheel columns of a recording CSV (a file or a text stream).
+
+    The positions go through a :class:`~diffbot.conditioning.Conditioner` (units, wraps,
+    implausible steps) as ``conditioning`` says before they are integrated.
 
     Raises:
         RecordingError: missing, empty or non-text input, no time column, no column for a side,
@@ -107,16 +132,19 @@ def csv_odometry(
     with open_csv_chunks(
         path, (params.left_joints, params.right_joints), chunk_bytes=chunk_bytes, source=source
     ) as chunks:
+        conditioner = Conditioner.for_robot(params, chunks.joints, chunks.left_count, conditioning)
         for chunk in chunks:
             for reason, count in chunk.skipped.items():
                 odom.skip(reason, count)
-            left, right, both = side_means(chunk.positions, chunk.present, chunks.left_count)
+            positions = conditioner.feed(chunk.stamp_ns, chunk.positions, chunk.present)
+            left, right, both = side_means(positions, chunk.present, chunks.left_count)
             poses = odom.feed(chunk.stamp_ns, left, right, both)
             if sink is not None:
                 sink.write(poses)
             if progress is not None:
                 progress(chunk.chars)
-        return RecordingOdometry(chunks.source, "csv", odom.summary(chunks.source), None)
+        summary = odom.summary(chunks.source)
+        return RecordingOdometry(chunks.source, "csv", summary, None, conditioner.report())
 
 
 def _bag_pass(
@@ -125,10 +153,12 @@ def _bag_pass(
     clock: str,
     sink: PoseSink | None,
     progress: Progress | None,
-) -> ChunkOdometry | None:
+    conditioning: Conditioning | None,
+) -> tuple[ChunkOdometry, Conditioner] | None:
     """One pass over the topic; None when a zero header stamp asks for the receive clock."""
     odom = ChunkOdometry(params)
     joints = (*params.left_joints, *params.right_joints)
+    conditioner = Conditioner.for_robot(params, joints, len(params.left_joints), conditioning)
     for chunk in topic.chunks(receive_times=clock == CLOCK_RECEIVE):
         decoded = decode_positions(chunk.blobs, joints)
         readable = decoded.readable
@@ -154,23 +184,25 @@ def _bag_pass(
             odom.skip(SKIP_POSITION_RANGE, int(np.count_nonzero(out_of_range)))
             keep = ~out_of_range
             positions, present, stamps = positions[keep], present[keep], stamps[keep]
+        positions = conditioner.feed(stamps, positions, present)
         left, right, both = side_means(positions, present, len(params.left_joints))
         poses = odom.feed(stamps, left, right, both)
         if sink is not None:
             sink.write(poses)
         if progress is not None:
             progress(len(chunk.blobs))
-    return odom
+    return odom, conditioner
 
 
 def bag_odometry(
     path: str | os.PathLike[str],
     params: DiffDriveParams,
-    topic: str = DEFAULT_TOPIC,
+    topic: str | None = None,
     *,
     chunk_size: int = CHUNK_MESSAGES,
     sink: PoseSink | None = None,
     progress: Progress | None = None,
+    conditioning: Conditioning | None = None,
 ) -> RecordingOdometry:
     """The odometry of the sensor_msgs/msg/JointState messages of one bag topic.
 
@@ -185,17 +217,48 @@ def bag_odometry(
     with closing(TopicChunks(path, topic, chunk_size=chunk_size)) as chunks:
         if chunks.msgtype != JOINT_STATE:
             raise BagError(
-                f"{chunks.source}: topic {topic!r} carries {chunks.msgtype}, not {JOINT_STATE}"
+                f"{chunks.source}: topic {chunks.topic!r} carries {chunks.msgtype}, "
+                f"not {JOINT_STATE}"
             )
         clock = CLOCK_HEADER
-        odom = _bag_pass(chunks, params, clock, sink, progress)
-        if odom is None:
+        done = _bag_pass(chunks, params, clock, sink, progress, conditioning)
+        if done is None:
             clock = CLOCK_RECEIVE
             if sink is not None:
                 sink.restart()
-            odom = _bag_pass(chunks, params, clock, sink, progress)
-        assert odom is not None  # the receive clock never asks for another pass
-        return RecordingOdometry(chunks.source, "rosbag2", odom.summary(chunks.source), clock)
+            done = _bag_pass(chunks, params, clock, sink, progress, conditioning)
+        assert done is not None  # the receive clock never asks for another pass
+        odom, conditioner = done
+        hint = ""
+        if odom.skipped.get(SKIP_MISSING_JOINT) and not odom.used:
+            hint = _joints_hint(chunks, params)
+        summary = odom.summary(chunks.source, hint)
+        return RecordingOdometry(
+            chunks.source,
+            "rosbag1" if chunks.ros1 else "rosbag2",
+            summary,
+            clock,
+            conditioner.report(),
+            chunks.topic,
+            chunks.topic_chosen,
+        )
+
+
+def _joints_hint(chunks: TopicChunks, params: DiffDriveParams) -> str:
+    """The wheel joints wanted and the joints the topic's first readable message holds."""
+    from diffbot.io.bag import typestore
+
+    wanted = listing([*params.left_joints, *params.right_joints])
+    store = typestore()
+    for chunk in chunks.chunks(receive_times=False):
+        for blob in chunk.blobs:
+            try:
+                message: Any = store.deserialize_cdr(blob, JOINT_STATE)
+                names = [str(name) for name in message.name]
+            except Exception:  # a damaged message: the next one may say
+                continue
+            return f"; wheel joints wanted: {wanted}; joints found: {listing(names)}"
+    return f"; wheel joints wanted: {wanted}"
 
 
 def existing_recording(path: str | os.PathLike[str]) -> Path:
@@ -223,10 +286,11 @@ def existing_recording(path: str | os.PathLike[str]) -> Path:
 def recording_odometry(
     path: str | os.PathLike[str],
     params: DiffDriveParams,
-    topic: str = DEFAULT_TOPIC,
+    topic: str | None = None,
     *,
     sink: PoseSink | None = None,
     progress: Progress | None = None,
+    conditioning: Conditioning | None = None,
 ) -> RecordingOdometry:
     """The odometry of a CSV file or a rosbag2 recording, by what the path is.
 
@@ -237,6 +301,7 @@ def recording_odometry(
         sink: where the poses go as they come, if anywhere.
         progress: called after each chunk with how much of the input it used (see
             :func:`recording_size`).
+        conditioning: the positions' units and wrap (default: radians, wraps detected).
 
     Raises:
         RecordingError: missing, empty or unreadable input; missing columns or topic; no
@@ -244,17 +309,21 @@ def recording_odometry(
     """
     p = existing_recording(path)
     if is_bag(p):
-        return bag_odometry(p, params, topic, sink=sink, progress=progress)
-    return csv_odometry(p, params, sink=sink, progress=progress)
+        return bag_odometry(
+            p, params, topic, sink=sink, progress=progress, conditioning=conditioning
+        )
+    return csv_odometry(p, params, sink=sink, progress=progress, conditioning=conditioning)
 
 
-def recording_size(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> int | None:
+def recording_size(path: str | os.PathLike[str], topic: str | None = None) -> int | None:
     """How much :func:`recording_odometry` will report to ``progress`` in all: a bag topic's
     message count from its metadata, a CSV file's size; None when not known cheaply."""
     try:
         p = existing_recording(path)
         if not is_bag(p):
             return p.stat().st_size
+        if bag_suffix(p) == ".db3.zstd" or (p.is_dir() and not (p / "metadata.yaml").exists()):
+            return None  # no metadata to count by: the progress shows no total
         with closing(TopicChunks(p, topic)) as chunks:
             return chunks.message_count
     except (OSError, RecordingError):
@@ -262,7 +331,11 @@ def recording_size(path: str | os.PathLike[str], topic: str = DEFAULT_TOPIC) -> 
 
 
 def read_recording(
-    path: str | os.PathLike[str], params: DiffDriveParams, topic: str = DEFAULT_TOPIC
+    path: str | os.PathLike[str],
+    params: DiffDriveParams,
+    topic: str | None = None,
+    *,
+    conditioning: Conditioning | None = None,
 ) -> Recording:
     """Read wheel joint samples whole from a CSV file or a rosbag2 recording.
 
@@ -270,6 +343,9 @@ def read_recording(
         path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
         params: the robot, whose wheel joint names select the CSV columns.
         topic: the JointState topic of a bag.
+        conditioning: the positions' units and wrap (default: radians, wraps detected); the
+            samples hold the wheel angles, and ``conditioning`` of the result says what was
+            done.
 
     Returns:
         The samples.
@@ -280,8 +356,47 @@ def read_recording(
     p = existing_recording(path)
     if is_bag(p):
         wheels = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
-        return _within_range(read_bag(p, topic), wheels)
-    return read_csv(p, params.left_joints, params.right_joints)
+        recording = _within_range(read_bag(p, topic), wheels)
+        return _conditioned(recording, params, conditioning)
+
+    def conditioner(joints: Sequence[str], left_count: int) -> Conditioner:
+        return Conditioner.for_robot(params, joints, left_count, conditioning)
+
+    return read_csv(p, params.left_joints, params.right_joints, conditioner=conditioner)
+
+
+def _conditioned(
+    recording: Recording, params: DiffDriveParams, conditioning: Conditioning | None
+) -> Recording:
+    """A bag's samples with their wheel joints' positions conditioned (other joints as read)."""
+    joints = [*params.left_joints, *params.right_joints]
+    conditioner = Conditioner.for_robot(params, joints, len(params.left_joints), conditioning)
+    samples = recording.samples
+    n = len(samples)
+    positions = np.zeros((n, len(joints)))
+    present = np.zeros((n, len(joints)), dtype=np.bool_)
+    stamps = np.empty(n, dtype=np.int64)
+    column = {joint: j for j, joint in enumerate(joints)}
+    for k, (stamp_ns, names, values) in enumerate(samples):
+        stamps[k] = stamp_ns
+        for name, value in zip(names, values, strict=False):
+            j = column.get(name)
+            if j is not None:
+                positions[k, j] = value
+                present[k, j] = True
+    conditioned = conditioner.feed(stamps, positions, present)
+    report = conditioner.report()
+    if conditioned is positions:
+        return dataclasses.replace(recording, conditioning=report)
+    kept = []
+    for k, sample in enumerate(samples):
+        values = list(sample.positions)
+        for i, name in enumerate(sample.names[: len(values)]):
+            j = column.get(name)
+            if j is not None:
+                values[i] = float(conditioned[k, j])
+        kept.append(JointSample(sample.stamp_ns, sample.names, values))
+    return dataclasses.replace(recording, samples=kept, conditioning=report)
 
 
 def _within_range(recording: Recording, wheels: set[str]) -> Recording:

@@ -150,7 +150,7 @@ def test_odom_lists_the_topics_of_a_bag_without_the_topic(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     bag = write_bag(tmp_path / "in", [(1, 1, [LEFT, RIGHT], [0.0, 0.0])], topic="/js")
-    result = runner.invoke(main, ["odom", str(bag)])
+    result = runner.invoke(main, ["odom", str(bag), "--topic", "/joint_states"])
     assert result.exit_code == 2
     assert result.stderr == (
         f"error: {bag}: no topic '/joint_states' in the bag; topics found: '/chatter', '/js'\n"
@@ -187,7 +187,7 @@ def test_odom_refuses_bad_csv_with_one_error_line(
         ([], "expected an INPUT"),
         (["a.csv", "-"], "cannot be read with other inputs"),
         (["nothing*.csv"], "nothing*.csv: no file or directory matches"),
-        (["emptydir"], "not a readable rosbag2 recording"),
+        (["emptydir"], "emptydir: not a bag folder: no metadata.yaml"),
         (["bad.mcap"], "not a readable rosbag2 recording"),
         (["a.csv", "--wheel-radius", "-1"], "'-1' must be > 0"),
         (["a.csv", "--robot", "nope.urdf"], "nope.urdf: no such file"),
@@ -215,7 +215,11 @@ def test_odom_refuses_bad_arguments_with_exit_code_2(
 def test_odom_without_rosbags_reads_sqlite3_and_says_what_to_install_for_mcap(
     runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    messages = [(1, 1, [LEFT, RIGHT], [0.0, 0.0]), (2, 2, [LEFT, RIGHT], [1.0, 1.0])]
+    # A turn of each wheel in a second (a turn in a nanosecond would be an implausible step).
+    messages = [
+        (10**9, 10**9, [LEFT, RIGHT], [0.0, 0.0]),
+        (2 * 10**9, 2 * 10**9, [LEFT, RIGHT], [1.0, 1.0]),
+    ]
     sqlite_bag = write_bag(tmp_path / "in", messages)
     mcap_bag = write_bag(tmp_path / "in_mcap", messages, storage="mcap")
     monkeypatch.setitem(sys.modules, "rosbags.typesys", None)

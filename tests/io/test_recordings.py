@@ -309,7 +309,14 @@ def test_bag_topic_can_be_chosen(tmp_path: Path) -> None:
         diffbot.RecordingError,
         match=r"no topic '/joint_states' in the bag; topics found: '/chatter', '/robot/joint_st",
     ):
-        read_bag(bag)
+        read_bag(bag, "/joint_states")
+
+
+def test_without_a_topic_the_only_joint_state_topic_is_read(tmp_path: Path) -> None:
+    bag = write_bag(tmp_path / "bag", trajectory_a_messages()[:3], topic="/robot/joint_states")
+    recording = read_bag(bag)
+    assert recording.topic == "/robot/joint_states"
+    assert len(recording.samples) == 3
 
 
 def test_bag_topic_of_another_type_is_refused(tmp_path: Path) -> None:
@@ -328,7 +335,9 @@ def test_things_that_are_not_bags_are_refused(tmp_path: Path, make: str) -> None
         (path / "notes.txt").write_text("hello", encoding="utf-8")
     else:
         path.write_bytes(b"" if make == "empty mcap" else b"not an mcap file at all" * 10)
-    with pytest.raises(diffbot.RecordingError, match=r"x(\.mcap)?: (empty file|not a readable)"):
+    with pytest.raises(
+        diffbot.RecordingError, match=r"x(\.mcap)?: (empty file|not a readable|not a bag folder)"
+    ):
         read_recording(path, BOT)
 
 

@@ -1,0 +1,104 @@
+"""The options of the commands that read recordings (``odom``, ``calibrate fit``, ``plot
+--odom``): how the recorded positions are to be read, and the messages about what was done to
+them."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import click
+
+from diffbot.commands.options import F, FiniteFloat, option_group, warn
+from diffbot.formats.text import fmt
+
+if TYPE_CHECKING:
+    from diffbot.conditioning import Conditioning, ConditioningReport
+
+__all__ = ["RecordingOptions", "conditioning_lines", "recording_options", "warn_conditioning"]
+
+
+@dataclass(frozen=True)
+class RecordingOptions:
+    """How to read the positions of a recording.
+
+    Attributes:
+        counts_per_rev: encoder counts per revolution (None: radians).
+        wrap: a counter's modulus (None: detected; 0: none).
+    """
+
+    counts_per_rev: float | None = None
+    wrap: float | None = None
+
+    def conditioning(self) -> Conditioning:
+        """The library's :class:`~diffbot.conditioning.Conditioning`."""
+        from diffbot.conditioning import Conditioning
+
+        return Conditioning(self.counts_per_rev, self.wrap)
+
+
+_OPTIONS = [
+    click.option(
+        "--counts-per-rev",
+        type=FiniteFloat(0.0, open_min=True),
+        metavar="N",
+        help="The positions are encoder counts, N per wheel revolution (default: radians).",
+    ),
+    click.option(
+        "--wrap",
+        type=FiniteFloat(0.0),
+        metavar="N",
+        help="The positions come from a counter that wraps at N (65536 for 16 bits; a step "
+        "beyond ±N/2 is a wrap). Default: detected by itself, and said so; 0: no wrap.",
+    ),
+]
+
+
+def _from(kwargs: dict[str, Any]) -> RecordingOptions:
+    return RecordingOptions(kwargs.pop("counts_per_rev"), kwargs.pop("wrap"))
+
+
+def recording_options(command: F) -> F:
+    """Add the recording options; the command receives ``recording: RecordingOptions``."""
+    decorate: Callable[[F], F] = option_group(_OPTIONS, "recording", _from)
+    return decorate(command)
+
+
+def _number(value: float) -> str:
+    return str(int(value)) if value == int(value) else fmt(value)
+
+
+def conditioning_lines(report: ConditioningReport) -> list[tuple[str, str]]:
+    """The summary rows saying how the positions were read (none for plain radians)."""
+    parts = []
+    if report.counts_per_rev is not None:
+        parts.append(f"encoder counts, {_number(report.counts_per_rev)} per revolution")
+    if report.wrap is not None:
+        how = "detected" if report.wrap_detected else "--wrap"
+        parts.append(
+            f"wrapping at {_number(report.wrap)} ({how}), {report.wraps} "
+            f"wrap{'s' if report.wraps != 1 else ''} undone"
+        )
+    return [("positions", "; ".join(parts))] if parts else []
+
+
+def warn_conditioning(report: ConditioningReport, source: str) -> None:
+    """Warnings on stderr for a detected wrap and for implausible steps."""
+    if report.wrap_detected and report.wrap is not None:
+        warn(
+            f"{source}: the wheel positions wrap around at {_number(report.wrap)} (a counter, "
+            f"detected by itself): {report.wraps} wraps undone; give --wrap "
+            f"{_number(report.wrap)} to say so, or --wrap 0 if they do not wrap"
+        )
+    first = report.first_implausible
+    if first is not None:
+        limit = max(report.speed_limit)
+        warn(
+            f"{source}: {report.implausible_steps} implausible "
+            f"step{'s' if report.implausible_steps != 1 else ''} (a wheel faster than "
+            f"{fmt(limit, 4)} rad/s: {report.limit_source}); the first ends at "
+            f"sample {first.sample}, t {fmt(first.seconds, 6)} s ({first.joint} at "
+            f"{fmt(first.speed, 4)} rad/s): the pose is not to be trusted (encoder counts? "
+            f"--counts-per-rev, --wrap)"
+        )

@@ -1,0 +1,382 @@
+"""Recorded wheel positions made usable before they are integrated: encoder units, counters that
+wrap around, and steps no wheel can make.
+
+A robot's driver may publish raw encoder counts instead of radians, on a counter of a fixed width
+that wraps around (a 16-bit counter jumps from 65535 back to 0). Integrated as they are, such
+positions give kilometres for a metre's run. :class:`Conditioner` turns them into radians chunk by
+chunk, in recording order, continuing from the state the previous chunk left, so that a bag read
+in chunks, a whole CSV and a live stream of one message at a time get the same angles:
+
+- unwrapping: with a modulus ``N`` (in the recorded units) a step beyond ``±N/2`` is a wrap and is
+  undone; without one, a wrap is detected by itself: whole-number positions held within a
+  power-of-two range (``[0, 2**k)`` or ``[-2**(k-1), 2**(k-1))``, 8 <= k <= 32) that jump by at
+  least three quarters of its width, the jump undone no longer than four ordinary steps;
+- units: counts times ``2*pi / counts_per_rev`` radians;
+- plausibility: a step whose wheel turns faster than :data:`MOTOR_LIMIT_FACTOR` times the motor
+  limit (or, with no limit, faster than its rim could move at :data:`RIM_SPEED_BOUND`) is counted
+  and the first one kept for the report. Such steps are integrated all the same: the report says
+  the pose is not to be trusted.
+
+Pure: NumPy arrays in, arrays and a report out; no files.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Final
+
+import numpy as np
+
+from diffbot.errors import ParameterError
+from diffbot.kinematics import DiffDriveParams
+from diffbot.samples import NS_PER_S
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "MOTOR_LIMIT_FACTOR",
+    "RIM_SPEED_BOUND",
+    "Conditioner",
+    "Conditioning",
+    "ConditioningReport",
+    "ImplausibleStep",
+    "counter_range",
+    "detect_wrap",
+]
+
+#: A step is implausible when its wheel speed is beyond this many times the motor limit.
+MOTOR_LIMIT_FACTOR: Final = 4.0
+#: Without a motor limit, a step is implausible when its wheel's rim moves faster than this
+#: (m/s, 108 km/h: beyond any differential-drive robot).
+RIM_SPEED_BOUND: Final = 30.0
+#: Rim travel (m) allowed on top of the speed bound, for stamps that jitter.
+RIM_SLACK: Final = 0.01
+#: The smallest and largest counter widths (bits) recognised by themselves.
+_WRAP_BITS: Final = (8, 32)
+#: A detected wrap jumps by at least this fraction of the counter's range.
+_WRAP_JUMP: Final = 0.75
+#: ... and, undone, is at most this many times the largest ordinary step.
+_WRAP_TYPICAL: Final = 4.0
+
+
+@dataclass(frozen=True)
+class Conditioning:
+    """How the recorded positions become wheel angles.
+
+    Attributes:
+        counts_per_rev: encoder counts per wheel revolution when the positions are counts;
+            None when they are radians.
+        wrap: the modulus of a counter that wraps, in the recorded units (counts, or radians
+            without ``counts_per_rev``); None to detect one, 0 for none and no detection.
+    """
+
+    counts_per_rev: float | None = None
+    wrap: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.counts_per_rev is not None and not (
+            math.isfinite(self.counts_per_rev) and self.counts_per_rev > 0
+        ):
+            raise ParameterError(
+                f"counts per revolution must be a finite number > 0, got {self.counts_per_rev!r}"
+            )
+        if self.wrap is not None and not (math.isfinite(self.wrap) and self.wrap >= 0):
+            raise ParameterError(f"wrap must be a finite number >= 0, got {self.wrap!r}")
+
+
+@dataclass(frozen=True)
+class ImplausibleStep:
+    """A step no wheel can make.
+
+    Attributes:
+        sample: the index of the sample that ends the step, among the samples conditioned
+            (the first is 0).
+        seconds: its time since the first sample (s).
+        joint: the wheel joint.
+        speed: its speed over the step (rad/s).
+    """
+
+    sample: int
+    seconds: float
+    joint: str
+    speed: float
+
+
+@dataclass(frozen=True)
+class ConditioningReport:
+    """What conditioning did to a recording.
+
+    Attributes:
+        counts_per_rev: as asked (None: the positions were radians).
+        wrap: the counter's modulus used (recorded units); None when none.
+        wrap_detected: whether ``wrap`` was detected rather than given.
+        wraps: how many wraps were undone, all joints together.
+        speed_limit: the wheel speed (rad/s) beyond which a step is implausible, per side
+            (left, right).
+        limit_source: where the limit comes from, for people (``"4 x the motor limit"``, ``"a
+            rim speed of 30 m/s"``).
+        implausible_steps: how many samples end a step beyond the limit.
+        first_implausible: the first of them, or None.
+    """
+
+    counts_per_rev: float | None
+    wrap: float | None
+    wrap_detected: bool
+    wraps: int
+    speed_limit: tuple[float, float]
+    limit_source: str
+    implausible_steps: int
+    first_implausible: ImplausibleStep | None
+
+
+def counter_range(lowest: float, highest: float, whole: bool) -> float | None:
+    """The range of the counter that could have recorded these positions, or None.
+
+    Args:
+        lowest: the smallest position seen.
+        highest: the largest position seen.
+        whole: whether every position seen is a whole number.
+
+    Returns:
+        ``2**k`` when the positions fit ``[0, 2**k)`` (or ``[-2**(k-1), 2**(k-1))`` when any is
+        negative), k the smallest in 8..32; None when they are not whole numbers or need more
+        than 32 bits.
+    """
+    if not whole or not (math.isfinite(lowest) and math.isfinite(highest)):
+        return None
+    if lowest >= 0:
+        bits = max(_WRAP_BITS[0], math.ceil(math.log2(highest + 1)))
+    else:
+        half = max(-lowest, highest + 1)
+        bits = max(_WRAP_BITS[0], math.ceil(math.log2(half)) + 1)
+    return float(2**bits) if bits <= _WRAP_BITS[1] else None
+
+
+def detect_wrap(width: float | None, steps: NDArray[np.float64], typical: float) -> bool:
+    """Whether a counter of range ``width`` wrapped in these steps.
+
+    It did when a step covers at least three quarters of the range and, undone, is no longer
+    than :data:`_WRAP_TYPICAL` times the ``typical`` step (the largest under a quarter of the
+    range): a counter's wrap looks like its neighbours once undone, a jump in the data does not.
+
+    Args:
+        width: the counter's range (:func:`counter_range`), or None.
+        steps: the steps between consecutive positions.
+        typical: the largest step seen under a quarter of the range (0: none moved).
+    """
+    if width is None or typical <= 0:
+        return False
+    size = np.abs(steps)
+    jumps = size[size >= _WRAP_JUMP * width]
+    return bool(jumps.size) and float((width - jumps).max()) <= _WRAP_TYPICAL * typical
+
+
+@dataclass
+class _Column:
+    """One joint's state between chunks."""
+
+    limit: float
+    slack: float
+    last_raw: float | None = None
+    last_value: float = 0.0
+    last_stamp: int = 0
+    turns: float = 0.0
+    lowest: float = math.inf
+    highest: float = -math.inf
+    whole: bool = True
+    typical: float = 0.0
+    modulus: float | None = None
+    started: bool = False
+
+
+@dataclass
+class Conditioner:
+    """Recorded positions to wheel angles, chunk by chunk (see the module's docstring).
+
+    Build one with :meth:`for_robot`.
+
+    Args:
+        joints: the wheel joints, in the columns' order.
+        conditioning: the units and the wrap.
+        limits: per joint, the largest plausible speed (rad/s) and the travel (rad) allowed on
+            top of it.
+        limit_source: what the limits come from, for the report.
+    """
+
+    joints: Sequence[str]
+    conditioning: Conditioning
+    limits: Sequence[tuple[float, float]]
+    limit_source: str
+    _columns: list[_Column] = field(init=False)
+    _seen: int = field(init=False, default=0)
+    _origin: int | None = field(init=False, default=None)
+    _wraps: int = field(init=False, default=0)
+    _detected: bool = field(init=False, default=False)
+    _implausible: int = field(init=False, default=0)
+    _first: ImplausibleStep | None = field(init=False, default=None)
+
+    def __post_init__(self) -> None:
+        wrap = self.conditioning.wrap
+        modulus = wrap if wrap else None
+        self._columns = [_Column(limit, slack, modulus=modulus) for limit, slack in self.limits]
+
+    @classmethod
+    def for_robot(
+        cls,
+        params: DiffDriveParams,
+        joints: Sequence[str],
+        left_count: int,
+        conditioning: Conditioning | None = None,
+    ) -> Conditioner:
+        """A conditioner for a robot's wheel joints, its limits from the robot.
+
+        Args:
+            params: the robot (motor limit, wheel radii).
+            joints: the wheel joints of the columns, the left ones first.
+            left_count: how many of them are on the left.
+            conditioning: units and wrap; the default reads radians and detects wraps.
+        """
+        radii = params.radii
+        limits = []
+        for k in range(len(joints)):
+            radius = radii[0] if k < left_count else radii[1]
+            if params.max_wheel_speed:
+                limit = MOTOR_LIMIT_FACTOR * params.max_wheel_speed
+            else:
+                limit = RIM_SPEED_BOUND / radius
+            limits.append((limit, RIM_SLACK / radius))
+        source = (
+            f"{MOTOR_LIMIT_FACTOR:g} x the motor limit"
+            if params.max_wheel_speed
+            else f"a rim speed of {RIM_SPEED_BOUND:g} m/s"
+        )
+        return cls(list(joints), conditioning or Conditioning(), limits, source)
+
+    def feed(
+        self, stamps_ns: ArrayLike, positions: ArrayLike, present: ArrayLike | None = None
+    ) -> NDArray[np.float64]:
+        """Condition the next chunk of samples, in recording order.
+
+        Args:
+            stamps_ns: the samples' stamps (ns), int64, shape (n,).
+            positions: the joints' recorded positions, shape (n, joints).
+            present: whether each sample has each joint, bool, same shape; all if None.
+
+        Returns:
+            The wheel angles (rad), shape (n, joints): the input array itself when nothing was
+            to be changed.
+        """
+        stamps = np.asarray(stamps_ns, dtype=np.int64)
+        values: NDArray[np.float64] = np.asarray(positions, dtype=np.float64)
+        n = stamps.shape[0]
+        have = (
+            np.ones(values.shape, dtype=np.bool_)
+            if present is None
+            else np.asarray(present, dtype=np.bool_)
+        )
+        if n == 0:
+            return values
+        if self._origin is None:
+            self._origin = int(stamps[0])
+        out = values
+        flagged = np.zeros(n, dtype=np.bool_)
+        first_joint = np.full(n, -1, dtype=np.int64)
+        speeds = np.zeros(n)
+        for c, column in enumerate(self._columns):
+            with np.errstate(invalid="ignore"):
+                rows = np.flatnonzero(have[:, c] & np.isfinite(values[:, c]))
+            if rows.size == 0:
+                continue
+            raw = values[rows, c]
+            angles = self._unwrap(column, raw)
+            if self.conditioning.counts_per_rev is not None:
+                angles = angles * (2.0 * math.pi / self.conditioning.counts_per_rev)
+            if angles is not raw:
+                if out is values:
+                    out = values.copy()
+                out[rows, c] = angles
+            speed, bad = self._steps(column, stamps[rows], angles)
+            new = bad & ~flagged[rows]
+            first_joint[rows[new]] = c
+            speeds[rows[new]] = speed[new]
+            flagged[rows[bad]] = True
+        count = int(np.count_nonzero(flagged))
+        if count:
+            self._implausible += count
+            if self._first is None:
+                k = int(np.argmax(flagged))
+                self._first = ImplausibleStep(
+                    self._seen + k,
+                    (int(stamps[k]) - self._origin) / NS_PER_S,
+                    self.joints[int(first_joint[k])],
+                    float(speeds[k]),
+                )
+        self._seen += n
+        return out
+
+    def _unwrap(self, column: _Column, raw: NDArray[np.float64]) -> NDArray[np.float64]:
+        """A joint's positions with the wraps undone (``raw`` itself when none ever was)."""
+        previous = raw[0] if column.last_raw is None else column.last_raw
+        steps = np.diff(raw, prepend=previous)
+        column.last_raw = float(raw[-1])
+        if column.modulus is None and self.conditioning.wrap is None:
+            column.lowest = min(column.lowest, float(raw.min()))
+            column.highest = max(column.highest, float(raw.max()))
+            column.whole = column.whole and bool(np.all(raw == np.floor(raw)))
+            width = counter_range(column.lowest, column.highest, column.whole)
+            if width is not None:
+                size = np.abs(steps)
+                small = size[size < width / 4]
+                if small.size:
+                    column.typical = max(column.typical, float(small.max()))
+                if detect_wrap(width, steps, column.typical):
+                    column.modulus = width
+                    self._detected = True
+        if column.modulus is None:
+            return raw
+        turns = np.rint(steps / column.modulus)
+        wraps = int(np.count_nonzero(turns))
+        if not wraps and not column.turns:
+            return raw
+        self._wraps += wraps
+        total = np.cumsum(turns) + column.turns
+        column.turns = float(total[-1])
+        unwrapped: NDArray[np.float64] = raw - total * column.modulus
+        return unwrapped
+
+    @staticmethod
+    def _steps(
+        column: _Column, stamps: NDArray[np.int64], angles: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Each sample's speed over the step that ends at it (rad/s) and whether the step is
+        beyond the joint's limit; the first sample a joint ever has ends no step."""
+        d_angle = np.diff(angles, prepend=column.last_value)
+        d_time = np.diff(stamps, prepend=column.last_stamp).astype(np.float64) / NS_PER_S
+        if not column.started:
+            d_time[0] = 0.0  # no step ends at a joint's first sample
+            column.started = True
+        column.last_value = float(angles[-1])
+        column.last_stamp = int(stamps[-1])
+        forward = d_time > 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            speed = np.where(forward, np.abs(d_angle) / np.where(forward, d_time, 1.0), 0.0)
+            bad = forward & (np.abs(d_angle) > column.limit * d_time + column.slack)
+        return speed, bad
+
+    def report(self) -> ConditioningReport:
+        """What was done so far."""
+        moduli = {c.modulus for c in self._columns if c.modulus is not None}
+        limits = [limit for limit, _ in self.limits] or [math.inf]
+        return ConditioningReport(
+            counts_per_rev=self.conditioning.counts_per_rev,
+            wrap=max(moduli) if moduli else None,
+            wrap_detected=self._detected,
+            wraps=self._wraps,
+            speed_limit=(limits[0], limits[-1]),
+            limit_source=self.limit_source,
+            implausible_steps=self._implausible,
+            first_implausible=self._first,
+        )

@@ -1,0 +1,162 @@
+"""``diffbot odom`` on recordings as real robots record them: encoder counts on a 16-bit counter,
+bags of every kind (ROS 1, lone storage files, folders without metadata), the only JointState
+topic of a bag, joints that are not there."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+from bags import lone_storage, write_bag, write_ros1_bag
+from click.testing import CliRunner
+from pioneer import COUNTS_PER_REV, PIONEER, RUN_END, WRAP, counts, counts_csv, urdf
+from wheel_motion import angle_error
+
+from diffbot.cli import main
+
+TOPIC = "/pioneer5/joint_states"
+COUNTS = ["--counts-per-rev", repr(COUNTS_PER_REV)]
+
+
+def pioneer_messages() -> list[tuple[int, int, list[str], list[float]]]:
+    stamps, left, right = counts()
+    joints = [PIONEER.left_joint, PIONEER.right_joint]
+    return [
+        (stamp, stamp, joints, [lc, rc])
+        for stamp, lc, rc in zip(stamps.tolist(), left.tolist(), right.tolist(), strict=True)
+    ]
+
+
+def assert_at_run_end(data: dict[str, object]) -> None:
+    pose = data["final_pose"]
+    assert isinstance(pose, dict)
+    # Counts are whole: 1/128 mm of travel per count bounds the error (a few 1e-5 m).
+    assert pose["x"] == pytest.approx(RUN_END.x, abs=1e-4)
+    assert pose["y"] == pytest.approx(RUN_END.y, abs=1e-4)
+    assert angle_error(pose["theta"], RUN_END.theta) < 1e-4
+
+
+@pytest.fixture
+def robot(tmp_path: Path) -> list[str]:
+    return ["--robot", str(urdf(tmp_path))]
+
+
+def test_raw_counts_read_as_radians_exit_1_naming_the_first_implausible_step(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    csv = counts_csv(tmp_path)
+    result = runner.invoke(main, ["odom", str(csv), *robot])
+    assert result.exit_code == 1, result.output
+    assert "100 implausible steps (a wheel faster than 307.7 rad/s: a rim speed of 30 m/s)" in (
+        result.stderr
+    )
+    assert "the first ends at sample 1, t 0.1 s (left_wheel_joint at 3.2e+04 rad/s)" in (
+        result.stderr
+    )
+    result = runner.invoke(main, ["odom", str(csv), *robot, "--json"])
+    assert result.exit_code == 1
+    assert json.loads(result.stdout)["implausible_steps"] == 100
+
+
+def test_counts_per_rev_and_a_detected_wrap_give_the_run_and_say_so(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    csv = counts_csv(tmp_path)
+    result = runner.invoke(main, ["odom", str(csv), *robot, *COUNTS])
+    assert result.exit_code == 0, result.output
+    assert (
+        "positions   encoder counts, 78414.2 per revolution; wrapping at 65536 (detected), "
+        "7 wraps undone"
+    ) in result.stdout
+    assert "distance    1.5 m" in result.stdout
+    assert result.stderr.startswith(
+        f"warning: {csv}: the wheel positions wrap around at 65536 (a counter, detected by "
+        "itself): 7 wraps undone; give --wrap 65536"
+    )
+    data = json.loads(runner.invoke(main, ["odom", str(csv), *robot, *COUNTS, "--json"]).stdout)
+    assert_at_run_end(data)
+    assert (data["implausible_steps"], data["wrap"]) == (0, WRAP)
+
+
+def test_a_given_wrap_is_not_warned_about(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    csv = counts_csv(tmp_path)
+    result = runner.invoke(main, ["odom", str(csv), *robot, *COUNTS, "--wrap", "65536"])
+    assert result.exit_code == 0, result.output
+    assert result.stderr == ""
+    assert "wrapping at 65536 (--wrap), 7 wraps undone" in result.stdout
+
+
+def test_wrap_0_reads_the_counts_as_they_are(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    csv = counts_csv(tmp_path)
+    result = runner.invoke(main, ["odom", str(csv), *robot, *COUNTS, "--wrap", "0", "--json"])
+    # Each wrap read as a jump of 65536 counts (0.512 m in 0.1 s) is within the rim bound, but
+    # the pose is not the run's: the detection is what saves it.
+    data = json.loads(result.stdout)
+    assert data["wrap"] is None
+    assert abs(data["final_pose"]["x"] - RUN_END.x) > 0.1
+
+
+@pytest.mark.parametrize("kind", ["folder", "no metadata", "lone db3", "lone db3.zstd", "mcap"])
+def test_every_kind_of_rosbag2_gives_the_run_from_its_only_joint_state_topic(
+    runner: CliRunner, tmp_path: Path, robot: list[str], kind: str
+) -> None:
+    storage = "mcap" if kind == "mcap" else "sqlite3"
+    bag = write_bag(tmp_path / "bag", pioneer_messages(), topic=TOPIC, storage=storage)
+    if kind == "no metadata":
+        (bag / "metadata.yaml").unlink()
+    elif kind == "lone db3":
+        bag = lone_storage(bag, tmp_path / "run.db3")
+    elif kind == "lone db3.zstd":
+        bag = lone_storage(bag, tmp_path / "run.db3.zstd")
+    elif kind == "mcap":
+        bag = lone_storage(bag, tmp_path / "run.mcap")
+    result = runner.invoke(main, ["odom", str(bag), *robot, *COUNTS])
+    assert result.exit_code == 0, result.output
+    assert f"topic {TOPIC} (its only JointState topic), header stamps" in result.stdout
+    data = json.loads(runner.invoke(main, ["odom", str(bag), *robot, *COUNTS, "--json"]).stdout)
+    assert_at_run_end(data)
+
+
+def test_a_ros1_bag_is_read_directly(runner: CliRunner, tmp_path: Path, robot: list[str]) -> None:
+    bag = write_ros1_bag(tmp_path / "run.bag", pioneer_messages(), topic=TOPIC)
+    result = runner.invoke(main, ["odom", str(bag), *robot, *COUNTS, "--topic", TOPIC])
+    assert result.exit_code == 0, result.output
+    assert f"run.bag (ROS 1 bag, topic {TOPIC}, header stamps)" in result.stdout
+    data = json.loads(runner.invoke(main, ["odom", str(bag), *robot, *COUNTS, "--json"]).stdout)
+    assert_at_run_end(data)
+
+
+def test_two_joint_state_topics_and_none_asked_for_is_refused_naming_both(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    first = write_bag(tmp_path / "a", pioneer_messages(), topic=TOPIC, chatter=False)
+    second = write_bag(tmp_path / "b", pioneer_messages(), topic="/other", chatter=False)
+    folder = tmp_path / "both"
+    folder.mkdir()
+    shutil.copy(next(first.glob("*.db3")), folder / "a.db3")
+    shutil.copy(next(second.glob("*.db3")), folder / "b.db3")
+    result = runner.invoke(main, ["odom", str(folder), *robot])
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"error: {folder}: no topic '/joint_states' and several sensor_msgs/msg/JointState "
+        f"topics: '/other', '{TOPIC}'; give the one to read (--topic)\n"
+    )
+
+
+def test_missing_joints_are_named_beside_the_joints_found(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    bag = write_bag(tmp_path / "bag", pioneer_messages())
+    result = runner.invoke(main, ["odom", str(bag), *COUNTS])
+    assert result.exit_code == 2
+    assert result.stderr.startswith(f"error: {bag}: no usable sample (skipped: missing joint: 101)")
+    assert result.stderr.endswith(
+        "; wheel joints wanted: 'front_left_wheel_joint', 'front_right_wheel_joint'; "
+        "joints found: 'left_wheel_joint', 'right_wheel_joint'\n"
+    )
