@@ -76,6 +76,9 @@ class OdometrySummary(NamedTuple):
         skipped: how many samples were skipped, by reason.
         distance: path length travelled (m), the sum of |ds|.
         duration: time (s) from the first to the last used sample.
+        first_repeat_ns: the stamp (ns) of the first sample skipped for a stamp not after the
+            previous used one (a second publisher on the topic, or a clock that went back);
+            None when there was none.
     """
 
     final_pose: Pose
@@ -85,6 +88,7 @@ class OdometrySummary(NamedTuple):
     skipped: Mapping[str, int]
     distance: float
     duration: float
+    first_repeat_ns: int | None = None
 
 
 def seconds_since(stamps_ns: ArrayLike, origin_ns: int) -> NDArray[np.float64]:
@@ -189,6 +193,7 @@ class ChunkOdometry:
         self._last_used_ns: int | None = None
         self._samples = 0
         self._skipped: dict[str, int] = {}
+        self._first_repeat_ns: int | None = None
 
     def _skip(self, reason: str, count: int) -> None:
         if count:
@@ -240,6 +245,8 @@ class ChunkOdometry:
             np.maximum(before, self._last[2], out=before)
         used = t > before
         self._skip(SKIP_STAMP_NOT_AFTER, int(t.size - np.count_nonzero(used)))
+        if self._first_repeat_ns is None and not used.all():
+            self._first_repeat_ns = int(stamps[index[int(np.argmin(used))]])
         index = index[used]
         return self._integrate(stamps[index], lefts[index], rights[index], seconds[index])
 
@@ -350,4 +357,5 @@ class ChunkOdometry:
             skipped=skipped,
             distance=self._distance,
             duration=(self._last_used_ns - self._first_used_ns) / NS_PER_S,
+            first_repeat_ns=self._first_repeat_ns,
         )

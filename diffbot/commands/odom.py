@@ -28,6 +28,7 @@ from diffbot.formats.text import fmt
 from diffbot.io.outputs import check_not_input, note_input
 
 if TYPE_CHECKING:
+    from diffbot.chunk_odometry import OdometrySummary
     from diffbot.fleet import OdometryResult, OdometryTask
 
 __all__ = ["odom"]
@@ -58,6 +59,19 @@ def _stdin_stream() -> io.TextIOWrapper:
 
 def _skipped_text(skipped: Mapping[str, int]) -> str:
     return ", ".join(f"{count} {reason}" for reason, count in sorted(skipped.items()))
+
+
+def _repeat_text(summary: OdometrySummary) -> str:
+    """Why samples were skipped for their stamps, and the rule applied."""
+    if summary.first_repeat_ns is None:
+        return ""
+    from diffbot.samples import seconds_text
+
+    return (
+        f" (from stamp {seconds_text(summary.first_repeat_ns)} s on, samples whose stamp is not "
+        "after the one before: two publishers on the topic, or a clock that went back; the "
+        "first sample of each stamp is used, and only samples later than every one used)"
+    )
 
 
 def _summary(result: OdometryResult) -> dict[str, Any]:
@@ -219,7 +233,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
     if skipped_total:
         opt.warn(
             f"skipped {skipped_total} of {summary.samples + skipped_total} samples: "
-            f"{_skipped_text(summary.skipped)}"
+            f"{_skipped_text(summary.skipped)}{_repeat_text(summary)}"
         )
     warn_conditioning(run.conditioning, source)
     pose = summary.final_pose

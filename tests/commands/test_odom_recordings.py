@@ -160,3 +160,25 @@ def test_missing_joints_are_named_beside_the_joints_found(
         "; wheel joints wanted: 'front_left_wheel_joint', 'front_right_wheel_joint'; "
         "joints found: 'left_wheel_joint', 'right_wheel_joint'\n"
     )
+
+
+def test_two_publishers_on_one_topic_are_explained_once_with_the_rule(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    once = pioneer_messages()
+    twice = []
+    for stamp, received, names, positions in once:
+        twice.append((stamp, received, names, positions))
+        twice.append((stamp, received + 1000, names, positions))  # the second publisher
+    bag = write_bag(tmp_path / "bag", twice, topic=TOPIC)
+    result = runner.invoke(main, ["odom", str(bag), *robot, *COUNTS, "--wrap", "65536"])
+    assert result.exit_code == 0, result.output
+    first = once[0][0] / 1e9
+    assert result.stderr == (
+        "warning: skipped 101 of 202 samples: 101 stamp not after previous (from stamp "
+        f"{first:.1f} s on, samples whose stamp is not after the one before: two publishers on "
+        "the topic, or a clock that went back; the first sample of each stamp is used, and only "
+        "samples later than every one used)\n"
+    )
+    data = json.loads(runner.invoke(main, ["odom", str(bag), *robot, *COUNTS, "--json"]).stdout)
+    assert_at_run_end(data)
