@@ -55,6 +55,11 @@ FLAGS = {
     "min_radius": "--min-radius",
     "forward_only": "--forward-only",
     "topic": "--topic",
+    "time_column": "--time-column",
+    "left_column": "--left-column",
+    "right_column": "--right-column",
+    "delimiter": "--delimiter",
+    "time_unit": "--time-unit",
 }
 
 

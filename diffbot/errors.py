@@ -37,6 +37,11 @@ PARAMETERS: Mapping[str, str] = {
     "min_radius": "min_radius=",
     "forward_only": "forward_only=True",
     "topic": "topic=",
+    "time_column": "time_column=",
+    "left_column": "left_column=",
+    "right_column": "right_column=",
+    "delimiter": "delimiter=",
+    "time_unit": "time_unit=",
 }
 
 __all__ = [

@@ -19,6 +19,7 @@ from diffbot.chunk_odometry import ChunkPoses
 from diffbot.conditioning import Conditioning
 from diffbot.errors import DiffbotError, OutputError, RecordingError
 from diffbot.io.bag import OdometryBagWriter
+from diffbot.io.csv_chunks import CsvLayout
 from diffbot.io.csvfile import ODOMETRY_HEADER, odometry_lines
 from diffbot.io.outputs import atomic_text, input_clash
 from diffbot.io.recordings import Progress, RecordingOdometry, csv_odometry, recording_odometry
@@ -53,6 +54,7 @@ class OdometryTask:
         force: replace an existing output.
         conditioning: the recorded positions' units and wrap (default: radians, wraps
             detected).
+        layout: a CSV's columns, delimiter and time unit, where not the defaults.
     """
 
     input: str
@@ -62,6 +64,7 @@ class OdometryTask:
     as_bag: bool = False
     force: bool = False
     conditioning: Conditioning | None = None
+    layout: CsvLayout | None = None
 
 
 @dataclass(frozen=True)
@@ -144,6 +147,7 @@ def run_task(
                     sink=sink,
                     progress=progress,
                     conditioning=task.conditioning,
+                    layout=task.layout,
                 )
             return recording_odometry(
                 task.input,
@@ -152,6 +156,7 @@ def run_task(
                 sink=sink,
                 progress=progress,
                 conditioning=task.conditioning,
+                layout=task.layout,
             )
 
         inputs = [] if task.input == "-" else [Path(task.input)]

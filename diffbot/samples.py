@@ -82,6 +82,7 @@ class Recording:
         conditioning: what was done to the recorded positions (units, wraps) and the steps
             found implausible; None when they were read as they are.
         topic: for a bag, the topic read; None for a CSV.
+        notes: what the reader judged by itself (a CSV's delimiter, its time unit), for people.
     """
 
     source: str
@@ -91,6 +92,7 @@ class Recording:
     clock: str | None = None
     conditioning: ConditioningReport | None = None
     topic: str | None = None
+    notes: tuple[str, ...] = ()
 
 
 def beyond_range(position: float) -> bool:
@@ -108,9 +110,12 @@ def seconds_text(stamp_ns: int) -> str:
     return f"{sign}{whole}.{frac:09d}".rstrip("0")
 
 
-def ns_from_seconds(text: str) -> int | None:
+def ns_from_seconds(text: str, decimals: int = 9) -> int | None:
     """Decimal seconds -> ns, exactly rounded (ties to even); None if NaN or infinite;
     ValueError if not a plain decimal number (Python's digit grouping, ``1_0``, included).
+
+    ``decimals`` reads the text in another unit: 9 for seconds, 6 for milliseconds, 3 for
+    microseconds, 0 for nanoseconds (the power of ten that makes the unit nanoseconds).
 
     Beyond 1e30 s (far outside ROS time) the result is ±10**39 rather than the exact value, so
     that ``1e100000000`` costs nothing.
@@ -129,7 +134,7 @@ def ns_from_seconds(text: str) -> int | None:
         return 0
     sign, digits, exponent = seconds.as_tuple()
     assert isinstance(exponent, int)  # finite
-    nanoseconds = Decimal((sign, digits, exponent + 9))  # exact: no context rounding
+    nanoseconds = Decimal((sign, digits, exponent + decimals))  # exact: no context rounding
     return int(nanoseconds.to_integral_value(rounding=ROUND_HALF_EVEN))
 
 

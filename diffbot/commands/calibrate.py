@@ -26,6 +26,7 @@ from diffbot.commands.recording_options import (
     RecordingOptions,
     recording_options,
     warn_conditioning,
+    warn_notes,
 )
 from diffbot.errors import CalibrationError
 from diffbot.formats.calibration import calibration_data, calibration_lines
@@ -340,7 +341,10 @@ def fit(
         check_topic("--truth-topic", truth_topic)
     if window is not None and window_duration is not None:
         fail("give --window or --window-duration, not both")
-    wheels = read_recording(rest[0], params, topic, conditioning=recording.conditioning())
+    wheels = read_recording(
+        rest[0], params, topic, conditioning=recording.conditioning(), **recording.csv()
+    )
+    warn_notes(wheels.notes, rest[0])
     if wheels.conditioning is not None:
         warn_conditioning(wheels.conditioning, rest[0])
     track = read_pose_track(rest[0] if truth is None else truth, truth_topic)

@@ -22,6 +22,7 @@ from diffbot.commands.recording_options import (
     conditioning_lines,
     recording_options,
     warn_conditioning,
+    warn_notes,
 )
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
@@ -183,6 +184,7 @@ def odom(
         )
     sources = _expand(rest)
     conditioning = recording.conditioning()
+    layout = recording.layout()
     out.require_out_for_bag()
     robot = robot.with_path(None, xacro_args)
     if len(sources) > 1:
@@ -193,7 +195,7 @@ def odom(
         p = robot.load()
         outputs = _outputs(sources, out)
         tasks = [
-            OdometryTask(source, p, topic, output, out.as_bag, out.force, conditioning)
+            OdometryTask(source, p, topic, output, out.as_bag, out.force, conditioning, layout)
             for source, output in zip(sources, outputs, strict=True)
         ]
         _many(tasks, jobs, dask_address, quiet=quiet, as_json=as_json)
@@ -207,7 +209,7 @@ def odom(
     p = robot.load()
     out_path = out.path([*inputs, *(Path(path) for path in p.description_files)])
     output = None if out_path is None else str(out_path)
-    task = OdometryTask(source, p, topic, output, out.as_bag, out.force, conditioning)
+    task = OdometryTask(source, p, topic, output, out.as_bag, out.force, conditioning, layout)
     _one(task, quiet, as_json, out)
 
 
@@ -235,6 +237,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
             f"skipped {skipped_total} of {summary.samples + skipped_total} samples: "
             f"{_skipped_text(summary.skipped)}{_repeat_text(summary)}"
         )
+    warn_notes(run.notes, source)
     warn_conditioning(run.conditioning, source)
     pose = summary.final_pose
     if as_json:
@@ -319,6 +322,7 @@ def _many(
                 click.echo(f"{result.task.input:<{width}} error: {_error_text(result)}")
             continue
         assert result.run is not None
+        warn_notes(result.run.notes, result.task.input)
         warn_conditioning(result.run.conditioning, result.task.input)
         implausible += result.run.conditioning.implausible_steps > 0
         data = _summary(result)

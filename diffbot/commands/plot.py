@@ -20,6 +20,7 @@ from diffbot.commands.recording_options import (
     RecordingOptions,
     recording_options,
     warn_conditioning,
+    warn_notes,
 )
 from diffbot.formats.text import fmt
 from diffbot.io.outputs import output_target
@@ -42,7 +43,10 @@ def _odometry(
 
     recordings: list[tuple[str, list[float], list[float]]] = []
     for source in inputs:
-        recording = read_recording(source, params, topic, conditioning=options.conditioning())
+        recording = read_recording(
+            source, params, topic, conditioning=options.conditioning(), **options.csv()
+        )
+        warn_notes(recording.notes, source)
         if recording.conditioning is not None:
             warn_conditioning(recording.conditioning, source)
         run = run_odometry(recording, Odometry(params))

@@ -15,8 +15,15 @@ from diffbot.formats.text import fmt
 
 if TYPE_CHECKING:
     from diffbot.conditioning import Conditioning, ConditioningReport
+    from diffbot.io.csv_chunks import CsvLayout
 
-__all__ = ["RecordingOptions", "conditioning_lines", "recording_options", "warn_conditioning"]
+__all__ = [
+    "RecordingOptions",
+    "conditioning_lines",
+    "recording_options",
+    "warn_conditioning",
+    "warn_notes",
+]
 
 
 @dataclass(frozen=True)
@@ -26,10 +33,36 @@ class RecordingOptions:
     Attributes:
         counts_per_rev: encoder counts per revolution (None: radians).
         wrap: a counter's modulus (None: detected; 0: none).
+        time_column: a CSV's time column.
+        left_column: a CSV's left wheel column(s), comma-separated.
+        right_column: a CSV's right wheel column(s).
+        delimiter: a CSV's delimiter.
+        time_unit: a CSV's time unit.
     """
 
     counts_per_rev: float | None = None
     wrap: float | None = None
+    time_column: str | None = None
+    left_column: str | None = None
+    right_column: str | None = None
+    delimiter: str | None = None
+    time_unit: str | None = None
+
+    def csv(self) -> dict[str, str | None]:
+        """The CSV options as :func:`~diffbot.io.recordings.read_recording` takes them."""
+        return {
+            "time_column": self.time_column,
+            "left_column": self.left_column,
+            "right_column": self.right_column,
+            "delimiter": self.delimiter,
+            "time_unit": self.time_unit,
+        }
+
+    def layout(self) -> CsvLayout:
+        """The CSV options as a :class:`~diffbot.io.csv_chunks.CsvLayout`."""
+        from diffbot.io.recordings import csv_layout
+
+        return csv_layout(**self.csv())
 
     def conditioning(self) -> Conditioning:
         """The library's :class:`~diffbot.conditioning.Conditioning`."""
@@ -52,11 +85,47 @@ _OPTIONS = [
         help="The positions come from a counter that wraps at N (65536 for 16 bits; a step "
         "beyond ±N/2 is a wrap). Default: detected by itself, and said so; 0: no wrap.",
     ),
+    click.option(
+        "--time-column",
+        metavar="NAME",
+        help="A CSV's time column (default: time, stamp, t or __time).",
+    ),
+    click.option(
+        "--left-column",
+        metavar="NAME[,NAME]",
+        help="A CSV's left wheel position column(s) (default: named by the joints).",
+    ),
+    click.option(
+        "--right-column",
+        metavar="NAME[,NAME]",
+        help="A CSV's right wheel position column(s) (default: named by the joints).",
+    ),
+    click.option(
+        "--delimiter",
+        metavar="C",
+        help="A CSV's delimiter (default: a comma, or the ; tab or | that splits the header).",
+    ),
+    click.option(
+        "--time-unit",
+        type=click.Choice(["s", "ms", "us", "ns"]),
+        help="A CSV's time unit (default: seconds, or as the first stamp's size says, and "
+        "said so).",
+    ),
 ]
+
+_FIELDS = (
+    "counts_per_rev",
+    "wrap",
+    "time_column",
+    "left_column",
+    "right_column",
+    "delimiter",
+    "time_unit",
+)
 
 
 def _from(kwargs: dict[str, Any]) -> RecordingOptions:
-    return RecordingOptions(kwargs.pop("counts_per_rev"), kwargs.pop("wrap"))
+    return RecordingOptions(**{name: kwargs.pop(name) for name in _FIELDS})
 
 
 def recording_options(command: F) -> F:
@@ -81,6 +150,13 @@ def conditioning_lines(report: ConditioningReport) -> list[tuple[str, str]]:
             f"wrap{'s' if report.wraps != 1 else ''} undone"
         )
     return [("positions", "; ".join(parts))] if parts else []
+
+
+def warn_notes(notes: tuple[str, ...], source: str) -> None:
+    """What the reader judged by itself, on stderr (the options that choose it instead)."""
+    for note in notes:
+        option = "--time-unit" if "stamps" in note else "--delimiter"
+        warn(f"{source}: {note}; {option} to choose")
 
 
 def warn_conditioning(report: ConditioningReport, source: str) -> None:

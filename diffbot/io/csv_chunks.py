@@ -21,8 +21,10 @@ import contextlib
 import csv
 import io
 import itertools
+import math
 import os
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final, NamedTuple, TextIO
 
 import numpy as np
@@ -35,7 +37,6 @@ from diffbot.odometry import SKIP_NOT_FINITE
 from diffbot.samples import (
     INT64,
     MAX_POSITION,
-    NS_PER_S,
     SKIP_MISSING_STAMP,
     SKIP_POSITION_RANGE,
     SKIP_STAMP_RANGE,
@@ -58,16 +59,31 @@ ConditionerFactory = Callable[[Sequence[str], int], "Conditioner"]
 __all__ = [
     "CHUNK_BYTES",
     "TIME_COLUMNS",
+    "TIME_UNITS",
+    "UNIT_NAMES",
     "CsvChunk",
     "CsvChunks",
+    "CsvLayout",
     "open_csv_chunks",
     "read_csv",
     "stamp_ns_from_text",
     "stamps_from_digits",
+    "unit_by_magnitude",
 ]
 
 #: Names a time column may have (seconds), case-insensitive, in order of preference.
 TIME_COLUMNS: Final = ("time", "stamp", "t", "__time")
+#: Time units of a time column, as the power of ten that turns each into nanoseconds.
+TIME_UNITS: Final = {"s": 9, "ms": 6, "us": 3, "ns": 0}
+#: Names of the time units for people.
+UNIT_NAMES: Final = {
+    "s": "seconds",
+    "ms": "milliseconds",
+    "us": "microseconds",
+    "ns": "nanoseconds",
+}
+#: Delimiters recognised in a header when none is given, besides the comma.
+_OTHER_DELIMITERS: Final = (";", "\t", "|")
 #: Characters of text read per chunk: about 17,000 rows of a simulator's CSV. Larger chunks are
 #: no faster and leave more memory behind (measured: 48 MB peak at 1 MiB, 84 MB at 4 MiB).
 CHUNK_BYTES: Final = 1 << 20
@@ -98,8 +114,9 @@ class CsvChunk(NamedTuple):
     chars: int = 0
 
 
-def stamp_ns_from_text(text: str) -> int | None:
-    """A time cell (decimal seconds) as integer ns, exactly rounded (ties to even).
+def stamp_ns_from_text(text: str, decimals: int = 9) -> int | None:
+    """A time cell (decimal seconds, or the unit ``decimals`` says: see
+    :func:`diffbot.samples.ns_from_seconds`) as integer ns, exactly rounded (ties to even).
 
     Returns:
         The stamp (ns), or None when the text is NaN or infinite.
@@ -112,18 +129,18 @@ def stamp_ns_from_text(text: str) -> int | None:
     if (
         whole.isdigit()
         and whole.isascii()
-        and len(whole) <= 12
-        and len(frac) <= 9
+        and len(whole) <= 21 - decimals
+        and len(frac) <= decimals
         and (not frac or (frac.isdigit() and frac.isascii()))
     ):
-        return int(whole) * NS_PER_S + int(frac.ljust(9, "0"))
-    return ns_from_seconds(text)
+        return int(whole + frac.ljust(decimals, "0"))  # whole * 10**decimals + frac
+    return ns_from_seconds(text, decimals)
 
 
-def _stamp(text: str) -> int | str:
+def _stamp(text: str, decimals: int = 9) -> int | str:
     """A time cell as ns in int64, or the reason the row is skipped."""
     try:
-        stamp_ns = stamp_ns_from_text(text)
+        stamp_ns = stamp_ns_from_text(text, decimals)
     except ValueError:
         return SKIP_MISSING_STAMP if not text.strip() else SKIP_UNREADABLE
     if stamp_ns is None:
@@ -162,7 +179,7 @@ def _columns(
     return found
 
 
-def _rows_exactly(rows: Iterable[list[str]], indexes: Sequence[int]) -> CsvChunk:
+def _rows_exactly(rows: Iterable[list[str]], indexes: Sequence[int], decimals: int = 9) -> CsvChunk:
     """Rows parsed by :mod:`csv` into one chunk, cell by cell."""
     time_index, *joint_indexes = indexes
     width = max(indexes) + 1
@@ -175,7 +192,7 @@ def _rows_exactly(rows: Iterable[list[str]], indexes: Sequence[int]) -> CsvChunk
             if not any(cell.strip() for cell in row):
                 continue  # a blank line is no sample
             row = row + [""] * (width - len(row))  # the cells a short row lacks are empty
-        stamp = _stamp(row[time_index])
+        stamp = _stamp(row[time_index], decimals)
         if isinstance(stamp, str):
             if any(cell.strip() for cell in row):  # a line of empty cells is no sample
                 skipped[stamp] = skipped.get(stamp, 0) + 1
@@ -209,16 +226,21 @@ def _rows_exactly(rows: Iterable[list[str]], indexes: Sequence[int]) -> CsvChunk
     )
 
 
-def stamps_from_digits(cells: NDArray[np.bytes_]) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+def stamps_from_digits(
+    cells: NDArray[np.bytes_], decimals: int = 9
+) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
     """Time cells of plain digits (``12``, ``1700000000.123``) as ns, by integer arithmetic.
 
     Args:
         cells: the cells as bytes, shape (n,).
+        decimals: the unit of the cells as the power of ten that makes it ns (9: seconds).
 
     Returns:
-        The stamps (ns) and whether each cell was of that form (at most 10 digits before the
-        point, at most 9 after, in int64); the stamps of the others are 0.
+        The stamps (ns) and whether each cell was of that form (at most ``19 - decimals``
+        digits before the point, at most ``decimals`` after, in int64); the stamps of the
+        others are 0.
     """
+    unit = decimals
     n = cells.shape[0]
     width = cells.dtype.itemsize
     if n == 0 or width == 0:
@@ -229,7 +251,7 @@ def stamps_from_digits(cells: NDArray[np.bytes_]) -> tuple[NDArray[np.int64], ND
     columns = np.ascontiguousarray(chars[:, : (int(used[-1]) + 1 if used.size else 1)].T)
     value = np.zeros(n, dtype=np.uint64)
     digits = np.zeros(n, dtype=np.uint8)
-    decimals = np.zeros(n, dtype=np.uint8)
+    places = np.zeros(n, dtype=np.uint8)
     dots = np.zeros(n, dtype=np.uint8)
     padded = np.zeros(n, dtype=np.bool_)
     bad = np.zeros(n, dtype=np.bool_)
@@ -243,15 +265,79 @@ def stamps_from_digits(cells: NDArray[np.bytes_]) -> tuple[NDArray[np.int64], ND
         padded |= is_nul
         dots += is_dot
         digits += is_digit
-        decimals += is_digit & (dots > 0)
+        places += is_digit & (dots > 0)
         value = np.where(is_digit, value * ten + digit, value)
-    whole = digits - decimals
-    ok = ~bad & (dots <= 1) & (whole >= 1) & (whole <= 10) & (decimals <= 9)
-    scale = _POW10[9 - np.minimum(decimals, 9)]
+    whole = digits - places
+    ok = ~bad & (dots <= 1) & (whole >= 1) & (whole <= 19 - unit) & (places <= unit)
+    scale = _POW10[unit - np.minimum(places, unit)]
     total = value * scale
     ok &= total < np.uint64(INT64)
     stamps = np.where(ok, total, np.uint64(0)).astype(np.int64)
     return stamps, ok
+
+
+@dataclass(frozen=True)
+class CsvLayout:
+    """How to read a CSV written by another tool: which columns, which delimiter, which unit.
+
+    Attributes:
+        time_column: the time column's name (default: the first of :data:`TIME_COLUMNS`).
+        left_columns: the left wheels' position columns (default: named by the joints).
+        right_columns: the right wheels' position columns.
+        delimiter: the delimiter (default: a comma, or the one the header is split by: ``;``,
+            a tab or ``|``).
+        time_unit: ``s``, ``ms``, ``us`` or ``ns`` (default: seconds, unless the first stamp is
+            too large for seconds since 1970: its magnitude says which).
+    """
+
+    time_column: str | None = None
+    left_columns: tuple[str, ...] | None = None
+    right_columns: tuple[str, ...] | None = None
+    delimiter: str | None = None
+    time_unit: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.delimiter is not None and len(self.delimiter) != 1:
+            raise RecordingError(
+                f"the delimiter must be one character, got {self.delimiter!r} ({{delimiter}})"
+            )
+        if self.time_unit is not None and self.time_unit not in TIME_UNITS:
+            raise RecordingError(
+                f"unknown time unit {self.time_unit!r}: give one of {', '.join(TIME_UNITS)} "
+                "({time_unit})"
+            )
+
+
+def unit_by_magnitude(value: float) -> str:
+    """The time unit of a stamp judged by its size: a time since 1970 in seconds is below
+    1e11 until the year 5138; in ms, us and ns it is a thousand, a million, a billion times
+    larger."""
+    size = abs(value)
+    if size >= 1e17:
+        return "ns"
+    if size >= 1e14:
+        return "us"
+    if size >= 1e11:
+        return "ms"
+    return "s"
+
+
+def _named_columns(
+    headers: Sequence[str], names: Sequence[str], option: str, source: str
+) -> list[tuple[str, int]]:
+    """The columns named exactly (or else, ignoring case, uniquely) as (name, index)."""
+    found = []
+    lowered = [h.lower() for h in headers]
+    for name in names:
+        if name in headers:
+            found.append((name, headers.index(name)))
+        elif lowered.count(name.lower()) == 1:
+            found.append((name, lowered.index(name.lower())))
+        else:
+            raise RecordingError(
+                f"{source}: no column {name!r} ({option}); columns found: {listing(headers)}"
+            )
+    return found
 
 
 class CsvChunks:
@@ -264,10 +350,17 @@ class CsvChunks:
         sides: the left wheel joints and the right wheel joints.
         chunk_bytes: text read per chunk (characters, about).
         source: the input's name in messages.
+        layout: columns, delimiter and time unit, where not the defaults.
 
     Attributes:
-        joints: the wheel joints that have a column, the left ones first.
+        joints: the wheel joints that have a column (or the columns named by ``layout``), the
+            left ones first.
         left_count: how many of them are on the left.
+        delimiter: the delimiter used.
+        delimiter_detected: whether it was found in the header rather than given or a comma.
+        time_unit: the time unit (``s``, ``ms``, ``us``, ``ns``); known once the first chunk
+            is read when not given.
+        unit_detected: whether ``time_unit`` was judged by the first stamp's magnitude.
 
     Raises:
         RecordingError: empty or non-text input, no time column, no column for a side, several
@@ -281,30 +374,92 @@ class CsvChunks:
         *,
         chunk_bytes: int = CHUNK_BYTES,
         source: str = "<stream>",
+        layout: CsvLayout | None = None,
     ) -> None:
+        layout = layout or CsvLayout()
         self.chunk_bytes = chunk_bytes
         self.source = source
         self._stream = stream
+        self.delimiter = layout.delimiter or ","
+        self.delimiter_detected = False
+        self.time_unit = layout.time_unit or "s"
+        self.unit_detected = False
+        self._unit_known = layout.time_unit is not None
         headers: list[str] | None = None
         with self._errors():
-            for row in csv.reader(self._stream):
+            for row in csv.reader(self._stream, delimiter=self.delimiter):
                 if any(cell.strip() for cell in row):
                     headers = [h.strip() for h in row]
                     break
         if headers is None:
             raise RecordingError(f"{source}: empty file")
+        if layout.delimiter is None and len(headers) == 1:
+            counts = {d: headers[0].count(d) for d in _OTHER_DELIMITERS}
+            other = max(counts, key=lambda d: counts[d])
+            if counts[other]:
+                self.delimiter = other
+                self.delimiter_detected = True
+                headers = [h.strip() for h in next(csv.reader([headers[0]], delimiter=other))]
         lowered = [h.lower() for h in headers]
-        time_index = next((lowered.index(n) for n in TIME_COLUMNS if n in lowered), None)
-        if time_index is None:
-            raise RecordingError(
-                f"{source}: no time column ({', '.join(TIME_COLUMNS)}, in seconds); "
-                f"columns found: {listing(headers)}"
+        if layout.time_column is not None:
+            ((_, time_index),) = _named_columns(
+                headers, [layout.time_column], "{time_column}", source
             )
-        left = _columns(headers, sides[0], "left", source)
-        right = _columns(headers, sides[1], "right", source)
+        else:
+            found = next((lowered.index(n) for n in TIME_COLUMNS if n in lowered), None)
+            if found is None:
+                raise RecordingError(
+                    f"{source}: no time column ({', '.join(TIME_COLUMNS)}; or name it: "
+                    f"{{time_column}}); columns found: {listing(headers)}"
+                )
+            time_index = found
+        if layout.left_columns is not None:
+            left = _named_columns(headers, layout.left_columns, "{left_column}", source)
+        else:
+            left = _columns(headers, sides[0], "left", source)
+        if layout.right_columns is not None:
+            right = _named_columns(headers, layout.right_columns, "{right_column}", source)
+        else:
+            right = _columns(headers, sides[1], "right", source)
         self.joints = tuple(joint for joint, _ in left + right)
         self.left_count = len(left)
         self.indexes = (time_index, *(index for _, index in left + right))
+
+    def notes(self) -> tuple[str, ...]:
+        """What was judged rather than given, for people: the delimiter, the time unit."""
+        notes = []
+        if self.delimiter_detected:
+            notes.append(f"columns separated by {self.delimiter!r}, as the header is")
+        if self.unit_detected:
+            notes.append(
+                f"stamps read as {UNIT_NAMES[self.time_unit]}, judged by the size of the first "
+                "(too large for seconds since 1970)"
+            )
+        return tuple(notes)
+
+    @property
+    def _decimals(self) -> int:
+        return TIME_UNITS[self.time_unit]
+
+    def _judge_unit(self, text: str) -> None:
+        """Take the time unit from the first stamp's magnitude, when not given."""
+        for line in io.StringIO(text, newline=""):
+            if not line.strip():
+                continue
+            row = next(csv.reader([line], delimiter=self.delimiter), [])
+            if len(row) <= self.indexes[0]:
+                return
+            try:
+                value = float(row[self.indexes[0]])
+            except ValueError:
+                return
+            if math.isfinite(value):
+                unit = unit_by_magnitude(value)
+                self._unit_known = True
+                if unit != "s":
+                    self.time_unit = unit
+                    self.unit_detected = True
+            return
 
     def _errors(self) -> contextlib.AbstractContextManager[None]:
         return _translated(self.source)
@@ -323,6 +478,9 @@ class CsvChunks:
             if block:  # cut after the last complete line; the rest starts the next chunk
                 cut = text.rfind("\n") + 1
                 text, carry = text[:cut], text[cut:]
+            if not self._unit_known:
+                with self._errors():
+                    self._judge_unit(text)
             if not text or '"' in text or "\0" in text:
                 # Quotes may hold delimiters and line breaks across chunks: csv from here on.
                 yield from self._exact_rest(text, carry)
@@ -338,24 +496,24 @@ class CsvChunks:
                 yield from io.StringIO(carry + self._stream.readline(), newline="")
             yield from self._stream
 
-        rows = csv.reader(lines())
+        rows = csv.reader(lines(), delimiter=self.delimiter)
         while True:
             with self._errors():
                 batch = list(itertools.islice(rows, _EXACT_ROWS))
             if not batch:
                 return
-            yield _rows_exactly(batch, self.indexes)
+            yield _rows_exactly(batch, self.indexes, self._decimals)
 
     def _fast(self, text: str, dtype: np.dtype[np.void]) -> CsvChunk:
         """Complete lines without quotes: loadtxt when it can, else csv row by row."""
         if len(set(self.indexes)) != len(self.indexes):
             return self._exact(text)
         if text.isspace():
-            return _rows_exactly([], self.indexes)  # blank lines are no samples
+            return _rows_exactly([], self.indexes, self._decimals)  # blank lines: no samples
         try:
             table = np.loadtxt(
                 io.StringIO(text),
-                delimiter=",",
+                delimiter=self.delimiter,
                 usecols=self.indexes,
                 dtype=dtype,
                 comments=None,
@@ -367,11 +525,11 @@ class CsvChunks:
         cells = np.ascontiguousarray(table["t"])
         if cells.size and np.any(cells.view(np.uint8).reshape(cells.size, -1)[:, -1]):
             return self._exact(text)  # a time cell may have been cut to _TIME_WIDTH bytes
-        stamps, ok = stamps_from_digits(cells)
+        stamps, ok = stamps_from_digits(cells, self._decimals)
         keep = np.ones(cells.size, dtype=np.bool_)
         skipped: dict[str, int] = {}
         for k in np.flatnonzero(~ok).tolist():
-            stamp = _stamp(bytes(cells[k]).decode("latin-1"))
+            stamp = _stamp(bytes(cells[k]).decode("latin-1"), self._decimals)
             if isinstance(stamp, str):
                 skipped[stamp] = skipped.get(stamp, 0) + 1
                 keep[k] = False
@@ -392,7 +550,8 @@ class CsvChunks:
 
     def _exact(self, text: str) -> CsvChunk:
         with self._errors():
-            return _rows_exactly(csv.reader(io.StringIO(text, newline="")), self.indexes)
+            rows = csv.reader(io.StringIO(text, newline=""), delimiter=self.delimiter)
+            return _rows_exactly(rows, self.indexes, self._decimals)
 
 
 @contextlib.contextmanager
@@ -413,6 +572,7 @@ def open_csv_chunks(
     *,
     chunk_bytes: int = CHUNK_BYTES,
     source: str | None = None,
+    layout: CsvLayout | None = None,
 ) -> Iterator[CsvChunks]:
     """The chunks of a recording CSV file or stream; the file is closed at the end.
 
@@ -429,10 +589,10 @@ def open_csv_chunks(
     if isinstance(path, (str, os.PathLike)):
         name = source if source is not None else os.fspath(path)
         with open_text(path, RecordingError, "a CSV file", name=name, newline="") as stream:
-            yield CsvChunks(stream, sides, chunk_bytes=chunk_bytes, source=name)
+            yield CsvChunks(stream, sides, chunk_bytes=chunk_bytes, source=name, layout=layout)
         return
     name = source if source is not None else str(getattr(path, "name", "<stream>"))
-    yield CsvChunks(path, sides, chunk_bytes=chunk_bytes, source=name)
+    yield CsvChunks(path, sides, chunk_bytes=chunk_bytes, source=name, layout=layout)
 
 
 def read_csv(
@@ -442,6 +602,7 @@ def read_csv(
     *,
     source: str | None = None,
     conditioner: ConditionerFactory | None = None,
+    layout: CsvLayout | None = None,
 ) -> Recording:
     """Read the wheel joint samples of a recording CSV whole, as compact columns.
 
@@ -455,6 +616,7 @@ def read_csv(
         source: the input's name in messages (default: the path, or the stream's name).
         conditioner: makes what turns each joint's recorded positions into angles (units,
             wraps) before the sides are averaged; None to take them as they are.
+        layout: columns, delimiter and time unit, where not the defaults.
 
     Returns:
         One sample per data row, holding the sides whose cells are not all empty. Rows whose
@@ -468,7 +630,7 @@ def read_csv(
     sides = tuple((s,) if isinstance(s, str) else tuple(s) for s in (left_joint, right_joint))
     first = (sides[0][0], sides[1][0])
     skipped: dict[str, int] = {}
-    with open_csv_chunks(path, (sides[0], sides[1]), source=source) as chunks:
+    with open_csv_chunks(path, (sides[0], sides[1]), source=source, layout=layout) as chunks:
         samples = ColumnSamples(*first)
         condition = None if conditioner is None else conditioner(chunks.joints, chunks.left_count)
         for chunk in chunks:
@@ -485,4 +647,6 @@ def read_csv(
             samples.right.extend(right.tolist())
             samples.present.extend((have_left + 2 * have_right.astype(np.uint8)).tolist())
         report = None if condition is None else condition.report()
-        return Recording(chunks.source, "csv", samples, skipped, conditioning=report)
+        return Recording(
+            chunks.source, "csv", samples, skipped, conditioning=report, notes=chunks.notes()
+        )

@@ -29,7 +29,7 @@ from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.bag import JOINT_STATE, bag_suffix, is_bag, read_bag
 from diffbot.io.bag_chunks import CHUNK_MESSAGES, BagError, TopicChunks
-from diffbot.io.csv_chunks import CHUNK_BYTES, open_csv_chunks, read_csv
+from diffbot.io.csv_chunks import CHUNK_BYTES, CsvLayout, open_csv_chunks, read_csv
 from diffbot.io.jointstate_cdr import decode_positions
 from diffbot.io.outputs import note_input
 from diffbot.io.textfile import check_regular
@@ -53,6 +53,7 @@ __all__ = [
     "PoseSink",
     "RecordingOdometry",
     "bag_odometry",
+    "csv_layout",
     "csv_odometry",
     "existing_recording",
     "read_recording",
@@ -88,6 +89,7 @@ class RecordingOdometry:
         topic: for a bag, the topic read; None for a CSV.
         topic_chosen: whether the topic was not asked for but taken as the bag's only
             JointState topic.
+        notes: what the reader judged by itself (a CSV's delimiter, its time unit), for people.
     """
 
     def __init__(
@@ -99,6 +101,7 @@ class RecordingOdometry:
         conditioning: ConditioningReport,
         topic: str | None = None,
         topic_chosen: bool = False,
+        notes: tuple[str, ...] = (),
     ) -> None:
         self.source = source
         self.kind = kind
@@ -107,6 +110,7 @@ class RecordingOdometry:
         self.conditioning = conditioning
         self.topic = topic
         self.topic_chosen = topic_chosen
+        self.notes = notes
 
 
 def csv_odometry(
@@ -118,6 +122,7 @@ def csv_odometry(
     source: str | None = None,
     chunk_bytes: int = CHUNK_BYTES,
     conditioning: Conditioning | None = None,
+    layout: CsvLayout | None = None,
 ) -> RecordingOdometry:
     """The odometry of the wheel columns of a recording CSV (a file or a text stream).
 
@@ -129,8 +134,9 @@ def csv_odometry(
             malformed CSV, or no usable sample.
     """
     odom = ChunkOdometry(params)
+    sides = (params.left_joints, params.right_joints)
     with open_csv_chunks(
-        path, (params.left_joints, params.right_joints), chunk_bytes=chunk_bytes, source=source
+        path, sides, chunk_bytes=chunk_bytes, source=source, layout=layout
     ) as chunks:
         conditioner = Conditioner.for_robot(params, chunks.joints, chunks.left_count, conditioning)
         for chunk in chunks:
@@ -144,7 +150,8 @@ def csv_odometry(
             if progress is not None:
                 progress(chunk.chars)
         summary = odom.summary(chunks.source)
-        return RecordingOdometry(chunks.source, "csv", summary, None, conditioner.report())
+        report = conditioner.report()
+        return RecordingOdometry(chunks.source, "csv", summary, None, report, notes=chunks.notes())
 
 
 def _bag_pass(
@@ -291,6 +298,7 @@ def recording_odometry(
     sink: PoseSink | None = None,
     progress: Progress | None = None,
     conditioning: Conditioning | None = None,
+    layout: CsvLayout | None = None,
 ) -> RecordingOdometry:
     """The odometry of a CSV file or a rosbag2 recording, by what the path is.
 
@@ -302,6 +310,7 @@ def recording_odometry(
         progress: called after each chunk with how much of the input it used (see
             :func:`recording_size`).
         conditioning: the positions' units and wrap (default: radians, wraps detected).
+        layout: a CSV's columns, delimiter and time unit, where not the defaults.
 
     Raises:
         RecordingError: missing, empty or unreadable input; missing columns or topic; no
@@ -312,7 +321,9 @@ def recording_odometry(
         return bag_odometry(
             p, params, topic, sink=sink, progress=progress, conditioning=conditioning
         )
-    return csv_odometry(p, params, sink=sink, progress=progress, conditioning=conditioning)
+    return csv_odometry(
+        p, params, sink=sink, progress=progress, conditioning=conditioning, layout=layout
+    )
 
 
 def recording_size(path: str | os.PathLike[str], topic: str | None = None) -> int | None:
@@ -336,6 +347,11 @@ def read_recording(
     topic: str | None = None,
     *,
     conditioning: Conditioning | None = None,
+    time_column: str | None = None,
+    left_column: str | Sequence[str] | None = None,
+    right_column: str | Sequence[str] | None = None,
+    delimiter: str | None = None,
+    time_unit: str | None = None,
 ) -> Recording:
     """Read wheel joint samples whole from a CSV file or a rosbag2 recording.
 
@@ -346,6 +362,12 @@ def read_recording(
         conditioning: the positions' units and wrap (default: radians, wraps detected); the
             samples hold the wheel angles, and ``conditioning`` of the result says what was
             done.
+        time_column: a CSV's time column (default: ``time``, ``stamp``, ``t`` or ``__time``).
+        left_column: a CSV's left wheel position column(s) (default: named by the joints).
+        right_column: a CSV's right wheel position column(s).
+        delimiter: a CSV's delimiter (default: a comma, or what splits the header).
+        time_unit: a CSV's time unit, ``s``, ``ms``, ``us`` or ``ns`` (default: seconds, or as
+            the first stamp's size says; the result's ``notes`` say so).
 
     Returns:
         The samples.
@@ -362,7 +384,29 @@ def read_recording(
     def conditioner(joints: Sequence[str], left_count: int) -> Conditioner:
         return Conditioner.for_robot(params, joints, left_count, conditioning)
 
-    return read_csv(p, params.left_joints, params.right_joints, conditioner=conditioner)
+    layout = csv_layout(time_column, left_column, right_column, delimiter, time_unit)
+    return read_csv(
+        p, params.left_joints, params.right_joints, conditioner=conditioner, layout=layout
+    )
+
+
+def csv_layout(
+    time_column: str | None = None,
+    left_column: str | Sequence[str] | None = None,
+    right_column: str | Sequence[str] | None = None,
+    delimiter: str | None = None,
+    time_unit: str | None = None,
+) -> CsvLayout:
+    """A :class:`~diffbot.io.csv_chunks.CsvLayout` from the library's arguments (a column
+    given as a string may list several, comma-separated)."""
+
+    def names(value: str | Sequence[str] | None) -> tuple[str, ...] | None:
+        if value is None:
+            return None
+        parts = value.split(",") if isinstance(value, str) else list(value)
+        return tuple(part.strip() for part in parts if part.strip()) or None
+
+    return CsvLayout(time_column, names(left_column), names(right_column), delimiter, time_unit)
 
 
 def _conditioned(

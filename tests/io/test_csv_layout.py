@@ -1,0 +1,140 @@
+"""CSV files from other tools: columns named otherwise, other delimiters, stamps in ms, us, ns."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from pioneer import COUNTS_PER_REV, PIONEER, START_NS, counts, urdf
+
+import diffbot
+from diffbot.cli import main
+from diffbot.conditioning import Conditioning
+from diffbot.io.csv_chunks import stamp_ns_from_text, stamps_from_digits, unit_by_magnitude
+from diffbot.io.recordings import read_recording
+from diffbot.replay import run_odometry
+from diffbot.samples import ColumnSamples
+
+COUNTS = Conditioning(counts_per_rev=COUNTS_PER_REV, wrap=65536)
+
+
+def other_tool_csv(folder: Path, *, delimiter: str = ";", unit: str = "ns") -> Path:
+    """The Pioneer's counts as another tool writes them: ``timestamp;left;right``."""
+    stamps, left, right = counts()
+    scale = {"ns": 1, "us": 1_000, "ms": 1_000_000}[unit]
+    lines = [delimiter.join(("timestamp", "left", "right"))]
+    for stamp, lc, rc in zip(stamps.tolist(), left.tolist(), right.tolist(), strict=True):
+        lines.append(delimiter.join((str(stamp // scale), str(int(lc)), str(int(rc)))))
+    path = folder / f"other_{unit}.csv"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("text", "decimals", "expected"),
+    [
+        ("1764000000100000000", 0, 1_764_000_000_100_000_000),  # ns
+        ("1764000000100000", 3, 1_764_000_000_100_000_000),  # us
+        ("1764000000100.5", 6, 1_764_000_000_100_500_000),  # ms with a fraction
+        ("1.5", 9, 1_500_000_000),  # s
+        ("2.5", 0, 2),  # half a ns rounds to even
+    ],
+)
+def test_stamps_are_read_exactly_in_every_unit(text: str, decimals: int, expected: int) -> None:
+    assert stamp_ns_from_text(text, decimals) == expected
+    stamps, ok = stamps_from_digits(np.array([text.encode()], dtype="S32"), decimals)
+    if ok[0]:  # the fast path takes whole numbers of the unit and its decimals
+        assert int(stamps[0]) == expected
+
+
+@pytest.mark.parametrize(
+    ("value", "unit"),
+    [(1.764e9, "s"), (1.764e12, "ms"), (1.764e15, "us"), (1.764e18, "ns"), (12.5, "s")],
+)
+def test_the_unit_is_judged_by_the_size_of_a_stamp_since_1970(value: float, unit: str) -> None:
+    assert unit_by_magnitude(value) == unit
+
+
+@pytest.mark.parametrize("unit", ["ns", "us", "ms"])
+def test_read_recording_maps_columns_and_judges_the_unit_and_delimiter_aloud(
+    tmp_path: Path, unit: str
+) -> None:
+    path = other_tool_csv(tmp_path, unit=unit)
+    recording = read_recording(
+        path,
+        PIONEER,
+        conditioning=COUNTS,
+        time_column="timestamp",
+        left_column="left",
+        right_column="right",
+    )
+    names = {"ns": "nanoseconds", "us": "microseconds", "ms": "milliseconds"}
+    assert recording.notes == (
+        "columns separated by ';', as the header is",
+        f"stamps read as {names[unit]}, judged by the size of the first (too large for seconds "
+        "since 1970)",
+    )
+    samples = recording.samples
+    assert isinstance(samples, ColumnSamples)
+    assert samples.stamps_ns[0] == START_NS + 100_000_000
+    assert samples.stamps_ns[-1] - samples.stamps_ns[0] == 10 * 10**9
+    run = run_odometry(recording, diffbot.Odometry(PIONEER))
+    assert run.final_pose.x == pytest.approx(1.0, abs=1e-4)
+
+
+def test_given_delimiter_and_unit_are_not_judged(tmp_path: Path) -> None:
+    path = other_tool_csv(tmp_path, delimiter="\t", unit="us")
+    recording = read_recording(
+        path,
+        PIONEER,
+        conditioning=COUNTS,
+        time_column="timestamp",
+        left_column=["left"],
+        right_column="right",
+        delimiter="\t",
+        time_unit="us",
+    )
+    assert recording.notes == ()
+    assert recording.samples[0].stamp_ns == START_NS + 100_000_000
+
+
+def test_mapping_errors_name_the_option_and_the_columns_found(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    path = other_tool_csv(tmp_path)
+    robot = ["--robot", str(urdf(tmp_path))]
+    result = runner.invoke(main, ["odom", str(path), *robot])
+    assert result.exit_code == 2
+    assert result.stderr.endswith(
+        "no time column (time, stamp, t, __time; or name it: --time-column); columns found: "
+        "'timestamp', 'left', 'right'\n"
+    )
+    result = runner.invoke(
+        main, ["odom", str(path), *robot, "--time-column", "timestamp", "--left-column", "lft"]
+    )
+    assert result.exit_code == 2
+    assert result.stderr.endswith(
+        "no column 'lft' (--left-column); columns found: 'timestamp', 'left', 'right'\n"
+    )
+    result = runner.invoke(main, ["odom", str(path), *robot, "--delimiter", ";;"])
+    assert result.exit_code == 2
+    assert result.stderr == "error: the delimiter must be one character, got ';;' (--delimiter)\n"
+
+
+def test_odom_reads_another_tools_csv_and_says_what_it_judged(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    path = other_tool_csv(tmp_path)
+    args = ["odom", str(path), "--robot", str(urdf(tmp_path))]
+    args += ["--time-column", "timestamp", "--left-column", "left", "--right-column", "right"]
+    args += ["--counts-per-rev", repr(COUNTS_PER_REV), "--wrap", "65536"]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert "final pose  x 1.00001 m, y 0.5 m" in result.stdout
+    assert result.stderr == (
+        f"warning: {path}: columns separated by ';', as the header is; --delimiter to choose\n"
+        f"warning: {path}: stamps read as nanoseconds, judged by the size of the first (too "
+        "large for seconds since 1970); --time-unit to choose\n"
+    )
