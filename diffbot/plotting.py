@@ -41,6 +41,7 @@ __all__ = [
     "end_distance",
     "file_format",
     "plan_figure",
+    "recordings_figure",
     "require_matplotlib",
     "require_window",
     "save",
@@ -127,21 +128,65 @@ def plan_figure(
             different lengths.
     """
     require_matplotlib()
-    if window:
-        from matplotlib import pyplot
-
-        figure = pyplot.figure(figsize=FIGURE_SIZE, dpi=FIGURE_DPI, layout="constrained")
-    else:
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
-
-        figure = Figure(figsize=FIGURE_SIZE, dpi=FIGURE_DPI, layout="constrained")
-        FigureCanvasAgg(figure)
+    figure = _figure(window)
     path_axes, speed_axes = figure.subplots(2, 1, height_ratios=(2, 1))
     path_axes.set_label("path")
     speed_axes.set_label("wheel speeds")
     _draw_path(path_axes, plan, params, list(recordings))
     _draw_speeds(speed_axes, plan)
+    return figure
+
+
+def _figure(window: bool) -> Figure:
+    """An empty figure: through pyplot for a window, else on an Agg canvas (no display)."""
+    if window:
+        from matplotlib import pyplot
+
+        return pyplot.figure(figsize=FIGURE_SIZE, dpi=FIGURE_DPI, layout="constrained")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=FIGURE_SIZE, dpi=FIGURE_DPI, layout="constrained")
+    FigureCanvasAgg(figure)
+    return figure
+
+
+def recordings_figure(recordings: Iterable[Recording], *, window: bool = False) -> Figure:
+    """A figure of odometry paths alone, with no plan: each recording's path in the odom frame
+    (equal scales, axes label ``"path"``), its start (square) and end (circle).
+
+    Args:
+        recordings: ``(label, x, y)`` with x and y in m.
+        window: make the figure through pyplot (see :func:`plan_figure`).
+
+    Raises:
+        PlotError: matplotlib is not installed, or a recording is empty or has x and y of
+            different lengths.
+    """
+    import numpy as np
+
+    require_matplotlib()
+    figure = _figure(window)
+    axes = figure.subplots()
+    axes.set_label("path")
+    for number, (label, x, y) in enumerate(recordings):
+        rx = np.asarray(x, dtype=np.float64).ravel()
+        ry = np.asarray(y, dtype=np.float64).ravel()
+        if rx.size == 0 or rx.size != ry.size:
+            raise PlotError(
+                f"recording {label!r} needs as many x as y positions, and some: "
+                f"got {rx.size} and {ry.size}"
+            )
+        colour = RECORDING_COLOURS[number % len(RECORDING_COLOURS)]
+        axes.plot(rx, ry, color=colour, linewidth=1.5, label=label, zorder=3)
+        axes.plot(rx[0], ry[0], "s", color=colour, markersize=7, zorder=2)
+        axes.plot(rx[-1], ry[-1], "o", color=colour, markersize=7, zorder=2)
+    axes.set_aspect("equal", adjustable="datalim")
+    axes.set_xlabel("x (m)")
+    axes.set_ylabel("y (m)")
+    axes.set_title("Odometry in the odom frame (start: square, end: circle)")
+    axes.grid(True, color="#e0e0e0", linewidth=0.6)
+    axes.legend(loc="best", fontsize=8)
     return figure
 
 

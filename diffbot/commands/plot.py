@@ -30,6 +30,37 @@ from diffbot.trajectory import Plan
 __all__ = ["plot"]
 
 
+def _recordings_only(
+    robot: RobotOptions,
+    xacro_args: dict[str, str],
+    odom_inputs: tuple[str, ...],
+    topic: str | None,
+    options: RecordingOptions,
+    output: str | None,
+    force: bool,
+    show: bool,
+) -> None:
+    """Recordings with no plan: their odometry paths alone, and where each ends."""
+    robot = robot.with_path(None, xacro_args)
+    given = [robot.robot, robot.controllers, *odom_inputs]
+    inputs = [Path(path) for path in given if path is not None]
+    if output is not None:
+        plotting.file_format(output)
+        output_target(Path(output), force=force, inputs=inputs)
+    if show:
+        plotting.require_window()
+    else:
+        plotting.require_matplotlib()
+    recordings = _odometry(odom_inputs, robot.load(), topic, options)
+    figure = plotting.recordings_figure(recordings, window=show)
+    for label, xs, ys in recordings:
+        click.echo(f"{label}: odometry ends at x {fmt(xs[-1], 4)} m, y {fmt(ys[-1], 4)} m")
+    if output is not None:
+        plotting.save(figure, output, force=force, inputs=inputs)
+    if show:
+        plotting.show()
+
+
 def _odometry(
     inputs: tuple[str, ...],
     params: DiffDriveParams,
@@ -117,6 +148,9 @@ def plot(
     if output is not None and not output.strip():
         fail("-o needs a file name, got ''")
     rest, xacro_args = split_xacro_args(tokens)
+    if odom_inputs and not rest and plan_options.example is None and plan_options.goal is None:
+        _recordings_only(robot, xacro_args, odom_inputs, topic, recording, output, force, show)
+        return
     source = plan_options.source(rest)
     robot = robot.with_path(None, xacro_args)
     given = [source.path, robot.robot, robot.controllers, *odom_inputs]

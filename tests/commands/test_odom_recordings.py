@@ -182,3 +182,16 @@ def test_two_publishers_on_one_topic_are_explained_once_with_the_rule(
     )
     data = json.loads(runner.invoke(main, ["odom", str(bag), *robot, *COUNTS, "--json"]).stdout)
     assert_at_run_end(data)
+
+
+def test_the_table_of_several_inputs_stays_aligned_with_long_names(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    short = counts_csv(tmp_path, "a.csv")
+    long = counts_csv(tmp_path, "a_recording_name_well_beyond_twenty_four_characters.csv")
+    result = runner.invoke(main, ["odom", str(short), str(long), *robot, *COUNTS])
+    assert result.exit_code == 0, result.output
+    header, *rows = result.stdout.splitlines()
+    end = header.index("samples") + len("samples")
+    assert [row[:end].rstrip().endswith(" 101") for row in rows] == [True, True]
+    assert len({row.index(" x ") for row in rows}) == 1

@@ -1,0 +1,49 @@
+"""``diffbot plot --odom`` without a plan, with encoder counts; ``--example umbmark --side``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner, Result
+from figures import axes_labelled, near, rendered
+from pioneer import COUNTS_PER_REV, counts_csv, urdf
+
+from diffbot.cli import main
+from diffbot.plotting import PATH_COLOUR, RECORDING_COLOURS, recordings_figure
+
+pytest.importorskip("matplotlib", reason="plotting needs the 'plot' extra")
+
+
+def run(runner: CliRunner, *args: str) -> Result:
+    return runner.invoke(main, ["plot", *args], prog_name="diffbot")
+
+
+def test_the_umbmark_square_takes_its_side(runner: CliRunner, tmp_path: Path) -> None:
+    target = tmp_path / "square.png"
+    result = run(runner, "--example", "umbmark", "--side", "1.13", "-o", str(target))
+    assert result.exit_code == 0, result.output
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_recordings_without_a_plan_are_drawn_alone_in_counts(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    csv = counts_csv(tmp_path)
+    target = tmp_path / "run.png"
+    args = ["--odom", str(csv), "--robot", str(urdf(tmp_path)), "-o", str(target)]
+    result = run(runner, *args, "--counts-per-rev", repr(COUNTS_PER_REV), "--wrap", "65536")
+    assert result.exit_code == 0, result.output
+    # The run ends 1 m along x and 0.5 m along y (pioneer.RUN_END); no plan's end is named.
+    assert result.stdout == f"{csv}: odometry ends at x 1 m, y 0.5 m\n"
+    assert result.stderr == ""
+
+
+def test_the_recordings_figure_has_no_plan_in_it() -> None:
+    figure = recordings_figure([("run", [0.0, 1.0, 1.0], [0.0, 0.0, 0.5])])
+    figure.canvas.draw()
+    axes = axes_labelled(figure, "path")
+    image = rendered(figure)
+    assert near(image, axes, 0.5, 0.0, RECORDING_COLOURS[0])
+    assert not near(image, axes, 0.5, 0.0, PATH_COLOUR)
+    assert [text.get_text() for text in axes.get_legend().get_texts()] == ["run"]
