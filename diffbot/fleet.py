@@ -25,6 +25,7 @@ from diffbot.io.outputs import atomic_text, input_clash
 from diffbot.io.recordings import Progress, RecordingOdometry, csv_odometry, recording_odometry
 from diffbot.kinematics import DiffDriveParams, norm_angle
 from diffbot.odometry import Odometry
+from diffbot.reference import ReferenceComparison, ReferenceResult
 
 __all__ = [
     "DASK_INSTALL_HINT",
@@ -55,6 +56,8 @@ class OdometryTask:
         conditioning: the recorded positions' units and wrap (default: radians, wraps
             detected).
         layout: a CSV's columns, delimiter and time unit, where not the defaults.
+        reference: a pose topic of the same bag (nav_msgs/Odometry or PoseStamped) to hold
+            the odometry against; its poses are added to the CSV output.
     """
 
     input: str
@@ -65,6 +68,7 @@ class OdometryTask:
     force: bool = False
     conditioning: Conditioning | None = None
     layout: CsvLayout | None = None
+    reference: str | None = None
 
 
 @dataclass(frozen=True)
@@ -75,6 +79,7 @@ class OdometryResult:
     run: RecordingOdometry | None
     error: DiffbotError | None = None
     poses: int = 0
+    reference: ReferenceResult | None = None
 
 
 def output_name(path: str | os.PathLike[str], as_bag: bool) -> str:
@@ -85,21 +90,59 @@ def output_name(path: str | os.PathLike[str], as_bag: bool) -> str:
     return stem if as_bag else f"{stem}.csv"
 
 
+#: The columns a reference adds to an odometry CSV: its pose at each row's stamp.
+REFERENCE_COLUMNS: Final = ("reference_x", "reference_y", "reference_theta")
+
+
 class _CsvSink:
-    def __init__(self, out: TextIO) -> None:
+    def __init__(self, out: TextIO, comparison: ReferenceComparison | None = None) -> None:
         self.out = out
         self.count = 0
-        out.write(ODOMETRY_HEADER)
+        self.comparison = comparison
+        self.header = ODOMETRY_HEADER
+        if comparison is not None:
+            self.header = ODOMETRY_HEADER.rstrip("\n") + "," + ",".join(REFERENCE_COLUMNS) + "\n"
+        out.write(self.header)
 
     def write(self, poses: ChunkPoses) -> None:
-        self.out.write(odometry_lines(*(column.tolist() for column in poses)))
+        text = odometry_lines(*(column.tolist() for column in poses))
+        if self.comparison is not None:
+            ref = self.comparison.add(poses.stamp_ns, poses.x, poses.y, poses.heading)
+            cells = [
+                ",".join("" if v != v else repr(v) for v in row)
+                for row in zip(*(column.tolist() for column in ref), strict=True)
+            ]
+            text = "".join(
+                f"{line},{extra}\n" for line, extra in zip(text.splitlines(), cells, strict=True)
+            )
+        self.out.write(text)
         self.count += poses.stamp_ns.size
 
     def restart(self) -> None:
         self.out.seek(0)
         self.out.truncate()
-        self.out.write(ODOMETRY_HEADER)
+        self.out.write(self.header)
         self.count = 0
+        if self.comparison is not None:
+            self.comparison.reset()
+
+
+class _ComparingSink:
+    """Poses to a reference comparison, then on to another sink (if any)."""
+
+    def __init__(self, comparison: ReferenceComparison, inner: _CsvSink | _BagSink | None) -> None:
+        self.comparison = comparison
+        self.inner = inner
+
+    def write(self, poses: ChunkPoses) -> None:
+        self.comparison.add(poses.stamp_ns, poses.x, poses.y, poses.heading)
+        if self.inner is not None:
+            self.inner.write(poses)
+
+    def restart(self) -> None:
+        self.comparison.reset()
+        if self.inner is not None:
+            self.inner.restart()
 
 
 class _BagSink:
@@ -125,6 +168,24 @@ class _BagSink:
         self.bag.restart()
 
 
+_Sink = _CsvSink | _BagSink | _ComparingSink
+
+
+def _comparison(task: OdometryTask) -> ReferenceComparison | None:
+    """The comparison with the task's reference topic, its poses read whole; None without."""
+    if task.reference is None:
+        return None
+    from diffbot.io.bag import is_bag
+    from diffbot.io.poses import read_pose_track
+
+    if task.input == "-" or not is_bag(task.input):
+        raise RecordingError(
+            f"{task.input}: a reference topic is read from a bag, and this is a CSV"
+        )
+    track = read_pose_track(task.input, task.reference)
+    return ReferenceComparison(task.reference, track.stamps_ns, track.x, track.y, track.theta)
+
+
 def run_task(
     task: OdometryTask, progress: Progress | None = None, stream: TextIO | None = None
 ) -> OdometryResult:
@@ -136,8 +197,19 @@ def run_task(
         stream: the CSV text when ``task.input`` is ``-``.
     """
     try:
+        comparison = _comparison(task)
 
-        def odometry(sink: _CsvSink | _BagSink | None) -> RecordingOdometry:
+        def compared(sink: _CsvSink | _BagSink | None) -> _Sink | None:
+            if comparison is None or isinstance(sink, _CsvSink):
+                return sink  # a CSV sink compares as it writes its reference columns
+            return _ComparingSink(comparison, sink)
+
+        def result(run: RecordingOdometry, poses: int = 0) -> OdometryResult:
+            reference = None if comparison is None else comparison.result()
+            return OdometryResult(task, run, poses=poses, reference=reference)
+
+        def odometry(output: _CsvSink | _BagSink | None) -> RecordingOdometry:
+            sink = compared(output)
             if task.input == "-":
                 assert stream is not None
                 return csv_odometry(
@@ -161,18 +233,18 @@ def run_task(
 
         inputs = [] if task.input == "-" else [Path(task.input)]
         if task.output is None:
-            return OdometryResult(task, odometry(None))
+            return result(odometry(None))
         if input_clash(Path(task.output), inputs) is not None:
             raise OutputError(f"{task.output} is or holds the input {task.input}: refusing it")
         if task.as_bag:
             with OdometryBagWriter(task.output, Odometry(task.params), force=task.force) as bag:
                 bag_sink = _BagSink(bag)
                 run = odometry(bag_sink)
-            return OdometryResult(task, run, poses=bag_sink.count)
+            return result(run, bag_sink.count)
         with atomic_text(Path(task.output), force=task.force, inputs=inputs) as out:
-            csv_sink = _CsvSink(out)
+            csv_sink = _CsvSink(out, comparison)
             run = odometry(csv_sink)
-        return OdometryResult(task, run, poses=csv_sink.count)
+        return result(run, csv_sink.count)
     except DiffbotError as err:
         return OdometryResult(task, None, err)
     except OSError as err:

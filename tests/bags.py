@@ -109,3 +109,53 @@ def lone_storage(bag: Path, target: Path) -> Path:
         data = zstd.compress(data)
     target.write_bytes(data)
     return target
+
+
+def odometry_message(stamp_ns: int, x: float, y: float, theta: float) -> bytes:
+    """A nav_msgs/Odometry at a pose (m, m, rad), frames odom and base_link."""
+    import math
+
+    sec, nanosec = divmod(stamp_ns, 1_000_000_000)
+    msg = m.nav_msgs__msg__Odometry(
+        header=m.std_msgs__msg__Header(
+            stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id="odom"
+        ),
+        child_frame_id="base_link",
+        pose=m.geometry_msgs__msg__PoseWithCovariance(
+            pose=m.geometry_msgs__msg__Pose(
+                position=m.geometry_msgs__msg__Point(x=x, y=y, z=0.0),
+                orientation=m.geometry_msgs__msg__Quaternion(
+                    x=0.0, y=0.0, z=math.sin(theta / 2), w=math.cos(theta / 2)
+                ),
+            ),
+            covariance=np.zeros(36),
+        ),
+        twist=m.geometry_msgs__msg__TwistWithCovariance(
+            twist=m.geometry_msgs__msg__Twist(
+                linear=m.geometry_msgs__msg__Vector3(x=0.0, y=0.0, z=0.0),
+                angular=m.geometry_msgs__msg__Vector3(x=0.0, y=0.0, z=0.0),
+            ),
+            covariance=np.zeros(36),
+        ),
+    )
+    return bytes(TYPESTORE.serialize_cdr(msg, "nav_msgs/msg/Odometry"))
+
+
+def write_bag_with_odometry(
+    path: Path,
+    messages: Sequence[tuple[int, int, Sequence[str], Sequence[float]]],
+    poses: Sequence[tuple[int, float, float, float]],
+    *,
+    topic: str = "/joint_states",
+    odom_topic: str = "/odom",
+) -> Path:
+    """A rosbag2 directory with JointState messages on ``topic`` and nav_msgs/Odometry poses
+    (stamp ns, x, y, theta) on ``odom_topic``."""
+    with Writer(path, version=9, storage_plugin=StoragePlugin.SQLITE3) as writer:
+        joints = writer.add_connection(topic, JOINT_STATE, typestore=TYPESTORE)
+        odom = writer.add_connection(odom_topic, "nav_msgs/msg/Odometry", typestore=TYPESTORE)
+        for stamp_ns, received_ns, names, positions in messages:
+            writer.write(joints, received_ns, joint_state(stamp_ns, names, positions))
+        for stamp_ns, x, y, theta in poses:
+            writer.write(odom, stamp_ns, odometry_message(stamp_ns, x, y, theta))
+    return path

@@ -31,6 +31,7 @@ from diffbot.io.outputs import check_not_input, note_input
 if TYPE_CHECKING:
     from diffbot.chunk_odometry import OdometrySummary
     from diffbot.fleet import OdometryResult, OdometryTask
+    from diffbot.reference import ReferenceResult
 
 __all__ = ["odom"]
 
@@ -91,7 +92,7 @@ def _summary(result: OdometryResult) -> dict[str, Any]:
         "output": result.task.output,
         "implausible_steps": run.conditioning.implausible_steps,
         "wrap": run.conditioning.wrap,
-    }
+    } | ({} if result.reference is None else {"reference": result.reference.as_dict()})
 
 
 def _error_text(result: OdometryResult) -> str:
@@ -106,6 +107,13 @@ def _error_text(result: OdometryResult) -> str:
 @opt.robot_options
 @opt.topic_option("The sensor_msgs/JointState topic of a bag.", reading=True)
 @recording_options
+@click.option(
+    "--reference",
+    metavar="TOPIC",
+    help="Hold the odometry against a pose topic of the same bag (the robot's own odometry, "
+    "nav_msgs/Odometry, or a PoseStamped track): final, max and RMS differences; --out adds "
+    "its poses as columns.",
+)
 @opt.out_options(
     "Write the poses: a CSV file (time,x,y,theta,linear,angular), or a bag with --bag; "
     "with several inputs, a directory that gets one output per input.",
@@ -133,6 +141,7 @@ def odom(
     tokens: tuple[str, ...],
     topic: str | None,
     recording: RecordingOptions,
+    reference: str | None,
     out: OutOptions,
     jobs: int,
     dask_address: str | None,
@@ -195,7 +204,9 @@ def odom(
         p = robot.load()
         outputs = _outputs(sources, out)
         tasks = [
-            OdometryTask(source, p, topic, output, out.as_bag, out.force, conditioning, layout)
+            OdometryTask(
+                source, p, topic, output, out.as_bag, out.force, conditioning, layout, reference
+            )
             for source, output in zip(sources, outputs, strict=True)
         ]
         _many(tasks, jobs, dask_address, quiet=quiet, as_json=as_json)
@@ -209,7 +220,9 @@ def odom(
     p = robot.load()
     out_path = out.path([*inputs, *(Path(path) for path in p.description_files)])
     output = None if out_path is None else str(out_path)
-    task = OdometryTask(source, p, topic, output, out.as_bag, out.force, conditioning, layout)
+    task = OdometryTask(
+        source, p, topic, output, out.as_bag, out.force, conditioning, layout, reference
+    )
     _one(task, quiet, as_json, out)
 
 
@@ -264,9 +277,23 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
         what = "rosbag2: /odom, /tf" if out.as_bag else "CSV"
         rows.append(("output", f"{out.out} ({what}, {result.poses} poses)"))
     rows[1:1] = conditioning_lines(run.conditioning)
+    if result.reference is not None:
+        rows.append(("reference", _reference_text(result.reference)))
     for label, value in rows:
         click.echo(f"{label:<11} {value}")
     _exit_if_implausible(result)
+
+
+def _reference_text(reference: ReferenceResult) -> str:
+    """The comparison with the reference on one line."""
+    if not reference.samples:
+        return f"{reference.topic}: no pose within its time span"
+    return (
+        f"{reference.topic}, {reference.samples} poses: final "
+        f"{fmt(reference.final_position_error, 3)} m, "
+        f"{fmt(math.degrees(reference.final_heading_error), 3)} deg; max "
+        f"{fmt(reference.max_position_error, 3)} m, RMS {fmt(reference.rms_position_error, 3)} m"
+    )
 
 
 def _exit_if_implausible(result: OdometryResult) -> None:

@@ -9,9 +9,19 @@ import shutil
 from pathlib import Path
 
 import pytest
-from bags import lone_storage, write_bag, write_ros1_bag
+from bags import lone_storage, write_bag, write_bag_with_odometry, write_ros1_bag
 from click.testing import CliRunner
-from pioneer import COUNTS_PER_REV, PIONEER, RUN_END, WRAP, counts, counts_csv, urdf
+from pioneer import (
+    COUNTS_PER_REV,
+    LATE_NS,
+    PIONEER,
+    RUN_END,
+    WRAP,
+    counts,
+    counts_csv,
+    truth,
+    urdf,
+)
 from wheel_motion import angle_error
 
 from diffbot.cli import main
@@ -195,3 +205,59 @@ def test_the_table_of_several_inputs_stays_aligned_with_long_names(
     end = header.index("samples") + len("samples")
     assert [row[:end].rstrip().endswith(" 101") for row in rows] == [True, True]
     assert len({row.index(" x ") for row in rows}) == 1
+
+
+def reference_bag(tmp_path: Path, drift: float = 0.0) -> Path:
+    """The Pioneer's counts and its own odometry on /odom (the true poses, stamped on time with
+    the counts), drifting ``drift`` m along x per sample."""
+    stamps, poses = truth()
+    messages = pioneer_messages()
+    reference = [
+        (int(stamp) + LATE_NS, pose.x + drift * k, pose.y, pose.theta)
+        for k, (stamp, pose) in enumerate(zip(stamps.tolist(), poses, strict=True))
+    ]
+    return write_bag_with_odometry(tmp_path / "bag", messages, reference, topic=TOPIC)
+
+
+def test_the_robots_own_odometry_is_a_reference_that_agrees(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    bag = reference_bag(tmp_path)
+    args = ["odom", str(bag), *robot, *COUNTS, "--reference", "/odom"]
+    data = json.loads(runner.invoke(main, [*args, "--json"]).stdout)
+    reference = data["reference"]
+    assert reference["topic"] == "/odom"
+    assert reference["samples"] == 101
+    # Whole counts: 1/128 mm of wheel travel per count.
+    assert reference["max_position_error"] < 1e-4
+    assert abs(reference["final_heading_error"]) < 1e-4
+    result = runner.invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert "reference   /odom, 101 poses: final " in result.stdout
+
+
+def test_a_drifting_reference_gives_known_final_max_and_rms_errors(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    bag = reference_bag(tmp_path, drift=0.002)
+    out = tmp_path / "odom.csv"
+    args = ["odom", str(bag), *robot, *COUNTS, "--reference", "/odom", "--json", "--out", str(out)]
+    reference = json.loads(runner.invoke(main, args).stdout)["reference"]
+    # The reference runs 0.002 m * k ahead at sample k = 0..100 (known values: 0.2 m at the
+    # end, and sqrt(mean(k**2)) = sqrt(3350) times 0.002 m in RMS).
+    assert reference["final_position_error"] == pytest.approx(0.2, abs=1e-4)
+    assert reference["max_position_error"] == pytest.approx(0.2, abs=1e-4)
+    assert reference["rms_position_error"] == pytest.approx(0.002 * 3350**0.5, abs=1e-4)
+    lines = out.read_text(encoding="utf-8").splitlines()
+    assert lines[0] == "time,x,y,theta,linear,angular,reference_x,reference_y,reference_theta"
+    last = [float(v) for v in lines[-1].split(",")]
+    assert last[6] - last[1] == pytest.approx(0.2, abs=1e-4)
+
+
+def test_a_reference_needs_a_bag(runner: CliRunner, tmp_path: Path, robot: list[str]) -> None:
+    csv = counts_csv(tmp_path)
+    result = runner.invoke(main, ["odom", str(csv), *robot, "--reference", "/odom"])
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"error: {csv}: a reference topic is read from a bag, and this is a CSV\n"
+    )
