@@ -135,7 +135,7 @@ def recording_options(command: F) -> F:
 
 
 def _number(value: float) -> str:
-    return str(int(value)) if value == int(value) else fmt(value)
+    return str(int(value)) if value == int(value) else repr(value)
 
 
 def conditioning_lines(report: ConditioningReport) -> list[tuple[str, str]]:

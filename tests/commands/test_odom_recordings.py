@@ -77,8 +77,8 @@ def test_counts_per_rev_and_a_detected_wrap_give_the_run_and_say_so(
     result = runner.invoke(main, ["odom", str(csv), *robot, *COUNTS])
     assert result.exit_code == 0, result.output
     assert (
-        "positions   encoder counts, 78414.2 per revolution; wrapping at 65536 (detected), "
-        "7 wraps undone"
+        "positions   encoder counts, 78414.15263360123 per revolution; wrapping at 65536 "
+        "(detected), 7 wraps undone"
     ) in result.stdout
     assert "distance    1.5 m" in result.stdout
     assert result.stderr.startswith(
