@@ -12,6 +12,8 @@ in chunks, a whole CSV and a live stream of one message at a time get the same a
   power-of-two range (``[0, 2**k)`` or ``[-2**(k-1), 2**(k-1))``, 8 <= k <= 32) that jump by at
   least three quarters of its width, the jump undone no longer than four ordinary steps;
 - units: counts times ``2*pi / counts_per_rev`` radians;
+- time offsets: :func:`estimate_time_offset` finds how late wheel stamps are against a pose
+  track by aligning heading rates;
 - plausibility: a step whose wheel turns faster than :data:`MOTOR_LIMIT_FACTOR` times the motor
   limit (or, with no limit, faster than its rim could move at :data:`RIM_SPEED_BOUND`) is counted
   and the first one kept for the report. Such steps are integrated all the same: the report says
@@ -45,6 +47,7 @@ __all__ = [
     "ImplausibleStep",
     "counter_range",
     "detect_wrap",
+    "estimate_time_offset",
 ]
 
 #: A step is implausible when its wheel speed is beyond this many times the motor limit.
@@ -380,3 +383,70 @@ class Conditioner:
             implausible_steps=self._implausible,
             first_implausible=self._first,
         )
+
+
+def estimate_time_offset(
+    wheel_seconds: ArrayLike,
+    left: ArrayLike,
+    right: ArrayLike,
+    truth_seconds: ArrayLike,
+    truth_theta: ArrayLike,
+    params: DiffDriveParams,
+    max_offset: float = 1.0,
+) -> float:
+    """How late the wheel stamps are against a pose track (s), found by aligning heading rates.
+
+    The heading the wheels give (linear in their angles) and the track's heading (unwrapped) are
+    differentiated on one even grid; the offset within ``±max_offset`` that best correlates the
+    two rates is taken, to a tenth of the wheels' sample interval, then refined by a parabola
+    through the best three. Subtract it from the wheel stamps.
+
+    Args:
+        wheel_seconds: the wheel samples' times (s), increasing, shape (n,).
+        left: the left wheel's angles (rad), shape (n,).
+        right: the right wheel's angles (rad), shape (n,).
+        truth_seconds: the track's times (s), increasing, shape (m,).
+        truth_theta: the track's heading (rad), shape (m,).
+        params: the robot (radii, separation, signs).
+        max_offset: the largest offset tried either way (s).
+
+    Raises:
+        ParameterError: too few samples, no overlap, or no turning to align by.
+    """
+    t = np.asarray(wheel_seconds, dtype=np.float64)
+    tt = np.asarray(truth_seconds, dtype=np.float64)
+    if t.size < 3 or tt.size < 3:
+        raise ParameterError("aligning stamps needs at least three samples on each side")
+    left_radius, right_radius = params.radii
+    heading = (
+        np.asarray(right, dtype=np.float64) * (params.right_sign * right_radius)
+        - np.asarray(left, dtype=np.float64) * (params.left_sign * left_radius)
+    ) / params.wheel_separation
+    truth = np.unwrap(np.asarray(truth_theta, dtype=np.float64))
+    step = float(np.median(np.diff(t))) / 10.0
+    start = max(t[0], tt[0]) + max_offset
+    end = min(t[-1], tt[-1]) - max_offset
+    if not step > 0 or end - start < 10 * step:
+        raise ParameterError(
+            "the wheel samples and the pose track overlap too little to align their stamps"
+        )
+    grid = np.arange(start, end, step)
+    truth_rate = np.gradient(np.interp(grid, tt, truth), step)
+    truth_rate -= truth_rate.mean()
+    if not np.any(truth_rate):
+        raise ParameterError("the pose track does not turn: no heading rate to align by")
+    lags = np.arange(-round(max_offset / step), round(max_offset / step) + 1) * step
+    scores = np.empty(lags.size)
+    for k, lag in enumerate(lags):
+        rate = np.gradient(np.interp(grid + lag, t, heading), step)
+        rate -= rate.mean()
+        norm = math.sqrt(float(np.dot(rate, rate)) * float(np.dot(truth_rate, truth_rate)))
+        scores[k] = float(np.dot(rate, truth_rate)) / norm if norm else -math.inf
+    best = int(np.argmax(scores))
+    offset = float(lags[best])
+    if 0 < best < lags.size - 1:
+        below, here, above = scores[best - 1], scores[best], scores[best + 1]
+        curve = below - 2.0 * here + above
+        if curve < 0:
+            offset += 0.5 * step * (below - above) / curve
+    return offset

@@ -74,16 +74,31 @@ def truth(segments: list[Segment] = RUN) -> tuple[np.ndarray, list[Pose]]:
     stamps, lefts, rights = wheel_samples(PIONEER, segments)
     poses = diffbot.integrate(PIONEER, lefts, rights)
     stamps_ns = START_NS + np.rint(np.array(stamps) * 1e9).astype(np.int64)
-    return stamps_ns, [Pose(*p) for p in zip(poses.x, poses.y, poses.theta, strict=True)]
+    return stamps_ns, [
+        Pose(float(x), float(y), float(th))
+        for x, y, th in zip(poses.x, poses.y, poses.theta, strict=True)
+    ]
 
 
-def counts_csv(folder: Path, name: str = "pioneer.csv") -> Path:
+def counts_csv(folder: Path, name: str = "pioneer.csv", segments: list[Segment] = RUN) -> Path:
     """The counts as a CSV with the joints' names as columns, stamps in seconds."""
-    stamps_ns, left, right = counts()
+    stamps_ns, left, right = counts(segments)
     lines = [f"time,{PIONEER.left_joint},{PIONEER.right_joint}"]
     for stamp, lc, rc in zip(stamps_ns.tolist(), left.tolist(), right.tolist(), strict=True):
         whole, frac = divmod(stamp, 1_000_000_000)
         lines.append(f"{whole}.{frac:09d},{int(lc)},{int(rc)}")
+    path = folder / name
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def truth_csv(folder: Path, name: str, segments: list[Segment] = RUN) -> Path:
+    """The true poses as a CSV (time, x, y, theta), stamped on time (100 ms before the counts)."""
+    stamps_ns, poses = truth(segments)
+    lines = ["time,x,y,theta"]
+    for stamp, pose in zip(stamps_ns.tolist(), poses, strict=True):
+        whole, frac = divmod(stamp, 1_000_000_000)
+        lines.append(f"{whole}.{frac:09d},{pose.x!r},{pose.y!r},{pose.theta!r}")
     path = folder / name
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path

@@ -9,7 +9,9 @@ least_squares`` minimises the errors. The derivation is in ``docs/calibration.md
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -30,6 +32,7 @@ __all__ = [
     "FitResult",
     "fit",
     "fit_recording",
+    "fit_recordings",
     "require_scipy",
 ]
 
@@ -99,11 +102,23 @@ def _increasing(name: str, stamps: NDArray[np.float64]) -> None:
 
 
 def _window_bounds(
-    stamps: NDArray[np.float64], window: int | None, window_duration: float | None
+    stamps: NDArray[np.float64],
+    window: int | None,
+    window_duration: float | None,
+    segments: Sequence[int] = (),
 ) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """First and last sample index of each window (consecutive windows share a sample)."""
+    """First and last sample index of each window (consecutive windows share a sample); no
+    window spans the start of a segment (another recording)."""
     import numpy as np
 
+    if segments:
+        spans = [(a, b) for a, b in itertools.pairwise([0, *segments, stamps.size]) if b - a >= 2]
+        parts = [_window_bounds(stamps[a:b], window, window_duration) for a, b in spans]
+        offsets = [a for a, _ in spans]
+        return (
+            np.concatenate([p[0] + a for p, a in zip(parts, offsets, strict=True)]),
+            np.concatenate([p[1] + a for p, a in zip(parts, offsets, strict=True)]),
+        )
     n = stamps.size
     if window is not None and window_duration is not None:
         raise ParameterError("give window or window_duration, not both")
@@ -158,6 +173,7 @@ def fit(
     window_duration: float | None = None,
     heading_weight: float | None = None,
     max_relative_stderr: float = 0.01,
+    segments: Sequence[int] = (),
 ) -> FitResult:
     """Wheel radii and separation that make odometry match a ground-truth pose track.
 
@@ -184,6 +200,8 @@ def fit(
             (m/rad); default half the initial separation, the wheel travel of a turn.
         max_relative_stderr: the largest standard error, relative to its estimate, that any
             parameter may have; beyond it the data do not determine the robot.
+        segments: the indices where another recording starts, when the arrays hold several
+            one after another (every sample within the truth's span): no window spans one.
 
     Returns:
         The estimates, their standard errors and the residuals before and after.
@@ -238,7 +256,7 @@ def fit(
             f"only {t.size} wheel samples fall within the ground truth's time span "
             f"({tt[0]:.6g} s to {tt[-1]:.6g} s)"
         )
-    starts, ends = _window_bounds(t, window, window_duration)
+    starts, ends = _window_bounds(t, window, window_duration, segments if inside.all() else ())
     if starts.size < 2:
         raise CalibrationError(
             f"the recording makes {starts.size} window: at least two are needed (shorten "
@@ -356,6 +374,8 @@ def fit_recording(
     recording: Recording,
     truth: PoseTrack,
     params: DiffDriveParams,
+    *,
+    time_offset: float | str = 0.0,
     **options: Any,
 ) -> FitResult:
     """:func:`fit` of a recording of wheel joint states against a ground-truth pose track.
@@ -367,33 +387,106 @@ def fit_recording(
         recording: the wheel joint samples (:func:`diffbot.io.recordings.read_recording`).
         truth: the ground truth (:func:`diffbot.io.poses.read_pose_track`).
         params: the nominal robot.
+        time_offset: how late the wheel stamps are against the truth (s), or ``"auto"`` to
+            find it by aligning heading rates (:func:`diffbot.conditioning.
+            estimate_time_offset`).
         **options: ``window``, ``window_duration``, ``heading_weight``,
             ``max_relative_stderr``, as for :func:`fit`.
 
     Raises:
         CalibrationError: fewer than two samples with both wheels, or what :func:`fit` raises.
     """
-    stamps_ns, left, right = _wheel_series(recording, params)
-    if stamps_ns.size < 2:
-        raise CalibrationError(
-            f"{recording.source}: {stamps_ns.size} samples hold both wheel joints "
-            f"({params.left_joint!r}, {params.right_joint!r}): at least two are needed"
-        )
-    origin = min(int(stamps_ns[0]), int(truth.stamps_ns[0]))
-    last = max(int(stamps_ns[-1]), int(truth.stamps_ns[-1]))
-    if last - origin >= INT64:  # the int64 differences below would wrap around
-        raise CalibrationError(
-            f"{recording.source} and {truth.source} lie {(last - origin) / NS_PER_S:.3g} s "
-            "apart: their times cannot be the same clock's"
-        )
-    return fit(
-        (stamps_ns - origin) / NS_PER_S,
-        left,
-        right,
-        (truth.stamps_ns - origin) / NS_PER_S,
-        truth.x,
-        truth.y,
-        truth.theta,
-        params,
-        **options,
-    )
+    result, _ = fit_recordings([(recording, truth)], params, time_offset=time_offset, **options)
+    return result
+
+
+def fit_recordings(
+    pairs: Sequence[tuple[Recording, PoseTrack]],
+    params: DiffDriveParams,
+    *,
+    time_offset: float | str = 0.0,
+    **options: Any,
+) -> tuple[FitResult, list[float]]:
+    """:func:`fit` over several recordings at once, each against its own ground truth.
+
+    Each recording's windows stay within it; the truth is interpolated at its wheel stamps once
+    they are moved back by the time offset.
+
+    Args:
+        pairs: the recordings and their ground truths.
+        params: the nominal robot.
+        time_offset: how late the wheel stamps are (s), the same for all, or ``"auto"`` to find
+            it for each recording by aligning heading rates.
+        **options: as for :func:`fit`.
+
+    Returns:
+        The fit, and the time offset (s) used for each recording.
+
+    Raises:
+        CalibrationError: no recording, fewer than two samples with both wheels in one, stamps
+            that cannot be aligned, or what :func:`fit` raises.
+    """
+    import numpy as np
+
+    from diffbot.conditioning import estimate_time_offset
+
+    if not pairs:
+        raise CalibrationError("no recording to fit")
+    if isinstance(time_offset, str) and time_offset != "auto":
+        raise ParameterError(f"time_offset must be seconds or 'auto', got {time_offset!r}")
+    columns: list[list[NDArray[np.float64]]] = [[] for _ in range(6)]
+    segments: list[int] = []
+    offsets: list[float] = []
+    clock = 0.0
+    for recording, truth in pairs:
+        stamps_ns, left, right = _wheel_series(recording, params)
+        if stamps_ns.size < 2:
+            raise CalibrationError(
+                f"{recording.source}: {stamps_ns.size} samples hold both wheel joints "
+                f"({params.left_joint!r}, {params.right_joint!r}): at least two are needed"
+            )
+        origin = min(int(stamps_ns[0]), int(truth.stamps_ns[0]))
+        last = max(int(stamps_ns[-1]), int(truth.stamps_ns[-1]))
+        if last - origin >= INT64:  # the int64 differences below would wrap around
+            raise CalibrationError(
+                f"{recording.source} and {truth.source} lie {(last - origin) / NS_PER_S:.3g} s "
+                "apart: their times cannot be the same clock's"
+            )
+        t = (stamps_ns - origin) / NS_PER_S
+        tt = (truth.stamps_ns - origin) / NS_PER_S
+        if time_offset == "auto":
+            try:
+                offset = estimate_time_offset(t, left, right, tt, truth.theta, params)
+            except ParameterError as err:
+                raise CalibrationError(f"{recording.source}: {err}") from None
+        else:
+            offset = float(time_offset)
+        offsets.append(offset)
+        t = t - offset
+        inside = (t >= tt[0]) & (t <= tt[-1])
+        t, left, right = t[inside], left[inside], right[inside]
+        if t.size < 2:
+            raise CalibrationError(
+                f"{recording.source}: only {t.size} wheel samples fall within the ground "
+                "truth's time span"
+            )
+        if columns[0]:
+            segments.append(sum(part.size for part in columns[0]))
+        shift = clock - t[0]
+        for column, values in zip(
+            columns,
+            (
+                t + shift,
+                left,
+                right,
+                np.interp(t, tt, truth.x),
+                np.interp(t, tt, truth.y),
+                np.interp(t, tt, np.unwrap(truth.theta)),
+            ),
+            strict=True,
+        ):
+            column.append(values)
+        clock = float(t[-1] + shift) + 1.0
+    t, left, right, x, y, theta = (np.concatenate(column) for column in columns)
+    result = fit(t, left, right, t, x, y, theta, params, segments=segments, **options)
+    return result, offsets

@@ -17,6 +17,7 @@ from diffbot.commands.options import (
     emit_json,
     fail,
     option_group,
+    parse_number,
     robot_options,
     split_xacro_args,
     topic_option,
@@ -30,6 +31,7 @@ from diffbot.commands.recording_options import (
 )
 from diffbot.errors import CalibrationError
 from diffbot.formats.calibration import calibration_data, calibration_lines
+from diffbot.formats.text import fmt
 from diffbot.io.textfile import read_text
 from diffbot.kinematics import DiffDriveParams
 from diffbot.numbers import finite_in_range, shown
@@ -113,6 +115,7 @@ def _report(
     params: DiffDriveParams,
     output: _Output,
     robot: RobotOptions,
+    extra: dict[str, object] | None = None,
 ) -> None:
     """Print a calibration and write the calibrated copy of --apply-to."""
     from diffbot.calibration.apply import apply_to, calibrated_path
@@ -132,7 +135,9 @@ def _report(
         write_text_atomic(target, applied.text, force=output.force, inputs=[source])
         written = str(target)
     if output.as_json:
-        emit_json({**calibration_data(result, nominal, base), "applied_to": written})
+        emit_json(
+            {**calibration_data(result, nominal, base), **(extra or {}), "applied_to": written}
+        )
         return
     for line in calibration_lines(result, nominal, base):
         click.echo(line)
@@ -290,6 +295,14 @@ def umbmark(
 )
 @click.option("--window-duration", type=POSITIVE, metavar="S", help="Windows of S seconds instead.")
 @click.option(
+    "--time-offset",
+    metavar="SECONDS|auto",
+    default="0",
+    show_default=True,
+    help="How late the wheel stamps are against the ground truth (s), or auto: found for "
+    "each recording by aligning the heading rates of the wheels and the truth.",
+)
+@click.option(
     "--max-stderr",
     type=POSITIVE,
     default=0.01,
@@ -306,13 +319,16 @@ def fit(
     truth_topic: str | None,
     window: int | None,
     window_duration: float | None,
+    time_offset: str,
     max_stderr: float,
     output: _Output,
 ) -> None:
     """Left and right wheel radii and separation by least squares against a ground truth.
 
     INPUT holds the wheel joint positions, as for `diffbot odom` (CSV, or a rosbag2 recording
-    with sensor_msgs/JointState on --topic). The ground truth is a pose track: CSV columns x, y,
+    with sensor_msgs/JointState on --topic); several INPUTs are fitted at once, each against
+    its own ground truth. Wheel stamps late against the truth are moved back by --time-offset.
+    The ground truth is a pose track: CSV columns x, y,
     theta (m, m, rad) beside a time column, or a bag's geometry_msgs/PoseStamped or
     nav_msgs/Odometry topic; it is interpolated at the wheel stamps. The motion over windows
     of --window samples is compared, starting from the description's values. Drive straights
@@ -326,34 +342,44 @@ def fit(
           --out run.csv && diffbot calibrate fit run.csv
       diffbot calibrate fit run_bag --truth-topic /mocap/pose --json
     """
-    from diffbot.calibration.fit import fit_recording, require_scipy
+    from diffbot.calibration.fit import fit_recordings, require_scipy
     from diffbot.io.poses import read_pose_track
     from diffbot.io.recordings import read_recording
 
     require_scipy()
     output.check()
     rest, robot, params = _robot(robot, tokens)
-    if len(rest) != 1:
-        fail("give one INPUT: the recording of wheel joint positions")
+    if not rest:
+        fail("give an INPUT: the recording of wheel joint positions")
+    if len(rest) > 1 and truth is not None:
+        fail("--truth names the ground truth of one INPUT: with several, each holds its own")
+    offset: float | str = "auto"
+    if time_offset.strip().lower() != "auto":
+        offset = parse_number(time_offset, "--time-offset")
     if topic is not None:
         check_topic("--topic", topic)
     if truth_topic is not None:
         check_topic("--truth-topic", truth_topic)
     if window is not None and window_duration is not None:
         fail("give --window or --window-duration, not both")
-    wheels = read_recording(
-        rest[0], params, topic, conditioning=recording.conditioning(), **recording.csv()
-    )
-    warn_notes(wheels.notes, rest[0])
-    if wheels.conditioning is not None:
-        warn_conditioning(wheels.conditioning, rest[0])
-    track = read_pose_track(rest[0] if truth is None else truth, truth_topic)
-    result = fit_recording(
-        wheels,
-        track,
+    pairs = []
+    for source in rest:
+        wheels = read_recording(
+            source, params, topic, conditioning=recording.conditioning(), **recording.csv()
+        )
+        warn_notes(wheels.notes, source)
+        if wheels.conditioning is not None:
+            warn_conditioning(wheels.conditioning, source)
+        pairs.append((wheels, read_pose_track(source if truth is None else truth, truth_topic)))
+    result, offsets = fit_recordings(
+        pairs,
         params,
+        time_offset=offset,
         window=window,
         window_duration=window_duration,
         max_relative_stderr=max_stderr,
     )
-    _report(result, params, output, robot)
+    if offset == "auto" and not output.as_json:
+        for source, found in zip(rest, offsets, strict=True):
+            click.echo(f"time offset {fmt(found, 4)} s ({source}: heading rates aligned)")
+    _report(result, params, output, robot, {"time_offsets": offsets})
