@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["BLOCK", "PoseSeries", "integrate"]
+__all__ = ["BLOCK", "PoseSeries", "advance", "integrate"]
 
 
 class PoseSeries(NamedTuple):
@@ -91,13 +91,65 @@ def integrate(
     theta = np.empty(n)
     if n == 0:
         return PoseSeries(x, y, theta)
+    x[0], y[0], theta[0] = start
+    advance(params, x, y, theta, left, right, (float(left[0]), float(right[0]), start[2]))
+    finite = math.isfinite(x[-1]) and math.isfinite(y[-1]) and math.isfinite(theta[-1])
+    if n == 1 or not finite:
+        # A NaN or infinity anywhere reaches the last pose (through the cumulative sums, or
+        # the heading for the first and last samples) unless there is no step at all, so the
+        # arrays are searched only then.
+        _check_finite(left, right)
+    if not finite:
+        raise ParameterError(
+            "wheel positions too large: a displacement or the pose overflows to infinity"
+        )
+    return PoseSeries(x, y, theta)
+
+
+def advance(
+    params: DiffDriveParams,
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    theta: NDArray[np.float64],
+    left: NDArray[np.float64],
+    right: NDArray[np.float64],
+    baseline: tuple[float, float, float],
+    *,
+    ds: NDArray[np.float64] | None = None,
+    half: NDArray[np.float64] | None = None,
+) -> None:
+    """Integrate steps in place, continuing from a state: the one vectorised integrator that
+    :func:`integrate` and :class:`diffbot.chunk_odometry.ChunkOdometry` both run.
+
+    Index 0 of every array is the state before the first step (the previous sample's wheel
+    angles and the pose after it); index k >= 1 gets the pose after step k. The heading is
+    computed from the wheel angles travelled since the run's first sample (``baseline``), as
+    :class:`diffbot.odometry.Odometry` computes it; x and y are running sums in the streaming
+    order, so the result is that of feeding the samples one by one, to the last bit wherever
+    NumPy's sin and cos equal libm's.
+
+    Args:
+        params: the robot.
+        x: x (m), shape (k + 1,); x[0] given, the rest written.
+        y: y (m), likewise.
+        theta: the unwrapped heading (rad), likewise.
+        left: the left side's wheel angles (rad), shape (k + 1,): the previous one first.
+        right: the right side's, likewise.
+        baseline: the run's first left and right angles (rad) and the heading there (rad).
+        ds: if given, shape (k,): each step's path length (m).
+        half: if given, shape (k,): each step's half turn (rad).
+    """
+    import numpy as np
+
+    n = left.shape[0]
+    if n < 2:
+        return
     left_radius, right_radius = params.radii
     left_scale = params.left_sign * left_radius
     right_scale = params.right_sign * right_radius
     turn = 1.0 / params.wheel_separation
     half_turn = 0.5 / params.wheel_separation
-    left0 = float(left[0])
-    right0 = float(right[0])
+    left0, right0, theta0 = baseline
 
     block = max(1, min(BLOCK, n - 1))
     dl = np.empty(block)
@@ -107,7 +159,6 @@ def integrate(
     # x + iy: one cumulative sum moves both coordinates (each sum is as in the streaming order).
     xy = np.empty(block + 1, dtype=np.complex128)
     with np.errstate(all="ignore"):
-        x[0], y[0], theta[0] = start
         for i in range(0, n - 1, block):
             j = min(i + block, n - 1)
             m = j - i
@@ -124,22 +175,26 @@ def integrate(
             along_ *= left_scale
             th -= along_
             th *= turn
-            th += start[2]
+            th += theta0
             np.subtract(left[i + 1 : j + 1], left[i:j], out=dl_)
             dl_ *= left_scale
             np.subtract(right[i + 1 : j + 1], right[i:j], out=dr_)
             dr_ *= right_scale
             np.add(dl_, dr_, out=chord)
             chord *= 0.5  # ds
-            half = dr_
-            half -= dl_
-            half *= half_turn
-            np.add(theta[i:j], half, out=along_)
+            if ds is not None:
+                ds[i:j] = chord
+            turned = dr_
+            turned -= dl_
+            turned *= half_turn
+            if half is not None:
+                half[i:j] = turned
+            np.add(theta[i:j], turned, out=along_)
             # chord = ds * sinc(half), sinc(0) = 1 (kinematics.sinc: why sin(h)/h is accurate).
-            np.equal(half, 0.0, out=zero_)
+            np.equal(turned, 0.0, out=zero_)
             sinc = dl_
-            np.sin(half, out=sinc)
-            sinc /= half
+            np.sin(turned, out=sinc)
+            sinc /= turned
             np.copyto(sinc, 1.0, where=zero_)
             chord *= sinc
             np.sin(along_, out=dy)
@@ -151,17 +206,6 @@ def integrate(
             np.cumsum(xy_, out=xy_)
             x[i + 1 : j + 1] = xy_.real[1:]
             y[i + 1 : j + 1] = xy_.imag[1:]
-    finite = math.isfinite(x[-1]) and math.isfinite(y[-1]) and math.isfinite(theta[-1])
-    if n == 1 or not finite:
-        # A NaN or infinity anywhere reaches the last pose (through the cumulative sums, or
-        # the heading for the first and last samples) unless there is no step at all, so the
-        # arrays are searched only then.
-        _check_finite(left, right)
-    if not finite:
-        raise ParameterError(
-            "wheel positions too large: a displacement or the pose overflows to infinity"
-        )
-    return PoseSeries(x, y, theta)
 
 
 def _wheel_array(values: ArrayLike, side: str) -> NDArray[np.float64]:

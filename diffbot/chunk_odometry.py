@@ -4,14 +4,10 @@ The odometry of a recording feeds every sample to :class:`diffbot.odometry.Odome
 stamp in seconds since the first sample, ``(stamp_ns - first_stamp_ns) / 10**9``. This module
 does the same over NumPy chunks: it applies the integrator's skip rules (a wheel joint missing,
 a NaN or infinite position, a stamp not after the previous used one) to a whole chunk at once,
-then integrates the used samples with the integrator's formulas, in the same order of
-operations, continuing from the state the previous chunk left. The pose, twist and distance
-after the last sample are then those of the sample-by-sample run, to the last bit, wherever
-NumPy's sin and cos equal libm's (they do on the platforms measured; see the tests).
-
-:func:`diffbot.batch_odometry.integrate` cannot continue a run: it takes the first sample of its
-arrays as the encoder baseline, while the heading must be computed from the run's first
-sample (the integrator derives it from the angles travelled since the baseline).
+then integrates the used samples with :func:`diffbot.batch_odometry.advance`, the one
+vectorised integrator, continuing from the state the previous chunk left. The pose, twist and
+distance after the last sample are then those of the sample-by-sample run, to the last bit,
+wherever NumPy's sin and cos equal libm's (they do on the platforms measured; see the tests).
 """
 
 from __future__ import annotations
@@ -22,6 +18,7 @@ from typing import TYPE_CHECKING, Final, NamedTuple
 
 import numpy as np
 
+from diffbot.batch_odometry import advance
 from diffbot.errors import ParameterError, RecordingError
 from diffbot.kinematics import DiffDriveParams, Pose, Twist, norm_angle
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, SKIP_STAMP_NOT_AFTER
@@ -172,11 +169,7 @@ class ChunkOdometry:
     def __init__(
         self, params: DiffDriveParams, x: float = 0.0, y: float = 0.0, theta: float = 0.0
     ) -> None:
-        left_radius, right_radius = params.radii
-        self._left_scale = params.left_sign * left_radius
-        self._right_scale = params.right_sign * right_radius
-        self._turn = 1.0 / params.wheel_separation
-        self._half_turn = 0.5 / params.wheel_separation
+        self._params = params
         x, y, theta = float(x), float(y), float(theta)
         if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(theta)):
             raise ParameterError(f"initial pose must be finite, got ({x!r}, {y!r}, {theta!r})")
@@ -273,42 +266,40 @@ class ChunkOdometry:
             xs[0], ys[0], heading[0] = self._x, self._y, self._heading
             self._last = (float(left[0]), float(right[0]), float(t[0]))
             start = 1
-        left0, right0 = self._baseline
-        prev_left = np.empty(k - start)
-        prev_right = np.empty(k - start)
-        prev_t = np.empty(k - start)
-        if k > start:
-            prev_left[0], prev_right[0], prev_t[0] = self._last
-            prev_left[1:] = left[start:-1]
-            prev_right[1:] = right[start:-1]
+        # The steps after this chunk's baseline (if any), from the state the last used sample
+        # left: index 0 of each work array is that state, as advance() takes it.
+        steps = k - start
+        if steps:
+            wl = np.empty(steps + 1)
+            wr = np.empty(steps + 1)
+            wx = np.empty(steps + 1)
+            wy = np.empty(steps + 1)
+            wh = np.empty(steps + 1)
+            wl[0], wr[0], _ = self._last
+            wl[1:], wr[1:] = left[start:], right[start:]
+            wx[0], wy[0], wh[0] = self._x, self._y, self._heading
+            ds = np.empty(steps)
+            half = np.empty(steps)
+            advance(
+                self._params,
+                wx,
+                wy,
+                wh,
+                wl,
+                wr,
+                (*self._baseline, self._heading0),
+                ds=ds,
+                half=half,
+            )
+            xs[start:], ys[start:], heading[start:] = wx[1:], wy[1:], wh[1:]
+            prev_t = np.empty(steps)
+            prev_t[0] = self._last[2]
             prev_t[1:] = t[start:-1]
-        steps = slice(start, k)
-        with np.errstate(all="ignore"):
-            dl = (left[steps] - prev_left) * self._left_scale
-            dr = (right[steps] - prev_right) * self._right_scale
-            ds = (dl + dr) * 0.5
-            half = (dr - dl) * self._half_turn
-            sinc = np.sin(half) / half
-            sinc[half == 0.0] = 1.0
-            chord = ds * sinc
-            heading[steps] = (
-                (right[steps] - right0) * self._right_scale
-                - (left[steps] - left0) * self._left_scale
-            ) * self._turn + self._heading0
-            previous = np.empty(k - start)
-            if k > start:
-                previous[0] = self._heading
-                previous[1:] = heading[start:-1]
-            along = previous + half
-            dx = chord * np.cos(along)
-            dy = chord * np.sin(along)
-            dt = t[steps] - prev_t
-            linear[steps] = ds / dt
-            angular[steps] = 2.0 * half / dt
-        # Running sums in the integrator's order: cumsum adds one term at a time, left to right.
-        xs[steps] = np.cumsum(np.concatenate(([self._x], dx)))[1:]
-        ys[steps] = np.cumsum(np.concatenate(([self._y], dy)))[1:]
-        self._distance = float(np.cumsum(np.concatenate(([self._distance], np.abs(ds))))[-1])
+            with np.errstate(all="ignore"):
+                dt = t[start:] - prev_t
+                linear[start:] = ds / dt
+                angular[start:] = 2.0 * half / dt
+            self._distance = float(np.cumsum(np.concatenate(([self._distance], np.abs(ds))))[-1])
         self._x, self._y, self._heading = float(xs[-1]), float(ys[-1]), float(heading[-1])
         if k > start:
             self._linear, self._angular = float(linear[-1]), float(angular[-1])
