@@ -57,7 +57,7 @@ print(time.perf_counter() - start)
 #: The odometry of a recording in the library, timed after the imports.
 ODOMETRY = """
 import sys, time, diffbot
-from diffbot.io.recordings import recording_odometry
+from diffbot.replay import recording_odometry
 params = diffbot.load_params()
 start = time.perf_counter()
 recording_odometry(sys.argv[1], params)

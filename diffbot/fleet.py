@@ -22,10 +22,10 @@ from diffbot.io.bag import OdometryBagWriter
 from diffbot.io.csv_chunks import CsvLayout
 from diffbot.io.csvfile import ODOMETRY_HEADER, odometry_lines
 from diffbot.io.outputs import atomic_text, input_clash
-from diffbot.io.recordings import Progress, RecordingOdometry, csv_odometry, recording_odometry
 from diffbot.kinematics import DiffDriveParams, norm_angle
 from diffbot.odometry import Odometry
 from diffbot.reference import ReferenceComparison, ReferenceResult
+from diffbot.replay import Progress, RecordingOdometry, csv_odometry, recording_odometry
 
 __all__ = [
     "DASK_INSTALL_HINT",

@@ -1,20 +1,66 @@
-"""Odometry over a whole recording: every sample fed to an :class:`Odometry`, the poses kept as
-compact columns."""
+"""Odometry of recordings: the pipeline read (:mod:`diffbot.io`) -> condition
+(:mod:`diffbot.conditioning`) -> integrate (:mod:`diffbot.chunk_odometry`) -> write (a sink),
+driven from here.
+
+:func:`recording_odometry` reads a CSV file or a bag topic chunk by chunk, in memory that does
+not grow with the recording; the result is that of feeding its samples one by one to
+:class:`diffbot.odometry.Odometry` (stamps in seconds since the first sample), bit for bit. A
+side with several drive wheels is the mean of its joints present in a sample; a sample is
+skipped only when a whole side is missing. A bag topic is stamped by one clock: the header
+stamps when every readable message has a non-zero one, otherwise the bag's receive times. A
+zero header stamp is seen only while reading, so a topic that turns out to need the receive
+times is read a second time: the sink is then told to start again (:meth:`PoseSink.restart`).
+
+:func:`run_odometry` feeds a recording read whole to an :class:`Odometry`, the poses kept as
+compact columns.
+"""
 
 from __future__ import annotations
 
 import array
-from collections.abc import Iterator, Mapping, Sequence
+import os
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import closing
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, TextIO
 
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
 from diffbot.kinematics import Pose, Twist, norm_angle
 from diffbot.odometry import SKIP_MISSING_JOINT, Odometry
-from diffbot.samples import NS_PER_S, ColumnSamples, ColumnView, Recording
+from diffbot.samples import (
+    CLOCK_HEADER,
+    CLOCK_RECEIVE,
+    MAX_POSITION,
+    NS_PER_S,
+    SKIP_POSITION_RANGE,
+    SKIP_UNREADABLE,
+    ColumnSamples,
+    ColumnView,
+    Recording,
+)
 
-__all__ = ["OdometryRow", "OdometryRows", "OdometryRun", "run_odometry"]
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
+    from diffbot.chunk_odometry import ChunkOdometry, ChunkPoses, OdometrySummary
+    from diffbot.conditioning import Conditioner, Conditioning, ConditioningReport
+    from diffbot.io.bag_chunks import TopicChunks
+    from diffbot.io.csv_chunks import CsvLayout
+    from diffbot.kinematics import DiffDriveParams
+
+__all__ = [
+    "OdometryRow",
+    "OdometryRows",
+    "OdometryRun",
+    "PoseSink",
+    "Progress",
+    "RecordingOdometry",
+    "bag_odometry",
+    "csv_odometry",
+    "recording_odometry",
+    "run_odometry",
+]
 
 
 class OdometryRow(NamedTuple):
@@ -147,4 +193,268 @@ def run_odometry(recording: Recording, odom: Odometry) -> OdometryRun:
 
 
 # --------------------------------------------------------------------------------------------
-# Outputs
+# Chunked odometry of a recording by path
+
+
+#: Called with how much of the input a chunk used (messages of a bag, characters of a CSV).
+Progress = Callable[[int], None]
+
+
+class PoseSink(Protocol):
+    """Where the poses of a run go as they come."""
+
+    def write(self, poses: ChunkPoses) -> None:
+        """Take the poses after the used samples of one chunk, in order."""
+
+    def restart(self) -> None:
+        """Drop every pose written so far: the run starts again from the first sample."""
+
+
+class RecordingOdometry:
+    """The odometry of one recording.
+
+    Attributes:
+        source: the input's name.
+        kind: ``"csv"``, ``"rosbag2"`` or ``"rosbag1"`` (a ROS 1 bag).
+        summary: the end of the run.
+        clock: for a bag, :data:`~diffbot.samples.CLOCK_HEADER` or
+            :data:`~diffbot.samples.CLOCK_RECEIVE`; None for a CSV.
+        conditioning: what was done to the recorded positions (units, wraps) and the steps
+            found implausible.
+        topic: for a bag, the topic read; None for a CSV.
+        topic_chosen: whether the topic was not asked for but taken as the bag's only
+            JointState topic.
+        notes: what the reader judged by itself (a CSV's delimiter, its time unit), for people.
+    """
+
+    def __init__(
+        self,
+        source: str,
+        kind: str,
+        summary: OdometrySummary,
+        clock: str | None,
+        conditioning: ConditioningReport,
+        topic: str | None = None,
+        topic_chosen: bool = False,
+        notes: tuple[str, ...] = (),
+    ) -> None:
+        self.source = source
+        self.kind = kind
+        self.summary = summary
+        self.clock = clock
+        self.conditioning = conditioning
+        self.topic = topic
+        self.topic_chosen = topic_chosen
+        self.notes = notes
+
+
+def csv_odometry(
+    path: str | os.PathLike[str] | TextIO,
+    params: DiffDriveParams,
+    *,
+    sink: PoseSink | None = None,
+    progress: Progress | None = None,
+    source: str | None = None,
+    chunk_bytes: int | None = None,
+    conditioning: Conditioning | None = None,
+    layout: CsvLayout | None = None,
+) -> RecordingOdometry:
+    """The odometry of the wheel columns of a recording CSV (a file or a text stream).
+
+    The positions go through a :class:`~diffbot.conditioning.Conditioner` (units, wraps,
+    implausible steps) as ``conditioning`` says before they are integrated.
+
+    Raises:
+        RecordingError: missing, empty or non-text input, no time column, no column for a side,
+            malformed CSV, or no usable sample.
+    """
+    from diffbot.chunk_odometry import ChunkOdometry, side_means
+    from diffbot.conditioning import Conditioner
+    from diffbot.io.csv_chunks import CHUNK_BYTES, open_csv_chunks
+
+    odom = ChunkOdometry(params)
+    sides = (params.left_joints, params.right_joints)
+    with open_csv_chunks(
+        path,
+        sides,
+        chunk_bytes=CHUNK_BYTES if chunk_bytes is None else chunk_bytes,
+        source=source,
+        layout=layout,
+    ) as chunks:
+        conditioner = Conditioner.for_robot(params, chunks.joints, chunks.left_count, conditioning)
+        for chunk in chunks:
+            for reason, count in chunk.skipped.items():
+                odom.skip(reason, count)
+            positions = conditioner.feed(chunk.stamp_ns, chunk.positions, chunk.present)
+            left, right, both = side_means(positions, chunk.present, chunks.left_count)
+            poses = odom.feed(chunk.stamp_ns, left, right, both)
+            if sink is not None:
+                sink.write(poses)
+            if progress is not None:
+                progress(chunk.chars)
+        summary = odom.summary(chunks.source)
+        report = conditioner.report()
+        return RecordingOdometry(chunks.source, "csv", summary, None, report, notes=chunks.notes())
+
+
+def _bag_pass(
+    topic: TopicChunks,
+    params: DiffDriveParams,
+    clock: str,
+    sink: PoseSink | None,
+    progress: Progress | None,
+    conditioning: Conditioning | None,
+) -> tuple[ChunkOdometry, Conditioner] | None:
+    """One pass over the topic; None when a zero header stamp asks for the receive clock."""
+    import numpy as np
+
+    from diffbot.chunk_odometry import ChunkOdometry, side_means
+    from diffbot.conditioning import Conditioner
+    from diffbot.io.jointstate_cdr import decode_positions
+
+    odom = ChunkOdometry(params)
+    joints = (*params.left_joints, *params.right_joints)
+    conditioner = Conditioner.for_robot(params, joints, len(params.left_joints), conditioning)
+    for chunk in topic.chunks(receive_times=clock == CLOCK_RECEIVE):
+        decoded = decode_positions(chunk.blobs, joints)
+        readable = decoded.readable
+        header = decoded.stamp_ns[readable]
+        if clock == CLOCK_HEADER and not np.all(header):
+            return None
+        unreadable = int(readable.size - np.count_nonzero(readable))
+        odom.skip(SKIP_UNREADABLE, unreadable)
+        positions, present = decoded.positions, decoded.present
+        if clock == CLOCK_HEADER:
+            stamps = header
+        else:
+            assert chunk.receive_ns is not None  # asked for
+            stamps = chunk.receive_ns[readable]
+        # Readable messages with a finite wheel position too large to compute with are
+        # skipped, as read_recording skips them.
+        with np.errstate(invalid="ignore"):
+            large = (np.abs(positions) > MAX_POSITION) & np.isfinite(positions) & present
+        out_of_range: NDArray[np.bool_] = np.any(large, axis=1)[readable]
+        if unreadable:
+            positions, present = positions[readable], present[readable]
+        if out_of_range.any():
+            odom.skip(SKIP_POSITION_RANGE, int(np.count_nonzero(out_of_range)))
+            keep = ~out_of_range
+            positions, present, stamps = positions[keep], present[keep], stamps[keep]
+        positions = conditioner.feed(stamps, positions, present)
+        left, right, both = side_means(positions, present, len(params.left_joints))
+        poses = odom.feed(stamps, left, right, both)
+        if sink is not None:
+            sink.write(poses)
+        if progress is not None:
+            progress(len(chunk.blobs))
+    return odom, conditioner
+
+
+def bag_odometry(
+    path: str | os.PathLike[str],
+    params: DiffDriveParams,
+    topic: str | None = None,
+    *,
+    chunk_size: int | None = None,
+    sink: PoseSink | None = None,
+    progress: Progress | None = None,
+    conditioning: Conditioning | None = None,
+) -> RecordingOdometry:
+    """The odometry of the sensor_msgs/msg/JointState messages of one bag topic.
+
+    Messages of a repeating layout are decoded in bulk (fixed byte offsets, NumPy over many
+    messages at once), any other one by rosbags' deserializer.
+
+    Raises:
+        RecordingError: rosbags is missing (for storage it must read), the path is not a
+            readable bag, the topic is absent or does not carry JointState messages, or no
+            sample could be used.
+    """
+    from diffbot.io.bag import JOINT_STATE
+    from diffbot.io.bag_chunks import CHUNK_MESSAGES, BagError, TopicChunks
+
+    size = CHUNK_MESSAGES if chunk_size is None else chunk_size
+    with closing(TopicChunks(path, topic, chunk_size=size)) as chunks:
+        if chunks.msgtype != JOINT_STATE:
+            raise BagError(
+                f"{chunks.source}: topic {chunks.topic!r} carries {chunks.msgtype}, "
+                f"not {JOINT_STATE}"
+            )
+        clock = CLOCK_HEADER
+        done = _bag_pass(chunks, params, clock, sink, progress, conditioning)
+        if done is None:
+            clock = CLOCK_RECEIVE
+            if sink is not None:
+                sink.restart()
+            done = _bag_pass(chunks, params, clock, sink, progress, conditioning)
+        assert done is not None  # the receive clock never asks for another pass
+        odom, conditioner = done
+        hint = ""
+        if odom.skipped.get(SKIP_MISSING_JOINT) and not odom.used:
+            hint = _joints_hint(chunks, params)
+        summary = odom.summary(chunks.source, hint)
+        return RecordingOdometry(
+            chunks.source,
+            "rosbag1" if chunks.ros1 else "rosbag2",
+            summary,
+            clock,
+            conditioner.report(),
+            chunks.topic,
+            chunks.topic_chosen,
+        )
+
+
+def _joints_hint(chunks: TopicChunks, params: DiffDriveParams) -> str:
+    """The wheel joints wanted and the joints the topic's first readable message holds."""
+    from diffbot.io.bag import JOINT_STATE, typestore
+
+    wanted = listing([*params.left_joints, *params.right_joints])
+    store = typestore()
+    for chunk in chunks.chunks(receive_times=False):
+        for blob in chunk.blobs:
+            try:
+                message: Any = store.deserialize_cdr(blob, JOINT_STATE)
+                names = [str(name) for name in message.name]
+            except Exception:  # a damaged message: the next one may say
+                continue
+            return f"; wheel joints wanted: {wanted}; joints found: {listing(names)}"
+    return f"; wheel joints wanted: {wanted}"
+
+
+def recording_odometry(
+    path: str | os.PathLike[str],
+    params: DiffDriveParams,
+    topic: str | None = None,
+    *,
+    sink: PoseSink | None = None,
+    progress: Progress | None = None,
+    conditioning: Conditioning | None = None,
+    layout: CsvLayout | None = None,
+) -> RecordingOdometry:
+    """The odometry of a CSV file or a rosbag2 recording, by what the path is.
+
+    Args:
+        path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
+        params: the robot, whose wheel joints are looked up by name.
+        topic: the JointState topic of a bag.
+        sink: where the poses go as they come, if anywhere.
+        progress: called after each chunk with how much of the input it used (see
+            :func:`recording_size`).
+        conditioning: the positions' units and wrap (default: radians, wraps detected).
+        layout: a CSV's columns, delimiter and time unit, where not the defaults.
+
+    Raises:
+        RecordingError: missing, empty or unreadable input; missing columns or topic; no
+            usable sample.
+    """
+    from diffbot.io.bag import is_bag
+    from diffbot.io.recordings import existing_recording
+
+    p = existing_recording(path)
+    if is_bag(p):
+        return bag_odometry(
+            p, params, topic, sink=sink, progress=progress, conditioning=conditioning
+        )
+    return csv_odometry(
+        p, params, sink=sink, progress=progress, conditioning=conditioning, layout=layout
+    )

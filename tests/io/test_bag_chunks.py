@@ -20,9 +20,9 @@ from sinks import Collect
 
 from diffbot.errors import RecordingError
 from diffbot.io.bag_chunks import BagError, TopicChunks
-from diffbot.io.recordings import bag_odometry, read_recording
+from diffbot.io.recordings import read_recording
 from diffbot.odometry import Odometry
-from diffbot.replay import run_odometry
+from diffbot.replay import bag_odometry, run_odometry
 from diffbot.samples import CLOCK_HEADER, CLOCK_RECEIVE, SKIP_UNREADABLE
 
 

@@ -18,8 +18,8 @@ from sinks import Collect
 
 from diffbot.errors import RecordingError
 from diffbot.io.csv_chunks import CsvChunks, open_csv_chunks, stamp_ns_from_text, stamps_from_digits
-from diffbot.io.recordings import csv_odometry
 from diffbot.odometry import Odometry
+from diffbot.replay import csv_odometry
 
 Row = tuple[int, float, float, int]
 

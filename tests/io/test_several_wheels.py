@@ -15,8 +15,8 @@ from hypothesis import strategies as st
 from robots import SKID
 
 from diffbot.errors import RecordingError
-from diffbot.io.recordings import bag_odometry, csv_odometry
 from diffbot.odometry import SKIP_MISSING_JOINT, Odometry
+from diffbot.replay import bag_odometry, csv_odometry
 
 JOINTS = (*SKID.left_joints, *SKID.right_joints)
 
