@@ -151,12 +151,20 @@ def _figure(window: bool) -> Figure:
     return figure
 
 
-def recordings_figure(recordings: Iterable[Recording], *, window: bool = False) -> Figure:
+def recordings_figure(
+    recordings: Iterable[Recording],
+    *,
+    differences: Iterable[Recording] = (),
+    window: bool = False,
+) -> Figure:
     """A figure of odometry paths alone, with no plan: each recording's path in the odom frame
-    (equal scales, axes label ``"path"``), its start (square) and end (circle).
+    (equal scales, axes label ``"path"``), its start (square) and end (circle); and, when
+    given, distances over time below (axes label ``"difference"``).
 
     Args:
         recordings: ``(label, x, y)`` with x and y in m.
+        differences: ``(label, t, d)``: times (s) and distances (m), such as between the
+            odometry and a reference.
         window: make the figure through pyplot (see :func:`plan_figure`).
 
     Raises:
@@ -167,7 +175,20 @@ def recordings_figure(recordings: Iterable[Recording], *, window: bool = False) 
 
     require_matplotlib()
     figure = _figure(window)
-    axes = figure.subplots()
+    curves = list(differences)
+    if curves:
+        axes, below = figure.subplots(2, 1, height_ratios=(2, 1))
+        below.set_label("difference")
+        for number, (label, t, d) in enumerate(curves):
+            colour = RECORDING_COLOURS[(2 * number + 1) % len(RECORDING_COLOURS)]
+            below.plot(t, d, color=colour, linewidth=1.2, label=label)
+        below.set_xlabel("time (s)")
+        below.set_ylabel("distance (m)")
+        below.set_title("Distance from the odometry")
+        below.grid(True, color="#e0e0e0", linewidth=0.6)
+        below.legend(loc="best", fontsize=8)
+    else:
+        axes = figure.subplots()
     axes.set_label("path")
     for number, (label, x, y) in enumerate(recordings):
         rx = np.asarray(x, dtype=np.float64).ravel()

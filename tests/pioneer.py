@@ -8,11 +8,14 @@ import math
 from pathlib import Path
 
 import numpy as np
+from bags import write_bag_with_odometry
 from robots import two_wheel_urdf
 from wheel_motion import Segment, wheel_samples
 
 from diffbot.kinematics import DiffDriveParams, Pose
 
+#: The topic of the Pioneer's joint states.
+TOPIC = "/pioneer5/joint_states"
 #: The Pioneer's wheel radius (m) and separation (m), as its URDF gives them.
 RADIUS = 0.0975
 SEPARATION = 0.33
@@ -102,3 +105,24 @@ def truth_csv(folder: Path, name: str, segments: list[Segment] = RUN) -> Path:
     path = folder / name
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
+
+
+def pioneer_messages() -> list[tuple[int, int, list[str], list[float]]]:
+    stamps, left, right = counts()
+    joints = [PIONEER.left_joint, PIONEER.right_joint]
+    return [
+        (stamp, stamp, joints, [lc, rc])
+        for stamp, lc, rc in zip(stamps.tolist(), left.tolist(), right.tolist(), strict=True)
+    ]
+
+
+def reference_bag(tmp_path: Path, drift: float = 0.0) -> Path:
+    """The Pioneer's counts and its own odometry on /odom (the true poses, stamped on time with
+    the counts), drifting ``drift`` m along x per sample."""
+    stamps, poses = truth()
+    messages = pioneer_messages()
+    reference = [
+        (int(stamp) + LATE_NS, pose.x + drift * k, pose.y, pose.theta)
+        for k, (stamp, pose) in enumerate(zip(stamps.tolist(), poses, strict=True))
+    ]
+    return write_bag_with_odometry(tmp_path / "bag", messages, reference, topic=TOPIC)

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -27,6 +29,9 @@ from diffbot.io.outputs import output_target
 from diffbot.kinematics import DiffDriveParams
 from diffbot.trajectory import Plan
 
+if TYPE_CHECKING:
+    from diffbot.replay import OdometryRow
+
 __all__ = ["plot"]
 
 
@@ -36,11 +41,13 @@ def _recordings_only(
     odom_inputs: tuple[str, ...],
     topic: str | None,
     options: RecordingOptions,
+    reference: str | None,
     output: str | None,
     force: bool,
     show: bool,
 ) -> None:
-    """Recordings with no plan: their odometry paths alone, and where each ends."""
+    """Recordings with no plan: their odometry paths alone (and their references'), and where
+    each ends."""
     robot = robot.with_path(None, xacro_args)
     given = [robot.robot, robot.controllers, *odom_inputs]
     inputs = [Path(path) for path in given if path is not None]
@@ -51,10 +58,12 @@ def _recordings_only(
         plotting.require_window()
     else:
         plotting.require_matplotlib()
-    recordings = _odometry(odom_inputs, robot.load(), topic, options)
-    figure = plotting.recordings_figure(recordings, window=show)
+    differences: list[tuple[str, list[float], list[float]]] = []
+    recordings = _odometry(odom_inputs, robot.load(), topic, options, reference, differences)
+    figure = plotting.recordings_figure(recordings, differences=differences, window=show)
     for label, xs, ys in recordings:
-        click.echo(f"{label}: odometry ends at x {fmt(xs[-1], 4)} m, y {fmt(ys[-1], 4)} m")
+        what = "ends" if reference and label.endswith(f" {reference}") else "odometry ends"
+        click.echo(f"{label}: {what} at x {fmt(xs[-1], 4)} m, y {fmt(ys[-1], 4)} m")
     if output is not None:
         plotting.save(figure, output, force=force, inputs=inputs)
     if show:
@@ -66,8 +75,14 @@ def _odometry(
     params: DiffDriveParams,
     topic: str | None,
     options: RecordingOptions,
+    reference: str | None = None,
+    differences: list[tuple[str, list[float], list[float]]] | None = None,
 ) -> list[tuple[str, list[float], list[float]]]:
-    """The odometry path of each recording, labelled by its file name."""
+    """The odometry path of each recording, labelled by its file name, each followed by its
+    reference's path when a reference topic is given (the distances between the two over time
+    then go to ``differences``)."""
+    if differences is None:
+        differences = []
     from diffbot.io.recordings import read_recording
     from diffbot.odometry import Odometry
     from diffbot.replay import run_odometry
@@ -89,7 +104,48 @@ def _odometry(
             )
         poses = [row.pose for row in run.rows]
         recordings.append((source, [pose.x for pose in poses], [pose.y for pose in poses]))
+        if reference is not None:
+            recordings.append(_reference(source, reference, run.rows, differences))
     return recordings
+
+
+def _reference(
+    source: str,
+    topic: str,
+    rows: Sequence[OdometryRow],
+    differences: list[tuple[str, list[float], list[float]]],
+) -> tuple[str, list[float], list[float]]:
+    """The reference's path in the odometry's frame, its distance from the odometry over time
+    appended to ``differences``, and the comparison said on stdout."""
+    import numpy as np
+
+    from diffbot.io.bag import is_bag
+    from diffbot.io.poses import read_pose_track
+    from diffbot.reference import ReferenceComparison
+
+    if not is_bag(source):
+        fail(f"{source}: a reference topic is read from a bag, and this is a CSV")
+    track = read_pose_track(source, topic)
+    comparison = ReferenceComparison(topic, track.stamps_ns, track.x, track.y, track.theta)
+    stamps = np.array([row.stamp_ns for row in rows], dtype=np.int64)
+    x = np.array([row.pose.x for row in rows])
+    y = np.array([row.pose.y for row in rows])
+    heading = np.array([row.pose.theta for row in rows])
+    rx, ry, _ = comparison.add(stamps, x, y, np.unwrap(heading))
+    inside = ~np.isnan(rx)
+    if not inside.any():
+        fail(f"{source}: {topic} has no pose within the recording's time span")
+    seconds = (stamps[inside] - stamps[0]) / 1e9
+    distance = np.hypot(x[inside] - rx[inside], y[inside] - ry[inside])
+    label = f"{source} {topic}"
+    differences.append((label, seconds.tolist(), distance.tolist()))
+    result = comparison.result()
+    click.echo(
+        f"{label}: final {fmt(result.final_position_error, 3)} m, max "
+        f"{fmt(result.max_position_error, 3)} m, RMS {fmt(result.rms_position_error, 3)} m "
+        "from the odometry"
+    )
+    return label, rx[inside].tolist(), ry[inside].tolist()
 
 
 @click.command(context_settings=NUMBERS)
@@ -105,6 +161,13 @@ def _odometry(
 @topic_option("The sensor_msgs/JointState topic of --odom bags.", reading=True)
 @recording_options
 @click.option(
+    "--reference",
+    metavar="TOPIC",
+    help="Draw each --odom bag's pose topic (the robot's own odometry, nav_msgs/Odometry, or a "
+    "PoseStamped track) beside diffbot's odometry, and, without a plan, their distance over "
+    "time.",
+)
+@click.option(
     "-o",
     "--output",
     metavar="FILE",
@@ -119,6 +182,7 @@ def plot(
     odom_inputs: tuple[str, ...],
     topic: str | None,
     recording: RecordingOptions,
+    reference: str | None,
     output: str | None,
     force: bool,
     show: bool,
@@ -149,7 +213,9 @@ def plot(
         fail("-o needs a file name, got ''")
     rest, xacro_args = split_xacro_args(tokens)
     if odom_inputs and not rest and plan_options.example is None and plan_options.goal is None:
-        _recordings_only(robot, xacro_args, odom_inputs, topic, recording, output, force, show)
+        _recordings_only(
+            robot, xacro_args, odom_inputs, topic, recording, reference, output, force, show
+        )
         return
     source = plan_options.source(rest)
     robot = robot.with_path(None, xacro_args)
@@ -170,7 +236,7 @@ def plot(
         warn("a ramped plan is drawn at its cruise speeds: the ramps are not drawn")
         made = made.steps
     p = made
-    recordings = _odometry(odom_inputs, params, topic, recording)
+    recordings = _odometry(odom_inputs, params, topic, recording, reference)
     figure = plotting.plan_figure(p, params, recordings=recordings, window=show)
     for label, xs, ys in recordings:
         miss = plotting.end_distance(p, xs[-1], ys[-1])

@@ -9,34 +9,23 @@ import shutil
 from pathlib import Path
 
 import pytest
-from bags import lone_storage, write_bag, write_bag_with_odometry, write_ros1_bag
+from bags import lone_storage, write_bag, write_ros1_bag
 from click.testing import CliRunner
 from pioneer import (
     COUNTS_PER_REV,
-    LATE_NS,
-    PIONEER,
     RUN_END,
+    TOPIC,
     WRAP,
-    counts,
     counts_csv,
-    truth,
+    pioneer_messages,
+    reference_bag,
     urdf,
 )
 from wheel_motion import angle_error
 
 from diffbot.cli import main
 
-TOPIC = "/pioneer5/joint_states"
 COUNTS = ["--counts-per-rev", repr(COUNTS_PER_REV)]
-
-
-def pioneer_messages() -> list[tuple[int, int, list[str], list[float]]]:
-    stamps, left, right = counts()
-    joints = [PIONEER.left_joint, PIONEER.right_joint]
-    return [
-        (stamp, stamp, joints, [lc, rc])
-        for stamp, lc, rc in zip(stamps.tolist(), left.tolist(), right.tolist(), strict=True)
-    ]
 
 
 def assert_at_run_end(data: dict[str, object]) -> None:
@@ -205,18 +194,6 @@ def test_the_table_of_several_inputs_stays_aligned_with_long_names(
     end = header.index("samples") + len("samples")
     assert [row[:end].rstrip().endswith(" 101") for row in rows] == [True, True]
     assert len({row.index(" x ") for row in rows}) == 1
-
-
-def reference_bag(tmp_path: Path, drift: float = 0.0) -> Path:
-    """The Pioneer's counts and its own odometry on /odom (the true poses, stamped on time with
-    the counts), drifting ``drift`` m along x per sample."""
-    stamps, poses = truth()
-    messages = pioneer_messages()
-    reference = [
-        (int(stamp) + LATE_NS, pose.x + drift * k, pose.y, pose.theta)
-        for k, (stamp, pose) in enumerate(zip(stamps.tolist(), poses, strict=True))
-    ]
-    return write_bag_with_odometry(tmp_path / "bag", messages, reference, topic=TOPIC)
 
 
 def test_the_robots_own_odometry_is_a_reference_that_agrees(

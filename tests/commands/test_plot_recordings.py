@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner, Result
 from figures import axes_labelled, near, rendered
-from pioneer import COUNTS_PER_REV, counts_csv, urdf
+from pioneer import COUNTS_PER_REV, counts_csv, reference_bag, urdf
 
 from diffbot.cli import main
 from diffbot.plotting import PATH_COLOUR, RECORDING_COLOURS, recordings_figure
@@ -47,3 +47,31 @@ def test_the_recordings_figure_has_no_plan_in_it() -> None:
     assert near(image, axes, 0.5, 0.0, RECORDING_COLOURS[0])
     assert not near(image, axes, 0.5, 0.0, PATH_COLOUR)
     assert [text.get_text() for text in axes.get_legend().get_texts()] == ["run"]
+
+
+def test_a_reference_is_drawn_beside_the_odometry_with_their_distance_over_time(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    bag = reference_bag(tmp_path, drift=0.002)
+    target = tmp_path / "ref.png"
+    args = ["--odom", str(bag), "--robot", str(urdf(tmp_path)), "--reference", "/odom"]
+    args += ["--counts-per-rev", repr(COUNTS_PER_REV), "--wrap", "65536", "-o", str(target)]
+    result = run(runner, *args)
+    assert result.exit_code == 0, result.output
+    # Known values: the reference runs 0.002 m * k ahead at sample k (see test_odom_recordings).
+    assert result.stdout.splitlines() == [
+        f"{bag} /odom: final 0.2 m, max 0.2 m, RMS 0.116 m from the odometry",
+        f"{bag}: odometry ends at x 1 m, y 0.5 m",
+        f"{bag} /odom: ends at x 1.2 m, y 0.5 m",
+    ]
+
+
+def test_the_difference_axes_show_the_distance_over_time() -> None:
+    figure = recordings_figure(
+        [("run", [0.0, 1.0], [0.0, 0.0]), ("run /odom", [0.0, 1.1], [0.0, 0.0])],
+        differences=[("run /odom", [0.0, 1.0], [0.0, 0.1])],
+    )
+    figure.canvas.draw()
+    below = axes_labelled(figure, "difference")
+    assert [line.get_ydata().tolist() for line in below.get_lines()] == [[0.0, 0.1]]
+    assert near(rendered(figure), below, 0.5, 0.05, RECORDING_COLOURS[1])
