@@ -10,7 +10,6 @@ import os
 from collections.abc import Sequence
 from contextlib import closing
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -28,9 +27,6 @@ from diffbot.samples import (
     Recording,
     beyond_range,
 )
-
-if TYPE_CHECKING:
-    pass
 
 __all__ = [
     "csv_layout",
