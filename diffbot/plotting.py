@@ -20,9 +20,10 @@ from diffbot.kinematics import DiffDriveParams, Pose, rad_s_from_rpm, rpm_from_r
 from diffbot.trajectory import Plan, pose_at
 
 if TYPE_CHECKING:
+    import numpy as np
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
-    from numpy.typing import ArrayLike
+    from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "FIGURE_DPI",
@@ -137,6 +138,22 @@ def plan_figure(
     return figure
 
 
+def _recorded_path(
+    label: str, x: ArrayLike, y: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """A recording's x and y (m) as float64 arrays; PlotError when empty or unequal."""
+    import numpy as np
+
+    rx = np.asarray(x, dtype=np.float64).ravel()
+    ry = np.asarray(y, dtype=np.float64).ravel()
+    if rx.size == 0 or rx.size != ry.size:
+        raise PlotError(
+            f"recording {label!r} needs as many x as y positions, and some: "
+            f"got {rx.size} and {ry.size}"
+        )
+    return rx, ry
+
+
 def _figure(window: bool) -> Figure:
     """An empty figure: through pyplot for a window, else on an Agg canvas (no display)."""
     if window:
@@ -171,8 +188,6 @@ def recordings_figure(
         PlotError: matplotlib is not installed, or a recording is empty or has x and y of
             different lengths.
     """
-    import numpy as np
-
     require_matplotlib()
     figure = _figure(window)
     curves = list(differences)
@@ -191,13 +206,7 @@ def recordings_figure(
         axes = figure.subplots()
     axes.set_label("path")
     for number, (label, x, y) in enumerate(recordings):
-        rx = np.asarray(x, dtype=np.float64).ravel()
-        ry = np.asarray(y, dtype=np.float64).ravel()
-        if rx.size == 0 or rx.size != ry.size:
-            raise PlotError(
-                f"recording {label!r} needs as many x as y positions, and some: "
-                f"got {rx.size} and {ry.size}"
-            )
+        rx, ry = _recorded_path(label, x, y)
         colour = RECORDING_COLOURS[number % len(RECORDING_COLOURS)]
         axes.plot(rx, ry, color=colour, linewidth=1.5, label=label, zorder=3)
         axes.plot(rx[0], ry[0], "s", color=colour, markersize=7, zorder=2)
@@ -248,13 +257,7 @@ def _draw_path(
             bbox={"boxstyle": "round,pad=0.2", "facecolor": "white", "edgecolor": "none"},
         )
     for number, (label, x, y) in enumerate(recordings):
-        rx = np.asarray(x, dtype=np.float64).ravel()
-        ry = np.asarray(y, dtype=np.float64).ravel()
-        if rx.size == 0 or rx.size != ry.size:
-            raise PlotError(
-                f"recording {label!r} needs as many x as y positions, and some: "
-                f"got {rx.size} and {ry.size}"
-            )
+        rx, ry = _recorded_path(label, x, y)
         miss = end_distance(plan, float(rx[-1]), float(ry[-1]))
         axes.plot(
             rx,

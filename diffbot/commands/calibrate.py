@@ -26,8 +26,6 @@ from diffbot.commands.plan_options import check_topic
 from diffbot.commands.recording_options import (
     RecordingOptions,
     recording_options,
-    warn_conditioning,
-    warn_notes,
 )
 from diffbot.errors import CalibrationError
 from diffbot.formats.calibration import calibration_data, calibration_lines
@@ -344,7 +342,6 @@ def fit(
     """
     from diffbot.calibration.fit import fit_recordings, require_scipy
     from diffbot.io.poses import read_pose_track
-    from diffbot.io.recordings import read_recording
 
     require_scipy()
     output.check()
@@ -364,12 +361,7 @@ def fit(
         fail("give --window or --window-duration, not both")
     pairs = []
     for source in rest:
-        wheels = read_recording(
-            source, params, topic, conditioning=recording.conditioning(), **recording.csv()
-        )
-        warn_notes(wheels.notes, source)
-        if wheels.conditioning is not None:
-            warn_conditioning(wheels.conditioning, source)
+        wheels = recording.read(source, params, topic)
         pairs.append((wheels, read_pose_track(source if truth is None else truth, truth_topic)))
     result, offsets = fit_recordings(
         pairs,

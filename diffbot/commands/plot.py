@@ -21,8 +21,6 @@ from diffbot.commands.plan_options import PlanOptions, plan_arguments
 from diffbot.commands.recording_options import (
     RecordingOptions,
     recording_options,
-    warn_conditioning,
-    warn_notes,
 )
 from diffbot.formats.text import fmt
 from diffbot.io.outputs import output_target
@@ -33,6 +31,21 @@ if TYPE_CHECKING:
     from diffbot.replay import OdometryRow
 
 __all__ = ["plot"]
+
+
+def _prepared(
+    given: Sequence[str | Path | None], output: str | None, force: bool, show: bool
+) -> list[Path]:
+    """The inputs named, once the output and the display are known to be usable."""
+    inputs = [Path(path) for path in given if path is not None]
+    if output is not None:
+        plotting.file_format(output)
+        output_target(Path(output), force=force, inputs=inputs)
+    if show:
+        plotting.require_window()
+    else:
+        plotting.require_matplotlib()
+    return inputs
 
 
 def _recordings_only(
@@ -50,14 +63,7 @@ def _recordings_only(
     each ends."""
     robot = robot.with_path(None, xacro_args)
     given = [robot.robot, robot.controllers, *odom_inputs]
-    inputs = [Path(path) for path in given if path is not None]
-    if output is not None:
-        plotting.file_format(output)
-        output_target(Path(output), force=force, inputs=inputs)
-    if show:
-        plotting.require_window()
-    else:
-        plotting.require_matplotlib()
+    inputs = _prepared(given, output, force, show)
     differences: list[tuple[str, list[float], list[float]]] = []
     recordings = _odometry(odom_inputs, robot.load(), topic, options, reference, differences)
     figure = plotting.recordings_figure(recordings, differences=differences, window=show)
@@ -83,18 +89,12 @@ def _odometry(
     then go to ``differences``)."""
     if differences is None:
         differences = []
-    from diffbot.io.recordings import read_recording
     from diffbot.odometry import Odometry
     from diffbot.replay import run_odometry
 
     recordings: list[tuple[str, list[float], list[float]]] = []
     for source in inputs:
-        recording = read_recording(
-            source, params, topic, conditioning=options.conditioning(), **options.csv()
-        )
-        warn_notes(recording.notes, source)
-        if recording.conditioning is not None:
-            warn_conditioning(recording.conditioning, source)
+        recording = options.read(source, params, topic)
         run = run_odometry(recording, Odometry(params))
         skipped = sum(run.skipped.values())
         if skipped:
@@ -220,14 +220,7 @@ def plot(
     source = plan_options.source(rest)
     robot = robot.with_path(None, xacro_args)
     given = [source.path, robot.robot, robot.controllers, *odom_inputs]
-    inputs = [Path(path) for path in given if path is not None]
-    if output is not None:
-        plotting.file_format(output)
-        output_target(Path(output), force=force, inputs=inputs)
-    if show:
-        plotting.require_window()
-    else:
-        plotting.require_matplotlib()
+    inputs = _prepared(given, output, force, show)
     params = robot.load()
     source = plan_options.resolve(source, params)
     made = plan_options.make(source.segments, params)

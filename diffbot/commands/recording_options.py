@@ -16,6 +16,8 @@ from diffbot.formats.text import fmt
 if TYPE_CHECKING:
     from diffbot.conditioning import Conditioning, ConditioningReport
     from diffbot.io.csv_chunks import CsvLayout
+    from diffbot.kinematics import DiffDriveParams
+    from diffbot.samples import Recording
 
 __all__ = [
     "RecordingOptions",
@@ -57,6 +59,19 @@ class RecordingOptions:
             "delimiter": self.delimiter,
             "time_unit": self.time_unit,
         }
+
+    def read(self, source: str, params: DiffDriveParams, topic: str | None) -> Recording:
+        """A recording read whole with these options, what was judged or found said on
+        stderr."""
+        from diffbot.io.recordings import read_recording
+
+        recording = read_recording(
+            source, params, topic, conditioning=self.conditioning(), **self.csv()
+        )
+        warn_notes(recording.notes, source)
+        if recording.conditioning is not None:
+            warn_conditioning(recording.conditioning, source)
+        return recording
 
     def layout(self) -> CsvLayout:
         """The CSV options as a :class:`~diffbot.io.csv_chunks.CsvLayout`."""
