@@ -7,7 +7,6 @@ lists of mappings such as ``{straight: 1.0, duration: 10}``, or ``.txt`` in text
 
 from __future__ import annotations
 
-import functools
 import math
 import os
 import re
@@ -465,75 +464,7 @@ def _load_json(text: str, source: str) -> Any:
         raise PlanError(f"{source}: a value cannot be read: {str(err).split(':')[0]}") from None
 
 
-class _AliasError(Exception):
-    """A YAML alias in a plan file; ``where`` is the mark's text."""
-
-    def __init__(self, where: str) -> None:
-        super().__init__(where)
-        self.where = where
-
-
-class _NestingError(Exception):
-    """YAML data in a plan file nested deeper than :data:`MAX_NESTING`."""
-
-
-@functools.cache
-def _plan_loader() -> type[Any]:
-    """A safe YAML loader for plan files: no aliases (a plan never needs them, and nested ones
-    expand exponentially), and no duplicate keys in a mapping (YAML forbids them; PyYAML would
-    keep the last)."""
-    import yaml
-    from yaml.nodes import MappingNode, Node
-
-    class PlanLoader(yaml.SafeLoader):
-        depth = 0
-
-        def compose_node(self, parent: Node | None, index: int) -> Node | None:
-            if self.check_event(yaml.AliasEvent):
-                mark = self.peek_event().start_mark  # type: ignore[no-untyped-call,unused-ignore]
-                raise _AliasError(f"line {mark.line + 1}, column {mark.column + 1}")
-            self.depth += 1
-            try:
-                if self.depth > MAX_NESTING:
-                    raise _NestingError
-                return super().compose_node(parent, index)
-            finally:
-                self.depth -= 1
-
-        def construct_mapping(self, node: MappingNode, deep: bool = False) -> dict[Any, Any]:
-            seen: set[Any] = set()
-            for key_node, _ in node.value:
-                key = self.construct_object(key_node, deep=True)
-                try:
-                    duplicate = key in seen
-                except TypeError:  # unhashable: the SafeLoader reports it
-                    continue
-                if duplicate:
-                    raise yaml.constructor.ConstructorError(
-                        None, None, f"duplicate key {brief(key)}", key_node.start_mark
-                    )
-                seen.add(key)
-            return super().construct_mapping(node, deep)
-
-    return PlanLoader
-
-
 def _load_yaml(text: str, source: str) -> Any:
-    import yaml
+    from diffbot.io.yamlfile import load_yaml
 
-    try:
-        return yaml.load(text, Loader=_plan_loader())  # a SafeLoader
-    except _AliasError as err:
-        raise PlanError(
-            f"{source}: YAML aliases (*name) are not allowed in a plan file, write each entry "
-            f"out ({err.where})"
-        ) from None
-    except _NestingError:
-        raise _nesting_error(source) from None
-    except yaml.YAMLError as err:
-        mark = getattr(err, "problem_mark", None)
-        problem = getattr(err, "problem", None) or "malformed YAML"
-        where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark is not None else ""
-        raise PlanError(f"{source}: malformed YAML: {problem}{where}") from None
-    except ValueError as err:  # a number with more digits than Python reads, a bad date
-        raise PlanError(f"{source}: a value cannot be read: {str(err).split(':')[0]}") from None
+    return load_yaml(text, source, PlanError, "a plan file", unique_keys=True)

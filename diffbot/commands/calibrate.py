@@ -171,7 +171,7 @@ def calibrate() -> None:
 def _runs_file(path: str) -> tuple[list[tuple[float, float]], list[tuple[float, float]]]:
     """The cw and ccw end points of a runs file: YAML ``{cw: [[x, y], ...], ccw: [...]}`` or
     CSV with columns ``direction,x,y``."""
-    import yaml
+    from diffbot.io.yamlfile import load_yaml
 
     text = read_text(path, CalibrationError, "a runs file (CSV or YAML)")
     runs: dict[str, list[tuple[float, float]]] = {"cw": [], "ccw": []}
@@ -182,14 +182,7 @@ def _runs_file(path: str) -> tuple[list[tuple[float, float]], list[tuple[float, 
             fail(f"{path}: a runs CSV has the columns direction,x,y (got {','.join(header)})")
         rows = [(cells[0].strip().lower(), cells[1:]) for cells in lines[1:]]
     else:
-        try:
-            data = yaml.safe_load(text)
-        except yaml.YAMLError as err:
-            fail(f"{path}: not YAML: {' '.join(str(err).split())}")
-        except RecursionError:
-            fail(f"{path}: not a runs file: YAML nested too deeply")
-        except ValueError:  # Python reads no integer of more than 4300 digits
-            fail(f"{path}: not a runs file: a number too long to read")
+        data = load_yaml(text, path, CalibrationError, "a runs file")
         if not isinstance(data, dict) or not set(data) <= {"cw", "ccw"}:
             fail(f"{path}: a runs YAML maps cw and ccw to lists of [x, y] (m)")
         rows = []

@@ -119,7 +119,9 @@ def _sqlite_plan(path: Path, scratch: Path | None = None) -> _SqlitePlan | None:
         scratch: where compressed ``.db3.zstd`` files are decompressed (None: not read here).
 
     Raises:
-        Exception: from sqlite3 or YAML on damaged files (the caller then lets rosbags judge).
+        BagError: ``metadata.yaml`` is malformed YAML, or refused (aliases, deep nesting).
+        Exception: from sqlite3 or the metadata's fields on damaged files (the caller then lets
+            rosbags judge).
     """
     topics: dict[str, set[str]] = {}
     counts: dict[str, int] = {}
@@ -140,9 +142,11 @@ def _sqlite_plan(path: Path, scratch: Path | None = None) -> _SqlitePlan | None:
         if not files:
             return None
     else:
-        import yaml
+        from diffbot.io.yamlfile import load_yaml
 
-        info: Any = yaml.safe_load((path / "metadata.yaml").read_text(encoding="utf-8"))
+        metadata = path / "metadata.yaml"
+        text = metadata.read_text(encoding="utf-8")
+        info: Any = load_yaml(text, str(metadata), BagError, "bag metadata")
         info = info["rosbag2_bagfile_information"]
         mode = str(info.get("compression_mode") or "").lower()
         if (

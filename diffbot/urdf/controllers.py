@@ -44,11 +44,10 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
-import yaml
-
 from diffbot.controller_config import AxisLimits, ControllerConfig, default_of, first_of
 from diffbot.errors import DescriptionError
 from diffbot.io.textfile import check_regular, open_regular
+from diffbot.io.yamlfile import load_yaml
 from diffbot.numbers import MAX_PLAN_DURATION, as_number, finite_in_range, shown
 
 __all__ = [
@@ -91,42 +90,12 @@ class ControllerConfigError(DescriptionError):
 # --- YAML -------------------------------------------------------------------------------------
 
 
-class _SafeNoAliasLoader(yaml.SafeLoader):
-    """SafeLoader that refuses aliases, so a small file cannot expand into a huge tree."""
-
-    def compose_node(self, parent: Any, index: Any) -> Any:
-        if self.check_event(yaml.AliasEvent):
-            event = self.peek_event()  # type: ignore[no-untyped-call]  # untyped in the stubs
-            raise yaml.composer.ComposerError(
-                None, None, "aliases (*name) are not accepted", event.start_mark
-            )
-        return super().compose_node(parent, index)
-
-
-# ROS reads numbers with strtod, so ``1e-3`` is a double there; YAML 1.1 wants ``1.0e-3``.
-_SafeNoAliasLoader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
-    list("-+0123456789."),
-)
-
-
 def _parse_yaml(text: str, source: str) -> Any:
     if len(text) > MAX_FILE_BYTES:
         raise ControllerConfigError(
             f"{source}: controllers file is larger than {MAX_FILE_BYTES} bytes"
         )
-    try:
-        return yaml.load(text, Loader=_SafeNoAliasLoader)
-    except yaml.YAMLError as err:
-        mark = getattr(err, "problem_mark", None)
-        where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark is not None else ""
-        problem = getattr(err, "problem", None) or str(err).splitlines()[0]
-        raise ControllerConfigError(f"{source}: malformed YAML{where}: {problem}") from err
-    except RecursionError as err:
-        raise ControllerConfigError(f"{source}: YAML nested too deeply") from err
-    except ValueError as err:  # Python reads no integer of more than 4300 digits
-        raise ControllerConfigError(f"{source}: malformed YAML: a number too long to read") from err
+    return load_yaml(text, source, ControllerConfigError, "a controllers file", ros_floats=True)
 
 
 def _flatten(params: Mapping[Any, Any], prefix: str = "") -> dict[str, Any]:

@@ -578,12 +578,12 @@ def test_bad_update_rate_names_the_controller_manager() -> None:
 
 def test_yaml_aliases_are_refused() -> None:
     bomb = 'a: &a ["lol", "lol"]\nb: &b [*a, *a]\nc: &c [*b, *b]\n'
-    with pytest.raises(ControllerConfigError, match=r"bomb\.yaml: .*line 2.*aliases"):
+    with pytest.raises(ControllerConfigError, match=r"bomb\.yaml: YAML aliases .*\(line 2"):
         read_controllers(bomb, "bomb.yaml")
 
 
 def test_malformed_yaml_points_at_the_line() -> None:
-    with pytest.raises(ControllerConfigError, match=r"bad\.yaml: malformed YAML \(line 3, column"):
+    with pytest.raises(ControllerConfigError, match=r"bad\.yaml: malformed YAML: .*\(line 3,"):
         read_controllers("a:\n  b: [1, 2\n", "bad.yaml")
 
 
@@ -955,7 +955,7 @@ def test_quoted_numbers_stay_strings_and_are_refused() -> None:
 
 
 def test_deeply_nested_yaml_is_an_error_not_a_crash() -> None:
-    with pytest.raises(ControllerConfigError, match=r"deep\.yaml: YAML nested too deeply"):
+    with pytest.raises(ControllerConfigError, match=r"deep\.yaml: YAML .* nested more than 32"):
         read_controllers("[" * 5_000, "deep.yaml")
 
 
