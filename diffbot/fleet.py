@@ -8,16 +8,22 @@ stop the others. Results come back in the order of the tasks.
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
+import logging
 import os
+import re
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Final, TextIO
 
 from diffbot.chunk_odometry import ChunkPoses
 from diffbot.conditioning import Conditioning
 from diffbot.errors import DiffbotError, OutputError, RecordingError
+from diffbot.formats.text import brief, fmt
 from diffbot.io.bag import OdometryBagWriter
 from diffbot.io.csv_chunks import CsvLayout
 from diffbot.io.csvfile import ODOMETRY_HEADER, odometry_lines
@@ -28,9 +34,13 @@ from diffbot.reference import ReferenceComparison, ReferenceResult
 from diffbot.replay import Progress, RecordingOdometry, csv_odometry, recording_odometry
 
 __all__ = [
+    "DASK_DEFAULT_PORT",
     "DASK_INSTALL_HINT",
+    "DASK_SCHEMES",
+    "DASK_TIMEOUT",
     "OdometryResult",
     "OdometryTask",
+    "dask_address",
     "output_name",
     "run_task",
     "run_tasks",
@@ -38,6 +48,12 @@ __all__ = [
 
 #: What to install for --dask.
 DASK_INSTALL_HINT: Final = "pip install 'dask[distributed]' (the fleet extra of diffbot-kinematics)"
+#: Address schemes of a Dask scheduler (``inproc`` only names one in this same process).
+DASK_SCHEMES: Final = ("tcp", "tls", "ws", "wss", "ucx", "inproc")
+#: The scheduler's port when an address gives none (Dask's default).
+DASK_DEFAULT_PORT: Final = 8786
+#: Seconds to wait for a Dask scheduler to answer, unless told otherwise.
+DASK_TIMEOUT: Final = 10.0
 
 
 @dataclass(frozen=True)
@@ -257,6 +273,7 @@ def run_tasks(
     *,
     jobs: int = 1,
     dask_address: str | None = None,
+    dask_timeout: float = DASK_TIMEOUT,
     done: Callable[[OdometryResult], None] | None = None,
 ) -> Iterator[OdometryResult]:
     """Run the tasks and yield their results in order.
@@ -264,14 +281,19 @@ def run_tasks(
     Args:
         tasks: the tasks.
         jobs: processes to run them in (1: in this process, one after another).
-        dask_address: the scheduler of a Dask cluster to run them on instead (``tcp://...``).
-        done: called as each task finishes, in the order they finish.
+        dask_address: the scheduler of a Dask cluster to run them on instead
+            (``tcp://HOST:PORT``); inputs and outputs travel to its workers as absolute paths,
+            so the workers must share this machine's storage.
+        dask_timeout: seconds to wait for the scheduler to answer when connecting.
+        done: called as each task finishes, in the order they finish (after the whole run on
+            Dask).
 
     Raises:
-        RecordingError: dask is missing, or its scheduler cannot be reached.
+        RecordingError: dask is missing, the address is malformed, or the scheduler cannot be
+            reached or talked to within ``dask_timeout``.
     """
     if dask_address is not None:
-        yield from _run_dask(tasks, dask_address, done)
+        yield from _run_dask(tasks, dask_address, dask_timeout, done)
         return
     if jobs <= 1 or len(tasks) <= 1:
         for task in tasks:
@@ -289,25 +311,117 @@ def run_tasks(
             yield future.result()
 
 
+_HOST = re.compile(r"[A-Za-z0-9](?:[A-Za-z0-9.\-]*[A-Za-z0-9])?|\[[0-9A-Fa-f:.]+\]")
+
+
+def dask_address(address: str) -> str:
+    """A Dask scheduler address checked and made whole: ``SCHEME://HOST:PORT``.
+
+    The scheme defaults to ``tcp`` and the port to 8786, as in Dask.
+
+    Raises:
+        RecordingError: an unknown scheme, no host or a malformed one, or a port outside
+            1-65535 (the message names the address).
+    """
+    shown = brief(address)
+    scheme, sep, rest = address.partition("://")
+    if not sep:
+        scheme, rest = "tcp", address
+    if scheme not in DASK_SCHEMES:
+        raise RecordingError(
+            f"--dask {shown}: unknown scheme {brief(scheme)} (expected {', '.join(DASK_SCHEMES)})"
+        )
+    if scheme == "inproc":
+        if not rest or any(c.isspace() for c in rest):
+            raise RecordingError(f"--dask {shown}: an inproc address names HOST/PID/N")
+        return address
+    host, colon, port_text = rest.rpartition(":")
+    if not colon or "]" in port_text:  # no port; an IPv6 address in brackets has colons
+        host, port_text = rest, str(DASK_DEFAULT_PORT)
+    if not _HOST.fullmatch(host):
+        raise RecordingError(
+            f"--dask {shown}: expected {scheme}://HOST:PORT, the host is missing or malformed"
+        )
+    if not port_text.isdigit() or not 1 <= int(port_text[:6]) <= 65535:
+        raise RecordingError(f"--dask {shown}: the port must be a number from 1 to 65535")
+    return f"{scheme}://{host}:{int(port_text)}"
+
+
+def _absolute(task: OdometryTask) -> OdometryTask:
+    """The task with absolute paths: workers share the storage, not this process's folder."""
+    output = None if task.output is None else os.path.abspath(task.output)
+    source = task.input if task.input == "-" else os.path.abspath(task.input)
+    return replace(task, input=source, output=output)
+
+
 def _run_dask(
     tasks: Sequence[OdometryTask],
     address: str,
+    timeout: float,
     done: Callable[[OdometryResult], None] | None,
 ) -> Iterator[OdometryResult]:
+    address = dask_address(address)
     try:
-        from distributed import Client
+        import distributed  # noqa: F401
     except ImportError:
         raise RecordingError(
             f"running on a Dask cluster needs dask.distributed: {DASK_INSTALL_HINT}"
         ) from None
+    remote = [_absolute(task) for task in tasks]
+    logger = logging.getLogger("distributed")
+    level = logger.level
+    # Dask logs what went wrong with a traceback; the error raised here says it in one line.
+    logger.setLevel(logging.CRITICAL + 1)
     try:
-        client = Client(address, timeout=10)  # type: ignore[no-untyped-call]
-    except (OSError, TimeoutError) as err:
-        raise RecordingError(f"cannot reach the Dask scheduler at {address}: {err}") from None
-    with client:
-        futures = client.map(run_task, list(tasks), pure=False)
-        results = client.gather(futures)  # type: ignore[no-untyped-call]
-        for result in results:
-            if done is not None:
-                done(result)
-            yield result
+        with warnings.catch_warnings():
+            # A scheduler that never answered leaves a client whose clean-up Python reports.
+            warnings.simplefilter("ignore", RuntimeWarning)
+            results = asyncio.run(_dask_results(remote, address, timeout))
+    finally:
+        logger.setLevel(level)
+    for task, result in zip(tasks, results, strict=True):
+        result = replace(result, task=task)
+        if done is not None:
+            done(result)
+        yield result
+
+
+async def _dask_results(
+    tasks: list[OdometryTask], address: str, timeout: float
+) -> list[OdometryResult]:
+    """Run the tasks on the cluster; any failure to reach or talk to it is one error."""
+    from distributed import Client
+
+    client = Client(address, asynchronous=True, timeout=timeout, set_as_default=False)  # type: ignore[no-untyped-call]
+    try:
+        await asyncio.wait_for(client, timeout)
+    except BaseException as err:
+        with contextlib.suppress(BaseException):
+            await asyncio.wait_for(client.close(), 1)  # type: ignore[no-untyped-call]
+        if isinstance(err, TimeoutError):
+            raise RecordingError(
+                f"the Dask scheduler at {address} did not answer within {fmt(timeout)} s "
+                "(--dask-timeout)"
+            ) from None
+        if isinstance(err, Exception):
+            raise RecordingError(
+                f"cannot talk to the Dask scheduler at {address}: {_reason(err)}"
+            ) from None
+        raise
+    try:
+        futures = client.map(run_task, tasks, pure=False)
+        results: list[OdometryResult] = await client.gather(futures)  # type: ignore[no-untyped-call]
+    except Exception as err:
+        raise RecordingError(f"the Dask cluster at {address} failed: {_reason(err)}") from None
+    finally:
+        with contextlib.suppress(Exception):
+            await asyncio.wait_for(client.close(), timeout)  # type: ignore[no-untyped-call]
+    return results
+
+
+def _reason(err: BaseException) -> str:
+    """An exception in one short line: a garbage answer can make a long message."""
+    if isinstance(err, MemoryError):
+        return "it sent a message of absurd size"
+    text = " ".join(str(err).split()) or f"a malformed answer ({type(err).__name__})"
+    return text if len(text) <= 160 else text[:157] + "..."

@@ -132,7 +132,16 @@ def _error_text(result: OdometryResult) -> str:
     "--dask",
     "dask_address",
     metavar="ADDRESS",
-    help="Run the inputs on a Dask cluster (its scheduler, tcp://HOST:PORT; extra 'fleet').",
+    help="Run the inputs on a Dask cluster (its scheduler, tcp://HOST:PORT; extra 'fleet'). "
+    "Its workers must see the inputs and outputs at the same absolute paths.",
+)
+@click.option(
+    "--dask-timeout",
+    type=opt.FiniteFloat(0.0, open_min=True, maximum=3600.0),
+    default=10.0,
+    show_default=True,
+    metavar="SECONDS",
+    help="How long to wait for the Dask scheduler to answer.",
 )
 @opt.quiet_option
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable summary.")
@@ -145,6 +154,7 @@ def odom(
     out: OutOptions,
     jobs: int,
     dask_address: str | None,
+    dask_timeout: float,
     quiet: bool,
     as_json: bool,
 ) -> None:
@@ -184,7 +194,10 @@ def odom(
       diffbot odom 'fleet/*.mcap' --jobs 4 --out poses/ --json
     """
     from diffbot.fleet import OdometryTask
+    from diffbot.fleet import dask_address as checked_address
 
+    if dask_address is not None:
+        dask_address = checked_address(dask_address)
     rest, xacro_args = opt.split_xacro_args(tokens)
     if not rest:
         opt.fail(
@@ -209,7 +222,7 @@ def odom(
             )
             for source, output in zip(sources, outputs, strict=True)
         ]
-        _many(tasks, jobs, dask_address, quiet=quiet, as_json=as_json)
+        _many(tasks, jobs, (dask_address, dask_timeout), quiet=quiet, as_json=as_json)
         return
     source = sources[0]
     from_stdin = source == "-"
@@ -322,7 +335,12 @@ def _outputs(sources: list[str], out: OutOptions) -> list[str | None]:
 
 
 def _many(
-    tasks: list[OdometryTask], jobs: int, dask_address: str | None, *, quiet: bool, as_json: bool
+    tasks: list[OdometryTask],
+    jobs: int,
+    dask: tuple[str | None, float],
+    *,
+    quiet: bool,
+    as_json: bool,
 ) -> None:
     """Several inputs: one row (or JSON line) each; exit 1 when any failed."""
     from diffbot.fleet import run_tasks
@@ -330,7 +348,13 @@ def _many(
     failed = 0
     with progress(len(tasks), "recordings", "rec", quiet=quiet) as advance:
         results = list(
-            run_tasks(tasks, jobs=jobs, dask_address=dask_address, done=lambda _: advance(1))
+            run_tasks(
+                tasks,
+                jobs=jobs,
+                dask_address=dask[0],
+                dask_timeout=dask[1],
+                done=lambda _: advance(1),
+            )
         )
     # The inputs' column as wide as the longest name, so the other columns stay aligned.
     width = max([24, *(len(result.task.input) for result in results)])

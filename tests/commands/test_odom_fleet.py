@@ -4,6 +4,10 @@ Dask cluster, with the same results; one broken recording does not stop the othe
 from __future__ import annotations
 
 import json
+import socket
+import subprocess
+import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -113,3 +117,94 @@ def test_out_dir_never_replaces_an_input_even_with_force(
     assert result.stderr.startswith(f"error: {bag} is an input")
     assert sorted((p.name, p.read_bytes()) for p in bag.iterdir()) == before
     assert not (tmp_path / "run0").exists()
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+@pytest.fixture
+def dask_cluster(tmp_path: Path) -> Iterator[str]:
+    """A scheduler and a worker in their own processes, started in a folder of their own, as a
+    cluster runs; stopped whatever happens."""
+    distributed = pytest.importorskip("distributed")
+    dask = Path(sys.executable).with_name("dask")
+    if not dask.exists():
+        pytest.skip("no dask command beside this Python")
+    home = tmp_path / "cluster"
+    home.mkdir()
+    address = f"tcp://127.0.0.1:{_free_port()}"
+    common = {"cwd": home, "stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+    processes = [
+        subprocess.Popen(
+            [
+                str(dask),
+                "scheduler",
+                "--host",
+                "127.0.0.1",
+                "--port",
+                address.rsplit(":", 1)[1],
+                "--no-dashboard",
+                "--no-show",
+            ],
+            **common,  # type: ignore[call-overload]
+        )
+    ]
+    try:
+        processes.append(
+            subprocess.Popen(
+                [
+                    str(dask),
+                    "worker",
+                    address,
+                    "--nworkers",
+                    "1",
+                    "--nthreads",
+                    "2",
+                    "--no-dashboard",
+                    "--local-directory",
+                    str(home),
+                    "--death-timeout",
+                    "60",
+                ],
+                **common,  # type: ignore[call-overload]
+            )
+        )
+        with distributed.Client(address, timeout=60) as client:
+            client.wait_for_workers(1, timeout=60)  # ready: no sleeping, a bounded wait
+        yield address
+    finally:
+        for process in reversed(processes):
+            process.terminate()
+        for process in processes:
+            try:
+                process.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait(timeout=20)
+
+
+def test_a_cluster_in_its_own_processes_and_folder_gets_relative_paths_right(
+    fleet: list[str], tmp_path: Path, dask_cluster: str
+) -> None:
+    names = [Path(path).name for path in fleet]
+    command = [sys.executable, "-m", "diffbot", "odom", *names, "--json", "--out"]
+    runs = {}
+    for out, extra in (("serial", []), ("dask", ["--dask", dask_cluster])):
+        done = subprocess.run(
+            [*command, out, *extra], cwd=tmp_path, capture_output=True, text=True, timeout=120
+        )
+        assert done.returncode == 1, done.stderr  # the broken input
+        runs[out] = [json.loads(line) for line in done.stdout.splitlines()]
+    assert [row["input"] for row in runs["dask"]] == names
+    assert "no time column" in str(runs["dask"][2]["error"])
+    for k in (0, 1, 3, 4):
+        serial, dask = runs["serial"][k], runs["dask"][k]
+        assert dask == serial | {"output": dask["output"]}
+    written = sorted(p.name for p in (tmp_path / "dask").iterdir())
+    assert written == ["bag_run.csv", "run0.csv", "run1.csv", "run2.csv"]
+    for name in written:
+        assert (tmp_path / "dask" / name).read_text() == (tmp_path / "serial" / name).read_text()
+    assert not (tmp_path / "cluster" / "dask").exists()
