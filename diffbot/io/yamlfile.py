@@ -45,28 +45,47 @@ def _where(mark: Any) -> str:
     return "" if mark is None else f"line {mark.line + 1}, column {mark.column + 1}"
 
 
+def _base() -> type[Any]:
+    """libyaml's safe loader where PyYAML was built with it (a file of thousands of controllers
+    parses in a fraction of a second, not tens of seconds), else the pure-Python one."""
+    import yaml
+
+    return getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+def _check_events(text: str) -> None:
+    """Refuse aliases and deep nesting from the parser's events, before anything is composed:
+    the composer would follow both (and libyaml's composer cannot be bounded from Python)."""
+    import yaml
+
+    parser = _base()(text)
+    try:
+        depth = 0
+        while parser.check_event():
+            event = parser.get_event()
+            if isinstance(event, yaml.AliasEvent):
+                raise _RefusedError("aliases (*name)", _where(event.start_mark))
+            if isinstance(event, yaml.CollectionStartEvent):
+                depth += 1
+                if depth > MAX_NESTING:
+                    raise _RefusedError(
+                        f"lists and mappings nested more than {MAX_NESTING} deep",
+                        _where(event.start_mark),
+                    )
+            elif isinstance(event, yaml.CollectionEndEvent):
+                depth -= 1
+    finally:
+        parser.dispose()
+
+
 @functools.cache
 def _loader(ros_floats: bool, unique_keys: bool) -> type[Any]:
-    """A safe loader class: no aliases, nesting bounded, optionally ROS floats and no
-    duplicate keys (YAML forbids them; PyYAML keeps the last)."""
+    """A safe loader class: optionally ROS floats and no duplicate keys (YAML forbids them;
+    PyYAML keeps the last)."""
     import yaml
-    from yaml.nodes import MappingNode, Node
+    from yaml.nodes import MappingNode
 
-    class BoundedLoader(yaml.SafeLoader):
-        depth = 0
-
-        def compose_node(self, parent: Node | None, index: int) -> Node | None:
-            if self.check_event(yaml.AliasEvent):
-                mark = self.peek_event().start_mark  # type: ignore[no-untyped-call,unused-ignore]
-                raise _RefusedError("aliases (*name)", _where(mark))
-            self.depth += 1
-            try:
-                if self.depth > MAX_NESTING:
-                    raise _RefusedError(f"lists and mappings nested more than {MAX_NESTING} deep")
-                return super().compose_node(parent, index)
-            finally:
-                self.depth -= 1
-
+    class BoundedLoader(_base()):  # type: ignore[misc]
         def construct_mapping(self, node: MappingNode, deep: bool = False) -> dict[Any, Any]:
             if unique_keys:
                 seen: set[Any] = set()
@@ -81,7 +100,7 @@ def _loader(ros_floats: bool, unique_keys: bool) -> type[Any]:
                             None, None, f"duplicate key {brief(key)}", key_node.start_mark
                         )
                     seen.add(key)
-            return super().construct_mapping(node, deep)
+            return super().construct_mapping(node, deep)  # type: ignore[no-any-return]
 
     if ros_floats:
         BoundedLoader.add_implicit_resolver(
@@ -117,6 +136,7 @@ def load_yaml(
     import yaml
 
     try:
+        _check_events(text)
         return yaml.load(text, Loader=_loader(ros_floats, unique_keys))  # a SafeLoader
     except _RefusedError as err:
         if err.why.startswith("aliases"):
@@ -128,9 +148,15 @@ def load_yaml(
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         problem = getattr(err, "problem", None) or str(err).splitlines()[0]
+        if "maximum nesting depth" in problem:  # libyaml's own bound, past ours
+            raise error(
+                f"{source}: YAML lists and mappings nested more than {MAX_NESTING} deep"
+            ) from None
         where = f" ({_where(mark)})" if mark is not None else ""
         raise error(f"{source}: malformed YAML: {' '.join(problem.split())}{where}") from None
     except RecursionError:
         raise error(f"{source}: YAML nested too deeply") from None
     except (ValueError, OverflowError) as err:  # digits past Python's limit, a bad date
+        if "digits" in str(err):
+            raise error(f"{source}: malformed YAML: a number too long to read") from None
         raise error(f"{source}: a value cannot be read: {str(err).split(':')[0]}") from None

@@ -284,6 +284,11 @@ def read_controllers(
             f"got {type(tree).__name__}"
         )
     nodes = list(_ros2_nodes(tree, source))
+    # Every lookup by name goes through this index: a file of thousands of controllers would
+    # otherwise cost time quadratic in its size.
+    by_name: dict[str, list[_Node]] = {}
+    for node in nodes:
+        by_name.setdefault(node.name, []).append(node)
     wildcard: dict[str, Any] = {}
     for node in nodes:
         if node.name in _WILDCARDS or not node.name:
@@ -291,36 +296,43 @@ def read_controllers(
 
     def params_of(name: str) -> dict[str, Any]:
         merged = dict(wildcard)
-        for node in nodes:
-            if node.name == name:
-                merged.update(node.params)
+        for node in by_name.get(name, ()):
+            merged.update(node.params)
         return merged
 
+    managers = by_name.get("controller_manager", ())
+    rate = managers[0].params.get("update_rate") if managers else None
     configs: list[ControllerConfig] = []
     seen: set[str] = set()
     for node in nodes:
+        name = node.name
         manager_rate = node.params.get("update_rate")
         declared = [
             node_base_name((key[: -len(".type")],))
             for key, value in node.params.items()
             if key.endswith(".type") and _is_diff_drive(value)
         ]
-        for name in declared:
-            if name in seen:
+        for declared_name in declared:
+            if declared_name in seen:
                 continue
-            seen.add(name)
-            sections = [n for n in nodes if n.name == name]
-            warnings = () if sections else (f"no {name}: {_ROS2_KEY} section configures it",)
+            seen.add(declared_name)
+            sections = by_name.get(declared_name)
+            warnings = (
+                () if sections else (f"no {declared_name}: {_ROS2_KEY} section configures it",)
+            )
             configs.append(
-                _config(name, source, 2, params_of(name), manager_rate, warnings=warnings)
+                _config(
+                    declared_name,
+                    source,
+                    2,
+                    params_of(declared_name),
+                    manager_rate,
+                    warnings=warnings,
+                )
             )
-        if _is_diff_drive(node.params.get("type")) and node.name not in (seen | _WILDCARDS):
-            seen.add(node.name)
-            rate = next(
-                (n.params.get("update_rate") for n in nodes if n.name == "controller_manager"),
-                None,
-            )
-            configs.append(_config(node.name, source, 2, params_of(node.name), rate))
+        if _is_diff_drive(node.params.get("type")) and name not in seen and name not in _WILDCARDS:
+            seen.add(name)
+            configs.append(_config(name, source, 2, params_of(name), rate))
     for name, params in _ros1_controllers(tree):
         configs.append(_config(name, source, 1, params, None))
     unset = [

@@ -163,7 +163,7 @@ def test_umbmark_exact_fit_that_leaves_the_model_is_one_error(corner: str) -> No
         ("cw: 5\nccw: [[0.1, 0.1]]\n", "cw must be a list of [x, y] (m), got 5"),
         (f"cw: [[{'9' * 5000}, 0]]\nccw: [[0, 0]]\n", "a number too long to read"),
         (f"cw: [[{'1' * 400}, 0]]\nccw: [[0, 0]]\n", "cw x must be a finite number"),
-        ("cw: " + "[" * 50_000 + "]" * 50_000 + "\n", "nested too deeply"),
+        ("cw: " + "[" * 50_000 + "]" * 50_000 + "\n", "nested more than 32 deep"),
         ("cw: [[true, 0]]\nccw: [[0, 0]]\n", "cw x must be a finite number, got True"),
     ],
 )
