@@ -32,6 +32,7 @@ __all__ = [
     "INSTALL_COMMAND",
     "LEFT_COLOUR",
     "LIMIT_COLOUR",
+    "MAX_MARKED_SEGMENTS",
     "OVER_LIMIT_COLOUR",
     "PATH_COLOUR",
     "RECORDING_COLOURS",
@@ -41,6 +42,7 @@ __all__ = [
     "Recording",
     "end_distance",
     "file_format",
+    "marked_segments",
     "plan_figure",
     "recordings_figure",
     "require_matplotlib",
@@ -70,8 +72,13 @@ _POSE_COLOUR: Final = "#333333"
 _FOOTPRINT_COLOUR: Final = "#7f7f7f"
 
 #: Points sampled along each segment of the path (segments are arcs: 100 points draw a half
-#: circle within a fraction of a pixel of its true shape at any usual size).
+#: circle within a fraction of a pixel of its true shape at any usual size) ...
 _SAMPLES_PER_SEGMENT: Final = 100
+#: ... and along the whole path at most: a plan of thousands of segments gets fewer per segment.
+_MAX_PATH_SAMPLES: Final = 100_000
+#: Segments that get a footprint and a number at most: on longer plans, this many spread evenly
+#: (always the last), as thousands would cover the path and cost minutes to draw.
+MAX_MARKED_SEGMENTS: Final = 100
 
 #: An odometry path drawn over a plan: a label, and the x and y positions (m) in the odom frame.
 Recording = tuple[str, "ArrayLike", "ArrayLike"]
@@ -108,7 +115,9 @@ def plan_figure(
     from :func:`~diffbot.trajectory.pose_at`; the start (square) and end (circle) poses with
     arrows along their headings; the robot's footprint at the end of each segment (the track,
     ``wheel_separation`` wide, and both wheels, ``2 wheel_radius`` long, at ``±b/2``); and each
-    segment's number at its midpoint. The bottom axes (label ``"wheel speeds"``) show both wheels'
+    segment's number at its midpoint (footprints and numbers on :data:`MAX_MARKED_SEGMENTS`
+    segments at most, spread evenly, see :func:`marked_segments`). The work is near linear in
+    the number of segments. The bottom axes (label ``"wheel speeds"``) show both wheels'
     speeds (rpm, with rad/s on the right) over time, the motor limit as ``±limit`` lines, and the
     segments over the limit shaded.
 
@@ -226,15 +235,7 @@ def _draw_path(
     import numpy as np
 
     starts = np.concatenate(([0.0], np.cumsum([s.duration for s in plan.segments])[:-1]))
-    times = np.concatenate(
-        [
-            np.linspace(start, start + planned.duration, _SAMPLES_PER_SEGMENT)
-            for start, planned in zip(starts, plan.segments, strict=True)
-        ]
-    )
-    poses = [pose_at(plan, float(t)) for t in times]
-    xs = [pose.x for pose in poses]
-    ys = [pose.y for pose in poses]
+    xs, ys = _path_points(plan)
     # The path is drawn above the markers, arrows and footprints so that it stays visible
     # through them; recordings go above it.
     axes.plot(xs, ys, color=PATH_COLOUR, linewidth=2.0, label="plan", zorder=3)
@@ -244,7 +245,7 @@ def _draw_path(
     extent = max(max(xs) - min(xs), max(ys) - min(ys), 4.0 * params.wheel_separation)
     for pose in (Pose(0.0, 0.0, 0.0), final):
         _heading_arrow(axes, pose, 0.08 * extent)
-    for planned in plan.segments:
+    for planned in (plan.segments[index] for index in marked_segments(len(plan.segments))):
         _footprint(axes, planned.end_pose, params)
         middle = pose_at(plan, float(starts[planned.index]) + 0.5 * planned.duration)
         axes.annotate(
@@ -274,6 +275,37 @@ def _draw_path(
     axes.set_title("Path in the odom frame")
     axes.grid(True, color="#e0e0e0", linewidth=0.6)
     axes.legend(loc="best", fontsize=8)
+
+
+def marked_segments(count: int) -> list[int]:
+    """The indexes of the segments, of ``count``, that get a footprint and a number: all of
+    them up to :data:`MAX_MARKED_SEGMENTS`, else that many spread evenly, the last among them."""
+    if count <= MAX_MARKED_SEGMENTS:
+        return list(range(count))
+    step = count / MAX_MARKED_SEGMENTS
+    return sorted({count - 1 - int(k * step) for k in range(MAX_MARKED_SEGMENTS)})
+
+
+def _path_points(plan: Plan) -> tuple[list[float], list[float]]:
+    """Positions (m) sampled along the path, the segments' ends among them: each segment's
+    exact arc (:func:`~diffbot.trajectory.advance`) evaluated at once for all samples."""
+    import numpy as np
+
+    segments = plan.segments
+    per = max(2, min(_SAMPLES_PER_SEGMENT, _MAX_PATH_SAMPLES // len(segments)))
+    fraction = np.linspace(0.0, 1.0, per)
+    x0 = np.array([s.start_pose.x for s in segments])
+    y0 = np.array([s.start_pose.y for s in segments])
+    heading = np.array([0.0, *(s.end_heading for s in segments[:-1])])
+    length = np.array([float(s.twist.linear) * s.duration for s in segments])
+    turn = np.array([float(s.twist.angular) * s.duration for s in segments])
+    half = 0.5 * turn[:, None] * fraction
+    chord = length[:, None] * fraction * np.sinc(half / math.pi)
+    mean = heading[:, None] + half
+    xs = x0[:, None] + chord * np.cos(mean)
+    ys = y0[:, None] + chord * np.sin(mean)
+    xs[-1, -1], ys[-1, -1] = plan.final_pose.x, plan.final_pose.y
+    return xs.ravel().tolist(), ys.ravel().tolist()
 
 
 def _heading_arrow(axes: Axes, pose: Pose, length: float) -> None:
@@ -339,10 +371,10 @@ def _draw_speeds(axes: Axes, plan: Plan) -> None:
             axes.axhline(level, color=LIMIT_COLOUR, linestyle="--", linewidth=1.2, label=label)
             label = None
         over_label: str | None = "over the limit"
-        for index in sorted({found.index for found in plan.violations()}):
+        for first, last in _runs(sorted({found.index for found in plan.violations()})):
             axes.axvspan(
-                float(edges[index]),
-                float(edges[index + 1]),
+                float(edges[first]),
+                float(edges[last + 1]),
                 color=OVER_LIMIT_COLOUR,
                 alpha=0.5,
                 linewidth=0,
@@ -359,6 +391,17 @@ def _draw_speeds(axes: Axes, plan: Plan) -> None:
     axes.secondary_yaxis("right", functions=(_rad_s, _rpm)).set_ylabel("rad/s")
     axes.grid(True, color="#e0e0e0", linewidth=0.6)
     axes.legend(loc="best", fontsize=8)
+
+
+def _runs(indexes: list[int]) -> list[tuple[int, int]]:
+    """Sorted indexes as runs of consecutive ones, ``(first, last)``: one shaded span each."""
+    runs: list[tuple[int, int]] = []
+    for index in indexes:
+        if runs and runs[-1][1] == index - 1:
+            runs[-1] = (runs[-1][0], index)
+        else:
+            runs.append((index, index))
+    return runs
 
 
 def end_distance(plan: Plan, x: float, y: float) -> float:

@@ -17,6 +17,7 @@ unit says otherwise (``25cm``, ``250mm``, ``3.14rad``); durations are in seconds
 from __future__ import annotations
 
 import bisect
+import functools
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -272,6 +273,14 @@ class Plan:
     final_pose: Pose
     within_limit: bool
 
+    @functools.cached_property
+    def _starts(self) -> list[float]:
+        """Start time of each segment (s), computed once: :func:`pose_at` is called per sample."""
+        starts = [0.0]
+        for planned in self.segments[:-1]:
+            starts.append(starts[-1] + planned.duration)
+        return starts
+
     def violations(self) -> list[Violation]:
         """Every wheel over the limit, segment by segment (left before right)."""
         found: list[Violation] = []
@@ -457,13 +466,6 @@ def plan(
     )
 
 
-def _start_times(p: Plan) -> list[float]:
-    starts = [0.0]
-    for planned in p.segments[:-1]:
-        starts.append(starts[-1] + planned.duration)
-    return starts
-
-
 def pose_at(p: Plan, t: float) -> Pose:
     """The pose (m, m, rad in (-pi, pi]) that the plan reaches at time ``t`` (s), in closed form.
 
@@ -472,7 +474,7 @@ def pose_at(p: Plan, t: float) -> Pose:
     t = float(t)
     if math.isnan(t):
         raise PlanError("pose_at: the time is NaN")
-    starts = _start_times(p)
+    starts = p._starts
     i = max(0, bisect.bisect_right(starts, t) - 1)
     planned = p.segments[i]
     heading = p.segments[i - 1].end_heading if i > 0 else 0.0

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import struct
 import subprocess
 import sys
@@ -17,10 +18,12 @@ from diffbot.planfile import parse_plan
 from diffbot.plotting import (
     LEFT_COLOUR,
     LIMIT_COLOUR,
+    MAX_MARKED_SEGMENTS,
     OVER_LIMIT_COLOUR,
     PATH_COLOUR,
     RIGHT_COLOUR,
     PlotError,
+    marked_segments,
     plan_figure,
     save,
     show,
@@ -234,3 +237,46 @@ def test_importing_the_module_does_not_import_matplotlib() -> None:
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     )
     assert result.stdout.strip() == "False"
+
+
+def test_a_long_plan_gets_footprints_and_numbers_on_a_hundred_segments_spread_evenly() -> None:
+    from matplotlib.patches import Rectangle
+    from matplotlib.text import Annotation
+
+    count = 500
+    path = axes_labelled(
+        plan_figure(_plan("; ".join(["straight 0.1", "ccw 1 5"] * 250)), BOT_50_RPM), "path"
+    )
+    tracks = [p for p in path.patches if isinstance(p, Rectangle) and p.get_gid() == "footprint"]
+    numbers = sorted(
+        int(text.get_text())
+        for text in path.texts
+        if isinstance(text, Annotation) and text.get_text()
+    )
+    assert len(tracks) == MAX_MARKED_SEGMENTS == len(numbers)
+    assert numbers[-1] == count
+    assert set(numbers) == {index + 1 for index in marked_segments(count)}
+    gaps = {b - a for a, b in itertools.pairwise(numbers)}
+    assert gaps <= {4, 5, 6}  # spread evenly
+
+
+@pytest.mark.parametrize("count", [1, 2, 99, 100, 101, 1000, 10_007])
+def test_marked_segments_are_all_or_a_hundred_ending_at_the_last(count: int) -> None:
+    marked = marked_segments(count)
+    assert len(marked) == min(count, MAX_MARKED_SEGMENTS)
+    assert marked == sorted(set(marked))
+    assert marked[-1] == count - 1
+    assert marked[0] >= 0
+
+
+def test_the_sampled_path_goes_through_every_segment_end() -> None:
+    import numpy as np
+
+    p = _plan("; ".join(["straight 0.1", "ccw 0.3 40", "spin 30", "cw 0.2 100"] * 30))
+    path = axes_labelled(plan_figure(p, BOT_50_RPM), "path")
+    line = next(line for line in path.lines if line.get_label() == "plan")
+    xs, ys = (np.asarray(v, dtype=np.float64) for v in line.get_data())
+    ends = np.array([(s.end_pose.x, s.end_pose.y) for s in p.segments])
+    for x, y in ends:
+        assert float(np.min(np.hypot(xs - x, ys - y))) < 1e-9
+    assert (xs[-1], ys[-1]) == (p.final_pose.x, p.final_pose.y)

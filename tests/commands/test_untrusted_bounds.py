@@ -85,3 +85,14 @@ def test_twenty_thousand_controllers_are_read_in_seconds() -> None:
     assert len(configs) == 20_000
     assert configs[-1].wheel_separation == pytest.approx(0.3, abs=1e-12)
     assert configs[-1].update_rate == pytest.approx(100, abs=1e-12)
+
+
+def test_a_plot_of_ten_thousand_segments_takes_seconds(tmp_path: Path) -> None:
+    pytest.importorskip("matplotlib")
+    plan_file = tmp_path / "long.txt"
+    plan_file.write_text("; ".join(["straight 0.1", "ccw 0.5 10"] * 5_000), encoding="utf-8")
+    start = time.process_time()
+    result = CliRunner().invoke(main, ["plot", str(plan_file), "-o", str(tmp_path / "p.png")])
+    assert time.process_time() - start < QUICK  # before: 2,000 segments took 28.5 s
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "p.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
