@@ -19,6 +19,7 @@ executes).
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -302,18 +303,22 @@ def _path(planned: PlannedSegment) -> tuple[float, float, float, bool]:
     return abs(ds), math.copysign(1.0, ds), turn / abs(ds), False
 
 
-def _time_at(profile: Profile, position: float) -> float:
-    """The time (s) the profile reaches ``position`` (bisection: positions never decrease)."""
-    low, high = 0.0, profile.duration
+def _times_at(profile: Profile, positions: Sequence[float]) -> list[float]:
+    """The times (s) the profile reaches ``positions``: bisection (positions never decrease),
+    all of them at once, so that a run of thousands of segments costs one pass per halving."""
+    target = np.asarray(positions, dtype=np.float64)
+    low = np.zeros_like(target)
+    high = np.full_like(target, profile.duration)
+    active = np.ones(target.shape, dtype=bool)
     for _ in range(200):
         middle = 0.5 * (low + high)
-        if middle in (low, high):
+        active &= (middle != low) & (middle != high)
+        if not active.any():
             break
-        if profile.position(middle) < position:
-            low = middle
-        else:
-            high = middle
-    return high
+        below = np.asarray(profile.position(middle)) < target
+        low = np.where(active & below, middle, low)
+        high = np.where(active & ~below, middle, high)
+    return [float(time) for time in high]
 
 
 def ramp(steps: Plan, limits: Limits) -> RampedPlan:
@@ -368,11 +373,7 @@ def ramp(steps: Plan, limits: Limits) -> RampedPlan:
             profile = time_optimal(length, bounds._replace(velocity=velocity))
         else:
             profile = trapezoid(length, cruise, None)
-        ends = []
-        travelled = 0.0
-        for item in lengths[:-1]:
-            travelled += item
-            ends.append(_time_at(profile, travelled))
+        ends = _times_at(profile, list(itertools.accumulate(lengths[:-1])))
         ends.append(profile.duration)
         wheels = inverse(params, linear_gain, angular_gain)
         joints = joint_from_wheel(params, WheelSpeeds(float(wheels.left), float(wheels.right)))
@@ -393,16 +394,30 @@ def ramp(steps: Plan, limits: Limits) -> RampedPlan:
     return RampedPlan(steps, tuple(runs), limits, _summary(steps, runs))
 
 
+def _peaks(run: Run) -> list[float]:
+    """Each segment's peak speed along the path: the speed peaks where the acceleration ends
+    (a phase boundary) or at an end, so the highest of those within the segment; evaluated for
+    the whole run at once."""
+    bounds = np.array([0.0, *run.ends], dtype=np.float64)
+    at_bounds = np.asarray(run.profile.velocity(bounds))
+    peaks = np.maximum(at_bounds[:-1], at_bounds[1:])
+    starts = np.array([p.start for p in run.profile.phases], dtype=np.float64)
+    at_starts = np.asarray(run.profile.velocity(starts))
+    for time, speed in zip(starts.tolist(), at_starts.tolist(), strict=True):
+        # the segments k with begin_k <= time <= end_k
+        first = int(np.searchsorted(bounds[1:], time, side="left"))
+        last = int(np.searchsorted(bounds[:-1], time, side="right"))
+        peaks[first:last] = np.maximum(peaks[first:last], speed)
+    return [float(peak) for peak in peaks]
+
+
 def _summary(steps: Plan, runs: Sequence[Run]) -> Plan:
     """The step plan with each segment's ramped duration and its peak speeds."""
     segments: list[PlannedSegment] = []
     for run in runs:
         begin = 0.0
-        for index, end in zip(run.segments, run.ends, strict=True):
+        for index, end, peak in zip(run.segments, run.ends, _peaks(run), strict=True):
             planned = steps.segments[index]
-            # The speed peaks where the acceleration ends (a phase boundary) or at an end.
-            edges = np.array([p.start for p in run.profile.phases] + [begin, end])
-            peak = float(np.max(run.profile.velocity(edges[(edges >= begin) & (edges <= end)])))
             twist = Twist(run.linear_gain * peak + 0.0, run.angular_gain * peak + 0.0)
             speeds = inverse(steps.params, twist.linear, twist.angular)
             wheels = WheelSpeeds(float(speeds.left), float(speeds.right))

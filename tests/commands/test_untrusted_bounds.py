@@ -3,6 +3,7 @@ in streaming, near-linear work."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 import time
@@ -96,3 +97,17 @@ def test_a_plot_of_ten_thousand_segments_takes_seconds(tmp_path: Path) -> None:
     assert time.process_time() - start < QUICK  # before: 2,000 segments took 28.5 s
     assert result.exit_code == 0, result.output
     assert (tmp_path / "p.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_ramped_plan_of_twenty_thousand_segments_takes_seconds(tmp_path: Path) -> None:
+    plan_file = tmp_path / "long.txt"
+    plan_file.write_text("; ".join(["straight 0.1"] * 20_000), encoding="utf-8")
+    start = time.process_time()
+    result = CliRunner().invoke(main, ["plan", str(plan_file), "--max-accel", "0.5", "--json"])
+    assert time.process_time() - start < QUICK  # before: about 2 ms of CPU per segment
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert len(data["segments"]) == 20_000
+    # one run of 2 km at the step speed 0.1 m/s, from rest to rest at 0.5 m/s²: a trapezoid
+    # of L / v + v / a seconds
+    assert data["duration"] == pytest.approx(2000.0 / 0.1 + 0.1 / 0.5, rel=1e-9)
