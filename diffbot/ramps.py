@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -39,6 +39,7 @@ if TYPE_CHECKING:
     from diffbot.controller_config import AxisLimits, ControllerConfig
 
 __all__ = [
+    "COMMAND_CHUNK",
     "CommandStream",
     "RampedPlan",
     "Run",
@@ -76,6 +77,10 @@ class Run:
     def duration(self) -> float:
         """Its duration (s)."""
         return self.profile.duration
+
+
+#: Commands per piece of :meth:`RampedPlan.command_chunks` unless told otherwise.
+COMMAND_CHUNK = 65_536
 
 
 @dataclass(frozen=True)
@@ -196,6 +201,18 @@ class RampedPlan:
         Returns:
             The commands; their times are ``k / rate``.
         """
+        chunks = list(self.command_chunks(rate, chunk=_MAX_COMMANDS))
+        return CommandStream(
+            *(np.concatenate([getattr(c, name) for c in chunks]) for name in _STREAM_FIELDS)
+        )
+
+    def command_count(self, rate: float) -> int:
+        """How many commands :meth:`commands` makes at ``rate`` Hz (the final zero included).
+
+        Raises:
+            PlanError: the rate is not a positive finite number, or the plan would take more
+                than :data:`_MAX_COMMANDS` commands.
+        """
         lowest = 1.0 / MAX_PLAN_DURATION
         if not (math.isfinite(rate) and rate >= lowest):
             raise PlanError(
@@ -206,24 +223,45 @@ class RampedPlan:
                 f"{self.duration:g} s at {rate:g} Hz would take more than {_MAX_COMMANDS} "
                 "commands: lower the rate"
             )
-        speeds: list[NDArray[np.float64]] = []
-        gains: list[tuple[float, float, float, float]] = []
-        for run in self.runs:
-            periods = max(math.ceil(run.duration * rate - 1e-9), 1)
-            edges = np.minimum(np.arange(periods + 1) / rate, run.duration)
-            positions = run.profile.position(edges)
-            positions[-1] = run.profile.length
-            speeds.append(np.diff(positions) * rate)
-            left, right = run.wheel_gains
-            gains.append((run.linear_gain, run.angular_gain, float(left), float(right)))
-        path = np.concatenate([*speeds, [0.0]])
-        columns = np.zeros((4, path.size))
+        return sum(_periods(run.duration, rate) for run in self.runs) + 1
+
+    def command_chunks(self, rate: float, chunk: int = COMMAND_CHUNK) -> Iterator[CommandStream]:
+        """:meth:`commands` in consecutive pieces of at most ``chunk`` commands, made as they are
+        asked for: millions of commands in constant memory. The rate is checked at once.
+
+        Raises:
+            PlanError: as :meth:`command_count`.
+        """
+        self.command_count(rate)
+        return self._chunks(rate, max(1, chunk))
+
+    def _chunks(self, rate: float, chunk: int) -> Iterator[CommandStream]:
         at = 0
-        for speed, gain in zip(speeds, gains, strict=True):
-            columns[:, at : at + speed.size] = np.outer(gain, speed)
-            at += speed.size
-        times = np.arange(path.size, dtype=np.float64) / rate
-        return CommandStream(times, *(columns[i] + 0.0 for i in range(4)))
+        for run in self.runs:
+            periods = _periods(run.duration, rate)
+            left, right = run.wheel_gains
+            gain = np.array([run.linear_gain, run.angular_gain, float(left), float(right)])
+            for first in range(0, periods, chunk):
+                last = min(first + chunk, periods)
+                edges = np.minimum(np.arange(first, last + 1) / rate, run.duration)
+                positions = run.profile.position(edges)
+                if last == periods:
+                    positions[-1] = run.profile.length
+                speed = np.diff(positions) * rate
+                columns = np.outer(gain, speed)
+                times = np.arange(at, at + speed.size, dtype=np.float64) / rate
+                yield CommandStream(times, *(columns[i] + 0.0 for i in range(4)))
+                at += speed.size
+        zero = np.zeros(1)
+        yield CommandStream(np.array([at], dtype=np.float64) / rate, zero, zero, zero, zero)
+
+
+def _periods(duration: float, rate: float) -> int:
+    """Command periods of a run: each run starts on a period boundary."""
+    return max(math.ceil(duration * rate - 1e-9), 1)
+
+
+_STREAM_FIELDS = ("times", "linear", "angular", "left", "right")
 
 
 #: Most commands :meth:`RampedPlan.commands` makes.

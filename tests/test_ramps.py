@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 from robots import BOT, BOT_50_RPM
 
 from diffbot.controller_config import AxisLimits, ControllerConfig
+from diffbot.errors import PlanError
 from diffbot.kinematics import Pose
 from diffbot.planfile import parse_plan
 from diffbot.profiles import Limits, PathLimits
@@ -172,3 +173,27 @@ def test_the_controller_speed_caps_the_cruise() -> None:
     ramped = ramp(plan(parse_plan("straight 1"), BOT), limits)
     assert ramped.summary.segments[0].twist.linear == pytest.approx(0.05, rel=1e-12)
     assert ramped.duration == pytest.approx(1 / 0.05 + 0.05 / 0.1, rel=1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(segments, min_size=1, max_size=4), st.integers(1, 40), st.booleans())
+def test_command_chunks_are_the_commands_in_pieces(
+    items: list[Segment], chunk: int, ramped_plan: bool
+) -> None:
+    steps = plan(items, BOT)
+    ramped = ramp(steps, accel(0.3) if ramped_plan else Limits())
+    whole = ramped.commands(20.0)
+    pieces = list(ramped.command_chunks(20.0, chunk=chunk))
+    assert all(0 < piece.times.size <= chunk for piece in pieces)
+    assert ramped.command_count(20.0) == whole.times.size
+    for name in ("times", "linear", "angular", "left", "right"):
+        joined = np.concatenate([getattr(piece, name) for piece in pieces])
+        assert np.array_equal(joined, getattr(whole, name))  # the same numbers, bit for bit
+
+
+def test_command_chunks_check_the_rate_before_any_is_made() -> None:
+    ramped = ramp(plan(parse_plan("straight 1"), BOT), accel(0.3))
+    with pytest.raises(PlanError, match="positive finite"):
+        ramped.command_chunks(0.0)
+    with pytest.raises(PlanError, match="lower the rate"):
+        ramped.command_chunks(1e9)

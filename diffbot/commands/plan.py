@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import json
 import sys
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TextIO
 
 import click
 
@@ -26,14 +27,14 @@ from diffbot.commands.plan_options import (
     check_topic,
     plan_input_options,
 )
-from diffbot.errors import EXIT_CHECK_FAILED
-from diffbot.formats.command_stream import stream_csv, stream_json
+from diffbot.errors import EXIT_CHECK_FAILED, OutputError
+from diffbot.formats.command_stream import write_stream_csv, write_stream_json
 from diffbot.formats.plan_data import plan_csv, plan_json
 from diffbot.formats.plan_messages import plan_twist, plan_wheels
 from diffbot.formats.plan_table import plan_table, violation_lines
 from diffbot.formats.text import fmt
 from diffbot.io.command_bag import write_command_bag
-from diffbot.io.outputs import check_not_input, input_clash, write_text_atomic
+from diffbot.io.outputs import atomic_text, check_not_input, input_clash, write_text_atomic
 from diffbot.ros.script import ros2_script
 from diffbot.trajectory import Plan
 
@@ -248,13 +249,25 @@ def plan_command(
         _check_limit(steps)
         return
     if rate is not None and output_format in ("csv", "json"):
-        stream = command_stream(made, rate)
-        if output_format == "csv":
-            text = stream_csv(stream)
-        else:
-            data = plan_json(p, source.label) | {"commands": stream_json(stream, rate)}
-            text = _json_text(data, frame)
-    elif ramped is not None and output_format in ("csv", "twist", "wheels", "ros2"):
+        from diffbot.profiles import Limits
+        from diffbot.ramps import ramp
+
+        commands = ramped if ramped is not None else ramp(steps, Limits())
+        count = commands.command_count(rate)
+
+        def write(out: TextIO) -> None:
+            assert rate is not None
+            if output_format == "csv":
+                write_stream_csv(commands.command_chunks(rate), out)
+            else:
+                document = _with_frame(plan_json(p, source.label) | {"commands": None}, frame)
+                write_stream_json(document, lambda: commands.command_chunks(rate), rate, count, out)
+
+        read = [source.path, *params.description_files]
+        _write_streamed(write, output, force, [Path(x) for x in read if x is not None])
+        _check_limit(steps)
+        return
+    if ramped is not None and output_format in ("csv", "twist", "wheels", "ros2"):
         fail(
             "a ramped plan is many commands: sample them with --rate HZ (--format csv or json), "
             "or write a command bag with --out DIR --bag for 'ros2 bag play'"
@@ -315,11 +328,29 @@ def _check_limit(p: Plan) -> None:
         sys.exit(EXIT_CHECK_FAILED)
 
 
-def _json_text(data: dict[str, Any], frame_id: str | None) -> str:
+def _with_frame(data: dict[str, Any], frame_id: str | None) -> dict[str, Any]:
     if frame_id is not None:
         data["message_type"] = "geometry_msgs/msg/TwistStamped"
         data["frame_id"] = frame_id
-    return json.dumps(data, indent=2, allow_nan=False) + "\n"
+    return data
+
+
+def _json_text(data: dict[str, Any], frame_id: str | None) -> str:
+    return json.dumps(_with_frame(data, frame_id), indent=2, allow_nan=False) + "\n"
+
+
+def _write_streamed(
+    writer: Callable[[TextIO], None], output: str | None, force: bool, inputs: Sequence[Path]
+) -> None:
+    """Write text as it comes: to stdout, or to ``output`` whole or not at all."""
+    if output is None:
+        writer(sys.stdout)
+        return
+    with atomic_text(Path(output), force=force, inputs=inputs) as out:
+        try:
+            writer(out)
+        except OSError as err:  # a full disk, a quota
+            raise OutputError(f"{output}: cannot write ({err.strerror})", path=output) from None
 
 
 def command_stream(made: Plan | RampedPlan, rate: float) -> CommandStream:

@@ -15,6 +15,7 @@ from rosbags.rosbag2 import Reader
 from rosbags.typesys import Stores, get_typestore
 
 from diffbot.cli import main
+from diffbot.kinematics import DiffDriveParams
 from diffbot.trajectory import advance
 
 TYPESTORE = get_typestore(Stores.ROS2_HUMBLE)
@@ -259,3 +260,36 @@ def test_stamped_options_that_change_nothing_say_so(
     result = run(runner, *args)
     assert result.exit_code == 0
     assert f"warning: {message}" in result.stderr
+
+
+@pytest.mark.parametrize("as_json", [False, True])
+def test_rate_output_is_written_in_pieces_never_as_a_whole_stream(
+    runner: CliRunner, monkeypatch: pytest.MonkeyPatch, params: DiffDriveParams, as_json: bool
+) -> None:
+    from diffbot import ramps
+    from diffbot.formats.command_stream import stream_csv, stream_json
+    from diffbot.planfile import parse_plan
+    from diffbot.trajectory import plan
+
+    spec = "straight 0.5; ccw 0.25 90; spin -45"
+    made = ramps.ramp(
+        plan(parse_plan(spec), params), ramps.controller_limits(None, linear_accel=0.2)
+    )
+    whole = made.commands(40.0)
+    pieces = ramps.RampedPlan.command_chunks
+    monkeypatch.setattr(
+        ramps.RampedPlan, "command_chunks", lambda self, rate: pieces(self, rate, chunk=7)
+    )
+
+    def whole_stream(self: object, rate: float) -> object:
+        raise AssertionError("the whole command stream was built in memory")
+
+    monkeypatch.setattr(ramps.RampedPlan, "commands", whole_stream)
+    form = ["--json"] if as_json else ["--format", "csv"]
+    result = run(runner, spec, "--max-accel", "0.2", "--rate", "40", *form)
+    assert result.exit_code == 0, result.output
+    assert whole.times.size > 50  # several pieces of 7
+    if as_json:
+        assert json.loads(result.stdout)["commands"] == stream_json(whole, 40.0)
+    else:
+        assert result.stdout == stream_csv(whole)
