@@ -39,7 +39,7 @@ from diffbot.ros.script import ros2_script
 from diffbot.trajectory import Plan
 
 if TYPE_CHECKING:
-    from diffbot.ramps import CommandStream, RampedPlan
+    from diffbot.ramps import RampedPlan
 
 #: Commands per second of a command bag unless --rate says otherwise.
 BAG_RATE = 20.0
@@ -228,10 +228,11 @@ def plan_command(
         if as_json or output_format != "table":
             fail("--bag writes a bag: give it without --format and --json")
         bag_rate = BAG_RATE if rate is None else rate
-        stream = command_stream(made, bag_rate)
+        commands = _commands(made)
+        count = commands.command_count(bag_rate)
         write_command_bag(
             Path(output),
-            stream,
+            commands.command_chunks(bag_rate),
             cmd_vel=cmd_vel_topic,
             left_topic=left_topic,
             right_topic=right_topic,
@@ -242,17 +243,14 @@ def plan_command(
         )
         kind = "TwistStamped" if stamped else "Twist"
         click.echo(
-            f"wrote {stream.times.size} commands at {fmt(bag_rate)} Hz "
-            f"({fmt(float(stream.times[-1]))} s) to {output}: {kind} on {cmd_vel_topic}, "
+            f"wrote {count} commands at {fmt(bag_rate)} Hz "
+            f"({fmt((count - 1) / bag_rate)} s) to {output}: {kind} on {cmd_vel_topic}, "
             f"Float64MultiArray on {left_topic} and {right_topic}"
         )
         _check_limit(steps)
         return
     if rate is not None and output_format in ("csv", "json"):
-        from diffbot.profiles import Limits
-        from diffbot.ramps import ramp
-
-        commands = ramped if ramped is not None else ramp(steps, Limits())
+        commands = _commands(made)
         count = commands.command_count(rate)
 
         def write(out: TextIO) -> None:
@@ -353,13 +351,12 @@ def _write_streamed(
             raise OutputError(f"{output}: cannot write ({err.strerror})", path=output) from None
 
 
-def command_stream(made: Plan | RampedPlan, rate: float) -> CommandStream:
-    """A plan's commands at ``rate`` Hz (a step plan's too)."""
+def _commands(made: Plan | RampedPlan) -> RampedPlan:
+    """The plan whose commands are sampled: a step plan as a ramped plan without ramps."""
     from diffbot.profiles import Limits
     from diffbot.ramps import ramp
 
-    ramped = ramp(made, Limits()) if isinstance(made, Plan) else made
-    return ramped.commands(rate)
+    return ramp(made, Limits()) if isinstance(made, Plan) else made
 
 
 # --------------------------------------------------------------------------------------------

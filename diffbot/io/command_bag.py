@@ -8,6 +8,7 @@ stamped (and received) at its time from zero, and the last commands are zero.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -34,7 +35,7 @@ def _topic(name: str) -> str:
 
 def write_command_bag(
     path: str | os.PathLike[str],
-    stream: CommandStream,
+    stream: CommandStream | Iterable[CommandStream],
     *,
     cmd_vel: str = "/cmd_vel",
     left_topic: str | None = None,
@@ -48,7 +49,9 @@ def write_command_bag(
 
     Args:
         path: the bag directory to create.
-        stream: the commands (see :meth:`diffbot.ramps.RampedPlan.commands`).
+        stream: the commands (see :meth:`diffbot.ramps.RampedPlan.commands`), or the commands
+            in consecutive pieces (:meth:`~diffbot.ramps.RampedPlan.command_chunks`), written
+            as they come in constant memory.
         cmd_vel: the body command topic (made absolute).
         left_topic: the left wheel's Float64MultiArray topic, or None for none.
         right_topic: the right wheel's topic, or None for none.
@@ -66,12 +69,15 @@ def write_command_bag(
     """
     import numpy as np
 
+    from diffbot.ramps import CommandStream
+
     p = Path(path)
-    stamps = [round(t * NS_PER_S) for t in stream.times.tolist()]
-    check_stamps(stamps, p)
-    sides = [(left_topic, stream.left, joints[0]), (right_topic, stream.right, joints[1])]
+    pieces = [stream] if isinstance(stream, CommandStream) else stream
+    topics = [(left_topic, joints[0]), (right_topic, joints[1])]
     per_wheel = [
-        (_topic(topic), values, count) for topic, values, count in sides if topic is not None
+        (_topic(topic), side, count)
+        for side, (topic, count) in enumerate(topics)
+        if topic is not None
     ]
     body_topic = _topic(cmd_vel)
     require_rosbags()
@@ -84,25 +90,30 @@ def write_command_bag(
     with bag_writer(p, force) as writer:
         body = writer.add_connection(body_topic, twist_type, typestore=store)
         wheels = [
-            (writer.add_connection(topic, array_type, typestore=store), values, count)
-            for topic, values, count in per_wheel
+            (writer.add_connection(topic, array_type, typestore=store), side, count)
+            for topic, side, count in per_wheel
         ]
-        for k, stamp_ns in enumerate(stamps):
-            twist = m.geometry_msgs__msg__Twist(
-                linear=m.geometry_msgs__msg__Vector3(x=float(stream.linear[k]), y=0.0, z=0.0),
-                angular=m.geometry_msgs__msg__Vector3(x=0.0, y=0.0, z=float(stream.angular[k])),
-            )
-            message: object = twist
-            if stamped:
-                sec, nanosec = divmod(stamp_ns, NS_PER_S)
-                header = m.std_msgs__msg__Header(
-                    stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec),
-                    frame_id=frame_id,
+        for piece in pieces:
+            stamps = [round(t * NS_PER_S) for t in piece.times.tolist()]
+            check_stamps(stamps, p)
+            linear, angular = piece.linear.tolist(), piece.angular.tolist()
+            sides = (piece.left.tolist(), piece.right.tolist())
+            for k, stamp_ns in enumerate(stamps):
+                twist = m.geometry_msgs__msg__Twist(
+                    linear=m.geometry_msgs__msg__Vector3(x=linear[k], y=0.0, z=0.0),
+                    angular=m.geometry_msgs__msg__Vector3(x=0.0, y=0.0, z=angular[k]),
                 )
-                message = m.geometry_msgs__msg__TwistStamped(header=header, twist=twist)
-            writer.write(body, stamp_ns, store.serialize_cdr(message, twist_type))
-            for connection, values, count in wheels:
-                array = m.std_msgs__msg__Float64MultiArray(
-                    layout=layout, data=np.full(count, values[k], dtype=np.float64)
-                )
-                writer.write(connection, stamp_ns, store.serialize_cdr(array, array_type))
+                message: object = twist
+                if stamped:
+                    sec, nanosec = divmod(stamp_ns, NS_PER_S)
+                    header = m.std_msgs__msg__Header(
+                        stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec),
+                        frame_id=frame_id,
+                    )
+                    message = m.geometry_msgs__msg__TwistStamped(header=header, twist=twist)
+                writer.write(body, stamp_ns, store.serialize_cdr(message, twist_type))
+                for connection, side, count in wheels:
+                    array = m.std_msgs__msg__Float64MultiArray(
+                        layout=layout, data=np.full(count, sides[side][k], dtype=np.float64)
+                    )
+                    writer.write(connection, stamp_ns, store.serialize_cdr(array, array_type))

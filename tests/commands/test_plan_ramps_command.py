@@ -293,3 +293,26 @@ def test_rate_output_is_written_in_pieces_never_as_a_whole_stream(
         assert json.loads(result.stdout)["commands"] == stream_json(whole, 40.0)
     else:
         assert result.stdout == stream_csv(whole)
+
+
+def test_a_command_bag_is_written_in_pieces_never_as_a_whole_stream(
+    runner: CliRunner, monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    from diffbot import ramps
+
+    pieces = ramps.RampedPlan.command_chunks
+    monkeypatch.setattr(
+        ramps.RampedPlan, "command_chunks", lambda self, rate: pieces(self, rate, chunk=5)
+    )
+
+    def whole_stream(self: object, rate: float) -> object:
+        raise AssertionError("the whole command stream was built in memory")
+
+    monkeypatch.setattr(ramps.RampedPlan, "commands", whole_stream)
+    bag = tmp_path / "bag"
+    result = run(runner, "straight 0.5; spin 90", "--max-accel", "0.2", "--out", str(bag), "--bag")
+    assert result.exit_code == 0, result.output
+    count = int(result.stdout.split()[1])
+    assert count > 20
+    with Reader(bag) as reader:
+        assert reader.message_count == 3 * count

@@ -50,3 +50,29 @@ def test_a_private_topic_cannot_be_stored_and_nothing_is_written(tmp_path: Path)
     with pytest.raises(RecordingError, match=r"private topic '~/cmd_vel'"):
         write_command_bag(bag, stream(), cmd_vel="~/cmd_vel")
     assert not bag.exists()
+
+
+def messages(bag: Path) -> list[tuple[str, int, bytes]]:
+    with Reader(bag) as reader:
+        return [(c.topic, stamp, bytes(raw)) for c, stamp, raw in reader.messages()]
+
+
+@pytest.mark.parametrize("stamped", [False, True])
+def test_commands_in_pieces_make_the_bag_of_the_whole_stream(tmp_path: Path, stamped: bool) -> None:
+    ramped = ramp(plan(parse_plan("straight 0.2 1s; spin 90 1s; ccw 0.3 45"), BOT), Limits())
+    options = {"left_topic": "left", "right_topic": "right", "stamped": stamped}
+    write_command_bag(tmp_path / "whole", ramped.commands(10.0), **options)  # type: ignore[arg-type]
+    pieces = ramped.command_chunks(10.0, chunk=3)
+    write_command_bag(tmp_path / "pieces", pieces, **options)  # type: ignore[arg-type]
+    assert messages(tmp_path / "pieces") == messages(tmp_path / "whole")
+    assert len(messages(tmp_path / "whole")) == 3 * ramped.command_count(10.0)
+
+
+def test_a_bad_stamp_in_a_later_piece_leaves_nothing(tmp_path: Path) -> None:
+    good = stream()
+    bad = CommandStream(good.times + 2.0**31, good.linear, good.angular, good.left, good.right)
+    bag = tmp_path / "bag"
+    with pytest.raises(RecordingError, match="ROS time must be between 0 and 2"):
+        write_command_bag(bag, [good, bad])
+    assert not bag.exists()
+    assert list(tmp_path.iterdir()) == []
