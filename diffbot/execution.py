@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING, Final
 import numpy as np
 
 from diffbot.kinematics import Pose, WheelSpeeds, inverse, joint_from_wheel, norm_angle
-from diffbot.limiter import execute
+from diffbot.limiter import LimiterError, execute
 from diffbot.profiles import Limits
-from diffbot.ramps import RampedPlan, ramp
+from diffbot.ramps import RampedPlan, _axis, ramp
 from diffbot.trajectory import Plan
 
 if TYPE_CHECKING:
@@ -27,10 +27,21 @@ if TYPE_CHECKING:
 
     from diffbot.controller_config import ControllerConfig
 
-__all__ = ["DEFAULT_UPDATE_RATE", "Execution", "execute_plan", "limits_apply"]
+__all__ = [
+    "DEFAULT_UPDATE_RATE",
+    "MAX_EXECUTED_UPDATES",
+    "Execution",
+    "estimated_updates",
+    "execute_plan",
+    "limits_apply",
+]
 
 #: The controller manager's update rate (Hz) when the configuration gives none (its default).
 DEFAULT_UPDATE_RATE: Final = 100.0
+#: Most controller updates an execution may take: each is a time a simulation samples at (its
+#: command changes there), so their number bounds the work and the memory. At 100 Hz, this is
+#: more than two and a half hours of plan.
+MAX_EXECUTED_UPDATES: Final = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -100,6 +111,29 @@ def limits_apply(controller: ControllerConfig | None) -> bool:
     )
 
 
+def estimated_updates(plan: RampedPlan, controller: ControllerConfig) -> float:
+    """About how many updates (at least) the controller takes to execute a plan: one per period
+    of the plan, and the time it needs after the last command to stop at its tightest
+    acceleration limit, from the speed it can have reached.
+
+    Returns:
+        A float, as it may be huge (``inf`` for an absurd rate or limit).
+    """
+    rate = controller.update_rate or DEFAULT_UPDATE_RATE
+    duration = plan.duration
+    settle = 0.0
+    segments = plan.summary.segments
+    for axis, peak in (
+        (controller.linear, max(abs(float(s.twist.linear)) for s in segments)),
+        (controller.angular, max(abs(float(s.twist.angular)) for s in segments)),
+    ):
+        accel = _axis(axis).acceleration
+        if accel is not None and peak > 0.0:
+            settle = max(settle, min(peak / accel, duration))
+    with np.errstate(over="ignore"):
+        return float(np.float64(duration + settle) * rate)
+
+
 def execute_plan(plan: Plan | RampedPlan, controller: ControllerConfig) -> Execution:
     """Execute a plan through the controller's speed limiter, at its update rate.
 
@@ -112,10 +146,19 @@ def execute_plan(plan: Plan | RampedPlan, controller: ControllerConfig) -> Execu
         The executed commands and the pose they reach.
 
     Raises:
-        LimiterError: a limit with the wrong sign.
+        LimiterError: a limit with the wrong sign, or an execution of more than
+            :data:`MAX_EXECUTED_UPDATES` updates (refused before any is made).
     """
     ramped = plan if isinstance(plan, RampedPlan) else ramp(plan, Limits())
     rate = controller.update_rate or DEFAULT_UPDATE_RATE
+    updates = estimated_updates(ramped, controller)
+    if updates > MAX_EXECUTED_UPDATES:
+        raise LimiterError(
+            f"executing this plan through the controller's limiter takes about {updates:.3g} "
+            f"updates at its update_rate of {rate:g} Hz (at most {MAX_EXECUTED_UPDATES} are "
+            f"simulated): lower update_rate or raise the acceleration limits in "
+            f"{controller.source}, or shorten the plan"
+        )
     stream = ramped.commands(rate)
     times, linear, angular = execute(
         stream.times,

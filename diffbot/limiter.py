@@ -19,6 +19,7 @@ jerk-limited, as in the controller.
 from __future__ import annotations
 
 import math
+from array import array
 from dataclasses import fields
 from typing import TYPE_CHECKING
 
@@ -189,8 +190,9 @@ def execute(
         if last_update >= MAX_UPDATES:
             raise LimiterError(f"end {end!r} needs more than {MAX_UPDATES} updates")
     finite = np.isfinite(lin) & np.isfinite(ang)
-    out_v: list[float] = []
-    out_w: list[float] = []
+    # 8 bytes a value (a list of floats takes 32): a long execution stays small.
+    out_v = array("d")
+    out_w = array("d")
     v0 = v1 = w0 = w1 = 0.0
     ref_v = ref_w = 0.0
     index = 0
@@ -223,4 +225,4 @@ def execute(
         if k >= MAX_UPDATES:
             raise LimiterError(f"the executed commands did not settle within {MAX_UPDATES} updates")
     t = stamps[0] + np.arange(len(out_v), dtype=np.float64) * dt
-    return t, np.array(out_v, dtype=np.float64), np.array(out_w, dtype=np.float64)
+    return t, np.frombuffer(out_v, dtype=np.float64).copy(), np.frombuffer(out_w).copy()

@@ -12,7 +12,13 @@ from hypothesis import strategies as st
 from robots import BOT
 
 from diffbot.controller_config import AxisLimits, ControllerConfig
-from diffbot.execution import execute_plan, limits_apply
+from diffbot.execution import (
+    MAX_EXECUTED_UPDATES,
+    estimated_updates,
+    execute_plan,
+    limits_apply,
+)
+from diffbot.limiter import LimiterError
 from diffbot.odometry import integrate
 from diffbot.planfile import parse_plan
 from diffbot.ramps import controller_limits, ramp
@@ -101,3 +107,21 @@ def test_limits_apply_only_when_the_configuration_limits_something() -> None:
     assert not limits_apply(None)
     bare = ControllerConfig(name="c", source="c.yaml", ros_version=2)
     assert not limits_apply(bare)
+
+
+def test_updates_are_estimated_as_the_plan_and_the_stop_at_the_tightest_limit() -> None:
+    steps = plan(parse_plan("straight 1 10s"), BOT)  # 0.1 m/s for 10 s
+    ramped = ramp(steps, controller_limits(None))
+    # 10 s of commands, then 0.1 m/s / 0.05 m/s² = 2 s to stop, at 50 Hz
+    assert estimated_updates(ramped, controller(0.05)) == pytest.approx(600.0, rel=1e-12)
+    # a stop longer than the plan counts as the plan's length: the speed reached is bounded
+    assert estimated_updates(ramped, controller(1e-6)) == pytest.approx(1000.0, rel=1e-12)
+
+
+def test_an_execution_of_more_than_a_million_updates_is_refused_before_it_runs() -> None:
+    steps = plan(parse_plan(EXAMPLES["A"]), BOT)
+    with pytest.raises(LimiterError, match=r"about 8e\+06 updates at its update_rate of 100000 Hz"):
+        execute_plan(steps, controller(1e-4, rate=100_000.0))
+    assert MAX_EXECUTED_UPDATES == 1_000_000
+    executed = execute_plan(steps, controller(1e-4, rate=10_000.0))  # 8e5 updates: executed
+    assert executed.times.size > 400_000

@@ -111,3 +111,32 @@ def test_a_ramped_plan_of_twenty_thousand_segments_takes_seconds(tmp_path: Path)
     # one run of 2 km at the step speed 0.1 m/s, from rest to rest at 0.5 m/s²: a trapezoid
     # of L / v + v / a seconds
     assert data["duration"] == pytest.approx(2000.0 / 0.1 + 0.1 / 0.5, rel=1e-9)
+
+
+FAST_CONTROLLER = """\
+controller_manager:
+  ros__parameters:
+    update_rate: 100000
+    diff_drive_controller: {type: diff_drive_controller/DiffDriveController}
+diff_drive_controller:
+  ros__parameters:
+    left_wheel_names: [front_left_wheel_joint]
+    right_wheel_names: [front_right_wheel_joint]
+    wheel_separation: 0.135
+    wheel_radius: 0.035
+    linear.x.max_acceleration: 0.0001
+"""
+
+
+def test_an_absurd_controller_execution_is_refused_up_front(tmp_path: Path) -> None:
+    controllers = tmp_path / "fast.yaml"
+    controllers.write_text(FAST_CONTROLLER, encoding="utf-8")
+    # before: 8 million updates, each a sample time, ran out of memory at 3.9 GB
+    done = run_process("simulate", "--steps", "--controllers", str(controllers), "--quiet")
+    assert done.returncode == 2, done.stderr[-300:]
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1, done.stderr[-300:]
+    assert lines[0].startswith("error: executing this plan through the controller's limiter")
+    assert "update_rate of 100000 Hz" in lines[0]
+    assert "fast.yaml" in lines[0]
+    assert done.stdout == ""
