@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -28,7 +28,10 @@ from diffbot.kinematics import DiffDriveParams
 from diffbot.trajectory import Plan
 
 if TYPE_CHECKING:
-    from diffbot.replay import OdometryRow
+    import numpy as np
+    from numpy.typing import NDArray
+
+    from diffbot.chunk_odometry import ChunkPoses
 
 __all__ = ["plot"]
 
@@ -76,6 +79,38 @@ def _recordings_only(
         plotting.show()
 
 
+_Poses = tuple[
+    "NDArray[np.int64]", "NDArray[np.float64]", "NDArray[np.float64]", "NDArray[np.float64]"
+]
+
+
+_Path = tuple[str, "NDArray[np.float64]", "NDArray[np.float64]"]
+
+
+class _PathSink:
+    """Keeps the stamp, x, y and heading of each pose as arrays: 32 bytes a sample."""
+
+    def __init__(self) -> None:
+        self.columns: tuple[list[NDArray[Any]], ...] = ([], [], [], [])
+
+    def write(self, poses: ChunkPoses) -> None:
+        for column, values in zip(
+            self.columns, (poses.stamp_ns, poses.x, poses.y, poses.heading), strict=True
+        ):
+            column.append(values.copy())
+
+    def restart(self) -> None:
+        for column in self.columns:
+            column.clear()
+
+    def arrays(self) -> _Poses:
+        """The stamps (ns), x (m), y (m) and unwrapped heading (rad) of every pose."""
+        import numpy as np
+
+        stamps, x, y, heading = (np.concatenate(column) for column in self.columns)
+        return stamps, x, y, heading
+
+
 def _odometry(
     inputs: tuple[str, ...],
     params: DiffDriveParams,
@@ -83,40 +118,55 @@ def _odometry(
     options: RecordingOptions,
     reference: str | None = None,
     differences: list[tuple[str, list[float], list[float]]] | None = None,
-) -> list[tuple[str, list[float], list[float]]]:
+) -> list[_Path]:
     """The odometry path of each recording, labelled by its file name, each followed by its
     reference's path when a reference topic is given (the distances between the two over time
-    then go to ``differences``)."""
+    then go to ``differences``). Recordings are read in chunks, as ``diffbot odom`` reads them,
+    so that millions of samples stay small."""
     if differences is None:
         differences = []
-    from diffbot.odometry import Odometry
-    from diffbot.replay import run_odometry
+    from diffbot.commands.recording_options import warn_conditioning, warn_notes
+    from diffbot.replay import recording_odometry
 
-    recordings: list[tuple[str, list[float], list[float]]] = []
+    recordings: list[_Path] = []
     for source in inputs:
-        recording = options.read(source, params, topic)
-        run = run_odometry(recording, Odometry(params))
-        skipped = sum(run.skipped.values())
+        sink = _PathSink()
+        run = recording_odometry(
+            source,
+            params,
+            topic,
+            sink=sink,
+            conditioning=options.conditioning(),
+            layout=options.layout(),
+        )
+        warn_notes(run.notes, source)
+        warn_conditioning(run.conditioning, source)
+        summary = run.summary
+        skipped = sum(summary.skipped.values())
         if skipped:
             warn(
-                f"{source}: skipped {skipped} of {run.samples + skipped} samples "
+                f"{source}: skipped {skipped} of {summary.samples + skipped} samples "
                 f"('diffbot odom {source}' says why)"
             )
-        poses = [row.pose for row in run.rows]
-        recordings.append((source, [pose.x for pose in poses], [pose.y for pose in poses]))
+        stamps, x, y, heading = sink.arrays()
+        recordings.append((source, x, y))
         if reference is not None:
-            recordings.append(_reference(source, reference, run.rows, differences))
+            recordings.append(_reference(source, reference, (stamps, x, y, heading), differences))
     return recordings
 
 
 def _reference(
     source: str,
     topic: str,
-    rows: Sequence[OdometryRow],
+    poses: _Poses,
     differences: list[tuple[str, list[float], list[float]]],
-) -> tuple[str, list[float], list[float]]:
+) -> _Path:
     """The reference's path in the odometry's frame, its distance from the odometry over time
-    appended to ``differences``, and the comparison said on stdout."""
+    appended to ``differences``, and the comparison said on stdout.
+
+    Args:
+        poses: the odometry's stamps (ns), x (m), y (m) and unwrapped heading (rad).
+    """
     import numpy as np
 
     from diffbot.io.bag import is_bag
@@ -127,11 +177,8 @@ def _reference(
         fail(f"{source}: a reference topic is read from a bag, and this is a CSV")
     track = read_pose_track(source, topic)
     comparison = ReferenceComparison(topic, track.stamps_ns, track.x, track.y, track.theta)
-    stamps = np.array([row.stamp_ns for row in rows], dtype=np.int64)
-    x = np.array([row.pose.x for row in rows])
-    y = np.array([row.pose.y for row in rows])
-    heading = np.array([row.pose.theta for row in rows])
-    rx, ry, _ = comparison.add(stamps, x, y, np.unwrap(heading))
+    stamps, x, y, heading = poses
+    rx, ry, _ = comparison.add(stamps, x, y, heading)
     inside = ~np.isnan(rx)
     if not inside.any():
         fail(f"{source}: {topic} has no pose within the recording's time span")
@@ -145,7 +192,7 @@ def _reference(
         f"{fmt(result.max_position_error, 3)} m, RMS {fmt(result.rms_position_error, 3)} m "
         "from the odometry"
     )
-    return label, rx[inside].tolist(), ry[inside].tolist()
+    return label, rx[inside], ry[inside]
 
 
 @click.command(context_settings=NUMBERS)

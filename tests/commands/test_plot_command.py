@@ -156,3 +156,26 @@ def test_a_ramped_plan_is_drawn_at_its_cruise_speeds(runner: CliRunner, tmp_path
         "warning: a ramped plan is drawn at its cruise speeds: the ramps are not drawn\n"
     )
     assert (tmp_path / "r.svg").read_bytes().startswith(b"<?xml")
+
+
+def test_a_recording_is_read_in_chunks_as_odom_reads_it(
+    runner: CliRunner, params: DiffDriveParams, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import json
+
+    from diffbot.io import recordings
+
+    rows = [f"{k / 10},{k * 0.05!r},{k * 0.07!r}" for k in range(300)]
+    csv = tmp_path / "curve.csv"
+    csv.write_text(f"time,{params.left_joint},{params.right_joint}\n" + "\n".join(rows) + "\n")
+    odom = runner.invoke(main, ["odom", str(csv), "--json"], catch_exceptions=False)
+    final = json.loads(odom.stdout)["final_pose"]
+
+    def whole(*args: object, **kwargs: object) -> object:
+        raise AssertionError("the whole recording was read into memory")
+
+    monkeypatch.setattr(recordings, "read_recording", whole)
+    result = run(runner, "straight 1", "--odom", str(csv), "-o", str(tmp_path / "p.png"))
+    assert result.exit_code == 0, result.output
+    miss = math.hypot(final["x"] - 1.0, final["y"])
+    assert result.stdout == f"{csv}: odometry ends {miss:.3g} m from the plan's end\n"
