@@ -75,6 +75,7 @@ _FOOTPRINT_COLOUR: Final = "#7f7f7f"
 #: circle within a fraction of a pixel of its true shape at any usual size) ...
 _SAMPLES_PER_SEGMENT: Final = 100
 #: ... and along the whole path at most: a plan of thousands of segments gets fewer per segment.
+#: A recording drawn over the path is thinned to as many points, evenly spread, its end kept.
 _MAX_PATH_SAMPLES: Final = 100_000
 #: Segments that get a footprint and a number at most: on longer plans, this many spread evenly
 #: (always the last), as thousands would cover the path and cost minutes to draw.
@@ -260,6 +261,13 @@ def _draw_path(
     for number, (label, x, y) in enumerate(recordings):
         rx, ry = _recorded_path(label, x, y)
         miss = end_distance(plan, float(rx[-1]), float(ry[-1]))
+        if rx.size > _MAX_PATH_SAMPLES:  # far more points than pixels: every k-th, and the end
+            keep = np.unique(
+                np.append(
+                    np.linspace(0, rx.size - 1, _MAX_PATH_SAMPLES, dtype=np.int64), rx.size - 1
+                )
+            )
+            rx, ry = rx[keep], ry[keep]
         axes.plot(
             rx,
             ry,

@@ -280,3 +280,20 @@ def test_the_sampled_path_goes_through_every_segment_end() -> None:
     for x, y in ends:
         assert float(np.min(np.hypot(xs - x, ys - y))) < 1e-9
     assert (xs[-1], ys[-1]) == (p.final_pose.x, p.final_pose.y)
+
+
+def test_a_recording_of_more_points_than_pixels_is_thinned_keeping_its_end() -> None:
+    import numpy as np
+
+    count = 250_001
+    x = np.linspace(0.0, 1.0, count)
+    y = np.sin(x)
+    path = axes_labelled(
+        plan_figure(_plan("straight 1"), BOT_50_RPM, recordings=[("run", x, y)]), "path"
+    )
+    line = next(line for line in path.lines if str(line.get_label()).startswith("run"))
+    xs, ys = (np.asarray(v, dtype=np.float64) for v in line.get_data())
+    assert xs.size <= 100_001
+    assert (xs[0], ys[0]) == (0.0, 0.0)
+    assert (xs[-1], ys[-1]) == (x[-1], y[-1])
+    assert np.all(np.diff(xs) > 0.0)  # in order, each point once
