@@ -6,6 +6,7 @@ from __future__ import annotations
 import csv
 import math
 import os
+from array import array
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -79,18 +80,43 @@ def read_pose_track(path: str | os.PathLike[str], topic: str | None = None) -> P
     return _read_csv(p)
 
 
-def _track(source: str, rows: list[tuple[int, float, float, float]]) -> PoseTrack:
+class _Poses:
+    """Poses as they are read, in typed arrays: 32 bytes a pose, where a tuple of Python numbers
+    takes about 180 (a track of a million poses stays small)."""
+
+    def __init__(self, source: str) -> None:
+        self.source = source
+        self.stamps = array("q")
+        self.x = array("d")
+        self.y = array("d")
+        self.theta = array("d")
+
+    def append(self, stamp_ns: int, x: float, y: float, theta: float) -> None:
+        try:
+            self.stamps.append(stamp_ns)
+        except OverflowError:
+            raise RecordingError(
+                f"{self.source}: a stamp of {stamp_ns / NS_PER_S:.6g} s is out of range"
+            ) from None
+        self.x.append(x)
+        self.y.append(y)
+        self.theta.append(theta)
+
+    def __len__(self) -> int:
+        return len(self.stamps)
+
+
+def _track(source: str, poses: _Poses) -> PoseTrack:
     import numpy as np
 
-    if not rows:
+    if not poses.stamps:
         raise RecordingError(f"{source}: no ground-truth pose")
-    stamps, x, y, theta = zip(*rows, strict=True)
     return PoseTrack(
         source,
-        np.array(stamps, dtype=np.int64),
-        np.array(x, dtype=np.float64),
-        np.array(y, dtype=np.float64),
-        np.array(theta, dtype=np.float64),
+        np.frombuffer(poses.stamps, dtype=np.int64),
+        np.frombuffer(poses.x, dtype=np.float64),
+        np.frombuffer(poses.y, dtype=np.float64),
+        np.frombuffer(poses.theta, dtype=np.float64),
     )
 
 
@@ -113,7 +139,7 @@ def _pose(values: Sequence[float], where: str) -> tuple[float, float, float]:
 
 def _read_csv(path: Path) -> PoseTrack:
     source = str(path)
-    rows: list[tuple[int, float, float, float]] = []
+    rows = _Poses(source)
     with open_text(path, RecordingError, "a CSV file", newline="") as stream:
         reader = csv.reader(stream)
         headers = [h.strip().lower() for h in next(reader, [])]
@@ -147,7 +173,7 @@ def _read_csv(path: Path) -> PoseTrack:
                         f"{source}: line {line}: time {cells[0]} s lies outside the int64 "
                         f"nanosecond stamps of ROS (about ±{INT64 / NS_PER_S:.3g} s)"
                     )
-                rows.append((stamp_ns, values[0], values[1], values[2]))
+                rows.append(stamp_ns, values[0], values[1], values[2])
         except csv.Error as err:
             raise RecordingError(f"{source}: malformed CSV: {err}") from None
     return _track(source, rows)
@@ -168,8 +194,8 @@ def _read_bag(path: Path, topic: str | None) -> PoseTrack:
 
     source = str(path)
     typestore = get_typestore(Stores.ROS2_HUMBLE)
-    header_rows: list[tuple[int, float, float, float]] = []
-    receive_rows: list[tuple[int, float, float, float]] = []
+    header_rows = _Poses(source)
+    receive_rows = _Poses(source)
     try:
         with Reader(path) as reader:
             poses = sorted({c.topic for c in reader.connections if c.msgtype in POSE_TYPES})
@@ -203,12 +229,12 @@ def _read_bag(path: Path, topic: str | None) -> PoseTrack:
                     f"{source}: {connection.topic} message {len(header_rows) + 1}",
                 )
                 stamp_ns = int(header.stamp.sec) * NS_PER_S + int(header.stamp.nanosec)
-                header_rows.append((stamp_ns, *values))
-                receive_rows.append((int(received_ns), *values))
+                header_rows.append(stamp_ns, *values)
+                receive_rows.append(int(received_ns), *values)
     except DiffbotError:
         raise
     except Exception as err:
         detail = " ".join(str(err).split()) or type(err).__name__
         raise RecordingError(f"{source}: not a readable rosbag2 recording: {detail}") from None
-    use_header = all(row[0] for row in header_rows)
+    use_header = 0 not in header_rows.stamps
     return _track(f"{source} {topic}", header_rows if use_header else receive_rows)

@@ -159,3 +159,15 @@ def test_a_truth_beyond_any_clock_or_drive_is_refused_naming_the_line(
     path.write_text(f"time,x,y,theta\n0,0,0,0\n{row}\n", encoding="utf-8")
     with pytest.raises(RecordingError, match=re.escape(f"{path}: {fragment}")):
         read_pose_track(path)
+
+
+def test_a_long_csv_track_is_kept_in_typed_arrays(tmp_path: Path) -> None:
+    path = tmp_path / "truth.csv"
+    rows = [f"{k / 100!r},{k * 0.001!r},{-k * 0.002!r},{k * 1e-4!r}" for k in range(5000)]
+    path.write_text("time,x,y,theta\n" + "\n".join(rows) + "\n", encoding="utf-8")
+    track = read_pose_track(path)
+    assert track.stamps_ns.dtype == np.int64
+    assert track.stamps_ns[-1] == 49_990_000_000
+    assert track.x[-1] == 4999 * 0.001
+    assert track.y[1234] == -1234 * 0.002
+    assert track.theta[4321] == 4321 * 1e-4
