@@ -2,9 +2,10 @@
 
 A Gazebo robot is often described in SDF only: a ``model.sdf`` (in a model folder with its
 ``model.config``) of links, joints, collisions, nested models and ``<include>``d models, with the
-simulator's diff-drive plugin in it. :func:`expand_sdf` turns such a model into URDF text (each
-joint's origin the pose of its child link relative to its parent link, axes in the child's
-frame, plugins kept under ``<gazebo>``), so that wheels, radii and plugins are found as for any
+simulator's diff-drive plugin in it. :func:`expand_sdf` turns such a model into URDF text: each
+joint's origin is its frame (its ``<pose>``, relative to its child link by default) relative to
+its parent's, each child link is expressed in its joint's frame as URDF has it, axes in that
+frame, plugins kept under ``<gazebo>``, so that wheels, radii and plugins are found as for any
 URDF.
 
 An SDF model is untrusted like a xacro description: a ``model://NAME`` or ``package://`` include
@@ -132,7 +133,7 @@ def _origin(m: Matrix) -> str:
 class _Link:
     name: str
     pose: Matrix  # in the top model's frame
-    shapes: list[str] = field(default_factory=list)
+    shapes: list[tuple[str, Matrix, str]] = field(default_factory=list)  # kind, pose, geometry
 
 
 @dataclass
@@ -142,8 +143,10 @@ class _Joint:
     parent: str
     child: str
     axis: tuple[float, float, float] | None
-    axis_in_model: Matrix | None  # the frame the axis is expressed in, when not the child's
+    axis_in_model: Matrix | None  # the frame the axis is expressed in, when not the joint's
     limit: str
+    pose: Matrix  # the joint's frame relative to ...
+    relative_to: str | None  # ... this link (None: its child link, SDF's default)
 
 
 @dataclass
@@ -277,7 +280,9 @@ class _Reader:
             record = _Link(name, matrix)
             for kind in ("collision", "visual"):
                 for element in link.findall(kind):
-                    record.shapes.append(self.shape(kind, element, f"{where} link {name!r}"))
+                    shape = self.shape(kind, element, f"{where} link {name!r}")
+                    if shape is not None:
+                        record.shapes.append(shape)
             self.model.links[name] = record
         for joint in model.findall("joint"):
             self.model.joints.append(self.joint(joint, prefix, frame, where))
@@ -300,7 +305,7 @@ class _Reader:
             include_pose, _ = _pose(include, f"{where} include {uri!r}")
             self.read_file(target, _mul(frame, include_pose), f"{prefix}{name}::", depth + 1)
 
-    def shape(self, kind: str, element: ET.Element, where: str) -> str:
+    def shape(self, kind: str, element: ET.Element, where: str) -> tuple[str, Matrix, str] | None:
         pose, _ = _pose(element, where)
         geometry = element.find("geometry")
         inner = ""
@@ -317,12 +322,15 @@ class _Reader:
                 size = " ".join(map(repr, _numbers(box.findtext("size"), 3, f"{where} size")))
                 inner = f'<box size="{size}"/>'
         if not inner:
-            return ""
-        return f"<{kind}>{_origin(pose)}<geometry>{inner}</geometry></{kind}>"
+            return None
+        return kind, pose, inner
 
     def joint(self, joint: ET.Element, prefix: str, frame: Matrix, where: str) -> _Joint:
         name = prefix + joint.get("name", "")
         kind = joint.get("type", "fixed")
+        pose, relative = _pose(joint, f"{where} joint {name!r}")
+        if relative is not None and relative != "__model__":
+            relative = prefix + relative
         parent = (joint.findtext("parent") or "").strip()
         child = (joint.findtext("child") or "").strip()
         parent = parent if parent == "world" else prefix + parent
@@ -359,13 +367,38 @@ class _Reader:
                 limit = f'<limit effort="0" {" ".join(parts)}/>'
         if kind not in ("continuous", "revolute", "prismatic", "fixed"):
             kind = "fixed" if kind in ("ball", "universal", "gearbox", "screw") else kind
-        return _Joint(name, kind, parent, prefix + child, axis, in_model, limit)
+        if relative == "__model__":
+            pose, relative = _mul(frame, pose), "__model__"
+        return _Joint(name, kind, parent, prefix + child, axis, in_model, limit, pose, relative)
+
+    def frames(self) -> dict[str, Matrix]:
+        """Each link's URDF frame in the top model's: its joint's frame when it is a joint's
+        child (URDF puts a child link where its joint is), else its own pose."""
+        links = self.model.links
+        frames = {name: link.pose for name, link in links.items()}
+        for joint in self.model.joints:
+            if joint.child not in links:
+                continue
+            if joint.relative_to == "__model__":
+                frames[joint.child] = joint.pose
+            elif joint.relative_to in links and joint.relative_to != joint.child:
+                frames[joint.child] = _mul(links[joint.relative_to].pose, joint.pose)
+            else:
+                frames[joint.child] = _mul(links[joint.child].pose, joint.pose)
+        return frames
 
     def urdf(self, name: str) -> str:
         model = self.model
         lines = [f'<?xml version="1.0"?>\n<robot name="{_attr(name)}">']
+        frames = self.frames()
         for link in model.links.values():
-            lines.append(f'<link name="{_attr(link.name)}">{"".join(link.shapes)}</link>')
+            # shapes were posed in the link's SDF frame; URDF's link frame is its joint's
+            moved = _mul(_inverse(frames[link.name]), link.pose)
+            shapes = "".join(
+                f"<{kind}>{_origin(_mul(moved, pose))}<geometry>{inner}</geometry></{kind}>"
+                for kind, pose, inner in link.shapes
+            )
+            lines.append(f'<link name="{_attr(link.name)}">{shapes}</link>')
         for joint in model.joints:
             if joint.parent == "world":
                 continue
@@ -374,14 +407,14 @@ class _Reader:
                     raise DescriptionError(
                         f"{self.source}: joint {joint.name!r} names the unknown link {end!r}"
                     )
-            parent = model.links[joint.parent].pose
-            child = model.links[joint.child].pose
+            parent = frames[joint.parent]
+            child = frames[joint.child]
             origin = _mul(_inverse(parent), child)
             axis = ""
             if joint.axis is not None:
                 x, y, z = joint.axis
                 if joint.axis_in_model is not None:
-                    # expressed in the model frame: brought into the child link's frame
+                    # expressed in the model frame: brought into the joint's frame
                     rotation = _mul(_inverse(child), joint.axis_in_model)
                     x, y, z = (
                         rotation[i][0] * x + rotation[i][1] * y + rotation[i][2] * z

@@ -14,6 +14,7 @@ import diffbot
 from diffbot.cli import main
 from diffbot.errors import ExpansionLimitError, OutsideRootsError
 from diffbot.urdf import sdf
+from diffbot.urdf.packages import PackageFinder
 
 #: Shaped like Dolly: a chassis, two sphere wheels turned so that their z axis is lateral, a ball
 #: caster, and gz-sim's DiffDrive system (the Ignition spelling).
@@ -180,3 +181,85 @@ def test_malformed_sdf_is_one_error_line(tmp_path: Path) -> None:
     )
     result = CliRunner().invoke(main, ["params", str(path)])
     assert_one_error_line(result, "expected 6 finite numbers")
+
+
+#: Shaped like TurtleBot3 Burger's model.sdf (ROBOTIS-GIT/turtlebot3_simulations,
+#: turtlebot3_gazebo/models/turtlebot3_burger/model.sdf): the wheel links sit at the model's
+#: origin, each wheel joint's own <pose> (relative to its child link, SDF's default) places it
+#: 0.08 m to the side and turns it so that its z axis is lateral; gz-sim's DiffDrive system runs
+#: the robot with a separation of 0.160 m and a radius of 0.033 m.
+BURGER = """<?xml version="1.0" ?>
+<sdf version="1.5">
+  <model name="turtlebot3_burger">
+    <link name="base_footprint"/>
+    <link name="base_link">
+      <collision name="base_collision"><pose>-0.032 0 0.070 0 0 0</pose>
+        <geometry><box><size>0.140 0.140 0.140</size></box></geometry></collision>
+    </link>
+    <link name="wheel_left_link">
+      <collision name="wheel_left_collision"><pose>0 0.08 0.023 -1.57 0 0</pose>
+        <geometry><cylinder><radius>0.033</radius><length>0.018</length></cylinder></geometry>
+      </collision>
+    </link>
+    <link name="wheel_right_link">
+      <collision name="wheel_right_collision"><pose>0.0 -0.08 0.023 -1.57 0 0</pose>
+        <geometry><cylinder><radius>0.033</radius><length>0.018</length></cylinder></geometry>
+      </collision>
+    </link>
+    <link name="caster_back_link">
+      <pose>-0.081 0 -0.004 -1.57 0 0</pose>
+      <collision name="collision"><geometry><sphere><radius>0.005</radius></sphere></geometry>
+      </collision>
+    </link>
+    <joint name="base_joint" type="fixed"><parent>base_footprint</parent>
+      <child>base_link</child><pose>0.0 0.0 0.010 0 0 0</pose></joint>
+    <joint name="wheel_left_joint" type="revolute">
+      <parent>base_link</parent><child>wheel_left_link</child>
+      <pose>0.0 0.08 0.023 -1.57 0 0</pose><axis><xyz>0 0 1</xyz></axis>
+    </joint>
+    <joint name="wheel_right_joint" type="revolute">
+      <parent>base_link</parent><child>wheel_right_link</child>
+      <pose>0.0 -0.08 0.023 -1.57 0 0</pose><axis><xyz>0 0 1</xyz></axis>
+    </joint>
+    <joint name="caster_back_joint" type="ball">
+      <parent>base_link</parent><child>caster_back_link</child></joint>
+    <plugin filename="gz-sim-diff-drive-system" name="gz::sim::systems::DiffDrive">
+      <left_joint>wheel_left_joint</left_joint><right_joint>wheel_right_joint</right_joint>
+      <wheel_separation>0.160</wheel_separation><wheel_radius>0.033</wheel_radius>
+      <child_frame_id>base_footprint</child_frame_id>
+    </plugin>
+  </model>
+</sdf>
+"""
+
+
+def test_a_joint_pose_places_the_wheel_where_the_joint_is(tmp_path: Path) -> None:
+    folder = model_folder(tmp_path / "turtlebot3_gazebo" / "models", "turtlebot3_burger", BURGER)
+    described = diffbot.load_params(folder, source="description")
+    assert described.wheel_separation == pytest.approx(0.160, abs=1e-9)
+    assert described.wheel_radius == pytest.approx(0.033, abs=1e-12)
+    assert (described.left_joint, described.right_joint) == (
+        "wheel_left_joint",
+        "wheel_right_joint",
+    )
+    # the joint's turned z axis is +y on both sides: forward is a positive speed on each
+    assert (described.left_sign, described.right_sign) == (1, 1)
+    assert described.disagreements == ()
+    check = CliRunner().invoke(main, ["check", str(folder)])
+    assert check.exit_code == 0, check.output
+
+
+def test_a_joint_pose_relative_to_the_model_is_taken_as_written(tmp_path: Path) -> None:
+    text = BURGER.replace(
+        "<pose>0.0 0.08 0.023 -1.57", '<pose relative_to="__model__">0 0.09 0.033 -1.57'
+    )
+    text = text.replace('<sdf version="1.5">', '<sdf version="1.8">')
+    folder = model_folder(tmp_path / "models", "burger", text)
+    urdf, _ = sdf.expand_sdf(folder, PackageFinder(None, {}), [folder])
+    joint = urdf[urdf.index('<joint name="wheel_left_joint"') :]
+    # base_link is 0.010 m up (base_joint); the joint frame is where its pose puts it
+    assert '<origin xyz="0 0.089999999999999997 0.023' in joint[: joint.index("</joint>")]
+    described = diffbot.load_params(folder, source="description")
+    # the wheels roll on their cylinders, which have not moved: the same separation
+    assert described.wheel_separation == pytest.approx(0.160, abs=1e-4)
+    assert (described.left_sign, described.right_sign) == (1, 1)
