@@ -1,0 +1,316 @@
+"""Robots as they ship: workspaces shaped like public robots' repositories (their packages,
+macros, ``$(find)``, ``$(optenv)``, controllers files in their dialect), with their real
+numbers, used the way a new user would, from another current folder."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import diffbot
+from diffbot.cli import main
+
+XACRO_NS = 'xmlns:xacro="http://ros.org/wiki/xacro"'
+
+
+def package(folder: Path, name: str) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "package.xml").write_text(
+        f'<?xml version="1.0"?>\n<package format="2"><name>{name}</name>'
+        "<version>0.4.0</version></package>\n",
+        encoding="utf-8",
+    )
+    return folder
+
+
+def write(path: Path, text: str) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+# --- Husky (ROS 1) ---------------------------------------------------------------------------
+# Shaped like husky/husky (noetic-devel): husky_description/urdf/husky.urdf.xacro with its
+# wheel macro (wheel.urdf.xacro, a block argument for the joint pose), `$(optenv)` defaults,
+# an extras file included through an argument, a laser behind a false `xacro:if` that needs a
+# package the workspace does not hold; husky_control/config/control.yaml, the ROS 1 controller
+# with no separation nor radius and a wheel_separation_multiplier of 1.875. The numbers: track
+# 0.5708 m, wheel radius 0.1651 m, so ros_controllers runs with 0.5708 * 1.875 = 1.07025 m.
+
+HUSKY_WHEEL = f"""<?xml version="1.0"?>
+<robot {XACRO_NS} name="husky_wheel">
+  <xacro:macro name="husky_wheel" params="wheel_prefix *joint_pose">
+    <link name="${{wheel_prefix}}_wheel_link">
+      <collision>
+        <origin xyz="0 0 0" rpy="${{M_PI/2}} 0 0" />
+        <geometry><cylinder length="${{wheel_length}}" radius="${{wheel_radius}}" /></geometry>
+      </collision>
+    </link>
+    <joint name="${{wheel_prefix}}_wheel" type="continuous">
+      <parent link="base_link"/>
+      <child link="${{wheel_prefix}}_wheel_link"/>
+      <xacro:insert_block name="joint_pose"/>
+      <axis xyz="0 1 0" rpy="0 0 0" />
+    </joint>
+  </xacro:macro>
+</robot>
+"""
+
+HUSKY = f"""<?xml version="1.0"?>
+<robot name="husky" {XACRO_NS}>
+  <xacro:arg name="laser_enabled" default="$(optenv HUSKY_LMS1XX_ENABLED false)" />
+  <xacro:arg name="urdf_extras" default="$(optenv HUSKY_URDF_EXTRAS empty.urdf)" />
+  <xacro:property name="M_PI" value="3.14159"/>
+  <xacro:property name="wheelbase" value="0.5120" />
+  <xacro:property name="track" value="0.5708" />
+  <xacro:property name="wheel_vertical_offset" value="0.03282" />
+  <xacro:property name="wheel_length" value="0.1143" />
+  <xacro:property name="wheel_radius" value="0.1651" />
+  <xacro:include filename="$(find husky_description)/urdf/wheel.urdf.xacro" />
+  <link name="base_link">
+    <collision><origin xyz="0 0 0.061875" rpy="0 0 0" />
+      <geometry><box size="0.9874 0.5709 0.12375"/></geometry></collision>
+  </link>
+  <link name="base_footprint"/>
+  <joint name="base_footprint_joint" type="fixed">
+    <origin xyz="0 0 ${{wheel_vertical_offset - wheel_radius}}" rpy="0 0 0" />
+    <parent link="base_link" /><child link="base_footprint" />
+  </joint>
+  <link name="imu_link"/>
+  <joint name="imu_joint" type="fixed">
+    <origin xyz="$(optenv HUSKY_IMU_XYZ 0.19 0 0.149)"
+            rpy="$(optenv HUSKY_IMU_RPY 0 -1.5708 3.1416)" />
+    <parent link="base_link" /><child link="imu_link" />
+  </joint>
+  <xacro:husky_wheel wheel_prefix="front_left">
+    <origin xyz="${{wheelbase/2}} ${{track/2}} ${{wheel_vertical_offset}}" rpy="0 0 0" />
+  </xacro:husky_wheel>
+  <xacro:husky_wheel wheel_prefix="front_right">
+    <origin xyz="${{wheelbase/2}} ${{-track/2}} ${{wheel_vertical_offset}}" rpy="0 0 0" />
+  </xacro:husky_wheel>
+  <xacro:husky_wheel wheel_prefix="rear_left">
+    <origin xyz="${{-wheelbase/2}} ${{track/2}} ${{wheel_vertical_offset}}" rpy="0 0 0" />
+  </xacro:husky_wheel>
+  <xacro:husky_wheel wheel_prefix="rear_right">
+    <origin xyz="${{-wheelbase/2}} ${{-track/2}} ${{wheel_vertical_offset}}" rpy="0 0 0" />
+  </xacro:husky_wheel>
+  <xacro:if value="$(arg laser_enabled)">
+    <xacro:include filename="$(find lms1xx)/urdf/sick_lms1xx.urdf.xacro" />
+  </xacro:if>
+  <gazebo>
+    <plugin name="gazebo_ros_control" filename="libgazebo_ros_control.so">
+      <robotNamespace>/</robotNamespace>
+    </plugin>
+  </gazebo>
+  <xacro:include filename="$(arg urdf_extras)" />
+</robot>
+"""
+
+HUSKY_CONTROL = """husky_joint_publisher:
+  type: "joint_state_controller/JointStateController"
+  publish_rate: 50
+
+husky_velocity_controller:
+  type: "diff_drive_controller/DiffDriveController"
+  left_wheel: ['front_left_wheel', 'rear_left_wheel']
+  right_wheel: ['front_right_wheel', 'rear_right_wheel']
+  publish_rate: 50
+  cmd_vel_timeout: 0.25
+  base_frame_id: base_link
+  enable_odom_tf: false
+  # Wheel separation and radius multipliers
+  wheel_separation_multiplier: 1.875 # default: 1.0
+  wheel_radius_multiplier    : 1.0 # default: 1.0
+  linear:
+    x:
+      has_velocity_limits    : true
+      max_velocity           : 1.0   # m/s
+"""
+
+
+def husky(tmp_path: Path) -> tuple[Path, Path]:
+    src = tmp_path / "catkin_ws" / "src" / "husky"
+    (src / ".git").mkdir(parents=True)
+    description = package(src / "husky_description", "husky_description")
+    write(description / "urdf" / "wheel.urdf.xacro", HUSKY_WHEEL)
+    write(description / "urdf" / "empty.urdf", '<?xml version="1.0"?>\n<robot name="empty"/>\n')
+    robot = write(description / "urdf" / "husky.urdf.xacro", HUSKY)
+    control = package(src / "husky_control", "husky_control")
+    return robot, write(control / "config" / "control.yaml", HUSKY_CONTROL)
+
+
+def test_husky_ros1_runs_with_its_track_times_the_multiplier(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    robot, control = husky(tmp_path)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    monkeypatch.delenv("HUSKY_URDF_EXTRAS", raising=False)
+    monkeypatch.delenv("HUSKY_LMS1XX_ENABLED", raising=False)
+    runner = CliRunner()
+    plain = runner.invoke(main, ["params", str(robot), "--json"])
+    assert plain.exit_code == 0, plain.output
+    geometry = json.loads(plain.stdout)
+    assert geometry["wheel_separation"] == pytest.approx(0.5708, abs=1e-12)
+    assert geometry["wheel_radius"] == pytest.approx(0.1651, abs=1e-12)
+    assert geometry["left_joints"] == ["front_left_wheel", "rear_left_wheel"]
+    controlled = runner.invoke(
+        main, ["params", "--robot", str(robot), "--controllers", str(control), "--json"]
+    )
+    assert controlled.exit_code == 0, controlled.output
+    values = json.loads(controlled.stdout)
+    assert values["wheel_separation"] == pytest.approx(0.5708 * 1.875, abs=1e-12)
+    assert values["wheel_radius"] == pytest.approx(0.1651, abs=1e-12)
+    assert values["sources"]["wheel_separation"] == f"controllers:{control}"
+    # the multiplier is the controller's deliberate skid-steer setting: check agrees
+    check = runner.invoke(main, ["check", str(robot), "--controllers", str(control)])
+    assert check.exit_code == 0, check.output
+    assert "wheel_separation_multiplier 1.875" in check.stdout
+    # turning in place at 1 rad/s: each side at 1.07025 / 2 m from the centre
+    ik = runner.invoke(main, ["ik", "0", "1", "--robot", str(robot), "--controllers", str(control)])
+    assert ik.exit_code == 0, ik.output
+    assert f"{0.5708 * 1.875 / 2 / 0.1651:.5f}" in ik.stdout
+
+
+def test_husky_with_its_laser_names_the_package_it_lacks(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    robot, _ = husky(tmp_path)
+    monkeypatch.delenv("HUSKY_URDF_EXTRAS", raising=False)
+    monkeypatch.setenv("HUSKY_LMS1XX_ENABLED", "true")
+    result = CliRunner().invoke(main, ["params", str(robot)])
+    assert result.exit_code == 2
+    assert "package 'lms1xx' not found (needed by husky.urdf.xacro)" in result.stderr
+
+
+# --- ros2_control_demos example_2 ------------------------------------------------------------
+# Shaped like ros-controls/ros2_control_demos: example_2/description/urdf/diffbot.urdf.xacro
+# including, from the sibling package ros2_control_demo_description, the diffbot macro
+# (diffbot/urdf/diffbot_description.urdf.xacro: base 0.1 m wide, wheels of radius 0.015 m,
+# joints at y = -/+ base_width/2) and its own ros2_control macro; the controllers file
+# example_2/bringup/config/diffbot_controllers.yaml (wheel_separation 0.10, wheel_radius
+# 0.015). The macro puts 'left_wheel_joint' at y = -0.05 m, on the right (REP-103), while the
+# controller drives it as its left wheel: the sources disagree on the joints.
+
+DEMO_ROBOT = f"""<?xml version="1.0"?>
+<robot {XACRO_NS} name="diffdrive_robot">
+  <xacro:arg name="prefix" default="" />
+  <xacro:include
+    filename="$(find ros2_control_demo_description)/diffbot/urdf/diffbot_description.urdf.xacro" />
+  <xacro:include
+    filename="$(find ros2_control_demo_example_2)/ros2_control/diffbot.ros2_control.xacro" />
+  <xacro:diffbot prefix="$(arg prefix)" />
+  <xacro:diffbot_ros2_control name="DiffBot" prefix="$(arg prefix)" />
+</robot>
+"""
+
+DEMO_MACRO = f"""<?xml version="1.0"?>
+<robot {XACRO_NS}>
+  <xacro:macro name="diffbot" params="prefix">
+  <xacro:property name="PI" value="3.1415926535897931"/>
+  <xacro:property name="base_width" value="0.1" />
+  <xacro:property name="base_height" value="0.05" />
+  <xacro:property name="wheel_len" value="0.020" />
+  <xacro:property name="wheel_radius" value="0.015" />
+  <xacro:property name="z_offset" value="-${{base_height/2}}" />
+  <link name="${{prefix}}base_link">
+    <collision><geometry><box size="0.1 0.1 ${{base_height}}"/></geometry></collision>
+  </link>
+  <joint name="${{prefix}}left_wheel_joint" type="continuous">
+    <parent link="${{prefix}}base_link"/><child link="${{prefix}}left_wheel"/>
+    <origin xyz="0 -${{base_width/2}} ${{z_offset}}" rpy="0 0 0"/><axis xyz="0 1 0"/>
+    <limit effort="100" velocity="60.0"/>
+  </joint>
+  <link name="${{prefix}}left_wheel">
+    <collision><origin xyz="0 0 0" rpy="${{PI/2}} 0 0"/>
+      <geometry><cylinder length="${{wheel_len}}" radius="${{wheel_radius}}"/></geometry>
+    </collision>
+  </link>
+  <joint name="${{prefix}}right_wheel_joint" type="continuous">
+    <parent link="${{prefix}}base_link"/><child link="${{prefix}}right_wheel"/>
+    <origin xyz="0 ${{base_width/2}} ${{z_offset}}" rpy="0 0 0"/><axis xyz="0 1 0"/>
+    <limit effort="100" velocity="60.0"/>
+  </joint>
+  <link name="${{prefix}}right_wheel">
+    <collision><origin xyz="0 0 0" rpy="${{PI/2}} 0 0"/>
+      <geometry><cylinder length="${{wheel_len}}" radius="${{wheel_radius}}"/></geometry>
+    </collision>
+  </link>
+  </xacro:macro>
+</robot>
+"""
+
+DEMO_ROS2_CONTROL = f"""<?xml version="1.0"?>
+<robot {XACRO_NS}>
+  <xacro:macro name="diffbot_ros2_control" params="name prefix">
+    <ros2_control name="${{name}}" type="system">
+      <hardware><plugin>ros2_control_demo_example_2/DiffBotSystemHardware</plugin></hardware>
+      <joint name="${{prefix}}left_wheel_joint"><command_interface name="velocity"/></joint>
+      <joint name="${{prefix}}right_wheel_joint"><command_interface name="velocity"/></joint>
+    </ros2_control>
+  </xacro:macro>
+</robot>
+"""
+
+DEMO_CONTROLLERS = """controller_manager:
+  ros__parameters:
+    update_rate: 10  # Hz
+    joint_state_broadcaster:
+      type: joint_state_broadcaster/JointStateBroadcaster
+    diffbot_base_controller:
+      type: diff_drive_controller/DiffDriveController
+
+diffbot_base_controller:
+  ros__parameters:
+    left_wheel_names: ["left_wheel_joint"]
+    right_wheel_names: ["right_wheel_joint"]
+    wheel_separation: 0.10
+    #wheels_per_side: 1  # actually 2, but both are controlled by 1 signal
+    wheel_radius: 0.015
+    wheel_separation_multiplier: 1.0
+    left_wheel_radius_multiplier: 1.0
+    right_wheel_radius_multiplier: 1.0
+    publish_rate: 50.0
+    linear.x.max_velocity: 1.0
+"""
+
+
+def demos(tmp_path: Path) -> tuple[Path, Path]:
+    src = tmp_path / "ros2_control_demos"
+    (src / ".git").mkdir(parents=True)
+    shared = package(src / "ros2_control_demo_description", "ros2_control_demo_description")
+    write(shared / "diffbot" / "urdf" / "diffbot_description.urdf.xacro", DEMO_MACRO)
+    example = package(src / "example_2", "ros2_control_demo_example_2")
+    write(example / "ros2_control" / "diffbot.ros2_control.xacro", DEMO_ROS2_CONTROL)
+    robot = write(example / "description" / "urdf" / "diffbot.urdf.xacro", DEMO_ROBOT)
+    return robot, write(
+        example / "bringup" / "config" / "diffbot_controllers.yaml", DEMO_CONTROLLERS
+    )
+
+
+def test_example_2_finds_both_packages_and_its_controller_numbers(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    robot, controllers = demos(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    params = diffbot.load_params(robot, controllers=controllers)
+    assert (params.wheel_separation, params.wheel_radius) == (0.10, 0.015)
+    assert params.max_wheel_speed == 60.0
+    # the geometry decides the sides: 'right_wheel_joint' is the one at +y
+    assert (params.left_joint, params.right_joint) == ("right_wheel_joint", "left_wheel_joint")
+    assert any("named left but sits on the right side" in w for w in params.warnings)
+
+
+def test_example_2s_mirrored_joints_fail_check(tmp_path: Path) -> None:
+    robot, controllers = demos(tmp_path)
+    result = CliRunner().invoke(
+        main, ["check", str(robot), "--controllers", str(controllers), "--json"]
+    )
+    assert result.exit_code == 1, result.output
+    report = json.loads(result.stdout)
+    assert {d["field"] for d in report["disagreements"]} == {"left_joints", "right_joints"}
+    assert report["controller"] == "diffbot_base_controller"
