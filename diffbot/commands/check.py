@@ -30,10 +30,10 @@ def check(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
     Compares the wheel separation and radius (within 0.5 mm) and the wheel joints of each side
     that the URDF/xacro geometry, the diff_drive_controller configuration (--controllers, or the
     file the description's ros2_control Gazebo plugin names) and any Gazebo diff-drive plugin
-    (classic gazebo_ros_diff_drive, gz-sim DiffDrive) give. The controller's base values are
-    compared; its multipliers are deliberate settings (a skid steer's separation correction),
-    shown but not compared. Exit code 0 when they agree, 1 when they disagree: a lint a robot
-    repository can run in its CI.
+    (classic gazebo_ros_diff_drive or gazebo_ros_skid_steer_drive, gz-sim DiffDrive) give. The
+    controller's base values are compared; its multipliers are deliberate settings (a skid
+    steer's separation correction), shown but not compared. Exit code 0 when they agree, 1 when
+    they disagree: a lint a robot repository can run in its CI.
 
     \b
     Examples:

@@ -1,5 +1,6 @@
-"""Diff-drive plugins in a robot description: Gazebo classic's ``gazebo_ros_diff_drive``, the
-gz-sim / Ignition ``DiffDrive`` system, and the ``<parameters>`` file of a ros2_control plugin.
+"""Diff-drive plugins in a robot description: Gazebo classic's ``gazebo_ros_diff_drive`` and
+``gazebo_ros_skid_steer_drive``, the gz-sim / Ignition ``DiffDrive`` system, and the
+``<parameters>`` file of a ros2_control plugin.
 
 They are read as a cross-check of the geometry and the controller configuration.
 """
@@ -25,7 +26,8 @@ class GazeboDrive:
     """A Gazebo diff-drive plugin found in a description.
 
     Attributes:
-        kind: ``gazebo_ros_diff_drive`` (Gazebo classic, ROS 1 or 2) or ``gz_sim_diff_drive``
+        kind: ``gazebo_ros_diff_drive`` (Gazebo classic, ROS 1 or 2),
+            ``gazebo_ros_skid_steer_drive`` (Gazebo classic, ROS 1) or ``gz_sim_diff_drive``
             (gz-sim and Ignition Gazebo).
         plugin: the plugin's ``filename`` attribute, as written.
         left_joints: the left wheel joints, in the order written.
@@ -58,6 +60,7 @@ class GazeboDrive:
 # --- Gazebo plugins ---------------------------------------------------------------------------
 
 _CLASSIC = re.compile(r"^(lib)?gazebo_ros_diff_drive(\.so)?$")
+_SKID_STEER = re.compile(r"^(lib)?gazebo_ros_skid_steer_drive(\.so)?$")
 _GZ_SIM = re.compile(r"^(lib)?(gz-sim|ignition-gazebo)\d*-diff-drive-system(\.so)?$")
 _GZ_SIM_NAMES = frozenset({"gz::sim::systems::DiffDrive", "ignition::gazebo::systems::DiffDrive"})
 _ROS2_CONTROL = re.compile(r"^(lib)?(gazebo_ros2_control|gz_ros2_control|ign_ros2_control)")
@@ -87,8 +90,11 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
 
     Gazebo classic's ``libgazebo_ros_diff_drive.so`` (ROS 2 tags ``left_joint``, ``right_joint``,
     ``wheel_separation``, ``wheel_diameter``, repeated per wheel pair; ROS 1 tags ``leftJoint``,
-    ``rightJoint``, ``wheelSeparation``, ``wheelDiameter``) and the gz-sim / Ignition DiffDrive
-    system (``left_joint`` and ``right_joint`` repeated per wheel, ``wheel_separation``,
+    ``rightJoint``, ``wheelSeparation``, ``wheelDiameter``), Gazebo classic's
+    ``libgazebo_ros_skid_steer_drive.so`` (``leftFrontJoint``, ``leftRearJoint``,
+    ``rightFrontJoint``, ``rightRearJoint``, ``wheelSeparation``, ``wheelDiameter``: it drives
+    both wheels of a side alike, as a diff drive of that separation) and the gz-sim / Ignition
+    DiffDrive system (``left_joint`` and ``right_joint`` repeated per wheel, ``wheel_separation``,
     ``wheel_radius``).
 
     Args:
@@ -109,20 +115,28 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
             separations += _plugin_lengths(plugin, filename, "wheelSeparation", 1.0)
             radii = _plugin_lengths(plugin, filename, "wheel_diameter", 0.5)
             radii += _plugin_lengths(plugin, filename, "wheelDiameter", 0.5)
+            left = _plugin_texts(plugin, "left_joint", "leftJoint")
+            right = _plugin_texts(plugin, "right_joint", "rightJoint")
+        elif _SKID_STEER.match(filename):
+            kind = "gazebo_ros_skid_steer_drive"
+            separations = _plugin_lengths(plugin, filename, "wheelSeparation", 1.0)
+            radii = _plugin_lengths(plugin, filename, "wheelDiameter", 0.5)
+            left = _plugin_texts(plugin, "leftFrontJoint", "leftRearJoint")
+            right = _plugin_texts(plugin, "rightFrontJoint", "rightRearJoint")
         elif _GZ_SIM.match(filename) or plugin.get("name") in _GZ_SIM_NAMES:
             kind = "gz_sim_diff_drive"
             separations = _plugin_lengths(plugin, filename, "wheel_separation", 1.0)
             radii = _plugin_lengths(plugin, filename, "wheel_radius", 1.0)
+            left = _plugin_texts(plugin, "left_joint")
+            right = _plugin_texts(plugin, "right_joint")
         else:
             continue
         drives.append(
             GazeboDrive(
                 kind=kind,
                 plugin=filename,
-                left_joints=tuple(t for t in _plugin_texts(plugin, "left_joint", "leftJoint") if t),
-                right_joints=tuple(
-                    t for t in _plugin_texts(plugin, "right_joint", "rightJoint") if t
-                ),
+                left_joints=tuple(t for t in left if t),
+                right_joints=tuple(t for t in right if t),
                 wheel_separations=separations,
                 wheel_radii=radii,
             )

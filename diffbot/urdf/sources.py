@@ -201,7 +201,8 @@ def _choose_mode(mode: str, config: ControllerConfig | None, drives: Sequence[Ga
     if mode == "plugin" and not drives:
         raise DescriptionError(
             "the values were asked from the simulator's plugin, but the description has no "
-            "diff-drive plugin (gazebo_ros_diff_drive or gz-sim DiffDrive)"
+            "diff-drive plugin (gazebo_ros_diff_drive, gazebo_ros_skid_steer_drive or gz-sim "
+            "DiffDrive)"
         )
     if mode != "auto":
         return mode

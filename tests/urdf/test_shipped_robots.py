@@ -314,3 +314,65 @@ def test_example_2s_mirrored_joints_fail_check(tmp_path: Path) -> None:
     report = json.loads(result.stdout)
     assert {d["field"] for d in report["disagreements"]} == {"left_joints", "right_joints"}
     assert report["controller"] == "diffbot_base_controller"
+
+
+# --- Husky in Gazebo classic with the skid-steer plugin ----------------------------------------
+# A common way Husky users simulate it (the plugin of gazebo_ros_pkgs,
+# gazebo_plugins/src/gazebo_ros_skid_steer_drive.cpp, in place of gazebo_ros_control): four
+# joints, wheelSeparation 0.5708 and wheelDiameter 0.3302. The plugin drives each side's two
+# wheels alike at (v -/+ w * wheelSeparation / 2) / (wheelDiameter / 2): a diff drive.
+
+SKID_STEER = """  <gazebo>
+    <plugin name="skid_steer_drive_controller" filename="libgazebo_ros_skid_steer_drive.so">
+      <updateRate>100.0</updateRate>
+      <leftFrontJoint>front_left_wheel</leftFrontJoint>
+      <leftRearJoint>rear_left_wheel</leftRearJoint>
+      <rightFrontJoint>front_right_wheel</rightFrontJoint>
+      <rightRearJoint>rear_right_wheel</rightRearJoint>
+      <wheelSeparation>{separation}</wheelSeparation>
+      <wheelDiameter>0.3302</wheelDiameter>
+      <robotBaseFrame>base_link</robotBaseFrame>
+      <torque>35</torque>
+      <broadcastTF>true</broadcastTF>
+    </plugin>
+  </gazebo>
+"""
+
+
+def skid_steered_husky(tmp_path: Path, separation: str) -> Path:
+    robot, _ = husky(tmp_path)
+    text = robot.read_text(encoding="utf-8").replace(
+        '  <xacro:include filename="$(arg urdf_extras)" />',
+        SKID_STEER.format(separation=separation),
+    )
+    robot.write_text(text, encoding="utf-8")
+    return robot
+
+
+def test_the_skid_steer_plugin_is_the_simulated_husky_s_controller(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("HUSKY_LMS1XX_ENABLED", raising=False)
+    robot = skid_steered_husky(tmp_path, "0.5708")
+    params = diffbot.load_params(robot, source="plugin")
+    assert params.wheel_separation == pytest.approx(0.5708, abs=1e-12)
+    assert params.wheel_radius == pytest.approx(0.1651, abs=1e-12)
+    assert params.left_joints == ("front_left_wheel", "rear_left_wheel")
+    assert params.right_joints == ("front_right_wheel", "rear_right_wheel")
+    assert params.sources["wheel_separation"] == "plugin"
+    assert diffbot.load_params(robot).sources["wheel_radius"] == "plugin"
+
+
+def test_a_skid_steer_plugin_widened_for_the_slip_is_what_the_simulation_runs(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("HUSKY_LMS1XX_ENABLED", raising=False)
+    robot = skid_steered_husky(tmp_path, "1.07025")
+    ik = CliRunner().invoke(main, ["ik", "0", "1", "--robot", str(robot)])
+    assert ik.exit_code == 0, ik.output
+    assert f"{1.07025 / 2 / 0.1651:.5f}" in ik.stdout
+    check = CliRunner().invoke(main, ["check", str(robot), "--json"])
+    assert check.exit_code == 1, check.output
+    (found,) = json.loads(check.stdout)["disagreements"]
+    assert found["field"] == "wheel_separation"
+    assert found["difference"] == pytest.approx(1.07025 - 0.5708, abs=1e-9)
