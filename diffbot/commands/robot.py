@@ -125,6 +125,30 @@ def urdf(
         write_text_atomic(Path(output), expansion.urdf, force=force, inputs=expansion.files)
 
 
+def _robot_and_numbers(
+    robot: RobotOptions, tokens: tuple[str, ...], names: tuple[str, str]
+) -> tuple[tuple[float, float], RobotOptions]:
+    """The two numbers named ``names`` among the tokens, and the robot options with the
+    ``NAME:=VALUE`` tokens and a robot PATH written before the numbers, as every command that
+    takes a robot takes it first."""
+    rest, xacro_args = split_xacro_args(tokens)
+    path = None
+    if len(rest) == 3 and not _is_number(rest[0]):
+        path, rest = rest[0], rest[1:]
+    if len(rest) != 2:
+        fail(f"expected {names[0]} and {names[1]}, got {len(rest)} value(s) {list(rest)}")
+    numbers = parse_number(rest[0], names[0]), parse_number(rest[1], names[1])
+    return numbers, robot.with_path(path, xacro_args)
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
 def _speeds_json(params: DiffDriveParams, joints: WheelSpeeds) -> dict[str, Any]:
     return {
         "left": float(joints.left),
@@ -150,19 +174,15 @@ def ik(robot: RobotOptions, tokens: tuple[str, ...], do_saturate: bool, as_json:
     LINEAR is the forward speed (m/s), ANGULAR the yaw rate (rad/s, positive counter-clockwise),
     as in a cmd_vel Twist. Prints the joint velocity commands (rad/s and rpm, with the joints'
     direction signs applied) and whether they are within the motor limit. Exit code 1 when a wheel
-    is over the limit (unless --saturate).
+    is over the limit (unless --saturate). The robot is --robot PATH, or PATH before LINEAR.
 
     \b
     Examples:
       diffbot ik 0.1 0                 straight at 0.1 m/s: 2.857 rad/s per wheel
       diffbot ik 0.157 -0.314          the 0.5 m clockwise circle in 20 s
     """
-    rest, xacro_args = split_xacro_args(tokens)
-    if len(rest) != 2:
-        fail(f"expected LINEAR and ANGULAR, got {len(rest)} value(s) {list(rest)}")
-    linear = parse_number(rest[0], "LINEAR")
-    angular = parse_number(rest[1], "ANGULAR")
-    p = robot.with_path(None, xacro_args).load()
+    (linear, angular), robot = _robot_and_numbers(robot, tokens, ("LINEAR", "ANGULAR"))
+    p = robot.load()
     wheels = inverse(p, linear, angular)
     check_finite(
         "wheel speeds", float(wheels.left), float(wheels.right), float(rpm_from_rad_s(wheels.left))
@@ -227,14 +247,10 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
     Example:
       diffbot fk 1.637 2.848            Trajectory A's first arc: 0.0785 m/s, 0.314 rad/s
     """
-    rest, xacro_args = split_xacro_args(tokens)
-    if len(rest) != 2:
-        fail(f"expected LEFT and RIGHT, got {len(rest)} value(s) {list(rest)}")
-    left = parse_number(rest[0], "LEFT")
-    right = parse_number(rest[1], "RIGHT")
+    (left, right), robot = _robot_and_numbers(robot, tokens, ("LEFT", "RIGHT"))
     if in_rpm:
         left, right = float(rad_s_from_rpm(left)), float(rad_s_from_rpm(right))
-    p = robot.with_path(None, xacro_args).load()
+    p = robot.load()
     wheels = wheel_from_joint(p, WheelSpeeds(left, right))
     twist = forward(p, wheels.left, wheels.right)
     linear, angular = float(twist.linear), float(twist.angular)

@@ -376,3 +376,21 @@ def test_a_skid_steer_plugin_widened_for_the_slip_is_what_the_simulation_runs(
     (found,) = json.loads(check.stdout)["disagreements"]
     assert found["field"] == "wheel_separation"
     assert found["difference"] == pytest.approx(1.07025 - 0.5708, abs=1e-9)
+
+
+def test_ik_and_fk_take_the_robot_first_like_every_command(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("HUSKY_LMS1XX_ENABLED", raising=False)
+    robot = skid_steered_husky(tmp_path, "0.5708")
+    runner = CliRunner()
+    first = runner.invoke(main, ["ik", str(robot), "0", "-1"])
+    assert first.exit_code == 0, first.output
+    assert first.stdout == runner.invoke(main, ["ik", "0", "-1", "--robot", str(robot)]).stdout
+    assert f"{-0.5708 / 2 / 0.1651:.5f}" in first.stdout.replace(" ", "")
+    fk = runner.invoke(main, ["fk", str(robot), "1", "1", "--json"])
+    assert fk.exit_code == 0, fk.output
+    assert json.loads(fk.stdout)["linear"] == pytest.approx(0.1651, abs=1e-9)
+    both = runner.invoke(main, ["ik", str(robot), "0", "1", "--robot", str(robot) + "x"])
+    assert both.exit_code == 2
+    assert "two robots given" in both.stderr
