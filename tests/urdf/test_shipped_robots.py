@@ -394,3 +394,107 @@ def test_ik_and_fk_take_the_robot_first_like_every_command(
     both = runner.invoke(main, ["ik", str(robot), "0", "1", "--robot", str(robot) + "x"])
     assert both.exit_code == 2
     assert "two robots given" in both.stderr
+
+
+# --- linorobot2 2wd ------------------------------------------------------------------------------
+# Shaped like linorobot/linorobot2: linorobot2_description/urdf/robots/2wd.urdf.xacro including
+# its properties file (2wd_properties.urdf.xacro: wheel_radius 0.045, wheel_pos_y 0.1, a laser
+# pose as a block property), the wheel macro (mech/wheel.urdf.xacro, `${pi/2}`) and the gz-sim
+# DiffDrive macro (controllers/diff_drive.urdf.xacro) given wheel_separation="${wheel_pos_y * 2}":
+# the simulation runs with 0.2 m and 0.045 m.
+
+LINO_ROBOT = f"""<?xml version="1.0"?>
+<robot name="linorobot2_2wd" {XACRO_NS}>
+  <xacro:include filename="$(find linorobot2_description)/urdf/2wd_properties.urdf.xacro" />
+  <xacro:include filename="$(find linorobot2_description)/urdf/mech/wheel.urdf.xacro" />
+  <xacro:include filename="$(find linorobot2_description)/urdf/controllers/diff_drive.urdf.xacro" />
+  <link name="base_footprint"/>
+  <link name="base_link"><collision><geometry>
+    <box size="${{base_length}} ${{base_width}} 0.003"/></geometry></collision></link>
+  <joint name="base_joint" type="fixed"><parent link="base_footprint"/><child link="base_link"/>
+    <origin xyz="0 0 ${{wheel_radius - wheel_pos_z}}" rpy="0 0 0"/></joint>
+  <xacro:wheel side="left" radius="${{wheel_radius}}" width="${{wheel_width}}"
+    pos_x="${{wheel_pos_x}}" pos_y="${{wheel_pos_y}}" pos_z="${{wheel_pos_z}}"/>
+  <xacro:wheel side="right" radius="${{wheel_radius}}" width="${{wheel_width}}"
+    pos_x="${{wheel_pos_x}}" pos_y="${{-wheel_pos_y}}" pos_z="${{wheel_pos_z}}"/>
+  <link name="laser"/>
+  <joint name="laser_to_base_link" type="fixed">
+    <parent link="base_link"/><child link="laser"/><xacro:insert_block name="laser_pose" />
+  </joint>
+  <xacro:diff_drive_controller wheel_separation="${{wheel_pos_y * 2}}"
+    wheel_radius="${{wheel_radius}}"/>
+</robot>
+"""
+
+LINO_PROPERTIES = f"""<?xml version="1.0"?>
+<robot {XACRO_NS}>
+  <xacro:property name="base_length" value="0.17" />
+  <xacro:property name="base_width" value="0.17" />
+  <xacro:property name="wheel_radius" value="0.045" />
+  <xacro:property name="wheel_width" value="0.01" />
+  <xacro:property name="wheel_pos_x" value="-0.0415" />
+  <xacro:property name="wheel_pos_y" value="0.1" />
+  <xacro:property name="wheel_pos_z" value="0.023" />
+  <xacro:property name="laser_pose">
+    <origin xyz="0 0 0.1" rpy="0 0 0"/>
+  </xacro:property>
+</robot>
+"""
+
+LINO_WHEEL = f"""<?xml version="1.0"?>
+<robot {XACRO_NS}>
+  <xacro:macro name="wheel" params="side radius width pos_x pos_y pos_z">
+    <link name="${{side}}_wheel_link">
+      <collision><origin xyz="0 0 0" rpy="${{pi/2}} 0 0"/>
+        <geometry><cylinder radius="${{radius}}" length="${{width}}"/></geometry></collision>
+    </link>
+    <joint name="${{side}}_wheel_joint" type="continuous">
+      <axis xyz="0 1 0" />
+      <parent link="base_link"/><child link="${{side}}_wheel_link"/>
+      <origin xyz="${{pos_x}} ${{pos_y}} ${{pos_z}}" rpy="0 0 0"/>
+    </joint>
+  </xacro:macro>
+</robot>
+"""
+
+LINO_DIFF_DRIVE = f"""<robot {XACRO_NS}>
+  <xacro:macro name="diff_drive_controller" params="wheel_separation wheel_radius">
+    <gazebo>
+      <plugin filename="gz-sim-diff-drive-system" name="gz::sim::systems::DiffDrive">
+        <topic>/cmd_vel</topic>
+        <child_frame_id>base_footprint</child_frame_id>
+        <max_linear_acceleration>1.0</max_linear_acceleration>
+        <left_joint>left_wheel_joint</left_joint>
+        <right_joint>right_wheel_joint</right_joint>
+        <wheel_separation>${{wheel_separation}}</wheel_separation>
+        <wheel_radius>${{wheel_radius}}</wheel_radius>
+      </plugin>
+    </gazebo>
+  </xacro:macro>
+</robot>
+"""
+
+
+def test_linorobot2_runs_with_its_plugin_numbers(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    src = tmp_path / "linorobot2"
+    (src / ".git").mkdir(parents=True)
+    package(src / "linorobot2_bringup", "linorobot2_bringup")
+    urdf = package(src / "linorobot2_description", "linorobot2_description") / "urdf"
+    write(urdf / "2wd_properties.urdf.xacro", LINO_PROPERTIES)
+    write(urdf / "mech" / "wheel.urdf.xacro", LINO_WHEEL)
+    write(urdf / "controllers" / "diff_drive.urdf.xacro", LINO_DIFF_DRIVE)
+    robot = write(urdf / "robots" / "2wd.urdf.xacro", LINO_ROBOT)
+    monkeypatch.chdir(src / "linorobot2_bringup")
+    relative = "../linorobot2_description/urdf/robots/2wd.urdf.xacro"
+    result = CliRunner().invoke(main, ["params", relative, "--json"])
+    assert result.exit_code == 0, result.output
+    values = json.loads(result.stdout)
+    assert (values["wheel_separation"], values["wheel_radius"]) == (0.2, 0.045)
+    assert values["sources"]["wheel_separation"] == "plugin"
+    described = diffbot.load_params(robot, source="description")
+    assert described.wheel_separation == pytest.approx(0.2, abs=1e-12)
+    assert described.wheel_radius == pytest.approx(0.045, abs=1e-12)
+    check = CliRunner().invoke(main, ["check", relative])
+    assert check.exit_code == 0, check.output
