@@ -1,0 +1,267 @@
+"""The ROS 2 message types diffbot speaks on a live graph, as DDS structs, declared once.
+
+Each class is the DDS type a ROS 2 middleware registers for the message: named
+``pkg::msg::dds_::Name_`` (rmw_cyclonedds' and Fast DDS' mangling of ``pkg/msg/Name``), ``final``
+and keyless, its fields in the order and widths of the ``.msg`` file. On the wire they are plain
+CDR (XCDR1), little endian, behind the 4-byte encapsulation header, byte for byte what a ROS 2
+node sends; :mod:`diffbot.live.transport` forces that representation in QoS.
+
+Units are those of the messages: m, m/s, rad, rad/s; stamps in whole seconds and nanoseconds.
+
+The struct machinery comes from :mod:`diffbot.live.transport`, the one module that imports
+cyclonedds (and says how to install it when it is missing).
+"""
+
+# No ``from __future__ import annotations``: cyclonedds reads the field types from the class
+# annotations when it builds a type's serializer.
+
+from dataclasses import dataclass, field
+
+from diffbot.live.transport import IdlStruct, array, final, float64, int32, sequence, uint32
+
+__all__ = [
+    "ROS_TYPES",
+    "Float64MultiArray",
+    "Header",
+    "JointState",
+    "MultiArrayDimension",
+    "MultiArrayLayout",
+    "Odometry",
+    "Point",
+    "Pose",
+    "PoseWithCovariance",
+    "Quaternion",
+    "String",
+    "TFMessage",
+    "Time",
+    "Transform",
+    "TransformStamped",
+    "Twist",
+    "TwistStamped",
+    "TwistWithCovariance",
+    "Vector3",
+    "dds_type_name",
+    "ros_type_name",
+]
+
+
+def dds_type_name(ros_name: str) -> str:
+    """The DDS name of a ROS type: ``pkg/msg/Name`` -> ``pkg::msg::dds_::Name_``."""
+    package, kind, name = ros_name.split("/")
+    return f"{package}::{kind}::dds_::{name}_"
+
+
+def ros_type_name(dds_name: str) -> str:
+    """The ROS name of a DDS type name (the inverse of :func:`dds_type_name`); a name that is
+    not a ROS type's comes back unchanged."""
+    parts = dds_name.split("::")
+    if len(parts) != 4 or parts[2] != "dds_" or not parts[3].endswith("_"):
+        return dds_name
+    return f"{parts[0]}/{parts[1]}/{parts[3][:-1]}"
+
+
+@final
+@dataclass
+class Time(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
+    """builtin_interfaces/Time: seconds and nanoseconds (0..999999999) since the epoch."""
+
+    sec: int32 = 0
+    nanosec: uint32 = 0
+
+
+@final
+@dataclass
+class Header(IdlStruct, typename="std_msgs::msg::dds_::Header_"):
+    """std_msgs/Header: the stamp and the frame the data is in."""
+
+    stamp: Time = field(default_factory=Time)
+    frame_id: str = ""
+
+
+@final
+@dataclass
+class Vector3(IdlStruct, typename="geometry_msgs::msg::dds_::Vector3_"):
+    """geometry_msgs/Vector3."""
+
+    x: float64 = 0.0
+    y: float64 = 0.0
+    z: float64 = 0.0
+
+
+@final
+@dataclass
+class Point(IdlStruct, typename="geometry_msgs::msg::dds_::Point_"):
+    """geometry_msgs/Point (m)."""
+
+    x: float64 = 0.0
+    y: float64 = 0.0
+    z: float64 = 0.0
+
+
+@final
+@dataclass
+class Quaternion(IdlStruct, typename="geometry_msgs::msg::dds_::Quaternion_"):
+    """geometry_msgs/Quaternion: the identity unless given."""
+
+    x: float64 = 0.0
+    y: float64 = 0.0
+    z: float64 = 0.0
+    w: float64 = 1.0
+
+
+@final
+@dataclass
+class Pose(IdlStruct, typename="geometry_msgs::msg::dds_::Pose_"):
+    """geometry_msgs/Pose."""
+
+    position: Point = field(default_factory=Point)
+    orientation: Quaternion = field(default_factory=Quaternion)
+
+
+@final
+@dataclass
+class Twist(IdlStruct, typename="geometry_msgs::msg::dds_::Twist_"):
+    """geometry_msgs/Twist: linear (m/s) and angular (rad/s) velocity."""
+
+    linear: Vector3 = field(default_factory=Vector3)
+    angular: Vector3 = field(default_factory=Vector3)
+
+
+@final
+@dataclass
+class TwistStamped(IdlStruct, typename="geometry_msgs::msg::dds_::TwistStamped_"):
+    """geometry_msgs/TwistStamped."""
+
+    header: Header = field(default_factory=Header)
+    twist: Twist = field(default_factory=Twist)
+
+
+@final
+@dataclass
+class Transform(IdlStruct, typename="geometry_msgs::msg::dds_::Transform_"):
+    """geometry_msgs/Transform: translation (m) and rotation."""
+
+    translation: Vector3 = field(default_factory=Vector3)
+    rotation: Quaternion = field(default_factory=Quaternion)
+
+
+@final
+@dataclass
+class TransformStamped(IdlStruct, typename="geometry_msgs::msg::dds_::TransformStamped_"):
+    """geometry_msgs/TransformStamped: the child frame in ``header.frame_id``."""
+
+    header: Header = field(default_factory=Header)
+    child_frame_id: str = ""
+    transform: Transform = field(default_factory=Transform)
+
+
+@final
+@dataclass
+class PoseWithCovariance(IdlStruct, typename="geometry_msgs::msg::dds_::PoseWithCovariance_"):
+    """geometry_msgs/PoseWithCovariance: a 6x6 row-major covariance."""
+
+    pose: Pose = field(default_factory=Pose)
+    covariance: array[float64, 36] = field(default_factory=lambda: [0.0] * 36)
+
+
+@final
+@dataclass
+class TwistWithCovariance(IdlStruct, typename="geometry_msgs::msg::dds_::TwistWithCovariance_"):
+    """geometry_msgs/TwistWithCovariance."""
+
+    twist: Twist = field(default_factory=Twist)
+    covariance: array[float64, 36] = field(default_factory=lambda: [0.0] * 36)
+
+
+@final
+@dataclass
+class Odometry(IdlStruct, typename="nav_msgs::msg::dds_::Odometry_"):
+    """nav_msgs/Odometry: the pose in ``header.frame_id``, the twist in ``child_frame_id``."""
+
+    header: Header = field(default_factory=Header)
+    child_frame_id: str = ""
+    pose: PoseWithCovariance = field(default_factory=PoseWithCovariance)
+    twist: TwistWithCovariance = field(default_factory=TwistWithCovariance)
+
+
+@final
+@dataclass
+class JointState(IdlStruct, typename="sensor_msgs::msg::dds_::JointState_"):
+    """sensor_msgs/JointState: positions (rad), velocities (rad/s), efforts (N m) by name."""
+
+    header: Header = field(default_factory=Header)
+    name: sequence[str] = field(default_factory=list)
+    position: sequence[float64] = field(default_factory=list)
+    velocity: sequence[float64] = field(default_factory=list)
+    effort: sequence[float64] = field(default_factory=list)
+
+
+@final
+@dataclass
+class MultiArrayDimension(IdlStruct, typename="std_msgs::msg::dds_::MultiArrayDimension_"):
+    """std_msgs/MultiArrayDimension."""
+
+    label: str = ""
+    size: uint32 = 0
+    stride: uint32 = 0
+
+
+@final
+@dataclass
+class MultiArrayLayout(IdlStruct, typename="std_msgs::msg::dds_::MultiArrayLayout_"):
+    """std_msgs/MultiArrayLayout."""
+
+    dim: sequence[MultiArrayDimension] = field(default_factory=list)
+    data_offset: uint32 = 0
+
+
+@final
+@dataclass
+class Float64MultiArray(IdlStruct, typename="std_msgs::msg::dds_::Float64MultiArray_"):
+    """std_msgs/Float64MultiArray: what a forward_command_controller's ``commands`` takes."""
+
+    layout: MultiArrayLayout = field(default_factory=MultiArrayLayout)
+    data: sequence[float64] = field(default_factory=list)
+
+
+@final
+@dataclass
+class String(IdlStruct, typename="std_msgs::msg::dds_::String_"):
+    """std_msgs/String."""
+
+    data: str = ""
+
+
+@final
+@dataclass
+class TFMessage(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
+    """tf2_msgs/TFMessage: what /tf and /tf_static carry."""
+
+    transforms: sequence[TransformStamped] = field(default_factory=list)
+
+
+#: Every type, by its ROS name.
+ROS_TYPES: dict[str, type[IdlStruct]] = {
+    ros_type_name(cls.__idl_typename__): cls
+    for cls in (
+        Time,
+        Header,
+        Vector3,
+        Point,
+        Quaternion,
+        Pose,
+        Twist,
+        TwistStamped,
+        Transform,
+        TransformStamped,
+        PoseWithCovariance,
+        TwistWithCovariance,
+        Odometry,
+        JointState,
+        MultiArrayDimension,
+        MultiArrayLayout,
+        Float64MultiArray,
+        String,
+        TFMessage,
+    )
+}

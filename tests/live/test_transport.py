@@ -1,0 +1,110 @@
+"""The transport: ROS names and QoS on DDS, the domain and discovery range from the environment,
+publishers and subscriptions that meet on loopback, malformed payloads counted."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+from live_graph import PATIENCE
+
+from diffbot.live import types
+from diffbot.live.transport import (
+    LATCHED,
+    PUBLISHER,
+    SUBSCRIPTION,
+    TF,
+    LiveError,
+    Node,
+    cyclone_config,
+    dds_topic,
+    discovery_range,
+    domain_id,
+)
+
+
+def test_ros_topics_live_under_rt() -> None:
+    assert dds_topic("/odom") == "rt/odom"
+    assert dds_topic("cmd_vel") == "rt/cmd_vel"
+    assert dds_topic("left_wheel_velocity_controller/commands") == (
+        "rt/left_wheel_velocity_controller/commands"
+    )
+
+
+def test_the_domain_comes_from_ros_domain_id() -> None:
+    assert domain_id({}) == 0
+    assert domain_id({"ROS_DOMAIN_ID": " 42 "}) == 42
+    assert domain_id({"ROS_DOMAIN_ID": "232"}) == 232
+    for bad in ("233", "-1", "x", "1.5"):
+        with pytest.raises(LiveError, match="ROS_DOMAIN_ID must be a whole number from 0 to 232"):
+            domain_id({"ROS_DOMAIN_ID": bad})
+
+
+def test_the_discovery_range_follows_ros_conventions() -> None:
+    assert discovery_range({}) == "SUBNET"
+    assert discovery_range({"ROS_LOCALHOST_ONLY": "1"}) == "LOCALHOST"
+    assert discovery_range({"ROS_LOCALHOST_ONLY": "0"}) == "SUBNET"
+    # Iron and later: the range wins over the older variable.
+    env = {"ROS_LOCALHOST_ONLY": "1", "ROS_AUTOMATIC_DISCOVERY_RANGE": "subnet"}
+    assert discovery_range(env) == "SUBNET"
+    assert discovery_range({"ROS_AUTOMATIC_DISCOVERY_RANGE": "OFF"}) == "OFF"
+    assert discovery_range({"ROS_AUTOMATIC_DISCOVERY_RANGE": "SYSTEM_DEFAULT"}) == "SUBNET"
+    with pytest.raises(LiveError, match="must be SUBNET, LOCALHOST, OFF"):
+        discovery_range({"ROS_AUTOMATIC_DISCOVERY_RANGE": "LAN"})
+
+
+def test_localhost_keeps_discovery_on_loopback() -> None:
+    local = cyclone_config("LOCALHOST")
+    assert "<NetworkInterface name='lo'/>" in local
+    assert "<AllowMulticast>false</AllowMulticast>" in local
+    assert "<Peer address='localhost'/>" in local
+    off = cyclone_config("OFF")
+    assert "<NetworkInterface name='lo'/>" in off
+    assert "Peer" not in off
+    assert cyclone_config("SUBNET") == ""
+    assert cyclone_config("SUBNET", "file:///etc/dds.xml") == "file:///etc/dds.xml"
+    # The user's own configuration comes first, so that ours wins where both say something.
+    assert cyclone_config("LOCALHOST", "file:///etc/dds.xml").startswith("file:///etc/dds.xml,")
+
+
+def test_qos_profiles_are_rclpys() -> None:
+    assert (PUBLISHER.reliable, PUBLISHER.transient_local, PUBLISHER.depth) == (True, False, 10)
+    assert TF.depth == 100
+    assert LATCHED.transient_local
+    assert not SUBSCRIPTION.reliable
+    policies = {type(p).__name__: p for p in PUBLISHER.qos()}
+    assert policies["DataRepresentation"].use_cdrv0_representation  # XCDR1 forced
+    assert not policies["DataRepresentation"].use_xcdrv2_representation
+
+
+def test_a_message_crosses_between_nodes_and_malformed_payloads_are_counted() -> None:
+    got: list[types.JointState] = []
+    with Node("talker") as talker, Node("listener") as listener:
+        publisher = talker.create_publisher(types.JointState, "/joint_states")
+        subscription = listener.create_subscription(types.JointState, "joint_states", got.append)
+        assert publisher.wait_for_subscribers(PATIENCE)
+        assert subscription.wait_for_publishers(PATIENCE)
+        sent = types.JointState(name=["a", "b"], position=[1.0, -2.0])
+        publisher.publish(sent)
+        end = time.monotonic() + PATIENCE
+        while not got and time.monotonic() < end:
+            listener.spin_once(0.05)
+        assert got == [sent]
+        assert listener.publisher_types("/joint_states") == {"sensor_msgs::msg::dds_::JointState_"}
+        payload = sent.serialize()
+        subscription.deliver([payload[:-5], payload, b"\x00\x01"])
+        assert (subscription.received, subscription.malformed) == (2, 2)
+        assert got[-1] == sent
+
+
+def test_timers_fire_on_a_monotonic_schedule() -> None:
+    ticks: list[float] = []
+    with Node("clock") as node:
+        node.create_timer(0.02, lambda: ticks.append(time.monotonic()))
+        start = time.monotonic()
+        node.spin(0.21)
+    assert 8 <= len(ticks) <= 11
+    # On schedule: the k-th tick at start + 0.02 k, late by the scheduling delay only.
+    lateness = [t - (start + 0.02 * (k + 1)) for k, t in enumerate(ticks)]
+    assert min(lateness) >= -0.001
+    assert sorted(lateness)[len(lateness) // 2] < 0.01
