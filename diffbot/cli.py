@@ -35,6 +35,7 @@ COMMANDS = {
     "plot": "diffbot.commands.plot:plot",
     "explain": "diffbot.commands.explain:explain",
     "calibrate": "diffbot.commands.calibrate:calibrate",
+    "node": "diffbot.commands.node:node",
 }
 
 #: How the command line spells a library parameter named in an error message.

@@ -20,6 +20,7 @@ HEAVY = (
     "dask",
     "distributed",
     "ruamel",
+    "cyclonedds",
 )
 
 PROBE = """
@@ -80,6 +81,8 @@ def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ["calibrate", "--help"],
         ["calibrate", "fit", "--help"],
         ["calibrate", "umbmark", "--help"],
+        ["node", "--help"],
+        ["node", "odom", "--help"],
     ],
 )
 def test_quick_commands_load_no_heavy_module(args: list[str], warm_cache: Path) -> None:

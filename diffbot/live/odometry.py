@@ -1,0 +1,196 @@
+"""The odometry node: sensor_msgs/JointState in, nav_msgs/Odometry and odom -> base_link out.
+
+What diff_drive_controller publishes from its wheel feedback, computed by
+:class:`diffbot.odometry.Odometry` (exact along each step's arc): each joint state moves the pose
+by its wheels' motion since the last used one, stamped with the joint state's own header stamp.
+A sample with mismatched ``name``/``position`` lengths, without a wheel joint, with a NaN or
+going back in time is skipped and counted (:attr:`OdometryNode.counts`), never read as zero.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+from diffbot.controller_config import ControllerConfig
+from diffbot.kinematics import DiffDriveParams
+from diffbot.live import types
+from diffbot.live.messages import odometry, stamp_ns, transform, yaw_quaternion
+from diffbot.live.transport import SUBSCRIPTION, TF, Node
+from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
+from diffbot.ros.messages import covariance_matrix
+
+__all__ = ["JOINT_STATES", "SKIP_MISMATCHED", "OdometryNode", "OdometrySettings"]
+
+#: Why a joint state was skipped: its name and position arrays differ in length.
+SKIP_MISMATCHED = "mismatched lengths"
+#: The joint-state subscription: best effort, a history deep enough for bursts at kHz rates.
+JOINT_STATES = replace(SUBSCRIPTION, depth=100)
+
+
+@dataclass(frozen=True)
+class OdometrySettings:
+    """What the node publishes, where, and how often.
+
+    Attributes:
+        joint_states: the JointState topic it reads.
+        odom_topic: the Odometry topic it writes.
+        publish_tf: whether it also broadcasts odom -> base_link on /tf.
+        frame_id: the odometry frame (REP-105 ``odom``).
+        child_frame_id: the robot's frame.
+        publish_rate: at most this many odometry messages per second of joint-state stamps
+            (Hz); None: one per joint state used.
+        pose_covariance: diagonal of the pose covariance (m², rad²).
+        twist_covariance: diagonal of the twist covariance ((m/s)², (rad/s)²).
+        window: velocity rolling window (steps).
+    """
+
+    joint_states: str = "joint_states"
+    odom_topic: str = "odom"
+    publish_tf: bool = True
+    frame_id: str = "odom"
+    child_frame_id: str = "base_link"
+    publish_rate: float | None = None
+    pose_covariance: tuple[float, ...] = DEFAULT_POSE_COVARIANCE
+    twist_covariance: tuple[float, ...] = DEFAULT_TWIST_COVARIANCE
+    window: int = 1
+
+    def with_controller(
+        self, controller: ControllerConfig | None, **given: Any
+    ) -> OdometrySettings:
+        """These settings with the controller configuration's values where it has them, then
+        the ``given`` ones (options the user typed: they win)."""
+        values: dict[str, Any] = {}
+        if controller is not None:
+            found = {
+                "frame_id": controller.odom_frame_id,
+                "child_frame_id": controller.base_frame_id,
+                "publish_rate": controller.publish_rate,
+                "publish_tf": controller.enable_odom_tf,
+                "pose_covariance": controller.pose_covariance_diagonal,
+                "twist_covariance": controller.twist_covariance_diagonal,
+                "window": controller.velocity_rolling_window_size,
+            }
+            values = {k: v for k, v in found.items() if v is not None}
+        values.update({k: v for k, v in given.items() if v is not None})
+        return replace(self, **values)
+
+
+class OdometryNode(Node):
+    """Odometry from joint states on a live graph.
+
+    Example::
+
+        with OdometryNode(load_params()) as node:
+            node.spin(10.0)
+            print(node.odometry.pose, node.counts)
+
+    Args:
+        params: the robot (radii, separation, wheel joints, direction signs).
+        settings: topics, frames, rate, covariances, window.
+        domain: the DDS domain (``ROS_DOMAIN_ID`` when None).
+        name: the node's name.
+    """
+
+    def __init__(
+        self,
+        params: DiffDriveParams,
+        settings: OdometrySettings = OdometrySettings(),
+        *,
+        domain: int | None = None,
+        name: str = "diffbot_odometry",
+    ) -> None:
+        self.settings = settings
+        self.odometry = Odometry(
+            params,
+            frame_id=settings.frame_id,
+            child_frame_id=settings.child_frame_id,
+            pose_covariance=settings.pose_covariance,
+            twist_covariance=settings.twist_covariance,
+            velocity_rolling_window_size=settings.window,
+        )
+        self._pose_covariance = covariance_matrix(settings.pose_covariance)
+        self._twist_covariance = covariance_matrix(settings.twist_covariance)
+        self._period_ns = 0 if settings.publish_rate is None else round(1e9 / settings.publish_rate)
+        self._last_published: int | None = None
+        self.mismatched = 0
+        #: Odometry messages published.
+        self.published = 0
+        super().__init__(name, domain=domain)
+        self.odom_publisher = self.create_publisher(types.Odometry, settings.odom_topic)
+        self.tf_publisher = (
+            self.create_publisher(types.TFMessage, "/tf", TF) if settings.publish_tf else None
+        )
+        self.subscription = self.create_subscription(
+            types.JointState, settings.joint_states, self.on_joint_state, JOINT_STATES
+        )
+
+    def on_joint_state(self, message: types.JointState) -> None:
+        """Integrate one joint state and publish the odometry it gives (at most at the rate)."""
+        names: Sequence[str] = message.name
+        if len(message.position) != len(names):
+            self.mismatched += 1
+            return
+        stamp = stamp_ns(message.header.stamp)
+        if not self.odometry.update_joint_state(names, message.position, stamp_ns=stamp):
+            return
+        last = self._last_published
+        if last is not None and stamp - last < self._period_ns:
+            return
+        self._last_published = stamp
+        self.publish(stamp)
+
+    def publish(self, stamp: int) -> None:
+        """Publish the current odometry (and transform) stamped ``stamp`` (ns)."""
+        settings = self.settings
+        state = self.odometry.state
+        self.odom_publisher.publish(
+            odometry(
+                state,
+                stamp,
+                settings.frame_id,
+                settings.child_frame_id,
+                self._pose_covariance,
+                self._twist_covariance,
+            )
+        )
+        self.published += 1
+        if self.tf_publisher is not None:
+            x, y, heading = state[:3]
+            moved = transform(
+                stamp,
+                settings.frame_id,
+                settings.child_frame_id,
+                (x, y, 0.0),
+                yaw_quaternion(heading),
+            )
+            self.tf_publisher.publish(types.TFMessage([moved]))
+
+    @property
+    def counts(self) -> dict[str, int]:
+        """Joint states received, used, published, and skipped by reason (malformed payloads,
+        mismatched lengths and :class:`~diffbot.odometry.Odometry`'s reasons)."""
+        skipped = dict(self.odometry.skipped)
+        if self.mismatched:
+            skipped[SKIP_MISMATCHED] = self.mismatched
+        if self.subscription.malformed:
+            skipped["malformed"] = self.subscription.malformed
+        return {
+            "received": self.subscription.received + self.subscription.malformed,
+            "used": self.odometry.samples,
+            "published": self.published,
+            **skipped,
+        }
+
+    def status(self) -> str:
+        """One line of counts for people: ``1200 joint states, 1198 used, 1198 published;
+        skipped: 2 not finite``."""
+        counts = self.counts
+        line = (
+            f"{counts.pop('received')} joint states, {counts.pop('used')} used, "
+            f"{counts.pop('published')} published"
+        )
+        if counts:
+            line += "; skipped: " + ", ".join(f"{n} {reason}" for reason, n in counts.items())
+        return line

@@ -1,0 +1,147 @@
+"""The odometry node on a live graph: joint states of a simulated plan in, the plan's exact
+final pose out, stamped from the joint states; bad samples counted, never read as zero."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import pytest
+from live_graph import PATIENCE
+from robots import BOT
+
+from diffbot.controller_config import ControllerConfig
+from diffbot.live import types
+from diffbot.live.messages import stamp_ns, time_of, yaw_of
+from diffbot.live.odometry import OdometryNode, OdometrySettings
+from diffbot.live.transport import Node, QosProfile
+from diffbot.planfile import parse_plan
+from diffbot.simulation import simulate
+from diffbot.trajectory import plan
+
+#: An arbitrary wall-clock start (ns): stamps are ROS times since the epoch.
+T0 = 1_700_000_000 * 10**9
+#: The probe reads after the fact: it keeps every message.
+DEEP = QosProfile(reliable=False, depth=100_000)
+
+
+class Probe:
+    """A test's own node: publishes joint states, collects odometry and /tf."""
+
+    def __init__(self, node: Node) -> None:
+        self.odometry: list[types.Odometry] = []
+        self.tf: list[types.TFMessage] = []
+        self.joint_states = node.create_publisher(types.JointState, "joint_states")
+        node.create_subscription(types.Odometry, "odom", self.odometry.append, DEEP)
+        node.create_subscription(types.TFMessage, "/tf", self.tf.append, DEEP)
+        self.node = node
+
+    def until(self, condition: object) -> None:
+        end = time.monotonic() + PATIENCE
+        while not condition() and time.monotonic() < end:  # type: ignore[operator]
+            self.node.spin_once(0.02)
+        assert condition(), "nothing arrived in time"  # type: ignore[operator]
+
+
+def joint_state(names: list[str], positions: list[float], ns: int) -> types.JointState:
+    return types.JointState(header=types.Header(time_of(ns), ""), name=names, position=positions)
+
+
+def test_the_node_reproduces_a_plans_final_pose() -> None:
+    p = plan(parse_plan("straight 0.3 3s; ccw 0.25 90 4s; spin -45 1s"), BOT)
+    states = simulate(p, BOT, rate=50.0, extra_joints=("caster_joint",))
+    names = list(states.names)
+    with OdometryNode(BOT, OdometrySettings()).start() as node, Node("probe") as probe_node:
+        probe = Probe(probe_node)
+        assert probe.joint_states.wait_for_subscribers(PATIENCE)
+        probe.until(lambda: node.odom_publisher.subscription_count >= 1)
+        n = states.times.size
+        for k in range(n):
+            ns = T0 + round(states.times[k] * 1e9)
+            probe.joint_states.publish(joint_state(names, states.positions[:, k].tolist(), ns))
+            time.sleep(0.0005)  # subscriptions are best effort: do not outrun the socket
+        probe.until(lambda: node.odometry.samples == n)
+        probe.until(lambda: len(probe.odometry) == n and len(probe.tf) == n)
+    last = probe.odometry[-1]
+    assert stamp_ns(last.header.stamp) == T0 + round(states.times[-1] * 1e9)
+    assert (last.header.frame_id, last.child_frame_id) == ("odom", "base_link")
+    pose = last.pose.pose
+    expected = p.final_pose
+    assert pose.position.x == pytest.approx(expected.x, abs=1e-9)
+    assert pose.position.y == pytest.approx(expected.y, abs=1e-9)
+    assert math.remainder(yaw_of(pose.orientation) - expected.theta, math.tau) == pytest.approx(
+        0.0, abs=1e-9
+    )
+    moved = probe.tf[-1].transforms[0]
+    assert (moved.header.frame_id, moved.child_frame_id) == ("odom", "base_link")
+    assert moved.transform.translation.x == pose.position.x
+    assert last.pose.covariance[0] == 0.001
+    assert last.pose.covariance[35] == 0.01
+    assert node.counts == {"received": n, "used": n, "published": n}
+
+
+def test_bad_samples_are_skipped_and_counted() -> None:
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    with OdometryNode(BOT).start() as node, Node("probe") as probe_node:
+        probe = Probe(probe_node)
+        assert probe.joint_states.wait_for_subscribers(PATIENCE)
+        sent = [
+            joint_state(names, [0.0, 0.0], T0),
+            joint_state(names, [1.0, 1.0], T0 + 10**9),
+            joint_state(names, [math.nan, 2.0], T0 + 2 * 10**9),  # not finite
+            joint_state(["caster"], [5.0], T0 + 3 * 10**9),  # missing joint
+            joint_state(names, [9.0, 9.0], T0),  # back in time
+            joint_state(names, [1.0], T0 + 4 * 10**9),  # mismatched lengths
+            joint_state(names, [2.0, 2.0], T0 + 5 * 10**9),
+        ]
+        for message in sent:
+            probe.joint_states.publish(message)
+            time.sleep(0.002)
+        probe.until(lambda: node.counts["received"] == len(sent))
+    assert node.counts == {
+        "received": 7,
+        "used": 3,
+        "published": 3,
+        "not finite": 1,
+        "missing joint": 1,
+        "stamp not after previous": 1,
+        "mismatched lengths": 1,
+    }
+    assert node.status() == (
+        "7 joint states, 3 used, 3 published; skipped: 1 not finite, 1 missing joint, "
+        "1 stamp not after previous, 1 mismatched lengths"
+    )
+    # Two radians of each wheel forward: 2 r = 0.07 m, never a jump back to 0 or to 9 rad.
+    assert node.odometry.pose.x == pytest.approx(2 * BOT.wheel_radius, abs=1e-12)
+
+
+def test_the_controller_configuration_sets_frames_rate_and_covariance() -> None:
+    controller = ControllerConfig(
+        name="diff_cont",
+        source="c.yaml",
+        ros_version=2,
+        odom_frame_id="odom_wheels",
+        base_frame_id="base_footprint",
+        publish_rate=20.0,
+        enable_odom_tf=False,
+        pose_covariance_diagonal=(1, 2, 3, 4, 5, 6),
+        velocity_rolling_window_size=4,
+    )
+    settings = OdometrySettings().with_controller(controller, publish_rate=10.0)
+    assert settings.frame_id == "odom_wheels"
+    assert settings.child_frame_id == "base_footprint"
+    assert settings.publish_rate == 10.0  # the option wins
+    assert not settings.publish_tf
+    assert settings.pose_covariance == (1, 2, 3, 4, 5, 6)
+    assert settings.window == 4
+    assert OdometrySettings().with_controller(None) == OdometrySettings()
+
+
+def test_the_publish_rate_thins_by_stamps() -> None:
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    with OdometryNode(BOT, OdometrySettings(publish_rate=10.0, publish_tf=False)) as node:
+        assert node.tf_publisher is None
+        for k in range(101):  # 1 s at 100 Hz
+            node.on_joint_state(joint_state(names, [0.01 * k, 0.01 * k], T0 + k * 10**7))
+    assert node.odometry.samples == 101
+    assert node.published == 11  # every 0.1 s of stamps, the first included
