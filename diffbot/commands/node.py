@@ -5,8 +5,18 @@ from __future__ import annotations
 import click
 
 from diffbot.commands.live import duration_option, run_node
-from diffbot.commands.options import POSITIVE, RobotOptions, quiet_option, robot_options
+from diffbot.commands.options import (
+    MAX_PUBLISH_RATE,
+    NON_NEGATIVE,
+    POSITIVE,
+    FiniteFloat,
+    RobotOptions,
+    quiet_option,
+    robot_options,
+    warn,
+)
 from diffbot.commands.plan_options import check_topic
+from diffbot.kinematics import DiffDriveParams
 
 __all__ = ["node"]
 
@@ -101,3 +111,112 @@ def odom(
     )
     live = OdometryNode(params, settings)
     run_node(live, "odom", live.status, quiet=quiet, duration=duration)
+
+
+@node.command("ik")
+@click.argument("description", required=False, metavar="[ROBOT]")
+@robot_options
+@click.option(
+    "--cmd-vel",
+    default="cmd_vel",
+    show_default=True,
+    metavar="TOPIC",
+    help="The velocity command topic to read.",
+)
+@click.option(
+    "--stamped",
+    is_flag=True,
+    help="Read geometry_msgs/TwistStamped (diff_drive_controller's since Jazzy), not Twist.",
+)
+@click.option(
+    "--left-topic",
+    metavar="TOPIC",
+    help="The left side's Float64MultiArray topic [the controllers file's velocity controller "
+    "of the left wheels + /commands, else left_wheel_velocity_controller/commands].",
+)
+@click.option("--right-topic", metavar="TOPIC", help="The right side's, likewise.")
+@click.option(
+    "--timeout",
+    type=NON_NEGATIVE,
+    default=0.5,
+    show_default=True,
+    metavar="S",
+    help="Stop the wheels when no command came for this long (0: never), as "
+    "diff_drive_controller's cmd_vel_timeout.",
+)
+@click.option(
+    "--rate",
+    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
+    metavar="HZ",
+    help="Limiter updates per second, when the controllers file has limits [its update_rate, "
+    "else 100].",
+)
+@click.option(
+    "--no-limits", is_flag=True, help="Ignore the controllers file's acceleration and jerk limits."
+)
+@duration_option
+@quiet_option
+def ik(
+    robot: RobotOptions,
+    description: str | None,
+    cmd_vel: str,
+    stamped: bool,
+    left_topic: str | None,
+    right_topic: str | None,
+    timeout: float,
+    rate: float | None,
+    no_limits: bool,
+    duration: float | None,
+    quiet: bool,
+) -> None:
+    """Wheel commands from velocity commands: subscribes CMD_VEL, publishes one
+    std_msgs/Float64MultiArray per side (one value per joint, direction signs applied) to the
+    wheels' velocity controllers.
+
+    Wheel speeds over the motor limit are scaled down together, keeping the turning radius; the
+    controllers file's velocity, acceleration and jerk limits go through diff_drive_controller's
+    limiter. A NaN or infinite command is refused and the wheels stop; so they do when CMD_VEL
+    goes quiet for --timeout seconds.
+
+    \b
+    Example:
+      ROS_LOCALHOST_ONLY=1 diffbot node ik --stamped
+    """
+    check_topic("--cmd-vel", cmd_vel)
+    from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
+
+    params = robot.with_path(description, {}).load()
+    left, right = command_topics(robot.controllers, params)
+    controller = params.controller
+    settings = IkSettings(
+        cmd_vel=cmd_vel,
+        stamped=stamped,
+        left_topic=check_topic("--left-topic", left_topic or left),
+        right_topic=check_topic("--right-topic", right_topic or right),
+        timeout=timeout,
+        rate=rate or (controller.update_rate if controller and controller.update_rate else 100.0),
+        use_limits=not no_limits,
+    )
+    live = InverseKinematicsNode(params, settings)
+    live.warn = warn
+    run_node(live, "ik", live.status, quiet=quiet, duration=duration)
+
+
+def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[str, str]:
+    """The command topics of the velocity controllers of each side's wheels in the controllers
+    file, else the course's."""
+    from diffbot.urdf.controllers import load_command_controllers
+    from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
+
+    topics = [LEFT_TOPIC, RIGHT_TOPIC]
+    if controllers is not None:
+        found = load_command_controllers(controllers)
+        sides = (
+            params.left_joints or (params.left_joint,),
+            params.right_joints or (params.right_joint,),
+        )
+        for i, joints in enumerate(sides):
+            for name, commanded in found.items():
+                if set(commanded) == set(joints):
+                    topics[i] = f"{name}/commands"
+    return topics[0], topics[1]

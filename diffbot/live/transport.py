@@ -340,7 +340,7 @@ class Node:
         self._waitset = WaitSet(self.participant)
         self._wake = GuardCondition(self.participant)
         self._waitset.attach(self._wake)
-        self._topics: dict[str, Topic[Any]] = {}
+        self._topics: dict[tuple[str, str], Topic[Any]] = {}
         self._subscriptions: list[Subscription[Any]] = []
         self._timers: list[Timer] = []
         self._stop = threading.Event()
@@ -350,13 +350,14 @@ class Node:
 
     def _topic(self, msg_type: type[M], name: str) -> Topic[M]:
         dds_name = dds_topic(name)
-        topic = self._topics.get(dds_name)
+        key = (dds_name, msg_type.__idl_typename__)
+        topic = self._topics.get(key)
         if topic is None:
             try:
                 topic = Topic(self.participant, dds_name, msg_type)
             except DDSException as err:
                 raise LiveError(f"cannot make topic {name!r}: {err}") from None
-            self._topics[dds_name] = topic
+            self._topics[key] = topic
         return topic
 
     def create_publisher(

@@ -57,6 +57,7 @@ __all__ = [
     "ControllerConfig",
     "ControllerConfigError",
     "choose_controller",
+    "load_command_controllers",
     "load_controllers",
     "load_other_drive_controllers",
     "node_base_name",
@@ -390,6 +391,25 @@ def load_controllers(
 def load_other_drive_controllers(path: str | os.PathLike[str]) -> list[tuple[str, str]]:
     """:func:`other_drive_controllers` of a file."""
     return other_drive_controllers(_read_file(path), os.fspath(path))
+
+
+def load_command_controllers(path: str | os.PathLike[str]) -> dict[str, tuple[str, ...]]:
+    """The controllers of a controllers YAML that command a group of joints (``joints``: a
+    forward_command_controller, JointGroupVelocityController...), by name, with their joints.
+
+    Raises:
+        ControllerConfigError: as :func:`load_controllers`.
+    """
+    source = os.fspath(path)
+    tree = _parse_yaml(_read_file(source), source)
+    if not isinstance(tree, Mapping):
+        return {}
+    found: dict[str, tuple[str, ...]] = {}
+    for node in _ros2_nodes(tree, source):
+        joints = node.params.get("joints")
+        if isinstance(joints, list) and joints and all(isinstance(j, str) for j in joints):
+            found[node.name] = tuple(joints)
+    return found
 
 
 def choose_controller(

@@ -1,0 +1,165 @@
+"""The inverse-kinematics node: geometry_msgs/Twist (or TwistStamped) on ``cmd_vel`` in, one
+std_msgs/Float64MultiArray per side out, to the wheels' velocity controllers.
+
+The maths is :class:`diffbot.wheel_commands.WheelCommander`'s (limiter, inverse kinematics,
+saturation, signs). The node publishes each command as it comes when no limiter applies, and on a
+timer of the controller's update rate when one does (the limiter works per update). When
+``cmd_vel`` stays quiet for ``timeout`` seconds the wheels are commanded to stop, as
+diff_drive_controller's ``cmd_vel_timeout`` does; a NaN or infinite command stops them at once.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from diffbot.execution import DEFAULT_UPDATE_RATE
+from diffbot.kinematics import DiffDriveParams
+from diffbot.live import types
+from diffbot.live.messages import commands
+from diffbot.live.transport import LiveError, Node, Subscription
+from diffbot.live.types import ros_type_name
+from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
+
+__all__ = ["IkSettings", "InverseKinematicsNode"]
+
+
+@dataclass(frozen=True)
+class IkSettings:
+    """Topics, message kind and timing of the inverse-kinematics node.
+
+    Attributes:
+        cmd_vel: the velocity command topic.
+        stamped: commands are geometry_msgs/TwistStamped (diff_drive_controller since Jazzy).
+        left_topic: the left side's Float64MultiArray topic.
+        right_topic: the right side's.
+        timeout: seconds without a command after which the wheels are stopped (0: never).
+        rate: controller updates per second (Hz) when the limiter applies.
+        use_limits: apply the controller configuration's limiter.
+    """
+
+    cmd_vel: str = "cmd_vel"
+    stamped: bool = False
+    left_topic: str = LEFT_TOPIC
+    right_topic: str = RIGHT_TOPIC
+    timeout: float = 0.5
+    rate: float = DEFAULT_UPDATE_RATE
+    use_limits: bool = True
+
+
+class InverseKinematicsNode(Node):
+    """Wheel commands from velocity commands on a live graph.
+
+    Args:
+        params: the robot.
+        settings: topics, kind, timeout, update rate.
+        domain: the DDS domain (``ROS_DOMAIN_ID`` when None).
+        name: the node's name.
+    """
+
+    def __init__(
+        self,
+        params: DiffDriveParams,
+        settings: IkSettings = IkSettings(),
+        *,
+        domain: int | None = None,
+        name: str = "diffbot_ik",
+    ) -> None:
+        if settings.timeout < 0.0 or not settings.rate > 0.0:
+            raise LiveError("the timeout must be >= 0 and the rate > 0")
+        self.settings = settings
+        self.commander = WheelCommander(params, use_limits=settings.use_limits)
+        self.commands = 0
+        self.refused = 0
+        self.timeouts = 0
+        self._command = (0.0, 0.0)
+        self._last: float | None = None
+        self._moving = False
+        super().__init__(name, domain=domain)
+        self.left = self.create_publisher(types.Float64MultiArray, settings.left_topic)
+        self.right = self.create_publisher(types.Float64MultiArray, settings.right_topic)
+        self.subscription: Subscription[Any]
+        if settings.stamped:
+            self.subscription = self.create_subscription(
+                types.TwistStamped, settings.cmd_vel, lambda m: self.on_twist(m.twist)
+            )
+        else:
+            self.subscription = self.create_subscription(
+                types.Twist, settings.cmd_vel, self.on_twist
+            )
+        #: What the node found wrong with the graph, once each (a topic's other type).
+        self.warnings: list[str] = []
+        #: Called with each new warning (the command prints it).
+        self.warn: Callable[[str], None] = lambda message: None
+        self.create_timer(1.0, self.check_types)
+        period = 1.0 / settings.rate
+        if self.commander.limited:
+            self.create_timer(period, self.update)
+        elif settings.timeout > 0.0:
+            self.create_timer(min(period, settings.timeout / 4), self.watch)
+
+    def check_types(self) -> None:
+        """Warn once when ``cmd_vel`` carries the other kind of twist than the one read."""
+        ours = (types.TwistStamped if self.settings.stamped else types.Twist).__idl_typename__
+        topic = "/" + self.settings.cmd_vel.lstrip("/")
+        for found in sorted(self.publisher_types(topic) - {ours}):
+            name = ros_type_name(found)
+            hint = "use --stamped" if name.endswith("/TwistStamped") else "leave out --stamped"
+            if name.endswith(("/Twist", "/TwistStamped")):
+                message = f"{topic!r} carries {name}; {hint}"
+            else:
+                message = f"{topic!r} carries {name}, not a velocity command"
+            if message not in self.warnings:
+                self.warnings.append(message)
+                self.warn(message)
+
+    def on_twist(self, twist: types.Twist) -> None:
+        """Take one velocity command (linear.x, angular.z)."""
+        self.commands += 1
+        self._last = time.monotonic()
+        self._command = (twist.linear.x, twist.angular.z)
+        if not (math.isfinite(twist.linear.x) and math.isfinite(twist.angular.z)):
+            # Refused: the wheels stop now, without the limiter's ramp down.
+            self.refused += 1
+            self._command = (0.0, 0.0)
+            self.commander.reset()
+            self._send(0.0, 0.0, 0.0)
+            return
+        if not self.commander.limited:
+            self._send(*self._command, 0.0)
+
+    def _stale(self) -> bool:
+        timeout = self.settings.timeout
+        last = self._last
+        return last is not None and timeout > 0.0 and time.monotonic() - last > timeout
+
+    def update(self) -> None:
+        """One controller update through the limiter: the last command, or zero when stale."""
+        if self._stale():
+            if self._command != (0.0, 0.0):
+                self.timeouts += 1
+            self._command = (0.0, 0.0)
+        self._send(*self._command, 1.0 / self.settings.rate)
+
+    def watch(self) -> None:
+        """Stop the wheels once when commands went quiet for the timeout."""
+        if self._moving and self._stale():
+            self.timeouts += 1
+            self._command = (0.0, 0.0)
+            self._send(0.0, 0.0, 0.0)
+
+    def _send(self, linear: float, angular: float, dt: float) -> None:
+        joints = self.commander.step(linear, angular, dt)
+        self.left.publish(commands(joints.left))
+        self.right.publish(commands(joints.right))
+        self._moving = joints.linear != 0.0 or joints.angular != 0.0
+
+    def status(self) -> str:
+        """One line of counts for people."""
+        return (
+            f"{self.commands} commands, {self.refused} refused (not finite), "
+            f"{self.timeouts} timeouts, {self.subscription.malformed} malformed"
+        )

@@ -1,0 +1,107 @@
+"""Velocity commands to wheel joint commands, one command at a time, as a robot's controller
+turns them: speed limiter, inverse kinematics, wheel saturation, direction signs.
+
+The streaming counterpart of :func:`diffbot.execution.execute_plan` for a live node: each call of
+:meth:`WheelCommander.step` is one controller update of ``dt`` seconds. The linear and angular
+commands go through diff_drive_controller's rate limiter (:func:`diffbot.limiter.limit`) when the
+controller configuration has limits, then to wheel speeds (:func:`diffbot.kinematics.inverse`),
+then within the motor limit (:func:`diffbot.kinematics.saturate`: one factor for both wheels,
+keeping the turning radius, unless the configuration says ``preserve_turning_radius: false``),
+then to each joint with its direction sign. A NaN or infinite command is refused: the wheels
+are commanded to stop.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from diffbot.controller_config import AxisLimits
+from diffbot.kinematics import (
+    DiffDriveParams,
+    forward,
+    inverse,
+    joint_from_wheel,
+    saturate,
+)
+from diffbot.limiter import checked, limit
+
+__all__ = ["LEFT_TOPIC", "RIGHT_TOPIC", "JointCommands", "WheelCommander"]
+
+#: The course's velocity controllers' command topics (std_msgs/Float64MultiArray).
+LEFT_TOPIC = "left_wheel_velocity_controller/commands"
+RIGHT_TOPIC = "right_wheel_velocity_controller/commands"
+
+
+@dataclass(frozen=True)
+class JointCommands:
+    """One command per joint of each side (rad/s, direction signs applied), and the body
+    velocity they drive (m/s, rad/s) after limits."""
+
+    left: tuple[float, ...]
+    right: tuple[float, ...]
+    linear: float
+    angular: float
+
+
+class WheelCommander:
+    """Turns (linear, angular) commands into joint velocity commands, update by update.
+
+    Args:
+        params: the robot: radii, separation, joints of each side, signs, motor limit
+            (``max_wheel_speed``); its controller configuration's limits apply when it has one.
+        use_limits: run the commands through the controller's limiter (when it has limits).
+
+    Attributes:
+        refused: commands refused for a NaN or infinite value.
+    """
+
+    def __init__(self, params: DiffDriveParams, *, use_limits: bool = True) -> None:
+        self.params = params
+        controller = params.controller
+        self._linear: AxisLimits | None = None
+        self._angular: AxisLimits | None = None
+        if use_limits and controller is not None:
+            linear = checked(controller.linear, "linear.x")
+            angular = checked(controller.angular, "angular.z")
+            if linear != AxisLimits() or angular != AxisLimits():
+                self._linear, self._angular = linear, angular
+        preserve = None if controller is None else controller.preserve_turning_radius
+        self._preserve = True if preserve is None else preserve
+        self._left_count = max(len(params.left_joints), 1)
+        self._right_count = max(len(params.right_joints), 1)
+        # The commands the limiter executed on the last two updates (v0, v1), per axis.
+        self._history = [0.0, 0.0, 0.0, 0.0]
+        self.refused = 0
+
+    @property
+    def limited(self) -> bool:
+        """Whether the controller's limiter is applied."""
+        return self._linear is not None
+
+    def reset(self) -> None:
+        """Forget the limiter's history (as the controller does when it is activated)."""
+        self._history = [0.0, 0.0, 0.0, 0.0]
+
+    def step(self, linear: float, angular: float, dt: float) -> JointCommands:
+        """The joint commands of one update of ``dt`` seconds commanding ``linear`` (m/s) and
+        ``angular`` (rad/s); a NaN or infinite command commands zero (and is counted)."""
+        if not (math.isfinite(linear) and math.isfinite(angular)):
+            self.refused += 1
+            linear = angular = 0.0
+        if self._linear is not None and self._angular is not None:
+            v0, v1, w0, w1 = self._history
+            linear = limit(self._linear, linear, v0, v1, dt)
+            angular = limit(self._angular, angular, w0, w1, dt)
+            self._history = [linear, v0, angular, w0]
+        speeds = inverse(self.params, linear, angular)
+        wheels = saturate(self.params, speeds, preserve_turning_radius=self._preserve)
+        joints = joint_from_wheel(self.params, wheels)
+        left, right = float(joints.left), float(joints.right)
+        body = forward(self.params, wheels.left, wheels.right)
+        return JointCommands(
+            (left,) * self._left_count,
+            (right,) * self._right_count,
+            float(body.linear),
+            float(body.angular),
+        )

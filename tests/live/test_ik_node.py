@@ -1,0 +1,94 @@
+"""The inverse-kinematics node on a live graph: Twist or TwistStamped in, one Float64MultiArray
+per side out; quiet commands and NaN stop the wheels; the wrong kind of twist is named."""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+from live_graph import PATIENCE
+from robots import BOT
+
+from diffbot.live import types
+from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
+from diffbot.live.messages import twist_command
+from diffbot.live.transport import Node, QosProfile
+from diffbot.urdf.controllers import load_command_controllers
+from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
+
+DEEP = QosProfile(reliable=False, depth=10_000)
+
+
+def until(node: Node, condition: Callable[[], bool]) -> None:
+    end = time.monotonic() + PATIENCE
+    while not condition() and time.monotonic() < end:
+        node.spin_once(0.02)
+    assert condition(), "nothing arrived in time"
+
+
+def test_twists_become_wheel_commands_and_silence_stops_them() -> None:
+    left: list[list[float]] = []
+    right: list[list[float]] = []
+    settings = IkSettings(timeout=0.3)
+    with InverseKinematicsNode(BOT, settings).start() as node, Node("probe") as probe:
+        cmd_vel = probe.create_publisher(types.Twist, "cmd_vel")
+        probe.create_subscription(
+            types.Float64MultiArray, LEFT_TOPIC, lambda m: left.append(m.data), DEEP
+        )
+        probe.create_subscription(
+            types.Float64MultiArray, RIGHT_TOPIC, lambda m: right.append(m.data), DEEP
+        )
+        assert cmd_vel.wait_for_subscribers(PATIENCE)
+        until(probe, lambda: node.left.subscription_count > 0 and node.right.subscription_count > 0)
+        cmd_vel.publish(twist_command(0.1, 0.5))
+        until(probe, lambda: len(left) >= 1 and len(right) >= 1)
+        assert left[0] == pytest.approx([1.8928571428571428])
+        assert right[0] == pytest.approx([3.8214285714285716])
+        started = time.monotonic()
+        until(probe, lambda: len(left) >= 2)  # the timeout's zero
+        assert time.monotonic() - started >= 0.2
+        assert left[-1] == [0.0]
+        assert right[-1] == [0.0]
+        assert node.timeouts == 1
+        cmd_vel.publish(twist_command(math.nan, 0.0))
+        until(probe, lambda: node.refused == 1)
+        until(probe, lambda: len(left) >= 3)
+        assert left[-1] == [0.0]
+    assert node.status() == "2 commands, 1 refused (not finite), 1 timeouts, 0 malformed"
+
+
+def test_stamped_commands_and_the_wrong_kind_named() -> None:
+    left: list[list[float]] = []
+    warnings: list[str] = []
+    with (
+        InverseKinematicsNode(BOT, IkSettings(stamped=True, timeout=0.0)) as node,
+        Node("probe") as probe,
+    ):
+        node.warn = warnings.append
+        node.start()
+        stamped = probe.create_publisher(types.TwistStamped, "cmd_vel")
+        probe.create_subscription(
+            types.Float64MultiArray, LEFT_TOPIC, lambda m: left.append(m.data), DEEP
+        )
+        assert stamped.wait_for_subscribers(PATIENCE)
+        until(probe, lambda: node.left.subscription_count > 0)
+        stamped.publish(types.TwistStamped(twist=twist_command(0.07, 0.0)))
+        until(probe, lambda: len(left) == 1)
+        assert left[0] == pytest.approx([2.0])
+        # A plain Twist publisher on the same topic does not match; the node names it.
+        plain = probe.create_publisher(types.Twist, "/cmd_vel")
+        assert plain.subscription_count == 0
+        until(probe, lambda: bool(warnings))
+    assert warnings == ["'/cmd_vel' carries geometry_msgs/msg/Twist; leave out --stamped"]
+
+
+def test_the_controllers_file_names_the_command_topics() -> None:
+    bundled = Path(__file__).parents[2] / "diffbot" / "description" / "config" / "controllers.yaml"
+    found = load_command_controllers(bundled)
+    assert found == {
+        "left_wheel_velocity_controller": ("front_left_wheel_joint",),
+        "right_wheel_velocity_controller": ("front_right_wheel_joint",),
+    }

@@ -1,0 +1,73 @@
+"""Velocity commands to joint commands, update by update: the inverse kinematics, the motor limit
+kept along the same turning radius, direction signs, the controller's limiter, refusals."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from robots import BOT, BOT_50_RPM
+
+from diffbot.controller_config import AxisLimits, ControllerConfig
+from diffbot.kinematics import inverse
+from diffbot.limiter import limit
+from diffbot.wheel_commands import WheelCommander
+
+
+def test_known_wheel_speeds_of_the_course_robot() -> None:
+    # v = 0.1 m/s, w = 0.5 rad/s on r = 0.035 m, b = 0.135 m:
+    # left (0.1 - 0.5 * 0.0675) / 0.035 = 1.892857..., right (0.1 + 0.03375) / 0.035 = 3.82142...
+    out = WheelCommander(BOT).step(0.1, 0.5, 0.0)
+    assert out.left == pytest.approx((1.8928571428571428,), rel=1e-15)
+    assert out.right == pytest.approx((3.8214285714285716,), rel=1e-15)
+    assert (out.linear, out.angular) == pytest.approx((0.1, 0.5), rel=1e-14)
+
+
+def test_direction_signs_and_several_wheels_per_side() -> None:
+    robot = BOT.replace(
+        left_sign=-1,
+        left_joints=("fl", "rl"),
+        right_joints=("fr", "rr"),
+        left_joint="fl",
+        right_joint="fr",
+    )
+    out = WheelCommander(robot).step(0.07, 0.0, 0.0)
+    assert out.left == pytest.approx((-2.0, -2.0))
+    assert out.right == pytest.approx((2.0, 2.0))
+
+
+@given(v=st.floats(-2.0, 2.0, allow_nan=False), w=st.floats(-20.0, 20.0, allow_nan=False))
+def test_saturation_keeps_the_turning_radius(v: float, w: float) -> None:
+    out = WheelCommander(BOT_50_RPM).step(v, w, 0.0)
+    limit_rad_s = BOT_50_RPM.max_wheel_speed
+    assert limit_rad_s is not None
+    assert max(abs(out.left[0]), abs(out.right[0])) <= limit_rad_s * (1 + 1e-12)
+    wanted = inverse(BOT_50_RPM, v, w)
+    # Both wheels scaled by one factor: the ratio of the wheels (the radius) is kept.
+    assert out.left[0] * float(wanted.right) == pytest.approx(
+        out.right[0] * float(wanted.left), abs=1e-9
+    )
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+def test_a_non_finite_command_stops_the_wheels(bad: float) -> None:
+    commander = WheelCommander(BOT)
+    out = commander.step(bad, 0.3, 0.01)
+    assert (out.left, out.right) == ((0.0,), (0.0,))
+    assert commander.refused == 1
+
+
+def test_the_controllers_limiter_ramps_the_commands() -> None:
+    controller = ControllerConfig(
+        name="diff", source="c.yaml", ros_version=2, linear=AxisLimits(max_acceleration=0.5)
+    )
+    commander = WheelCommander(BOT.replace(controller=controller))
+    assert commander.limited
+    executed = [commander.step(0.2, 0.0, 0.1).linear for _ in range(6)]
+    # 0.5 m/s² for 0.1 s per update: 0.05 m/s more each update until 0.2 m/s.
+    assert executed == pytest.approx([0.05, 0.1, 0.15, 0.2, 0.2, 0.2], abs=1e-12)
+    # The same numbers as the limiter itself gives.
+    assert limit(controller.linear, 0.2, 0.0, 0.0, 0.1) == pytest.approx(0.05)
+    assert not WheelCommander(BOT.replace(controller=controller), use_limits=False).limited
