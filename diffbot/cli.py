@@ -36,6 +36,7 @@ COMMANDS = {
     "explain": "diffbot.commands.explain:explain",
     "calibrate": "diffbot.commands.calibrate:calibrate",
     "node": "diffbot.commands.node:node",
+    "drive": "diffbot.commands.drive:drive",
 }
 
 #: How the command line spells a library parameter named in an error message.

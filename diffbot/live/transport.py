@@ -98,6 +98,7 @@ MAX_DOMAIN_ID: Final = 232
 _WAIT_SLICE: Final = 0.05
 
 M = TypeVar("M", bound=IdlStruct)
+N = TypeVar("N", bound="Node")
 
 
 @dataclass(frozen=True)
@@ -257,6 +258,14 @@ class Publisher(Generic[M]):
         """Wait until ``count`` subscriptions have matched, at most ``timeout`` seconds."""
         return _wait_for(lambda: self.subscription_count >= count, timeout)
 
+    def flush(self, timeout: float) -> bool:
+        """Wait until reliable subscriptions acknowledged everything sent, at most ``timeout``
+        seconds (before the node goes away, so its last message is not lost)."""
+        try:
+            return bool(self._writer.wait_for_acks(int(timeout * 1e9)))
+        except DDSException:
+            return False
+
 
 @dataclass
 class Subscription(Generic[M]):
@@ -391,17 +400,24 @@ class Node:
         self._timers.append(timer)
         return timer
 
-    def publisher_types(self, topic: str) -> set[str]:
-        """The DDS type names of the publishers on ``topic`` discovered so far (other types
-        than ours included: how a node tells a TwistStamped topic from a Twist one)."""
+    def publications(self, topic: str) -> list[str]:
+        """The DDS type name of each publisher on ``topic`` discovered so far, this node's own
+        included (other types than ours too: how a node tells a TwistStamped topic from a Twist
+        one, or sees a second publisher)."""
         if self._publications is None:
             self._publications = BuiltinDataReader(self.participant, BuiltinTopicDcpsPublication)
         dds_name = dds_topic(topic)
-        return {
+        alive = InstanceState.Alive
+        return [
             sample.type_name
-            for sample in self._publications.read(N=1024)
+            for sample in self._publications.read(N=4096)
             if getattr(sample, "topic_name", None) == dds_name
-        }
+            and sample.sample_info.instance_state == alive
+        ]
+
+    def publisher_types(self, topic: str) -> set[str]:
+        """The DDS type names of the publishers on ``topic`` discovered so far."""
+        return set(self.publications(topic))
 
     def spin_once(self, timeout: float = 0.0) -> None:
         """Handle what is waiting: messages to the callbacks, timers that are due; wait at
@@ -430,7 +446,7 @@ class Node:
                 return
             self.spin_once(min(left, _WAIT_SLICE))
 
-    def start(self) -> Node:
+    def start(self: N) -> N:
         """Spin in a background thread (for notebooks and tests) until :meth:`shutdown`."""
         self._thread = threading.Thread(target=self.spin, name=f"diffbot-{self.name}", daemon=True)
         self._thread.start()
@@ -457,7 +473,7 @@ class Node:
         with contextlib.suppress(DDSException):  # already gone
             self.participant.__del__()
 
-    def __enter__(self) -> Node:
+    def __enter__(self: N) -> N:
         return self
 
     def __exit__(self, *exc: object) -> None:

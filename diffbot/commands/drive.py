@@ -1,0 +1,173 @@
+"""``diffbot drive [PLAN]``: a plan driven live on a ROS 2 graph (extra ``live``)."""
+
+from __future__ import annotations
+
+import sys
+
+import click
+
+from diffbot.commands.options import (
+    MAX_PUBLISH_RATE,
+    NON_NEGATIVE,
+    FiniteFloat,
+    RobotOptions,
+    fail,
+    quiet_option,
+    split_xacro_args,
+    warn,
+)
+from diffbot.commands.plan_options import PlanOptions, check_topic, plan_arguments
+from diffbot.errors import EXIT_CHECK_FAILED
+from diffbot.formats.text import fmt
+
+__all__ = ["drive"]
+
+#: Commands per second unless --rate says otherwise.
+DRIVE_RATE = 20.0
+
+
+@click.command("drive", context_settings={"ignore_unknown_options": True})
+@plan_arguments
+@click.option(
+    "--rate",
+    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
+    default=DRIVE_RATE,
+    show_default=True,
+    metavar="HZ",
+    help="Commands per second, each the mean velocity over its period.",
+)
+@click.option(
+    "--stamped",
+    is_flag=True,
+    help="geometry_msgs/TwistStamped commands (diff_drive_controller's since Jazzy).",
+)
+@click.option(
+    "--frame-id",
+    default="base_link",
+    show_default=True,
+    metavar="FRAME",
+    help="The frame of --stamped commands.",
+)
+@click.option(
+    "--wheels",
+    is_flag=True,
+    help="Per-side Float64MultiArray commands to the velocity controllers instead of cmd_vel.",
+)
+@click.option(
+    "--cmd-vel",
+    default="cmd_vel",
+    show_default=True,
+    metavar="TOPIC",
+    help="The velocity command topic.",
+)
+@click.option(
+    "--left-topic",
+    default="left_wheel_velocity_controller/commands",
+    show_default=True,
+    metavar="TOPIC",
+    help="The left side's topic (--wheels).",
+)
+@click.option(
+    "--right-topic",
+    default="right_wheel_velocity_controller/commands",
+    show_default=True,
+    metavar="TOPIC",
+    help="The right side's topic (--wheels).",
+)
+@click.option(
+    "--wait",
+    type=NON_NEGATIVE,
+    default=5.0,
+    show_default=True,
+    metavar="S",
+    help="How long to wait for a subscriber before giving up.",
+)
+@quiet_option
+def drive(
+    robot: RobotOptions,
+    tokens: tuple[str, ...],
+    plan_options: PlanOptions,
+    rate: float,
+    stamped: bool,
+    frame_id: str,
+    wheels: bool,
+    cmd_vel: str,
+    left_topic: str,
+    right_topic: str,
+    wait: float,
+    quiet: bool,
+) -> None:
+    """Drive a plan live: its commands on CMD_VEL (or per wheel) at --rate, on schedule.
+
+    The plan is given as for 'diffbot plan' (text, a file, --example, and every speed, limit and
+    ramp option). The drive waits until a subscriber has matched (--wait), publishes each
+    command at its time on the monotonic clock (no drift), shows progress on a terminal and ends
+    by commanding zero: after the last command, and on Ctrl-C, SIGTERM or SIGHUP too. Exit code
+    1, before anything moves, when the plan exceeds the motor limit.
+
+    \b
+    Examples:
+      ROS_LOCALHOST_ONLY=1 diffbot drive --example A --stamped
+      diffbot drive "straight 1; spin 90" --max-accel 0.2 --wheels
+    """
+    rest, xacro_args = split_xacro_args(tokens)
+    for option, name in (
+        ("--cmd-vel", cmd_vel),
+        ("--left-topic", left_topic),
+        ("--right-topic", right_topic),
+    ):
+        check_topic(option, name)
+    if stamped and wheels:
+        warn("--stamped changes Twist commands only, and --wheels sends none")
+    source = plan_options.source(rest)
+    params = robot.with_path(None, xacro_args).load()
+    if plan_options.fastest and plan_options.limit is None and params.max_wheel_speed is None:
+        fail("--fastest needs a motor limit: give one with --max-rpm RPM or --rpm-limit RPM")
+    from diffbot.commands.plan import command_stream
+    from diffbot.formats.plan_table import violation_lines
+    from diffbot.trajectory import Plan
+
+    made = plan_options.make(source.segments, params)
+    steps = made if isinstance(made, Plan) else made.steps
+    if not steps.within_limit:
+        for line in violation_lines(steps):
+            click.echo(line, err=True)
+        sys.exit(EXIT_CHECK_FAILED)
+    stream = command_stream(made, rate)
+    from diffbot.commands.progress import progress
+    from diffbot.live.drive import Driver, DriveSettings
+
+    settings = DriveSettings(
+        cmd_vel=cmd_vel,
+        stamped=stamped,
+        frame_id=frame_id,
+        wheels=wheels,
+        left_topic=left_topic,
+        right_topic=right_topic,
+        joints=(max(len(params.left_joints), 1), max(len(params.right_joints), 1)),
+    )
+    with Driver(stream, settings) as driver:
+        if not driver.wait_for_subscriber(wait):
+            fail(f"no subscriber on {', '.join(driver.topics)} after {fmt(wait)} s")
+        if driver.other_publishers():
+            warn(
+                f"another publisher sends on {', '.join(driver.topics)}: "
+                "its commands mix with these"
+            )
+        planned = float(stream.times[-1])
+        total = int(stream.times.size)
+        with progress(total, source.label, "commands", quiet=quiet) as advance:
+            try:
+                report = driver.drive(advance)
+            except (KeyboardInterrupt, SystemExit):
+                click.echo(
+                    f"stopped after {driver.sent} of {total} commands: commanded zero",
+                    err=True,
+                )
+                raise
+    click.echo(
+        f"drove {source.label}: {report.sent} commands at {fmt(rate)} Hz over {fmt(planned)} s, "
+        f"ending with zero; timing p99 {report.percentile(0.99) * 1e3:.2f} ms late, "
+        f"end {report.duration_error * 1e3:.2f} ms late",
+        err=True,
+    )
