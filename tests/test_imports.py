@@ -85,6 +85,7 @@ def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ["node", "odom", "--help"],
         ["node", "ik", "--help"],
         ["drive", "--help"],
+        ["node", "robot", "--help"],
     ],
 )
 def test_quick_commands_load_no_heavy_module(args: list[str], warm_cache: Path) -> None:

@@ -220,3 +220,108 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
                 if set(commanded) == set(joints):
                     topics[i] = f"{name}/commands"
     return topics[0], topics[1]
+
+
+@node.command("robot")
+@click.argument("description", required=False, metavar="[ROBOT]")
+@robot_options
+@click.option(
+    "--rate",
+    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
+    default=50.0,
+    show_default=True,
+    metavar="HZ",
+    help="Updates per second: wheels moved, joint states and poses published.",
+)
+@click.option(
+    "--cmd-vel",
+    metavar="TOPIC",
+    help="Take velocity commands from this topic (through the same inverse kinematics as "
+    "'node ik') instead of per-side wheel commands.",
+)
+@click.option("--stamped", is_flag=True, help="The --cmd-vel commands are TwistStamped.")
+@click.option(
+    "--left-topic",
+    metavar="TOPIC",
+    help="The left side's Float64MultiArray command topic [as 'node ik' publishes].",
+)
+@click.option("--right-topic", metavar="TOPIC", help="The right side's, likewise.")
+@click.option(
+    "--timeout",
+    type=NON_NEGATIVE,
+    default=0.5,
+    show_default=True,
+    metavar="S",
+    help="Stop the wheels when no command came for this long (0: never).",
+)
+@click.option(
+    "--ticks",
+    type=click.IntRange(min=1, max=2**32),
+    metavar="N",
+    help="Encoder resolution (counts per revolution): quantise the reported wheel angles.",
+)
+@click.option(
+    "--noise",
+    type=NON_NEGATIVE,
+    default=0.0,
+    metavar="STD",
+    help="Standard deviation of Gaussian noise on the reported wheel angles (rad).",
+)
+@click.option(
+    "--seed",
+    type=click.IntRange(min=0, max=2**64 - 1),
+    metavar="N",
+    help="Seed of the noise, for reproducible runs.",
+)
+@duration_option
+@quiet_option
+def robot_command(
+    robot: RobotOptions,
+    description: str | None,
+    rate: float,
+    cmd_vel: str | None,
+    stamped: bool,
+    left_topic: str | None,
+    right_topic: str | None,
+    timeout: float,
+    ticks: int | None,
+    noise: float,
+    seed: int | None,
+    duration: float | None,
+    quiet: bool,
+) -> None:
+    """A robot without hardware: turns its wheels as commanded and publishes joint_states, its
+    exact pose on ground_truth/odom, /robot_description and every link's transforms (/tf_static
+    for fixed joints, /tf for moving ones), so that nodes and RViz can be tried without Gazebo.
+
+    The wheel commands are the velocity controllers' (one Float64MultiArray per side, as 'node
+    ik' and 'drive --wheels' publish) unless --cmd-vel is given. The wheels stop when commands go
+    quiet for --timeout seconds.
+
+    \b
+    Example:
+      ROS_LOCALHOST_ONLY=1 diffbot node robot --rate 100 --ticks 4096
+    """
+    from diffbot.urdf.xacro import expand
+
+    options = robot.with_path(description, {})
+    params = options.load()
+    if stamped and cmd_vel is None:
+        warn("--stamped applies to --cmd-vel commands only")
+    left, right = command_topics(options.controllers, params)
+    expansion = expand(options.robot, options.xacro_args, options.packages, trust=options.trust)
+    from diffbot.live.robot import RobotNode, RobotSettings
+
+    settings = RobotSettings(
+        rate=rate,
+        cmd_vel=None if cmd_vel is None else check_topic("--cmd-vel", cmd_vel),
+        stamped=stamped,
+        left_topic=check_topic("--left-topic", left_topic or left),
+        right_topic=check_topic("--right-topic", right_topic or right),
+        timeout=timeout,
+        ticks=ticks,
+        noise=noise,
+        seed=seed,
+    )
+    live = RobotNode(params, expansion.urdf, settings)
+    run_node(live, "robot", live.status, quiet=quiet, duration=duration)

@@ -1,0 +1,218 @@
+"""A robot without hardware on a live graph: wheel commands in, joint states and its true pose out.
+
+Each update (``rate`` per second of the monotonic clock) turns every wheel joint by its commanded
+velocity times the time since the last update, and publishes:
+
+- ``joint_states``: every moving joint of the description (the wheels at their angles, the others
+  at rest), optionally quantised to encoder ticks and with Gaussian noise, stamped now;
+- ``ground_truth/odom``: the exact pose, the wheels' true angles integrated along their arcs
+  (:class:`diffbot.odometry.Odometry`);
+- ``/tf``: the moving joints' transforms (what robot_state_publisher does with joint states).
+
+At start it publishes, transient local, ``/robot_description`` and the fixed joints' transforms
+on ``/tf_static``. Commands are the velocity controllers' Float64MultiArray (one value per joint
+of a side), or ``cmd_vel`` through the same inverse kinematics as ``node ik``. When commands go
+quiet for ``timeout`` seconds the wheels stop.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import time
+from dataclasses import dataclass
+from typing import Any
+
+from diffbot.kinematics import DiffDriveParams
+from diffbot.live import types
+from diffbot.live.messages import now_ns, odometry, time_of, transform
+from diffbot.live.transport import LATCHED, TF, Node, Subscription
+from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
+from diffbot.ros.messages import covariance_matrix
+from diffbot.urdf.link_frames import MOVING, LinkTransform, description_joints, link_transform
+from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
+
+__all__ = ["RobotNode", "RobotSettings"]
+
+
+@dataclass(frozen=True)
+class RobotSettings:
+    """How the simulated robot listens, moves and reports.
+
+    Attributes:
+        rate: updates per second (Hz).
+        cmd_vel: read velocity commands from this topic instead of per-side wheel commands.
+        stamped: the velocity commands are TwistStamped.
+        left_topic: the left side's Float64MultiArray command topic.
+        right_topic: the right side's.
+        timeout: seconds without a command after which the wheels stop (0: never).
+        ticks: encoder counts per revolution of the reported angles (None: exact).
+        noise: standard deviation (rad) of Gaussian noise on the reported angles.
+        seed: the noise's seed.
+    """
+
+    rate: float = 50.0
+    cmd_vel: str | None = None
+    stamped: bool = False
+    left_topic: str = LEFT_TOPIC
+    right_topic: str = RIGHT_TOPIC
+    timeout: float = 0.5
+    ticks: int | None = None
+    noise: float = 0.0
+    seed: int | None = None
+
+
+class RobotNode(Node):
+    """A simulated differential-drive robot.
+
+    Args:
+        params: the robot (radii, separation, wheel joints, signs).
+        description: its URDF text, for ``/robot_description`` and the link transforms (None:
+            only the wheel joints are reported, no transforms).
+        settings: rate, topics, encoder model.
+        domain: the DDS domain (``ROS_DOMAIN_ID`` when None).
+        name: the node's name.
+    """
+
+    def __init__(
+        self,
+        params: DiffDriveParams,
+        description: str | None = None,
+        settings: RobotSettings = RobotSettings(),
+        *,
+        domain: int | None = None,
+        name: str = "diffbot_robot",
+    ) -> None:
+        self.params = params
+        self.settings = settings
+        self.left_joints = params.left_joints or (params.left_joint,)
+        self.right_joints = params.right_joints or (params.right_joint,)
+        wheels = (*self.left_joints, *self.right_joints)
+        joints = description_joints(description) if description is not None else []
+        self._moving = [j for j in joints if j.type in MOVING]
+        self._fixed = [link_transform(j) for j in joints if j.type not in MOVING]
+        others = [j.name for j in self._moving if j.name not in wheels]
+        self.names = [*wheels, *others]
+        #: Each wheel joint's true angle (rad) and commanded velocity (rad/s).
+        self.positions = dict.fromkeys(self.names, 0.0)
+        self.velocities = dict.fromkeys(wheels, 0.0)
+        self.truth = Odometry(params)
+        self._covariances = (
+            covariance_matrix(DEFAULT_POSE_COVARIANCE),
+            covariance_matrix(DEFAULT_TWIST_COVARIANCE),
+        )
+        self._random = random.Random(settings.seed)
+        self._last_command: float | None = None
+        self._last_update: float | None = None
+        self.commander = WheelCommander(params) if settings.cmd_vel is not None else None
+        self.updates = 0
+        self.timeouts = 0
+        self.refused = 0
+        super().__init__(name, domain=domain)
+        self.joint_states = self.create_publisher(types.JointState, "joint_states")
+        self.ground_truth = self.create_publisher(types.Odometry, "ground_truth/odom")
+        self.tf = self.create_publisher(types.TFMessage, "/tf", TF)
+        self.subscriptions: list[Subscription[Any]] = []
+        if settings.cmd_vel is not None:
+            if settings.stamped:
+                self.subscriptions.append(
+                    self.create_subscription(
+                        types.TwistStamped, settings.cmd_vel, lambda m: self.on_twist(m.twist)
+                    )
+                )
+            else:
+                self.subscriptions.append(
+                    self.create_subscription(types.Twist, settings.cmd_vel, self.on_twist)
+                )
+        else:
+            for topic, side in ((settings.left_topic, 0), (settings.right_topic, 1)):
+                self.subscriptions.append(
+                    self.create_subscription(
+                        types.Float64MultiArray,
+                        topic,
+                        lambda m, side=side: self.on_wheels(side, m.data),  # type: ignore[misc]
+                    )
+                )
+        if description is not None:
+            latched = self.create_publisher(types.String, "/robot_description", LATCHED)
+            latched.publish(types.String(description))
+            static = self.create_publisher(types.TFMessage, "/tf_static", LATCHED)
+            stamp = now_ns()
+            static.publish(types.TFMessage([_message(t, stamp) for t in self._fixed]))
+            self._latched = (latched, static)
+        self.create_timer(1.0 / settings.rate, self.update)
+
+    def on_wheels(self, side: int, values: list[float]) -> None:
+        """Take one side's joint velocity commands (rad/s), one per joint of the side."""
+        joints = self.right_joints if side else self.left_joints
+        if len(values) != len(joints) or not all(math.isfinite(v) for v in values):
+            self.refused += 1
+            values = [0.0] * len(joints)
+        for joint, value in zip(joints, values, strict=True):
+            self.velocities[joint] = value
+        self._last_command = time.monotonic()
+
+    def on_twist(self, twist: types.Twist) -> None:
+        """Take a velocity command, turned into wheel commands as ``node ik`` does."""
+        assert self.commander is not None
+        out = self.commander.step(twist.linear.x, twist.angular.z, 1.0 / self.settings.rate)
+        for joints, values in ((self.left_joints, out.left), (self.right_joints, out.right)):
+            for joint, value in zip(joints, values, strict=True):
+                self.velocities[joint] = value
+        self._last_command = time.monotonic()
+
+    def update(self) -> None:
+        """Move the wheels by their velocities over the time since the last update; publish."""
+        now = time.monotonic()
+        last, self._last_update = self._last_update, now
+        timeout = self.settings.timeout
+        if self._last_command is not None and timeout > 0.0 and now - self._last_command > timeout:
+            self._last_command = None
+            if any(self.velocities.values()):
+                self.timeouts += 1
+            self.velocities = dict.fromkeys(self.velocities, 0.0)
+        if last is not None:
+            dt = now - last
+            for joint, velocity in self.velocities.items():
+                self.positions[joint] += velocity * dt
+        stamp = now_ns()
+        left = sum(self.positions[j] for j in self.left_joints) / len(self.left_joints)
+        right = sum(self.positions[j] for j in self.right_joints) / len(self.right_joints)
+        self.truth.update(left, right, stamp_ns=stamp)
+        self.updates += 1
+        reported = [self._encoder(self.positions[name]) for name in self.names]
+        velocities = [self.velocities.get(name, 0.0) for name in self.names]
+        self.joint_states.publish(
+            types.JointState(
+                types.Header(time_of(stamp), ""), list(self.names), reported, velocities, []
+            )
+        )
+        self.ground_truth.publish(
+            odometry(self.truth.state, stamp, "odom", "base_link", *self._covariances)
+        )
+        if self._moving:
+            moved = [link_transform(j, self.positions.get(j.name, 0.0)) for j in self._moving]
+            self.tf.publish(types.TFMessage([_message(t, stamp) for t in moved]))
+
+    def _encoder(self, angle: float) -> float:
+        """An angle as the encoder reports it: with noise, then quantised to ticks."""
+        if self.settings.noise:
+            angle += self._random.gauss(0.0, self.settings.noise)
+        ticks = self.settings.ticks
+        if ticks:
+            step = 2.0 * math.pi / ticks
+            angle = round(angle / step) * step
+        return angle
+
+    def status(self) -> str:
+        """One line of counts for people."""
+        received = sum(s.received for s in self.subscriptions)
+        return (
+            f"{self.updates} updates, {received} commands, {self.refused} refused, "
+            f"{self.timeouts} timeouts"
+        )
+
+
+def _message(link: LinkTransform, stamp: int) -> types.TransformStamped:
+    x, y, z, w = link.rotation
+    return transform(stamp, link.parent, link.child, link.translation, types.Quaternion(x, y, z, w))
