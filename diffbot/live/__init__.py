@@ -5,3 +5,51 @@ the way out), :meth:`~diffbot.live.transport.Node.spin` it until a signal or cal
 :meth:`~diffbot.live.transport.Node.spin_once` from a loop of your own. Nothing here is imported
 by ``import diffbot``; :mod:`diffbot.live.transport` is the only module that imports cyclonedds.
 """
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from diffbot.live.drive import Driver, DriveReport, DriveSettings
+    from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
+    from diffbot.live.odometry import OdometryNode, OdometrySettings
+    from diffbot.live.robot import RobotNode, RobotSettings
+    from diffbot.live.transport import LiveError, Node
+
+__all__ = [
+    "DriveReport",
+    "DriveSettings",
+    "Driver",
+    "IkSettings",
+    "InverseKinematicsNode",
+    "LiveError",
+    "Node",
+    "OdometryNode",
+    "OdometrySettings",
+    "RobotNode",
+    "RobotSettings",
+]
+
+#: Where each public name lives: loaded on first use, so that importing the package is free.
+_HOMES = {
+    "DriveReport": "drive",
+    "DriveSettings": "drive",
+    "Driver": "drive",
+    "IkSettings": "inverse_kinematics",
+    "InverseKinematicsNode": "inverse_kinematics",
+    "LiveError": "transport",
+    "Node": "transport",
+    "OdometryNode": "odometry",
+    "OdometrySettings": "odometry",
+    "RobotNode": "robot",
+    "RobotSettings": "robot",
+}
+
+
+def __getattr__(name: str) -> Any:
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module 'diffbot.live' has no attribute {name!r}")
+    return getattr(importlib.import_module(f"diffbot.live.{home}"), name)

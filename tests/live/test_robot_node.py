@@ -1,0 +1,107 @@
+"""The robot without hardware: commanded wheels turn, the description and its fixed links are
+latched for late joiners, the wheels' links move on /tf, silence stops the robot."""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+
+import pytest
+from live_graph import PATIENCE
+from robots import BOT, two_wheel_urdf
+
+from diffbot.kinematics import DiffDriveParams
+from diffbot.live import types
+from diffbot.live.messages import commands, yaw_of
+from diffbot.live.robot import RobotNode, RobotSettings
+from diffbot.live.transport import LATCHED, Node, QosProfile
+from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
+
+TWO = DiffDriveParams(
+    wheel_radius=0.05,
+    wheel_separation=0.2,
+    left_joint="left_wheel_joint",
+    right_joint="right_wheel_joint",
+)
+
+
+def until(node: Node, condition: Callable[[], bool]) -> None:
+    end = time.monotonic() + PATIENCE
+    while not condition() and time.monotonic() < end:
+        node.spin_once(0.02)
+    assert condition(), "nothing arrived in time"
+
+
+def test_commanded_wheels_turn_and_silence_stops_them() -> None:
+    states: list[types.JointState] = []
+    truth: list[types.Odometry] = []
+    tf: list[types.TFMessage] = []
+    settings = RobotSettings(rate=100.0, timeout=0.3)
+    with RobotNode(TWO, two_wheel_urdf(), settings).start() as robot, Node("probe") as probe:
+        left = probe.create_publisher(types.Float64MultiArray, LEFT_TOPIC)
+        right = probe.create_publisher(types.Float64MultiArray, RIGHT_TOPIC)
+        probe.create_subscription(types.JointState, "joint_states", states.append)
+        probe.create_subscription(types.Odometry, "ground_truth/odom", truth.append)
+        probe.create_subscription(types.TFMessage, "/tf", tf.append)
+        assert left.wait_for_subscribers(PATIENCE)
+        assert right.wait_for_subscribers(PATIENCE)
+        # Opposite wheel speeds: a spin in place at (r / b) * 2 * 2 rad/s = 1 rad/s.
+        left.publish(commands([-2.0]))
+        right.publish(commands([2.0]))
+        until(probe, lambda: robot.timeouts == 1)
+        stopped = dict(robot.positions)
+        until(probe, lambda: bool(states) and states[-1].velocity == [0.0, 0.0])
+        time_at_rest = robot.updates
+        until(probe, lambda: robot.updates > time_at_rest + 5)
+        assert robot.positions == stopped  # at rest after the timeout
+    assert states[-1].name == ["left_wheel_joint", "right_wheel_joint"]
+    turned = stopped["right_wheel_joint"]
+    assert stopped["left_wheel_joint"] == pytest.approx(-turned)
+    # Held about the timeout (0.3 s) plus up to one update and the delivery: 2 rad/s for that.
+    assert 2.0 * 0.3 <= turned <= 2.0 * (0.3 + 0.01 + 0.2)
+    pose = truth[-1].pose.pose
+    assert (pose.position.x, pose.position.y) == pytest.approx((0.0, 0.0), abs=1e-12)
+    assert yaw_of(pose.orientation) == pytest.approx(turned * 0.05 * 2 / 0.2, abs=1e-9)
+    wheel = next(t for t in tf[-1].transforms if t.child_frame_id == "right_wheel")
+    assert wheel.header.frame_id == "base_link"
+    # The right wheel turned by `turned` about +y.
+    assert 2.0 * math.atan2(wheel.transform.rotation.y, wheel.transform.rotation.w) == (
+        pytest.approx(math.remainder(turned, math.tau), abs=1e-9)
+    )
+
+
+def test_late_joiners_get_the_description_and_the_fixed_links() -> None:
+    urdf = two_wheel_urdf(
+        body='<link name="lidar"/><joint name="lidar_joint" type="fixed">'
+        '<parent link="base_link"/><child link="lidar"/><origin xyz="0.1 0 0.2"/></joint>'
+    )
+    described: list[str] = []
+    static: list[types.TFMessage] = []
+    with RobotNode(TWO, urdf, RobotSettings(rate=10.0)), Node("late") as late:
+        latched_reader = QosProfile(reliable=True, transient_local=True, depth=1)
+        late.create_subscription(
+            types.String, "/robot_description", lambda m: described.append(m.data), latched_reader
+        )
+        late.create_subscription(types.TFMessage, "/tf_static", static.append, latched_reader)
+        until(late, lambda: bool(described) and bool(static))
+    assert described == [urdf]
+    (lidar,) = static[0].transforms
+    assert (lidar.header.frame_id, lidar.child_frame_id) == ("base_link", "lidar")
+    assert lidar.transform.translation == types.Vector3(0.1, 0.0, 0.2)
+    assert LATCHED.transient_local
+
+
+def test_encoder_ticks_quantise_the_reported_angles() -> None:
+    with RobotNode(BOT, None, RobotSettings(ticks=4, noise=0.0)) as robot:
+        assert robot._encoder(1.0) == pytest.approx(math.pi / 2)
+        assert robot._encoder(0.7) == 0.0
+        assert robot.names == ["front_left_wheel_joint", "front_right_wheel_joint"]
+
+
+def test_a_bad_wheel_command_is_refused_as_zero() -> None:
+    with RobotNode(TWO) as robot:
+        robot.on_wheels(0, [1.0, 2.0])  # two values for one joint
+        robot.on_wheels(1, [math.nan])
+        assert robot.refused == 2
+        assert robot.velocities == {"left_wheel_joint": 0.0, "right_wheel_joint": 0.0}
