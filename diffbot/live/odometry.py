@@ -16,7 +16,8 @@ from typing import Any
 from diffbot.controller_config import ControllerConfig
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
-from diffbot.live.messages import odometry, stamp_ns, transform, yaw_quaternion
+from diffbot.live.cdr import decode_joint_state, encode_odometry, encode_tf
+from diffbot.live.messages import stamp_ns, yaw_quaternion
 from diffbot.live.transport import SUBSCRIPTION, TF, Node
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
@@ -123,7 +124,11 @@ class OdometryNode(Node):
             self.create_publisher(types.TFMessage, "/tf", TF) if settings.publish_tf else None
         )
         self.subscription = self.create_subscription(
-            types.JointState, settings.joint_states, self.on_joint_state, JOINT_STATES
+            types.JointState,
+            settings.joint_states,
+            self.on_joint_state,
+            JOINT_STATES,
+            decode_joint_state,
         )
 
     def on_joint_state(self, message: types.JointState) -> None:
@@ -144,28 +149,25 @@ class OdometryNode(Node):
     def publish(self, stamp: int) -> None:
         """Publish the current odometry (and transform) stamped ``stamp`` (ns)."""
         settings = self.settings
-        state = self.odometry.state
-        self.odom_publisher.publish(
-            odometry(
-                state,
+        x, y, heading, linear, angular = self.odometry.state
+        q = yaw_quaternion(heading)
+        pose = (x, y, 0.0, q.x, q.y, q.z, q.w)
+        self.odom_publisher.publish_serialized(
+            encode_odometry(
                 stamp,
                 settings.frame_id,
                 settings.child_frame_id,
+                pose,
                 self._pose_covariance,
+                (linear, 0.0, 0.0, 0.0, 0.0, angular),
                 self._twist_covariance,
             )
         )
         self.published += 1
         if self.tf_publisher is not None:
-            x, y, heading = state[:3]
-            moved = transform(
-                stamp,
-                settings.frame_id,
-                settings.child_frame_id,
-                (x, y, 0.0),
-                yaw_quaternion(heading),
+            self.tf_publisher.publish_serialized(
+                encode_tf([(stamp, settings.frame_id, settings.child_frame_id, pose)])
             )
-            self.tf_publisher.publish(types.TFMessage([moved]))
 
     @property
     def counts(self) -> dict[str, int]:

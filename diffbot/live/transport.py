@@ -45,7 +45,10 @@ class LiveError(DiffbotError):
 
 
 try:
-    from cyclonedds._clayer import ddspy_take  # type: ignore[import-not-found]
+    from cyclonedds._clayer import (  # type: ignore[import-not-found]
+        ddspy_take,
+        ddspy_write,
+    )
     from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication
     from cyclonedds.core import (
         DDSException,
@@ -249,6 +252,14 @@ class Publisher(Generic[M]):
         """Send ``message`` to every matched subscription."""
         self._writer.write(message)
 
+    def publish_serialized(self, data: bytes) -> None:
+        """Send a message already serialized (encapsulation header and CDR body), as
+        :mod:`diffbot.live.cdr` writes the ones a node sends per sample."""
+        padding = -len(data) % 4  # as cyclonedds pads its own payloads
+        ret = ddspy_write(self._writer._ref, data + b"\0" * padding if padding else data)
+        if ret < 0:
+            raise LiveError(f"writing {self.topic} failed (DDS error {ret})")
+
     @property
     def subscription_count(self) -> int:
         """How many subscriptions match this publisher now."""
@@ -278,7 +289,7 @@ class Subscription(Generic[M]):
     """
 
     reader: DataReader[M]
-    msg_type: type[M]
+    decode: Callable[[bytes], M]
     callback: Callable[[M], None]
     topic: str
     received: int = 0
@@ -296,7 +307,7 @@ class Subscription(Generic[M]):
     def deliver(self, payloads: Iterable[bytes]) -> None:
         """Decode serialized messages (with their encapsulation header) and hand each to the
         callback; a payload that does not decode is counted in :attr:`malformed`."""
-        decode = self.msg_type.deserialize
+        decode = self.decode
         callback = self.callback
         for data in payloads:
             try:
@@ -382,12 +393,15 @@ class Node:
         topic: str,
         callback: Callable[[M], None],
         qos: QosProfile = SUBSCRIPTION,
+        decode: Callable[[bytes], M] | None = None,
     ) -> Subscription[M]:
-        """A subscription of ``msg_type`` on ``topic``; each message goes to ``callback``."""
+        """A subscription of ``msg_type`` on ``topic``; each message goes to ``callback``,
+        decoded by ``decode`` (default: the type's own deserializer) from its serialized
+        bytes."""
         reader: DataReader[M] = DataReader(
             self.participant, self._topic(msg_type, topic), qos.qos()
         )
-        subscription = Subscription(reader, msg_type, callback, topic)
+        subscription = Subscription(reader, decode or msg_type.deserialize, callback, topic)
         self._waitset.attach(ReadCondition(reader, SampleState.Any))
         self._subscriptions.append(subscription)
         return subscription
