@@ -101,11 +101,13 @@ def feed(kind: str, rate: float, seconds: float) -> tuple[float, list[float]]:
                 latencies.append((now_ns() - stamp) / 1e9)
 
             # Only the header stamp is read back: the bench's own decoding stays out of the way.
-            node.create_subscription(kind_type, topic, back, DEEP, stamp_of)  # type: ignore[arg-type]
+            back_sub = node.create_subscription(kind_type, topic, back, DEEP, stamp_of)  # type: ignore[arg-type]
             publisher = node.create_publisher(
                 types.JointState, "joint_states", QosProfile(depth=1000)
             )
             assert publisher.wait_for_subscribers(30.0), f"{kind} did not come up"
+            # Both ways matched before the first message: none is lost to discovery.
+            assert back_sub.wait_for_publishers(30.0), f"{kind} does not answer"
             node.start()
             count = int(rate * seconds)
             begin = time.monotonic()

@@ -187,8 +187,8 @@ class Driver(Node):
             for k in range(total):
                 due = start + float(times[k])
                 _wait_until(due)
+                lateness.append(time.monotonic() - due)  # when the publication starts
                 self.send(k)
-                lateness.append(time.monotonic() - due)
                 self.sent = sent = sent + 1
                 if progress is not None:
                     progress(1)
