@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from diffbot.commands.live import duration_option, run_node
@@ -204,12 +206,14 @@ def ik(
 
 def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[str, str]:
     """The command topics of the velocity controllers of each side's wheels in the controllers
-    file, else the course's."""
+    file (given, else the one the robot's diff-drive controller came from), else the course's."""
     from diffbot.urdf.controllers import load_command_controllers
     from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
 
     topics = [LEFT_TOPIC, RIGHT_TOPIC]
-    if controllers is not None:
+    if controllers is None and params.controller is not None:
+        controllers = params.controller.source
+    if controllers is not None and Path(controllers).is_file():
         found = load_command_controllers(controllers)
         sides = (
             params.left_joints or (params.left_joint,),

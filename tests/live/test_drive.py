@@ -8,28 +8,20 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable
 
 import pytest
-from live_graph import PATIENCE
+from live_graph import PATIENCE, deep, until
 from robots import BOT
 
 from diffbot.live import types
 from diffbot.live.drive import Driver, DriveSettings
-from diffbot.live.transport import Node, QosProfile
+from diffbot.live.transport import Node
 from diffbot.planfile import parse_plan
 from diffbot.profiles import Limits
 from diffbot.ramps import ramp
 from diffbot.trajectory import plan
 
-DEEP = QosProfile(reliable=False, depth=10_000)
-
-
-def until(node: Node, condition: Callable[[], bool]) -> None:
-    end = time.monotonic() + PATIENCE
-    while not condition() and time.monotonic() < end:
-        node.spin_once(0.02)
-    assert condition(), "nothing arrived in time"
+DEEP = deep()
 
 
 def test_a_stream_goes_out_on_schedule_and_ends_with_zero() -> None:

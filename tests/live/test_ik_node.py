@@ -5,28 +5,20 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from live_graph import PATIENCE
+from live_graph import PATIENCE, deep, until
 from robots import BOT
 
 from diffbot.live import types
 from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
 from diffbot.live.messages import twist_command
-from diffbot.live.transport import Node, QosProfile
+from diffbot.live.transport import Node
 from diffbot.urdf.controllers import load_command_controllers
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
 
-DEEP = QosProfile(reliable=False, depth=10_000)
-
-
-def until(node: Node, condition: Callable[[], bool]) -> None:
-    end = time.monotonic() + PATIENCE
-    while not condition() and time.monotonic() < end:
-        node.spin_once(0.02)
-    assert condition(), "nothing arrived in time"
+DEEP = deep()
 
 
 def test_twists_become_wheel_commands_and_silence_stops_them() -> None:

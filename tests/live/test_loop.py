@@ -21,13 +21,13 @@ import os
 import subprocess
 import sys
 import time
-from collections.abc import Callable, Iterator
-from contextlib import ExitStack, contextmanager
+from collections.abc import Callable
+from contextlib import ExitStack
 
 import numpy as np
 import pytest
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsSubscription
-from live_graph import PATIENCE
+from live_graph import PATIENCE, live_process
 
 from diffbot.live import types
 from diffbot.live.drive import Driver, DriveSettings
@@ -115,31 +115,12 @@ def check_final_pose(watcher: Watcher) -> None:
     )
 
 
-@contextmanager
-def node_process(*args: str) -> Iterator[subprocess.Popen[str]]:
-    process = subprocess.Popen(
-        [sys.executable, "-m", "diffbot", *args, "--quiet"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=os.environ.copy(),
-    )
-    try:
-        yield process
-    finally:
-        process.terminate()
-        try:
-            process.communicate(timeout=PATIENCE)
-        finally:
-            process.kill()
-
-
 def test_the_loop_as_four_processes() -> None:
     with ExitStack() as stack:
         watcher = Watcher(stack.enter_context(Node("watcher")))
-        robot = stack.enter_context(node_process("node", "robot", "--rate", str(ROBOT_RATE)))
-        ik = stack.enter_context(node_process("node", "ik"))
-        odom = stack.enter_context(node_process("node", "odom"))
+        robot = stack.enter_context(live_process("node", "robot", "--rate", str(ROBOT_RATE)))
+        ik = stack.enter_context(live_process("node", "ik"))
+        odom = stack.enter_context(live_process("node", "odom"))
         watcher.until(lambda: watcher.odom is not None and watcher.truth is not None)
         watcher.until(lambda: watcher.subscribed("left_wheel_velocity_controller/commands"))
         watcher.until(lambda: watcher.subscribed("cmd_vel"))

@@ -7,14 +7,14 @@ import math
 import time
 
 import pytest
-from live_graph import PATIENCE
+from live_graph import PATIENCE, deep
 from robots import BOT
 
 from diffbot.controller_config import ControllerConfig
 from diffbot.live import types
 from diffbot.live.messages import stamp_ns, time_of, yaw_of
 from diffbot.live.odometry import OdometryNode, OdometrySettings
-from diffbot.live.transport import Node, QosProfile
+from diffbot.live.transport import Node
 from diffbot.planfile import parse_plan
 from diffbot.simulation import simulate
 from diffbot.trajectory import plan
@@ -22,7 +22,7 @@ from diffbot.trajectory import plan
 #: An arbitrary wall-clock start (ns): stamps are ROS times since the epoch.
 T0 = 1_700_000_000 * 10**9
 #: The probe reads after the fact: it keeps every message.
-DEEP = QosProfile(reliable=False, depth=100_000)
+DEEP = deep()
 
 
 class Probe:

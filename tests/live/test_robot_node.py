@@ -4,11 +4,9 @@ latched for late joiners, the wheels' links move on /tf, silence stops the robot
 from __future__ import annotations
 
 import math
-import time
-from collections.abc import Callable
 
 import pytest
-from live_graph import PATIENCE
+from live_graph import PATIENCE, until
 from robots import BOT, two_wheel_urdf
 
 from diffbot.kinematics import DiffDriveParams
@@ -24,13 +22,6 @@ TWO = DiffDriveParams(
     left_joint="left_wheel_joint",
     right_joint="right_wheel_joint",
 )
-
-
-def until(node: Node, condition: Callable[[], bool]) -> None:
-    end = time.monotonic() + PATIENCE
-    while not condition() and time.monotonic() < end:
-        node.spin_once(0.02)
-    assert condition(), "nothing arrived in time"
 
 
 def test_commanded_wheels_turn_and_silence_stops_them() -> None:

@@ -9,11 +9,9 @@ import os
 import shutil
 import subprocess
 import sys
-from collections.abc import Iterator
-from contextlib import contextmanager
 
 import pytest
-from live_graph import PATIENCE
+from live_graph import PATIENCE, live_process
 
 pytestmark = pytest.mark.skipif(
     shutil.which("ros2") is None,
@@ -32,31 +30,12 @@ def ros2(*args: str, timeout: float = PATIENCE) -> subprocess.CompletedProcess[s
     )
 
 
-@contextmanager
-def diffbot(*args: str) -> Iterator[subprocess.Popen[str]]:
-    process = subprocess.Popen(
-        [sys.executable, "-m", "diffbot", *args, "--quiet"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=os.environ.copy(),
-    )
-    try:
-        yield process
-    finally:
-        process.terminate()
-        try:
-            process.communicate(timeout=PATIENCE)
-        finally:
-            process.kill()
-
-
 def test_ros2_tools_see_diffbots_odometry() -> None:
     joint_state = (
         "{header: {stamp: now}, name: [front_left_wheel_joint, front_right_wheel_joint], "
         "position: [1.0, 1.0]}"
     )
-    with diffbot("node", "odom"):
+    with live_process("node", "odom"):
         echo = subprocess.Popen(
             ["ros2", "topic", "echo", "--once", "/odom", "nav_msgs/msg/Odometry"],
             stdout=subprocess.PIPE,
