@@ -165,16 +165,17 @@ class RobotNode(Node):
         """Move the wheels by their velocities over the time since the last update; publish."""
         now = time.monotonic()
         last, self._last_update = self._last_update, now
+        if last is not None:
+            dt = now - last
+            for joint, velocity in self.velocities.items():
+                self.positions[joint] += velocity * dt
+        # The commands held until now; from now on the wheels stop if they have gone quiet.
         timeout = self.settings.timeout
         if self._last_command is not None and timeout > 0.0 and now - self._last_command > timeout:
             self._last_command = None
             if any(self.velocities.values()):
                 self.timeouts += 1
             self.velocities = dict.fromkeys(self.velocities, 0.0)
-        if last is not None:
-            dt = now - last
-            for joint, velocity in self.velocities.items():
-                self.positions[joint] += velocity * dt
         stamp = now_ns()
         left = sum(self.positions[j] for j in self.left_joints) / len(self.left_joints)
         right = sum(self.positions[j] for j in self.right_joints) / len(self.right_joints)
