@@ -128,7 +128,8 @@ def odom(
 @click.option(
     "--stamped",
     is_flag=True,
-    help="Read geometry_msgs/TwistStamped (diff_drive_controller's since Jazzy), not Twist.",
+    help="Read geometry_msgs/TwistStamped (diff_drive_controller's since Jazzy) only. Default: "
+    "Twist or TwistStamped, whichever the publisher sends.",
 )
 @click.option(
     "--left-topic",
@@ -192,7 +193,7 @@ def ik(
     controller = params.controller
     settings = IkSettings(
         cmd_vel=cmd_vel,
-        stamped=stamped,
+        stamped=True if stamped else None,
         left_topic=check_topic("--left-topic", left_topic or left),
         right_topic=check_topic("--right-topic", right_topic or right),
         timeout=timeout,

@@ -33,7 +33,9 @@ class IkSettings:
 
     Attributes:
         cmd_vel: the velocity command topic.
-        stamped: commands are geometry_msgs/TwistStamped (diff_drive_controller since Jazzy).
+        stamped: commands are geometry_msgs/TwistStamped (diff_drive_controller since Jazzy)
+            (True), geometry_msgs/Twist (False), or either, as the publisher offers (None: a
+            subscription of each kind, and only the one of the publisher's type matches).
         left_topic: the left side's Float64MultiArray topic.
         right_topic: the right side's.
         timeout: seconds without a command after which the wheels are stopped (0: never).
@@ -42,7 +44,7 @@ class IkSettings:
     """
 
     cmd_vel: str = "cmd_vel"
-    stamped: bool = False
+    stamped: bool | None = None
     left_topic: str = LEFT_TOPIC
     right_topic: str = RIGHT_TOPIC
     timeout: float = 0.5
@@ -81,15 +83,21 @@ class InverseKinematicsNode(Node):
         super().__init__(name, domain=domain)
         self.left = self.create_publisher(types.Float64MultiArray, settings.left_topic)
         self.right = self.create_publisher(types.Float64MultiArray, settings.right_topic)
-        self.subscription: Subscription[Any]
-        if settings.stamped:
-            self.subscription = self.create_subscription(
-                types.TwistStamped, settings.cmd_vel, lambda m: self.on_twist(m.twist)
+        self.subscriptions: list[Subscription[Any]] = []
+        #: The DDS type names read from ``cmd_vel``.
+        self._kinds: list[str] = []
+        if settings.stamped is not False:
+            self.subscriptions.append(
+                self.create_subscription(
+                    types.TwistStamped, settings.cmd_vel, lambda m: self.on_twist(m.twist)
+                )
             )
-        else:
-            self.subscription = self.create_subscription(
-                types.Twist, settings.cmd_vel, self.on_twist
+            self._kinds.append(types.TwistStamped.__idl_typename__)
+        if settings.stamped is not True:
+            self.subscriptions.append(
+                self.create_subscription(types.Twist, settings.cmd_vel, self.on_twist)
             )
+            self._kinds.append(types.Twist.__idl_typename__)
         #: What the node found wrong with the graph, once each (a topic's other type).
         self.warnings: list[str] = []
         #: Called with each new warning (the command prints it).
@@ -103,9 +111,9 @@ class InverseKinematicsNode(Node):
 
     def check_types(self) -> None:
         """Warn once when ``cmd_vel`` carries the other kind of twist than the one read."""
-        ours = (types.TwistStamped if self.settings.stamped else types.Twist).__idl_typename__
+        ours = set(self._kinds)
         topic = "/" + self.settings.cmd_vel.lstrip("/")
-        for found in sorted(self.publisher_types(topic) - {ours}):
+        for found in sorted(self.publisher_types(topic) - ours):
             name = ros_type_name(found)
             hint = "use --stamped" if name.endswith("/TwistStamped") else "leave out --stamped"
             if name.endswith(("/Twist", "/TwistStamped")):
@@ -161,5 +169,5 @@ class InverseKinematicsNode(Node):
         """One line of counts for people."""
         return (
             f"{self.commands} commands, {self.refused} refused (not finite), "
-            f"{self.timeouts} timeouts, {self.subscription.malformed} malformed"
+            f"{self.timeouts} timeouts, {sum(s.malformed for s in self.subscriptions)} malformed"
         )

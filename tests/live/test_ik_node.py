@@ -84,3 +84,23 @@ def test_the_controllers_file_names_the_command_topics() -> None:
         "left_wheel_velocity_controller": ("front_left_wheel_joint",),
         "right_wheel_velocity_controller": ("front_right_wheel_joint",),
     }
+
+
+def test_by_default_either_kind_of_twist_is_read() -> None:
+    left: list[list[float]] = []
+    with InverseKinematicsNode(BOT, IkSettings(timeout=0.0)).start() as node, Node("p") as probe:
+        assert node.settings.stamped is None
+        stamped = probe.create_publisher(types.TwistStamped, "cmd_vel")
+        plain = probe.create_publisher(types.Twist, "cmd_vel")
+        probe.create_subscription(
+            types.Float64MultiArray, LEFT_TOPIC, lambda m: left.append(m.data), DEEP
+        )
+        assert stamped.wait_for_subscribers(PATIENCE)
+        assert plain.wait_for_subscribers(PATIENCE)
+        until(probe, lambda: node.left.subscription_count > 0)
+        stamped.publish(types.TwistStamped(twist=twist_command(0.07, 0.0)))
+        until(probe, lambda: len(left) == 1)
+        plain.publish(twist_command(0.035, 0.0))
+        until(probe, lambda: len(left) == 2)
+    assert left == [pytest.approx([2.0]), pytest.approx([1.0])]
+    assert node.warnings == []
