@@ -16,6 +16,8 @@ from diffbot.live.robot import RobotNode, RobotSettings
 from diffbot.live.transport import LATCHED, Node, QosProfile
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
 
+#: How late a command or an update may come on a machine busy with other work (s).
+LOAD = 1.0
 TWO = DiffDriveParams(
     wheel_radius=0.05,
     wheel_separation=0.2,
@@ -50,15 +52,15 @@ def test_commanded_wheels_turn_and_silence_stops_them() -> None:
     turned = stopped["right_wheel_joint"]
     back = stopped["left_wheel_joint"]
     # Each side turns from the command's update to the timeout's: the two commands may land in
-    # neighbouring updates (or a little further apart on a busy machine).
-    assert abs(back + turned) <= 2.0 * 0.2
+    # neighbouring updates, or up to LOAD apart on a machine busy with other work.
+    assert abs(back + turned) <= 2.0 * LOAD
     # Held at least the timeout (0.3 s), at most that plus an update and the delivery of the two
-    # commands (up to a second, on a machine busy with other work): 2 rad/s for that long.
-    assert 2.0 * 0.3 <= turned <= 2.0 * (0.3 + 0.01 + 1.0)
+    # commands: 2 rad/s for that long.
+    assert 2.0 * 0.3 <= turned <= 2.0 * (0.3 + 0.01 + LOAD)
     pose = truth[-1].pose.pose
     # Only the updates where one wheel turned alone move the robot off the spot: each wheel at
-    # most 2 rad/s for 0.2 s alone, r = 0.05 m: 0.02 m of path at most.
-    assert math.hypot(pose.position.x, pose.position.y) <= 0.05 * 0.4
+    # most 2 rad/s for LOAD alone, r = 0.05 m.
+    assert math.hypot(pose.position.x, pose.position.y) <= 0.05 * 2.0 * LOAD
     # The heading is exactly r (right - left) / b of the wheel angles the robot integrated.
     assert yaw_of(pose.orientation) == pytest.approx(
         math.remainder(0.05 * (turned - back) / 0.2, math.tau), abs=1e-9
