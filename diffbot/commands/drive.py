@@ -121,10 +121,12 @@ def drive(
         warn("--stamped changes Twist commands only, and --wheels sends none")
     source = plan_options.source(rest)
     params = robot.with_path(None, xacro_args).load()
+    source = plan_options.resolve(source, params)
     if plan_options.fastest and plan_options.limit is None and params.max_wheel_speed is None:
         fail("--fastest needs a motor limit: give one with --max-rpm RPM or --rpm-limit RPM")
-    from diffbot.commands.plan import command_stream
     from diffbot.formats.plan_table import violation_lines
+    from diffbot.profiles import Limits
+    from diffbot.ramps import ramp
     from diffbot.trajectory import Plan
 
     made = plan_options.make(source.segments, params)
@@ -133,7 +135,8 @@ def drive(
         for line in violation_lines(steps):
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
-    stream = command_stream(made, rate)
+    # A step plan is sampled as a ramped plan without ramps.
+    stream = (ramp(made, Limits()) if isinstance(made, Plan) else made).commands(rate)
     from diffbot.commands.progress import progress
     from diffbot.live.drive import Driver, DriveSettings
 

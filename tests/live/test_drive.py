@@ -87,3 +87,19 @@ def test_a_signal_stops_the_robot() -> None:
     assert process.returncode == 128 + signal.SIGTERM
     assert "commanded zero" in err
     assert len(got) < 150  # cut short: 10 s at 20 Hz is 201 commands
+
+
+def test_a_goal_plan_is_driven_to_its_goal() -> None:
+    got: list[float] = []
+    with Node("probe") as probe:
+        probe.create_subscription(types.Twist, "cmd_vel", lambda m: got.append(m.linear.x), DEEP)
+        probe.start()
+        process = run_drive("--to", "0.05,0,0", "--rate", "50", "--wait", str(PATIENCE))
+        try:
+            _, err = process.communicate(timeout=60)
+        finally:
+            process.kill()
+        until(probe, lambda: bool(got) and got[-1] == 0.0)
+    assert process.returncode == 0, err
+    # Each command holds for one period: the commanded speeds add up to the goal's distance.
+    assert sum(got) / 50.0 == pytest.approx(0.05, abs=1e-9)
