@@ -106,7 +106,7 @@ def _numbers_command(
     @rendering_options
     def command(robot: RobotOptions, rendering: Rendering, tokens: tuple[str, ...]) -> None:
         values, robot = _numbers(robot, tokens, names)
-        rendering.show(derive(robot.load(), *values))
+        rendering.show(derive(robot.load(), *values, joints=True))
 
     return command
 
@@ -122,14 +122,17 @@ fk = _numbers_command(
     "fk",
     ("LEFT", "RIGHT"),
     derive_fk,
-    "Body velocity for two wheel speeds: LEFT and RIGHT (rad/s, positive rolling forward).",
+    "Body velocity for two joint velocities: LEFT and RIGHT (rad/s) as 'diffbot fk' takes "
+    "them, with the description's direction signs (a mirrored axis turns backwards to roll "
+    "forward).",
 )
 odom = _numbers_command(
     "odom",
     ("L0", "R0", "L1", "R1", "DT"),
     derive_odom,
-    "One odometry step from the origin: the wheel angles before (L0, R0) and after (L1, R1) "
-    "the step (rad, positive rolling forward), and DT its duration (s).",
+    "One odometry step from the origin: the joint angles before (L0, R0) and after (L1, R1) "
+    "the step (rad, as a recording holds them: a mirrored axis turns backwards to roll "
+    "forward), and DT its duration (s), as 'diffbot odom' reads two such samples.",
 )
 
 

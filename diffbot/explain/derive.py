@@ -132,6 +132,39 @@ def _wheel_steps(params: DiffDriveParams, v: float, w: float, speeds: WheelSpeed
     ]
 
 
+def _mirrored(params: DiffDriveParams, side: str) -> bool:
+    """Whether the joint(s) of a side (``"left"`` or ``"right"``) have a mirrored axis."""
+    return (params.left_sign if side == "left" else params.right_sign) == -1
+
+
+def _from_joint(label: Text, joint: str, wheel: str, value: float, unit: str) -> list[Step]:
+    """A mirrored joint's value as given (symbol ``joint``), then the wheel-ground value
+    (symbol ``wheel``) it stands for: the same with the sign changed."""
+    return [
+        Step(Text("label.joint", {"what": label}), joint, _q(value, unit)),
+        Step(label, wheel, _q(-value, unit), f"mirror_{joint}", {joint: _q(value, unit)}),
+    ]
+
+
+def _joint_steps(params: DiffDriveParams, speeds: WheelSpeeds) -> list[Step]:
+    """The velocity command of each joint whose axis is mirrored: ``q = -ω``."""
+    steps = []
+    for side, symbol, speed in (("left", "L", speeds.left), ("right", "R", speeds.right)):
+        if _mirrored(params, side):
+            value = -float(speed)
+            steps.append(
+                Step(
+                    Text("label.joint", {"what": Text(f"label.{side}_speed")}),
+                    f"q{symbol}",
+                    _q(value, "rad/s"),
+                    f"mirror_w{symbol}",
+                    {f"w{symbol}": _q(float(speed), "rad/s")},
+                    _rpm(value),
+                )
+            )
+    return steps
+
+
 def _limit_step(
     params: DiffDriveParams, speeds: WheelSpeeds, shortest: float | None = None
 ) -> list[Step]:
@@ -167,7 +200,9 @@ def _limit_step(
     ]
 
 
-def explain_ik(params: DiffDriveParams, linear: float, angular: float) -> Derivation:
+def explain_ik(
+    params: DiffDriveParams, linear: float, angular: float, *, joints: bool = False
+) -> Derivation:
     """The wheel speeds for a body velocity, worked out step by step.
 
     Args:
@@ -178,6 +213,8 @@ def explain_ik(params: DiffDriveParams, linear: float, angular: float) -> Deriva
     Returns:
         The given values, each wheel's speed (rad/s and rpm) from
         ``ω_L,R = (v ∓ ω·b/2) / r``, and the check against the motor limit when the robot has one.
+        With ``joints``, also the velocity command of each joint whose axis is mirrored
+        (``q = -ω``), as ``diffbot ik`` prints it.
 
     Raises:
         ParameterError: ``linear`` or ``angular`` is not a finite number.
@@ -190,9 +227,12 @@ def explain_ik(params: DiffDriveParams, linear: float, angular: float) -> Deriva
         _given("label.linear", "v", _q(v, "m/s")),
         _given("label.angular", "w", _q(w, "rad/s")),
     ]
+    wheels = _wheel_steps(params, v, w, speeds)
+    if joints:
+        wheels.extend(_joint_steps(params, speeds))
     sections = [
         Section(Text("section.given"), tuple(given)),
-        Section(Text("section.wheels"), tuple(_wheel_steps(params, v, w, speeds))),
+        Section(Text("section.wheels"), tuple(wheels)),
     ]
     check = _limit_step(params, speeds)
     if check:
@@ -201,13 +241,17 @@ def explain_ik(params: DiffDriveParams, linear: float, angular: float) -> Deriva
     return Derivation(title, tuple(sections))
 
 
-def explain_fk(params: DiffDriveParams, left: float, right: float) -> Derivation:
+def explain_fk(
+    params: DiffDriveParams, left: float, right: float, *, joints: bool = False
+) -> Derivation:
     """The body velocity for two wheel speeds, worked out step by step.
 
     Args:
         params: the robot.
-        left: left wheel-ground angular speed ω_L (rad/s).
-        right: right wheel-ground angular speed ω_R (rad/s).
+        left: left wheel-ground angular speed ω_L (rad/s); with ``joints``, the left joint's
+            velocity as ``diffbot fk`` takes it (its direction sign undone first).
+        right: right wheel-ground angular speed ω_R (rad/s); likewise.
+        joints: ``left`` and ``right`` are joint velocities.
 
     Returns:
         The given values, ``v = r·(ω_L + ω_R)/2`` (m/s), ``ω = r·(ω_R - ω_L)/b`` (rad/s), and the
@@ -218,6 +262,15 @@ def explain_fk(params: DiffDriveParams, left: float, right: float) -> Derivation
     """
     wl = _finite(left, "left")
     wr = _finite(right, "right")
+    given_speeds: list[Step] = []
+    for side, symbol, value in (("left", "L", wl), ("right", "R", wr)):
+        label = Text(f"label.{side}_speed")
+        if joints and _mirrored(params, side):
+            given_speeds.extend(_from_joint(label, f"q{symbol}", f"w{symbol}", value, "rad/s"))
+        else:
+            given_speeds.append(Step(label, f"w{symbol}", _q(value, "rad/s"), also=_rpm(value)))
+    if joints:
+        wl, wr = params.left_sign * wl, params.right_sign * wr
     twist = forward(params, wl, wr)
     radii, sides = _radii(params)
     values = {
@@ -226,11 +279,7 @@ def explain_fk(params: DiffDriveParams, left: float, right: float) -> Derivation
         "wR": _q(wr, "rad/s"),
         "b": _q(params.wheel_separation, "m"),
     }
-    given = [
-        *_robot(params),
-        _given("label.left_speed", "wL", _q(wl, "rad/s"), _rpm(wl)),
-        _given("label.right_speed", "wR", _q(wr, "rad/s"), _rpm(wr)),
-    ]
+    given = [*_robot(params), *given_speeds]
     linear, angular = float(twist.linear), float(twist.angular)
     body = [
         Step(Text("label.linear"), "v", _q(linear, "m/s"), f"fk_linear{sides}", values),
@@ -345,6 +394,7 @@ def _segment_section(p: Plan, planned: PlannedSegment) -> Section:
             )
         )
     steps.extend(_wheel_steps(params, v, w, planned.wheels))
+    steps.extend(_joint_steps(params, planned.wheels))
     if p.limit is not None:
         shortest = next(
             (found.shortest_duration for found in p.violations() if found.index == planned.index),
@@ -385,6 +435,10 @@ def explain_plan(p: Plan) -> Derivation:
     return Derivation(title, tuple(sections))
 
 
+#: The order the wheel angles are given in: left before and after, then right.
+_ANGLE_ORDER = ("L0", "L1", "R0", "R1")
+
+
 def explain_odom(
     params: DiffDriveParams,
     left0: float,
@@ -394,6 +448,7 @@ def explain_odom(
     dt: float,
     *,
     start: Pose = ORIGIN,
+    joints: bool = False,
 ) -> Derivation:
     """One odometry step worked out: wheel arcs, ds, dθ, the sinc chord and the new pose.
 
@@ -406,6 +461,8 @@ def explain_odom(
         right1: right wheel angle after the step (rad).
         dt: duration of the step (s), > 0.
         start: the pose before the step (m, m, rad).
+        joints: the four angles are joint positions, as a recording holds them (and as
+            ``diffbot odom`` reads them): the direction signs are undone first.
 
     Returns:
         The derivation; the new pose and the velocities are those of
@@ -429,6 +486,18 @@ def explain_odom(
     step_time = _finite(dt, "dt")
     if step_time <= 0.0:
         raise ParameterError(f"dt must be > 0 (s), got {dt!r}")
+    angle_steps: list[Step] = []
+    for k, (side, symbol, when) in enumerate(
+        (("left", "L", "0"), ("right", "R", "0"), ("left", "L", "1"), ("right", "R", "1"))
+    ):
+        label = Text(f"label.{side}_{'before' if when == '0' else 'after'}")
+        if joints and _mirrored(params, side):
+            angle_steps.extend(
+                _from_joint(label, f"q{symbol}{when}", f"phi{symbol}{when}", angles[k], "rad")
+            )
+            angles[k] = -angles[k]
+        else:
+            angle_steps.append(Step(label, f"phi{symbol}{when}", _q(angles[k], "rad")))
     robot = params.replace(left_sign=1, right_sign=1)
     odom = Odometry(robot, start.x, start.y, start.theta)
     odom.update(angles[0], angles[1], stamp=0.0)
@@ -444,10 +513,7 @@ def explain_odom(
     chord = ds * (math.sin(half) / half if half != 0.0 else 1.0)
     given = [
         *_robot(params.replace(max_wheel_speed=None)),
-        _given("label.left_before", "phiL0", _q(angles[0], "rad")),
-        _given("label.left_after", "phiL1", _q(angles[2], "rad")),
-        _given("label.right_before", "phiR0", _q(angles[1], "rad")),
-        _given("label.right_after", "phiR1", _q(angles[3], "rad")),
+        *sorted(angle_steps, key=lambda step: _ANGLE_ORDER.index(step.symbol[-2:])),
         _given("label.time_step", "dt", _q(step_time, "s")),
         _given("label.start_x", "x0", _q(start.x, "m")),
         _given("label.start_y", "y0", _q(start.y, "m")),

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Final, NamedTuple
 
-__all__ = ["FORMULAS", "MINUS", "SYMBOLS", "UNITS", "Notation"]
+__all__ = ["FORMULAS", "MINUS", "MIRRORED", "SYMBOLS", "UNITS", "Notation"]
 
 #: The subtraction operator of plain-text formulas; numbers keep the ASCII hyphen, so that they
 #: can be copied into a calculator.
@@ -54,7 +54,16 @@ SYMBOLS: Final[dict[str, Notation]] = {
     "dth": Notation("dθ", r"d\theta"),
     "c": Notation("c", "c"),
     "dt": Notation("Δt", r"\Delta t"),
+    "qL": Notation("q_L", "q_L"),
+    "qR": Notation("q_R", "q_R"),
+    "qL0": Notation("q_L0", "q_{L,0}"),
+    "qL1": Notation("q_L1", "q_{L,1}"),
+    "qR0": Notation("q_R0", "q_{R,0}"),
+    "qR1": Notation("q_R1", "q_{R,1}"),
 }
+
+#: The symbols a mirrored joint axis flips: joint values (q) and wheel-ground values (ω, φ).
+MIRRORED = ("qL", "qR", "wL", "wR", "qL0", "qL1", "qR0", "qR1")
 
 FORMULAS: Final[dict[str, Notation]] = {
     "ik_left": Notation(f"($v {MINUS} $w·$b/2) / $r", r"\frac{$v - $w \cdot $b/2}{$r}"),
@@ -105,6 +114,8 @@ FORMULAS: Final[dict[str, Notation]] = {
     "odom_theta": Notation("wrap($th0 + $dth)", r"\mathrm{wrap}($th0 + $dth)"),
     "odom_v": Notation("$ds / $dt", r"\frac{$ds}{$dt}"),
     "odom_w": Notation("$dth / $dt", r"\frac{$dth}{$dt}"),
+    # A joint whose axis is mirrored turns the other way: each value changes sign.
+    **{f"mirror_{name}": Notation(f"{MINUS}${name}", f"-${name}") for name in MIRRORED},
 }
 
 UNITS: Final[dict[str, Notation]] = {

@@ -45,6 +45,7 @@ STRINGS: Final[dict[str, str]] = {
     "label.left_after": "Left wheel angle after the step",
     "label.right_before": "Right wheel angle before the step",
     "label.right_after": "Right wheel angle after the step",
+    "label.joint": "{what}, as its joint sees it (the axis is mirrored)",
     "label.time_step": "Time step",
     "label.left_arc": "Arc rolled by the left wheel",
     "label.right_arc": "Arc rolled by the right wheel",

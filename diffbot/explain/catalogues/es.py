@@ -45,6 +45,7 @@ STRINGS: Final[dict[str, str]] = {
     "label.left_after": "Ángulo de la rueda izquierda después del paso",
     "label.right_before": "Ángulo de la rueda derecha antes del paso",
     "label.right_after": "Ángulo de la rueda derecha después del paso",
+    "label.joint": "{what}, tal como la ve su articulación (el eje está invertido)",
     "label.time_step": "Paso de tiempo",
     "label.left_arc": "Arco recorrido por la rueda izquierda",
     "label.right_arc": "Arco recorrido por la rueda derecha",
