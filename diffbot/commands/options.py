@@ -10,6 +10,7 @@ import dataclasses
 import functools
 import json
 import math
+import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -306,8 +307,9 @@ _ROBOT_OPTIONS = [
         "--robot",
         metavar="PATH",
         help="Robot description: .urdf, .urdf.xacro, an SDF model (.sdf or model folder) or a "
-        "bag with /robot_description. Default: the bundled diffbot, unless both joints, the "
-        "radius and the separation are given.",
+        "bag with /robot_description; a description file or model folder may also be the first "
+        "argument. Default: the bundled diffbot, unless both joints, the radius and the "
+        "separation are given.",
     ),
     click.option(
         "--package",
@@ -369,6 +371,56 @@ _ROBOT_OPTIONS = [
 ]
 
 
+#: File name endings of robot descriptions (``.urdf.xacro`` ends with ``.xacro``).
+DESCRIPTION_SUFFIXES = (".urdf", ".xacro", ".sdf")
+#: XML root elements of robot descriptions.
+DESCRIPTION_ROOTS = ("robot", "sdf")
+#: How much of a file is read to find its XML root element (bytes).
+_HEAD_BYTES = 65536
+#: What may come before an XML root element: a declaration, comments, a doctype, blanks.
+_PROLOG = re.compile(rb"\s*(?:<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)?", re.DOTALL)
+_ROOT = re.compile(rb"<([A-Za-z_][\w.-]*:)?([A-Za-z_][\w.-]*)")
+
+
+def xml_root(path: Path) -> str | None:
+    """The name of the root element of an XML file (without namespace prefix), read from its
+    head only; None when the file is not XML or cannot be read."""
+    try:
+        with path.open("rb") as stream:
+            head = stream.read(_HEAD_BYTES)
+    except OSError:
+        return None
+    head = head.removeprefix(b"\xef\xbb\xbf")
+    position = 0
+    while True:
+        prolog = _PROLOG.match(head, position)
+        if prolog is None or prolog.end() == position:
+            break
+        position = prolog.end()
+    root = _ROOT.match(head, position)
+    return None if root is None else root.group(2).decode("ascii")
+
+
+def is_description(token: str) -> bool:
+    """Whether a command-line argument names a robot description rather than plan text, a plan
+    file, a recording or a number: a name ending ``.urdf``, ``.xacro`` or ``.sdf``, an existing
+    file whose XML root element is ``<robot>`` or ``<sdf>``, or an SDF model folder (it holds a
+    ``model.config``)."""
+    if not token.strip() or ":=" in token:
+        return False
+    path = Path(token)
+    if path.name.lower().endswith(DESCRIPTION_SUFFIXES):
+        return True
+    if path.is_dir():  # an SDF model folder; a bag folder is a recording, not a robot
+        return (path / "model.config").is_file()
+    return path.is_file() and xml_root(path) in DESCRIPTION_ROOTS
+
+
+#: The name of the positional arguments of commands that take a robot: a description given as
+#: the first of them is taken out and used as ``--robot``.
+ARGUMENTS = "tokens"
+
+
 def _robot_from(kwargs: dict[str, Any]) -> RobotOptions:
     # Every option is named after its field, but for the two built from other values.
     packages = parse_packages(kwargs.pop("packages"))
@@ -376,6 +428,14 @@ def _robot_from(kwargs: dict[str, Any]) -> RobotOptions:
         fail("--controllers and --no-controllers: choose one")
     names = [f.name for f in dataclasses.fields(RobotOptions)]
     given = {name: kwargs.pop(name) for name in names if name not in ("xacro_args", "packages")}
+    tokens = kwargs.get(ARGUMENTS)
+    if tokens and is_description(tokens[0]):
+        path = tokens[0]
+        other = given["robot"]
+        if other is not None and Path(other).resolve() != Path(path).resolve():
+            fail(f"two robots given: {path!r} and --robot {given['robot']!r}")
+        given["robot"] = path
+        kwargs[ARGUMENTS] = tuple(tokens[1:])
     return RobotOptions(xacro_args={}, packages=packages, **given)
 
 

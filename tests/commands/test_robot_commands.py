@@ -132,7 +132,7 @@ def test_params_warnings_go_to_stderr_for_people_and_into_json(runner: CliRunner
         (["params", "wheel_radius:=0"], "wheel radius must be a positive finite number"),
         (["params", "--package", "nodir"], "expected NAME=DIR"),
         (["params", "--bogus"], "No such option '--bogus'"),
-        (["params", "a.urdf", "b.urdf"], "at most one PATH"),
+        (["params", "a.urdf", "b.urdf"], "two robots given"),
         (["nosuchcommand"], "No such command"),
     ],
 )
