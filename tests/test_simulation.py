@@ -410,7 +410,7 @@ def test_library_refuses_rates_and_sample_counts_it_cannot_stamp_or_hold() -> No
 
 def test_simulate_checks_the_rpm_limit_option_like_plan(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "slow.csv"
-    result = runner.invoke(main, ["simulate", "--rpm-limit", "20", "--out", str(out)])
+    result = runner.invoke(main, ["simulate", "--max-rpm", "20", "--out", str(out)])
     assert result.exit_code == 1, result.output
     assert out.is_file()  # the joint states are still written
     errors = result.stderr.strip().splitlines()
@@ -418,7 +418,7 @@ def test_simulate_checks_the_rpm_limit_option_like_plan(runner: CliRunner, tmp_p
     assert all(line.startswith("error: segment ") for line in errors)
     assert "exceed the 20 rpm limit" in errors[1]
     within = runner.invoke(
-        main, ["simulate", "--rpm-limit", "30", "--out", str(tmp_path / "ok.csv")]
+        main, ["simulate", "--max-rpm", "30", "--out", str(tmp_path / "ok.csv")]
     )
     assert within.exit_code == 0, within.output
 

@@ -7,6 +7,7 @@ format its results.
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import functools
 import json
 import math
@@ -36,6 +37,17 @@ class InputError(click.ClickException):
 def fail(message: str) -> NoReturn:
     """Stop the command with a bad-input error."""
     raise InputError(message)
+
+
+def no_such_option(token: str) -> NoReturn:
+    """Stop with click's own usage error for an unknown option (the one click gives when it
+    parses the options itself, with the ``--help`` hint), suggesting the command's closest
+    option names. For commands that let unknown options through as (negative number)
+    arguments."""
+    ctx = click.get_current_context(silent=True)
+    names = [] if ctx is None else [name for p in ctx.command.params for name in p.opts]
+    close = difflib.get_close_matches(token.partition("=")[0], [n for n in names if n[:1] == "-"])
+    raise click.NoSuchOption(token, possibilities=close, ctx=ctx)
 
 
 def warn(message: str) -> None:
@@ -137,6 +149,17 @@ class NumberPair(click.ParamType):  # type: ignore[type-arg,unused-ignore]
         return first, second
 
 
+class Names(click.Choice):  # type: ignore[type-arg,unused-ignore]
+    """One of a few names, in any case; a wrong one is told the names as the help spells them
+    (click's own message would give them in lower case)."""
+
+    def __init__(self, names: Sequence[str]) -> None:
+        super().__init__(list(names), case_sensitive=False)
+
+    def get_invalid_choice_message(self, value: Any, ctx: click.Context | None) -> str:
+        return f"{value!r} is not one of {', '.join(map(str, self.choices))}."
+
+
 POSITIVE = FiniteFloat(0.0, open_min=True)
 #: A wheel radius or separation of a real robot (m).
 WHEEL_SIZE = FiniteFloat(WHEEL_SIZE_RANGE[0], maximum=WHEEL_SIZE_RANGE[1])
@@ -159,7 +182,7 @@ def parse_number(token: str, what: str) -> float:
         number = float(token)
     except ValueError:
         if token.startswith("-"):
-            fail(f"no such option: {token!r}")
+            no_such_option(token)
         fail(f"{what}: {token!r} is not a number")
     if not math.isfinite(number):
         fail(f"{what}: {token!r} is not a finite number")
@@ -188,7 +211,7 @@ def split_xacro_args(tokens: Sequence[str]) -> tuple[list[str], dict[str, str]]:
     args: dict[str, str] = {}
     for token in tokens:
         if _looks_like_option(token) and ":=" not in token:
-            fail(f"no such option: {token!r}")
+            no_such_option(token)
         if ":=" in token:
             name, _, value = token.partition(":=")
             if not name or not name.replace("_", "a").replace("-", "a").isalnum():
@@ -324,7 +347,11 @@ _ROBOT_OPTIONS = [
         metavar="NAME[,NAME]",
         help="Left drive wheel joint(s), comma-separated (if ambiguous).",
     ),
-    click.option("--right-joint", metavar="NAME", help="Right drive wheel joint (if ambiguous)."),
+    click.option(
+        "--right-joint",
+        metavar="NAME[,NAME]",
+        help="Right drive wheel joint(s), comma-separated (if ambiguous).",
+    ),
     click.option(
         "--wheel-radius", type=POSITIVE, metavar="M", help="Override the wheel radius (m)."
     ),
@@ -485,10 +512,22 @@ class OutOptions:
             fail("--bag writes the --out directory: give --out DIR")
 
 
+#: The one output option of every command that writes, in its three spellings.
+OUTPUT_NAMES = ("-o", "--output", "--out")
+
+
+def output_option(
+    help_text: str, *, metavar: str = "FILE", dest: str = "output"
+) -> Callable[[F], F]:
+    """The output option, ``-o``, ``--output`` or ``--out`` alike, received as ``dest``."""
+    return click.option(*OUTPUT_NAMES, dest, metavar=metavar, help=help_text)
+
+
 def out_options(out_help: str, bag_help: str) -> Callable[[F], F]:
-    """Add ``--out``, ``--bag`` and ``--force``; the command receives ``out: OutOptions``."""
+    """Add the output option, ``--bag`` and ``--force``; the command receives
+    ``out: OutOptions``."""
     options = [
-        click.option("--out", metavar="PATH", help=out_help),
+        output_option(out_help, metavar="PATH", dest="out"),
         click.option("--bag", "as_bag", is_flag=True, help=bag_help),
         click.option("--force", is_flag=True, help="Overwrite --out if it exists."),
     ]

@@ -17,6 +17,7 @@ from diffbot.commands.options import (
     FiniteFloat,
     RobotOptions,
     fail,
+    output_option,
     robot_options,
     split_xacro_args,
     warn,
@@ -114,13 +115,10 @@ __all__ = ["plan_command"]
     metavar="TOPIC",
     help="Right wheel topic, likewise.",
 )
-@click.option(
-    "-o",
-    "--output",
-    "--out",
-    type=click.Path(),
-    help="Write to this file (with --bag: this rosbag2 directory) instead of stdout, whole or "
+@output_option(
+    "Write to this file (with --bag: this rosbag2 directory) instead of stdout, whole or "
     "not at all.",
+    metavar="PATH",
 )
 @click.option(
     "--bag",
@@ -210,10 +208,10 @@ def plan_command(
             fail(f"{output} is the plan file itself: write the output elsewhere")
         check_not_input(Path(output))
     params = robot.with_path(None, xacro_args).load()
-    if plan_options.fastest and plan_options.limit is None and params.max_wheel_speed is None:
+    if plan_options.fastest and params.max_wheel_speed is None:
         fail(
             "--fastest needs a motor limit, and the robot description has none: "
-            "give one with --max-rpm RPM or --rpm-limit RPM"
+            "give one with --max-rpm RPM"
         )
     source = plan_options.resolve(source, params)
     made = plan_options.make(source.segments, params)

@@ -12,9 +12,17 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import click
 
-from diffbot.commands.options import POSITIVE, F, fail, option_group, robot_options
+from diffbot.commands.options import (
+    POSITIVE,
+    F,
+    Names,
+    fail,
+    no_such_option,
+    option_group,
+    robot_options,
+)
 from diffbot.formats.text import fmt
-from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
+from diffbot.kinematics import DiffDriveParams
 from diffbot.planfile import load_plan, parse_plan
 from diffbot.trajectory import EXAMPLES, Plan, Segment
 from diffbot.trajectory import plan as make_plan
@@ -67,7 +75,7 @@ def plan_input(
         if token.startswith("--") or (
             token.startswith("-") and len(token) > 1 and not token[1].isdigit() and token[1] != "."
         ):
-            fail(f"no such option: {token}")
+            no_such_option(token)
     if example is not None:
         if tokens:
             fail(f"give a plan (SPEC or FILE) or --example, not both (got {' '.join(tokens)!r})")
@@ -164,7 +172,6 @@ class PlanOptions:
     speed: float
     spin_rate: float
     fastest: bool
-    rpm_limit: float | None
     max_accel: float | None = None
     max_angular_accel: float | None = None
     max_wheel_accel: float | None = None
@@ -189,7 +196,7 @@ class PlanOptions:
         robot with a limit."""
         if self.fastest:
             return True
-        has_limit = self.limit is not None or params.max_wheel_speed is not None
+        has_limit = params.max_wheel_speed is not None
         return self.goal is not None and self.goal.shape == "fastest" and has_limit
 
     def resolve(self, source: PlanInput, params: DiffDriveParams) -> PlanInput:
@@ -209,7 +216,6 @@ class PlanOptions:
             "speed": self.speed,
             "spin_rate": self.spin_rate,
             "fastest": self.fastest,
-            "limit": self.limit,
         }
         made = plan_through(points, params, shape=goal.shape, **options)
         where = " then ".join(_pose_text(*p) for p in points)
@@ -235,11 +241,6 @@ class PlanOptions:
             note += f"poses are relative to the start {_pose_text(*start)}\n"
         label = f"to {where}" + (f" from {_pose_text(*start)}" if goal.start else "")
         return PlanInput(segments, label, source.path, note)
-
-    @property
-    def limit(self) -> float | None:
-        """The motor limit to check against (rad/s), when --rpm-limit gives one."""
-        return None if self.rpm_limit is None else rad_s_from_rpm(self.rpm_limit)
 
     @property
     def ramp_options(self) -> dict[str, float | None]:
@@ -274,7 +275,6 @@ class PlanOptions:
             speed=self.speed,
             spin_rate=self.spin_rate,
             fastest=self.at_limit(params),
-            limit=self.limit,
         )
         if not self.ramped(params):
             return steps
@@ -378,7 +378,7 @@ def _goal_options(kw: dict[str, Any]) -> GoalOptions | None:
 
 
 def _plan_options(kw: dict[str, Any]) -> PlanOptions:
-    names = ("example", "speed", "spin_rate", "fastest", "rpm_limit")
+    names = ("example", "speed", "spin_rate", "fastest")
     ramps = ("max_accel", "max_angular_accel", "max_wheel_accel", "max_jerk", "steps")
     keywords = (*ramps, "side", "clockwise")
     named: dict[str, Any] = {name: kw.pop(name) for name in keywords}
@@ -395,7 +395,7 @@ plan_input_options = option_group(
     [
         click.option(
             "--example",
-            type=click.Choice(["A", "B", "umbmark"], case_sensitive=False),
+            type=Names(["A", "B", "umbmark"]),
             metavar="A|B|umbmark",
             help="An example path: A or B, the course's two paths (A is used when nothing is "
             "given), or the UMBmark square of --side M (first leg along +x, turns in place).",
@@ -418,12 +418,6 @@ plan_input_options = option_group(
             is_flag=True,
             help="Give every segment the shortest duration that keeps its wheels within the "
             "limit (durations given in the plan are ignored).",
-        ),
-        click.option(
-            "--rpm-limit",
-            type=POSITIVE,
-            metavar="RPM",
-            help="Motor limit to check against (rpm), instead of the description's (or --max-rpm).",
         ),
         *(
             click.option(name, type=POSITIVE, metavar=unit, help=text)

@@ -13,6 +13,7 @@ from diffbot.commands.options import (
     NUMBERS,
     RobotOptions,
     fail,
+    output_option,
     split_xacro_args,
     topic_option,
     warn,
@@ -214,11 +215,8 @@ def _reference(
     "PoseStamped track) beside diffbot's odometry, and, without a plan, their distance over "
     "time.",
 )
-@click.option(
-    "-o",
-    "--output",
-    metavar="FILE",
-    help="Write the figure to FILE, its type by suffix: .png, .svg or .pdf (whole or not at all).",
+@output_option(
+    "Write the figure to FILE, its type by suffix: .png, .svg or .pdf (whole or not at all)."
 )
 @click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
 @click.option("--show", is_flag=True, help="Open the figure in a window (needs a display).")

@@ -15,6 +15,7 @@ from diffbot.commands.options import (
     check_finite,
     emit_json,
     fail,
+    output_option,
     parse_number,
     parse_packages,
     robot_options,
@@ -87,7 +88,7 @@ def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
 @click.argument("tokens", nargs=-1, metavar="[PATH] [NAME:=VALUE]...")
 @click.option("--robot", metavar="PATH", help="Robot description (same as PATH).")
 @click.option("--package", "packages", metavar="NAME=DIR", multiple=True, help="Package directory.")
-@click.option("-o", "--output", metavar="FILE", help="Write to this file instead of stdout.")
+@output_option("Write to this file instead of stdout.")
 @click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
 @trust_option
 def urdf(
@@ -222,14 +223,19 @@ def ik(robot: RobotOptions, tokens: tuple[str, ...], do_saturate: bool, as_json:
             state = "within" if ok else "OVER"
             click.echo(f"motor limit  {limit_text(p)}: {state}, {100 * float(fraction):.1f}% used")
     if not ok:
-        faster = "left" if abs(float(wheels.left)) >= abs(float(wheels.right)) else "right"
-        rpm = abs(float(rpm_from_rad_s(wheels.left if faster == "left" else wheels.right)))
-        click.echo(
-            f"error: {faster} wheel at {fmt(rpm, 4)} rpm exceeds the motor limit of "
-            f"{fmt(p.max_wheel_rpm or 0.0, 4)} rpm (try --saturate)",
-            err=True,
-        )
-        sys.exit(EXIT_CHECK_FAILED)
+        _over_limit(p, wheels, " (try --saturate)")
+
+
+def _over_limit(p: DiffDriveParams, wheels: WheelSpeeds, hint: str = "") -> None:
+    """Exit 1, naming the faster wheel, when the wheels exceed the motor limit."""
+    faster = "left" if abs(float(wheels.left)) >= abs(float(wheels.right)) else "right"
+    rpm = abs(float(rpm_from_rad_s(wheels.left if faster == "left" else wheels.right)))
+    click.echo(
+        f"error: {faster} wheel at {fmt(rpm, 4)} rpm exceeds the motor limit of "
+        f"{fmt(p.max_wheel_rpm or 0.0, 4)} rpm{hint}",
+        err=True,
+    )
+    sys.exit(EXIT_CHECK_FAILED)
 
 
 @click.command(context_settings=NUMBERS)
@@ -241,7 +247,8 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
     """Body velocity from wheel joint velocities (forward kinematics).
 
     LEFT and RIGHT are the joint velocities (rad/s, or rpm with --rpm) as the controllers see them,
-    with the description's direction signs; `diffbot ik` prints the same quantities.
+    with the description's direction signs; `diffbot ik` prints the same quantities. Exit code 1
+    when a wheel is over the motor limit (the velocity is still printed).
 
     \b
     Example:
@@ -270,4 +277,4 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
         )
     click.echo(f"radius   {radius}")
     if not within_limit(p, wheels):
-        warn(f"the wheel speeds exceed the motor limit of {limit_text(p)}")
+        _over_limit(p, wheels)

@@ -23,7 +23,7 @@ def plan_limit_text(p: Plan) -> str:
     """The limit a plan was checked against, for people."""
     if p.limit is None:
         return "none"
-    origin = "" if p.limit == p.params.max_wheel_speed else ", from --rpm-limit"
+    origin = "" if p.limit == p.params.max_wheel_speed else ", the plan's own limit"
     return f"{fmt(rpm_from_rad_s(p.limit), 5)} rpm ({fmt(p.limit)} rad/s{origin})"
 
 

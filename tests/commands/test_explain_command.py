@@ -59,7 +59,7 @@ def test_the_plan_options_and_a_plan_text_are_those_of_diffbot_plan(
 ) -> None:
     text = "straight 1; cw 0.5 90"
     fastest = plan(parse_plan(text), params, fastest=True, limit=rad_s_from_rpm(30.0))
-    result = run(runner, "plan", "straight 1", "cw", "0.5", "90", "--fastest", "--rpm-limit", "30")
+    result = run(runner, "plan", "straight 1", "cw", "0.5", "90", "--fastest", "--max-rpm", "30")
     assert result.exit_code == 0, result.output
     assert result.stdout == render(explain_plan(fastest))
     # --fastest runs the faster wheel of every segment at the 30 rpm limit: f = 1
@@ -93,7 +93,7 @@ def test_xacro_arguments_are_given_as_name_value_tokens(runner: CliRunner) -> No
         (["ik", "1e308", "1e308"], "the results overflow"),
         (["ik", "0.1", "0", "--lang", "fr"], "'fr' is not one of 'en', 'es'"),
         (["ik", "0.1", "0", "--format", "html"], "'html' is not one of 'text', 'md'"),
-        (["ik", "0.1", "0", "--bogus"], "no such option: '--bogus'"),
+        (["ik", "0.1", "0", "--bogus"], "No such option '--bogus'"),
         (["plan", "straight 1 zz"], "zz"),
         (["fit", "1"], "No such command 'fit'"),
     ],
