@@ -19,6 +19,7 @@ from typing import Any, NoReturn
 
 import click
 
+from diffbot.commands.groups import SuggestingGroup
 from diffbot.errors import DiffbotError
 from diffbot.io.outputs import guarded_run
 
@@ -106,7 +107,7 @@ class _PipeClosedError(Exception):
     """The reader of stdout went away (click would turn the EPIPE into exit code 1)."""
 
 
-class DiffbotGroup(click.Group):
+class DiffbotGroup(SuggestingGroup):
     """The command group: loads commands on demand and turns every error into one ``error:``
     line and an exit code."""
 
@@ -207,7 +208,7 @@ def main() -> None:
     \b
     Examples:
       diffbot params                          the bundled robot's parameters
-      diffbot params my.urdf.xacro wheel_radius:=0.04
+      diffbot params docs/examples/tutorial_bot/tutorial_bot.urdf
       diffbot ik 0.1 0.5                      wheel speeds for v = 0.1 m/s, w = 0.5 rad/s
       diffbot fk 2.86 2.86                    body velocity from wheel speeds (rad/s)
     """

@@ -7,6 +7,8 @@ lists of mappings such as ``{straight: 1.0, duration: 10}``, or ``.txt`` in text
 
 from __future__ import annotations
 
+import difflib
+import functools
 import math
 import os
 import re
@@ -143,10 +145,15 @@ def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> 
         head = tokens[0]
         kind = head.text.lower()
     if kind not in _SIGNATURES:
-        hint = " (arcs are written ccw/cw RADIUS ANGLE)" if kind == "arc" else ""
+        if kind == "arc":
+            hint = " (arcs are written ccw/cw RADIUS ANGLE)"
+        else:
+            close = difflib.get_close_matches(kind, [*_SIGNATURES, "reverse"], n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
         raise error(
             head,
-            f"unknown segment kind {brief(head.text)}: expected straight, ccw, cw or spin{hint}",
+            f"unknown segment kind {brief(head.text)}: expected straight, ccw, cw, spin or "
+            f"reverse{hint}",
         )
     signature = _SIGNATURES[kind]
     args = tokens[1:]

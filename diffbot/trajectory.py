@@ -381,6 +381,11 @@ def plan(
             duration, velocity, wheel speeds, end pose or end time overflow (not finite, or a
             duration that rounds to zero); the message names the segment.
     """
+    if isinstance(segments, str):
+        raise PlanError(
+            f"plan() takes segments, not plan text ({brief(segments)}): "
+            "read the text with diffbot.parse_plan first"
+        )
     items = list(segments)
     if not items:
         raise PlanError("empty plan: no segments")

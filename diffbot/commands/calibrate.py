@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from diffbot.commands.groups import SuggestingGroup
 from diffbot.commands.options import (
     NUMBERS,
     POSITIVE,
@@ -153,7 +154,7 @@ def _robot(
     return rest, robot, robot.load()
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.group(cls=SuggestingGroup, context_settings={"help_option_names": ["-h", "--help"]})
 def calibrate() -> None:
     """Calibrate the wheel radii and separation of a real robot.
 
@@ -165,6 +166,11 @@ def calibrate() -> None:
     diff_drive_controller multipliers and the xacro arguments; --apply-to writes a calibrated
     copy of a controllers YAML or a description beside it. The derivations are in
     docs/calibration.md.
+
+    \b
+    Examples:
+      diffbot calibrate umbmark --side 4 --runs docs/examples/runs.yaml
+      diffbot calibrate fit --help
     """
 
 
@@ -240,7 +246,7 @@ def umbmark(
     Examples:
       diffbot calibrate umbmark --side 4 --cw -0.31,-0.40 --cw -0.36,-0.39 \\
           --ccw 0.12,-0.09 --ccw 0.10,-0.12
-      diffbot calibrate umbmark --side 4 --runs runs.yaml --json
+      diffbot calibrate umbmark --side 4 --runs docs/examples/runs.yaml --json
     """
     from diffbot.calibration.umbmark import umbmark as run_umbmark
 
@@ -331,7 +337,8 @@ def fit(
     Examples:
       diffbot simulate --example A --true-wheel-radius 0.0352,0.0348 --true-separation 0.138 \\
           --out run.csv && diffbot calibrate fit run.csv
-      diffbot calibrate fit run_bag --truth-topic /mocap/pose --json
+      diffbot simulate --example A --true-separation 0.138 -o run_bag --bag && \\
+          diffbot calibrate fit run_bag --truth-topic /ground_truth --json
     """
     from diffbot.calibration.fit import fit_recordings, require_scipy
     from diffbot.io.poses import read_pose_track

@@ -37,8 +37,10 @@ def check(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
 
     \b
     Examples:
-      diffbot check robot.urdf.xacro --controllers config/controllers.yaml
-      diffbot check robot.urdf.xacro --json
+      diffbot check docs/examples/rover/urdf/rover.urdf.xacro \\
+          --package rover_description=docs/examples/rover
+      diffbot check docs/examples/tutorial_bot/tutorial_bot.urdf --json
+                               exit code 1: its Gazebo plugin says b = 0.4 m
     """
     rest, xacro_args = split_xacro_args(tokens)
     if len(rest) > 1:

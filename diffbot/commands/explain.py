@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import click
 
+from diffbot.commands.groups import SuggestingGroup
 from diffbot.commands.options import (
     NUMBERS,
     RobotOptions,
@@ -78,7 +79,7 @@ def _numbers(
     return values, robot.with_path(None, xacro_args)
 
 
-@click.group()
+@click.group(cls=SuggestingGroup)
 def explain() -> None:
     """Worked derivations of ik, fk, plan and odom, step by step.
 
@@ -96,9 +97,15 @@ def explain() -> None:
 
 
 def _numbers_command(
-    name: str, names: tuple[str, ...], derive: Callable[..., Derivation], help_text: str
+    name: str,
+    names: tuple[str, ...],
+    derive: Callable[..., Derivation],
+    help_text: str,
+    examples: Sequence[str],
 ) -> click.Command:
     """A subcommand that derives from a few numbers given as arguments, in this order."""
+    lines = "\n".join(f"  {example}" for example in examples)
+    help_text = f"{help_text}\n\n\b\nExamples:\n{lines}"
 
     @explain.command(name, context_settings=NUMBERS, help=help_text)
     @click.argument("tokens", nargs=-1, metavar=f"{' '.join(names)} [NAME:=VALUE]...")
@@ -117,6 +124,10 @@ ik = _numbers_command(
     derive_ik,
     "Wheel speeds for a body velocity: LINEAR (m/s) and ANGULAR (rad/s, positive "
     "counter-clockwise), and the check against the motor limit.",
+    [
+        "diffbot explain ik 0.1 0 --lang es",
+        "diffbot explain ik docs/examples/tutorial_bot/tutorial_bot.urdf 0.2 1 --format md",
+    ],
 )
 fk = _numbers_command(
     "fk",
@@ -125,6 +136,7 @@ fk = _numbers_command(
     "Body velocity for two joint velocities: LEFT and RIGHT (rad/s) as 'diffbot fk' takes "
     "them, with the description's direction signs (a mirrored axis turns backwards to roll "
     "forward).",
+    ["diffbot explain fk 2.857 2.857", "diffbot explain fk -1 2.5 --format md"],
 )
 odom = _numbers_command(
     "odom",
@@ -133,6 +145,7 @@ odom = _numbers_command(
     "One odometry step from the origin: the joint angles before (L0, R0) and after (L1, R1) "
     "the step (rad, as a recording holds them: a mirrored axis turns backwards to roll "
     "forward), and DT its duration (s), as 'diffbot odom' reads two such samples.",
+    ["diffbot explain odom 0 0 1 1.5 0.1", "diffbot explain odom 0 0 -2 2 0.5 --lang es"],
 )
 
 
@@ -149,6 +162,11 @@ def plan(
 
     SPEC, FILE and the plan options are those of 'diffbot plan' (see 'diffbot plan --help');
     without a plan, Trajectory A is explained.
+
+    \b
+    Examples:
+      diffbot explain plan --example A --format md > trajectory_a.md
+      diffbot explain plan "straight 1; spin 90" --fastest
     """
     rest, xacro_args = split_xacro_args(tokens)
     source = plan_options.source(rest)

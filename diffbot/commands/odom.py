@@ -187,11 +187,11 @@ def odom(
 
     \b
     Examples:
-      diffbot odom joints.csv
+      diffbot odom docs/examples/joints.csv
       diffbot simulate "straight 1; spin 90" | diffbot odom -
-      diffbot odom my_bag/ --topic /joint_states --out odom.csv
-      diffbot odom run.mcap --out odom_bag --bag --json
-      diffbot odom 'fleet/*.mcap' --jobs 4 --out poses/ --json
+      diffbot simulate --example B -o b_bag --bag && diffbot odom b_bag --topic /joint_states
+      diffbot odom b_bag -o odom_bag --bag --json
+      diffbot odom docs/examples/joints.csv b_bag --jobs 2 -o poses/ --json
     """
     from diffbot.fleet import OdometryTask
     from diffbot.fleet import dask_address as checked_address

@@ -181,7 +181,8 @@ def plan_command(
       diffbot plan                                    Trajectory A (the default)
       diffbot plan "straight 1 10s; ccw 25cm 90; spin -90 2s"
       diffbot plan --example B --fastest
-      diffbot plan path.yaml --format ros2 -o run.sh  a script of 'ros2 topic pub' commands
+      diffbot plan docs/examples/path.yaml --format ros2 -o run.sh
+                                                      a script of 'ros2 topic pub' commands
       diffbot plan --to 0,1,0                         the fastest way to (0 m, 1 m, 0 deg)
     """
 
@@ -266,7 +267,8 @@ def plan_command(
     if ramped is not None and output_format in ("csv", "twist", "wheels", "ros2"):
         fail(
             "a ramped plan is many commands: sample them with --rate HZ (--format csv or json), "
-            "or write a command bag with --out DIR --bag for 'ros2 bag play'"
+            "write a command bag with --out DIR --bag for 'ros2 bag play', or plan velocity "
+            "steps with --steps"
         )
     elif output_format == "json":
         data = plan_json(p, source.label)

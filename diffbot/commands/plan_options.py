@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 import sys
@@ -20,11 +21,12 @@ from diffbot.commands.options import (
     no_such_option,
     option_group,
     robot_options,
+    warn,
 )
 from diffbot.formats.text import fmt
 from diffbot.kinematics import DiffDriveParams
 from diffbot.planfile import load_plan, parse_plan
-from diffbot.trajectory import EXAMPLES, Plan, Segment
+from diffbot.trajectory import EXAMPLES, Arc, Plan, Segment, Spin, Straight
 from diffbot.trajectory import plan as make_plan
 
 if TYPE_CHECKING:
@@ -180,6 +182,26 @@ class PlanOptions:
     side: float | None = None
     clockwise: bool = False
     goal: GoalOptions | None = None
+    #: The cruise options given on the command line (not their defaults), by option name.
+    given: tuple[str, ...] = ()
+
+    def warn_unused(self, segments: Sequence[Segment]) -> None:
+        """Warn about a cruise option given for a plan whose segments all carry durations (or,
+        with --fastest, that replaces them): it would change nothing, silently."""
+        for option, kinds in (("--speed", (Straight, Arc)), ("--spin-rate", (Spin,))):
+            if option not in self.given:
+                continue
+            if self.fastest:
+                warn(f"{option} changes nothing with --fastest (every segment runs at the limit)")
+                continue
+            used = [s for s in segments if isinstance(s, kinds)]
+            if all(s.duration is not None for s in used):
+                what = "straight or arc" if option == "--speed" else "spin"
+                warn(
+                    f"{option} changes nothing: every {what} of the plan has its own duration"
+                    if used
+                    else f"{option} changes nothing: the plan has no {what}"
+                )
 
     def source(self, tokens: Sequence[str]) -> PlanInput:
         """The plan that positional ``tokens`` or these options name (see :func:`plan_input`);
@@ -268,7 +290,9 @@ class PlanOptions:
 
     def make(self, segments: Sequence[Segment], params: DiffDriveParams) -> Plan | RampedPlan:
         """The plan of ``segments`` for the robot, as these options ask: ramped when
-        :meth:`ramped` says so, else a step plan."""
+        :meth:`ramped` says so, else a step plan. Warns about cruise options that change
+        nothing."""
+        self.warn_unused(segments)
         steps = make_plan(
             segments,
             params,
@@ -381,9 +405,18 @@ def _plan_options(kw: dict[str, Any]) -> PlanOptions:
     names = ("example", "speed", "spin_rate", "fastest")
     ramps = ("max_accel", "max_angular_accel", "max_wheel_accel", "max_jerk", "steps")
     keywords = (*ramps, "side", "clockwise")
+    ctx = click.get_current_context(silent=True)
+    given = tuple(
+        option
+        for option in _CRUISE
+        if ctx is not None
+        and ctx.get_parameter_source(option[2:].replace("-", "_"))
+        == click.core.ParameterSource.COMMANDLINE
+    )
     named: dict[str, Any] = {name: kw.pop(name) for name in keywords}
     named["goal"] = _goal_options(kw)
     options = PlanOptions(*(kw.pop(name) for name in names), **named)
+    options = dataclasses.replace(options, given=given)
     if options.steps and any(v is not None for v in options.ramp_options.values()):
         fail("--steps plans velocity steps: give it without --max-accel, --max-jerk and the like")
     return options

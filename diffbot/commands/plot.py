@@ -249,8 +249,8 @@ def plot(
     \b
     Examples:
       diffbot plot --example A -o a.png
-      diffbot plot "straight 1 10s; spin 90" --odom joints.csv -o run.svg
-      diffbot plot --example B --fastest --show
+      diffbot plot "straight 1 10s; spin 90" --odom docs/examples/joints.csv -o run.svg
+      diffbot plot --example B --fastest -o b.pdf
     """
     if output is None and not show:
         fail("nothing to do: give -o FILE (.png, .svg or .pdf) to write the figure, or --show")

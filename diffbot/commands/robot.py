@@ -67,8 +67,9 @@ def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
 
     \b
     Examples:
-      diffbot params diffbot.urdf.xacro wheel_radius:=0.04 --json
-      diffbot params robot.urdf.xacro --controllers config/controllers.yaml
+      diffbot params docs/examples/tutorial_bot/tutorial_bot.urdf --json
+      diffbot params docs/examples/rover/urdf/rover.urdf.xacro wheel_radius:=0.04 \\
+          --package rover_description=docs/examples/rover
     """
     rest, xacro_args = split_xacro_args(tokens)
     if len(rest) > 1:
@@ -107,7 +108,8 @@ def urdf(
 
     \b
     Example:
-      diffbot urdf robot.urdf.xacro wheel_radius:=0.04 --package my_robot=./my_robot -o robot.urdf
+      diffbot urdf docs/examples/rover/urdf/rover.urdf.xacro wheel_radius:=0.04 \\
+          --package rover_description=docs/examples/rover -o rover.urdf
     """
 
     rest, xacro_args = split_xacro_args(tokens)
@@ -251,8 +253,9 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
     when a wheel is over the motor limit (the velocity is still printed).
 
     \b
-    Example:
+    Examples:
       diffbot fk 1.637 2.848            Trajectory A's first arc: 0.0785 m/s, 0.314 rad/s
+      diffbot fk 20 20 --rpm            the same in rpm
     """
     (left, right), robot = _robot_and_numbers(robot, tokens, ("LEFT", "RIGHT"))
     if in_rpm:
