@@ -417,9 +417,7 @@ def test_simulate_checks_the_rpm_limit_option_like_plan(runner: CliRunner, tmp_p
     assert len(errors) == 4
     assert all(line.startswith("error: segment ") for line in errors)
     assert "exceed the 20 rpm limit" in errors[1]
-    within = runner.invoke(
-        main, ["simulate", "--max-rpm", "30", "--out", str(tmp_path / "ok.csv")]
-    )
+    within = runner.invoke(main, ["simulate", "--max-rpm", "30", "--out", str(tmp_path / "ok.csv")])
     assert within.exit_code == 0, within.output
 
 

@@ -209,12 +209,21 @@ def _runs_file(path: str) -> tuple[list[tuple[float, float]], list[tuple[float, 
     return runs["cw"], runs["ccw"]
 
 
-@calibrate.command(context_settings=NUMBERS)
+@calibrate.command()
 @click.argument("tokens", nargs=-1, metavar="[NAME:=VALUE]...")
 @robot_options
 @click.option("--side", type=POSITIVE, required=True, metavar="M", help="Side of the square (m).")
-@click.option("--cw", "cw", type=_POINT, multiple=True, help="End of a clockwise run (m).")
-@click.option("--ccw", "ccw", type=_POINT, multiple=True, help="End of a counter-clockwise run.")
+@click.option(
+    "--cw", "cw", type=_POINT, multiple=True, metavar="X,Y", help="End of a clockwise run (m)."
+)
+@click.option(
+    "--ccw",
+    "ccw",
+    type=_POINT,
+    multiple=True,
+    metavar="X,Y",
+    help="End of a counter-clockwise run.",
+)
 @click.option(
     "--runs", metavar="FILE", help="The ends in a file: CSV direction,x,y or YAML {cw, ccw}."
 )

@@ -252,11 +252,11 @@ def plot(
       diffbot plot "straight 1 10s; spin 90" --odom docs/examples/joints.csv -o run.svg
       diffbot plot --example B --fastest -o b.pdf
     """
+    rest, xacro_args = split_xacro_args(tokens)
     if output is None and not show:
         fail("nothing to do: give -o FILE (.png, .svg or .pdf) to write the figure, or --show")
     if output is not None and not output.strip():
         fail("-o needs a file name, got ''")
-    rest, xacro_args = split_xacro_args(tokens)
     if odom_inputs and not rest and plan_options.example is None and plan_options.goal is None:
         _recordings_only(
             robot, xacro_args, odom_inputs, topic, recording, reference, output, force, show

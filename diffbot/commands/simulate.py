@@ -184,6 +184,7 @@ def _write(
     "--true-wheel-radius",
     "true_radii",
     type=NumberPair("L,R", "m", positive=True, bounds=WHEEL_SIZE_RANGE),
+    metavar="L,R",
     help="The real left and right wheel radii (m): the robot moves by them, and the output "
     "gains its ground-truth pose (x, y, theta).",
 )
