@@ -438,9 +438,20 @@ def is_description(token: str) -> bool:
     path = Path(token)
     if path.name.lower().endswith(DESCRIPTION_SUFFIXES):
         return True
+    if not exists(path):
+        return False
     if path.is_dir():  # an SDF model folder; a bag folder is a recording, not a robot
         return (path / "model.config").is_file()
     return path.is_file() and xml_root(path) in DESCRIPTION_ROOTS
+
+
+def exists(path: Path) -> bool:
+    """Whether a path names something, False for a name the system cannot look up (too long,
+    a NUL byte): plan text may be given where a file name could be."""
+    try:
+        return path.exists()
+    except (OSError, ValueError):
+        return False
 
 
 #: The name of the positional arguments of commands that take a robot: a description given as

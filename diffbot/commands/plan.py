@@ -46,7 +46,7 @@ if TYPE_CHECKING:
 BAG_RATE = 20.0
 #: What the table of a ramped plan adds.
 RAMP_NOTE = (
-    "ramps: each run of equal curvature speeds up and slows down within the acceleration and "
+    "ramps: each run of equal curvature speeds up and slows down within the acceleration and\n"
     "jerk limits; v, w and the wheel speeds are each segment's peak, times are ramped\n"
 )
 
@@ -67,6 +67,12 @@ __all__ = ["plan_command"]
     "ros2: a shell script that publishes the plan.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Same as --format json.")
+@click.option(
+    "--wide",
+    is_flag=True,
+    help="table: each wheel's speed in rad/s too, and the motor limit on the robot line (about "
+    "130 columns; the default table fits 100).",
+)
 @click.option(
     "--wheels",
     "per_wheel",
@@ -135,6 +141,7 @@ def plan_command(
     plan_options: PlanOptions,
     output_format: str,
     as_json: bool,
+    wide: bool,
     per_wheel: bool,
     rate: float | None,
     stamped: bool,
@@ -301,7 +308,7 @@ def plan_command(
             frame_id=frame_id,
         )
     else:
-        text = plan_table(p, source.label) + source.note
+        text = plan_table(p, source.label, wide=wide) + source.note
         if ramped is not None:
             text += RAMP_NOTE
     if output is None:

@@ -17,6 +17,7 @@ from diffbot.commands.options import (
     POSITIVE,
     F,
     Names,
+    exists,
     fail,
     no_such_option,
     option_group,
@@ -91,7 +92,7 @@ def plan_input(
     if len(tokens) == 1:
         token = tokens[0]
         path = Path(token)
-        named_file = bool(token.strip()) and path.exists()
+        named_file = bool(token.strip()) and exists(path)
         file_like = path.suffix.lower() in PLAN_SUFFIXES and not any(c.isspace() for c in token)
         if named_file or file_like:
             return PlanInput(load_plan(path), str(path), path)

@@ -27,9 +27,19 @@ def plan_limit_text(p: Plan) -> str:
     return f"{fmt(rpm_from_rad_s(p.limit), 5)} rpm ({fmt(p.limit)} rad/s{origin})"
 
 
-def plan_table(p: Plan, label: str) -> str:
-    """The plan as a table: each segment's twist, wheel speeds, share of the limit, end pose."""
+#: The width the default table fits in (characters): an ordinary terminal's.
+WIDTH = 100
 
+
+def plan_table(p: Plan, label: str, *, wide: bool = False) -> str:
+    """The plan as a table: each segment's twist, wheel speeds, share of the limit, end pose.
+
+    The default table fits :data:`WIDTH` columns: wheel speeds in rpm only, short headers, the
+    plan text shortened when it is longer; ``wide`` adds each wheel's speed in rad/s and the
+    motor limit on the robot line (about 130 columns).
+    """
+    if not wide:
+        return _narrow_table(p, label)
     params = p.params
     header = [
         "#",
@@ -78,12 +88,54 @@ def plan_table(p: Plan, label: str) -> str:
             cell.ljust(widths[i]) if i == 1 else cell.rjust(widths[i]) for i, cell in enumerate(row)
         ]
         lines.append("  ".join(cells).rstrip())
+    return "\n".join(lines) + "\n" + _summary(p)
+
+
+def _narrow_table(p: Plan, label: str) -> str:
+    params = p.params
+    header = ["#", "segment", "v m/s", "w rad/s", "L rpm", "R rpm", "limit%", "t s", "x m", "y m"]
+    header.append("theta deg")
+    rows = [header]
+    for s in p.segments:
+        rows.append(
+            [
+                str(s.index + 1),
+                describe_segment(s.segment).replace(" arc r ", " "),
+                fixed(float(s.twist.linear), 4),
+                fixed(float(s.twist.angular), 4),
+                fixed(rpm_from_rad_s(float(s.joints.left)), 2),
+                fixed(rpm_from_rad_s(float(s.joints.right)), 2),
+                "-" if s.fraction is None else f"{100 * s.fraction:.1f}",
+                fmt(s.duration, 6),
+                fixed(s.end_pose.x, 4),
+                fixed(s.end_pose.y, 4),
+                fixed(math.degrees(s.end_pose.theta), 2),
+            ]
+        )
+    widths = [max(len(row[i]) for row in rows) for i in range(len(header))]
+    title = f"{label}: {format_plan(s.segment for s in p.segments)}"
+    lines = [
+        title if len(title) <= WIDTH else title[: WIDTH - 4] + " ...",
+        f"robot: {params.source} (wheel radius {fmt(params.wheel_radius)} m, "
+        f"separation {fmt(params.wheel_separation)} m)",
+        "",
+    ]
+    for row in rows:
+        cells = [
+            cell.ljust(widths[i]) if i == 1 else cell.rjust(widths[i]) for i, cell in enumerate(row)
+        ]
+        lines.append("  ".join(cells).rstrip())
+    return "\n".join(lines) + "\n" + _summary(p)
+
+
+def _summary(p: Plan) -> str:
+    """The lines under a table: the total time, the final pose, the motor limit check."""
     final = p.final_pose
-    lines.append("")
-    lines.append(
+    lines = [
+        "",
         f"total {fmt(p.duration, 6)} s; final pose x {fixed(final.x, 4)} m, "
-        f"y {fixed(final.y, 4)} m, theta {fixed(math.degrees(final.theta), 2)} deg"
-    )
+        f"y {fixed(final.y, 4)} m, theta {fixed(math.degrees(final.theta), 2)} deg",
+    ]
     if p.limit is None:
         lines.append("motor limit: none in the description, not checked")
     else:

@@ -41,8 +41,8 @@ def run(runner: CliRunner, *args: str) -> Result:
 # table
 
 
-def test_default_is_trajectory_A_as_a_table(runner: CliRunner) -> None:
-    result = run(runner)
+def test_the_wide_table_of_trajectory_A(runner: CliRunner) -> None:
+    result = run(runner, "--wide")
     assert result.exit_code == 0, result.output
     out = result.stdout
     assert out.startswith(f"Trajectory A: {EXAMPLES['A']}\n")
@@ -845,3 +845,28 @@ def test_per_wheel_commands_address_every_joint_of_a_skid_steers_side(
         ],
     ).stdout
     assert "'{data: [0.0, 0.0]}'" in script
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        [],
+        ["--example", "B", "--fastest"],
+        ["--example", "umbmark", "--side", "4"],
+        ["straight 1; spin 90", "--max-accel", "0.5"],
+        ["; ".join(["ccw 0.25 180", "straight 1", "cw 0.25 180", "straight -1"] * 6)],
+    ],
+)
+def test_the_default_table_fits_100_columns_and_wide_is_the_full_one(
+    runner: CliRunner, args: list[str]
+) -> None:
+    narrow = run(runner, *args)
+    wide = run(runner, *args, "--wide")
+    assert narrow.exit_code == wide.exit_code == 0, narrow.output
+    assert max(len(line) for line in narrow.stdout.splitlines()) <= 100
+    assert "L rpm" in narrow.stdout
+    assert "left rad/s" not in narrow.stdout
+    assert "left rad/s" in wide.stdout
+    assert max(len(line) for line in wide.stdout.splitlines()) > 100
+    # the same plan: the same summary lines under both tables
+    assert narrow.stdout.splitlines()[-2:] == wide.stdout.splitlines()[-2:]
