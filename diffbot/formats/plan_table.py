@@ -106,7 +106,7 @@ def _narrow_table(p: Plan, label: str) -> str:
                 fixed(rpm_from_rad_s(float(s.joints.left)), 2),
                 fixed(rpm_from_rad_s(float(s.joints.right)), 2),
                 "-" if s.fraction is None else f"{100 * s.fraction:.1f}",
-                fmt(s.duration, 6),
+                fmt(s.duration, 4),
                 fixed(s.end_pose.x, 4),
                 fixed(s.end_pose.y, 4),
                 fixed(math.degrees(s.end_pose.theta), 2),
