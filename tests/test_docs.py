@@ -2,8 +2,11 @@
 
 A ```console block holds commands (``$ `` lines, ``\\`` continuing a line) each followed by its
 output (stdout and stderr as a terminal shows them). A line ``...`` stands for any number of lines.
-Each file's blocks run in order in one scratch directory holding a copy of ``docs/examples``, with
-the installed ``diffbot`` on the PATH.
+
+The pages are walked as a reader walks them from the repository's root: README.md, then every page
+in the order the README links them, all in ONE scratch directory holding a copy of
+``docs/examples`` (so what an earlier page writes is there for a later one, and two pages writing
+the same file collide as they would for the reader), with the installed ``diffbot`` on the PATH.
 """
 
 from __future__ import annotations
@@ -19,7 +22,21 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+LINK = re.compile(r"\]\(([^)#\s]+)(?:#[^)\s]*)?\)")
+
+
+def reading_order() -> list[Path]:
+    """README.md, then the docs pages in the order the README first links them."""
+    readme = ROOT / "README.md"
+    pages = [readme]
+    for target in LINK.findall(readme.read_text(encoding="utf-8")):
+        page = (ROOT / target).resolve()
+        if page.suffix == ".md" and page.parent == ROOT / "docs" and page not in pages:
+            pages.append(page)
+    return pages
+
+
+PAGES = reading_order()
 BLOCK = re.compile(r"^```console\n(.*?)^```", re.MULTILINE | re.DOTALL)
 
 
@@ -54,11 +71,36 @@ def matches(expected: list[str], actual: list[str]) -> bool:
     return bool(actual) and actual[0] == expected[0] and matches(expected[1:], actual[1:])
 
 
-@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
-def test_shell_sessions_print_what_the_page_shows(page: Path, tmp_path: Path) -> None:
-    examples = ROOT / "docs" / "examples"
-    if examples.is_dir():
-        shutil.copytree(examples, tmp_path / "docs" / "examples")
+def test_the_readme_links_every_page_and_every_session_is_a_console_block() -> None:
+    pages = sorted((ROOT / "docs").glob("*.md"))
+    assert sorted(PAGES[1:]) == pages, "the README must link every page of docs/"
+    for page in PAGES:
+        text = page.read_text(encoding="utf-8")
+        for fence in re.findall(r"^```(\w*)\n(.*?)^```", text, re.MULTILINE | re.DOTALL):
+            kind, body = fence
+            session = re.search(r"^\$ ", body, re.MULTILINE) is not None  # a prompt: a session
+            assert kind == "console" or not session, f"{page.name}: a session not run: {body}"
+
+
+def _tree(root: Path) -> set[Path]:
+    """The files of the working tree (caches and the virtual environment aside)."""
+    skip = {".git", ".venv", ".mypy_cache", ".ruff_cache", ".pytest_cache", ".hypothesis"}
+    return {
+        path.relative_to(root)
+        for path in root.rglob("*")
+        if not skip & set(path.relative_to(root).parts) and "__pycache__" not in path.parts
+    }
+
+
+def test_walking_the_pages_in_order_prints_what_they_show(tmp_path: Path) -> None:
+    before = _tree(ROOT)
+    shutil.copytree(ROOT / "docs" / "examples", tmp_path / "docs" / "examples")
+    for page in PAGES:
+        _walk(page, tmp_path)
+    assert _tree(ROOT) == before, "the walk left files in the working tree"
+
+
+def _walk(page: Path, tmp_path: Path) -> None:
     env = {
         **os.environ,
         "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
@@ -102,9 +144,6 @@ def test_a_continued_command_runs_as_one_command() -> None:
     ((command, expected),) = sessions("```console\n$ echo a \\\n  b\na b\n```\n")
     done = subprocess.run(["bash", "-c", command], capture_output=True, text=True, check=True)
     assert done.stdout.splitlines() == expected
-
-
-LINK = re.compile(r"\]\(([^)#\s]+)(?:#[^)\s]*)?\)")
 
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)

@@ -2,8 +2,8 @@
 against a ground truth, and the results in the forms a robot's configuration takes.
 
 - :mod:`~diffbot.calibration.umbmark`: Borenstein and Feng's square test.
-- :mod:`~diffbot.calibration.fit`: least squares over windows of a recording (needs SciPy:
-  ``pip install 'diffbot-kinematics[calibrate]'``).
+- :mod:`~diffbot.calibration.fit`: least squares over windows of a recording (SciPy, a
+  dependency of the base install).
 - :mod:`~diffbot.calibration.results`: multipliers and xacro arguments.
 - :mod:`~diffbot.calibration.apply`: calibrated copies of a controllers YAML or a description.
 - :mod:`~diffbot.calibration.truth`: the ground truth of a simulated robot.

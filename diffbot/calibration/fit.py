@@ -39,7 +39,9 @@ __all__ = [
 #: Sample intervals per window of :func:`fit` when no window is given.
 DEFAULT_WINDOW = 50
 #: What to install for the least-squares fit.
-SCIPY_INSTALL_HINT = "pip install 'diffbot-kinematics[calibrate]'"
+SCIPY_INSTALL_HINT = (
+    "pip install scipy (a dependency of diffbot-kinematics: the environment lacks it)"
+)
 
 #: Smallest ratio of the Jacobian's singular values (parameters scaled to 1) that :func:`fit`
 #: accepts: below it one combination of the parameters does not change the residuals.

@@ -340,7 +340,7 @@ def fit(
     of --window samples is compared, starting from the description's values. Drive straights
     and turns both ways (Trajectory A is enough).
 
-    Needs SciPy: pip install 'diffbot-kinematics[calibrate]'
+    Uses SciPy, which the base install brings.
 
     \b
     Examples:

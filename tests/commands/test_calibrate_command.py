@@ -216,7 +216,8 @@ def test_fit_without_scipy_says_what_to_install(
     monkeypatch.setitem(sys.modules, "scipy.optimize", None)
     line = bad_input(runner, "calibrate", "fit", str(run_csv))
     assert line == (
-        "error: the least-squares fit needs SciPy: pip install 'diffbot-kinematics[calibrate]'"
+        "error: the least-squares fit needs SciPy: pip install scipy (a dependency of "
+        "diffbot-kinematics: the environment lacks it)"
     )
 
 
