@@ -19,7 +19,7 @@ from diffbot.cli import main
 ROOT = Path(__file__).resolve().parents[1]
 LEAVES = {" ".join(words): c for words, c in commands() if not isinstance(c, click.Group)}
 #: Commands that write files.
-WRITERS = ("urdf", "plan", "odom", "simulate", "plot")
+WRITERS = ("urdf", "plan", "odom", "simulate", "plot", "calibrate fit", "calibrate umbmark")
 OUTPUT = {"-o", "--output", "--out"}
 
 

@@ -18,6 +18,7 @@ from diffbot.commands.options import (
     emit_json,
     fail,
     option_group,
+    output_option,
     parse_number,
     robot_options,
     split_xacro_args,
@@ -53,18 +54,31 @@ class _Output:
     as_json: bool
     apply_to: str | None
     force: bool
+    output: str | None = None
+
+    def target(self) -> Path | None:
+        """Where the calibrated copy goes: the output option, else beside --apply-to."""
+        if self.apply_to is None:
+            return None
+        from diffbot.calibration.apply import calibrated_path
+
+        return (
+            Path(self.output) if self.output is not None else calibrated_path(Path(self.apply_to))
+        )
 
     def check(self) -> None:
         """Refuse, before any work, a --apply-to that is missing or whose copy may not be
         written (it exists and --force is not given)."""
-        from diffbot.calibration.apply import calibrated_path
         from diffbot.io.outputs import output_target
 
-        if self.apply_to is not None:
+        if self.output is not None and self.apply_to is None:
+            fail("-o/--output names where the calibrated copy goes: give --apply-to FILE too")
+        target = self.target()
+        if self.apply_to is not None and target is not None:
             source = Path(self.apply_to)
             if not source.exists():
                 fail(f"--apply-to {self.apply_to}: no such file")
-            output_target(calibrated_path(source), force=self.force, inputs=[source])
+            output_target(target, force=self.force, inputs=[source])
 
 
 _output_options = option_group(
@@ -78,10 +92,14 @@ _output_options = option_group(
             "xacro:arg or xacro:property that defines wheel_radius and wheel_separation. The "
             "copy is read back before it is written; FILE itself is never changed.",
         ),
+        output_option(
+            "Write the calibrated copy of --apply-to here instead of beside it "
+            "(FILE.calibrated...)."
+        ),
         click.option("--force", is_flag=True, help="Overwrite the calibrated copy if it exists."),
     ],
     "output",
-    lambda kw: _Output(kw.pop("as_json"), kw.pop("apply_to"), kw.pop("force")),
+    lambda kw: _Output(kw.pop("as_json"), kw.pop("apply_to"), kw.pop("force"), kw.pop("output")),
 )
 
 
@@ -117,7 +135,7 @@ def _report(
     extra: dict[str, object] | None = None,
 ) -> None:
     """Print a calibration and write the calibrated copy of --apply-to."""
-    from diffbot.calibration.apply import apply_to, calibrated_path
+    from diffbot.calibration.apply import apply_to
     from diffbot.calibration.checks import check_geometry
     from diffbot.calibration.results import multiplier_base
     from diffbot.io.outputs import write_text_atomic
@@ -128,7 +146,8 @@ def _report(
     written: str | None = None
     if output.apply_to is not None:
         source = Path(output.apply_to)
-        target = calibrated_path(source)
+        target = output.target()
+        assert target is not None
         controller = params.controller.name if params.controller is not None else None
         applied = apply_to(source, result, controller=controller, load=_read_back(robot, source))
         write_text_atomic(target, applied.text, force=output.force, inputs=[source])

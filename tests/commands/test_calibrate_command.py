@@ -311,3 +311,24 @@ def test_umbmark_refuses_a_runs_file_of_another_shape(runner: CliRunner, tmp_pat
     path.write_text("left: [[0, 0]]\n", "utf-8")
     line = bad_input(runner, "calibrate", "umbmark", "--side", "4", "--runs", str(path))
     assert "a runs YAML maps cw and ccw to lists of [x, y]" in line
+
+
+def test_the_output_option_says_where_the_calibrated_copy_goes(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    source = tmp_path / "controllers.yaml"
+    # the controllers file of docs/plans.md: one diff_drive_controller
+    source.write_text(
+        (Path(__file__).parents[2] / "docs" / "examples" / "slow.yaml").read_text(), "utf-8"
+    )
+    umbmark = ["calibrate", "umbmark", "--side", "4", "--cw", "-0.3356,-0.3958"]
+    umbmark += ["--ccw", "0.1133,-0.1056", "--apply-to", str(source)]
+    for spelling in ("-o", "--output", "--out"):
+        target = tmp_path / f"copy{spelling}.yaml"
+        result = runner.invoke(main, [*umbmark, spelling, str(target)])
+        assert result.exit_code == 0, result.output
+        assert "wheel_separation_multiplier: 1.01030089" in target.read_text(encoding="utf-8")
+    assert not (tmp_path / "controllers.calibrated.yaml").exists()
+    result = runner.invoke(main, [*umbmark[:-2], "-o", str(tmp_path / "x.yaml")])
+    assert result.exit_code == 2
+    assert "give --apply-to FILE too" in result.stderr
