@@ -940,3 +940,8 @@ def test_integers_too_large_for_a_float_are_not_finite() -> None:
         segments_from_data([{"straight": 10**400}])
     with pytest.raises(PlanError, match="length"):
         Straight(10**400)
+
+
+def test_plan_given_text_points_at_parse_plan(params: DiffDriveParams) -> None:
+    with pytest.raises(PlanError, match=r"not plan text .*diffbot\.parse_plan"):
+        plan("straight 1", params)  # type: ignore[arg-type]

@@ -870,3 +870,24 @@ def test_the_default_table_fits_100_columns_and_wide_is_the_full_one(
     assert max(len(line) for line in wide.stdout.splitlines()) > 100
     # the same plan: the same summary lines under both tables
     assert narrow.stdout.splitlines()[-2:] == wide.stdout.splitlines()[-2:]
+
+
+def test_a_speed_that_changes_nothing_warns(runner: CliRunner) -> None:
+    # Trajectory A's segments all carry durations: --speed cannot change them
+    result = run(runner, "--speed", "0.5")
+    assert result.exit_code == 0, result.output
+    assert "warning: --speed changes nothing: every straight or arc of the plan has its own" in (
+        result.stderr
+    )
+    assert "--speed" not in run(runner, "straight 1", "--speed", "0.05").stderr
+    assert "--speed" not in run(runner).stderr  # not given: nothing to say
+    spin = run(runner, "straight 1", "--spin-rate", "1")
+    assert "warning: --spin-rate changes nothing: the plan has no spin" in spin.stderr
+
+
+def test_a_ramped_plan_refused_in_a_message_format_names_steps(runner: CliRunner) -> None:
+    slow = Path(__file__).parents[2] / "docs" / "examples" / "slow.yaml"
+    for fmt in ("twist", "ros2"):
+        result = run(runner, "--controllers", str(slow), "--format", fmt)
+        assert_bad_input(result, "--steps", "--rate")
+        assert run(runner, "--controllers", str(slow), "--format", fmt, "--steps").exit_code == 0
