@@ -76,19 +76,25 @@ def plan_table(p: Plan, label: str, *, wide: bool = False) -> str:
                 fixed(math.degrees(s.end_pose.theta), 2),
             ]
         )
-    widths = [max(len(row[i]) for row in rows) for i in range(len(header))]
     lines = [
         f"{label}: {format_plan(s.segment for s in p.segments)}",
         f"robot: {params.source} (wheel radius {fmt(params.wheel_radius)} m, "
         f"separation {fmt(params.wheel_separation)} m); motor limit {plan_limit_text(p)}",
         "",
     ]
-    for row in rows:
-        cells = [
+    return "\n".join([*lines, *_aligned(rows)]) + "\n" + _summary(p)
+
+
+def _aligned(rows: list[list[str]]) -> list[str]:
+    """Table rows as text lines: the segment column (the second) aligned left, the others
+    right, two spaces apart."""
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
+    return [
+        "  ".join(
             cell.ljust(widths[i]) if i == 1 else cell.rjust(widths[i]) for i, cell in enumerate(row)
-        ]
-        lines.append("  ".join(cells).rstrip())
-    return "\n".join(lines) + "\n" + _summary(p)
+        ).rstrip()
+        for row in rows
+    ]
 
 
 def _narrow_table(p: Plan, label: str) -> str:
@@ -112,7 +118,6 @@ def _narrow_table(p: Plan, label: str) -> str:
                 fixed(math.degrees(s.end_pose.theta), 2),
             ]
         )
-    widths = [max(len(row[i]) for row in rows) for i in range(len(header))]
     title = f"{label}: {format_plan(s.segment for s in p.segments)}"
     lines = [
         title if len(title) <= WIDTH else title[: WIDTH - 4] + " ...",
@@ -120,12 +125,7 @@ def _narrow_table(p: Plan, label: str) -> str:
         f"separation {fmt(params.wheel_separation)} m)",
         "",
     ]
-    for row in rows:
-        cells = [
-            cell.ljust(widths[i]) if i == 1 else cell.rjust(widths[i]) for i, cell in enumerate(row)
-        ]
-        lines.append("  ".join(cells).rstrip())
-    return "\n".join(lines) + "\n" + _summary(p)
+    return "\n".join([*lines, *_aligned(rows)]) + "\n" + _summary(p)
 
 
 def _summary(p: Plan) -> str:
