@@ -120,3 +120,14 @@ def test_plan_text_numbers_and_plan_files_are_not_descriptions(folder: Path) -> 
     assert not is_description("wheel_radius:=0.04.urdf")
     assert is_description(str(folder / "robot.urdf"))
     assert is_description("not_yet.sdf")
+
+
+def test_a_model_folder_is_a_description_and_a_bag_folder_is_not(tmp_path: Path) -> None:
+    model = tmp_path / "rover_model"
+    model.mkdir()
+    (model / "model.config").write_text("<model><sdf>model.sdf</sdf></model>\n", "utf-8")
+    bag = tmp_path / "run_bag"
+    bag.mkdir()
+    (bag / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n", "utf-8")
+    assert is_description(str(model))
+    assert not is_description(str(bag))
