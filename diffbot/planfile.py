@@ -8,7 +8,6 @@ lists of mappings such as ``{straight: 1.0, duration: 10}``, or ``.txt`` in text
 from __future__ import annotations
 
 import difflib
-import functools
 import math
 import os
 import re
