@@ -814,7 +814,11 @@ def test_errors_show_at_most_a_short_excerpt_of_an_entry(write: Write) -> None:
             r"duplicate key 'duration'",
         ),
         ("p.yaml", "segments: [straight 1]\nspeed: 5\n", r"unknown top-level key 'speed'"),
-        ("p.yaml", f"- {{straight: 1{'0' * 5000}}}\n", r"malformed YAML: a number too long to read"),
+        (
+            "p.yaml",
+            f"- {{straight: 1{'0' * 5000}}}\n",
+            r"malformed YAML: a number too long to read",
+        ),
         ("p.json", f'[{{"straight": 1{"0" * 5000}}}]', r"a value cannot be read: Exceeds"),
         ("p.yaml", "- {straight: 1, duration: 10 s}\n", r"'10 s': write the unit attached .* 10s"),
         ("p.yaml", "- {straight: 25 cm}\n", r"'25 cm': write the unit attached .* 25cm"),

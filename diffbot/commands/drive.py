@@ -122,8 +122,10 @@ def drive(
     source = plan_options.source(rest)
     params = robot.with_path(None, xacro_args).load()
     source = plan_options.resolve(source, params)
-    if plan_options.fastest and plan_options.limit is None and params.max_wheel_speed is None:
-        fail("--fastest needs a motor limit: give one with --max-rpm RPM or --rpm-limit RPM")
+    if plan_options.fastest and params.max_wheel_speed is None:
+        fail(
+            "--fastest needs a motor limit, and the robot description has none: give --max-rpm RPM"
+        )
     from diffbot.formats.plan_table import violation_lines
     from diffbot.profiles import Limits
     from diffbot.ramps import ramp
