@@ -108,7 +108,8 @@ def drive(
     \b
     Examples:
       ROS_LOCALHOST_ONLY=1 diffbot drive --example A --stamped
-      diffbot drive "straight 1; spin 90" --max-accel 0.2 --wheels
+      diffbot drive "straight 1; spin 90" --max-accel 0.2 --wheels --wait 1
+          with no robot listening: exit code 2 after the 1 s wait
     """
     rest, xacro_args = split_xacro_args(tokens)
     for option, name in (

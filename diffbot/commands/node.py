@@ -31,6 +31,11 @@ def node() -> None:
     The domain comes from ROS_DOMAIN_ID; ROS_LOCALHOST_ONLY=1 or
     ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST keep the traffic on this machine. Each node runs
     until Ctrl-C (or --duration) and then prints what it counted.
+
+    \b
+    Examples:
+      diffbot node odom --duration 1     odometry from joint_states, for a second
+      ROS_LOCALHOST_ONLY=1 diffbot node ik & diffbot drive --example A
     """
 
 
@@ -95,7 +100,8 @@ def odom(
     with mismatched arrays is skipped and counted in the status line.
 
     \b
-    Example:
+    Examples:
+      diffbot node odom --duration 1     listen for a second, then say what was counted
       ROS_LOCALHOST_ONLY=1 diffbot node odom --controllers my_controllers.yaml
     """
     check_topic("--joint-states", joint_states)
@@ -182,7 +188,8 @@ def ik(
     goes quiet for --timeout seconds.
 
     \b
-    Example:
+    Examples:
+      diffbot node ik --duration 1       listen for a second, then say what was counted
       ROS_LOCALHOST_ONLY=1 diffbot node ik --stamped
     """
     check_topic("--cmd-vel", cmd_vel)
@@ -304,7 +311,8 @@ def robot_command(
     quiet for --timeout seconds.
 
     \b
-    Example:
+    Examples:
+      diffbot node robot --duration 1    a robot for a second, standing still without commands
       ROS_LOCALHOST_ONLY=1 diffbot node robot --rate 100 --ticks 4096
     """
     from diffbot.urdf.xacro import expand
