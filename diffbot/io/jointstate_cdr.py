@@ -295,11 +295,15 @@ def decode_positions(blobs: Sequence[bytes], joints: Sequence[str]) -> DecodedPo
                 index, rows = index[1:], rows[1:]
             else:
                 same = _matches(rows, layout, rows[0])
+                if same.all():  # the common case: no copy of the rows
+                    out.rows(index, rows, layout)
+                    break
                 out.rows(index[same], rows[same], layout)
                 index, rows = index[~same], rows[~same]
             if len(index) == 0:
                 break
-        leftover.extend(index.tolist())
+        else:
+            leftover.extend(index.tolist())
     if leftover:
         try:
             typestore = bag_typestore()
