@@ -19,7 +19,7 @@ import os
 import shutil
 import sqlite3
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from operator import itemgetter
 from pathlib import Path, PurePath
 from typing import TYPE_CHECKING, Any, Final, NamedTuple
@@ -182,6 +182,9 @@ class TopicChunks:
         path: a rosbag2 directory (sqlite3 or mcap storage), or one ``.db3`` or ``.mcap`` file.
         topic: the topic to read.
         chunk_size: messages per chunk (the last may hold fewer).
+        choose: without a topic, picks the topic from the bag's topics and their types (and
+            raises a :class:`~diffbot.errors.DiffbotError` when none fits); by default
+            ``/joint_states`` or else the only JointState topic.
 
     Attributes:
         msgtype: the topic's message type, from the bag's topic table or metadata.
@@ -199,6 +202,7 @@ class TopicChunks:
         topic: str | None = None,
         *,
         chunk_size: int = CHUNK_MESSAGES,
+        choose: Callable[[dict[str, set[str]]], str] | None = None,
     ) -> None:
         if chunk_size < 1:
             raise BagError(f"chunk_size must be at least 1, got {chunk_size}")
@@ -208,6 +212,9 @@ class TopicChunks:
         #: Whether the topic was chosen here, as the bag's only JointState topic.
         self.topic_chosen = False
         self._wanted = topic
+        self._choose = choose
+        #: The bag's topics and the message types each carries.
+        self.topics: dict[str, set[str]] = {}
         self.chunk_size = chunk_size
         if not p.exists():
             raise BagError(f"{self.source}: no such file or directory")
@@ -282,7 +289,11 @@ class TopicChunks:
             raise
 
     def _check_topic(self, topics: dict[str, set[str]]) -> None:
-        if self._wanted is None and DEFAULT_TOPIC not in topics:
+        self.topics = topics
+        if self._wanted is None and self._choose is not None:
+            self.topic = self._choose(topics)
+            self.topic_chosen = True
+        elif self._wanted is None and DEFAULT_TOPIC not in topics:
             joint_topics = sorted(t for t, types in topics.items() if JOINT_STATE in types)
             if len(joint_topics) == 1:
                 self.topic = joint_topics[0]

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
-from diffbot.errors import DiffbotError, RecordingError
+from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.csv_chunks import TIME_COLUMNS
 from diffbot.io.textfile import open_text
@@ -186,39 +186,48 @@ def _pose_of(message: Any) -> tuple[Any, Any]:
 
 
 def _read_bag(path: Path, topic: str | None) -> PoseTrack:
-    from diffbot.io.bag import require_rosbags
+    """A pose topic of a bag, opened as the joint states are (rosbag2 folders with or without
+    metadata, lone storage files, ROS 1 bags)."""
+    from contextlib import closing
+
+    from diffbot.io.bag import require_rosbags, typestore
+    from diffbot.io.bag_chunks import TopicChunks
 
     require_rosbags()
-    from rosbags.rosbag2 import Reader
-    from rosbags.typesys import Stores, get_typestore
-
     source = str(path)
-    typestore = get_typestore(Stores.ROS2_HUMBLE)
+    kinds = " or ".join(POSE_TYPES)
+
+    def choose(topics: dict[str, set[str]]) -> str:
+        poses = sorted(t for t, types in topics.items() if types & set(POSE_TYPES))
+        if not poses:
+            raise RecordingError(f"{source}: no topic of {kinds}: no ground truth")
+        if len(poses) > 1:
+            raise RecordingError(
+                f"{source}: several topics of {kinds} ({listing(poses)}): name the ground "
+                "truth's topic"
+            )
+        return poses[0]
+
+    store = typestore()
     header_rows = _Poses(source)
     receive_rows = _Poses(source)
-    try:
-        with Reader(path) as reader:
-            poses = sorted({c.topic for c in reader.connections if c.msgtype in POSE_TYPES})
-            if topic is None:
-                if not poses:
+    with closing(TopicChunks(path, topic, choose=choose)) as chunks:
+        if chunks.msgtype not in POSE_TYPES:
+            found = sorted(f"{t} ({m})" for t, types in chunks.topics.items() for m in types)
+            raise RecordingError(
+                f"{source}: no topic {chunks.topic!r} of {kinds}; topics found: {listing(found)}"
+            )
+        for chunk in chunks:
+            assert chunk.receive_ns is not None  # asked for by default
+            for received_ns, raw in zip(chunk.receive_ns.tolist(), chunk.blobs, strict=True):
+                try:
+                    message = store.deserialize_cdr(raw, chunks.msgtype)
+                except Exception as err:
+                    detail = " ".join(str(err).split()) or type(err).__name__
                     raise RecordingError(
-                        f"{source}: no topic of {' or '.join(POSE_TYPES)}: no ground truth"
-                    )
-                if len(poses) > 1:
-                    raise RecordingError(
-                        f"{source}: several topics of {' or '.join(POSE_TYPES)} "
-                        f"({listing(poses)}): name the ground truth's topic"
-                    )
-                topic = poses[0]
-            connections = [c for c in reader.connections if c.topic == topic]
-            if not connections or any(c.msgtype not in POSE_TYPES for c in connections):
-                found = sorted({f"{c.topic} ({c.msgtype})" for c in reader.connections})
-                raise RecordingError(
-                    f"{source}: no topic {topic!r} of {' or '.join(POSE_TYPES)}; topics "
-                    f"found: {listing(found)}"
-                )
-            for connection, received_ns, raw in reader.messages(connections=connections):
-                header, pose = _pose_of(typestore.deserialize_cdr(raw, connection.msgtype))
+                        f"{source}: a {chunks.msgtype} message cannot be decoded: {detail}"
+                    ) from None
+                header, pose = _pose_of(message)
                 q = pose.orientation
                 values = _pose(
                     (
@@ -226,15 +235,11 @@ def _read_bag(path: Path, topic: str | None) -> PoseTrack:
                         float(pose.position.y),
                         yaw_from_quaternion(q.x, q.y, q.z, q.w),
                     ),
-                    f"{source}: {connection.topic} message {len(header_rows) + 1}",
+                    f"{source}: {chunks.topic} message {len(header_rows) + 1}",
                 )
                 stamp_ns = int(header.stamp.sec) * NS_PER_S + int(header.stamp.nanosec)
                 header_rows.append(stamp_ns, *values)
                 receive_rows.append(int(received_ns), *values)
-    except DiffbotError:
-        raise
-    except Exception as err:
-        detail = " ".join(str(err).split()) or type(err).__name__
-        raise RecordingError(f"{source}: not a readable rosbag2 recording: {detail}") from None
+        topic = chunks.topic
     use_header = 0 not in header_rows.stamps
     return _track(f"{source} {topic}", header_rows if use_header else receive_rows)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from bags import TYPESTORE, write_bag
+from bags import TYPESTORE, lone_storage, write_bag
 from rosbags.rosbag2 import Writer
 from rosbags.typesys.stores import ros2_humble as m
 
@@ -135,6 +135,63 @@ def test_a_bag_without_the_pose_topic_is_refused(tmp_path: Path) -> None:
         read_pose_track(path)
     with pytest.raises(RecordingError, match=r"no topic '/joint_states' of .*found: .*JointState"):
         read_pose_track(path, "/joint_states")
+
+
+def ros1_odometry_bag(path: Path, stamps_ns: list[int]) -> Path:
+    """A ROS 1 bag with nav_msgs/Odometry poses (k, -k, 3k rad) on ``/odom`` at the stamps,
+    written by rosbags' rosbag1 writer with the ROS 1 Noetic types."""
+    from rosbags.rosbag1 import Writer as Writer1
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    t = store.types
+    with Writer1(path) as writer:
+        conn = writer.add_connection("/odom", ODOMETRY, typestore=store)
+        for k, stamp_ns in enumerate(stamps_ns):
+            sec, nanosec = divmod(stamp_ns, 1_000_000_000)
+            q = quaternion_from_yaw(3 * k)
+            cov = np.zeros(36)
+            zero = t["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0)
+            msg = t[ODOMETRY](
+                header=t["std_msgs/msg/Header"](
+                    seq=k,
+                    stamp=t["builtin_interfaces/msg/Time"](sec=sec, nanosec=nanosec),
+                    frame_id="odom",
+                ),
+                child_frame_id="base_link",
+                pose=t["geometry_msgs/msg/PoseWithCovariance"](
+                    pose=t["geometry_msgs/msg/Pose"](
+                        position=t["geometry_msgs/msg/Point"](x=float(k), y=float(-k), z=0.0),
+                        orientation=t["geometry_msgs/msg/Quaternion"](x=q.x, y=q.y, z=q.z, w=q.w),
+                    ),
+                    covariance=cov,
+                ),
+                twist=t["geometry_msgs/msg/TwistWithCovariance"](
+                    twist=t["geometry_msgs/msg/Twist"](linear=zero, angular=zero), covariance=cov
+                ),
+            )
+            writer.write(conn, stamp_ns + 10**9, bytes(store.serialize_ros1(msg, ODOMETRY)))
+    return path
+
+
+def test_a_ros1_bag_track_is_read_like_a_rosbag2_one(tmp_path: Path) -> None:
+    stamps = [10**9, 2 * 10**9, 3 * 10**9]
+    track = read_pose_track(ros1_odometry_bag(tmp_path / "run.bag", stamps))
+    assert track.source.endswith("run.bag /odom")
+    assert track.stamps_ns.tolist() == stamps
+    assert track.x.tolist() == [0.0, 1.0, 2.0]
+    assert track.y.tolist() == [0.0, -1.0, -2.0]
+    assert track.theta == pytest.approx([0.0, 3.0, 6.0 - 2 * math.pi], abs=1e-12)
+
+
+def test_a_lone_db3_and_a_folder_without_metadata_give_the_bag_track(tmp_path: Path) -> None:
+    bag = pose_bag(tmp_path / "bag", {"/mocap": POSE_STAMPED}, [10**9, 2 * 10**9])
+    lone = lone_storage(bag, tmp_path / "lone.db3")
+    (bag / "metadata.yaml").unlink()
+    for path in (lone, bag):
+        track = read_pose_track(path)
+        assert track.stamps_ns.tolist() == [10**9, 2 * 10**9]
+        assert track.x.tolist() == [0.0, 1.0]
 
 
 def test_a_missing_track_is_refused(tmp_path: Path) -> None:
