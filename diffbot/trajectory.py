@@ -31,9 +31,6 @@ from diffbot.kinematics import (
     Pose,
     Twist,
     WheelSpeeds,
-    inverse,
-    joint_from_wheel,
-    limit_fraction,
     norm_angle,
     rpm_from_rad_s,
     sinc,
@@ -347,6 +344,20 @@ def _overflow(segment: Segment, index: int, what: str) -> PlanError:
     )
 
 
+def _check_segment(
+    segment: Segment, index: int, values: tuple[float, float, float, float, float, float | None]
+) -> None:
+    """Raise for the first of a segment's velocity, wheel turns or share of the limit that is not
+    finite (the sum of finite ones may overflow: then nothing is raised)."""
+    linear, angular, left, right, duration, fraction = values
+    if not _finite(linear, angular):
+        raise _overflow(segment, index, "velocity")
+    if not _finite(rpm_from_rad_s(left) * duration, rpm_from_rad_s(right) * duration):
+        raise _overflow(segment, index, "wheel speeds or wheel turns")
+    if fraction is not None and not _finite(fraction * duration):
+        raise _overflow(segment, index, "share of the motor limit")
+
+
 def reported_pose(x: float, y: float, heading: float) -> Pose:
     """A reported pose: heading wrapped to (-pi, pi], and no ``-0.0``."""
     return Pose(x + 0.0, y + 0.0, norm_angle(heading) + 0.0)
@@ -405,15 +416,24 @@ def plan(
             "(give one with limit=, or a max_wheel_speed in the parameters)"
         )
 
+    # The loop is the cost of every plan (goal plans build thousands): it works on floats with
+    # the same operations, in the same order, as inverse(), limit_fraction() and advance(), and
+    # checks the results' finiteness once, naming the failing quantity only when one is not.
+    half_separation = 0.5 * params.wheel_separation
+    left_radius, right_radius = params.radii
+    left_sign, right_sign = params.left_sign, params.right_sign
+    rpm = rpm_from_rad_s(1.0)  # rpm per rad/s
     planned: list[PlannedSegment] = []
     x, y, heading, elapsed = 0.0, 0.0, 0.0, 0.0
+    start = Pose(0.0, 0.0, 0.0)
     for index, segment in enumerate(items):
         ds, turn = geometry(segment)
         if fastest:
             assert lim is not None
             # Wheel angles travelled (rad) over the segment; their peak at the limit sets the time.
-            travel = inverse(params, ds, turn)
-            duration = max(abs(float(travel.left)), abs(float(travel.right))) / lim
+            track = half_separation * turn
+            travel_left, travel_right = (ds - track) / left_radius, (ds + track) / right_radius
+            duration = max(abs(travel_left), abs(travel_right)) / lim
         elif segment.duration is not None:
             duration = segment.duration
         elif isinstance(segment, Spin):
@@ -422,38 +442,50 @@ def plan(
             duration = abs(ds) / speed
         if not (math.isfinite(duration) and duration > 0.0):
             raise _overflow(segment, index, f"duration ({duration:g} s)")
-        twist = Twist(ds / duration, turn / duration)
-        wheels = inverse(params, twist.linear, twist.angular)
-        wheels = WheelSpeeds(float(wheels.left), float(wheels.right))
-        joints = joint_from_wheel(params, wheels)
-        fraction = limit_fraction(params, wheels, lim)
-        if not _finite(float(twist.linear), float(twist.angular)):
-            raise _overflow(segment, index, "velocity")
-        if not _finite(*(rpm_from_rad_s(float(w)) * duration for w in wheels)):
-            raise _overflow(segment, index, "wheel speeds or wheel turns")
-        if fraction is not None and not _finite(float(fraction) * duration):
-            raise _overflow(segment, index, "share of the motor limit")
+        linear, angular = ds / duration, turn / duration
+        track = half_separation * angular
+        left, right = (linear - track) / left_radius, (linear + track) / right_radius
+        fraction: float | None = None
+        if lim is not None:
+            peak = math.nan if math.isnan(left) or math.isnan(right) else max(abs(left), abs(right))
+            fraction = peak / lim
         elapsed += duration
-        if not _finite(elapsed, heading + turn):
-            raise _overflow(segment, index, "end time or heading")
-        start = reported_pose(x, y, heading)
-        x, y, heading = advance(x, y, heading, ds, turn)
-        if not _finite(x, y):
-            raise _overflow(segment, index, "end pose")
+        end_heading = heading + turn
+        values = (linear, angular, left, right, duration, fraction)
+        if not math.isfinite(elapsed + end_heading):
+            _check_segment(segment, index, values)
+            if not _finite(elapsed, end_heading):
+                raise _overflow(segment, index, "end time or heading")
+        half = 0.5 * turn
+        chord = ds * (math.sin(half) / half if half != 0.0 else 1.0)
+        mean = heading + half
+        end_x, end_y = x + chord * math.cos(mean), y + chord * math.sin(mean)
+        # One sum is finite exactly when all its terms are (or it overflowed: checked then).
+        checked = linear + angular + left * rpm * duration + right * rpm * duration + end_x + end_y
+        if fraction is not None:
+            checked += fraction * duration
+        if not math.isfinite(checked):
+            _check_segment(segment, index, values)
+            if not _finite(end_x, end_y):
+                raise _overflow(segment, index, "end pose")
+        x, y, heading = end_x, end_y, end_heading
+        wrapped = math.remainder(heading, 2.0 * math.pi)
+        end = Pose(x + 0.0, y + 0.0, (math.pi if wrapped == -math.pi else wrapped) + 0.0)
         planned.append(
             PlannedSegment(
                 segment=segment,
                 index=index,
-                twist=twist,
+                twist=Twist(linear, angular),
                 duration=duration,
-                wheels=wheels,
-                joints=WheelSpeeds(float(joints.left), float(joints.right)),
-                fraction=None if fraction is None else float(fraction),
+                wheels=WheelSpeeds(left, right),
+                joints=WheelSpeeds(left_sign * left, right_sign * right),
+                fraction=fraction,
                 start_pose=start,
-                end_pose=reported_pose(x, y, heading),
+                end_pose=end,
                 end_heading=heading + 0.0,
             )
         )
+        start = end
     within = lim is None or all((p.fraction or 0.0) <= 1.0 + LIMIT_TOLERANCE for p in planned)
     try:
         total = math.fsum(p.duration for p in planned)
