@@ -60,6 +60,8 @@ Waypoint = tuple[float, float, float | None]
 
 
 def _number(value: object, what: str) -> float:
+    if type(value) is float and math.isfinite(value):
+        return value
     number = as_float(value)
     if not math.isfinite(number):
         raise PlanError(f"{what} must be a finite number, got {brief(value)}")
@@ -69,8 +71,8 @@ def _number(value: object, what: str) -> float:
 def _pose(value: Sequence[float], what: str) -> Pose:
     if len(value) != 3:
         raise PlanError(f"{what} must be x, y and a heading, got {brief(value)}")
-    x, y, heading = (_number(v, what) for v in value)
-    return Pose(x, y, heading)
+    x, y, heading = value
+    return Pose(_number(x, what), _number(y, what), _number(heading, what))
 
 
 def _waypoint(value: Sequence[float | None], number: int) -> Waypoint:
