@@ -238,6 +238,147 @@ def candidates(x: float, y: float, phi: float) -> list[tuple[str, _Lengths]]:
     return [(w, lengths) for w, _, lengths in _evaluations(_Math, x, y, phi)]
 
 
+# --------------------------------------------------------------------------------------------
+# One goal: the same formulas on floats, each giving up at its first unmet condition (as OMPL's
+# do), so that a goal costs a fraction of the backend-generic form. Same operations in the same
+# order: the lengths are the same numbers.
+
+_Found = tuple[float, ...] | None
+
+
+def _wrap(angle: float) -> float:
+    v = math.fmod(angle, TWO_PI)
+    if v < -math.pi:
+        return v + TWO_PI
+    return v - TWO_PI if v > math.pi else v
+
+
+def _tau_omega_1(u: float, v: float, xi: float, eta: float, phi: float) -> tuple[float, float]:
+    delta = _wrap(u - v)
+    a1 = math.sin(u) - math.sin(delta)
+    b1 = math.cos(u) - math.cos(delta) - 1.0
+    t1 = math.atan2(eta * a1 - xi * b1, xi * a1 + eta * b1)
+    t2 = 2.0 * (math.cos(delta) - math.cos(v) - math.cos(u)) + 3.0
+    tau = _wrap(t1 + math.pi) if t2 < 0.0 else _wrap(t1)
+    return tau, _wrap(tau - u + v - phi)
+
+
+def _lsl_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
+    xi, eta = x - s, y - 1.0 + c
+    t = math.atan2(eta, xi)
+    if not t >= -ZERO:
+        return None
+    v = _wrap(phi - t)
+    return (t, math.hypot(xi, eta), v) if v >= -ZERO else None
+
+
+def _lsr_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
+    xi, eta = x + s, y - 1.0 - c
+    u1 = math.hypot(xi, eta)
+    u1 = u1 * u1
+    if not u1 >= 4.0:
+        return None
+    u = math.sqrt(u1 - 4.0)
+    t = _wrap(math.atan2(eta, xi) + math.atan2(2.0, u))
+    if not t >= -ZERO:
+        return None
+    v = _wrap(t - phi)
+    return (t, u, v) if v >= -ZERO else None
+
+
+def _lrl_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
+    xi, eta = x - s, y - 1.0 + c
+    u1 = math.hypot(xi, eta)
+    if not u1 <= 4.0:
+        return None
+    u = -2.0 * math.asin(0.25 * u1)
+    t = _wrap(math.atan2(eta, xi) + 0.5 * u + math.pi)
+    if not (t >= -ZERO and u <= ZERO):
+        return None
+    return (t, u, _wrap(phi - t + u))
+
+
+def _lrlr_meet_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
+    xi, eta = x + s, y - 1.0 - c
+    rho = 0.25 * (2.0 + math.hypot(xi, eta))
+    if not rho <= 1.0:
+        return None
+    u = math.acos(rho)
+    t, v = _tau_omega_1(u, -u, xi, eta, phi)
+    return (t, u, -u, v) if t >= -ZERO and v <= ZERO else None
+
+
+def _lrlr_cusp_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
+    xi, eta = x + s, y - 1.0 - c
+    rho = (20.0 - xi * xi - eta * eta) / 16.0
+    if not (rho >= 0.0 and rho <= 1.0):
+        return None
+    u = -math.acos(rho)
+    if not u >= -HALF_PI:
+        return None
+    t, v = _tau_omega_1(u, u, xi, eta, phi)
+    return (t, u, u, v) if t >= -ZERO and v >= -ZERO else None
+
+
+def _lrsl_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
+    xi, eta = x - s, y - 1.0 + c
+    rho = math.hypot(xi, eta)
+    if not rho >= 2.0:
+        return None
+    r = math.sqrt(max(rho * rho - 4.0, 0.0))
+    u = 2.0 - r
+    t = _wrap(math.atan2(eta, xi) + math.atan2(r, -2.0))
+    if not (t >= -ZERO and u <= ZERO):
+        return None
+    v = _wrap(phi - HALF_PI - t)
+    return (t, -HALF_PI, u, v) if v <= ZERO else None
+
+
+def _lrsr_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
+    xi, eta = x + s, y - 1.0 - c
+    rho = math.hypot(-eta, xi)
+    if not rho >= 2.0:
+        return None
+    t = math.atan2(xi, -eta)
+    u = 2.0 - rho
+    if not (t >= -ZERO and u <= ZERO):
+        return None
+    v = _wrap(t + HALF_PI - phi)
+    return (t, -HALF_PI, u, v) if v <= ZERO else None
+
+
+def _lrslr_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
+    xi, eta = x + s, y - 1.0 - c
+    rho = math.hypot(xi, eta)
+    if not rho >= 2.0:
+        return None
+    u = 4.0 - math.sqrt(max(rho * rho - 4.0, 0.0))
+    if not u <= ZERO:
+        return None
+    t = _wrap(math.atan2((4.0 - u) * xi - 2.0 * eta, -2.0 * xi + (u - 4.0) * eta))
+    if not t >= -ZERO:
+        return None
+    v = _wrap(t - phi)
+    return (t, -HALF_PI, u, -HALF_PI, v) if v >= -ZERO else None
+
+
+_SCALAR: dict[_Formula, Callable[[float, float, float, float, float], _Found]] = {
+    _lsl: _lsl_1,
+    _lsr: _lsr_1,
+    _lrl: _lrl_1,
+    _lrlr_meet: _lrlr_meet_1,
+    _lrlr_cusp: _lrlr_cusp_1,
+    _lrsl: _lrsl_1,
+    _lrsr: _lrsr_1,
+    _lrslr: _lrslr_1,
+}
+#: :data:`_EVALUATIONS` with the scalar formulas.
+_SCALAR_EVALUATIONS = tuple(
+    (_SCALAR[formula], backwards, sx, sy, sphi, word)
+    for formula, backwards, sx, sy, sphi, word in _EVALUATIONS
+)
+
+
 def path(x: float, y: float, phi: float) -> list[Piece]:
     """The shortest Reeds-Shepp path from the origin heading along x to ``(x, y, phi)``.
 
@@ -249,13 +390,25 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
         Three to five pieces (lengths in radii, negative backwards); the first of equally short
         words in OMPL's order.
     """
-    best: tuple[str, _Lengths] = ("", ())
-    best_length = math.inf
-    for word, lengths in candidates(x, y, phi):
-        length = sum(abs(s) for s in lengths)
+    s, c = math.sin(phi), math.cos(phi)
+    xb, yb = x * c + y * s, x * s - y * c
+    best: tuple[float, ...] = ()
+    best_word, best_sign, best_length = "", 1.0, math.inf
+    for formula, backwards, sx, sy, sphi, word in _SCALAR_EVALUATIONS:
+        if backwards:
+            lengths = formula(sx * xb, sy * yb, sphi * s, c, sphi * phi)
+            if lengths is not None:
+                lengths = lengths[::-1]
+        else:
+            lengths = formula(sx * x, sy * y, sphi * s, c, sphi * phi)
+        if lengths is None:
+            continue
+        length = sum(map(abs, lengths))
         if length < best_length:
-            best, best_length = (word, lengths), length
-    return [Piece(kind, s) for kind, s in zip(best[0], best[1], strict=True)]
+            best, best_word, best_sign, best_length = lengths, word, sx, length
+    if best_sign < 0:
+        best = tuple([-v for v in best])
+    return [Piece(kind, v) for kind, v in zip(best_word, best, strict=True)]
 
 
 def distance(x: float, y: float, phi: float) -> float:

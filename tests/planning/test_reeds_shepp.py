@@ -50,3 +50,22 @@ def test_distances_of_many_goals_at_once_equal_one_by_one() -> None:
     assert reeds_shepp.distances(goals[:3, 0], goals[:3, 1], 0.5) == pytest.approx(
         [reeds_shepp.distance(x, y, 0.5) for x, y in goals[:3, :2]], rel=1e-12
     )
+
+
+@given(
+    st.floats(-1e3, 1e3),
+    st.floats(-1e3, 1e3),
+    st.one_of(heading, st.sampled_from([0.0, math.pi, -math.pi, 0.5 * math.pi, 1e-17])),
+)
+def test_one_goal_is_the_first_shortest_candidate_exactly(x: float, y: float, phi: float) -> None:
+    # path() evaluates the formulas on floats with early outs; candidates() evaluates them all
+    # through the backend shared with distances(): both must pick the same word, bit for bit.
+    best: tuple[str, tuple[float, ...]] = ("", ())
+    best_length = math.inf
+    for word, lengths in reeds_shepp.candidates(x, y, phi):
+        length = sum(abs(v) for v in lengths)
+        if length < best_length:
+            best, best_length = (word, lengths), length
+    assert [(p.kind, p.length) for p in reeds_shepp.path(x, y, phi)] == list(
+        zip(*best, strict=True)
+    )
