@@ -372,10 +372,12 @@ _SCALAR: dict[_Formula, Callable[[float, float, float, float, float], _Found]] =
     _lrsr: _lrsr_1,
     _lrslr: _lrslr_1,
 }
-#: :data:`_EVALUATIONS` with the scalar formulas.
+#: :data:`_EVALUATIONS` with the scalar formulas: (formula, read backwards, which of the eight
+#: argument tuples of :func:`path` it takes, sign of x, word).
 _SCALAR_EVALUATIONS = tuple(
-    (_SCALAR[formula], backwards, sx, sy, sphi, word)
-    for formula, backwards, sx, sy, sphi, word in _EVALUATIONS
+    (_SCALAR[formula], backwards, 4 * backwards + i, sx, _word(word, flip, backwards))
+    for formula, word, backwards in _FAMILIES
+    for i, (sx, _, _, flip) in enumerate(_SYMMETRIES)
 )
 
 
@@ -392,17 +394,19 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
     """
     s, c = math.sin(phi), math.cos(phi)
     xb, yb = x * c + y * s, x * s - y * c
+    arguments = [
+        (sx * px, sy * py, sphi * s, c, sphi * phi)
+        for px, py in ((x, y), (xb, yb))
+        for sx, sy, sphi, _ in _SYMMETRIES
+    ]
     best: tuple[float, ...] = ()
     best_word, best_sign, best_length = "", 1.0, math.inf
-    for formula, backwards, sx, sy, sphi, word in _SCALAR_EVALUATIONS:
-        if backwards:
-            lengths = formula(sx * xb, sy * yb, sphi * s, c, sphi * phi)
-            if lengths is not None:
-                lengths = lengths[::-1]
-        else:
-            lengths = formula(sx * x, sy * y, sphi * s, c, sphi * phi)
+    for formula, backwards, which, sx, word in _SCALAR_EVALUATIONS:
+        lengths = formula(*arguments[which])
         if lengths is None:
             continue
+        if backwards:
+            lengths = lengths[::-1]
         length = sum(map(abs, lengths))
         if length < best_length:
             best, best_word, best_sign, best_length = lengths, word, sx, length
