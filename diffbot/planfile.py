@@ -240,38 +240,48 @@ def _parse_text(text: str, *, lines: bool) -> list[Segment]:
     ]
 
 
-def _number_text(value: float) -> str:
+def _number_text(value: float, digits: int | None = None) -> str:
+    if digits is not None:
+        text = f"{float(value):.{digits}g}"
+        return "0" if text == "-0" else text
     text = repr(float(value))
     return text[:-2] if text.endswith(".0") else text
 
 
-def _angle_text(angle: float) -> str:
+def _angle_text(angle: float, digits: int | None = None) -> str:
     degrees = math.degrees(angle)
-    if math.isfinite(degrees) and math.radians(degrees) == angle:
-        return _number_text(degrees)
-    return f"{_number_text(angle)}rad"
+    exact = digits is not None or math.radians(degrees) == angle
+    if math.isfinite(degrees) and exact:
+        return _number_text(degrees, digits)
+    return f"{_number_text(angle, digits)}rad"
 
 
-def format_segment(segment: Segment) -> str:
-    """The text form of one segment; :func:`parse_plan` reads it back exactly."""
+def format_segment(segment: Segment, digits: int | None = None) -> str:
+    """The text form of one segment; :func:`parse_plan` reads it back exactly, or, with
+    ``digits``, to that many significant digits (angles in degrees): for people."""
     if isinstance(segment, Straight):
-        words = ["straight", _number_text(segment.length)]
+        words = ["straight", _number_text(segment.length, digits)]
     elif isinstance(segment, Arc):
-        words = [segment.direction, _number_text(segment.radius), _angle_text(segment.angle)]
+        words = [
+            segment.direction,
+            _number_text(segment.radius, digits),
+            _angle_text(segment.angle, digits),
+        ]
         if segment.reverse:
             words.insert(0, "reverse")
     else:
-        words = ["spin", _angle_text(segment.angle)]
+        words = ["spin", _angle_text(segment.angle, digits)]
     if segment.duration is not None:
-        words.append(f"{_number_text(segment.duration)}s")
+        words.append(f"{_number_text(segment.duration, digits)}s")
     return " ".join(words)
 
 
-def format_plan(segments: Iterable[Segment]) -> str:
+def format_plan(segments: Iterable[Segment], digits: int | None = None) -> str:
     """The text form of a plan (one line, ``;``-separated); :func:`parse_plan` reads it back
     exactly: numbers keep every digit, and angles are written in degrees only when that converts
-    back to the same radians (otherwise in ``rad``)."""
-    return "; ".join(format_segment(segment) for segment in segments)
+    back to the same radians (otherwise in ``rad``). With ``digits``, numbers are rounded to that
+    many significant digits and angles written in degrees: a plan for people to read."""
+    return "; ".join(format_segment(segment, digits) for segment in segments)
 
 
 # --------------------------------------------------------------------------------------------

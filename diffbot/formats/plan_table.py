@@ -9,7 +9,10 @@ from diffbot.kinematics import DiffDriveParams, rpm_from_rad_s
 from diffbot.planfile import format_plan
 from diffbot.trajectory import Plan, Violation, describe_segment
 
-__all__ = ["limit_text", "plan_limit_text", "plan_table", "violation_lines"]
+#: Significant digits of the plan text above the table (machine outputs keep every digit).
+HEADER_DIGITS = 6
+
+__all__ = ["HEADER_DIGITS", "limit_text", "plan_limit_text", "plan_table", "violation_lines"]
 
 
 def limit_text(params: DiffDriveParams) -> str:
@@ -77,7 +80,7 @@ def plan_table(p: Plan, label: str, *, wide: bool = False) -> str:
             ]
         )
     lines = [
-        f"{label}: {format_plan(s.segment for s in p.segments)}",
+        f"{label}: {format_plan((s.segment for s in p.segments), HEADER_DIGITS)}",
         f"robot: {params.source} (wheel radius {fmt(params.wheel_radius)} m, "
         f"separation {fmt(params.wheel_separation)} m); motor limit {plan_limit_text(p)}",
         "",

@@ -14,6 +14,7 @@ from cli_results import assert_one_error_line as assert_bad_input
 from click.testing import CliRunner, Result
 
 from diffbot.cli import main
+from diffbot.planfile import parse_plan
 
 Write = Callable[[str, str], Path]
 
@@ -40,6 +41,21 @@ def test_table_names_the_shape_and_the_others_times(runner: CliRunner) -> None:
         "shape fastest (the least time at the motor limit): 6.614 s; spin-straight-spin "
         "6.614 s, dubins 10.89 s, reeds-shepp 8.881 s"
     )
+
+
+def test_the_table_header_rounds_the_plan_and_json_keeps_every_digit(runner: CliRunner) -> None:
+    # 0.1 m sideways: a turn of atan2(...) = -74.97388624088052 deg (not a round number).
+    table = run(runner, "plan", "--to", "0,0.1,0")
+    assert table.exit_code == 0, table.output
+    assert table.stdout.splitlines()[0] == (
+        "to (0, 0.1, 0 deg): spin -74.9739; straight -0.10354; spin 74.9739; straight 0.0268438"
+    )
+    data = run(runner, "plan", "--to", "0,0.1,0", "--json")
+    plan_text = json.loads(data.stdout)["plan"]
+    assert plan_text.startswith("spin -74.97388624088052; straight -0.10354027349439501; ")
+    # The full text reads back to the same segments.
+    turn = parse_plan(plan_text)[0].angle
+    assert math.degrees(turn) == -74.97388624088052
 
 
 @pytest.mark.parametrize(
