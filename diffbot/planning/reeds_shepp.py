@@ -16,8 +16,9 @@ Units: lengths in turning radii (a turn's length is the angle it turns, rad); a 
 drives backwards.
 
 The formulas are written once for both numbers and NumPy arrays (a *backend* gives the
-functions): :func:`path` plans one goal with :mod:`math`, :func:`distances` measures many goals at
-once with NumPy.
+functions): :func:`candidates` lists one goal's words with :mod:`math`, :func:`distances` measures
+many goals at once with NumPy. :func:`path` plans one goal with the same formulas on floats, each
+giving up at its first unmet condition: the same lengths, several times faster.
 """
 
 from __future__ import annotations
