@@ -121,7 +121,7 @@ def _narrow_table(p: Plan, label: str) -> str:
                 fixed(math.degrees(s.end_pose.theta), 2),
             ]
         )
-    title = f"{label}: {format_plan(s.segment for s in p.segments)}"
+    title = f"{label}: {format_plan((s.segment for s in p.segments), HEADER_DIGITS)}"
     lines = [
         title if len(title) <= WIDTH else title[: WIDTH - 4] + " ...",
         f"robot: {params.source} (wheel radius {fmt(params.wheel_radius)} m, "
