@@ -6,6 +6,7 @@ import sys
 
 import click
 
+from diffbot.commands.live import announce_option
 from diffbot.commands.options import (
     MAX_PUBLISH_RATE,
     NON_NEGATIVE,
@@ -82,6 +83,7 @@ DRIVE_RATE = 20.0
     metavar="S",
     help="How long to wait for a subscriber before giving up.",
 )
+@announce_option
 @quiet_option
 def drive(
     robot: RobotOptions,
@@ -95,6 +97,7 @@ def drive(
     left_topic: str,
     right_topic: str,
     wait: float,
+    announce: bool,
     quiet: bool,
 ) -> None:
     """Drive a plan live: its commands on CMD_VEL (or per wheel) at --rate, on schedule.
@@ -153,6 +156,8 @@ def drive(
         joints=(max(len(params.left_joints), 1), max(len(params.right_joints), 1)),
     )
     with Driver(stream, settings) as driver:
+        if announce:
+            driver.announce()
         if not driver.wait_for_subscriber(wait):
             fail(f"no subscriber on {', '.join(driver.topics)} after {fmt(wait)} s")
         if driver.other_publishers():

@@ -14,7 +14,7 @@ from diffbot.commands.options import POSITIVE, F
 if TYPE_CHECKING:
     from diffbot.live.transport import Node
 
-__all__ = ["duration_option", "run_node"]
+__all__ = ["announce_option", "duration_option", "run_node"]
 
 
 def duration_option(command: F) -> F:
@@ -27,11 +27,31 @@ def duration_option(command: F) -> F:
     )(command)
 
 
+def announce_option(command: F) -> F:
+    """``--announce``: list the node on ``ros_discovery_info`` so that ``ros2 node list`` names
+    it (GID layout of ``ROS_DISTRO``, default jazzy)."""
+    return click.option(
+        "--announce",
+        is_flag=True,
+        help="Publish the node on ros_discovery_info, so that 'ros2 node list' names it "
+        "(the layout of ROS_DISTRO's, default jazzy).",
+    )(command)
+
+
 def run_node(
-    node: Node, label: str, status: Callable[[], str], *, quiet: bool, duration: float | None
+    node: Node,
+    label: str,
+    status: Callable[[], str],
+    *,
+    quiet: bool,
+    duration: float | None,
+    announce: bool = False,
 ) -> None:
     """Spin ``node`` until Ctrl-C, SIGTERM, SIGHUP or ``duration`` seconds, then destroy it and
-    print its final ``status()`` on stderr (refreshed every second on a terminal meanwhile)."""
+    print its final ``status()`` on stderr (refreshed every second on a terminal meanwhile);
+    with ``announce``, list it on ``ros_discovery_info`` first."""
+    if announce:
+        node.announce()
     live = not quiet and sys.stderr.isatty()
     if live:
         node.create_timer(

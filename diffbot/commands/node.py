@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from diffbot.commands.live import duration_option, run_node
+from diffbot.commands.live import announce_option, duration_option, run_node
 from diffbot.commands.options import (
     MAX_PUBLISH_RATE,
     NON_NEGATIVE,
@@ -77,6 +77,7 @@ def node() -> None:
     help="Velocity rolling window in steps [controllers file, else 1].",
 )
 @duration_option
+@announce_option
 @quiet_option
 def odom(
     robot: RobotOptions,
@@ -89,6 +90,7 @@ def odom(
     publish_rate: float | None,
     window: int | None,
     duration: float | None,
+    announce: bool,
     quiet: bool,
 ) -> None:
     """Odometry from joint states: subscribes JOINT_STATES, publishes nav_msgs/Odometry and the
@@ -118,7 +120,7 @@ def odom(
         publish_tf=False if no_tf else None,
     )
     live = OdometryNode(params, settings)
-    run_node(live, "odom", live.status, quiet=quiet, duration=duration)
+    run_node(live, "odom", live.status, quiet=quiet, duration=duration, announce=announce)
 
 
 @node.command("ik")
@@ -164,6 +166,7 @@ def odom(
     "--no-limits", is_flag=True, help="Ignore the controllers file's acceleration and jerk limits."
 )
 @duration_option
+@announce_option
 @quiet_option
 def ik(
     robot: RobotOptions,
@@ -176,6 +179,7 @@ def ik(
     rate: float | None,
     no_limits: bool,
     duration: float | None,
+    announce: bool,
     quiet: bool,
 ) -> None:
     """Wheel commands from velocity commands: subscribes CMD_VEL, publishes one
@@ -209,7 +213,7 @@ def ik(
     )
     live = InverseKinematicsNode(params, settings)
     live.warn = warn
-    run_node(live, "ik", live.status, quiet=quiet, duration=duration)
+    run_node(live, "ik", live.status, quiet=quiet, duration=duration, announce=announce)
 
 
 def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[str, str]:
@@ -286,6 +290,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
     help="Seed of the noise, for reproducible runs.",
 )
 @duration_option
+@announce_option
 @quiet_option
 def robot_command(
     robot: RobotOptions,
@@ -300,6 +305,7 @@ def robot_command(
     noise: float,
     seed: int | None,
     duration: float | None,
+    announce: bool,
     quiet: bool,
 ) -> None:
     """A robot without hardware: turns its wheels as commanded and publishes joint_states, its
@@ -337,4 +343,4 @@ def robot_command(
         seed=seed,
     )
     live = RobotNode(params, expansion.urdf, settings)
-    run_node(live, "robot", live.status, quiet=quiet, duration=duration)
+    run_node(live, "robot", live.status, quiet=quiet, duration=duration, announce=announce)

@@ -62,7 +62,15 @@ try:
     from cyclonedds.domain import Domain, DomainParticipant
     from cyclonedds.idl import IdlStruct
     from cyclonedds.idl.annotations import final
-    from cyclonedds.idl.types import array, float64, int32, sequence, uint32
+    from cyclonedds.idl.types import (
+        array,
+        bounded_str,
+        float64,
+        int32,
+        sequence,
+        uint8,
+        uint32,
+    )
     from cyclonedds.pub import DataWriter
     from cyclonedds.qos import Policy, Qos
     from cyclonedds.sub import DataReader
@@ -84,6 +92,7 @@ __all__ = [
     "Subscription",
     "Timer",
     "array",
+    "bounded_str",
     "cyclone_config",
     "dds_topic",
     "discovery_range",
@@ -92,9 +101,12 @@ __all__ = [
     "float64",
     "int32",
     "sequence",
+    "uint8",
     "uint32",
 ]
 
+#: The DDS topic (no ``rt/`` prefix) where ROS 2 participants list their nodes.
+DISCOVERY_TOPIC: Final = "ros_discovery_info"
 #: The highest domain id ROS 2 allows (the RTPS port formula overflows above it).
 MAX_DOMAIN_ID: Final = 232
 #: The longest a wait blocks in C: signals are handled between waits.
@@ -367,6 +379,10 @@ class Node:
         self._thread: threading.Thread | None = None
         self._publications: BuiltinDataReader | None = None
         self._destroyed = False
+        #: The GUIDs of this node's readers and writers (16 bytes each), as announced.
+        self.reader_guids: list[bytes] = []
+        self.writer_guids: list[bytes] = []
+        self._announce: Callable[[], None] | None = None
 
     def _topic(self, msg_type: type[M], name: str) -> Topic[M]:
         dds_name = dds_topic(name)
@@ -385,6 +401,9 @@ class Node:
     ) -> Publisher[M]:
         """A publisher of ``msg_type`` on the ROS topic ``topic``."""
         writer = DataWriter(self.participant, self._topic(msg_type, topic), qos.qos())
+        self.writer_guids.append(writer.guid.bytes)
+        if self._announce is not None:
+            self._announce()
         return Publisher(writer, topic)
 
     def create_subscription(
@@ -402,6 +421,9 @@ class Node:
             self.participant, self._topic(msg_type, topic), qos.qos()
         )
         subscription = Subscription(reader, decode or msg_type.deserialize, callback, topic)
+        self.reader_guids.append(reader.guid.bytes)
+        if self._announce is not None:
+            self._announce()
         self._waitset.attach(ReadCondition(reader, SampleState.Any))
         self._subscriptions.append(subscription)
         return subscription
@@ -413,6 +435,41 @@ class Node:
         timer = Timer(period, callback, time.monotonic() + period)
         self._timers.append(timer)
         return timer
+
+    def announce(self, distro: str | None = None) -> None:
+        """Publish this node on ``ros_discovery_info`` as a ROS 2 node does, so that
+        ``ros2 node list`` names it: its name, the root namespace and the GUIDs of its readers
+        and writers, again whenever it makes another. ``distro`` (``ROS_DISTRO`` when None,
+        else jazzy) picks the layout of the GIDs (24 bytes up to Humble, 16 since Iron)."""
+        from diffbot.live import types
+
+        info_type, node_type, gid_type = types.discovery_types(
+            distro or os.environ.get("ROS_DISTRO", "") or "jazzy"
+        )
+        size = len(gid_type().data)
+
+        def gid(guid: bytes) -> Any:
+            return gid_type(data=guid.ljust(size, b"\0")[:size])
+
+        writer = DataWriter(
+            self.participant,
+            Topic(self.participant, DISCOVERY_TOPIC, info_type),
+            LATCHED.qos(),
+        )
+
+        def publish() -> None:
+            entry = node_type(
+                node_namespace="/",
+                node_name=self.name,
+                reader_gid_seq=[gid(guid) for guid in self.reader_guids],
+                writer_gid_seq=[gid(guid) for guid in self.writer_guids],
+            )
+            writer.write(
+                info_type(gid=gid(self.participant.guid.bytes), node_entities_info_seq=[entry])
+            )
+
+        self._announce = publish
+        publish()
 
     def publications(self, topic: str) -> list[str]:
         """The DDS type name of each publisher on ``topic`` discovered so far, this node's own

@@ -16,17 +16,34 @@ cyclonedds (and says how to install it when it is missing).
 # annotations when it builds a type's serializer.
 
 from dataclasses import dataclass, field
+from typing import Any
 
-from diffbot.live.transport import IdlStruct, array, final, float64, int32, sequence, uint32
+from diffbot.live.transport import (
+    IdlStruct,
+    array,
+    bounded_str,
+    final,
+    float64,
+    int32,
+    sequence,
+    uint8,
+    uint32,
+)
 
 __all__ = [
     "ROS_TYPES",
     "Float64MultiArray",
+    "Gid",
     "Header",
+    "HumbleGid",
+    "HumbleNodeEntitiesInfo",
+    "HumbleParticipantEntitiesInfo",
     "JointState",
     "MultiArrayDimension",
     "MultiArrayLayout",
+    "NodeEntitiesInfo",
     "Odometry",
+    "ParticipantEntitiesInfo",
     "Point",
     "Pose",
     "PoseWithCovariance",
@@ -41,6 +58,7 @@ __all__ = [
     "TwistWithCovariance",
     "Vector3",
     "dds_type_name",
+    "discovery_types",
     "ros_type_name",
 ]
 
@@ -240,7 +258,86 @@ class TFMessage(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
     transforms: sequence[TransformStamped] = field(default_factory=list)
 
 
-#: Every type, by its ROS name.
+@final
+@dataclass
+class Gid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
+    """rmw_dds_common/Gid as Iron and later declare it: an endpoint's 16-byte DDS GUID."""
+
+    data: array[uint8, 16] = bytes(16)
+
+
+@final
+@dataclass
+class NodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
+    """rmw_dds_common/NodeEntitiesInfo: a node's name and the GIDs of its readers and writers."""
+
+    node_namespace: bounded_str[256] = "/"
+    node_name: bounded_str[256] = ""
+    reader_gid_seq: sequence[Gid] = field(default_factory=list)
+    writer_gid_seq: sequence[Gid] = field(default_factory=list)
+
+
+@final
+@dataclass
+class ParticipantEntitiesInfo(
+    IdlStruct, typename="rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"
+):
+    """rmw_dds_common/ParticipantEntitiesInfo: what ``ros_discovery_info`` carries, the nodes of
+    one DDS participant."""
+
+    gid: Gid = field(default_factory=Gid)
+    node_entities_info_seq: sequence[NodeEntitiesInfo] = field(default_factory=list)
+
+
+@final
+@dataclass
+class HumbleGid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
+    """rmw_dds_common/Gid up to Humble: 24 bytes, the GUID then zeros."""
+
+    data: array[uint8, 24] = bytes(24)
+
+
+@final
+@dataclass
+class HumbleNodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
+    """rmw_dds_common/NodeEntitiesInfo with Humble's GIDs."""
+
+    node_namespace: bounded_str[256] = "/"
+    node_name: bounded_str[256] = ""
+    reader_gid_seq: sequence[HumbleGid] = field(default_factory=list)
+    writer_gid_seq: sequence[HumbleGid] = field(default_factory=list)
+
+
+@final
+@dataclass
+class HumbleParticipantEntitiesInfo(
+    IdlStruct, typename="rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"
+):
+    """rmw_dds_common/ParticipantEntitiesInfo with Humble's GIDs."""
+
+    gid: HumbleGid = field(default_factory=HumbleGid)
+    node_entities_info_seq: sequence[HumbleNodeEntitiesInfo] = field(default_factory=list)
+
+
+#: The ROS distributions whose rmw_dds_common/Gid holds 24 bytes (16 since Iron).
+GID_24_DISTROS = frozenset(
+    {"ardent", "bouncy", "crystal", "dashing", "eloquent", "foxy", "galactic", "humble"}
+)
+
+
+def discovery_types(
+    distro: str,
+) -> tuple[type[Any], type[Any], type[Any]]:
+    """The ParticipantEntitiesInfo, NodeEntitiesInfo and Gid types of ROS distribution
+    ``distro`` (a name as ``ROS_DISTRO`` holds it): Humble's 24-byte GIDs up to Humble, else
+    16-byte ones."""
+    if distro.strip().lower() in GID_24_DISTROS:
+        return HumbleParticipantEntitiesInfo, HumbleNodeEntitiesInfo, HumbleGid
+    return ParticipantEntitiesInfo, NodeEntitiesInfo, Gid
+
+
+#: Every message type of the nodes' topics, by its ROS name (the discovery types, whose
+#: layout depends on the distribution, are in :func:`discovery_types`).
 ROS_TYPES: dict[str, type[IdlStruct]] = {
     ros_type_name(cls.__idl_typename__): cls
     for cls in (
