@@ -120,6 +120,7 @@ def odom(
         publish_tf=False if no_tf else None,
     )
     live = OdometryNode(params, settings)
+    live.warn = warn
     run_node(live, "odom", live.status, quiet=quiet, duration=duration, announce=announce)
 
 
@@ -343,4 +344,5 @@ def robot_command(
         seed=seed,
     )
     live = RobotNode(params, expansion.urdf, settings)
+    live.warn = warn
     run_node(live, "robot", live.status, quiet=quiet, duration=duration, announce=announce)

@@ -12,16 +12,14 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 from diffbot.execution import DEFAULT_UPDATE_RATE
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
-from diffbot.live.messages import commands
+from diffbot.live.messages import commands, twist_mismatch
 from diffbot.live.transport import LiveError, Node, Subscription
-from diffbot.live.types import ros_type_name
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
 
 __all__ = ["IkSettings", "InverseKinematicsNode"]
@@ -84,45 +82,25 @@ class InverseKinematicsNode(Node):
         self.left = self.create_publisher(types.Float64MultiArray, settings.left_topic)
         self.right = self.create_publisher(types.Float64MultiArray, settings.right_topic)
         self.subscriptions: list[Subscription[Any]] = []
-        #: The DDS type names read from ``cmd_vel``.
-        self._kinds: list[str] = []
         if settings.stamped is not False:
             self.subscriptions.append(
                 self.create_subscription(
                     types.TwistStamped, settings.cmd_vel, lambda m: self.on_twist(m.twist)
                 )
             )
-            self._kinds.append(types.TwistStamped.__idl_typename__)
         if settings.stamped is not True:
             self.subscriptions.append(
                 self.create_subscription(types.Twist, settings.cmd_vel, self.on_twist)
             )
-            self._kinds.append(types.Twist.__idl_typename__)
-        #: What the node found wrong with the graph, once each (a topic's other type).
-        self.warnings: list[str] = []
-        #: Called with each new warning (the command prints it).
-        self.warn: Callable[[str], None] = lambda message: None
-        self.create_timer(1.0, self.check_types)
         period = 1.0 / settings.rate
         if self.commander.limited:
             self.create_timer(period, self.update)
         elif settings.timeout > 0.0:
             self.create_timer(min(period, settings.timeout / 4), self.watch)
 
-    def check_types(self) -> None:
-        """Warn once when ``cmd_vel`` carries the other kind of twist than the one read."""
-        ours = set(self._kinds)
-        topic = "/" + self.settings.cmd_vel.lstrip("/")
-        for found in sorted(self.publisher_types(topic) - ours):
-            name = ros_type_name(found)
-            hint = "use --stamped" if name.endswith("/TwistStamped") else "leave out --stamped"
-            if name.endswith(("/Twist", "/TwistStamped")):
-                message = f"{topic!r} carries {name}; {hint}"
-            else:
-                message = f"{topic!r} carries {name}, not a velocity command"
-            if message not in self.warnings:
-                self.warnings.append(message)
-                self.warn(message)
+    def type_mismatch(self, topic: str, found: str, ours: list[str]) -> str:
+        """Name the option that reads the other kind of twist."""
+        return twist_mismatch(topic, found)
 
     def on_twist(self, twist: types.Twist) -> None:
         """Take one velocity command (linear.x, angular.z)."""

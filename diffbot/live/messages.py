@@ -35,6 +35,7 @@ __all__ = [
     "time_of",
     "transform",
     "twist_command",
+    "twist_mismatch",
     "yaw_of",
     "yaw_quaternion",
 ]
@@ -110,3 +111,13 @@ def commands(values: Sequence[float]) -> Float64MultiArray:
     """std_msgs/Float64MultiArray of joint commands (rad/s) with an empty layout, as
     ``ros2 topic pub`` sends them (forward_command_controller reads ``data`` only)."""
     return Float64MultiArray(MultiArrayLayout(), [float(v) for v in values])
+
+
+def twist_mismatch(topic: str, found: str) -> str:
+    """The warning when a velocity command topic carries ``found`` (a ROS type name): the
+    option that reads it when it is the other kind of twist."""
+    if found.endswith("/TwistStamped"):
+        return f"{topic!r} carries {found}; use --stamped"
+    if found.endswith("/Twist"):
+        return f"{topic!r} carries {found}; leave out --stamped"
+    return f"{topic!r} carries {found}, not a velocity command"

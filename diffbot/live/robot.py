@@ -25,7 +25,7 @@ from typing import Any
 
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
-from diffbot.live.messages import now_ns, odometry, time_of, transform
+from diffbot.live.messages import now_ns, odometry, time_of, transform, twist_mismatch
 from diffbot.live.transport import LATCHED, TF, Node, Subscription
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
@@ -141,6 +141,12 @@ class RobotNode(Node):
             static.publish(types.TFMessage([_message(t, stamp) for t in self._fixed]))
             self._latched = (latched, static)
         self.create_timer(1.0 / settings.rate, self.update)
+
+    def type_mismatch(self, topic: str, found: str, ours: list[str]) -> str:
+        """On a velocity command topic, name the option that reads the other kind of twist."""
+        if self.settings.cmd_vel is not None:
+            return twist_mismatch(topic, found)
+        return super().type_mismatch(topic, found, ours)
 
     def on_wheels(self, side: int, values: list[float]) -> None:
         """Take one side's joint velocity commands (rad/s), one per joint of the side."""

@@ -306,6 +306,8 @@ class Subscription(Generic[M]):
     topic: str
     received: int = 0
     malformed: int = 0
+    #: The DDS type name this subscription reads.
+    type_name: str = ""
 
     @property
     def publisher_count(self) -> int:
@@ -383,6 +385,10 @@ class Node:
         self.reader_guids: list[bytes] = []
         self.writer_guids: list[bytes] = []
         self._announce: Callable[[], None] | None = None
+        #: What the node found wrong with the graph, once each (a topic carrying another type).
+        self.warnings: list[str] = []
+        #: Called with each new warning (the commands print it).
+        self.warn: Callable[[str], None] = lambda message: None
 
     def _topic(self, msg_type: type[M], name: str) -> Topic[M]:
         dds_name = dds_topic(name)
@@ -420,7 +426,15 @@ class Node:
         reader: DataReader[M] = DataReader(
             self.participant, self._topic(msg_type, topic), qos.qos()
         )
-        subscription = Subscription(reader, decode or msg_type.deserialize, callback, topic)
+        subscription = Subscription(
+            reader,
+            decode or msg_type.deserialize,
+            callback,
+            topic,
+            type_name=msg_type.__idl_typename__,
+        )
+        if not self._subscriptions:
+            self.create_timer(1.0, self.check_types)
         self.reader_guids.append(reader.guid.bytes)
         if self._announce is not None:
             self._announce()
@@ -470,6 +484,29 @@ class Node:
 
         self._announce = publish
         publish()
+
+    def check_types(self) -> None:
+        """Warn once for each type another publisher sends on a topic this node reads than the
+        ones it reads there (such a publisher never matches, so nothing would arrive from it)."""
+        from diffbot.live.types import ros_type_name
+
+        read: dict[str, set[str]] = {}
+        for subscription in self._subscriptions:
+            topic = "/" + subscription.topic.lstrip("/")
+            read.setdefault(topic, set()).add(subscription.type_name)
+        for topic, ours in read.items():
+            for found in sorted(self.publisher_types(topic) - ours):
+                message = self.type_mismatch(
+                    topic, ros_type_name(found), sorted(ros_type_name(t) for t in ours)
+                )
+                if message not in self.warnings:
+                    self.warnings.append(message)
+                    self.warn(message)
+
+    def type_mismatch(self, topic: str, found: str, ours: list[str]) -> str:
+        """The warning when ``topic`` carries ``found`` (a ROS type name) where this node reads
+        ``ours``; nodes with an option that changes what they read say which."""
+        return f"{topic!r} carries {found}; this node reads {' or '.join(ours)}"
 
     def publications(self, topic: str) -> list[str]:
         """The DDS type name of each publisher on ``topic`` discovered so far, this node's own

@@ -145,3 +145,22 @@ def test_the_publish_rate_thins_by_stamps() -> None:
             node.on_joint_state(joint_state(names, [0.01 * k, 0.01 * k], T0 + k * 10**7))
     assert node.odometry.samples == 101
     assert node.published == 11  # every 0.1 s of stamps, the first included
+
+
+def test_joint_states_of_another_type_are_named_once() -> None:
+    warnings: list[str] = []
+    with OdometryNode(BOT, OdometrySettings()) as node, Node("probe") as probe:
+        node.warn = warnings.append
+        node.start()
+        # A publisher of another type on the topic never matches the node's reader.
+        other = probe.create_publisher(types.String, "joint_states")
+        for _ in range(3):
+            other.publish(types.String("not a joint state"))
+        end = time.monotonic() + PATIENCE
+        while not warnings and time.monotonic() < end:
+            time.sleep(0.05)
+        time.sleep(1.5)  # another check comes and goes: still one warning
+    assert warnings == [
+        "'/joint_states' carries std_msgs/msg/String; this node reads sensor_msgs/msg/JointState"
+    ]
+    assert node.subscription.received == 0

@@ -107,3 +107,29 @@ def test_a_bad_wheel_command_is_refused_as_zero() -> None:
         robot.on_wheels(1, [math.nan])
         assert robot.refused == 2
         assert robot.velocities == {"left_wheel_joint": 0.0, "right_wheel_joint": 0.0}
+
+
+def test_a_twist_topic_of_the_other_kind_is_named() -> None:
+    warnings: list[str] = []
+    settings = RobotSettings(rate=50.0, cmd_vel="cmd_vel")
+    with RobotNode(TWO, None, settings) as robot, Node("probe") as probe:
+        robot.warn = warnings.append
+        robot.start()
+        stamped = probe.create_publisher(types.TwistStamped, "cmd_vel")
+        until(probe, lambda: bool(warnings))
+        assert stamped.subscription_count == 0
+    assert warnings == ["'/cmd_vel' carries geometry_msgs/msg/TwistStamped; use --stamped"]
+
+
+def test_wheel_commands_of_another_type_are_named() -> None:
+    warnings: list[str] = []
+    with RobotNode(TWO, None, RobotSettings(rate=50.0)) as robot, Node("probe") as probe:
+        robot.warn = warnings.append
+        robot.start()
+        twist = probe.create_publisher(types.Twist, LEFT_TOPIC)
+        until(probe, lambda: bool(warnings))
+        assert twist.subscription_count == 0
+    assert warnings == [
+        f"'/{LEFT_TOPIC}' carries geometry_msgs/msg/Twist; this node reads "
+        "std_msgs/msg/Float64MultiArray"
+    ]
