@@ -15,6 +15,7 @@ from diffbot.commands.options import (
     RobotOptions,
     quiet_option,
     robot_options,
+    true_geometry_options,
     warn,
 )
 from diffbot.commands.plan_options import check_topic
@@ -290,6 +291,17 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
     metavar="N",
     help="Seed of the noise, for reproducible runs.",
 )
+@true_geometry_options(
+    "The real left and right wheel radii (m): ground_truth/odom moves by them, while "
+    "joint_states report the angles the wheels turned.",
+    "The real wheel separation (m); likewise for ground_truth/odom.",
+)
+@click.option(
+    "--limit-wheels",
+    is_flag=True,
+    help="Run the wheel commands through the controllers file's acceleration and jerk limits, "
+    "as velocity commands (--cmd-vel) always are.",
+)
 @duration_option
 @announce_option
 @quiet_option
@@ -305,6 +317,9 @@ def robot_command(
     ticks: int | None,
     noise: float,
     seed: int | None,
+    true_radii: tuple[float, float] | None,
+    true_separation: float | None,
+    limit_wheels: bool,
     duration: float | None,
     announce: bool,
     quiet: bool,
@@ -342,6 +357,9 @@ def robot_command(
         ticks=ticks,
         noise=noise,
         seed=seed,
+        true_radii=true_radii,
+        true_separation=true_separation,
+        limit_wheels=limit_wheels,
     )
     live = RobotNode(params, expansion.urdf, settings)
     live.warn = warn

@@ -562,6 +562,25 @@ def topic_option(help_text: str, *, reading: bool = False) -> Callable[[F], F]:
     )
 
 
+def true_geometry_options(radii_help: str, separation_help: str) -> Callable[[F], F]:
+    """``--true-wheel-radius L,R`` (``true_radii``) and ``--true-separation M``: the robot's
+    real geometry (m), where it differs from the description."""
+
+    def decorate(command: F) -> F:
+        command = click.option(
+            "--true-separation", type=WHEEL_SIZE, metavar="M", help=separation_help
+        )(command)
+        return click.option(
+            "--true-wheel-radius",
+            "true_radii",
+            type=NumberPair("L,R", "m", positive=True, bounds=WHEEL_SIZE_RANGE),
+            metavar="L,R",
+            help=radii_help,
+        )(command)
+
+    return decorate
+
+
 def quiet_option(command: F) -> F:
     """``--quiet``: no progress bar (it shows only when stderr is a terminal anyway)."""
     return click.option(

@@ -15,9 +15,7 @@ from diffbot.calibration.truth import TRUTH_COLUMNS, TruthStream, true_robot
 from diffbot.commands.options import (
     NON_NEGATIVE,
     NUMBERS,
-    WHEEL_SIZE,
     FiniteFloat,
-    NumberPair,
     OutOptions,
     RobotOptions,
     emit_json,
@@ -27,6 +25,7 @@ from diffbot.commands.options import (
     robot_options,
     split_xacro_args,
     topic_option,
+    true_geometry_options,
 )
 from diffbot.commands.plan_options import (
     PlanOptions,
@@ -40,7 +39,6 @@ from diffbot.formats.text import fmt
 from diffbot.io.bag import JointStatesBagWriter
 from diffbot.io.csvfile import joint_states_header, joint_states_lines
 from diffbot.io.outputs import atomic_text
-from diffbot.numbers import WHEEL_SIZE_RANGE
 from diffbot.samples import ns_from_seconds
 from diffbot.simulation import (
     MAX_RATE,
@@ -180,19 +178,10 @@ def _write(
     metavar="S",
     help="Stamp of the first sample (s since 1970, read exactly to the nanosecond).",
 )
-@click.option(
-    "--true-wheel-radius",
-    "true_radii",
-    type=NumberPair("L,R", "m", positive=True, bounds=WHEEL_SIZE_RANGE),
-    metavar="L,R",
-    help="The real left and right wheel radii (m): the robot moves by them, and the output "
+@true_geometry_options(
+    "The real left and right wheel radii (m): the robot moves by them, and the output "
     "gains its ground-truth pose (x, y, theta).",
-)
-@click.option(
-    "--true-separation",
-    type=WHEEL_SIZE,
-    metavar="M",
-    help="The real wheel separation (m); likewise adds the ground-truth pose.",
+    "The real wheel separation (m); likewise adds the ground-truth pose.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable summary (needs --out).")
 @topic_option("The JointState topic of --bag.")

@@ -23,7 +23,8 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from diffbot.kinematics import DiffDriveParams
+from diffbot.calibration.truth import true_robot
+from diffbot.kinematics import DiffDriveParams, WheelSpeeds, forward, wheel_from_joint
 from diffbot.live import types
 from diffbot.live.messages import now_ns, odometry, time_of, transform, twist_mismatch
 from diffbot.live.transport import LATCHED, TF, Node, Subscription
@@ -49,6 +50,11 @@ class RobotSettings:
         ticks: encoder counts per revolution of the reported angles (None: exact).
         noise: standard deviation (rad) of Gaussian noise on the reported angles.
         seed: the noise's seed.
+        true_radii: the real left and right wheel radii (m) the robot moves by (None: the
+            described ones); joint_states still report the angles the wheels turned.
+        true_separation: the real wheel separation (m) (None: the described one).
+        limit_wheels: run per-side wheel commands through the controller's limiter too, as
+            the velocity commands of ``cmd_vel`` always are (when it has limits).
     """
 
     rate: float = 50.0
@@ -60,6 +66,9 @@ class RobotSettings:
     ticks: int | None = None
     noise: float = 0.0
     seed: int | None = None
+    true_radii: tuple[float, float] | None = None
+    true_separation: float | None = None
+    limit_wheels: bool = False
 
 
 class RobotNode(Node):
@@ -96,7 +105,8 @@ class RobotNode(Node):
         #: Each wheel joint's true angle (rad) and commanded velocity (rad/s).
         self.positions = dict.fromkeys(self.names, 0.0)
         self.velocities = dict.fromkeys(wheels, 0.0)
-        self.truth = Odometry(params)
+        # The pose moves by the real geometry; the wheels turn as commanded.
+        self.truth = Odometry(true_robot(params, settings.true_radii, settings.true_separation))
         self._covariances = (
             covariance_matrix(DEFAULT_POSE_COVARIANCE),
             covariance_matrix(DEFAULT_TWIST_COVARIANCE),
@@ -104,7 +114,17 @@ class RobotNode(Node):
         self._random = random.Random(settings.seed)
         self._last_command: float | None = None
         self._last_update: float | None = None
-        self.commander = WheelCommander(params) if settings.cmd_vel is not None else None
+        self.commander = (
+            WheelCommander(params)
+            if settings.cmd_vel is not None or settings.limit_wheels
+            else None
+        )
+        #: The wheel commands waiting for the limiter (rad/s, by joint), when it takes them.
+        self.targets: dict[str, float] | None = (
+            dict.fromkeys(wheels, 0.0)
+            if settings.cmd_vel is None and self.commander is not None and self.commander.limited
+            else None
+        )
         self.updates = 0
         self.timeouts = 0
         self.refused = 0
@@ -154,8 +174,9 @@ class RobotNode(Node):
         if len(values) != len(joints) or not all(math.isfinite(v) for v in values):
             self.refused += 1
             values = [0.0] * len(joints)
+        held = self.velocities if self.targets is None else self.targets
         for joint, value in zip(joints, values, strict=True):
-            self.velocities[joint] = value
+            held[joint] = value
         self._last_command = time.monotonic()
 
     def on_twist(self, twist: types.Twist) -> None:
@@ -182,6 +203,12 @@ class RobotNode(Node):
             if any(self.velocities.values()):
                 self.timeouts += 1
             self.velocities = dict.fromkeys(self.velocities, 0.0)
+            if self.targets is not None:
+                self.targets = dict.fromkeys(self.targets, 0.0)
+                assert self.commander is not None
+                self.commander.reset()
+        if self.targets is not None:
+            self._limit_wheels(self.targets)
         stamp = now_ns()
         left = sum(self.positions[j] for j in self.left_joints) / len(self.left_joints)
         right = sum(self.positions[j] for j in self.right_joints) / len(self.right_joints)
@@ -200,6 +227,19 @@ class RobotNode(Node):
         if self._moving:
             moved = [link_transform(j, self.positions.get(j.name, 0.0)) for j in self._moving]
             self.tf.publish(types.TFMessage([_message(t, stamp) for t in moved]))
+
+    def _limit_wheels(self, targets: dict[str, float]) -> None:
+        """One limiter update of the wheel commands: each side's mean joint velocity as the
+        body velocity it asks for, limited, and back to every joint of the side."""
+        assert self.commander is not None
+        left = sum(targets[j] for j in self.left_joints) / len(self.left_joints)
+        right = sum(targets[j] for j in self.right_joints) / len(self.right_joints)
+        wheels = wheel_from_joint(self.params, WheelSpeeds(left, right))
+        body = forward(self.params, wheels.left, wheels.right)
+        out = self.commander.step(float(body.linear), float(body.angular), 1.0 / self.settings.rate)
+        for joints, values in ((self.left_joints, out.left), (self.right_joints, out.right)):
+            for joint, value in zip(joints, values, strict=True):
+                self.velocities[joint] = value
 
     def _encoder(self, angle: float) -> float:
         """An angle as the encoder reports it: with noise, then quantised to ticks."""

@@ -3,12 +3,14 @@ latched for late joiners, the wheels' links move on /tf, silence stops the robot
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
-from live_graph import PATIENCE, until
+from live_graph import PATIENCE, deep, until
 from robots import BOT, two_wheel_urdf
 
+from diffbot.controller_config import AxisLimits, ControllerConfig
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
 from diffbot.live.messages import commands, yaw_of
@@ -24,6 +26,7 @@ TWO = DiffDriveParams(
     left_joint="left_wheel_joint",
     right_joint="right_wheel_joint",
 )
+DEEP = deep()
 
 
 def test_commanded_wheels_turn_and_silence_stops_them() -> None:
@@ -133,3 +136,81 @@ def test_wheel_commands_of_another_type_are_named() -> None:
         f"'/{LEFT_TOPIC}' carries geometry_msgs/msg/Twist; this node reads "
         "std_msgs/msg/Float64MultiArray"
     ]
+
+
+def test_the_ground_truth_moves_by_the_true_geometry() -> None:
+    states: list[types.JointState] = []
+    truth: list[types.Odometry] = []
+    # Described: r = 0.05 m, b = 0.2 m; really 0.06 m and 0.04 m wheels 0.25 m apart.
+    settings = RobotSettings(rate=100.0, timeout=0.3, true_radii=(0.06, 0.04), true_separation=0.25)
+    with RobotNode(TWO, None, settings).start() as robot, Node("probe") as probe:
+        left = probe.create_publisher(types.Float64MultiArray, LEFT_TOPIC)
+        right = probe.create_publisher(types.Float64MultiArray, RIGHT_TOPIC)
+        probe.create_subscription(types.JointState, "joint_states", states.append, DEEP)
+        probe.create_subscription(types.Odometry, "ground_truth/odom", truth.append, DEEP)
+        assert left.wait_for_subscribers(PATIENCE)
+        assert right.wait_for_subscribers(PATIENCE)
+        left.publish(commands([1.0]))
+        right.publish(commands([3.0]))
+        until(probe, lambda: robot.timeouts == 1)
+        stopped = dict(robot.positions)
+
+        def at_rest() -> list[tuple[types.JointState, types.Odometry]]:
+            # Best effort: pair a joint state at rest with the pose of the same update.
+            stamps = {t.header.stamp.sec * 10**9 + t.header.stamp.nanosec: t for t in truth}
+            return [
+                (s, stamps[s.header.stamp.sec * 10**9 + s.header.stamp.nanosec])
+                for s in states
+                if s.position == list(stopped.values())
+                and s.header.stamp.sec * 10**9 + s.header.stamp.nanosec in stamps
+            ]
+
+        until(probe, lambda: bool(at_rest()))
+    state, last = at_rest()[-1]
+    # joint_states report what the wheels turned, as commanded: 1 and 3 rad/s for as long.
+    turned_left, turned_right = state.position
+    assert turned_right == pytest.approx(3.0 * turned_left, rel=0.5)
+    assert turned_left >= 0.3 - 0.01  # the timeout, less an update
+    # The heading depends on the wheel angles alone: (r_R theta_R - r_L theta_L) / b, with the
+    # true radii and separation, not the described ones.
+    expected = (0.04 * turned_right - 0.06 * turned_left) / 0.25
+    assert yaw_of(last.pose.pose.orientation) == pytest.approx(
+        math.remainder(expected, math.tau), abs=1e-9
+    )
+    described = 0.05 * (turned_right - turned_left) / 0.2
+    # 0.26 theta_L apart, theta_L >= 0.3: told apart.
+    assert abs(math.remainder(expected - described, math.tau)) > 0.05
+
+
+def left_velocities(params: DiffDriveParams, limit_wheels: bool) -> list[float]:
+    """The left wheel's reported velocities (rad/s), update by update, as a step command of
+    2 rad/s on both sides comes in, until they reach it."""
+    states: list[types.JointState] = []
+    settings = RobotSettings(rate=100.0, timeout=0.0, limit_wheels=limit_wheels)
+    with RobotNode(params, None, settings).start() as robot, Node("probe") as probe:
+        left = probe.create_publisher(types.Float64MultiArray, LEFT_TOPIC)
+        right = probe.create_publisher(types.Float64MultiArray, RIGHT_TOPIC)
+        probe.create_subscription(types.JointState, "joint_states", states.append, DEEP)
+        assert left.wait_for_subscribers(PATIENCE)
+        assert right.wait_for_subscribers(PATIENCE)
+        until(probe, lambda: bool(states))
+        left.publish(commands([2.0]))
+        right.publish(commands([2.0]))
+        until(probe, lambda: robot.velocities["left_wheel_joint"] == pytest.approx(2.0))
+        until(probe, lambda: states[-1].velocity == pytest.approx([2.0, 2.0]))
+    return [s.velocity[0] for s in states]
+
+
+def test_wheel_commands_go_through_the_limiter_when_asked() -> None:
+    controller = ControllerConfig(
+        name="diff", source="c.yaml", ros_version=2, linear=AxisLimits(max_acceleration=0.5)
+    )
+    limited = TWO.replace(controller=controller)
+    # 0.5 m/s^2 at r = 0.05 m: the joints gain at most 10 rad/s^2, 0.1 rad/s per update.
+    step = 0.5 / 0.05 / 100.0
+    ramp = left_velocities(limited, limit_wheels=True)
+    assert max(b - a for a, b in itertools.pairwise(ramp)) <= step + 1e-9
+    assert sum(1 for v in ramp if 0.0 < v < 2.0) >= 2.0 / step - 2
+    # Without --limit-wheels the command applies at once.
+    direct = left_velocities(limited, limit_wheels=False)
+    assert max(b - a for a, b in itertools.pairwise(direct)) == pytest.approx(2.0)
