@@ -22,12 +22,15 @@ from diffbot.live.transport import SUBSCRIPTION, TF, Node
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
 
-__all__ = ["JOINT_STATES", "SKIP_MISMATCHED", "OdometryNode", "OdometrySettings"]
+__all__ = ["JOINT_STATES", "SKIP_DROPPED", "SKIP_MISMATCHED", "OdometryNode", "OdometrySettings"]
 
 #: Why a joint state was skipped: its name and position arrays differ in length.
 SKIP_MISMATCHED = "mismatched lengths"
-#: The joint-state subscription: best effort, a history deep enough for bursts at kHz rates.
-JOINT_STATES = replace(SUBSCRIPTION, depth=100)
+#: The reason of joint states dropped unread, the node behind a flood (or lost on the way).
+SKIP_DROPPED = "dropped while behind"
+#: The joint-state subscription: best effort, a queue deep enough for bursts at kHz rates;
+#: what comes while it is full is dropped and counted (memory stays bounded).
+JOINT_STATES = replace(SUBSCRIPTION, depth=100, drop_newest=True)
 
 
 @dataclass(frozen=True)
@@ -178,6 +181,9 @@ class OdometryNode(Node):
             skipped[SKIP_MISMATCHED] = self.mismatched
         if self.subscription.malformed:
             skipped["malformed"] = self.subscription.malformed
+        dropped = self.subscription.dropped
+        if dropped:
+            skipped[SKIP_DROPPED] = dropped
         return {
             "received": self.subscription.received + self.subscription.malformed,
             "used": self.odometry.samples,

@@ -123,6 +123,9 @@ class QosProfile:
     reliable: bool = True
     transient_local: bool = False
     depth: int = 10
+    #: Keep every sample up to ``depth`` waiting ones and refuse the newer ones, counted (a
+    #: reader's :attr:`Subscription.dropped`), instead of silently overwriting the oldest.
+    drop_newest: bool = False
 
     def qos(self) -> Qos:
         """The cyclonedds QoS, with plain CDR (XCDR1) forced as ROS 2 expects."""
@@ -134,11 +137,19 @@ class QosProfile:
         durability = (
             Policy.Durability.TransientLocal if self.transient_local else Policy.Durability.Volatile
         )
+        representation = Policy.DataRepresentation(use_cdrv0_representation=True)
+        if self.drop_newest:
+            return Qos(
+                reliability,
+                durability,
+                Policy.History.KeepAll,
+                Policy.ResourceLimits(
+                    max_samples=self.depth, max_instances=-1, max_samples_per_instance=self.depth
+                ),
+                representation,
+            )
         return Qos(
-            reliability,
-            durability,
-            Policy.History.KeepLast(depth=self.depth),
-            Policy.DataRepresentation(use_cdrv0_representation=True),
+            reliability, durability, Policy.History.KeepLast(depth=self.depth), representation
         )
 
 
@@ -308,11 +319,26 @@ class Subscription(Generic[M]):
     malformed: int = 0
     #: The DDS type name this subscription reads.
     type_name: str = ""
+    #: :attr:`dropped` when last read.
+    last_dropped: int = 0
 
     @property
     def publisher_count(self) -> int:
         """How many publishers match this subscription now."""
         return int(self.reader.get_subscription_matched_status().current_count)  # type: ignore[no-untyped-call]
+
+    @property
+    def dropped(self) -> int:
+        """Messages that arrived while the reader's queue was full (a ``drop_newest`` profile)
+        or that the network lost, as DDS counts them: never handed to the callback."""
+        reader = self.reader
+        try:
+            rejected = reader.get_sample_rejected_status().total_count  # type: ignore[no-untyped-call]
+            lost = reader.get_sample_lost_status().total_count  # type: ignore[no-untyped-call]
+        except DDSException:  # the node is gone: the count when it went
+            return self.last_dropped
+        self.last_dropped = int(rejected) + int(lost)
+        return self.last_dropped
 
     def wait_for_publishers(self, timeout: float, count: int = 1) -> bool:
         """Wait until ``count`` publishers have matched, at most ``timeout`` seconds."""
@@ -574,6 +600,8 @@ class Node:
             return
         self.shutdown()
         self._destroyed = True
+        for subscription in self._subscriptions:
+            _ = subscription.dropped  # kept for the status once the reader is gone
         self._subscriptions.clear()
         self._timers.clear()
         self._publications = None
