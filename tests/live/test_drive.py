@@ -15,7 +15,7 @@ from robots import BOT
 
 from diffbot.live import types
 from diffbot.live.drive import Driver, DriveSettings
-from diffbot.live.transport import Node
+from diffbot.live.transport import Node, QosProfile
 from diffbot.planfile import parse_plan
 from diffbot.profiles import Limits
 from diffbot.ramps import ramp
@@ -92,7 +92,14 @@ def test_a_signal_stops_the_robot() -> None:
 def test_a_goal_plan_is_driven_to_its_goal() -> None:
     got: list[float] = []
     with Node("probe") as probe:
-        probe.create_subscription(types.Twist, "cmd_vel", lambda m: got.append(m.linear.x), DEEP)
+        # Reliable: the sum below needs every command, also on a machine busy enough for a
+        # best-effort reader to lose one.
+        probe.create_subscription(
+            types.Twist,
+            "cmd_vel",
+            lambda m: got.append(m.linear.x),
+            QosProfile(reliable=True, depth=100_000),
+        )
         probe.start()
         process = run_drive("--to", "0.05,0,0", "--rate", "50", "--wait", str(PATIENCE))
         try:
