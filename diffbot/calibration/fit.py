@@ -51,6 +51,9 @@ _MIN_TURN = 1e-3
 #: How far from its starting value the fit may move a parameter (as a factor): far beyond any
 #: real calibration, and it keeps every trial robot physical.
 _SCALE_BOUNDS = (0.01, 100.0)
+#: Steps integrated at a time by each residual evaluation (a multiple of the integrator's
+#: block): the work arrays stay a few megabytes however long the recording.
+CHUNK = 1 << 18
 
 
 def require_scipy() -> None:
@@ -161,6 +164,56 @@ def _relative(
     return np.stack((c * ex + s * ey, c * ey - s * ex, theta[ends] - theta[starts]))
 
 
+def _poses_at(
+    params: DiffDriveParams,
+    left: NDArray[np.float64],
+    right: NDArray[np.float64],
+    index: NDArray[np.intp],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The odometry's pose (x, y, unwrapped heading) at the sorted sample indices ``index``,
+    as :func:`diffbot.batch_odometry.integrate` from the origin gives it, to the last bit.
+
+    The recording is integrated :data:`CHUNK` steps at a time, each chunk continuing from the
+    last pose of the one before, so that no array as long as the recording is made: a fit
+    evaluates its residuals dozens of times.
+
+    Raises:
+        ParameterError: the pose overflows to infinity (wheel angles too large).
+    """
+    import numpy as np
+
+    from diffbot.batch_odometry import advance
+
+    n = left.shape[0]
+    px = np.empty(index.size)
+    py = np.empty(index.size)
+    pth = np.empty(index.size)
+    size = max(1, min(CHUNK, n - 1))
+    x = np.empty(size + 1)
+    y = np.empty(size + 1)
+    theta = np.empty(size + 1)
+    x[0] = y[0] = theta[0] = 0.0
+    baseline = (float(left[0]), float(right[0]), 0.0)
+    lo = 0
+    for i in range(0, max(n - 1, 1), size):
+        j = min(i + size, n - 1)
+        m = j - i
+        advance(params, x[: m + 1], y[: m + 1], theta[: m + 1], left[i : j + 1],
+                right[i : j + 1], baseline)  # fmt: skip
+        hi = int(np.searchsorted(index, j, side="right"))
+        local = index[lo:hi] - i
+        px[lo:hi] = x[local]
+        py[lo:hi] = y[local]
+        pth[lo:hi] = theta[local]
+        x[0], y[0], theta[0] = x[m], y[m], theta[m]
+        lo = hi
+    if not (math.isfinite(x[0]) and math.isfinite(y[0]) and math.isfinite(theta[0])):
+        raise ParameterError(
+            "wheel positions too large: a displacement or the pose overflows to infinity"
+        )
+    return px, py, pth
+
+
 def fit(
     stamps: ArrayLike,
     left_positions: ArrayLike,
@@ -219,8 +272,6 @@ def fit(
     """
     import numpy as np
 
-    from diffbot.batch_odometry import integrate
-
     require_scipy()
     from scipy.optimize import least_squares
 
@@ -252,7 +303,8 @@ def fit(
     limit = positive("max_relative_stderr", max_relative_stderr)
 
     inside = (t >= tt[0]) & (t <= tt[-1])
-    t, left, right = t[inside], left[inside], right[inside]
+    if not inside.all():
+        t, left, right = t[inside], left[inside], right[inside]
     if t.size < 3:
         raise CalibrationError(
             f"only {t.size} wheel samples fall within the ground truth's time span "
@@ -264,12 +316,18 @@ def fit(
             f"the recording makes {starts.size} window: at least two are needed (shorten "
             "{window})"
         )
+    # The poses are needed at the windows' bounds only: ``index`` holds those samples, and
+    # ``first`` and ``last`` say where each window's bounds lie in it.
+    index = np.unique(np.concatenate((starts, ends)))
+    first = np.searchsorted(index, starts)
+    last = np.searchsorted(index, ends)
+    at = t[index]
     truth = _relative(
-        np.interp(t, tt, tx),
-        np.interp(t, tt, ty),
-        np.interp(t, tt, np.unwrap(tth)),
-        starts,
-        ends,
+        np.interp(at, tt, tx),
+        np.interp(at, tt, ty),
+        np.interp(at, tt, np.unwrap(tth)),
+        first,
+        last,
     )
     if np.hypot(truth[0], truth[1]).sum() < 1e-9:
         raise CalibrationError(
@@ -286,7 +344,7 @@ def fit(
         robot = params.replace(
             left_wheel_radius=rl, right_wheel_radius=rr, wheel_separation=b, max_wheel_speed=None
         )
-        odo = _relative(*integrate(robot, left, right), starts, ends)
+        odo = _relative(*_poses_at(robot, left, right, index), first, last)
         diff = odo - truth
         diff[2] = weight * norm_angle(diff[2])
         return diff.ravel()
