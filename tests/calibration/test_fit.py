@@ -213,3 +213,32 @@ def test_fit_starts_from_the_nominal_robot() -> None:
     assert result.position_rms_before < 1e-12
     assert estimates(result) == pytest.approx(TRUTH, rel=1e-12)
     assert (R0, B0) != (TRUE_LEFT, TRUE_SEPARATION)
+
+
+def test_fit_integrates_in_chunks_never_the_whole_recording_and_the_result_is_unchanged(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # Every residual evaluation used to integrate all 4001 samples into arrays of that length;
+    # it must integrate CHUNK steps at a time, with the result of one pass to the last bit.
+    import sys
+
+    import diffbot.batch_odometry as batch
+
+    module = sys.modules["diffbot.calibration.fit"]
+    lengths: list[int] = []
+    original = batch.advance
+
+    def advance(params, x, y, theta, left, right, baseline, **kw):  # type: ignore[no-untyped-def]
+        lengths.append(x.shape[0])
+        original(params, x, y, theta, left, right, baseline, **kw)
+
+    stamps, left, right, (x, y, theta) = recording()
+    monkeypatch.setattr(batch, "advance", advance)
+    whole = fit(stamps, left, right, stamps, x, y, theta, BOT)  # CHUNK > 4001: one pass
+    assert max(lengths) == 4001
+    for chunk in (7, 300, 1024):
+        monkeypatch.setattr(module, "CHUNK", chunk)
+        lengths.clear()
+        assert fit(stamps, left, right, stamps, x, y, theta, BOT) == whole
+        assert max(lengths) == chunk + 1
+        assert len(lengths) % -(-4000 // chunk) == 0  # whole passes over the recording
