@@ -34,3 +34,11 @@ def test_scipy_the_fit_uses_is_a_base_dependency() -> None:
     project = _project()
     assert "scipy" in {_name(r) for r in project["dependencies"]}
     assert "calibrate" not in project["optional-dependencies"]
+
+
+def test_the_readme_names_what_each_extra_adds() -> None:
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = readme[readme.index("### What the install weighs") :].split("\n## ", 1)[0]
+    for extra in _project()["optional-dependencies"]:
+        if extra != "test":
+            assert f"`[{extra}]`" in section, f"README omits the {extra!r} extra"
