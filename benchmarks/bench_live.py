@@ -152,12 +152,12 @@ def bench_odom(rates: list[float], seconds: float, rounds: int) -> None:
 
 
 def bench_drive() -> None:
-    from diffbot.commands.plan import command_stream
     from diffbot.planfile import parse_plan
+    from diffbot.ramps import sampled
     from diffbot.trajectory import EXAMPLES, plan
     from diffbot.urdf import load_params
 
-    stream = command_stream(plan(parse_plan(EXAMPLES["A"]), load_params()), 20.0)
+    stream = sampled(plan(parse_plan(EXAMPLES["A"]), load_params())).commands(20.0)
     with Node("sink") as sink, Driver(stream) as driver:
         sink.create_subscription(types.Twist, "cmd_vel", lambda m: None)
         assert driver.wait_for_subscriber(30.0)

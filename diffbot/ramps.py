@@ -46,6 +46,7 @@ __all__ = [
     "controller_limits",
     "has_ramps",
     "ramp",
+    "sampled",
 ]
 
 
@@ -357,6 +358,12 @@ def _times_at(profile: Profile, positions: Sequence[float]) -> list[float]:
         low = np.where(active & below, middle, low)
         high = np.where(active & ~below, middle, high)
     return [float(time) for time in high]
+
+
+def sampled(made: Plan | RampedPlan) -> RampedPlan:
+    """The plan whose commands are sampled in time: a ramped plan as it is, a step plan as a
+    ramped plan without ramps (each segment its own run at its own constant speed)."""
+    return ramp(made, Limits()) if isinstance(made, Plan) else made
 
 
 def ramp(steps: Plan, limits: Limits) -> RampedPlan:

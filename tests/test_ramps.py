@@ -15,7 +15,7 @@ from diffbot.errors import PlanError
 from diffbot.kinematics import Pose
 from diffbot.planfile import parse_plan
 from diffbot.profiles import Limits, PathLimits
-from diffbot.ramps import controller_limits, has_ramps, ramp
+from diffbot.ramps import controller_limits, has_ramps, ramp, sampled
 from diffbot.trajectory import EXAMPLES, Arc, Segment, Spin, Straight, advance, plan
 
 
@@ -197,3 +197,12 @@ def test_command_chunks_check_the_rate_before_any_is_made() -> None:
         ramped.command_chunks(0.0)
     with pytest.raises(PlanError, match="lower the rate"):
         ramped.command_chunks(1e9)
+
+
+def test_sampled_takes_a_step_plan_as_a_ramped_plan_without_ramps() -> None:
+    steps = plan(parse_plan("straight 1 10s; spin 90 2s"), BOT)
+    stream = sampled(steps).commands(10.0)
+    assert stream.linear.tolist() == ramp(steps, Limits()).commands(10.0).linear.tolist()
+    assert stream.linear[:100].tolist() == pytest.approx([0.1] * 100, abs=1e-12)  # 10 s at 0.1 m/s
+    ramped = ramp(steps, accel(0.3))
+    assert sampled(ramped) is ramped

@@ -131,8 +131,7 @@ def drive(
             "--fastest needs a motor limit, and the robot description has none: give --max-rpm RPM"
         )
     from diffbot.formats.plan_table import violation_lines
-    from diffbot.profiles import Limits
-    from diffbot.ramps import ramp
+    from diffbot.ramps import sampled
     from diffbot.trajectory import Plan
 
     made = plan_options.make(source.segments, params)
@@ -141,8 +140,7 @@ def drive(
         for line in violation_lines(steps):
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
-    # A step plan is sampled as a ramped plan without ramps.
-    stream = (ramp(made, Limits()) if isinstance(made, Plan) else made).commands(rate)
+    stream = sampled(made).commands(rate)
     from diffbot.commands.progress import progress
     from diffbot.live.drive import Driver, DriveSettings
 

@@ -360,10 +360,9 @@ def _write_streamed(
 
 def _commands(made: Plan | RampedPlan) -> RampedPlan:
     """The plan whose commands are sampled: a step plan as a ramped plan without ramps."""
-    from diffbot.profiles import Limits
-    from diffbot.ramps import ramp
+    from diffbot.ramps import sampled
 
-    return ramp(made, Limits()) if isinstance(made, Plan) else made
+    return sampled(made)
 
 
 # --------------------------------------------------------------------------------------------
