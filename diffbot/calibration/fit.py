@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -54,14 +54,34 @@ _SCALE_BOUNDS = (0.01, 100.0)
 #: Steps integrated at a time by each residual evaluation (a multiple of the integrator's
 #: block): the work arrays stay a few megabytes however long the recording.
 CHUNK = 1 << 18
+#: Samples at a time of the one-pass conversions of whole columns (stamps to seconds, the
+#: unwrapped heading): their temporaries stay under a megabyte each.
+_PASS = 1 << 16
 
 
 def require_scipy() -> None:
-    """Raise a CalibrationError saying what to install when SciPy is missing."""
+    """Raise a CalibrationError saying what to install when SciPy is missing.
+
+    SciPy is found here, not loaded: its optimiser weighs some 45 MB, loaded only once the
+    recordings are read and reduced to what the fit needs (see :func:`fit_recordings`).
+    """
+    from importlib.util import find_spec
+
     try:
-        import scipy.optimize  # noqa: F401
+        found = find_spec("scipy") is not None
+    except ValueError:  # a module without a spec stands in for it
+        found = False
+    if not found:
+        raise CalibrationError(f"the least-squares fit needs SciPy: {SCIPY_INSTALL_HINT}")
+
+
+def _least_squares() -> Any:
+    """SciPy's ``least_squares``, or the CalibrationError of :func:`require_scipy`."""
+    try:
+        from scipy.optimize import least_squares
     except ImportError:
         raise CalibrationError(f"the least-squares fit needs SciPy: {SCIPY_INSTALL_HINT}") from None
+    return least_squares
 
 
 # --------------------------------------------------------------------------------------------
@@ -100,10 +120,46 @@ class FitResult:
 
 
 def _increasing(name: str, stamps: NDArray[np.float64]) -> None:
+    # One comparison array (a byte a sample), not the differences (eight).
+    if stamps.size < 2 or not (stamps[1:] > stamps[:-1]).all():
+        raise ParameterError(f"{name} must be at least two strictly increasing times (s)")
+
+
+def _unwrapped(theta: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``numpy.unwrap(theta)``, equal value for value, worked out :data:`_PASS` samples at a
+    time: its differences, corrections and their running sum are never as long as the track."""
     import numpy as np
 
-    if stamps.size < 2 or not (np.diff(stamps) > 0.0).all():
-        raise ParameterError(f"{name} must be at least two strictly increasing times (s)")
+    out = np.empty_like(theta)
+    if theta.size == 0:
+        return out
+    out[0] = theta[0]
+    total = np.zeros(1)
+    for i in range(1, theta.size, _PASS):
+        j = min(i + _PASS, theta.size)
+        dd = theta[i:j] - theta[i - 1 : j - 1]
+        # As numpy.unwrap: the step brought into [-pi, pi), +pi where a step of +pi lands on -pi,
+        # no correction where the step is under pi already.
+        ddmod = np.mod(dd + math.pi, 2.0 * math.pi) - math.pi
+        np.copyto(ddmod, math.pi, where=(ddmod == -math.pi) & (dd > 0))
+        ddmod -= dd
+        np.copyto(ddmod, 0.0, where=np.abs(dd) < math.pi)
+        # The corrections' running sum goes on from the last chunk's, in the same order.
+        running = np.cumsum(np.concatenate((total, ddmod)))[1:]
+        np.add(theta[i:j], running, out=out[i:j])
+        total[0] = running[-1]
+    return out
+
+
+def _seconds(stamps_ns: NDArray[np.int64], origin: int) -> NDArray[np.float64]:
+    """``(stamps_ns - origin) / NS_PER_S``, value for value, with no int64 array as long as
+    the stamps (the caller has checked that the differences fit in int64)."""
+    import numpy as np
+
+    out = np.empty(stamps_ns.size)
+    for i in range(0, stamps_ns.size, _PASS):
+        np.true_divide(stamps_ns[i : i + _PASS] - origin, NS_PER_S, out=out[i : i + _PASS])
+    return out
 
 
 def _window_bounds(
@@ -273,8 +329,6 @@ def fit(
     import numpy as np
 
     require_scipy()
-    from scipy.optimize import least_squares
-
     t = vector("stamps", stamps)
     left = vector("left_positions", left_positions)
     right = vector("right_positions", right_positions)
@@ -294,41 +348,76 @@ def fit(
         )
     _increasing("stamps", t)
     _increasing("truth_stamps", tt)
-    start = np.array([*params.radii, params.wheel_separation])
-    weight = (
-        0.5 * float(start[2])
-        if heading_weight is None
-        else positive("heading_weight", heading_weight)
-    )
-    limit = positive("max_relative_stderr", max_relative_stderr)
+    weight, limit = _weights(params, heading_weight, max_relative_stderr)
 
     inside = (t >= tt[0]) & (t <= tt[-1])
     if not inside.all():
         t, left, right = t[inside], left[inside], right[inside]
-    if t.size < 3:
-        raise CalibrationError(
-            f"only {t.size} wheel samples fall within the ground truth's time span "
-            f"({tt[0]:.6g} s to {tt[-1]:.6g} s)"
-        )
+    _enough_samples(t.size, f" ({tt[0]:.6g} s to {tt[-1]:.6g} s)")
     starts, ends = _window_bounds(t, window, window_duration, segments if inside.all() else ())
+    index, first, last = _bound_samples(starts, ends)
+    at = t[index]
+    truth = (np.interp(at, tt, tx), np.interp(at, tt, ty), np.interp(at, tt, _unwrapped(tth)))
+    return _solve(params, left, right, index, first, last, truth, weight, limit)
+
+
+def _weights(
+    params: DiffDriveParams, heading_weight: float | None, max_relative_stderr: float
+) -> tuple[float, float]:
+    """The heading weight (m/rad) and the largest relative standard error, checked."""
+    weight = (
+        0.5 * params.wheel_separation
+        if heading_weight is None
+        else positive("heading_weight", heading_weight)
+    )
+    return weight, positive("max_relative_stderr", max_relative_stderr)
+
+
+def _enough_samples(count: int, span: str = "") -> None:
+    if count < 3:
+        raise CalibrationError(
+            f"only {count} wheel samples fall within the ground truth's time span{span}"
+        )
+
+
+def _bound_samples(
+    starts: NDArray[np.intp], ends: NDArray[np.intp]
+) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp]]:
+    """The samples at the windows' bounds, in order (``index``; the poses are needed there
+    only), and where each window's first and last sample lie in it.
+
+    Raises:
+        CalibrationError: fewer than two windows.
+    """
+    import numpy as np
+
     if starts.size < 2:
         raise CalibrationError(
             f"the recording makes {starts.size} window: at least two are needed (shorten "
             "{window})"
         )
-    # The poses are needed at the windows' bounds only: ``index`` holds those samples, and
-    # ``first`` and ``last`` say where each window's bounds lie in it.
     index = np.unique(np.concatenate((starts, ends)))
-    first = np.searchsorted(index, starts)
-    last = np.searchsorted(index, ends)
-    at = t[index]
-    truth = _relative(
-        np.interp(at, tt, tx),
-        np.interp(at, tt, ty),
-        np.interp(at, tt, np.unwrap(tth)),
-        first,
-        last,
-    )
+    return index, np.searchsorted(index, starts), np.searchsorted(index, ends)
+
+
+def _solve(
+    params: DiffDriveParams,
+    left: NDArray[np.float64],
+    right: NDArray[np.float64],
+    index: NDArray[np.intp],
+    first: NDArray[np.intp],
+    last: NDArray[np.intp],
+    truth_at: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    weight: float,
+    limit: float,
+) -> FitResult:
+    """The least-squares fit once the problem is set: the wheel angles, the samples at the
+    windows' bounds (:func:`_bound_samples`) and the truth's x, y and unwrapped heading there.
+    """
+    import numpy as np
+
+    start = np.array([*params.radii, params.wheel_separation])
+    truth = _relative(*truth_at, first, last)
     if np.hypot(truth[0], truth[1]).sum() < 1e-9:
         raise CalibrationError(
             "the ground truth does not move: wheel radii need driving (straights or arcs)"
@@ -350,7 +439,7 @@ def fit(
         return diff.ravel()
 
     before = errors(np.ones(3)).reshape(3, -1)
-    solution = least_squares(
+    solution = _least_squares()(
         errors,
         np.ones(3),
         jac="3-point",
@@ -400,24 +489,28 @@ def fit(
         heading_rms_before=heading_before,
         position_rms_after=position_after,
         heading_rms_after=heading_after,
-        windows=int(starts.size),
+        windows=int(first.size),
     )
 
 
 def _wheel_series(
     recording: Recording, params: DiffDriveParams
 ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
-    """Stamps (ns) and the two wheel joints' angles (rad) of the samples that hold both."""
+    """Stamps (ns) and the two wheel joints' angles (rad) of the samples that hold both: views
+    of a CSV's columns when every sample does, copies otherwise."""
     import numpy as np
 
     samples = recording.samples
     if isinstance(samples, ColumnSamples):
-        both = np.frombuffer(bytes(samples.present), dtype=np.uint8) == 3
-        return (
-            np.asarray(samples.stamps_ns, dtype=np.int64)[both],
-            np.asarray(samples.left, dtype=np.float64)[both],
-            np.asarray(samples.right, dtype=np.float64)[both],
+        columns = (
+            np.frombuffer(samples.stamps_ns, dtype=np.int64),
+            np.frombuffer(samples.left, dtype=np.float64),
+            np.frombuffer(samples.right, dtype=np.float64),
         )
+        both = np.frombuffer(samples.present, dtype=np.uint8) == 3
+        if both.all():
+            return columns
+        return columns[0][both], columns[1][both], columns[2][both]
     stamps: list[int] = []
     left: list[float] = []
     right: list[float] = []
@@ -460,24 +553,45 @@ def fit_recording(
     return result
 
 
+@dataclass(frozen=True)
+class _Part:
+    """What the fit keeps of one recording: its wheel angles, its windows' bounds (sample
+    indices within it) and the truth's x, y (m) and unwrapped heading (rad) at those."""
+
+    left: NDArray[np.float64]
+    right: NDArray[np.float64]
+    starts: NDArray[np.intp]
+    ends: NDArray[np.intp]
+    truth_at: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
+
+
 def fit_recordings(
-    pairs: Sequence[tuple[Recording, PoseTrack]],
+    pairs: Iterable[tuple[Recording, PoseTrack]],
     params: DiffDriveParams,
     *,
     time_offset: float | str = 0.0,
-    **options: Any,
+    window: int | None = None,
+    window_duration: float | None = None,
+    heading_weight: float | None = None,
+    max_relative_stderr: float = 0.01,
 ) -> tuple[FitResult, list[float]]:
     """:func:`fit` over several recordings at once, each against its own ground truth.
 
     Each recording's windows stay within it; the truth is interpolated at its wheel stamps once
-    they are moved back by the time offset.
+    they are moved back by the time offset. The recordings are taken one at a time and only
+    what the fit needs is kept of each (the wheel angles, the truth at the windows' bounds):
+    given as a generator that reads them, a recording and its truth are let go before the next
+    one is read, and SciPy is loaded only then.
 
     Args:
         pairs: the recordings and their ground truths.
         params: the nominal robot.
         time_offset: how late the wheel stamps are (s), the same for all, or ``"auto"`` to find
             it for each recording by aligning heading rates.
-        **options: as for :func:`fit`.
+        window: as for :func:`fit`.
+        window_duration: as for :func:`fit`.
+        heading_weight: as for :func:`fit`.
+        max_relative_stderr: as for :func:`fit`.
 
     Returns:
         The fit, and the time offset (s) used for each recording.
@@ -488,74 +602,116 @@ def fit_recordings(
     """
     import numpy as np
 
-    from diffbot.conditioning import estimate_time_offset
-
-    if not pairs:
-        raise CalibrationError("no recording to fit")
+    require_scipy()
     if isinstance(time_offset, str) and time_offset != "auto":
         raise ParameterError(f"time_offset must be seconds or 'auto', got {time_offset!r}")
-    columns: list[list[NDArray[np.float64]]] = [[] for _ in range(6)]
-    segments: list[int] = []
+    weight, limit = _weights(params, heading_weight, max_relative_stderr)
+    if window is not None and window_duration is not None:
+        raise ParameterError("give window or window_duration, not both")
+    parts: list[_Part] = []
     offsets: list[float] = []
     clock = 0.0
-    for recording, truth in pairs:
-        stamps_ns, left, right = _wheel_series(recording, params)
-        if stamps_ns.size < 2:
-            raise CalibrationError(
-                f"{recording.source}: {stamps_ns.size} samples hold both wheel joints "
-                f"({params.left_joint!r}, {params.right_joint!r}): at least two are needed"
-            )
-        origin = min(int(stamps_ns[0]), int(truth.stamps_ns[0]))
-        last = max(int(stamps_ns[-1]), int(truth.stamps_ns[-1]))
-        if last - origin >= INT64:  # the int64 differences below would wrap around
-            raise CalibrationError(
-                f"{recording.source} and {truth.source} lie {(last - origin) / NS_PER_S:.3g} s "
-                "apart: their times cannot be the same clock's"
-            )
-        t = (stamps_ns - origin) / NS_PER_S
-        tt = (truth.stamps_ns - origin) / NS_PER_S
-        if time_offset == "auto":
-            try:
-                offset = estimate_time_offset(t, left, right, tt, truth.theta, params)
-            except ParameterError as err:
-                raise CalibrationError(f"{recording.source}: {err}") from None
-        else:
-            offset = float(time_offset)
+    remaining = iter(pairs)
+    while (
+        taken := _part(remaining, params, time_offset, clock, window, window_duration)
+    ) is not None:
+        part, offset, clock = taken
+        parts.append(part)
         offsets.append(offset)
-        t = t - offset
-        inside = (t >= tt[0]) & (t <= tt[-1])
-        t, left, right = t[inside], left[inside], right[inside]
-        if t.size < 2:
-            raise CalibrationError(
-                f"{recording.source}: only {t.size} wheel samples fall within the ground "
-                "truth's time span"
-            )
-        if columns[0]:
-            segments.append(sum(part.size for part in columns[0]))
-        shift = clock - t[0]
-        for column, values in zip(
-            columns,
-            (
-                t + shift,
-                left,
-                right,
-                np.interp(t, tt, truth.x),
-                np.interp(t, tt, truth.y),
-                np.interp(t, tt, np.unwrap(truth.theta)),
-            ),
-            strict=True,
-        ):
-            column.append(values)
-        clock = float(t[-1] + shift) + 1.0
-    # One recording's columns are used as they are; several are joined one column at a time,
-    # each list let go as soon as it is joined: a million samples weigh 8 MB per column.
-    del stamps_ns, tt
-    joined = []
-    while columns:
-        column = columns.pop(0)
-        joined.append(column[0] if len(column) == 1 else np.concatenate(column))
-        del column
-    t, left, right, x, y, theta = joined
-    del joined
-    result = fit(t, left, right, t, x, y, theta, params, segments=segments, **options)
+    if not parts:
+        raise CalibrationError("no recording to fit")
+    _enough_samples(sum(part.left.size for part in parts))
+    # One recording's columns are used as they are; several are joined one at a time.
+    sizes = np.cumsum([0] + [part.left.size for part in parts])
+    starts = np.concatenate([p.starts + n for p, n in zip(parts, sizes, strict=False)])
+    ends = np.concatenate([p.ends + n for p, n in zip(parts, sizes, strict=False)])
+    index, first, last = _bound_samples(starts, ends)
+    del starts, ends
+    truth_at = (
+        np.concatenate([p.truth_at[0] for p in parts]),
+        np.concatenate([p.truth_at[1] for p in parts]),
+        np.concatenate([p.truth_at[2] for p in parts]),
+    )
+    left = parts[0].left if len(parts) == 1 else np.concatenate([p.left for p in parts])
+    right = parts[0].right if len(parts) == 1 else np.concatenate([p.right for p in parts])
+    del parts
+    result = _solve(params, left, right, index, first, last, truth_at, weight, limit)
     return result, offsets
+
+
+def _part(
+    pairs: Iterator[tuple[Recording, PoseTrack]],
+    params: DiffDriveParams,
+    time_offset: float | str,
+    clock: float,
+    window: int | None,
+    window_duration: float | None,
+) -> tuple[_Part, float, float] | None:
+    """The next recording reduced to what the fit keeps, the time offset used, and where the
+    next recording's clock starts (1 s after this one ends: no window spans two recordings);
+    None when there is none left.
+
+    The pair is taken from the iterator here, so that nothing else holds a generator's
+    recording and truth: each array is let go as soon as it has served. No array as long as
+    the recording is kept but the wheel angles, and few are made.
+    """
+    import numpy as np
+
+    from diffbot.conditioning import estimate_time_offset
+
+    pair = next(pairs, None)
+    if pair is None:
+        return None
+    recording, truth = pair
+    del pair
+    source, truth_source = recording.source, truth.source
+    stamps_ns, left, right = _wheel_series(recording, params)
+    del recording
+    if stamps_ns.size < 2:
+        raise CalibrationError(
+            f"{source}: {stamps_ns.size} samples hold both wheel joints "
+            f"({params.left_joint!r}, {params.right_joint!r}): at least two are needed"
+        )
+    origin = min(int(stamps_ns[0]), int(truth.stamps_ns[0]))
+    end = max(int(stamps_ns[-1]), int(truth.stamps_ns[-1]))
+    if end - origin >= INT64:  # the int64 differences below would wrap around
+        raise CalibrationError(
+            f"{source} and {truth_source} lie {(end - origin) / NS_PER_S:.3g} s "
+            "apart: their times cannot be the same clock's"
+        )
+    t = _seconds(stamps_ns, origin)
+    del stamps_ns
+    tt = _seconds(truth.stamps_ns, origin)
+    tx, ty, tth = truth.x, truth.y, truth.theta
+    del truth
+    if time_offset == "auto":
+        try:
+            offset = estimate_time_offset(t, left, right, tt, tth, params)
+        except ParameterError as err:
+            raise CalibrationError(f"{source}: {err}") from None
+    else:
+        offset = float(time_offset)
+    t -= offset
+    inside = (t >= tt[0]) & (t <= tt[-1])
+    if not inside.all():
+        t, left, right = t[inside], left[inside], right[inside]
+    del inside
+    if t.size < 2:
+        raise CalibrationError(
+            f"{source}: only {t.size} wheel samples fall within the ground truth's time span"
+        )
+    shift = clock - t[0]
+    shifted = t + shift
+    _increasing("stamps", shifted)
+    starts, ends = _window_bounds(shifted, window, window_duration)
+    clock = float(shifted[-1]) + 1.0
+    del shifted
+    # The truth is needed at the windows' bounds only.
+    at = t[np.unique(np.concatenate((starts, ends)))]
+    del t
+    x_at = np.interp(at, tt, tx)
+    del tx
+    y_at = np.interp(at, tt, ty)
+    del ty
+    truth_at = (x_at, y_at, np.interp(at, tt, _unwrapped(tth)))
+    return _Part(left, right, starts, ends, truth_at), float(offset), clock

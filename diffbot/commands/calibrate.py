@@ -387,10 +387,14 @@ def fit(
         check_topic("--truth-topic", truth_topic)
     if window is not None and window_duration is not None:
         fail("give --window or --window-duration, not both")
-    pairs = []
-    for source in rest:
-        wheels = recording.read(source, params, topic)
-        pairs.append((wheels, read_pose_track(source if truth is None else truth, truth_topic)))
+    # Read one recording at a time, as the fit takes them: each is let go once reduced.
+    pairs = (
+        (
+            recording.read(source, params, topic),
+            read_pose_track(source if truth is None else truth, truth_topic),
+        )
+        for source in rest
+    )
     result, offsets = fit_recordings(
         pairs,
         params,
