@@ -14,6 +14,7 @@ from diffbot.errors import DiffbotError, ParameterError
 
 __all__ = [
     "MAX_COORDINATE",
+    "MAX_NOISE",
     "MAX_PLAN_DURATION",
     "MAX_PLAN_SAMPLES",
     "WHEEL_SIZE_RANGE",
@@ -34,6 +35,10 @@ WHEEL_SIZE_RANGE = (1e-4, 1e3)
 
 #: Farthest a pose may lie from its origin (m): a million km, beyond any robot's drive.
 MAX_COORDINATE = 1e9
+
+#: Largest standard deviation of simulated encoder noise (rad): a revolution. Beyond it a
+#: reading says nothing of the angle.
+MAX_NOISE = 2.0 * math.pi
 
 #: Longest text of a value an error message shows (characters).
 _SHOWN = 40

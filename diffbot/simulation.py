@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Final, NamedTuple, Protocol
 
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
+from diffbot.numbers import MAX_NOISE, finite_in_range
 
 if TYPE_CHECKING:
     import numpy as np
@@ -272,8 +273,7 @@ def simulate_chunks(
     from diffbot import trajectory
 
     rate, ticks, noise, seed = sampling.rate, sampling.ticks, sampling.noise, sampling.seed
-    if not math.isfinite(noise) or noise < 0.0:
-        raise ParameterError(f"noise must be a finite number >= 0 (rad), got {noise!r}")
+    noise = finite_in_range(noise, "noise", 0.0, MAX_NOISE, unit="rad")
     if seed is not None and (not isinstance(seed, int) or seed < 0):
         raise ParameterError(f"seed must be an integer >= 0, got {seed!r}")
     if ticks is not None:

@@ -19,6 +19,7 @@ from wheel_motion import angle_error
 
 import diffbot
 from diffbot.cli import main
+from diffbot.errors import ParameterError
 from diffbot.io.bag import read_bag
 from diffbot.io.csv_chunks import read_csv
 from diffbot.kinematics import DiffDriveParams
@@ -505,3 +506,11 @@ def test_simulated_chunks_keep_memory_flat() -> None:
     # Four times the samples (8e5 at the end, 26 MB as whole arrays): about the same peak.
     assert peaks[1] < 1.3 * peaks[0]
     assert peaks[1] < 12e6
+
+
+@pytest.mark.parametrize("noise", [7.0, 1e308, -0.1, math.nan])
+def test_noise_is_refused_beyond_a_revolution(noise: float) -> None:
+    with pytest.raises(
+        ParameterError, match=r"noise must be a finite number >= 0 and <= 6\.28319 rad"
+    ):
+        simulate(plan(parse_plan("straight 1"), BOT), BOT, 50.0, noise=noise)

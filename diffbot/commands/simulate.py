@@ -13,7 +13,6 @@ import click
 
 from diffbot.calibration.truth import TRUTH_COLUMNS, TruthStream, true_robot
 from diffbot.commands.options import (
-    NON_NEGATIVE,
     NUMBERS,
     FiniteFloat,
     OutOptions,
@@ -39,6 +38,7 @@ from diffbot.formats.text import fmt
 from diffbot.io.bag import JointStatesBagWriter
 from diffbot.io.csvfile import joint_states_header, joint_states_lines
 from diffbot.io.outputs import atomic_text
+from diffbot.numbers import MAX_NOISE
 from diffbot.samples import ns_from_seconds
 from diffbot.simulation import (
     MAX_RATE,
@@ -158,10 +158,10 @@ def _write(
 )
 @click.option(
     "--noise",
-    type=NON_NEGATIVE,
+    type=FiniteFloat(0.0, maximum=MAX_NOISE),
     default=0.0,
     metavar="STD",
-    help="Standard deviation of Gaussian noise on the wheel angles (rad).",
+    help="Standard deviation of Gaussian noise on the wheel angles (rad), at most 2 pi.",
 )
 @click.option(
     "--seed",

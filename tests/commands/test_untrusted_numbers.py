@@ -302,6 +302,13 @@ def test_a_true_robot_of_no_real_size_is_refused(option: str, value: str, fragme
     assert_clean_error(run("simulate", "straight 1", option, value), option, fragment)
 
 
+@pytest.mark.parametrize("value", ["1e308", "7", "-1"])
+def test_encoder_noise_beyond_a_revolution_is_refused(value: str) -> None:
+    # Noise of more than a revolution says nothing of the angle (1e308 wrote angles of 1e307).
+    result = run("simulate", "straight 1", "--noise", value)
+    assert_clean_error(result, "--noise", "6.28319" if value != "-1" else ">= 0")
+
+
 def test_json_that_cannot_hold_a_result_is_an_error_not_a_traceback() -> None:
     with pytest.raises(InputError, match="infinite or NaN"):
         emit_json({"wheel_separation": math.inf})
