@@ -18,7 +18,8 @@ from typing import Any, Literal
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
 from diffbot.io.textfile import read_text
-from diffbot.trajectory import Arc, Segment, Spin, Straight, as_float
+from diffbot.numbers import finite_in_range
+from diffbot.trajectory import Arc, Segment, Spin, Straight
 
 __all__ = [
     "format_plan",
@@ -302,9 +303,7 @@ def _entry_value(value: object, dimension: Dimension, what: str) -> float:
             return _quantity(value, dimension)
         except _BadValueError as err:
             raise _BadValueError(f"{what} {brief(value)}: {err}") from None
-    number = as_float(value)
-    if not math.isfinite(number):
-        raise _BadValueError(f"{what} {brief(value)}: not a finite number")
+    number = finite_in_range(value, what, error=PlanError)
     return math.radians(number) if dimension == "angle" else number
 
 
@@ -477,6 +476,8 @@ def _load_json(text: str, source: str) -> Any:
             f"{source}: malformed JSON: {err.msg} (line {err.lineno}, column {err.colno})"
         ) from None
     except ValueError as err:  # a number with more digits than Python reads
+        if "digits" in str(err):  # as YAML files say it (diffbot.io.yamlfile)
+            raise PlanError(f"{source}: malformed JSON: a number too long to read") from None
         raise PlanError(f"{source}: a value cannot be read: {str(err).split(':')[0]}") from None
 
 
