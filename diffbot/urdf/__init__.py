@@ -125,6 +125,7 @@ def load_params(
             description=expansion.files[0] if expansion.files else None,
             folders=None if trust else expansion.folders,
             args=args,
+            named_from=dict(expansion.named_from),
         )
     )
     if config is not None:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import threading
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
@@ -325,6 +326,9 @@ def sandboxed(
                     allowed.check(included, "reading")
                 check_regular(included, DescriptionError, "a xacro file")
                 read.append(Path(included))
+                document = saved["parse"](source, filename)
+                _mark_origin(document, Path(included).resolve().parent)
+                return document
             return saved["parse"](source, filename)
 
         def subst_eval(text: str, context: dict[str, Any]) -> str:
@@ -398,11 +402,40 @@ def _xacro_message(err: BaseException, filestack: list[Any] | None) -> str:
     return one_line(f"xacro: {err}{location}")
 
 
+#: The attribute that carries, through the expansion, the folder of the included file that
+#: wrote a ``<parameters>`` element; taken out before the URDF text is made.
+NAMED_FROM = "diffbot-named-from"
+
+
+def _mark_origin(document: Any, folder: Path) -> None:
+    """Tag the ``<parameters>`` elements of an included file with its folder (written so that
+    xacro, which evaluates attributes, gives it back as it is)."""
+    escaped = re.sub(r"\$+(?=[{(])", lambda match: "$" + match.group(0), str(folder))
+    for element in document.getElementsByTagName("parameters"):
+        element.setAttribute(NAMED_FROM, escaped)
+
+
+def _take_origins(document: Any) -> dict[str, Path]:
+    """The folders of the included files that wrote ``<parameters>`` elements, by their
+    (expanded, stripped) text; the tags are removed."""
+    origins: dict[str, Path] = {}
+    for element in document.getElementsByTagName("parameters"):
+        if element.hasAttribute(NAMED_FROM):
+            folder = element.getAttribute(NAMED_FROM)
+            element.removeAttribute(NAMED_FROM)
+            text = "".join(
+                node.data for node in element.childNodes if node.nodeType == node.TEXT_NODE
+            )
+            origins.setdefault(text.strip(), Path(folder))
+    return origins
+
+
 def process(
     path: str | os.PathLike[str],
     mappings: Mapping[str, str] | None = None,
     *,
     files: list[Path] | None = None,
+    named_from: dict[str, Path] | None = None,
     **options: Any,
 ) -> str:
     """Expand a xacro description in the sandbox.
@@ -411,6 +444,8 @@ def process(
         path: the .xacro file.
         mappings: xacro arguments (``NAME:=VALUE``).
         files: a list that receives the files the expansion read besides ``path``.
+        named_from: a mapping that receives, for each ``<parameters>`` text an included file
+            wrote, that file's folder (where a relative name in it starts from).
         **options: the keywords of :func:`sandboxed` (``roots``, ``find``, ``trust``,
             ``max_bytes``, ``max_depth``, ``max_elements``, ``folders``).
 
@@ -434,6 +469,9 @@ def process(
         with sandboxed(path, **options) as read:
             try:
                 document = xacro.process_file(os.fspath(path), mappings=mappings)
+                origins = _take_origins(document)
+                if named_from is not None:
+                    named_from.update(origins)
                 return str(document.toprettyxml(indent="  "))
             finally:
                 if files is not None:

@@ -81,16 +81,17 @@ def find_controller(
     description: str | os.PathLike[str] | None = None,
     folders: Sequence[Path] | None = None,
     args: Mapping[str, object] | None = None,
+    named_from: Mapping[str, Path] | None = None,
 ) -> ControllerConfig | None:
     """The diff-drive controller the robot runs with: from ``controllers`` when given, else from
     the parameters file its ros2_control Gazebo plugin names (a missing file is a warning).
 
     A file the description names is the description's to choose, so it is held to the
-    description's sandbox: a relative name is taken from the description's folder (not the
-    current directory), and unless ``folders`` is None (a trusted description) the file,
-    symbolic links resolved, must lie in one of ``folders``; it must be a regular file. A file
-    holding only controllers of other drives (mecanum, omni, Ackermann...) is named in a warning
-    with their types.
+    description's sandbox: a relative name is taken from the folder of the file that wrote it
+    (an included xacro file's, else the description's; never the current directory), and
+    unless ``folders`` is None (a trusted description) the file, symbolic links resolved, must
+    lie in one of ``folders``; it must be a regular file. A file holding only controllers of
+    other drives (mecanum, omni, Ackermann...) is named in a warning with their types.
 
     Args:
         root: the expanded URDF.
@@ -100,6 +101,8 @@ def find_controller(
         description: the description file, whose folder relative names start from.
         folders: the folders an untrusted description may read; None to read any file.
         args: the values of ``$(arg NAME)`` in ROS 1 files.
+        named_from: the folder of the included file that wrote each ``<parameters>`` text
+            (:attr:`diffbot.urdf.xacro.Expansion.named_from`).
 
     Returns None when no file is given or found, or the files found hold no diff-drive
     controller (and none was asked for by name).
@@ -119,7 +122,8 @@ def find_controller(
     read = []
     for name in ros2_control_parameter_files(root):
         named = Path(name.strip())
-        path = named if named.is_absolute() else base / named
+        origin = (named_from or {}).get(name.strip(), base)
+        path = named if named.is_absolute() else origin / named
         if folders is not None and not inside_folders(path, folders):
             raise OutsideRootsError(
                 f"{name.strip()}: the controllers file the description's ros2_control plugin "

@@ -47,12 +47,15 @@ class Expansion:
         folders: the folders an untrusted description may read (its own, its package's, the
             packages given or found by ``$(find PKG)``): files its text names, such as a
             controllers file, are read only there.
+        named_from: for each ``<parameters>`` text an included file wrote, that file's folder:
+            a relative name in it starts there (elsewhere, from the description's folder).
     """
 
     urdf: str
     warnings: tuple[str, ...] = ()
     files: tuple[Path, ...] = ()
     folders: tuple[Path, ...] = ()
+    named_from: tuple[tuple[str, Path], ...] = ()
 
 
 class _RecordingArgs(dict[str, str]):
@@ -201,6 +204,7 @@ def _run_xacro(
     stderr = io.StringIO()
     files: list[Path] = []
     folders: list[Path] = []
+    named_from: dict[str, Path] = {}
     with contextlib.redirect_stderr(stderr):
         urdf = process(
             source,
@@ -210,13 +214,20 @@ def _run_xacro(
             trust=trust,
             files=files,
             folders=folders,
+            named_from=named_from,
         )
     warnings = [one_line(line.removeprefix("warning: ")) for line in stderr.getvalue().splitlines()]
     warnings = [w for w in warnings if w]
     for name in given:
         if name not in mappings.seen:
             warnings.append(f"xacro argument {name!r} is not declared by {source.name}: ignored")
-    return Expansion(urdf, tuple(warnings), tuple(dict.fromkeys([source, *files])), tuple(folders))
+    return Expansion(
+        urdf,
+        tuple(warnings),
+        tuple(dict.fromkeys([source, *files])),
+        tuple(folders),
+        tuple(named_from.items()),
+    )
 
 
 def check_xml(text: str, source: str) -> ET.Element:

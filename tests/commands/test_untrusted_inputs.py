@@ -427,6 +427,58 @@ def test_a_relative_controllers_path_never_reads_the_current_folder(tmp_path: Pa
     assert data["wheel_separation"] == 0.2
 
 
+def nested_package(tmp_path: Path, parameters: str) -> Path:
+    """pkg/urdf/robot.urdf.xacro includes pkg/control/ros2_control.xacro, whose Gazebo plugin
+    names ``parameters``; pkg/control/config/controllers.yaml gives 0.5 m, and a decoy at
+    pkg/urdf/config/controllers.yaml (beside the top file) 0.7 m."""
+    package = tmp_path / "pkg"
+    (package / "control" / "config").mkdir(parents=True)
+    (package / "urdf" / "config").mkdir(parents=True)
+    (package / "package.xml").write_text("<package><name>pkg</name></package>", encoding="utf-8")
+    (package / "control" / "ros2_control.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        f"{plugin_body(parameters)}\n</robot>\n",
+        encoding="utf-8",
+    )
+    (package / "control" / "config" / "controllers.yaml").write_text(
+        CONTROLLERS_YAML, encoding="utf-8"
+    )
+    (package / "urdf" / "config" / "controllers.yaml").write_text(
+        CONTROLLERS_YAML.replace("0.5", "0.7"), encoding="utf-8"
+    )
+    robot = package / "urdf" / "robot.urdf.xacro"
+    include = '<xacro:include filename="../control/ros2_control.xacro"/>'
+    robot.write_text(two_wheel_urdf(body=include, xacro=True), encoding="utf-8")
+    return robot
+
+
+def test_a_relative_controllers_path_is_taken_from_the_folder_of_the_file_that_names_it(
+    tmp_path: Path,
+) -> None:
+    robot = nested_package(tmp_path, "config/controllers.yaml")
+    done = run_process("params", str(robot), "--json", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["wheel_separation"] == 0.5
+
+
+def test_an_included_file_names_its_controllers_by_package_as_before(tmp_path: Path) -> None:
+    robot = nested_package(tmp_path, "$(find pkg)/control/config/controllers.yaml")
+    done = run_process("params", str(robot), "--json", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["wheel_separation"] == 0.5
+
+
+def test_a_relative_path_from_an_included_file_is_still_held_to_the_sandbox(
+    tmp_path: Path,
+) -> None:
+    outside_files(tmp_path)
+    robot = nested_package(tmp_path, "../../outside/secret.yaml")
+    done = run_process("params", str(robot), cwd=tmp_path)
+    assert_process_error(done, "--trust")
+    assert "outside/secret.yaml" in done.stderr
+    assert SECRET not in done.stdout + done.stderr
+
+
 def test_a_fifo_named_as_controllers_in_the_tree_is_refused_by_type(tmp_path: Path) -> None:
     robot = plugin_robot(tmp_path / "robot", "controllers.yaml")
     os.mkfifo(robot.parent / "controllers.yaml")

@@ -287,3 +287,35 @@ def test_an_expansion_lists_the_folders_it_may_read(tmp_path: Path) -> None:
     assert robot.parent.resolve() in expansion.folders
     assert package.resolve() in expansion.folders
     assert tmp_path.resolve() not in expansion.folders
+
+
+def test_an_expansion_says_which_included_file_wrote_each_parameters_element(
+    tmp_path: Path,
+) -> None:
+    # The folder travels through xacro as an attribute (escaped, as a folder with "${" in its
+    # name shows), and is taken out of the URDF text.
+    control = tmp_path / "pkg ${odd}" / "control"
+    control.mkdir(parents=True)
+    (control.parent / "package.xml").write_text("<package><name>p</name></package>", "utf-8")
+    (control / "plugin.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><gazebo><plugin name="g" '
+        'filename="libgazebo_ros2_control.so"><parameters>config/c.yaml</parameters></plugin>'
+        "</gazebo></robot>",
+        encoding="utf-8",
+    )
+    robot = tmp_path / "pkg ${odd}" / "urdf" / "robot.urdf.xacro"
+    robot.parent.mkdir()
+    robot.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="base"/>'
+        '<xacro:include filename="../control/plugin.xacro"/>'
+        "<gazebo><plugin name='h' filename='x.so'><parameters>top.yaml</parameters></plugin>"
+        "</gazebo></robot>",
+        encoding="utf-8",
+    )
+    expansion = diffbot.expand(robot)
+    assert dict(expansion.named_from) == {
+        "config/c.yaml": control.resolve(),
+        "top.yaml": robot.parent.resolve(),
+    }
+    assert "diffbot-named-from" not in expansion.urdf
+    assert "<parameters>config/c.yaml</parameters>" in expansion.urdf
