@@ -52,8 +52,8 @@ _MIN_TURN = 1e-3
 #: real calibration, and it keeps every trial robot physical.
 _SCALE_BOUNDS = (0.01, 100.0)
 #: Steps integrated at a time by each residual evaluation (a multiple of the integrator's
-#: block): the work arrays stay a few megabytes however long the recording.
-CHUNK = 1 << 18
+#: block): the work arrays stay near two megabytes however long the recording.
+CHUNK = 1 << 16
 #: Samples at a time of the one-pass conversions of whole columns (stamps to seconds, the
 #: unwrapped heading): their temporaries stay under a megabyte each.
 _PASS = 1 << 16
