@@ -186,7 +186,8 @@ def recordings_figure(
 ) -> Figure:
     """A figure of odometry paths alone, with no plan: each recording's path in the odom frame
     (equal scales, axes label ``"path"``), its start (square) and end (circle); and, when
-    given, distances over time below (axes label ``"difference"``).
+    given, distances over time below (axes label ``"difference"``). A recording with a
+    difference curve of the same label (a reference) is drawn dashed above the others.
 
     Args:
         recordings: ``(label, x, y)`` with x and y in m.
@@ -215,10 +216,16 @@ def recordings_figure(
     else:
         axes = figure.subplots()
     axes.set_label("path")
+    # A path with a difference curve is a reference: dashed above the others, so that where it
+    # agrees with its odometry (on the same pixels) the odometry still shows between the dashes.
+    compared = {label for label, _, _ in curves}
     for number, (label, x, y) in enumerate(recordings):
         rx, ry = _recorded_path(label, x, y)
         colour = RECORDING_COLOURS[number % len(RECORDING_COLOURS)]
-        axes.plot(rx, ry, color=colour, linewidth=1.5, label=label, zorder=3)
+        if label in compared:
+            axes.plot(rx, ry, color=colour, linewidth=1.5, linestyle="--", label=label, zorder=4)
+        else:
+            axes.plot(rx, ry, color=colour, linewidth=1.5, label=label, zorder=3)
         axes.plot(rx[0], ry[0], "s", color=colour, markersize=7, zorder=2)
         axes.plot(rx[-1], ry[-1], "o", color=colour, markersize=7, zorder=2)
     axes.set_aspect("equal", adjustable="datalim")

@@ -75,3 +75,26 @@ def test_the_difference_axes_show_the_distance_over_time() -> None:
     below = axes_labelled(figure, "difference")
     assert [line.get_ydata().tolist() for line in below.get_lines()] == [[0.0, 0.1]]
     assert near(rendered(figure), below, 0.5, 0.05, RECORDING_COLOURS[1])
+
+
+def test_a_reference_on_top_of_its_odometry_leaves_the_odometry_visible() -> None:
+    # A controller's /odom that agrees with diffbot's odometry lies on the same pixels: drawn
+    # solid over it, the odometry vanished from the picture and only its legend entry remained.
+    along = [0.1 * k for k in range(11)]
+    flat = [0.0] * 11
+    figure = recordings_figure(
+        [("run", along, flat), ("run /odom", along, flat)],
+        differences=[("run /odom", along, flat)],
+    )
+    figure.canvas.draw()
+    axes = axes_labelled(figure, "path")
+    image = rendered(figure)
+    seen = [
+        (
+            near(image, axes, x, 0.0, RECORDING_COLOURS[0]),
+            near(image, axes, x, 0.0, RECORDING_COLOURS[1]),
+        )
+        for x in along[1:-1]
+    ]
+    assert sum(odometry for odometry, _ in seen) >= 5, seen
+    assert sum(reference for _, reference in seen) >= 5, seen
