@@ -323,6 +323,15 @@ def unit_by_magnitude(value: float) -> str:
     return "s"
 
 
+def _is_number(text: str) -> bool:
+    """Whether a cell reads as a number (a header cell that does is data, not a name)."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def _named_columns(
     headers: Sequence[str], names: Sequence[str], option: str, source: str
 ) -> list[tuple[str, int]]:
@@ -401,6 +410,13 @@ class CsvChunks:
                 self.delimiter = other
                 self.delimiter_detected = True
                 headers = [h.strip() for h in next(csv.reader([headers[0]], delimiter=other))]
+        if all(_is_number(h) for h in headers):
+            example = self.delimiter.join(["time", *sides[0][:1], *sides[1][:1]])
+            raise RecordingError(
+                f"{source}: the first line holds numbers, not column names: a header line "
+                f"naming the columns is needed (such as {example}; other names with "
+                "{time_column}, {left_column}, {right_column})"
+            )
         lowered = [h.lower() for h in headers]
         if layout.time_column is not None:
             ((_, time_index),) = _named_columns(

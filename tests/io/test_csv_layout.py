@@ -138,3 +138,20 @@ def test_odom_reads_another_tools_csv_and_says_what_it_judged(
         f"warning: {path}: stamps read as nanoseconds, judged by the size of the first (too "
         "large for seconds since 1970); --time-unit to choose\n"
     )
+
+
+@pytest.mark.parametrize("delimiter", [",", ";"])
+def test_a_csv_without_a_header_line_is_told_so(
+    runner: CliRunner, tmp_path: Path, delimiter: str
+) -> None:
+    # A data logger's export that starts with its first row of numbers: the error listed those
+    # numbers as "columns found" and asked for a time column by name.
+    path = other_tool_csv(tmp_path, delimiter=delimiter)
+    path.write_text(path.read_text(encoding="utf-8").split("\n", 1)[1], encoding="utf-8")
+    result = runner.invoke(main, ["odom", str(path), "--robot", str(urdf(tmp_path))])
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"error: {path}: the first line holds numbers, not column names: a header line naming "
+        f"the columns is needed (such as time{delimiter}left_wheel_joint{delimiter}"
+        "right_wheel_joint; other names with --time-column, --left-column, --right-column)\n"
+    )
