@@ -63,16 +63,23 @@ def _skipped_text(skipped: Mapping[str, int]) -> str:
     return ", ".join(f"{count} {reason}" for reason, count in sorted(skipped.items()))
 
 
-def _repeat_text(summary: OdometrySummary) -> str:
-    """Why samples were skipped for their stamps, and the rule applied."""
+def _repeat_text(summary: OdometrySummary, kind: str) -> str:
+    """Why samples were skipped for their stamps, and the rule applied (a CSV's rows, a bag's
+    messages)."""
     if summary.first_repeat_ns is None:
         return ""
     from diffbot.samples import seconds_text
 
-    return (
-        f" (from stamp {seconds_text(summary.first_repeat_ns)} s on, samples whose stamp is not "
-        "after the one before: two publishers on the topic, or a clock that went back; the "
-        "first sample of each stamp is used, and only samples later than every one used)"
+    start = f" (from stamp {seconds_text(summary.first_repeat_ns)} s on, "
+    if kind == "csv":
+        return start + (
+            "rows whose stamp is not after the one before: rows out of order or repeated; the "
+            "first row of each stamp is used, and only rows later than every one used)"
+        )
+    return start + (
+        "samples whose stamp is not after the one before: two publishers on the topic, or a "
+        "clock that went back; the first sample of each stamp is used, and only samples later "
+        "than every one used)"
     )
 
 
@@ -261,7 +268,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
     if skipped_total:
         opt.warn(
             f"skipped {skipped_total} of {summary.samples + skipped_total} samples: "
-            f"{_skipped_text(summary.skipped)}{_repeat_text(summary)}"
+            f"{_skipped_text(summary.skipped)}{_repeat_text(summary, run.kind)}"
         )
     warn_notes(run.notes, source)
     warn_conditioning(run.conditioning, source)

@@ -183,6 +183,25 @@ def test_two_publishers_on_one_topic_are_explained_once_with_the_rule(
     assert_at_run_end(data)
 
 
+def test_csv_rows_out_of_order_are_explained_as_rows_not_publishers(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    # Two rows swapped in a CSV: the warning spoke of "two publishers on the topic".
+    csv = counts_csv(tmp_path)
+    header, *rows = csv.read_text(encoding="utf-8").splitlines()
+    rows[10], rows[11] = rows[11], rows[10]
+    csv.write_text("\n".join([header, *rows]) + "\n", encoding="utf-8")
+    result = runner.invoke(main, ["odom", str(csv), *robot, *COUNTS, "--wrap", "65536"])
+    assert result.exit_code == 0, result.output
+    first = rows[11].split(",")[0]  # the row skipped: earlier than the one before it
+    assert result.stderr == (
+        "warning: skipped 1 of 101 samples: 1 stamp not after previous (from stamp "
+        f"{float(first):.1f} s on, rows whose stamp is not after the one before: rows out of "
+        "order or repeated; the first row of each stamp is used, and only rows later than "
+        "every one used)\n"
+    )
+
+
 def test_the_table_of_several_inputs_stays_aligned_with_long_names(
     runner: CliRunner, tmp_path: Path, robot: list[str]
 ) -> None:
