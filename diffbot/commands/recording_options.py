@@ -190,6 +190,14 @@ def warn_conditioning(report: ConditioningReport, source: str) -> None:
             f"step{'s' if report.implausible_steps != 1 else ''} (a wheel faster than "
             f"{fmt(limit, 4)} rad/s: {report.limit_source}); the first ends at "
             f"sample {first.sample}, t {fmt(first.seconds, 6)} s ({first.joint} at "
-            f"{fmt(first.speed, 4)} rad/s): the pose is not to be trusted (encoder counts? "
-            f"--counts-per-rev, --wrap)"
+            f"{fmt(first.speed, 4)} rad/s): the pose is not to be trusted ({_cause(report)})"
         )
+
+
+def _cause(report: ConditioningReport) -> str:
+    """What may make steps implausible, short of the options already given."""
+    if report.counts_per_rev is None:
+        return "encoder counts? --counts-per-rev, --wrap"
+    if report.wrap is None:
+        return "a counter that wraps? --wrap; or --counts-per-rev too small"
+    return "a jump in the counts, or --counts-per-rev too small"

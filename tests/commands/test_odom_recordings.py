@@ -202,6 +202,33 @@ def test_csv_rows_out_of_order_are_explained_as_rows_not_publishers(
     )
 
 
+def test_an_implausible_step_in_counts_does_not_ask_for_the_options_already_given(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    # A 32-bit counter, 4096 counts per revolution, a glitch of a million counts in sample 50
+    # read with --counts-per-rev and --wrap: the warning still asked "encoder counts?
+    # --counts-per-rev, --wrap".
+    rows = ["time,left_wheel_joint,right_wheel_joint"]
+    for k in range(101):
+        left = 40 * k + (1_000_000 if k == 50 else 0)
+        rows.append(f"{k / 10},{left},{40 * k}")
+    csv = tmp_path / "glitch.csv"
+    csv.write_text("\n".join(rows) + "\n", encoding="utf-8")
+    counts = ["--counts-per-rev", "4096"]
+    result = runner.invoke(main, ["odom", str(csv), *robot, *counts, "--wrap", str(2**32)])
+    assert result.exit_code == 1, result.output
+    assert "2 implausible steps" in result.stderr
+    assert result.stderr.endswith(
+        "the pose is not to be trusted (a jump in the counts, or --counts-per-rev too small)\n"
+    )
+    result = runner.invoke(main, ["odom", str(csv), *robot, *counts, "--wrap", "0"])
+    assert result.exit_code == 1, result.output
+    assert result.stderr.endswith(
+        "the pose is not to be trusted (a counter that wraps? --wrap; or --counts-per-rev too "
+        "small)\n"
+    )
+
+
 def test_the_table_of_several_inputs_stays_aligned_with_long_names(
     runner: CliRunner, tmp_path: Path, robot: list[str]
 ) -> None:
