@@ -404,21 +404,45 @@ def bag_odometry(
         )
 
 
+#: How many messages :func:`_joints_hint` looks through, and how many joint lists it names.
+_HINT_MESSAGES = 1000
+_HINT_LISTS = 4
+
+
 def _joints_hint(chunks: TopicChunks, params: DiffDriveParams) -> str:
-    """The wheel joints wanted and the joints the topic's first readable message holds."""
+    """The wheel joints wanted and the joints the topic's first readable messages hold: one
+    list, or a list per kind of message when they differ (a publisher per wheel)."""
     from diffbot.io.bag import JOINT_STATE, typestore
 
     wanted = listing([*params.left_joints, *params.right_joints])
     store = typestore()
+    lists: list[tuple[str, ...]] = []
+    looked = 0
     for chunk in chunks.chunks(receive_times=False):
         for blob in chunk.blobs:
             try:
                 message: Any = store.deserialize_cdr(blob, JOINT_STATE)
-                names = [str(name) for name in message.name]
+                names = tuple(str(name) for name in message.name)
             except Exception:  # a damaged message: the next one may say
                 continue
-            return f"; wheel joints wanted: {wanted}; joints found: {listing(names)}"
-    return f"; wheel joints wanted: {wanted}"
+            if names not in lists:
+                lists.append(names)
+            looked += 1
+            if looked >= _HINT_MESSAGES or len(lists) > _HINT_LISTS:
+                break
+        else:
+            continue
+        break
+    if not lists:
+        return f"; wheel joints wanted: {wanted}"
+    if len(lists) == 1:
+        return f"; wheel joints wanted: {wanted}; joints found: {listing(lists[0])}"
+    found = " / ".join(listing(names) for names in lists[:_HINT_LISTS])
+    more = " / ..." if len(lists) > _HINT_LISTS else ""
+    return (
+        f"; wheel joints wanted: {wanted}; joints found, by message: {found}{more} (each "
+        "message must hold a joint of each side)"
+    )
 
 
 def recording_odometry(

@@ -161,6 +161,26 @@ def test_missing_joints_are_named_beside_the_joints_found(
     )
 
 
+def test_wheels_published_in_separate_messages_are_named_message_by_message(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    # A driver per wheel, each publishing its own JointState: the error named only the first
+    # message's joint, as if the other wheel were absent from the topic.
+    split = []
+    for stamp, received, names, positions in pioneer_messages():
+        split.append((stamp, received, names[:1], positions[:1]))
+        split.append((stamp + 1000, received + 1000, names[1:], positions[1:]))
+    bag = write_bag(tmp_path / "bag", split, topic=TOPIC)
+    result = runner.invoke(main, ["odom", str(bag), *robot, *COUNTS])
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"error: {bag}: no usable sample (skipped: missing joint: 202); wheel joints wanted: "
+        "'left_wheel_joint', 'right_wheel_joint'; joints found, by message: "
+        "'left_wheel_joint' / 'right_wheel_joint' (each message must hold a joint of each "
+        "side)\n"
+    )
+
+
 def test_two_publishers_on_one_topic_are_explained_once_with_the_rule(
     runner: CliRunner, tmp_path: Path, robot: list[str]
 ) -> None:
