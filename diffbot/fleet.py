@@ -199,7 +199,8 @@ def _comparison(task: OdometryTask) -> ReferenceComparison | None:
             f"{task.input}: a reference topic is read from a bag, and this is a CSV"
         )
     track = read_pose_track(task.input, task.reference)
-    return ReferenceComparison(task.reference, track.stamps_ns, track.x, track.y, track.theta)
+    topic = track.topic or task.reference
+    return ReferenceComparison(topic, track.stamps_ns, track.x, track.y, track.theta)
 
 
 def run_task(

@@ -71,8 +71,9 @@ def _recordings_only(
     differences: list[tuple[str, list[float], list[float]]] = []
     recordings = _odometry(odom_inputs, robot.load(), topic, options, reference, differences)
     figure = plotting.recordings_figure(recordings, differences=differences, window=show)
+    references = {label for label, _, _ in differences}
     for label, xs, ys in recordings:
-        what = "ends" if reference and label.endswith(f" {reference}") else "odometry ends"
+        what = "ends" if label in references else "odometry ends"
         click.echo(f"{label}: {what} at x {fmt(xs[-1], 4)} m, y {fmt(ys[-1], 4)} m")
     if output is not None:
         plotting.save(figure, output, force=force, inputs=inputs)
@@ -177,6 +178,7 @@ def _reference(
     if not is_bag(source):
         fail(f"{source}: a reference topic is read from a bag, and this is a CSV")
     track = read_pose_track(source, topic)
+    topic = track.topic or topic
     comparison = ReferenceComparison(topic, track.stamps_ns, track.x, track.y, track.theta)
     stamps, x, y, heading = poses
     rx, ry, _ = comparison.add(stamps, x, y, heading)

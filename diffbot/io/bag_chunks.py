@@ -303,6 +303,8 @@ class TopicChunks:
                     f"{self.source}: no topic {DEFAULT_TOPIC!r} and several {JOINT_STATE} "
                     f"topics: {listing(joint_topics)}; give the one to read ({{topic}})"
                 )
+        if self.topic not in topics and f"/{self.topic}" in topics:
+            self.topic = f"/{self.topic}"  # a relative name, resolved in the root namespace
         if self.topic not in topics:
             found = listing(sorted(topics))
             raise BagError(

@@ -41,6 +41,7 @@ class PoseTrack:
         x: x (m), shape (n,).
         y: y (m), shape (n,).
         theta: heading (rad) as recorded (wrapped or not), shape (n,).
+        topic: the bag topic read, as the bag names it; None for a CSV.
     """
 
     source: str
@@ -48,6 +49,7 @@ class PoseTrack:
     x: NDArray[np.float64]
     y: NDArray[np.float64]
     theta: NDArray[np.float64]
+    topic: str | None = None
 
 
 def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
@@ -106,7 +108,7 @@ class _Poses:
         return len(self.stamps)
 
 
-def _track(source: str, poses: _Poses) -> PoseTrack:
+def _track(source: str, poses: _Poses, topic: str | None = None) -> PoseTrack:
     import numpy as np
 
     if not poses.stamps:
@@ -117,6 +119,7 @@ def _track(source: str, poses: _Poses) -> PoseTrack:
         np.frombuffer(poses.x, dtype=np.float64),
         np.frombuffer(poses.y, dtype=np.float64),
         np.frombuffer(poses.theta, dtype=np.float64),
+        topic,
     )
 
 
@@ -242,4 +245,4 @@ def _read_bag(path: Path, topic: str | None) -> PoseTrack:
                 receive_rows.append(int(received_ns), *values)
         topic = chunks.topic
     use_header = 0 not in header_rows.stamps
-    return _track(f"{source} {topic}", header_rows if use_header else receive_rows)
+    return _track(f"{source} {topic}", header_rows if use_header else receive_rows, topic)

@@ -181,6 +181,21 @@ def test_wheels_published_in_separate_messages_are_named_message_by_message(
     )
 
 
+def test_topics_named_without_their_leading_slash_are_found(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    # As ROS resolves a relative name in the root namespace: "odom" is "/odom". Both were
+    # refused ("no topic 'odom' in the bag; topics found: '/odom', ...").
+    bag = reference_bag(tmp_path)
+    args = ["odom", str(bag), *robot, *COUNTS, "--wrap", str(WRAP), "--json"]
+    named = runner.invoke(main, [*args, "--topic", TOPIC, "--reference", "/odom"])
+    relative = runner.invoke(main, [*args, "--topic", TOPIC[1:], "--reference", "odom"])
+    assert named.exit_code == 0, named.output
+    assert relative.exit_code == 0, relative.output
+    assert relative.stdout == named.stdout
+    assert json.loads(relative.stdout)["reference"]["topic"] == "/odom"
+
+
 def test_two_publishers_on_one_topic_are_explained_once_with_the_rule(
     runner: CliRunner, tmp_path: Path, robot: list[str]
 ) -> None:

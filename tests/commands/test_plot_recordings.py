@@ -98,3 +98,17 @@ def test_a_reference_on_top_of_its_odometry_leaves_the_odometry_visible() -> Non
     ]
     assert sum(odometry for odometry, _ in seen) >= 5, seen
     assert sum(reference for _, reference in seen) >= 5, seen
+
+
+def test_a_reference_named_without_its_leading_slash_is_drawn_as_the_reference(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    bag = reference_bag(tmp_path, drift=0.002)
+    args = ["--odom", str(bag), "--robot", str(urdf(tmp_path)), "--reference", "odom"]
+    args += ["--counts-per-rev", repr(COUNTS_PER_REV), "--wrap", "65536"]
+    result = run(runner, *args, "-o", str(tmp_path / "ref.png"))
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines()[1:] == [
+        f"{bag}: odometry ends at x 1 m, y 0.5 m",
+        f"{bag} /odom: ends at x 1.2 m, y 0.5 m",
+    ]
