@@ -167,9 +167,26 @@ def _sqlite_plan(path: Path, scratch: Path | None = None) -> _SqlitePlan | None:
         try:
             for name, msgtype in connection.execute("SELECT name, type FROM topics"):
                 topics.setdefault(name, set()).add(msgtype)
+            if not counts:  # no metadata: nothing said the messages are plain CDR
+                _check_not_compressed(connection, path)
         finally:
             connection.close()
     return _SqlitePlan(files, topics, counts)
+
+
+#: The first bytes of a zstd frame (a CDR message starts with its encapsulation, 0 0 or 0 1).
+_ZSTD_MAGIC: Final = b"\x28\xb5\x2f\xfd"
+
+
+def _check_not_compressed(connection: sqlite3.Connection, path: Path) -> None:
+    """Refuse storage whose messages are zstd frames (compression mode ``message``, which only
+    ``metadata.yaml`` records): read as CDR, every message would be skipped as unreadable."""
+    row = connection.execute("SELECT substr(data, 1, 4) FROM messages LIMIT 1").fetchone()
+    if row is not None and isinstance(row[0], bytes) and row[0] == _ZSTD_MAGIC:
+        raise BagError(
+            f"{path}: its messages are compressed one by one (zstd), which only the bag's "
+            "metadata.yaml says: read the bag's folder with its metadata.yaml"
+        )
 
 
 class TopicChunks:

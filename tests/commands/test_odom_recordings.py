@@ -122,6 +122,37 @@ def test_every_kind_of_rosbag2_gives_the_run_from_its_only_joint_state_topic(
     assert_at_run_end(data)
 
 
+def test_a_lone_database_of_messages_compressed_one_by_one_is_told_so(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    # A bag recorded with zstd compression per message keeps the mode in its metadata.yaml;
+    # its .db3 alone (or its folder without the metadata) read as "no usable sample (skipped:
+    # unreadable value: 101)".
+    from bags import TYPESTORE, joint_state
+    from rosbags.rosbag2 import Writer
+    from rosbags.rosbag2.writer import CompressionFormat, CompressionMode
+
+    bag = tmp_path / "bag"
+    writer = Writer(bag, version=9)
+    writer.set_compression(CompressionMode.MESSAGE, CompressionFormat.ZSTD)
+    with writer:
+        conn = writer.add_connection(TOPIC, "sensor_msgs/msg/JointState", typestore=TYPESTORE)
+        for stamp, received, names, positions in pioneer_messages():
+            writer.write(conn, received, joint_state(stamp, names, positions))
+    whole = runner.invoke(main, ["odom", str(bag), *robot, *COUNTS, "--json"])
+    assert whole.exit_code == 0, whole.output
+    assert_at_run_end(json.loads(whole.stdout))
+    lone = lone_storage(bag, tmp_path / "run.db3")
+    (bag / "metadata.yaml").unlink()
+    for path in (lone, bag):
+        result = runner.invoke(main, ["odom", str(path), *robot, *COUNTS])
+        assert result.exit_code == 2, result.output
+        assert result.stderr.startswith(
+            f"error: {path}: its messages are compressed one by one (zstd), which only the "
+            "bag's metadata.yaml says: "
+        )
+
+
 def test_a_ros1_bag_is_read_directly(runner: CliRunner, tmp_path: Path, robot: list[str]) -> None:
     bag = write_ros1_bag(tmp_path / "run.bag", pioneer_messages(), topic=TOPIC)
     result = runner.invoke(main, ["odom", str(bag), *robot, *COUNTS, "--topic", TOPIC])
