@@ -305,7 +305,9 @@ def umbmark(
 @click.option(
     "--truth",
     metavar="FILE",
-    help="The ground truth: a CSV with time, x, y, theta, or a bag. Default: INPUT itself.",
+    multiple=True,
+    help="The ground truth: a CSV with time, x, y, theta, or a bag. Default: INPUT itself. "
+    "With several INPUTs, once per INPUT, in their order.",
 )
 @click.option(
     "--truth-topic",
@@ -340,7 +342,7 @@ def fit(
     tokens: tuple[str, ...],
     topic: str | None,
     recording: RecordingOptions,
-    truth: str | None,
+    truth: tuple[str, ...],
     truth_topic: str | None,
     window: int | None,
     window_duration: float | None,
@@ -352,9 +354,9 @@ def fit(
 
     INPUT holds the wheel joint positions, as for `diffbot odom` (CSV, or a rosbag2 recording
     with sensor_msgs/JointState on --topic); several INPUTs are fitted at once, each against
-    its own ground truth. Wheel stamps late against the truth are moved back by --time-offset.
-    The ground truth is a pose track: CSV columns x, y,
-    theta (m, m, rad) beside a time column, or a bag's geometry_msgs/PoseStamped or
+    its own ground truth (in it, or a --truth each). Wheel stamps late against the truth are
+    moved back by --time-offset. The ground truth is a pose track: CSV columns x, y, theta
+    (m, m, rad) beside a time column, or a bag's geometry_msgs/PoseStamped or
     nav_msgs/Odometry topic; it is interpolated at the wheel stamps. The motion over windows
     of --window samples is compared, starting from the description's values. Drive straights
     and turns both ways (Trajectory A is enough).
@@ -376,8 +378,11 @@ def fit(
     rest, robot, params = _robot(robot, tokens)
     if not rest:
         fail("give an INPUT: the recording of wheel joint positions")
-    if len(rest) > 1 and truth is not None:
-        fail("--truth names the ground truth of one INPUT: with several, each holds its own")
+    if truth and len(truth) != len(rest):
+        fail(
+            f"give --truth once per INPUT ({len(rest)} INPUT{'s' if len(rest) != 1 else ''}, "
+            f"{len(truth)} --truth), or none"
+        )
     offset: float | str = "auto"
     if time_offset.strip().lower() != "auto":
         offset = parse_number(time_offset, "--time-offset")
@@ -391,9 +396,9 @@ def fit(
     pairs = (
         (
             recording.read(source, params, topic),
-            read_pose_track(source if truth is None else truth, truth_topic),
+            read_pose_track(truth[k] if truth else source, truth_topic),
         )
-        for source in rest
+        for k, source in enumerate(rest)
     )
     result, offsets = fit_recordings(
         pairs,

@@ -124,3 +124,27 @@ def test_calibrate_fit_takes_several_inputs_and_says_the_offsets(
     data = runner.invoke(main, [*args, "--time-offset", "0.1", "--json"])
     assert data.exit_code == 0, data.output
     assert '"time_offsets": [\n    0.1,\n    0.1\n  ]' in data.stdout
+
+
+def test_several_inputs_each_with_its_own_truth_file(runner: CliRunner, tmp_path: Path) -> None:
+    # Wheel counts from the robot and poses from a motion-capture system come as separate files:
+    # with several INPUTs, one --truth was refused and none could be paired.
+    from pioneer import counts_csv, truth_csv
+
+    inputs, truths = [], []
+    for name, segments in (("left", LEFT_TURNS), ("right", RIGHT_TURNS)):
+        inputs.append(str(counts_csv(tmp_path, f"{name}.csv", segments)))
+        truths.append(str(truth_csv(tmp_path, f"{name}_truth.csv", segments)))
+    args = ["calibrate", "fit", *inputs, "--robot", str(urdf(tmp_path)), "--window", "10"]
+    args += ["--counts-per-rev", repr(COUNTS_PER_REV), "--wrap", "65536"]
+    args += ["--truth", truths[0], "--truth", truths[1], "--time-offset", "auto"]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert lines[:2] == [
+        f"time offset 0.1 s ({inputs[0]}: heading rates aligned)",
+        f"time offset 0.1 s ({inputs[1]}: heading rates aligned)",
+    ]
+    one = runner.invoke(main, [*args[:-6], "--truth", truths[0]])
+    assert one.exit_code == 2
+    assert one.stderr == "error: give --truth once per INPUT (2 INPUTs, 1 --truth), or none\n"
