@@ -39,6 +39,8 @@ class ReferenceResult:
         final_heading_error: odometry minus reference heading (rad, in (-pi, pi]) there.
         max_position_error: the largest distance (m).
         rms_position_error: the root mean square of the distances (m).
+        span_ns: the reference's first and last stamps (ns); None when it has none.
+        odometry_span_ns: the first and last odometry stamps seen (ns); None before any.
     """
 
     topic: str
@@ -47,6 +49,24 @@ class ReferenceResult:
     final_heading_error: float
     max_position_error: float
     rms_position_error: float
+    span_ns: tuple[int, int] | None = None
+    odometry_span_ns: tuple[int, int] | None = None
+
+    def no_overlap_text(self) -> str:
+        """Why no pose was compared, for people: the two time spans side by side."""
+        from diffbot.samples import seconds_text
+
+        if self.span_ns is None:
+            return f"{self.topic} holds no pose"
+        start, end = self.span_ns
+        reference = f"{seconds_text(start)} to {seconds_text(end)} s"
+        if self.odometry_span_ns is None:
+            return f"no odometry pose to compare with {self.topic} ({reference})"
+        first, last = self.odometry_span_ns
+        return (
+            f"no pose within the odometry's time span (the odometry {seconds_text(first)} to "
+            f"{seconds_text(last)} s, {self.topic} {reference}: two clocks?)"
+        )
 
     def as_dict(self) -> dict[str, str | int | float | None]:
         """The fields by name (``odom --json``'s ``reference``); None for an error not known
@@ -87,6 +107,7 @@ class ReferenceComparison:
         self._x = np.asarray(x, dtype=np.float64)[order]
         self._y = np.asarray(y, dtype=np.float64)[order]
         self._theta = np.unwrap(np.asarray(theta, dtype=np.float64)[order])
+        self._span = (int(stamps[order[0]]), int(stamps[order[-1]])) if stamps.size else None
         self.reset()
 
     def reset(self) -> None:
@@ -96,6 +117,7 @@ class ReferenceComparison:
         self._sum_squares = 0.0
         self._max = 0.0
         self._last: tuple[float, float] = (math.nan, math.nan)
+        self._seen: tuple[int, int] | None = None
 
     def at(self, stamps_ns: ArrayLike) -> tuple[NDArray[np.float64], ...]:
         """The reference interpolated at these stamps and moved onto the odometry's frame:
@@ -142,6 +164,9 @@ class ReferenceComparison:
             in (-pi, pi]); NaN where it has no pose.
         """
         stamps = np.asarray(stamps_ns, dtype=np.int64)
+        if stamps.size:
+            first = int(stamps[0]) if self._seen is None else self._seen[0]
+            self._seen = (first, int(stamps[-1]))
         ox = np.asarray(x, dtype=np.float64)
         oy = np.asarray(y, dtype=np.float64)
         oth = np.asarray(heading, dtype=np.float64)
@@ -182,4 +207,6 @@ class ReferenceComparison:
             final_heading_error=self._last[1],
             max_position_error=self._max if count else math.nan,
             rms_position_error=math.sqrt(self._sum_squares / count) if count else math.nan,
+            span_ns=self._span,
+            odometry_span_ns=self._seen,
         )

@@ -307,7 +307,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
 def _reference_text(reference: ReferenceResult) -> str:
     """The comparison with the reference on one line."""
     if not reference.samples:
-        return f"{reference.topic}: no pose within its time span"
+        return f"{reference.topic}: {reference.no_overlap_text()}"
     return (
         f"{reference.topic}, {reference.samples} poses: final "
         f"{fmt(reference.final_position_error, 3)} m, "

@@ -184,7 +184,7 @@ def _reference(
     rx, ry, _ = comparison.add(stamps, x, y, heading)
     inside = ~np.isnan(rx)
     if not inside.any():
-        fail(f"{source}: {topic} has no pose within the recording's time span")
+        fail(f"{source}: {topic}: {comparison.result().no_overlap_text()}")
     seconds = (stamps[inside] - stamps[0]) / 1e9
     distance = np.hypot(x[inside] - rx[inside], y[inside] - ry[inside])
     label = f"{source} {topic}"

@@ -14,6 +14,7 @@ from click.testing import CliRunner
 from pioneer import (
     COUNTS_PER_REV,
     RUN_END,
+    START_NS,
     TOPIC,
     WRAP,
     counts_csv,
@@ -341,6 +342,41 @@ def test_a_drifting_reference_gives_known_final_max_and_rms_errors(
     assert lines[0] == "time,x,y,theta,linear,angular,reference_x,reference_y,reference_theta"
     last = [float(v) for v in lines[-1].split(",")]
     assert last[6] - last[1] == pytest.approx(0.2, abs=1e-4)
+
+
+def test_a_reference_on_another_clock_says_both_time_spans(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    # A simulation's joint states stamped in simulated time (from 100 s) beside an /odom
+    # stamped by the wall clock: nothing overlaps, and "no pose within its time span" did not
+    # say why.
+    from bags import write_bag_with_odometry
+
+    messages = [
+        (stamp - START_NS + 100 * 10**9, received, names, positions)
+        for stamp, received, names, positions in pioneer_messages()
+    ]
+    poses = [(stamp, 0.0, 0.0, 0.0) for stamp, _, _, _ in pioneer_messages()]
+    bag = write_bag_with_odometry(tmp_path / "bag", messages, poses, topic=TOPIC)
+    args = ["odom", str(bag), *robot, *COUNTS, "--reference", "/odom"]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 0, result.output
+    first, last = poses[0][0], poses[-1][0]
+    span = f"{first // 10**9}.{first % 10**9:09d}".rstrip("0")
+    end = f"{last // 10**9}.{last % 10**9:09d}".rstrip("0")
+    assert result.stdout.splitlines()[-1] == (
+        "reference   /odom: no pose within the odometry's time span (the odometry 100.1 to "
+        f"110.1 s, /odom {span} to {end} s: two clocks?)"
+    )
+    data = json.loads(runner.invoke(main, [*args, "--json"]).stdout)
+    assert data["reference"] == {
+        "topic": "/odom",
+        "samples": 0,
+        "final_position_error": None,
+        "final_heading_error": None,
+        "max_position_error": None,
+        "rms_position_error": None,
+    }
 
 
 def test_a_reference_needs_a_bag(runner: CliRunner, tmp_path: Path, robot: list[str]) -> None:
