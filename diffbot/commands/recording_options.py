@@ -170,8 +170,12 @@ def conditioning_lines(report: ConditioningReport) -> list[tuple[str, str]]:
 def warn_notes(notes: tuple[str, ...], source: str) -> None:
     """What the reader judged by itself, on stderr (the options that choose it instead)."""
     for note in notes:
-        option = "--time-unit" if "stamps" in note else "--delimiter"
-        warn(f"{source}: {note}; {option} to choose")
+        if "stamps" in note:
+            warn(f"{source}: {note}; --time-unit to choose")
+        elif "separated" in note:
+            warn(f"{source}: {note}; --delimiter to choose")
+        else:
+            warn(f"{source}: {note}")
 
 
 def warn_conditioning(report: ConditioningReport, source: str) -> None:

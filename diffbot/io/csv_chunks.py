@@ -25,6 +25,7 @@ import io
 import itertools
 import math
 import os
+import re
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Final, NamedTuple, TextIO
@@ -81,6 +82,8 @@ __all__ = [
 
 #: Names a time column may have (seconds), case-insensitive, in order of preference.
 TIME_COLUMNS: Final = ("time", "stamp", "t", "__time")
+#: A number written with a decimal comma (``-0,25``, ``1764000000,1``).
+_DECIMAL_COMMA: Final = re.compile(r"[-+]?\d+,\d+")
 #: Delimiters recognised in a header when none is given, besides the comma.
 _OTHER_DELIMITERS: Final = (";", "\t", "|")
 #: Characters of text read per chunk: about 17,000 rows of a simulator's CSV. Larger chunks are
@@ -305,6 +308,8 @@ class CsvChunks:
         self.time_unit = layout.time_unit or "s"
         self.unit_detected = False
         self._unit_known = layout.time_unit is not None
+        self.decimal_comma = False
+        self._comma_known = False
         headers: list[str] | None = None
         with self._errors():
             for row in csv.reader(self._stream, delimiter=self.delimiter):
@@ -357,12 +362,34 @@ class CsvChunks:
         notes = []
         if self.delimiter_detected:
             notes.append(f"columns separated by {self.delimiter!r}, as the header is")
+        if self.decimal_comma:
+            notes.append("numbers with decimal commas, as the first row's are")
         if self.unit_detected:
             notes.append(
                 f"stamps read as {UNIT_NAMES[self.time_unit]}, judged by the size of the first "
                 "(too large for seconds since 1970)"
             )
         return tuple(notes)
+
+    def _judge_comma(self, text: str) -> None:
+        """Whether the numbers have decimal commas (``0,25``, as spreadsheets in many locales
+        write them): only where the delimiter is not a comma, by the first row's cells."""
+        self._comma_known = True
+        if self.delimiter == ",":
+            return
+        for line in io.StringIO(text, newline=""):
+            if not line.strip():
+                continue
+            row = next(csv.reader([line], delimiter=self.delimiter), [])
+            cells = [row[i].strip() for i in self.indexes if i < len(row)]
+            self.decimal_comma = any(_DECIMAL_COMMA.fullmatch(c) for c in cells) and all(
+                _DECIMAL_COMMA.fullmatch(c) or _is_number(c) or not c for c in cells
+            )
+            return
+
+    def _text(self, text: str) -> str:
+        """A chunk's text as read: decimal commas made points."""
+        return text.replace(",", ".") if self.decimal_comma else text
 
     @property
     def _decimals(self) -> int:
@@ -405,6 +432,10 @@ class CsvChunks:
             if block:  # cut after the last complete line; the rest starts the next chunk
                 cut = text.rfind("\n") + 1
                 text, carry = text[:cut], text[cut:]
+            if not self._comma_known:
+                with self._errors():
+                    self._judge_comma(text)
+            text = self._text(text)
             if not self._unit_known:
                 with self._errors():
                     self._judge_unit(text)
@@ -420,8 +451,8 @@ class CsvChunks:
         def lines() -> Iterator[str]:
             yield from io.StringIO(text, newline="")
             if carry:
-                yield from io.StringIO(carry + self._stream.readline(), newline="")
-            yield from self._stream
+                yield from io.StringIO(self._text(carry + self._stream.readline()), newline="")
+            yield from map(self._text, self._stream)
 
         rows = csv.reader(lines(), delimiter=self.delimiter)
         while True:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -154,4 +155,33 @@ def test_a_csv_without_a_header_line_is_told_so(
         f"error: {path}: the first line holds numbers, not column names: a header line naming "
         f"the columns is needed (such as time{delimiter}left_wheel_joint{delimiter}"
         "right_wheel_joint; other names with --time-column, --left-column, --right-column)\n"
+    )
+
+
+@pytest.mark.parametrize("quoted", [False, True])
+def test_decimal_commas_beside_semicolons_are_read_and_said(
+    runner: CliRunner, tmp_path: Path, quoted: bool
+) -> None:
+    # A spreadsheet in a European locale writes "1764000000,1;0,25;0,5": every row was skipped
+    # as "unreadable value" and the run refused with no hint why.
+    stamps, left, right = counts()
+    point = ["time;left_wheel_joint;right_wheel_joint"]
+    comma = [point[0]]
+    for stamp, lc, rc in zip(stamps.tolist(), left.tolist(), right.tolist(), strict=True):
+        cells = [f"{stamp / 1e9:.3f}", f"{lc / 8:.3f}", f"{rc / 8:.3f}"]
+        point.append(";".join(cells))
+        decimal = [cell.replace(".", ",") for cell in cells]
+        comma.append(";".join(f'"{c}"' if quoted else c for c in decimal))
+    plain, european = tmp_path / "point.csv", tmp_path / "comma.csv"
+    plain.write_text("\n".join(point) + "\n", encoding="utf-8")
+    european.write_text("\n".join(comma) + "\n", encoding="utf-8")
+    args = ["--robot", str(urdf(tmp_path)), "--counts-per-rev", repr(COUNTS_PER_REV / 8)]
+    args += ["--wrap", "8192"]  # the 16-bit counter, in eighths
+    expected = runner.invoke(main, ["odom", str(plain), *args, "--json"])
+    result = runner.invoke(main, ["odom", str(european), *args, "--json"])
+    assert result.exit_code == expected.exit_code == 0, result.output
+    assert json.loads(result.stdout)["final_pose"] == json.loads(expected.stdout)["final_pose"]
+    assert (
+        f"warning: {european}: numbers with decimal commas, as the first row's are\n"
+        in result.stderr
     )
