@@ -63,6 +63,7 @@ FLAGS = {
     "right_column": "--right-column",
     "delimiter": "--delimiter",
     "time_unit": "--time-unit",
+    "time_offset": "--time-offset",
 }
 
 

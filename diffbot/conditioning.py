@@ -443,6 +443,12 @@ def estimate_time_offset(
         norm = math.sqrt(float(np.dot(rate, rate)) * float(np.dot(truth_rate, truth_rate)))
         scores[k] = float(np.dot(rate, truth_rate)) / norm if norm else -math.inf
     best = int(np.argmax(scores))
+    if best in (0, lags.size - 1):
+        raise ParameterError(
+            "the heading rates align best at the edge of the offsets tried "
+            f"({max_offset:g} s either way): the wheel stamps may be further off; give the "
+            "offset ({time_offset})"
+        )
     offset = float(lags[best])
     if 0 < best < lags.size - 1:
         below, here, above = scores[best - 1], scores[best], scores[best + 1]

@@ -42,6 +42,7 @@ PARAMETERS: Mapping[str, str] = {
     "right_column": "right_column=",
     "delimiter": "delimiter=",
     "time_unit": "time_unit=",
+    "time_offset": "time_offset=",
 }
 
 __all__ = [

@@ -688,7 +688,8 @@ def _part(
         try:
             offset = estimate_time_offset(t, left, right, tt, tth, params)
         except ParameterError as err:
-            raise CalibrationError(f"{source}: {err}") from None
+            # The template, not str(err): its parameter markers stay for the caller to spell.
+            raise CalibrationError(f"{source}: {err.template}") from None
     else:
         offset = float(time_offset)
     t -= offset

@@ -12,8 +12,9 @@ from pioneer import COUNTS_PER_REV, PIONEER, RADIUS, SEPARATION, counts, truth, 
 from wheel_motion import Segment
 
 from diffbot.calibration.fit import fit_recordings
-from diffbot.cli import main
+from diffbot.cli import FLAGS, main
 from diffbot.conditioning import Conditioner, Conditioning, estimate_time_offset
+from diffbot.errors import ParameterError
 from diffbot.io.poses import PoseTrack
 from diffbot.samples import ColumnSamples, Recording
 
@@ -72,6 +73,31 @@ def test_the_offset_is_found_by_aligning_heading_rates() -> None:
         PIONEER,
     )
     assert found == pytest.approx(0.1, abs=2e-3)
+
+
+def test_an_offset_beyond_the_search_is_refused_rather_than_cut_to_its_edge(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # Wheel stamps 1.5 s late: the search (within 1 s) answered 1 s, and the fit then blamed the
+    # recording ("determines wheel_separation only to 4.4 %: drive turns both ways").
+    recording, track = pioneer_recording(LEFT_TURNS)
+    samples = recording.samples
+    assert isinstance(samples, ColumnSamples)
+    origin = int(track.stamps_ns[0])
+    late = (np.asarray(samples.stamps_ns) - origin) / 1e9 + 1.4
+    with pytest.raises(ParameterError) as caught:
+        estimate_time_offset(
+            late,
+            np.asarray(samples.left),
+            np.asarray(samples.right),
+            (track.stamps_ns - origin) / 1e9,
+            track.theta,
+            PIONEER,
+        )
+    assert caught.value.render(FLAGS.__getitem__) == (
+        "the heading rates align best at the edge of the offsets tried (1 s either way): the "
+        "wheel stamps may be further off; give the offset (--time-offset)"
+    )
 
 
 def test_two_recordings_each_turning_one_way_fit_together_once_the_offset_is_removed() -> None:
