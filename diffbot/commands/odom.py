@@ -27,6 +27,7 @@ from diffbot.commands.recording_options import (
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
 from diffbot.io.outputs import check_not_input, note_input
+from diffbot.odometry import SKIP_MISSING_JOINT
 
 if TYPE_CHECKING:
     from diffbot.chunk_odometry import OdometrySummary
@@ -80,6 +81,16 @@ def _repeat_text(summary: OdometrySummary, kind: str) -> str:
         "samples whose stamp is not after the one before: two publishers on the topic, or a "
         "clock that went back; the first sample of each stamp is used, and only samples later "
         "than every one used)"
+    )
+
+
+def _missing_text(summary: OdometrySummary, kind: str) -> str:
+    """What a bag's messages without a whole side may be (a CSV's are rows with empty cells)."""
+    if kind == "csv" or not summary.skipped.get(SKIP_MISSING_JOINT):
+        return ""
+    return (
+        " (messages without a wheel joint of each side: another publisher's on the topic, such "
+        "as an arm's, or a side's wheels published apart)"
     )
 
 
@@ -268,7 +279,8 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
     if skipped_total:
         opt.warn(
             f"skipped {skipped_total} of {summary.samples + skipped_total} samples: "
-            f"{_skipped_text(summary.skipped)}{_repeat_text(summary, run.kind)}"
+            f"{_skipped_text(summary.skipped)}{_missing_text(summary, run.kind)}"
+            f"{_repeat_text(summary, run.kind)}"
         )
     warn_notes(run.notes, source)
     warn_conditioning(run.conditioning, source)

@@ -228,6 +228,27 @@ def test_topics_named_without_their_leading_slash_are_found(
     assert json.loads(relative.stdout)["reference"]["topic"] == "/odom"
 
 
+def test_another_publishers_joints_on_the_topic_are_explained(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    # An arm's driver publishing its own JointState on the same topic as the base: half the
+    # messages were reported as "missing joint" with nothing to say what they were.
+    both = []
+    for stamp, received, names, positions in pioneer_messages():
+        both.append((stamp, received, names, positions))
+        both.append((stamp + 1000, received + 1000, ["shoulder", "elbow"], [0.1, 0.2]))
+    bag = write_bag(tmp_path / "bag", both, topic=TOPIC)
+    result = runner.invoke(main, ["odom", str(bag), *robot, *COUNTS, "--wrap", str(WRAP)])
+    assert result.exit_code == 0, result.output
+    assert result.stderr == (
+        "warning: skipped 101 of 202 samples: 101 missing joint (messages without a wheel joint "
+        "of each side: another publisher's on the topic, such as an arm's, or a side's wheels "
+        "published apart)\n"
+    )
+    data = json.loads(runner.invoke(main, ["odom", str(bag), *robot, *COUNTS, "--json"]).stdout)
+    assert_at_run_end(data)
+
+
 def test_two_publishers_on_one_topic_are_explained_once_with_the_rule(
     runner: CliRunner, tmp_path: Path, robot: list[str]
 ) -> None:
