@@ -18,6 +18,7 @@ compact columns.
 from __future__ import annotations
 
 import array
+import itertools
 import os
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import closing
@@ -181,8 +182,14 @@ def run_odometry(recording: Recording, odom: Odometry) -> OdometryRun:
         reasons = ", ".join(f"{reason}: {n}" for reason, n in sorted(skipped.items()))
         hint = ""
         if skipped.get(SKIP_MISSING_JOINT) and samples:
-            wanted = listing([*odom.params.left_joints, *odom.params.right_joints])
-            hint = f"; wheel joints wanted: {wanted}; joints found: {listing(samples[0].names)}"
+            lists: list[tuple[str, ...]] = []
+            for sample in itertools.islice(samples, _HINT_MESSAGES):
+                names = tuple(sample.names)
+                if names not in lists:
+                    lists.append(names)
+                    if len(lists) > _HINT_LISTS:
+                        break
+            hint = _joints_text(odom.params, lists)
         raise RecordingError(
             f"{recording.source}: no usable sample"
             + (f" (skipped: {reasons})" if reasons else " (the recording holds no samples)")
@@ -414,7 +421,6 @@ def _joints_hint(chunks: TopicChunks, params: DiffDriveParams) -> str:
     list, or a list per kind of message when they differ (a publisher per wheel)."""
     from diffbot.io.bag import JOINT_STATE, typestore
 
-    wanted = listing([*params.left_joints, *params.right_joints])
     store = typestore()
     lists: list[tuple[str, ...]] = []
     looked = 0
@@ -433,6 +439,12 @@ def _joints_hint(chunks: TopicChunks, params: DiffDriveParams) -> str:
         else:
             continue
         break
+    return _joints_text(params, lists)
+
+
+def _joints_text(params: DiffDriveParams, lists: list[tuple[str, ...]]) -> str:
+    """The wheel joints wanted and the joint lists found: one, or one per kind of message."""
+    wanted = listing([*params.left_joints, *params.right_joints])
     if not lists:
         return f"; wheel joints wanted: {wanted}"
     if len(lists) == 1:

@@ -271,6 +271,23 @@ def test_a_recording_without_a_usable_sample_is_refused(tmp_path: Path) -> None:
         run_odometry(read_csv(path, LEFT, RIGHT), Odometry(BOT))
 
 
+def test_wheels_read_whole_from_separate_messages_are_named_message_by_message(
+    tmp_path: Path,
+) -> None:
+    # As `diffbot odom` says it: the library's run named only the first message's joints.
+    messages = []
+    for k in range(3):
+        messages.append((10**9 * (k + 1), 10**9 * (k + 1), [LEFT], [0.1 * k]))
+        messages.append((10**9 * (k + 1) + 1000, 10**9 * (k + 1) + 1000, [RIGHT], [0.1 * k]))
+    bag = write_bag(tmp_path / "bag", messages)
+    with pytest.raises(diffbot.RecordingError) as caught:
+        run_odometry(read_recording(bag, BOT), Odometry(BOT))
+    assert str(caught.value).endswith(
+        f"joints found, by message: '{LEFT}' / '{RIGHT}' (each message must hold a joint of "
+        "each side)"
+    )
+
+
 # --------------------------------------------------------------------------------------------
 # Bag input
 
