@@ -84,6 +84,8 @@ __all__ = [
 TIME_COLUMNS: Final = ("time", "stamp", "t", "__time")
 #: A number written with a decimal comma (``-0,25``, ``1764000000,1``).
 _DECIMAL_COMMA: Final = re.compile(r"[-+]?\d+,\d+")
+#: Whole-number stamps this far apart (or more) are doubted as seconds.
+_DOUBTFUL_STEP: Final = 10
 #: Delimiters recognised in a header when none is given, besides the comma.
 _OTHER_DELIMITERS: Final = (";", "\t", "|")
 #: Characters of text read per chunk: about 17,000 rows of a simulator's CSV. Larger chunks are
@@ -309,6 +311,7 @@ class CsvChunks:
         self.unit_detected = False
         self._unit_known = layout.time_unit is not None
         self.decimal_comma = False
+        self.unit_doubt: str | None = None
         self._comma_known = False
         headers: list[str] | None = None
         with self._errors():
@@ -364,6 +367,8 @@ class CsvChunks:
             notes.append(f"columns separated by {self.delimiter!r}, as the header is")
         if self.decimal_comma:
             notes.append("numbers with decimal commas, as the first row's are")
+        if self.unit_doubt is not None:
+            notes.append(f"stamps read as seconds, though {self.unit_doubt} (milliseconds?)")
         if self.unit_detected:
             notes.append(
                 f"stamps read as {UNIT_NAMES[self.time_unit]}, judged by the size of the first "
@@ -396,24 +401,36 @@ class CsvChunks:
         return TIME_UNITS[self.time_unit]
 
     def _judge_unit(self, text: str) -> None:
-        """Take the time unit from the first stamp's magnitude, when not given."""
+        """Take the time unit from the first stamp's magnitude, when not given; doubt seconds
+        out loud when the first two stamps are whole numbers at least 10 apart (a wheel log
+        sampled every 10 s or more is rarer than milliseconds since power-on)."""
+        cells = []
         for line in io.StringIO(text, newline=""):
             if not line.strip():
                 continue
             row = next(csv.reader([line], delimiter=self.delimiter), [])
             if len(row) <= self.indexes[0]:
-                return
-            try:
-                value = float(row[self.indexes[0]])
-            except ValueError:
-                return
-            if math.isfinite(value):
-                unit = unit_by_magnitude(value)
-                self._unit_known = True
-                if unit != "s":
-                    self.time_unit = unit
-                    self.unit_detected = True
+                break
+            cells.append(row[self.indexes[0]].strip())
+            if len(cells) == 2:
+                break
+        if not cells:
             return
+        try:
+            value = float(cells[0])
+        except ValueError:
+            return
+        if not math.isfinite(value):
+            return
+        unit = unit_by_magnitude(value)
+        self._unit_known = True
+        if unit != "s":
+            self.time_unit = unit
+            self.unit_detected = True
+        elif len(cells) == 2 and all(cell.isdigit() for cell in cells):
+            step = int(cells[1]) - int(cells[0])
+            if step >= _DOUBTFUL_STEP:
+                self.unit_doubt = f"whole numbers {step} apart"
 
     def _errors(self) -> contextlib.AbstractContextManager[None]:
         return _translated(self.source)

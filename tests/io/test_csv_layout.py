@@ -185,3 +185,29 @@ def test_decimal_commas_beside_semicolons_are_read_and_said(
         f"warning: {european}: numbers with decimal commas, as the first row's are\n"
         in result.stderr
     )
+
+
+def test_whole_stamps_far_apart_are_doubted_out_loud(runner: CliRunner, tmp_path: Path) -> None:
+    # A microcontroller's log, millis() since power-on beside its counts: read as seconds, a
+    # 10 s run lasted 10000 s, and nothing said so.
+    stamps, left, right = counts()
+    rows = ["t,left_wheel_joint,right_wheel_joint"]
+    for stamp, lc, rc in zip(stamps.tolist(), left.tolist(), right.tolist(), strict=True):
+        rows.append(f"{(stamp - int(stamps[0])) // 10**6},{int(lc)},{int(rc)}")
+    path = tmp_path / "millis.csv"
+    path.write_text("\n".join(rows) + "\n", encoding="utf-8")
+    args = ["odom", str(path), "--robot", str(urdf(tmp_path))]
+    args += ["--counts-per-rev", repr(COUNTS_PER_REV), "--wrap", "65536"]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert "duration    10000 s" in result.stdout
+    assert result.stderr == (
+        f"warning: {path}: stamps read as seconds, though whole numbers 100 apart "
+        "(milliseconds?); --time-unit to choose\n"
+    )
+    given = runner.invoke(main, [*args, "--time-unit", "ms"])
+    assert given.exit_code == 0, given.output
+    assert "duration    10 s" in given.stdout
+    assert given.stderr == ""
+    seconds = runner.invoke(main, [*args, "--time-unit", "s"])
+    assert seconds.stderr == ""
