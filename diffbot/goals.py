@@ -24,7 +24,7 @@ from typing import Any, Literal
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
 from diffbot.kinematics import DiffDriveParams, Pose
-from diffbot.planning import ROUNDING, Piece
+from diffbot.planning import ROUNDING, Piece, balkcom_mason, dubins, reeds_shepp
 from diffbot.trajectory import (
     DEFAULT_SPEED,
     DEFAULT_SPIN_RATE,
@@ -34,6 +34,7 @@ from diffbot.trajectory import (
     Spin,
     Straight,
     as_float,
+    built,
     plan,
 )
 
@@ -111,26 +112,39 @@ def _check_shape(shape: str, min_radius: float | None, forward_only: bool) -> fl
 
 def _arcs(pieces: list[Piece], radius: float) -> list[Segment]:
     """Reeds-Shepp or Dubins pieces (radii) as arcs and straights (m)."""
+    # The segments are valid by construction (a positive finite radius, angles and lengths
+    # above the rounding): built without their checks.
     out: list[Segment] = []
     for kind, length in pieces:
-        if abs(length) * (radius if kind == "S" else 1.0) <= ROUNDING:
-            continue
         if kind == "S":
-            out.append(Straight(length * radius))
-            continue
-        # A left turn driven backwards turns the heading clockwise (and a right one, ccw).
-        left = (kind == "L") == (length > 0.0)
-        out.append(Arc(radius, abs(length), "ccw" if left else "cw", reverse=length < 0.0))
+            if abs(length) * radius > ROUNDING:
+                out.append(built(Straight, length=length * radius, duration=None))
+        elif abs(length) > ROUNDING:
+            # A left turn driven backwards turns the heading clockwise (and a right one, ccw).
+            reverse = length < 0.0
+            out.append(
+                built(
+                    Arc,
+                    radius=radius,
+                    angle=-length if reverse else length,
+                    direction="cw" if (kind == "L") == reverse else "ccw",
+                    duration=None,
+                    reverse=reverse,
+                )
+            )
     return out
 
 
 def _turns(pieces: list[Piece], half_track: float) -> list[Segment]:
     """Time-optimal pieces (turns in rad, straights in half tracks) as spins and straights."""
-    return [
-        Spin(length) if kind == "T" else Straight(length * half_track)
-        for kind, length in pieces
-        if abs(length) * (1.0 if kind == "T" else half_track) > ROUNDING
-    ]
+    out: list[Segment] = []
+    for kind, length in pieces:
+        if kind == "T":
+            if abs(length) > ROUNDING:
+                out.append(built(Spin, angle=length, duration=None))
+        elif abs(length) * half_track > ROUNDING:
+            out.append(built(Straight, length=length * half_track, duration=None))
+    return out
 
 
 def _leg(
@@ -144,8 +158,6 @@ def _leg(
     if x == 0.0 and y == 0.0 and turn == 0.0:
         return []
     if shape == "fastest":
-        from diffbot.planning import balkcom_mason
-
         return _turns(balkcom_mason.path(x / half, y / half, turn, forward_only), half)
     if shape == "spin-straight-spin":
         distance = math.hypot(x, y)
@@ -160,17 +172,21 @@ def _leg(
         return _turns(pieces, 1.0)
     assert radius is not None
     if shape == "dubins":
-        from diffbot.planning import dubins
-
         return _arcs(dubins.path(x / radius, y / radius, turn), radius)
-    from diffbot.planning import reeds_shepp
-
     return _arcs(reeds_shepp.path(x / radius, y / radius, turn), radius)
 
 
 def _empty(params: DiffDriveParams, limit: float | None) -> Plan:
     lim = params.max_wheel_speed if limit is None else limit
-    return Plan((), params, lim, 0.0, Pose(0.0, 0.0, 0.0), True)
+    return built(
+        Plan,
+        segments=(),
+        params=params,
+        limit=lim,
+        duration=0.0,
+        final_pose=Pose(0.0, 0.0, 0.0),
+        within_limit=True,
+    )
 
 
 def _timing(shape: Shape, params: DiffDriveParams, fastest: bool, limit: float | None) -> bool:
@@ -215,18 +231,37 @@ def plan_to(
         PlanError: a number that is not finite, an unknown shape, a minimum radius that is not
             positive, dubins or reeds-shepp without one, reeds-shepp with ``forward_only``.
     """
-    return plan_through(
-        [_pose(goal, "the goal")],
-        params,
-        start=start,
-        shape=shape,
-        min_radius=min_radius,
-        forward_only=forward_only,
-        speed=speed,
-        spin_rate=spin_rate,
-        fastest=fastest,
-        limit=limit,
+    there = _pose(goal, "the goal")
+    here = _pose(start, "the start")
+    forward_only = bool(forward_only)
+    radius = _check_shape(shape, min_radius, forward_only)
+    return _legs(
+        here, [there], params, shape, radius, forward_only, speed, spin_rate, fastest, limit
     )
+
+
+def _legs(
+    here: Pose,
+    poses: list[Pose],
+    params: DiffDriveParams,
+    shape: Shape,
+    radius: float | None,
+    forward_only: bool,
+    speed: float,
+    spin_rate: float,
+    fastest: bool,
+    limit: float | None,
+) -> Plan:
+    """The plan from ``here`` through ``poses`` (checked): one leg of ``shape`` to each."""
+    segments: list[Segment] = []
+    half = 0.5 * params.wheel_separation
+    for pose in poses:
+        segments += _leg(here, pose, half, shape, radius, forward_only)
+        here = pose
+    if not segments:
+        return _empty(params, limit)
+    at_limit = _timing(shape, params, fastest, limit)
+    return plan(segments, params, speed=speed, spin_rate=spin_rate, fastest=at_limit, limit=limit)
 
 
 def waypoint_poses(
@@ -286,20 +321,17 @@ def plan_through(
     shape: Shape = options.get("shape", "fastest")
     forward_only = bool(options.get("forward_only", False))
     radius = _check_shape(shape, options.get("min_radius"), forward_only)
-    segments: list[Segment] = []
-    for pose in waypoint_poses(waypoints, here):
-        segments += _leg(here, pose, 0.5 * params.wheel_separation, shape, radius, forward_only)
-        here = pose
-    limit = options.get("limit")
-    if not segments:
-        return _empty(params, limit)
-    return plan(
-        segments,
+    return _legs(
+        here,
+        waypoint_poses(waypoints, here),
         params,
-        speed=options.get("speed", DEFAULT_SPEED),
-        spin_rate=options.get("spin_rate", DEFAULT_SPIN_RATE),
-        fastest=_timing(shape, params, options.get("fastest", False), limit),
-        limit=limit,
+        shape,
+        radius,
+        forward_only,
+        options.get("speed", DEFAULT_SPEED),
+        options.get("spin_rate", DEFAULT_SPIN_RATE),
+        options.get("fastest", False),
+        options.get("limit"),
     )
 
 

@@ -21,7 +21,7 @@ import functools
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, TypeVar
 
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
@@ -55,6 +55,7 @@ __all__ = [
     "Violation",
     "advance",
     "as_float",
+    "built",
     "geometry",
     "plan",
     "pose_at",
@@ -175,6 +176,7 @@ class Spin:
 
 
 Segment: TypeAlias = Straight | Arc | Spin
+_T = TypeVar("_T")
 
 
 def geometry(segment: Segment) -> tuple[float, float]:
@@ -418,18 +420,57 @@ def plan(
             "(give one with limit=, or a max_wheel_speed in the parameters)"
         )
 
+    return _planned(items, params, speed, spin_rate, fastest, lim)
+
+
+def built(cls: type[_T], **fields: object) -> _T:
+    """An instance of the frozen dataclass ``cls`` with ``fields`` set as given, without its
+    ``__init__`` and checks: for segments and plans valid by construction only (a goal plan
+    builds thousands; the checks would cost more than the planning).
+    """
+    instance = object.__new__(cls)
+    # The dataclass __init__ sets each frozen field through object.__setattr__: filling the
+    # instance's dict at once builds the same object in a fraction of the time.
+    instance.__dict__.update(fields)
+    return instance
+
+
+def _planned(
+    items: list[Segment],
+    params: DiffDriveParams,
+    speed: float,
+    spin_rate: float,
+    fastest: bool,
+    lim: float | None,
+) -> Plan:
+    """The plan of checked arguments: segments, positive finite speeds, a limit above zero or
+    None (not None when ``fastest``)."""
     # The loop is the cost of every plan (goal plans build thousands): it works on floats with
     # the same operations, in the same order, as inverse(), limit_fraction() and advance(), and
     # checks the results' finiteness once, naming the failing quantity only when one is not.
     half_separation = 0.5 * params.wheel_separation
     left_radius, right_radius = params.radii
     left_sign, right_sign = params.left_sign, params.right_sign
+    # Joint commands are the wheel speeds themselves when both signs are +1 (the usual case).
+    same_signs = left_sign == 1 and right_sign == 1
     rpm = rpm_from_rad_s(1.0)  # rpm per rad/s
+    isfinite, sin, cos, remainder = math.isfinite, math.sin, math.cos, math.remainder
+    new, pi, two_pi = tuple.__new__, math.pi, 2.0 * math.pi
     planned: list[PlannedSegment] = []
     x, y, heading, elapsed = 0.0, 0.0, 0.0, 0.0
+    bound = 1.0 + LIMIT_TOLERANCE
+    within = True
     start = Pose(0.0, 0.0, 0.0)
     for index, segment in enumerate(items):
-        ds, turn = geometry(segment)
+        if isinstance(segment, Straight):
+            ds, turn = segment.length, 0.0
+        elif isinstance(segment, Arc):
+            turn = segment.angle if segment.direction == "ccw" else -segment.angle
+            ds = segment.radius * segment.angle
+            if segment.reverse:
+                ds = -ds
+        else:
+            ds, turn = 0.0, segment.angle
         if fastest:
             assert lim is not None
             # Wheel angles travelled (rad) over the segment; their peak at the limit sets the time.
@@ -442,7 +483,7 @@ def plan(
             duration = abs(turn) / spin_rate
         else:
             duration = abs(ds) / speed
-        if not (math.isfinite(duration) and duration > 0.0):
+        if not (isfinite(duration) and duration > 0.0):
             raise _overflow(segment, index, f"duration ({duration:g} s)")
         linear, angular = ds / duration, turn / duration
         track = half_separation * angular
@@ -451,38 +492,41 @@ def plan(
         if lim is not None:
             peak = math.nan if math.isnan(left) or math.isnan(right) else max(abs(left), abs(right))
             fraction = peak / lim
+            if not fraction <= bound:
+                within = False
         elapsed += duration
         end_heading = heading + turn
-        values = (linear, angular, left, right, duration, fraction)
-        if not math.isfinite(elapsed + end_heading):
-            _check_segment(segment, index, values)
+        if not isfinite(elapsed + end_heading):
+            _check_segment(segment, index, (linear, angular, left, right, duration, fraction))
             if not _finite(elapsed, end_heading):
                 raise _overflow(segment, index, "end time or heading")
         half = 0.5 * turn
-        chord = ds * (math.sin(half) / half if half != 0.0 else 1.0)
+        chord = ds * (sin(half) / half if half != 0.0 else 1.0)
         mean = heading + half
-        end_x, end_y = x + chord * math.cos(mean), y + chord * math.sin(mean)
+        end_x, end_y = x + chord * cos(mean), y + chord * sin(mean)
         # One sum is finite exactly when all its terms are (or it overflowed: checked then).
         checked = linear + angular + left * rpm * duration + right * rpm * duration + end_x + end_y
         if fraction is not None:
             checked += fraction * duration
-        if not math.isfinite(checked):
-            _check_segment(segment, index, values)
+        if not isfinite(checked):
+            _check_segment(segment, index, (linear, angular, left, right, duration, fraction))
             if not _finite(end_x, end_y):
                 raise _overflow(segment, index, "end pose")
         x, y, heading = end_x, end_y, end_heading
-        wrapped = math.remainder(heading, 2.0 * math.pi)
-        end = Pose(x + 0.0, y + 0.0, (math.pi if wrapped == -math.pi else wrapped) + 0.0)
-        # The dataclass __init__ sets each frozen field through object.__setattr__: filling the
-        # instance's dict at once builds the same object in a fraction of the time.
+        wrapped = remainder(heading, two_pi)
+        # The named tuples' own __new__ is a Python function: tuple.__new__ builds the same.
+        end = new(Pose, (x + 0.0, y + 0.0, (pi if wrapped == -pi else wrapped) + 0.0))
+        wheels = new(WheelSpeeds, (left, right))
         entry = object.__new__(PlannedSegment)
         entry.__dict__.update(
             segment=segment,
             index=index,
-            twist=Twist(linear, angular),
+            twist=new(Twist, (linear, angular)),
             duration=duration,
-            wheels=WheelSpeeds(left, right),
-            joints=WheelSpeeds(left_sign * left, right_sign * right),
+            wheels=wheels,
+            joints=wheels
+            if same_signs
+            else new(WheelSpeeds, (left_sign * left, right_sign * right)),
             fraction=fraction,
             start_pose=start,
             end_pose=end,
@@ -490,19 +534,19 @@ def plan(
         )
         planned.append(entry)
         start = end
-    within = lim is None or all((p.fraction or 0.0) <= 1.0 + LIMIT_TOLERANCE for p in planned)
     try:
-        total = math.fsum(p.duration for p in planned)
+        total = math.fsum([p.duration for p in planned])
     except OverflowError:
         total = math.inf
-    if not math.isfinite(total):
+    if not isfinite(total):
         raise _overflow(items[-1], len(items) - 1, "end time")
-    return Plan(
+    return built(
+        Plan,
         segments=tuple(planned),
         params=params,
         limit=lim,
         duration=total,
-        final_pose=planned[-1].end_pose,
+        final_pose=start,
         within_limit=within,
     )
 
