@@ -241,10 +241,26 @@ def candidates(x: float, y: float, phi: float) -> list[tuple[str, _Lengths]]:
 
 # --------------------------------------------------------------------------------------------
 # One goal: the same formulas on floats, each giving up at its first unmet condition (as OMPL's
-# do), so that a goal costs a fraction of the backend-generic form. Same operations in the same
-# order: the lengths are the same numbers.
+# do), with the same operations in the same order, so the lengths are the same numbers. They
+# are tried symmetry by symmetry, sharing what the formulas of one symmetry have in common, and
+# a formula is skipped when a lower bound of its length already exceeds the shortest so far:
+#
+# - The formulas use two pairs of circle centres: (xi, eta) = (x - s, y - 1 + c), whose norm
+#   is the distance between the start's and the goal's left turning circles (8.1, 8.3/8.4,
+#   8.9), and (x + s, y - 1 - c), from the start's left circle to the goal's right one (8.2,
+#   8.7, 8.8, 8.10, 8.11). A word's straight is at least what that distance fixes: rho (8.1),
+#   sqrt(rho^2 - 4) (8.2), sqrt(rho^2 - 4) - 2 (8.9), rho - 2 (8.10), sqrt(rho^2 - 4) - 4
+#   (8.11). The symmetries only change signs, and a word read backwards joins the same two
+#   circles, so four distances serve all 48 words.
+# - Its arcs turn the heading by phi modulo 2 pi with the signs the formula's conditions fix:
+#   at least phi mod 2 pi (8.1), |phi| wrapped (8.2, 8.8, and any word), pi/2 + |phi - pi/2|
+#   wrapped (8.9), pi/2 + (phi - pi/2) mod 2 pi (8.10), pi + |phi| wrapped (8.11).
+#
+# A bound is skipped only when it exceeds the shortest length by more than 1e-9 relative (far
+# above rounding), and equally short words keep the order of _EVALUATIONS: the word chosen is
+# the one the full search chooses.
 
-_Found = tuple[float, ...] | None
+_SLACK = 1e-9
 
 
 def _wrap(angle: float) -> float:
@@ -264,122 +280,260 @@ def _tau_omega_1(u: float, v: float, xi: float, eta: float, phi: float) -> tuple
     return tau, _wrap(tau - u + v - phi)
 
 
-def _lsl_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
-    xi, eta = x - s, y - 1.0 + c
-    t = math.atan2(eta, xi)
-    if not t >= -ZERO:
-        return None
-    v = _wrap(phi - t)
-    return (t, math.hypot(xi, eta), v) if v >= -ZERO else None
+def _turned(angle: float) -> float:
+    """``angle`` mod 2 pi, or 0 where rounding may carry a turn of almost 2 pi round to 0."""
+    m = angle % TWO_PI
+    return m if m < TWO_PI - _SLACK else 0.0
 
 
-def _lsr_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
-    xi, eta = x + s, y - 1.0 - c
-    u1 = math.hypot(xi, eta)
-    u1 = u1 * u1
-    if not u1 >= 4.0:
-        return None
-    u = math.sqrt(u1 - 4.0)
-    t = _wrap(math.atan2(eta, xi) + math.atan2(2.0, u))
-    if not t >= -ZERO:
-        return None
-    v = _wrap(t - phi)
-    return (t, u, v) if v >= -ZERO else None
+#: Each evaluation's word and the sign of x of its symmetry (timeflip drives it backwards).
+_WORDS = tuple(word for *_, word in _EVALUATIONS)
+_SIGNS = tuple(sx for _, _, sx, *_ in _EVALUATIONS)
 
 
-def _lrl_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
-    xi, eta = x - s, y - 1.0 + c
-    u1 = math.hypot(xi, eta)
-    if not u1 <= 4.0:
-        return None
-    u = -2.0 * math.asin(0.25 * u1)
-    t = _wrap(math.atan2(eta, xi) + 0.5 * u + math.pi)
-    if not (t >= -ZERO and u <= ZERO):
-        return None
-    return (t, u, _wrap(phi - t + u))
-
-
-def _lrlr_meet_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
-    xi, eta = x + s, y - 1.0 - c
-    rho = 0.25 * (2.0 + math.hypot(xi, eta))
-    if not rho <= 1.0:
-        return None
-    u = math.acos(rho)
-    t, v = _tau_omega_1(u, -u, xi, eta, phi)
-    return (t, u, -u, v) if t >= -ZERO and v <= ZERO else None
-
-
-def _lrlr_cusp_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
-    xi, eta = x + s, y - 1.0 - c
-    rho = (20.0 - xi * xi - eta * eta) / 16.0
-    if not (rho >= 0.0 and rho <= 1.0):
-        return None
-    u = -math.acos(rho)
-    if not u >= -HALF_PI:
-        return None
-    t, v = _tau_omega_1(u, u, xi, eta, phi)
-    return (t, u, u, v) if t >= -ZERO and v >= -ZERO else None
-
-
-def _lrsl_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
-    xi, eta = x - s, y - 1.0 + c
-    rho = math.hypot(xi, eta)
-    if not rho >= 2.0:
-        return None
-    r = math.sqrt(max(rho * rho - 4.0, 0.0))
-    u = 2.0 - r
-    t = _wrap(math.atan2(eta, xi) + math.atan2(r, -2.0))
-    if not (t >= -ZERO and u <= ZERO):
-        return None
-    v = _wrap(phi - HALF_PI - t)
-    return (t, -HALF_PI, u, v) if v <= ZERO else None
-
-
-def _lrsr_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
-    xi, eta = x + s, y - 1.0 - c
-    rho = math.hypot(-eta, xi)
-    if not rho >= 2.0:
-        return None
-    t = math.atan2(xi, -eta)
-    u = 2.0 - rho
-    if not (t >= -ZERO and u <= ZERO):
-        return None
-    v = _wrap(t + HALF_PI - phi)
-    return (t, -HALF_PI, u, v) if v <= ZERO else None
-
-
-def _lrslr_1(x: float, y: float, s: float, c: float, phi: float) -> _Found:
-    xi, eta = x + s, y - 1.0 - c
-    rho = math.hypot(xi, eta)
-    if not rho >= 2.0:
-        return None
-    u = 4.0 - math.sqrt(max(rho * rho - 4.0, 0.0))
-    if not u <= ZERO:
-        return None
-    t = _wrap(math.atan2((4.0 - u) * xi - 2.0 * eta, -2.0 * xi + (u - 4.0) * eta))
-    if not t >= -ZERO:
-        return None
-    v = _wrap(t - phi)
-    return (t, -HALF_PI, u, -HALF_PI, v) if v >= -ZERO else None
-
-
-_SCALAR: dict[_Formula, Callable[[float, float, float, float, float], _Found]] = {
-    _lsl: _lsl_1,
-    _lsr: _lsr_1,
-    _lrl: _lrl_1,
-    _lrlr_meet: _lrlr_meet_1,
-    _lrlr_cusp: _lrlr_cusp_1,
-    _lrsl: _lrsl_1,
-    _lrsr: _lrsr_1,
-    _lrslr: _lrslr_1,
-}
-#: :data:`_EVALUATIONS` with the scalar formulas: (formula, read backwards, which of the eight
-#: argument tuples of :func:`path` it takes, sign of x, word).
-_SCALAR_EVALUATIONS = tuple(
-    (_SCALAR[formula], backwards, 4 * backwards + i, sx, _word(word, flip, backwards))
-    for formula, word, backwards in _FAMILIES
-    for i, (sx, _, _, flip) in enumerate(_SYMMETRIES)
-)
+def _shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
+    """The index in :data:`_EVALUATIONS` of the first shortest word to ``(x, y, phi)`` and its
+    lengths before the symmetry's sign (-1 and none when no formula holds: NaN)."""
+    sin, cos, atan2, hypot, fmod, sqrt = (
+        math.sin,
+        math.cos,
+        math.atan2,
+        math.hypot,
+        math.fmod,
+        math.sqrt,
+    )
+    pi, two_pi, half_pi, zero = math.pi, TWO_PI, HALF_PI, ZERO
+    s, c = sin(phi), cos(phi)
+    # Heading bounds for phi and -phi (the symmetries' headings).
+    w = abs(math.remainder(phi, two_pi))
+    plus = (_turned(phi), abs(math.remainder(phi - half_pi, two_pi)), _turned(phi - half_pi))
+    minus = (_turned(-phi), abs(math.remainder(-phi - half_pi, two_pi)), _turned(-phi - half_pi))
+    best, found = math.inf, -1
+    lengths: tuple[float, ...] = ()
+    cut = math.inf  # best plus the slack: bounds above it cannot win
+    # Forward formulas, symmetry k: (x, y, phi), timeflip, reflect, both.
+    left_same = hypot(x - s, y - 1.0 + c)  # start's left circle to the goal's left
+    left_cross = hypot(x + s, y - 1.0 - c)  # start's left circle to the goal's right
+    right_same = hypot(x + s, -y - 1.0 + c)
+    right_cross = hypot(x - s, -y - 1.0 - c)
+    forward = (
+        (0, x, y, s, phi, plus, left_same, left_cross),
+        (1, -x, y, -s, -phi, minus, left_same, left_cross),
+        (2, x, -y, -s, -phi, minus, right_same, right_cross),
+        (3, -x, -y, s, phi, plus, right_same, right_cross),
+    )
+    for k, px, py, ps, p, (turned, _, _), da, db in forward:
+        xi, eta = px - ps, py - 1.0 + c
+        theta = atan2(eta, xi)
+        # 8.1 LSL (t, rho, v): rho = da.
+        if da + turned <= cut and theta >= -zero:
+            v = fmod(p - theta, two_pi)
+            if v < -pi:
+                v += two_pi
+            elif v > pi:
+                v -= two_pi
+            if v >= -zero:
+                length = abs(theta) + da + abs(v)
+                if length < best or (length == best and k < found):
+                    best, found, lengths = length, k, (theta, da, v)
+                    cut = best + _SLACK * (1.0 + best)
+        xj, ej = px + ps, py - 1.0 - c
+        # 8.2 LSR.
+        u1 = db * db
+        if u1 >= 4.0:
+            u = sqrt(u1 - 4.0)
+            if u + w <= cut:
+                t = fmod(atan2(ej, xj) + atan2(2.0, u), two_pi)
+                if t < -pi:
+                    t += two_pi
+                elif t > pi:
+                    t -= two_pi
+                if t >= -zero:
+                    v = fmod(t - p, two_pi)
+                    if v < -pi:
+                        v += two_pi
+                    elif v > pi:
+                        v -= two_pi
+                    if v >= -zero:
+                        length = abs(t) + u + abs(v)
+                        if length < best or (length == best and 4 + k < found):
+                            best, found, lengths = length, 4 + k, (t, u, v)
+                            cut = best + _SLACK * (1.0 + best)
+    # The others, once the shortest of those two gives their bounds something to cut.
+    for k, px, py, ps, p, (_, quarter, quarter_turned), da, db in forward:
+        xi, eta = px - ps, py - 1.0 + c
+        xj, ej = px + ps, py - 1.0 - c
+        u1 = db * db
+        # 8.3 LRL, forwards.
+        if da <= 4.0 and w <= cut:
+            u = -2.0 * math.asin(0.25 * da)
+            t = fmod(atan2(eta, xi) + 0.5 * u + pi, two_pi)
+            if t < -pi:
+                t += two_pi
+            elif t > pi:
+                t -= two_pi
+            if t >= -zero and u <= zero:
+                v = fmod(p - t + u, two_pi)
+                if v < -pi:
+                    v += two_pi
+                elif v > pi:
+                    v -= two_pi
+                length = abs(t) + abs(u) + abs(v)
+                if length < best or (length == best and 8 + k < found):
+                    best, found, lengths = length, 8 + k, (t, u, v)
+                    cut = best + _SLACK * (1.0 + best)
+        # 8.7 LR+L-R (rho <= 1) and 8.8 L-R+L-R (0 <= rho <= 1): at most one holds.
+        if db <= 2.0 + _SLACK and w <= cut:
+            rho = 0.25 * (2.0 + db)
+            if rho <= 1.0:
+                u = math.acos(rho)
+                t, v = _tau_omega_1(u, -u, xj, ej, p)
+                if t >= -zero and v <= zero:
+                    length = abs(t) + abs(u) + abs(-u) + abs(v)
+                    if length < best or (length == best and 16 + k < found):
+                        best, found, lengths = length, 16 + k, (t, u, -u, v)
+                        cut = best + _SLACK * (1.0 + best)
+        if 1.9 <= db <= 4.5 and w <= cut:
+            rho = (20.0 - xj * xj - ej * ej) / 16.0
+            if rho >= 0.0 and rho <= 1.0:
+                u = -math.acos(rho)
+                # Its arcs: 2 |u|, and t + v >= |phi| wrapped (t - v is phi).
+                if u >= -half_pi and w - 2.0 * u <= cut:
+                    t, v = _tau_omega_1(u, u, xj, ej, p)
+                    if t >= -zero and v >= -zero:
+                        length = abs(t) + abs(u) + abs(u) + abs(v)
+                        if length < best or (length == best and 20 + k < found):
+                            best, found, lengths = length, 20 + k, (t, u, u, v)
+                            cut = best + _SLACK * (1.0 + best)
+        # 8.9 LRSL, forwards.
+        if da >= 2.0:
+            r = sqrt(max(da * da - 4.0, 0.0))
+            u = 2.0 - r
+            if half_pi + quarter - u <= cut and u <= zero:
+                t = fmod(atan2(eta, xi) + atan2(r, -2.0), two_pi)
+                if t < -pi:
+                    t += two_pi
+                elif t > pi:
+                    t -= two_pi
+                if t >= -zero:
+                    v = fmod(p - half_pi - t, two_pi)
+                    if v < -pi:
+                        v += two_pi
+                    elif v > pi:
+                        v -= two_pi
+                    if v <= zero:
+                        length = abs(t) + half_pi + abs(u) + abs(v)
+                        if length < best or (length == best and 24 + k < found):
+                            best, found, lengths = length, 24 + k, (t, -half_pi, u, v)
+                            cut = best + _SLACK * (1.0 + best)
+        # 8.10 LRSR, forwards.
+        if db >= 2.0 - _SLACK and half_pi + quarter_turned + db - 2.0 <= cut:
+            rho = hypot(-ej, xj)
+            if rho >= 2.0:
+                t = atan2(xj, -ej)
+                u = 2.0 - rho
+                if t >= -zero and u <= zero:
+                    v = fmod(t + half_pi - p, two_pi)
+                    if v < -pi:
+                        v += two_pi
+                    elif v > pi:
+                        v -= two_pi
+                    if v <= zero:
+                        length = abs(t) + half_pi + abs(u) + abs(v)
+                        if length < best or (length == best and 28 + k < found):
+                            best, found, lengths = length, 28 + k, (t, -half_pi, u, v)
+                            cut = best + _SLACK * (1.0 + best)
+        # 8.11 LRSLR.
+        if u1 >= 20.0 - _SLACK:
+            u = 4.0 - sqrt(max(db * db - 4.0, 0.0))
+            if u <= zero and pi + w - u <= cut and db >= 2.0:
+                t = fmod(atan2((4.0 - u) * xj - 2.0 * ej, -2.0 * xj + (u - 4.0) * ej), two_pi)
+                if t < -pi:
+                    t += two_pi
+                elif t > pi:
+                    t -= two_pi
+                if t >= -zero:
+                    v = fmod(t - p, two_pi)
+                    if v < -pi:
+                        v += two_pi
+                    elif v > pi:
+                        v -= two_pi
+                    if v >= -zero:
+                        length = abs(t) + half_pi + abs(u) + half_pi + abs(v)
+                        if length < best or (length == best and 40 + k < found):
+                            best, found, lengths = length, 40 + k, (t, -half_pi, u, -half_pi, v)
+                            cut = best + _SLACK * (1.0 + best)
+    # The formulas read backwards (8.4, 8.9 and 8.10 from the goal): the same four distances,
+    # the cross ones swapped between the symmetries.
+    xb, yb = x * c + y * s, x * s - y * c
+    backward = (
+        (0, xb, yb, s, phi, plus, left_same, right_cross),
+        (1, -xb, yb, -s, -phi, minus, left_same, right_cross),
+        (2, xb, -yb, -s, -phi, minus, right_same, left_cross),
+        (3, -xb, -yb, s, phi, plus, right_same, left_cross),
+    )
+    for k, px, py, ps, p, (_, quarter, quarter_turned), da, db in backward:
+        lrl = da <= 4.0 + _SLACK and w <= cut
+        lrsl = da >= 2.0 - _SLACK and half_pi + quarter + sqrt(max(da * da - 4.0, 0.0)) - 2.0 <= cut
+        if lrl or lrsl:
+            xi, eta = px - ps, py - 1.0 + c
+            rho = hypot(xi, eta)
+            theta = atan2(eta, xi)
+            if lrl and rho <= 4.0:
+                u = -2.0 * math.asin(0.25 * rho)
+                t = fmod(theta + 0.5 * u + pi, two_pi)
+                if t < -pi:
+                    t += two_pi
+                elif t > pi:
+                    t -= two_pi
+                if t >= -zero and u <= zero:
+                    v = fmod(p - t + u, two_pi)
+                    if v < -pi:
+                        v += two_pi
+                    elif v > pi:
+                        v -= two_pi
+                    length = abs(v) + abs(u) + abs(t)
+                    if length < best or (length == best and 12 + k < found):
+                        best, found, lengths = length, 12 + k, (v, u, t)
+                        cut = best + _SLACK * (1.0 + best)
+            if lrsl and rho >= 2.0:
+                r = sqrt(max(rho * rho - 4.0, 0.0))
+                u = 2.0 - r
+                if u <= zero:
+                    t = fmod(theta + atan2(r, -2.0), two_pi)
+                    if t < -pi:
+                        t += two_pi
+                    elif t > pi:
+                        t -= two_pi
+                    if t >= -zero:
+                        v = fmod(p - half_pi - t, two_pi)
+                        if v < -pi:
+                            v += two_pi
+                        elif v > pi:
+                            v -= two_pi
+                        if v <= zero:
+                            length = abs(v) + abs(u) + half_pi + abs(t)
+                            if length < best or (length == best and 32 + k < found):
+                                best, found, lengths = length, 32 + k, (v, u, -half_pi, t)
+                                cut = best + _SLACK * (1.0 + best)
+        if db >= 2.0 - _SLACK and half_pi + quarter_turned + db - 2.0 <= cut:
+            xj, ej = px + ps, py - 1.0 - c
+            rho = hypot(-ej, xj)
+            if rho >= 2.0:
+                t = atan2(xj, -ej)
+                u = 2.0 - rho
+                if t >= -zero and u <= zero:
+                    v = fmod(t + half_pi - p, two_pi)
+                    if v < -pi:
+                        v += two_pi
+                    elif v > pi:
+                        v -= two_pi
+                    if v <= zero:
+                        length = abs(v) + abs(u) + half_pi + abs(t)
+                        if length < best or (length == best and 36 + k < found):
+                            best, found, lengths = length, 36 + k, (v, u, -half_pi, t)
+                            cut = best + _SLACK * (1.0 + best)
+    return found, lengths
 
 
 def path(x: float, y: float, phi: float) -> list[Piece]:
@@ -393,27 +547,13 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
         Three to five pieces (lengths in radii, negative backwards); the first of equally short
         words in OMPL's order.
     """
-    s, c = math.sin(phi), math.cos(phi)
-    xb, yb = x * c + y * s, x * s - y * c
-    arguments = [
-        (sx * px, sy * py, sphi * s, c, sphi * phi)
-        for px, py in ((x, y), (xb, yb))
-        for sx, sy, sphi, _ in _SYMMETRIES
-    ]
-    best: tuple[float, ...] = ()
-    best_word, best_sign, best_length = "", 1.0, math.inf
-    for formula, backwards, which, sx, word in _SCALAR_EVALUATIONS:
-        lengths = formula(*arguments[which])
-        if lengths is None:
-            continue
-        if backwards:
-            lengths = lengths[::-1]
-        length = sum(map(abs, lengths))
-        if length < best_length:
-            best, best_word, best_sign, best_length = lengths, word, sx, length
-    if best_sign < 0:
-        best = tuple([-v for v in best])
-    return [Piece(kind, v) for kind, v in zip(best_word, best, strict=True)]
+    found, lengths = _shortest(x, y, phi)
+    if found < 0:
+        return []
+    if _SIGNS[found] < 0:
+        lengths = tuple([-v for v in lengths])
+    new = tuple.__new__
+    return [new(Piece, piece) for piece in zip(_WORDS[found], lengths, strict=True)]
 
 
 def distance(x: float, y: float, phi: float) -> float:
