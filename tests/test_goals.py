@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from diffbot import DiffDriveParams, PlanError, Spin, Straight
+from diffbot import DiffDriveParams, PlanError, Spin, Straight, plan
 from diffbot.goals import (
     SHAPES,
     plan_through,
@@ -52,6 +53,24 @@ def test_every_shape_ends_exactly_at_the_goal(
     assert_reaches(p.final_pose, Pose(*goal))
     if forward_only or shape == "dubins":
         assert all(s.twist.linear >= 0.0 for s in p.segments)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.sampled_from(SHAPES), distance, bearing, heading, st.booleans(), st.booleans())
+def test_goal_plans_equal_plans_of_checked_segments(
+    shape: str, d: float, b: float, h: float, fastest: bool, mirrored: bool
+) -> None:
+    # plan_to makes its segments and plan without the checks that hold by construction: the
+    # result is the plan that plan() makes of the same segments through their constructors.
+    robot = ROBOT.replace(left_sign=-1) if mirrored else ROBOT
+    goal = (d * math.cos(b), d * math.sin(b), h)
+    p = plan_to(goal, robot, shape=shape, min_radius=0.25, fastest=fastest)  # type: ignore[arg-type]
+    assert p.segments
+    checked = [type(s.segment)(**dataclasses.asdict(s.segment)) for s in p.segments]
+    assert checked == [s.segment for s in p.segments]
+    at_limit = fastest or shape == "fastest"
+    assert p == plan(checked, robot, fastest=at_limit)
+    assert p.final_pose == p.segments[-1].end_pose
 
 
 @settings(deadline=None)
