@@ -490,8 +490,9 @@ def _planned(
         left, right = (linear - track) / left_radius, (linear + track) / right_radius
         fraction: float | None = None
         if lim is not None:
-            peak = math.nan if math.isnan(left) or math.isnan(right) else max(abs(left), abs(right))
-            fraction = peak / lim
+            # max() without its call, NaN kept (max(abs(nan), 1.0) would be nan, max(1.0, ...) not)
+            a, b = abs(left), abs(right)
+            fraction = (a if a > b or a != a else b) / lim
             if not fraction <= bound:
                 within = False
         elapsed += duration
