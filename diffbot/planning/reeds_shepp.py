@@ -280,6 +280,41 @@ def _tau_omega_1(u: float, v: float, xi: float, eta: float, phi: float) -> tuple
     return tau, _wrap(tau - u + v - phi)
 
 
+def _lrl_1(xi: float, eta: float, rho: float, phi: float) -> tuple[float, float, float] | None:
+    """8.3/8.4 L+ R- L from (xi, eta) of norm ``rho`` <= 4 (as :func:`_lrl`, on floats)."""
+    u = -2.0 * math.asin(0.25 * rho)
+    t = _wrap(math.atan2(eta, xi) + 0.5 * u + math.pi)
+    if not (t >= -ZERO and u <= ZERO):
+        return None
+    return t, u, _wrap(phi - t + u)
+
+
+def _lrsl_1(xi: float, eta: float, rho: float, phi: float) -> _Lengths | None:
+    """8.9 L+ R-(pi/2) S- L- from (xi, eta) of norm ``rho`` >= 2 (as :func:`_lrsl`)."""
+    r = math.sqrt(max(rho * rho - 4.0, 0.0))
+    u = 2.0 - r
+    if not u <= ZERO:
+        return None
+    t = _wrap(math.atan2(eta, xi) + math.atan2(r, -2.0))
+    if not t >= -ZERO:
+        return None
+    v = _wrap(phi - HALF_PI - t)
+    return (t, -HALF_PI, u, v) if v <= ZERO else None
+
+
+def _lrsr_1(xi: float, eta: float, phi: float) -> _Lengths | None:
+    """8.10 L+ R-(pi/2) S- R- from (xi, eta) (as :func:`_lrsr`)."""
+    rho = math.hypot(-eta, xi)
+    if not rho >= 2.0:
+        return None
+    t = math.atan2(xi, -eta)
+    u = 2.0 - rho
+    if not (t >= -ZERO and u <= ZERO):
+        return None
+    v = _wrap(t + HALF_PI - phi)
+    return (t, -HALF_PI, u, v) if v <= ZERO else None
+
+
 def _turned(angle: float) -> float:
     """``angle`` mod 2 pi, or 0 where rounding may carry a turn of almost 2 pi round to 0."""
     m = angle % TWO_PI
@@ -366,21 +401,12 @@ def _shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
         u1 = db * db
         # 8.3 LRL, forwards.
         if da <= 4.0 and w <= cut:
-            u = -2.0 * math.asin(0.25 * da)
-            t = fmod(atan2(eta, xi) + 0.5 * u + pi, two_pi)
-            if t < -pi:
-                t += two_pi
-            elif t > pi:
-                t -= two_pi
-            if t >= -zero and u <= zero:
-                v = fmod(p - t + u, two_pi)
-                if v < -pi:
-                    v += two_pi
-                elif v > pi:
-                    v -= two_pi
+            lrl = _lrl_1(xi, eta, da, p)
+            if lrl is not None:
+                t, u, v = lrl
                 length = abs(t) + abs(u) + abs(v)
                 if length < best or (length == best and 8 + k < found):
-                    best, found, lengths = length, 8 + k, (t, u, v)
+                    best, found, lengths = length, 8 + k, lrl
                     cut = best + _SLACK * (1.0 + best)
         # 8.7 LR+L-R (rho <= 1) and 8.8 L-R+L-R (0 <= rho <= 1): at most one holds.
         if db <= 2.0 + _SLACK and w <= cut:
@@ -406,43 +432,23 @@ def _shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
                             best, found, lengths = length, 20 + k, (t, u, u, v)
                             cut = best + _SLACK * (1.0 + best)
         # 8.9 LRSL, forwards.
-        if da >= 2.0:
-            r = sqrt(max(da * da - 4.0, 0.0))
-            u = 2.0 - r
-            if half_pi + quarter - u <= cut and u <= zero:
-                t = fmod(atan2(eta, xi) + atan2(r, -2.0), two_pi)
-                if t < -pi:
-                    t += two_pi
-                elif t > pi:
-                    t -= two_pi
-                if t >= -zero:
-                    v = fmod(p - half_pi - t, two_pi)
-                    if v < -pi:
-                        v += two_pi
-                    elif v > pi:
-                        v -= two_pi
-                    if v <= zero:
-                        length = abs(t) + half_pi + abs(u) + abs(v)
-                        if length < best or (length == best and 24 + k < found):
-                            best, found, lengths = length, 24 + k, (t, -half_pi, u, v)
-                            cut = best + _SLACK * (1.0 + best)
+        if da >= 2.0 and half_pi + quarter + sqrt(max(da * da - 4.0, 0.0)) - 2.0 <= cut:
+            lrsl = _lrsl_1(xi, eta, da, p)
+            if lrsl is not None:
+                t, _, u, v = lrsl
+                length = abs(t) + half_pi + abs(u) + abs(v)
+                if length < best or (length == best and 24 + k < found):
+                    best, found, lengths = length, 24 + k, lrsl
+                    cut = best + _SLACK * (1.0 + best)
         # 8.10 LRSR, forwards.
         if db >= 2.0 - _SLACK and half_pi + quarter_turned + db - 2.0 <= cut:
-            rho = hypot(-ej, xj)
-            if rho >= 2.0:
-                t = atan2(xj, -ej)
-                u = 2.0 - rho
-                if t >= -zero and u <= zero:
-                    v = fmod(t + half_pi - p, two_pi)
-                    if v < -pi:
-                        v += two_pi
-                    elif v > pi:
-                        v -= two_pi
-                    if v <= zero:
-                        length = abs(t) + half_pi + abs(u) + abs(v)
-                        if length < best or (length == best and 28 + k < found):
-                            best, found, lengths = length, 28 + k, (t, -half_pi, u, v)
-                            cut = best + _SLACK * (1.0 + best)
+            lrsr = _lrsr_1(xj, ej, p)
+            if lrsr is not None:
+                t, _, u, v = lrsr
+                length = abs(t) + half_pi + abs(u) + abs(v)
+                if length < best or (length == best and 28 + k < found):
+                    best, found, lengths = length, 28 + k, lrsr
+                    cut = best + _SLACK * (1.0 + best)
         # 8.11 LRSLR.
         if u1 >= 20.0 - _SLACK:
             u = 4.0 - sqrt(max(db * db - 4.0, 0.0))
@@ -473,66 +479,37 @@ def _shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
         (3, -xb, -yb, s, phi, plus, right_same, left_cross),
     )
     for k, px, py, ps, p, (_, quarter, quarter_turned), da, db in backward:
-        lrl = da <= 4.0 + _SLACK and w <= cut
-        lrsl = da >= 2.0 - _SLACK and half_pi + quarter + sqrt(max(da * da - 4.0, 0.0)) - 2.0 <= cut
-        if lrl or lrsl:
+        try_lrl = da <= 4.0 + _SLACK and w <= cut
+        try_lrsl = (
+            da >= 2.0 - _SLACK and half_pi + quarter + sqrt(max(da * da - 4.0, 0.0)) - 2.0 <= cut
+        )
+        if try_lrl or try_lrsl:
             xi, eta = px - ps, py - 1.0 + c
             rho = hypot(xi, eta)
-            theta = atan2(eta, xi)
-            if lrl and rho <= 4.0:
-                u = -2.0 * math.asin(0.25 * rho)
-                t = fmod(theta + 0.5 * u + pi, two_pi)
-                if t < -pi:
-                    t += two_pi
-                elif t > pi:
-                    t -= two_pi
-                if t >= -zero and u <= zero:
-                    v = fmod(p - t + u, two_pi)
-                    if v < -pi:
-                        v += two_pi
-                    elif v > pi:
-                        v -= two_pi
+            if try_lrl and rho <= 4.0:
+                lrl = _lrl_1(xi, eta, rho, p)
+                if lrl is not None:
+                    t, u, v = lrl
                     length = abs(v) + abs(u) + abs(t)
                     if length < best or (length == best and 12 + k < found):
                         best, found, lengths = length, 12 + k, (v, u, t)
                         cut = best + _SLACK * (1.0 + best)
-            if lrsl and rho >= 2.0:
-                r = sqrt(max(rho * rho - 4.0, 0.0))
-                u = 2.0 - r
-                if u <= zero:
-                    t = fmod(theta + atan2(r, -2.0), two_pi)
-                    if t < -pi:
-                        t += two_pi
-                    elif t > pi:
-                        t -= two_pi
-                    if t >= -zero:
-                        v = fmod(p - half_pi - t, two_pi)
-                        if v < -pi:
-                            v += two_pi
-                        elif v > pi:
-                            v -= two_pi
-                        if v <= zero:
-                            length = abs(v) + abs(u) + half_pi + abs(t)
-                            if length < best or (length == best and 32 + k < found):
-                                best, found, lengths = length, 32 + k, (v, u, -half_pi, t)
-                                cut = best + _SLACK * (1.0 + best)
+            if try_lrsl and rho >= 2.0:
+                lrsl = _lrsl_1(xi, eta, rho, p)
+                if lrsl is not None:
+                    t, _, u, v = lrsl
+                    length = abs(v) + abs(u) + half_pi + abs(t)
+                    if length < best or (length == best and 32 + k < found):
+                        best, found, lengths = length, 32 + k, (v, u, -half_pi, t)
+                        cut = best + _SLACK * (1.0 + best)
         if db >= 2.0 - _SLACK and half_pi + quarter_turned + db - 2.0 <= cut:
-            xj, ej = px + ps, py - 1.0 - c
-            rho = hypot(-ej, xj)
-            if rho >= 2.0:
-                t = atan2(xj, -ej)
-                u = 2.0 - rho
-                if t >= -zero and u <= zero:
-                    v = fmod(t + half_pi - p, two_pi)
-                    if v < -pi:
-                        v += two_pi
-                    elif v > pi:
-                        v -= two_pi
-                    if v <= zero:
-                        length = abs(v) + abs(u) + half_pi + abs(t)
-                        if length < best or (length == best and 36 + k < found):
-                            best, found, lengths = length, 36 + k, (v, u, -half_pi, t)
-                            cut = best + _SLACK * (1.0 + best)
+            lrsr = _lrsr_1(px + ps, py - 1.0 - c, p)
+            if lrsr is not None:
+                t, _, u, v = lrsr
+                length = abs(v) + abs(u) + half_pi + abs(t)
+                if length < best or (length == best and 36 + k < found):
+                    best, found, lengths = length, 36 + k, (v, u, -half_pi, t)
+                    cut = best + _SLACK * (1.0 + best)
     return found, lengths
 
 
