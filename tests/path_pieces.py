@@ -6,7 +6,15 @@ import math
 from collections.abc import Iterator
 from typing import Any
 
+from hypothesis import strategies as st
+
 from diffbot.planning import Piece
+
+#: Goal coordinates (in radii, or half tracks) and headings (rad) of the property tests.
+COORDINATES = st.floats(-50.0, 50.0)
+HEADINGS = st.floats(-math.pi, math.pi)
+#: Random start/goal pairs compared with OMPL.
+PAIRS = 1000
 
 
 def walk(pieces: list[Piece], radius: float = 1.0) -> Iterator[tuple[float, float, float]]:
@@ -58,6 +66,13 @@ class Ompl:
         self._set(x, y, phi)
         self.space.interpolate(self.a, self.b, fraction, self.s)
         return self.s.getX(), self.s.getY(), self.s.getYaw()
+
+
+def assert_ends_at(pieces: list[Piece], goal: tuple[float, float, float], most: int) -> None:
+    """At most ``most`` pieces that end at ``goal`` (x, y, heading), to 1e-12 of its size."""
+    x, y, _ = goal
+    assert len(pieces) <= most
+    assert same_pose(end(pieces), goal, 1e-12 * max(1.0, abs(x), abs(y)))
 
 
 def same_pose(a: tuple[float, ...], b: tuple[float, ...], tol: float) -> bool:

@@ -8,21 +8,23 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-from path_pieces import assert_agrees_with_ompl, end, random_pairs, same_pose
+from path_pieces import (
+    COORDINATES,
+    HEADINGS,
+    PAIRS,
+    assert_agrees_with_ompl,
+    assert_ends_at,
+    random_pairs,
+)
 
 from diffbot.planning import reeds_shepp
 
-#: Random start/goal pairs compared with OMPL.
-PAIRS = 1000
-coordinate = st.floats(-50.0, 50.0)
-heading = st.floats(-math.pi, math.pi)
 
-
-@given(coordinate, coordinate, heading)
+@given(COORDINATES, COORDINATES, HEADINGS)
 def test_path_ends_at_the_goal(x: float, y: float, phi: float) -> None:
     pieces = reeds_shepp.path(x, y, phi)
-    assert 3 <= len(pieces) <= 5
-    assert same_pose(end(pieces), (x, y, phi), 1e-12 * max(1.0, abs(x), abs(y)))
+    assert len(pieces) >= 3
+    assert_ends_at(pieces, (x, y, phi), 5)
 
 
 def test_known_values() -> None:
@@ -55,7 +57,7 @@ def test_distances_of_many_goals_at_once_equal_one_by_one() -> None:
 @given(
     st.floats(-1e3, 1e3),
     st.floats(-1e3, 1e3),
-    st.one_of(heading, st.sampled_from([0.0, math.pi, -math.pi, 0.5 * math.pi, 1e-17])),
+    st.one_of(HEADINGS, st.sampled_from([0.0, math.pi, -math.pi, 0.5 * math.pi, 1e-17])),
 )
 def test_one_goal_is_the_first_shortest_candidate_exactly(x: float, y: float, phi: float) -> None:
     # path() evaluates the formulas on floats with early outs; candidates() evaluates them all
