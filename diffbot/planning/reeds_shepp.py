@@ -378,17 +378,9 @@ def _shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
         if u1 >= 4.0:
             u = sqrt(u1 - 4.0)
             if u + w <= cut:
-                t = fmod(atan2(ej, xj) + atan2(2.0, u), two_pi)
-                if t < -pi:
-                    t += two_pi
-                elif t > pi:
-                    t -= two_pi
+                t = _wrap(atan2(ej, xj) + atan2(2.0, u))
                 if t >= -zero:
-                    v = fmod(t - p, two_pi)
-                    if v < -pi:
-                        v += two_pi
-                    elif v > pi:
-                        v -= two_pi
+                    v = _wrap(t - p)
                     if v >= -zero:
                         length = abs(t) + u + abs(v)
                         if length < best or (length == best and 4 + k < found):
@@ -453,17 +445,9 @@ def _shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
         if u1 >= 20.0 - _SLACK:
             u = 4.0 - sqrt(max(db * db - 4.0, 0.0))
             if u <= zero and pi + w - u <= cut and db >= 2.0:
-                t = fmod(atan2((4.0 - u) * xj - 2.0 * ej, -2.0 * xj + (u - 4.0) * ej), two_pi)
-                if t < -pi:
-                    t += two_pi
-                elif t > pi:
-                    t -= two_pi
+                t = _wrap(atan2((4.0 - u) * xj - 2.0 * ej, -2.0 * xj + (u - 4.0) * ej))
                 if t >= -zero:
-                    v = fmod(t - p, two_pi)
-                    if v < -pi:
-                        v += two_pi
-                    elif v > pi:
-                        v -= two_pi
+                    v = _wrap(t - p)
                     if v >= -zero:
                         length = abs(t) + half_pi + abs(u) + half_pi + abs(v)
                         if length < best or (length == best and 40 + k < found):
