@@ -18,7 +18,8 @@ drives backwards.
 The formulas are written once for both numbers and NumPy arrays (a *backend* gives the
 functions): :func:`candidates` lists one goal's words with :mod:`math`, :func:`distances` measures
 many goals at once with NumPy. :func:`path` plans one goal with the same formulas on floats, each
-giving up at its first unmet condition: the same lengths, several times faster.
+giving up at its first unmet condition, and skips the words a lower bound of their length
+rules out: the same words and lengths, several times faster.
 """
 
 from __future__ import annotations
