@@ -17,9 +17,9 @@ drives backwards.
 
 The formulas are written once for both numbers and NumPy arrays (a *backend* gives the
 functions): :func:`candidates` lists one goal's words with :mod:`math`, :func:`distances` measures
-many goals at once with NumPy. :func:`path` plans one goal with the same formulas on floats, each
-giving up at its first unmet condition, and skips the words a lower bound of their length
-rules out: the same words and lengths, several times faster.
+many goals at once with NumPy, and :func:`paths` plans them. :func:`path` plans one goal with the
+same formulas on floats, each giving up at its first unmet condition, and skips the words a lower
+bound of their length rules out: the same words and lengths, several times faster.
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["candidates", "distance", "distances", "path"]
+__all__ = ["WORDS", "candidates", "distance", "distances", "path", "paths"]
 
 #: Tolerance of the formulas' sign conditions, as in OMPL (10 machine epsilons).
 ZERO = 10.0 * 2.220446049250313e-16
@@ -322,8 +322,11 @@ def _turned(angle: float) -> float:
     return m if m < TWO_PI - _SLACK else 0.0
 
 
-#: Each evaluation's word and the sign of x of its symmetry (timeflip drives it backwards).
-_WORDS = tuple(word for *_, word in _EVALUATIONS)
+#: The word of every formula under every symmetry, in the order tried: :func:`paths` gives
+#: each goal's word as an index into it.
+WORDS: tuple[str, ...] = tuple(word for *_, word in _EVALUATIONS)
+_WORDS = WORDS
+#: The sign of x of each evaluation's symmetry (timeflip drives it backwards).
 _SIGNS = tuple(sx for _, _, sx, *_ in _EVALUATIONS)
 
 
@@ -536,3 +539,61 @@ def distances(x: ArrayLike, y: ArrayLike, phi: ArrayLike) -> NDArray[np.float64]
             total = sum(np.abs(v) for v in lengths)
             np.minimum(best, np.where(ok, total, np.inf), out=best)
     return best
+
+
+def paths(
+    x: ArrayLike, y: ArrayLike, phi: ArrayLike
+) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
+    """The shortest Reeds-Shepp paths to many goals at once: the words and lengths :func:`path`
+    gives, goal by goal, found with NumPy.
+
+    All 48 words are measured for all goals at once and each goal takes the first shortest. The
+    NumPy functions may round differently from :mod:`math` in the last bit, so a goal whose
+    runner-up word is within 1e-9 relative of its shortest (equally short words, as on the axes
+    or at a heading of pi) is planned again with :func:`path`: the word chosen is always
+    :func:`path`'s, and the lengths equal its lengths to rounding.
+
+    Args:
+        x, y: the goals' positions in turning radii (start frame), broadcast with ``phi``.
+        phi: the goals' headings (rad).
+
+    Returns:
+        ``(words, lengths)``: for each goal the index of its word in :data:`WORDS` (-1 where no
+        word reaches it, as for NaN), and its piece lengths in radii (negative backwards),
+        shape ``(*goals, 5)``, padded with NaN after the word's last piece.
+    """
+    import numpy as np
+
+    b = _numpy_backend()
+    arrays = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in (x, y, phi)))
+    shape = arrays[0].shape
+    flat = [a.ravel() for a in arrays]
+    n = flat[0].size
+    evaluations = []
+    best, runner_up = np.full(n, np.inf), np.full(n, np.inf)
+    words = np.full(n, -1, dtype=np.intp)
+    with np.errstate(all="ignore"):
+        for k, (_, ok, lengths) in enumerate(_evaluations(b, *flat)):
+            # Summed in the order path() sums them; only a strictly shorter word replaces the
+            # shortest so far, so the first of equally short words stays.
+            total = np.where(ok, sum(np.abs(v) for v in lengths), np.inf)
+            np.minimum(runner_up, np.maximum(total, best), out=runner_up)
+            np.putmask(words, total < best, k)
+            np.minimum(best, total, out=best)
+            evaluations.append(lengths)
+    out = np.full((n, 5), np.nan)
+    for k, lengths in enumerate(evaluations):
+        chosen = np.flatnonzero(words == k)
+        if chosen.size:
+            for j, v in enumerate(lengths):
+                out[chosen, j] = np.broadcast_to(v, (n,))[chosen]
+    with np.errstate(invalid="ignore"):  # no word: inf - inf
+        near = ~(runner_up - best > _SLACK * (1.0 + best))
+    doubtful = np.flatnonzero(near & np.isfinite(best))
+    for i in doubtful.tolist():
+        found, exact = _shortest(*(float(a[i]) for a in flat))
+        words[i] = found
+        out[i] = np.nan
+        if found >= 0:
+            out[i, : len(exact)] = [-v for v in exact] if _SIGNS[found] < 0 else exact
+    return words.reshape(shape), out.reshape((*shape, 5))

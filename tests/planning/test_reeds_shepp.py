@@ -71,3 +71,51 @@ def test_one_goal_is_the_first_shortest_candidate_exactly(x: float, y: float, ph
     assert [(p.kind, p.length) for p in reeds_shepp.path(x, y, phi)] == list(
         zip(*best, strict=True)
     )
+
+
+SPECIAL_HEADINGS = st.sampled_from([0.0, math.pi, -math.pi, 0.5 * math.pi, -0.5 * math.pi, 1e-17])
+#: Goal coordinates from the tiny to the huge, in radii.
+SPREAD = st.one_of(COORDINATES, st.floats(-1e-6, 1e-6), st.floats(-1e6, 1e6))
+
+
+def assert_paths_agree(goals: np.ndarray) -> None:
+    """:func:`reeds_shepp.paths` gives each goal the word of :func:`reeds_shepp.path` and its
+    lengths to 1e-12 of the goal's size, NaN after the word's last piece."""
+    words, lengths = reeds_shepp.paths(goals[:, 0], goals[:, 1], goals[:, 2])
+    assert words.shape == (len(goals),)
+    assert lengths.shape == (len(goals), 5)
+    for (x, y, phi), index, row in zip(goals.tolist(), words.tolist(), lengths, strict=True):
+        pieces = reeds_shepp.path(x, y, phi)
+        assert reeds_shepp.WORDS[index] == "".join(p.kind for p in pieces), (x, y, phi)
+        tol = 1e-12 * max(1.0, abs(x), abs(y))
+        np.testing.assert_allclose(row[: len(pieces)], [p.length for p in pieces], 0, tol)
+        assert np.isnan(row[len(pieces) :]).all()
+
+
+@given(st.lists(st.tuples(SPREAD, SPREAD, st.one_of(HEADINGS, SPECIAL_HEADINGS)), min_size=1))
+def test_paths_of_many_goals_at_once_are_path_goal_by_goal(goals: list[tuple[float, ...]]) -> None:
+    assert_paths_agree(np.array(goals, dtype=np.float64).reshape(-1, 3))
+
+
+def test_paths_agree_with_path_on_random_goals_and_on_the_grid() -> None:
+    # The grid (whole radii, headings in quarter turns) is full of equally short words, where
+    # the first in OMPL's order must win however the last bit rounds.
+    grid = np.stack(
+        np.meshgrid(np.arange(-4.0, 5.0), np.arange(-4.0, 5.0), np.arange(-4, 5) * 0.25 * math.pi),
+        axis=-1,
+    ).reshape(-1, 3)
+    assert_paths_agree(np.concatenate((random_pairs(PAIRS), grid)))
+
+
+def test_paths_broadcast_and_unreachable_goals() -> None:
+    words, lengths = reeds_shepp.paths([[3.0, -3.0]], 0.0, [0.0, math.nan])
+    assert words.shape == (1, 2)
+    assert lengths.shape == (1, 2, 5)
+    # Straight ahead three radii: a straight between two empty arcs.
+    assert reeds_shepp.WORDS[words[0, 0]][1] == "S"
+    np.testing.assert_allclose(lengths[0, 0, :3], [0.0, 3.0, 0.0], atol=1e-15)
+    assert np.isnan(lengths[0, 0, 3:]).all()
+    # No word reaches a NaN heading, as path() finds none.
+    assert reeds_shepp.path(-3.0, 0.0, math.nan) == []
+    assert words[0, 1] == -1
+    assert np.isnan(lengths[0, 1]).all()
