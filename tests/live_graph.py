@@ -6,7 +6,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import TYPE_CHECKING
 
@@ -26,13 +26,24 @@ def deep() -> QosProfile:
     return Profile(reliable=False, depth=100_000)
 
 
-def until(node: Node, condition: Callable[[], bool]) -> None:
-    """Spin ``node`` until ``condition()`` holds; fail after :data:`PATIENCE` seconds."""
+def until(nodes: Node | Sequence[Node], condition: Callable[[], bool]) -> None:
+    """Spin ``nodes`` (one, or several in turn) in this thread until ``condition()`` holds; fail
+    after :data:`PATIENCE` seconds.
+
+    A node under test spun here rather than in a thread of its own (:meth:`Node.start`) makes
+    the order of events the test's, however busy the machine: what a test publishes before a
+    spin reaches the node within that spin (delivery in one process is immediate), and what the
+    node publishes in its spin reaches the nodes after it in ``nodes`` before the condition is
+    checked again.
+    """
     import time
 
+    spun = list(nodes) if isinstance(nodes, Sequence) else [nodes]
+    wait = 0.02 / len(spun)
     end = time.monotonic() + PATIENCE
     while not condition() and time.monotonic() < end:
-        node.spin_once(0.02)
+        for node in spun:
+            node.spin_once(wait)
     assert condition(), "the graph did not get there in time"
 
 

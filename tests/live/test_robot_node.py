@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import time
 
 import pytest
 from live_graph import PATIENCE, deep, until
@@ -18,8 +19,6 @@ from diffbot.live.robot import RobotNode, RobotSettings
 from diffbot.live.transport import LATCHED, Node, QosProfile
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
 
-#: How late a command or an update may come on a machine busy with other work (s).
-LOAD = 1.0
 TWO = DiffDriveParams(
     wheel_radius=0.05,
     wheel_separation=0.2,
@@ -29,12 +28,19 @@ TWO = DiffDriveParams(
 DEEP = deep()
 
 
+def stamp(header: types.Header) -> int:
+    return header.stamp.sec * 10**9 + header.stamp.nanosec
+
+
 def test_commanded_wheels_turn_and_silence_stops_them() -> None:
     states: list[types.JointState] = []
     truth: list[types.Odometry] = []
     tf: list[types.TFMessage] = []
     settings = RobotSettings(rate=100.0, timeout=0.3)
-    with RobotNode(TWO, two_wheel_urdf(), settings).start() as robot, Node("probe") as probe:
+    # The robot spins in this thread, before the probe: both commands reach it in one spin, and
+    # each update's messages reach the probe before the next check, however busy the machine.
+    with RobotNode(TWO, two_wheel_urdf(), settings) as robot, Node("probe") as probe:
+        graph = (robot, probe)
         left = probe.create_publisher(types.Float64MultiArray, LEFT_TOPIC)
         right = probe.create_publisher(types.Float64MultiArray, RIGHT_TOPIC)
         probe.create_subscription(types.JointState, "joint_states", states.append)
@@ -42,28 +48,41 @@ def test_commanded_wheels_turn_and_silence_stops_them() -> None:
         probe.create_subscription(types.TFMessage, "/tf", tf.append)
         assert left.wait_for_subscribers(PATIENCE)
         assert right.wait_for_subscribers(PATIENCE)
+        # The update the commands are integrated from comes after `since`.
+        since = time.monotonic()
+        updates = robot.updates
+        until(graph, lambda: robot.updates > updates)
         # Opposite wheel speeds: a spin in place at (r / b) * 2 * 2 rad/s = 1 rad/s.
         left.publish(commands([-2.0]))
         right.publish(commands([2.0]))
-        until(probe, lambda: robot.timeouts == 1)
+        until(graph, lambda: robot.timeouts == 1)
+        held = time.monotonic() - since  # the commands held for less than this
         stopped = dict(robot.positions)
-        until(probe, lambda: bool(states) and states[-1].velocity == [0.0, 0.0])
-        time_at_rest = robot.updates
-        until(probe, lambda: robot.updates > time_at_rest + 5)
+        at_rest = robot.updates
+        until(graph, lambda: robot.updates > at_rest + 5)
         assert robot.positions == stopped  # at rest after the timeout
+        # The probe has the last update's joint state, pose and transforms, at rest.
+        until(
+            graph,
+            lambda: (
+                bool(states and truth and tf)
+                and stamp(truth[-1].header) == stamp(states[-1].header)
+                and stamp(tf[-1].transforms[0].header) == stamp(states[-1].header)
+            ),
+        )
     assert states[-1].name == ["left_wheel_joint", "right_wheel_joint"]
+    assert states[-1].velocity == [0.0, 0.0]
+    assert states[-1].position == [stopped["left_wheel_joint"], stopped["right_wheel_joint"]]
     turned = stopped["right_wheel_joint"]
     back = stopped["left_wheel_joint"]
-    # Each side turns from the command's update to the timeout's: the two commands may land in
-    # neighbouring updates, or up to LOAD apart on a machine busy with other work.
-    assert abs(back + turned) <= 2.0 * LOAD
-    # Held at least the timeout (0.3 s), at most that plus an update and the delivery of the two
-    # commands: 2 rad/s for that long.
-    assert 2.0 * 0.3 <= turned <= 2.0 * (0.3 + 0.01 + LOAD)
+    # Both commands came in one spin: each side turned over the same updates.
+    assert back == -turned
+    # Held at least the timeout (0.3 s), at most from before the command to the timeout seen:
+    # 2 rad/s for that long.
+    assert 2.0 * 0.3 - 1e-9 <= turned <= 2.0 * held
     pose = truth[-1].pose.pose
-    # Only the updates where one wheel turned alone move the robot off the spot: each wheel at
-    # most 2 rad/s for LOAD alone, r = 0.05 m.
-    assert math.hypot(pose.position.x, pose.position.y) <= 0.05 * 2.0 * LOAD
+    # Opposite wheels: the robot turned on the spot.
+    assert math.hypot(pose.position.x, pose.position.y) <= 1e-12
     # The heading is exactly r (right - left) / b of the wheel angles the robot integrated.
     assert yaw_of(pose.orientation) == pytest.approx(
         math.remainder(0.05 * (turned - back) / 0.2, math.tau), abs=1e-9
@@ -143,7 +162,8 @@ def test_the_ground_truth_moves_by_the_true_geometry() -> None:
     truth: list[types.Odometry] = []
     # Described: r = 0.05 m, b = 0.2 m; really 0.06 m and 0.04 m wheels 0.25 m apart.
     settings = RobotSettings(rate=100.0, timeout=0.3, true_radii=(0.06, 0.04), true_separation=0.25)
-    with RobotNode(TWO, None, settings).start() as robot, Node("probe") as probe:
+    with RobotNode(TWO, None, settings) as robot, Node("probe") as probe:
+        graph = (robot, probe)
         left = probe.create_publisher(types.Float64MultiArray, LEFT_TOPIC)
         right = probe.create_publisher(types.Float64MultiArray, RIGHT_TOPIC)
         probe.create_subscription(types.JointState, "joint_states", states.append, DEEP)
@@ -152,25 +172,24 @@ def test_the_ground_truth_moves_by_the_true_geometry() -> None:
         assert right.wait_for_subscribers(PATIENCE)
         left.publish(commands([1.0]))
         right.publish(commands([3.0]))
-        until(probe, lambda: robot.timeouts == 1)
+        # The update of the timeout: its joint state at rest, and its pose.
+        until(
+            graph,
+            lambda: (
+                robot.timeouts == 1
+                and bool(states and truth)
+                and stamp(states[-1].header) == stamp(truth[-1].header)
+            ),
+        )
         stopped = dict(robot.positions)
-
-        def at_rest() -> list[tuple[types.JointState, types.Odometry]]:
-            # Best effort: pair a joint state at rest with the pose of the same update.
-            stamps = {t.header.stamp.sec * 10**9 + t.header.stamp.nanosec: t for t in truth}
-            return [
-                (s, stamps[s.header.stamp.sec * 10**9 + s.header.stamp.nanosec])
-                for s in states
-                if s.position == list(stopped.values())
-                and s.header.stamp.sec * 10**9 + s.header.stamp.nanosec in stamps
-            ]
-
-        until(probe, lambda: bool(at_rest()))
-    state, last = at_rest()[-1]
-    # joint_states report what the wheels turned, as commanded: 1 and 3 rad/s for as long.
+    state, last = states[-1], truth[-1]
+    assert state.velocity == [0.0, 0.0]
+    # joint_states report what the wheels turned, as commanded: 1 and 3 rad/s for as long (both
+    # commands came in one spin of the robot).
     turned_left, turned_right = state.position
-    assert turned_right == pytest.approx(3.0 * turned_left, rel=0.5)
-    assert turned_left >= 0.3 - 0.01  # the timeout, less an update
+    assert [turned_left, turned_right] == list(stopped.values())
+    assert turned_right == pytest.approx(3.0 * turned_left, rel=1e-9)
+    assert turned_left >= 0.3 - 1e-9  # the timeout
     # The heading depends on the wheel angles alone: (r_R theta_R - r_L theta_L) / b, with the
     # true radii and separation, not the described ones.
     expected = (0.04 * turned_right - 0.06 * turned_left) / 0.25
@@ -184,20 +203,21 @@ def test_the_ground_truth_moves_by_the_true_geometry() -> None:
 
 def left_velocities(params: DiffDriveParams, limit_wheels: bool) -> list[float]:
     """The left wheel's reported velocities (rad/s), update by update, as a step command of
-    2 rad/s on both sides comes in, until they reach it."""
+    2 rad/s on both sides comes in (in one spin of the robot), until they reach it."""
     states: list[types.JointState] = []
     settings = RobotSettings(rate=100.0, timeout=0.0, limit_wheels=limit_wheels)
-    with RobotNode(params, None, settings).start() as robot, Node("probe") as probe:
+    with RobotNode(params, None, settings) as robot, Node("probe") as probe:
+        graph = (robot, probe)
         left = probe.create_publisher(types.Float64MultiArray, LEFT_TOPIC)
         right = probe.create_publisher(types.Float64MultiArray, RIGHT_TOPIC)
         probe.create_subscription(types.JointState, "joint_states", states.append, DEEP)
         assert left.wait_for_subscribers(PATIENCE)
         assert right.wait_for_subscribers(PATIENCE)
-        until(probe, lambda: bool(states))
+        until(graph, lambda: bool(states))
         left.publish(commands([2.0]))
         right.publish(commands([2.0]))
-        until(probe, lambda: robot.velocities["left_wheel_joint"] == pytest.approx(2.0))
-        until(probe, lambda: states[-1].velocity == pytest.approx([2.0, 2.0]))
+        until(graph, lambda: robot.velocities["left_wheel_joint"] == pytest.approx(2.0))
+        until(graph, lambda: states[-1].velocity == pytest.approx([2.0, 2.0]))
     return [s.velocity[0] for s in states]
 
 
