@@ -48,7 +48,8 @@ def test_commanded_wheels_turn_and_silence_stops_them() -> None:
         probe.create_subscription(types.TFMessage, "/tf", tf.append)
         assert left.wait_for_subscribers(PATIENCE)
         assert right.wait_for_subscribers(PATIENCE)
-        # The update the commands are integrated from comes after `since`.
+        # The robot integrates from its last update: the commands come after one, which comes
+        # after `since`.
         since = time.monotonic()
         updates = robot.updates
         until(graph, lambda: robot.updates > updates)
@@ -170,6 +171,8 @@ def test_the_ground_truth_moves_by_the_true_geometry() -> None:
         probe.create_subscription(types.Odometry, "ground_truth/odom", truth.append, DEEP)
         assert left.wait_for_subscribers(PATIENCE)
         assert right.wait_for_subscribers(PATIENCE)
+        # The robot integrates from its last update: the commands come after its first.
+        until(graph, lambda: robot.updates > 0)
         left.publish(commands([1.0]))
         right.publish(commands([3.0]))
         # The update of the timeout: its joint state at rest, and its pose.
