@@ -3,7 +3,7 @@
 The nodes are classes shaped like rclpy's: make one, use it as a context manager (it cleans up on
 the way out), :meth:`~diffbot.live.transport.Node.spin` it until a signal or call
 :meth:`~diffbot.live.transport.Node.spin_once` from a loop of your own. Nothing here is imported
-by ``import diffbot``; :mod:`diffbot.live.transport` is the only module that imports cyclonedds.
+by ``import diffbot``; :mod:`diffbot.live.cyclone` is the only module that imports cyclonedds.
 """
 
 from __future__ import annotations
@@ -13,10 +13,11 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from diffbot.live.drive import Driver, DriveReport, DriveSettings
+    from diffbot.live.errors import LiveError
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
     from diffbot.live.odometry import OdometryNode, OdometrySettings
     from diffbot.live.robot import RobotNode, RobotSettings
-    from diffbot.live.transport import LiveError, Node
+    from diffbot.live.transport import Node
 
 __all__ = [
     "DriveReport",
@@ -39,7 +40,7 @@ _HOMES = {
     "Driver": "drive",
     "IkSettings": "inverse_kinematics",
     "InverseKinematicsNode": "inverse_kinematics",
-    "LiveError": "transport",
+    "LiveError": "errors",
     "Node": "transport",
     "OdometryNode": "odometry",
     "OdometrySettings": "odometry",

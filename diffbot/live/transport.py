@@ -1,24 +1,18 @@
-"""DDS the way ROS 2 speaks it, in one module: the only one that imports cyclonedds.
-
-What makes diffbot's endpoints match a stock ROS 2 node's (rmw_cyclonedds, rmw_fastrtps):
-
-- topic ``/name`` is the DDS topic ``rt/name`` (:func:`dds_topic`); types are named
-  ``pkg::msg::dds_::Name_`` (:mod:`diffbot.live.types`);
-- plain CDR (XCDR1) forced in every endpoint's QoS (a Cyclone endpoint of a ``final`` type would
-  otherwise also offer XCDR2);
-- QoS profiles as rclpy names them: :data:`PUBLISHER` (reliable, volatile, keep last 10),
-  :data:`TF` (depth 100), :data:`LATCHED` (transient local: ``/tf_static``,
-  ``/robot_description``), :data:`SUBSCRIPTION` (best effort, which matches reliable and
-  best-effort publishers alike);
-- ``ROS_DOMAIN_ID`` picks the domain (0..232); ``ROS_LOCALHOST_ONLY=1`` or
-  ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`` keep discovery and traffic on the loopback
-  interface (unicast to the local peers, no multicast), ``OFF`` keeps it in the process, as
-  rmw_cyclonedds does (:func:`cyclone_config`).
+"""DDS the way ROS 2 speaks it: the :class:`Node`, and the front door of the parts it is made of.
 
 A :class:`Node` has rclpy's shape: it makes publishers, subscriptions and timers, :meth:`Node.spin`
 runs it until a signal (or a deadline), and it is a context manager that destroys its entities on
-the way out. Received payloads are decoded one by one: a malformed one is counted in
-:attr:`Subscription.malformed` and dropped, never raised.
+the way out. What makes its endpoints match a stock ROS 2 node's (rmw_cyclonedds, rmw_fastrtps)
+sits in one module a concern, each name also importable from here:
+
+- :mod:`diffbot.live.discovery`: the domain (``ROS_DOMAIN_ID``), how far discovery reaches
+  (``ROS_LOCALHOST_ONLY``, ``ROS_AUTOMATIC_DISCOVERY_RANGE``) as Cyclone configuration, topic
+  ``/name`` as the DDS topic ``rt/name``;
+- :mod:`diffbot.live.qos`: rclpy's QoS profiles, plain CDR (XCDR1) forced in every endpoint;
+- :mod:`diffbot.live.endpoints`: publishers, subscriptions (a malformed payload counted and
+  dropped, never raised) and timers;
+- :mod:`diffbot.live.types`: the messages, types named ``pkg::msg::dds_::Name_``;
+- :mod:`diffbot.live.cyclone`: the one module that imports cyclonedds.
 """
 
 from __future__ import annotations
@@ -28,57 +22,45 @@ import math
 import os
 import threading
 import time
-from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, field
-from typing import Any, Final, Generic, TypeVar
+from collections.abc import Callable
+from typing import Any, Final, TypeVar
 
-from diffbot.errors import DiffbotError
-
-#: What the live commands say when cyclonedds is not installed.
-INSTALL_HINT: Final = (
-    "the live commands need cyclonedds (DDS for Python): pip install 'diffbot-kinematics[live]'"
+from diffbot.live.cyclone import (
+    BuiltinDataReader,
+    BuiltinTopicDcpsPublication,
+    DataReader,
+    DataWriter,
+    DDSException,
+    GuardCondition,
+    IdlStruct,
+    InstanceState,
+    ReadCondition,
+    SampleState,
+    Topic,
+    WaitSet,
+    array,
+    bounded_str,
+    final,
+    float64,
+    int32,
+    sequence,
+    uint8,
+    uint32,
 )
-
-
-class LiveError(DiffbotError):
-    """A live node cannot start: no cyclonedds, a bad domain id or topic, no peer in time."""
-
-
-try:
-    from cyclonedds._clayer import (  # type: ignore[import-not-found]
-        ddspy_take,
-        ddspy_write,
-    )
-    from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication
-    from cyclonedds.core import (
-        DDSException,
-        GuardCondition,
-        InstanceState,
-        ReadCondition,
-        SampleState,
-        ViewState,
-        WaitSet,
-    )
-    from cyclonedds.domain import Domain, DomainParticipant
-    from cyclonedds.idl import IdlStruct
-    from cyclonedds.idl.annotations import final
-    from cyclonedds.idl.types import (
-        array,
-        bounded_str,
-        float64,
-        int32,
-        sequence,
-        uint8,
-        uint32,
-    )
-    from cyclonedds.pub import DataWriter
-    from cyclonedds.qos import Policy, Qos
-    from cyclonedds.sub import DataReader
-    from cyclonedds.topic import Topic
-except ImportError as err:  # pragma: no cover - exercised in a subprocess without it
-    raise LiveError(INSTALL_HINT) from err
+from diffbot.live.discovery import (
+    DISCOVERY_TOPIC,
+    cyclone_config,
+    dds_topic,
+    discovery_range,
+    domain_id,
+)
+from diffbot.live.endpoints import Publisher, Subscription, Timer
+from diffbot.live.errors import INSTALL_HINT, LiveError
+from diffbot.live.participant import participant
+from diffbot.live.qos import LATCHED, PUBLISHER, SUBSCRIPTION, TF, QosProfile
 
 __all__ = [
+    "DISCOVERY_TOPIC",
     "INSTALL_HINT",
     "LATCHED",
     "PUBLISHER",
@@ -105,282 +87,11 @@ __all__ = [
     "uint32",
 ]
 
-#: The DDS topic (no ``rt/`` prefix) where ROS 2 participants list their nodes.
-DISCOVERY_TOPIC: Final = "ros_discovery_info"
-#: The highest domain id ROS 2 allows (the RTPS port formula overflows above it).
-MAX_DOMAIN_ID: Final = 232
 #: The longest a wait blocks in C: signals are handled between waits.
 _WAIT_SLICE: Final = 0.05
 
 M = TypeVar("M", bound=IdlStruct)
 N = TypeVar("N", bound="Node")
-
-
-@dataclass(frozen=True)
-class QosProfile:
-    """A QoS profile as rclpy spells it: reliability, durability and history depth."""
-
-    reliable: bool = True
-    transient_local: bool = False
-    depth: int = 10
-    #: Keep every sample up to ``depth`` waiting ones and refuse the newer ones, counted (a
-    #: reader's :attr:`Subscription.dropped`), instead of silently overwriting the oldest.
-    drop_newest: bool = False
-
-    def qos(self) -> Qos:
-        """The cyclonedds QoS, with plain CDR (XCDR1) forced as ROS 2 expects."""
-        reliability = (
-            Policy.Reliability.Reliable(max_blocking_time=100_000_000)
-            if self.reliable
-            else Policy.Reliability.BestEffort
-        )
-        durability = (
-            Policy.Durability.TransientLocal if self.transient_local else Policy.Durability.Volatile
-        )
-        representation = Policy.DataRepresentation(use_cdrv0_representation=True)
-        if self.drop_newest:
-            return Qos(
-                reliability,
-                durability,
-                Policy.History.KeepAll,
-                Policy.ResourceLimits(
-                    max_samples=self.depth, max_instances=-1, max_samples_per_instance=self.depth
-                ),
-                representation,
-            )
-        return Qos(
-            reliability, durability, Policy.History.KeepLast(depth=self.depth), representation
-        )
-
-
-#: rclpy's default publisher profile: reliable, volatile, keep last 10.
-PUBLISHER: Final = QosProfile()
-#: /tf as tf2_ros' TransformBroadcaster publishes it: depth 100.
-TF: Final = QosProfile(depth=100)
-#: /tf_static and /robot_description: late joiners still get the last message.
-LATCHED: Final = QosProfile(transient_local=True, depth=1)
-#: Subscriptions: best effort matches reliable and best-effort (sensor data) publishers.
-SUBSCRIPTION: Final = QosProfile(reliable=False)
-
-
-def domain_id(environ: Mapping[str, str] | None = None) -> int:
-    """The domain of ``ROS_DOMAIN_ID`` (0 when unset or empty).
-
-    Raises:
-        LiveError: not a whole number in 0..232.
-    """
-    env = os.environ if environ is None else environ
-    text = env.get("ROS_DOMAIN_ID", "").strip()
-    if not text:
-        return 0
-    try:
-        value = int(text)
-    except ValueError:
-        value = -1
-    if not 0 <= value <= MAX_DOMAIN_ID:
-        raise LiveError(
-            f"ROS_DOMAIN_ID must be a whole number from 0 to {MAX_DOMAIN_ID}, got {text!r}"
-        )
-    return value
-
-
-def discovery_range(environ: Mapping[str, str] | None = None) -> str:
-    """How far discovery reaches: ``SUBNET`` (Cyclone's default), ``LOCALHOST`` or ``OFF``.
-
-    ``ROS_AUTOMATIC_DISCOVERY_RANGE`` (Iron and later) decides when set; else
-    ``ROS_LOCALHOST_ONLY=1`` (Humble) means ``LOCALHOST``.
-
-    Raises:
-        LiveError: an unknown range.
-    """
-    env = os.environ if environ is None else environ
-    text = env.get("ROS_AUTOMATIC_DISCOVERY_RANGE", "").strip().upper()
-    if text in ("", "SYSTEM_DEFAULT"):
-        return "LOCALHOST" if env.get("ROS_LOCALHOST_ONLY", "").strip() == "1" else "SUBNET"
-    if text not in ("SUBNET", "LOCALHOST", "OFF"):
-        raise LiveError(
-            "ROS_AUTOMATIC_DISCOVERY_RANGE must be SUBNET, LOCALHOST, OFF or SYSTEM_DEFAULT, "
-            f"got {text!r}"
-        )
-    return text
-
-
-def cyclone_config(reach: str, user_config: str = "") -> str:
-    """The Cyclone DDS configuration of a discovery range, after the user's own
-    (``CYCLONEDDS_URI``), so that ours wins where both set something.
-
-    ``LOCALHOST``: the loopback interface only, no multicast, the local participants found by
-    unicast (``Peers``: localhost, participant indices assigned automatically). ``OFF``: the same
-    without peers, so only this process's participants meet. ``SUBNET``: the user's
-    configuration alone (empty: Cyclone's defaults, multicast discovery on the default interface).
-    """
-    if reach == "SUBNET":
-        return user_config
-    peers = (
-        "<Peers><Peer address='localhost'/></Peers>"
-        "<ParticipantIndex>auto</ParticipantIndex>"
-        "<MaxAutoParticipantIndex>64</MaxAutoParticipantIndex>"
-        if reach == "LOCALHOST"
-        else ""
-    )
-    ours = (
-        "<CycloneDDS><Domain Id='any'><General>"
-        "<Interfaces><NetworkInterface name='lo'/></Interfaces>"
-        "<AllowMulticast>false</AllowMulticast></General>"
-        f"<Discovery>{peers}</Discovery></Domain></CycloneDDS>"
-    )
-    return f"{user_config},{ours}" if user_config else ours
-
-
-def dds_topic(name: str) -> str:
-    """The DDS topic of a ROS topic in the root namespace: ``/odom`` and ``odom`` ->
-    ``rt/odom``."""
-    return "rt/" + name.lstrip("/")
-
-
-#: The domains this process created, by id: Cyclone takes one configuration per domain.
-_DOMAINS: dict[int, Any] = {}
-_DOMAINS_LOCK = threading.Lock()
-
-
-def _participant(domain: int | None) -> DomainParticipant:
-    """A participant on ``domain`` (``ROS_DOMAIN_ID`` when None), the domain configured from
-    the environment on first use."""
-    env = os.environ
-    ident = domain_id() if domain is None else domain
-    if not 0 <= ident <= MAX_DOMAIN_ID:
-        raise LiveError(f"the domain id must be from 0 to {MAX_DOMAIN_ID}, got {ident}")
-    with _DOMAINS_LOCK:
-        if ident not in _DOMAINS:
-            config = cyclone_config(discovery_range(), env.get("CYCLONEDDS_URI", ""))
-            try:
-                _DOMAINS[ident] = Domain(ident, config) if config else None
-            except DDSException as err:
-                raise LiveError(f"cannot start DDS on domain {ident}: {err}") from None
-    try:
-        return DomainParticipant(ident)
-    except DDSException as err:
-        raise LiveError(f"cannot join DDS domain {ident}: {err}") from None
-
-
-class Publisher(Generic[M]):
-    """A ROS publisher: :meth:`publish` writes one message."""
-
-    def __init__(self, writer: DataWriter[M], topic: str) -> None:
-        self._writer = writer
-        #: The ROS topic name.
-        self.topic = topic
-
-    def publish(self, message: M) -> None:
-        """Send ``message`` to every matched subscription."""
-        self._writer.write(message)
-
-    def publish_serialized(self, data: bytes) -> None:
-        """Send a message already serialized (encapsulation header and CDR body), as
-        :mod:`diffbot.live.cdr` writes the ones a node sends per sample."""
-        padding = -len(data) % 4  # as cyclonedds pads its own payloads
-        ret = ddspy_write(self._writer._ref, data + b"\0" * padding if padding else data)
-        if ret < 0:
-            raise LiveError(f"writing {self.topic} failed (DDS error {ret})")
-
-    @property
-    def subscription_count(self) -> int:
-        """How many subscriptions match this publisher now."""
-        return int(self._writer.get_publication_matched_status().current_count)  # type: ignore[no-untyped-call]
-
-    def wait_for_subscribers(self, timeout: float, count: int = 1) -> bool:
-        """Wait until ``count`` subscriptions have matched, at most ``timeout`` seconds."""
-        return _wait_for(lambda: self.subscription_count >= count, timeout)
-
-    def flush(self, timeout: float) -> bool:
-        """Wait until reliable subscriptions acknowledged everything sent, at most ``timeout``
-        seconds (before the node goes away, so its last message is not lost)."""
-        try:
-            return bool(self._writer.wait_for_acks(int(timeout * 1e9)))
-        except DDSException:
-            return False
-
-
-@dataclass
-class Subscription(Generic[M]):
-    """A ROS subscription: ``callback(message)`` for each message a spin takes.
-
-    Attributes:
-        topic: the ROS topic name.
-        received: messages decoded and handed to the callback.
-        malformed: payloads that could not be decoded (truncated, bad lengths), dropped.
-    """
-
-    reader: DataReader[M]
-    decode: Callable[[bytes], M]
-    callback: Callable[[M], None]
-    topic: str
-    received: int = 0
-    malformed: int = 0
-    #: The DDS type name this subscription reads.
-    type_name: str = ""
-    #: :attr:`dropped` when last read.
-    last_dropped: int = 0
-
-    @property
-    def publisher_count(self) -> int:
-        """How many publishers match this subscription now."""
-        return int(self.reader.get_subscription_matched_status().current_count)  # type: ignore[no-untyped-call]
-
-    @property
-    def dropped(self) -> int:
-        """Messages that arrived while the reader's queue was full (a ``drop_newest`` profile)
-        or that the network lost, as DDS counts them: never handed to the callback."""
-        reader = self.reader
-        try:
-            rejected = reader.get_sample_rejected_status().total_count  # type: ignore[no-untyped-call]
-            lost = reader.get_sample_lost_status().total_count  # type: ignore[no-untyped-call]
-        except DDSException:  # the node is gone: the count when it went
-            return self.last_dropped
-        self.last_dropped = int(rejected) + int(lost)
-        return self.last_dropped
-
-    def wait_for_publishers(self, timeout: float, count: int = 1) -> bool:
-        """Wait until ``count`` publishers have matched, at most ``timeout`` seconds."""
-        return _wait_for(lambda: self.publisher_count >= count, timeout)
-
-    def deliver(self, payloads: Iterable[bytes]) -> None:
-        """Decode serialized messages (with their encapsulation header) and hand each to the
-        callback; a payload that does not decode is counted in :attr:`malformed`."""
-        decode = self.decode
-        callback = self.callback
-        for data in payloads:
-            try:
-                message = decode(data)
-            except Exception:  # any decoding failure (struct.error, ...) is a malformed payload
-                self.malformed += 1
-                continue
-            self.received += 1
-            callback(message)
-
-    def take(self, limit: int = 256) -> int:
-        """Decode up to ``limit`` waiting messages and hand each to the callback; the count."""
-        mask = SampleState.Any | ViewState.Any | InstanceState.Any
-        taken = ddspy_take(self.reader._ref, mask, limit)
-        if isinstance(taken, int):
-            raise LiveError(f"reading {self.topic} failed (DDS error {taken})")
-        self.deliver(data for data, info in taken if info.valid_data)
-        return len(taken)
-
-
-@dataclass
-class Timer:
-    """Calls ``callback()`` every ``period`` seconds of the monotonic clock while spinning."""
-
-    period: float
-    callback: Callable[[], None]
-    due: float = field(default=0.0)
-
-    def fire_if_due(self, now: float) -> None:
-        if now >= self.due:
-            # The next tick stays on the schedule; after a stall it skips missed ticks.
-            self.due += self.period * max(1, math.floor((now - self.due) / self.period) + 1)
-            self.callback()
 
 
 class Node:
@@ -396,7 +107,7 @@ class Node:
 
     def __init__(self, name: str, *, domain: int | None = None) -> None:
         self.name = name
-        self.participant = _participant(domain)
+        self.participant = participant(domain)
         self._waitset = WaitSet(self.participant)
         self._wake = GuardCondition(self.participant)
         self._waitset.attach(self._wake)
@@ -614,14 +325,3 @@ class Node:
 
     def __exit__(self, *exc: object) -> None:
         self.destroy_node()
-
-
-def _wait_for(condition: Callable[[], bool], timeout: float) -> bool:
-    """Poll ``condition`` until it holds or ``timeout`` seconds pass; whether it held."""
-    end = time.monotonic() + timeout
-    while True:
-        if condition():
-            return True
-        if time.monotonic() >= end:
-            return False
-        time.sleep(0.005)

@@ -8,7 +8,7 @@ node sends; :mod:`diffbot.live.transport` forces that representation in QoS.
 
 Units are those of the messages: m, m/s, rad, rad/s; stamps in whole seconds and nanoseconds.
 
-The struct machinery comes from :mod:`diffbot.live.transport`, the one module that imports
+The struct machinery comes from :mod:`diffbot.live.cyclone`, the one module that imports
 cyclonedds (and says how to install it when it is missing).
 """
 
@@ -18,7 +18,7 @@ cyclonedds (and says how to install it when it is missing).
 from dataclasses import dataclass, field
 from typing import Any
 
-from diffbot.live.transport import (
+from diffbot.live.cyclone import (
     IdlStruct,
     array,
     bounded_str,
