@@ -14,7 +14,6 @@ from diffbot.commands.options import (
     RobotOptions,
     fail,
     quiet_option,
-    split_xacro_args,
     warn,
 )
 from diffbot.commands.plan_options import PlanOptions, check_topic, plan_arguments
@@ -114,7 +113,6 @@ def drive(
       diffbot drive "straight 1; spin 90" --max-accel 0.2 --wheels --wait 1
           with no robot listening: exit code 2 after the 1 s wait
     """
-    rest, xacro_args = split_xacro_args(tokens)
     for option, name in (
         ("--cmd-vel", cmd_vel),
         ("--left-topic", left_topic),
@@ -123,24 +121,16 @@ def drive(
         check_topic(option, name)
     if stamped and wheels:
         warn("--stamped changes Twist commands only, and --wheels sends none")
-    source = plan_options.source(rest)
-    params = robot.with_path(None, xacro_args).load()
-    source = plan_options.resolve(source, params)
-    if plan_options.fastest and params.max_wheel_speed is None:
-        fail(
-            "--fastest needs a motor limit, and the robot description has none: give --max-rpm RPM"
-        )
+    built = plan_options.build(plan_options.request(robot, tokens))
+    source, params = built.source, built.params
     from diffbot.formats.plan_table import violation_lines
     from diffbot.ramps import sampled
-    from diffbot.trajectory import Plan
 
-    made = plan_options.make(source.segments, params)
-    steps = made if isinstance(made, Plan) else made.steps
-    if not steps.within_limit:
-        for line in violation_lines(steps):
+    if not built.steps.within_limit:
+        for line in violation_lines(built.steps):
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
-    stream = sampled(made).commands(rate)
+    stream = sampled(built.made).commands(rate)
     from diffbot.commands.progress import progress
     from diffbot.live.drive import Driver, DriveSettings
 

@@ -168,11 +168,7 @@ def plan(
       diffbot explain plan --example A --format md > trajectory_a.md
       diffbot explain plan "straight 1; spin 90" --fastest
     """
-    rest, xacro_args = split_xacro_args(tokens)
-    source = plan_options.source(rest)
-    params = robot.with_path(None, xacro_args).load()
-    source = plan_options.resolve(source, params)
-    made = plan_options.make(source.segments, params)
+    made = plan_options.build(plan_options.request(robot, tokens)).made
     if not isinstance(made, Plan):
         # The step plan holds the cruise speeds, the motor limit check and the poses.
         warn("a ramped plan is derived at its cruise speeds: the ramps are not derived")

@@ -19,7 +19,6 @@ from diffbot.commands.options import (
     fail,
     output_option,
     robot_options,
-    split_xacro_args,
     warn,
 )
 from diffbot.commands.plan_options import (
@@ -193,7 +192,6 @@ def plan_command(
       diffbot plan --to 0,1,0                         the fastest way to (0 m, 1 m, 0 deg)
     """
 
-    rest, xacro_args = split_xacro_args(tokens)
     if as_json and output_format not in ("table", "json"):
         fail(f"--json and --format {output_format} ask for two formats: give one")
     if as_json:
@@ -207,7 +205,8 @@ def plan_command(
     check_topic("--cmd-vel-topic", cmd_vel_topic)
     check_topic("--left-topic", left_topic)
     check_topic("--right-topic", right_topic)
-    source = plan_options.source(rest)
+    request = plan_options.request(robot, tokens)
+    source = request.source
     # Early, before any work, and in the plan's own words; write_text_atomic checks again.
     plan_file = [Path(source.path)] if source.path is not None else []
     if output is not None:
@@ -215,14 +214,8 @@ def plan_command(
         if clash is not None and clash[1] in plan_file:
             fail(f"{output} is the plan file itself: write the output elsewhere")
         check_not_input(Path(output))
-    params = robot.with_path(None, xacro_args).load()
-    if plan_options.fastest and params.max_wheel_speed is None:
-        fail(
-            "--fastest needs a motor limit, and the robot description has none: "
-            "give one with --max-rpm RPM"
-        )
-    source = plan_options.resolve(source, params)
-    made = plan_options.make(source.segments, params)
+    built = plan_options.build(request)
+    source, params, made = built.source, built.params, built.made
     ramped: RampedPlan | None = None
     p = steps = made if isinstance(made, Plan) else made.summary
     if not isinstance(made, Plan):

@@ -17,11 +17,13 @@ from diffbot.commands.options import (
     POSITIVE,
     F,
     Names,
+    RobotOptions,
     exists,
     fail,
     no_such_option,
     option_group,
     robot_options,
+    split_xacro_args,
     warn,
 )
 from diffbot.formats.text import fmt
@@ -37,8 +39,10 @@ __all__ = [
     "PLAN_FORMATS",
     "PLAN_SUFFIXES",
     "GoalOptions",
+    "MadePlan",
     "PlanInput",
     "PlanOptions",
+    "PlanRequest",
     "check_topic",
     "join_plan_arguments",
     "plan_arguments",
@@ -61,6 +65,36 @@ class PlanInput:
     path: Path | None
     #: What the table adds below the plan (a goal plan's shape and why).
     note: str = ""
+
+
+@dataclass(frozen=True)
+class PlanRequest:
+    """What a plan command was asked, before any work: the plan input and the robot options
+    with the command line's ``NAME:=VALUE`` xacro arguments merged in (for the checks a command
+    makes before the robot is loaded)."""
+
+    source: PlanInput
+    robot: RobotOptions
+
+
+@dataclass(frozen=True)
+class MadePlan:
+    """The plan a command was given, made for its robot.
+
+    Attributes:
+        source: the plan input, a goal plan's segments resolved.
+        params: the robot.
+        made: the plan, ramped when the options or the controller ask for it.
+    """
+
+    source: PlanInput
+    params: DiffDriveParams
+    made: Plan | RampedPlan
+
+    @property
+    def steps(self) -> Plan:
+        """The step plan: the cruise speeds, the motor limit check, the exact poses."""
+        return self.made if isinstance(self.made, Plan) else self.made.steps
 
 
 def plan_input(
@@ -213,6 +247,25 @@ class PlanOptions:
             fail("give a plan (SPEC, FILE or --example) or a goal (--to, --waypoints), not both")
         path = None if self.goal.waypoints is None else Path(self.goal.waypoints)
         return PlanInput([], "goal plan", path)
+
+    def request(self, robot: RobotOptions, tokens: Sequence[str]) -> PlanRequest:
+        """The plan and robot that a command's positional ``tokens`` (a plan, ``NAME:=VALUE``
+        xacro arguments) and these options name; nothing is loaded yet."""
+        rest, xacro_args = split_xacro_args(tokens)
+        return PlanRequest(self.source(rest), robot.with_path(None, xacro_args))
+
+    def build(self, request: PlanRequest) -> MadePlan:
+        """Load the robot and make the plan: a goal plan's segments resolved, ramped when
+        :meth:`ramped` says so. --fastest for a robot without a motor limit is an error that
+        names the option that gives one."""
+        params = request.robot.load()
+        if self.fastest and params.max_wheel_speed is None:
+            fail(
+                "--fastest needs a motor limit, and the robot description has none: "
+                "give one with --max-rpm RPM"
+            )
+        source = self.resolve(request.source, params)
+        return MadePlan(source, params, self.make(source.segments, params))
 
     def at_limit(self, params: DiffDriveParams) -> bool:
         """Whether segments run at the motor limit: --fastest, or a fastest goal plan for a

@@ -264,13 +264,12 @@ def plot(
             robot, xacro_args, odom_inputs, topic, recording, reference, output, force, show
         )
         return
-    source = plan_options.source(rest)
-    robot = robot.with_path(None, xacro_args)
+    request = plan_options.request(robot, tokens)
+    source, robot = request.source, request.robot
     given = [source.path, robot.robot, robot.controllers, *odom_inputs]
     inputs = _prepared(given, output, force, show)
-    params = robot.load()
-    source = plan_options.resolve(source, params)
-    made = plan_options.make(source.segments, params)
+    built = plan_options.build(request)
+    params, made = built.params, built.made
     if not isinstance(made, Plan):
         # The step plan holds the cruise speeds, the motor limit check and the poses.
         warn("a ramped plan is drawn at its cruise speeds: the ramps are not drawn")

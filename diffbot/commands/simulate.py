@@ -22,7 +22,6 @@ from diffbot.commands.options import (
     out_options,
     quiet_option,
     robot_options,
-    split_xacro_args,
     topic_option,
     true_geometry_options,
 )
@@ -241,19 +240,17 @@ def simulate(
       diffbot simulate --example B --out b_bag --bag --start 1700000000
     """
 
-    rest, xacro_args = split_xacro_args(tokens)
     check_topic("--topic", topic)
-    source = plan_options.source(rest)
+    request = plan_options.request(robot, tokens)
+    source, robot = request.source, request.robot
     out.require_out_for_bag()
     if as_json and out.out is None:
         fail("--json prints a summary, so the samples need --out")
-    robot = robot.with_path(None, xacro_args)
     inputs = [path for path in (source.path, robot.robot) if path is not None]
     out.path([Path(path) for path in inputs])
-    params = robot.load()
+    built = plan_options.build(request)
+    source, params, made = built.source, built.params, built.made
     out_path = out.path([Path(path) for path in (*inputs, *params.description_files)])
-    source = plan_options.resolve(source, params)
-    made = plan_options.make(source.segments, params)
     p = made if isinstance(made, Plan) else made.steps
     motion, executed = _executed(made, params)
     duration, extra = motion.duration, len(boundaries(motion))

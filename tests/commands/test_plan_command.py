@@ -97,10 +97,8 @@ def test_fastest_table_runs_every_segment_at_the_limit(runner: CliRunner) -> Non
     assert "total 21.7992 s" in result.stdout
 
 
-def test_fastest_without_a_limit_is_bad_input(runner: CliRunner, write: Write) -> None:
-    urdf = write(
-        "nolimit.urdf",
-        """<robot name="r">
+#: A robot whose description gives no motor limit.
+NO_LIMIT_URDF = """<robot name="r">
   <link name="base_link"/>
   <link name="l"><collision><origin rpy="1.5707963 0 0"/>
     <geometry><cylinder radius="0.05" length="0.02"/></geometry></collision></link>
@@ -111,8 +109,11 @@ def test_fastest_without_a_limit_is_bad_input(runner: CliRunner, write: Write) -
   <joint name="right_joint" type="continuous"><parent link="base_link"/><child link="r"/>
     <origin xyz="0 -0.1 0"/><axis xyz="0 1 0"/></joint>
 </robot>
-""",
-    )
+"""
+
+
+def test_fastest_without_a_limit_is_bad_input(runner: CliRunner, write: Write) -> None:
+    urdf = write("nolimit.urdf", NO_LIMIT_URDF)
     result = run(runner, "--robot", str(urdf), "--fastest")
     assert_bad_input(result, "--fastest needs a motor limit", "--max-rpm")
     assert "limit=" not in result.stderr
@@ -121,6 +122,21 @@ def test_fastest_without_a_limit_is_bad_input(runner: CliRunner, write: Write) -
     result = run(runner, "--robot", str(urdf), "straight 1 1s")
     assert result.exit_code == 0, result.output
     assert "motor limit: none in the description, not checked" in result.stdout
+
+
+@pytest.mark.parametrize(
+    "command",
+    [["simulate"], ["explain", "plan"], ["plot", "-o", "figure.png"], ["drive", "--wait", "0"]],
+)
+def test_every_plan_command_names_the_option_for_a_missing_limit(
+    runner: CliRunner, write: Write, command: list[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    urdf = write("nolimit.urdf", NO_LIMIT_URDF)
+    args = [*command, "--robot", str(urdf), "--fastest", "straight 1"]
+    monkeypatch.chdir(urdf.parent)  # where plot would write its figure
+    result = runner.invoke(main, args)
+    assert_bad_input(result, "--fastest needs a motor limit", "--max-rpm")
+    assert "limit=" not in result.stderr
 
 
 # --------------------------------------------------------------------------------------------
