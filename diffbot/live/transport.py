@@ -38,14 +38,6 @@ from diffbot.live.cyclone import (
     SampleState,
     Topic,
     WaitSet,
-    array,
-    bounded_str,
-    final,
-    float64,
-    int32,
-    sequence,
-    uint8,
-    uint32,
 )
 from diffbot.live.discovery import (
     DISCOVERY_TOPIC,
@@ -73,18 +65,10 @@ __all__ = [
     "QosProfile",
     "Subscription",
     "Timer",
-    "array",
-    "bounded_str",
     "cyclone_config",
     "dds_topic",
     "discovery_range",
     "domain_id",
-    "final",
-    "float64",
-    "int32",
-    "sequence",
-    "uint8",
-    "uint32",
 ]
 
 #: The longest a wait blocks in C: signals are handled between waits.
