@@ -228,12 +228,7 @@ def recordings_figure(
             axes.plot(rx, ry, color=colour, linewidth=1.5, label=label, zorder=3)
         axes.plot(rx[0], ry[0], "s", color=colour, markersize=7, zorder=2)
         axes.plot(rx[-1], ry[-1], "o", color=colour, markersize=7, zorder=2)
-    axes.set_aspect("equal", adjustable="datalim")
-    axes.set_xlabel("x (m)")
-    axes.set_ylabel("y (m)")
-    axes.set_title("Odometry in the odom frame (start: square, end: circle)")
-    axes.grid(True, color="#e0e0e0", linewidth=0.6)
-    axes.legend(loc="best", fontsize=8)
+    _frame_axes(axes, "Odometry in the odom frame (start: square, end: circle)")
     return figure
 
 
@@ -284,12 +279,7 @@ def _draw_path(
             label=f"{label} (ends {miss:.3g} m from the plan's end)",
             zorder=4,
         )
-    axes.set_aspect("equal", adjustable="datalim")
-    axes.set_xlabel("x (m)")
-    axes.set_ylabel("y (m)")
-    axes.set_title("Path in the odom frame")
-    axes.grid(True, color="#e0e0e0", linewidth=0.6)
-    axes.legend(loc="best", fontsize=8)
+    _frame_axes(axes, "Path in the odom frame")
 
 
 def marked_segments(count: int) -> list[int]:
@@ -503,3 +493,13 @@ def save(
     # atomic_text's temporary file is opened for text; the figure goes to its byte stream.
     with atomic_text(Path(path), force=force, inputs=inputs) as out:
         figure.savefig(out.buffer, format=kind)
+
+
+def _frame_axes(axes: Axes, title: str) -> None:
+    """An x-y axes of the odom frame: equal scales in metres, a light grid, the legend."""
+    axes.set_aspect("equal", adjustable="datalim")
+    axes.set_xlabel("x (m)")
+    axes.set_ylabel("y (m)")
+    axes.set_title(title)
+    axes.grid(True, color="#e0e0e0", linewidth=0.6)
+    axes.legend(loc="best", fontsize=8)

@@ -16,7 +16,7 @@ from diffbot.commands.options import (
     quiet_option,
     warn,
 )
-from diffbot.commands.plan_options import PlanOptions, check_topic, plan_arguments
+from diffbot.commands.plan_options import PlanOptions, check_topic, frame_id_option, plan_arguments
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
 
@@ -41,13 +41,7 @@ DRIVE_RATE = 20.0
     is_flag=True,
     help="geometry_msgs/TwistStamped commands (diff_drive_controller's since Jazzy).",
 )
-@click.option(
-    "--frame-id",
-    default="base_link",
-    show_default=True,
-    metavar="FRAME",
-    help="The frame of --stamped commands.",
-)
+@frame_id_option
 @click.option(
     "--wheels",
     is_flag=True,

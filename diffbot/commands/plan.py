@@ -25,6 +25,7 @@ from diffbot.commands.plan_options import (
     PLAN_FORMATS,
     PlanOptions,
     check_topic,
+    frame_id_option,
     plan_input_options,
 )
 from diffbot.errors import EXIT_CHECK_FAILED, OutputError
@@ -92,13 +93,7 @@ __all__ = ["plan_command"]
     help="geometry_msgs/TwistStamped commands instead of Twist (twist, json, ros2, --bag), as "
     "diff_drive_controller takes since ROS 2 Jazzy.",
 )
-@click.option(
-    "--frame-id",
-    default="base_link",
-    show_default=True,
-    metavar="FRAME",
-    help="The frame of --stamped commands.",
-)
+@frame_id_option
 @click.option(
     "--cmd-vel-topic",
     default="cmd_vel",

@@ -44,6 +44,7 @@ __all__ = [
     "PlanOptions",
     "PlanRequest",
     "check_topic",
+    "frame_id_option",
     "join_plan_arguments",
     "plan_arguments",
     "plan_input",
@@ -155,6 +156,16 @@ def join_plan_arguments(tokens: Sequence[str]) -> str:
         continues = continues or text.split()[-1:] == ["reverse"]
         text = token if not text else f"{text}{' ' if continues else '; '}{token}"
     return text
+
+
+#: The frame of TwistStamped commands, for the commands that send or write them.
+frame_id_option = click.option(
+    "--frame-id",
+    default="base_link",
+    show_default=True,
+    metavar="FRAME",
+    help="The frame of --stamped commands.",
+)
 
 
 def check_topic(option: str, name: str) -> str:
