@@ -17,6 +17,7 @@ __all__ = [
     "MAX_NOISE",
     "MAX_PLAN_DURATION",
     "MAX_PLAN_SAMPLES",
+    "MAX_TURN",
     "WHEEL_SIZE_RANGE",
     "as_number",
     "finite_in_range",
@@ -39,6 +40,10 @@ MAX_COORDINATE = 1e9
 #: Largest standard deviation of simulated encoder noise (rad): a revolution. Beyond it a
 #: reading says nothing of the angle.
 MAX_NOISE = 2.0 * math.pi
+
+#: Largest total turn a plan may make (rad): about 160 million turns, where a float still
+#: holds the heading to a tenth of a microradian.
+MAX_TURN = 1e9
 
 #: Longest text of a value an error message shows (characters).
 _SHOWN = 40

@@ -35,6 +35,7 @@ from diffbot.kinematics import (
     rpm_from_rad_s,
     sinc,
 )
+from diffbot.numbers import MAX_COORDINATE, MAX_TURN
 
 if TYPE_CHECKING:
     from typing import TypeAlias
@@ -362,6 +363,25 @@ def _check_segment(
         raise _overflow(segment, index, "share of the motor limit")
 
 
+def _check_extent(planned: list[PlannedSegment]) -> None:
+    """Refuse a plan no robot drives: one reaching beyond :data:`MAX_COORDINATE` from its start
+    or turning more than :data:`MAX_TURN` in all. Such numbers are unit mistakes or hostile
+    input, and the poses printed for them are rounding noise (a heading of 1e18 rad has no digit
+    left below a turn)."""
+    for entry in planned:
+        end = entry.end_pose
+        if max(abs(end.x), abs(end.y)) > MAX_COORDINATE:
+            where = f"ends more than {MAX_COORDINATE:g} m from its start"
+        elif abs(entry.end_heading) > MAX_TURN:
+            where = f"turns more than {MAX_TURN:g} rad from its start heading"
+        else:
+            continue
+        raise PlanError(
+            f"segment {entry.index + 1} ({describe_segment(entry.segment)}): the plan {where}, "
+            "beyond any drive: a unit mistake?"
+        )
+
+
 def reported_pose(x: float, y: float, heading: float) -> Pose:
     """A reported pose: heading wrapped to (-pi, pi], and no ``-0.0``."""
     return Pose(x + 0.0, y + 0.0, norm_angle(heading) + 0.0)
@@ -541,6 +561,7 @@ def _planned(
         total = math.inf
     if not isfinite(total):
         raise _overflow(items[-1], len(items) - 1, "end time")
+    _check_extent(planned)
     return built(
         Plan,
         segments=tuple(planned),

@@ -312,3 +312,25 @@ def test_encoder_noise_beyond_a_revolution_is_refused(value: str) -> None:
 def test_json_that_cannot_hold_a_result_is_an_error_not_a_traceback() -> None:
     with pytest.raises(InputError, match="infinite or NaN"):
         emit_json({"wheel_separation": math.inf})
+
+
+# --- plans beyond any drive ---------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("command", ["plan", "simulate", "plot", "explain plan"])
+@pytest.mark.parametrize(
+    ("spec", "fragment"),
+    [
+        # A heading of 1.7e18 rad has no digit left below a turn: the end heading is noise.
+        ("spin 1e20", "turns more than 1e+09 rad"),
+        ("straight 1e200", "ends more than 1e+09 m from its start"),
+        ("ccw 1e12 90", "ends more than 1e+09 m from its start"),
+    ],
+)
+def test_a_plan_beyond_any_drive_is_refused_not_printed(
+    command: str, spec: str, fragment: str, tmp_path: Path
+) -> None:
+    out = ["-o", str(tmp_path / "p.png")] if command == "plot" else []
+    result = run(*command.split(), spec, *out)
+    assert_clean_error(result, fragment)
+    assert not (tmp_path / "p.png").exists()
