@@ -155,7 +155,10 @@ def _sqlite_plan(path: Path, scratch: Path | None = None) -> _SqlitePlan | None:
             or mode not in ("", "none")
         ):
             return None
-        files = [path / PurePath(name).name for name in info["relative_file_paths"]]
+        # Each file once, in the order given: a list naming one file 100,000 times was read
+        # 100,000 times over.
+        names = dict.fromkeys(PurePath(name).name for name in info["relative_file_paths"])
+        files = [path / name for name in names]
         if not all(f.is_file() for f in files):
             return None
         for entry in info["topics_with_message_count"]:

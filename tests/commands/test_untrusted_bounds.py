@@ -140,3 +140,21 @@ def test_an_absurd_controller_execution_is_refused_up_front(tmp_path: Path) -> N
     assert "update_rate of 100000 Hz" in lines[0]
     assert "fast.yaml" in lines[0]
     assert done.stdout == ""
+
+
+def test_a_bag_naming_its_storage_file_many_times_reads_it_once(tmp_path: Path) -> None:
+    bag = tmp_path / "bag"
+    made = CliRunner().invoke(main, ["simulate", "straight 0.1", "--out", str(bag), "--bag"])
+    assert made.exit_code == 0, made.output
+    expected = json.loads(CliRunner().invoke(main, ["odom", str(bag), "--json"]).stdout)
+    metadata = bag / "metadata.yaml"
+    text = metadata.read_text(encoding="utf-8")
+    # 100,000 copies of the one storage file: each used to be opened and read in turn (a hang).
+    text = text.replace("  - bag.db3\n", "  - bag.db3\n" * 100_000, 1)
+    metadata.write_text(text, encoding="utf-8")
+    start = time.perf_counter()
+    done = run_process("odom", str(bag), "--json")
+    assert time.perf_counter() - start < QUICK
+    assert done.returncode == 0, done.stderr[:300]
+    assert json.loads(done.stdout)["final_pose"] == expected["final_pose"]
+    assert json.loads(done.stdout)["samples"] == expected["samples"]
