@@ -271,7 +271,7 @@ class RobotOptions:
             if not path.exists():
                 fail(f"{self.robot}: no such file")
             if path.is_dir() and not any(
-                (path / name).is_file() for name in ("model.config", "model.sdf", "metadata.yaml")
+                (path / name).exists() for name in ("model.config", "model.sdf", "metadata.yaml")
             ):
                 fail(f"{self.robot}: is a directory, not a URDF, xacro or SDF model")
         params = load_params(

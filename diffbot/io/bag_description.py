@@ -21,7 +21,7 @@ _STRING: Final = "std_msgs/msg/String"
 def is_description_bag(path: Path) -> bool:
     """Whether a description path is a rosbag2 recording: a folder holding ``metadata.yaml``, or
     an ``.mcap`` or ``.db3`` storage file."""
-    return (path.is_dir() and (path / "metadata.yaml").is_file()) or path.suffix.lower() in (
+    return (path.is_dir() and (path / "metadata.yaml").exists()) or path.suffix.lower() in (
         ".mcap",
         ".db3",
     )
@@ -33,11 +33,16 @@ def read_description(path: str | os.PathLike[str]) -> str:
     Raises:
         DescriptionError: the bag has no such topic, it is not std_msgs/String, or it holds no
             message; the message is larger than :data:`MAX_DESCRIPTION_BYTES`.
-        RecordingError: rosbags is missing or the bag cannot be read.
+        RecordingError: rosbags is missing, the bag cannot be read, or one of its files is not a
+            regular file.
     """
     from diffbot.io.bag import require_rosbags, typestore
+    from diffbot.io.recordings import existing_recording
 
     require_rosbags()
+    # Every file of the bag is a regular file before rosbags opens one: a FIFO named in
+    # metadata.yaml, or in its place, blocked the run for good.
+    existing_recording(path)
     from rosbags.rosbag2 import Reader
 
     source = os.fspath(path)

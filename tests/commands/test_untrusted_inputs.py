@@ -702,6 +702,8 @@ def fifo_metadata_bag(path: Path) -> Path:
         ["plot", "straight 1", "--odom", "BAG", "-o", "OUT/x.png"],
         ["calibrate", "fit", "IN", "--truth", "BAG"],
         ["calibrate", "fit", "BAG"],
+        ["params", "--robot", "BAG"],
+        ["plan", "straight 1", "--robot", "BAG"],
     ],
 )
 def test_a_fifo_named_by_a_bag_never_blocks(
