@@ -24,6 +24,7 @@ from typing import Any, Literal
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
 from diffbot.kinematics import DiffDriveParams, Pose
+from diffbot.numbers import MAX_WAYPOINTS
 from diffbot.planning import ROUNDING, Piece, balkcom_mason, dubins, reeds_shepp
 from diffbot.trajectory import (
     DEFAULT_SPEED,
@@ -271,6 +272,11 @@ def waypoint_poses(
     last one, of the leg that reaches it; where a leg has no length, the heading before)."""
     if not waypoints:
         raise PlanError("no waypoints: give at least one")
+    if len(waypoints) > MAX_WAYPOINTS:
+        raise PlanError(
+            f"{len(waypoints)} waypoints, more than the {MAX_WAYPOINTS} a plan may go through: "
+            "split the route into several plans"
+        )
     points = [_waypoint(w, i + 1) for i, w in enumerate(waypoints)]
     previous = _pose(start, "the start")
     poses: list[Pose] = []

@@ -18,6 +18,7 @@ __all__ = [
     "MAX_PLAN_DURATION",
     "MAX_PLAN_SAMPLES",
     "MAX_TURN",
+    "MAX_WAYPOINTS",
     "WHEEL_SIZE_RANGE",
     "as_number",
     "finite_in_range",
@@ -29,6 +30,9 @@ __all__ = [
 MAX_PLAN_DURATION = 1e6
 #: Most samples a plan may be cut into.
 MAX_PLAN_SAMPLES = 10_000_000
+#: Most waypoints a goal plan may go through: 10,000 plan in seconds, 300,000 took minutes and
+#: gigabytes.
+MAX_WAYPOINTS = 10_000
 
 #: Wheel radius and separation a robot may have (m). Outside, a value is taken for a unit mistake
 #: or a hostile file (a subnormal 1e-320, a 1e308) and refused.

@@ -158,3 +158,16 @@ def test_a_bag_naming_its_storage_file_many_times_reads_it_once(tmp_path: Path) 
     assert done.returncode == 0, done.stderr[:300]
     assert json.loads(done.stdout)["final_pose"] == expected["final_pose"]
     assert json.loads(done.stdout)["samples"] == expected["samples"]
+
+
+def test_a_waypoints_file_beyond_ten_thousand_rows_is_refused_quickly(tmp_path: Path) -> None:
+    # 300,000 waypoints used to plan for minutes towards gigabytes.
+    path = tmp_path / "w.csv"
+    path.write_text("x,y\n" + "".join(f"{k % 7},{k % 5}\n" for k in range(300_000)), "utf-8")
+    start = time.perf_counter()
+    done = run_process("plan", "--waypoints", str(path), "--format", "csv")
+    assert time.perf_counter() - start < QUICK
+    assert done.returncode == 2, done.stderr[:300]
+    assert done.stderr.startswith("error: ")
+    assert "300000 waypoints, more than the 10000 a plan may go through" in done.stderr
+    assert len(done.stderr.splitlines()) == 1
