@@ -33,6 +33,7 @@ import numpy as np
 
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
+from diffbot.numbers import finite_in_range
 from diffbot.samples import NS_PER_S
 
 if TYPE_CHECKING:
@@ -59,6 +60,9 @@ RIM_SPEED_BOUND: Final = 30.0
 RIM_SLACK: Final = 0.01
 #: The smallest and largest counter widths (bits) recognised by themselves.
 _WRAP_BITS: Final = (8, 32)
+#: Counts per revolution and a counter's modulus an encoder may have (recorded units).
+ENCODER_SIZE_RANGE: Final = (1e-9, 1e15)
+
 #: A detected wrap jumps by at least this fraction of the counter's range.
 _WRAP_JUMP: Final = 0.75
 #: ... and, undone, is at most this many times the largest ordinary step.
@@ -80,14 +84,12 @@ class Conditioning:
     wrap: float | None = None
 
     def __post_init__(self) -> None:
-        if self.counts_per_rev is not None and not (
-            math.isfinite(self.counts_per_rev) and self.counts_per_rev > 0
-        ):
-            raise ParameterError(
-                f"counts per revolution must be a finite number > 0, got {self.counts_per_rev!r}"
-            )
-        if self.wrap is not None and not (math.isfinite(self.wrap) and self.wrap >= 0):
-            raise ParameterError(f"wrap must be a finite number >= 0, got {self.wrap!r}")
+        # Sizes no encoder has are refused: 2*pi / 1e-320 is inf, and the positions NaN.
+        low, high = ENCODER_SIZE_RANGE
+        if self.counts_per_rev is not None:
+            finite_in_range(self.counts_per_rev, "counts per revolution", low, high)
+        if self.wrap is not None and self.wrap != 0:
+            finite_in_range(self.wrap, "wrap (0 for none)", low, high)
 
 
 @dataclass(frozen=True)

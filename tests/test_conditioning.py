@@ -173,6 +173,16 @@ def test_conditioning_refuses_meaningless_settings() -> None:
         Conditioning(wrap=-1)
 
 
+@pytest.mark.parametrize(
+    "settings",
+    [{"counts_per_rev": 1e-320}, {"counts_per_rev": 1e300}, {"wrap": 1e-320}, {"wrap": 1e300}],
+)
+def test_conditioning_refuses_sizes_no_encoder_has(settings: dict[str, float]) -> None:
+    # 2*pi / 1e-320 is inf: the positions became NaN, with a NumPy warning on the terminal.
+    with pytest.raises(ParameterError, match=r"finite number >= 1e-09 and <= 1e\+15"):
+        Conditioning(**settings)
+
+
 @given(
     st.lists(st.integers(-3000, 3000), min_size=1, max_size=60),
     st.integers(0, WRAP - 1),

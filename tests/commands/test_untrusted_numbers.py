@@ -334,3 +334,17 @@ def test_a_plan_beyond_any_drive_is_refused_not_printed(
     result = run(*command.split(), spec, *out)
     assert_clean_error(result, fragment)
     assert not (tmp_path / "p.png").exists()
+
+
+@pytest.mark.parametrize(
+    ("option", "value"), [("--counts-per-rev", "1e-320"), ("--wrap", "1e-320")]
+)
+def test_encoder_settings_of_no_real_size_are_refused_before_numpy_warns(
+    option: str, value: str, tmp_path: Path
+) -> None:
+    joints = tmp_path / "joints.csv"
+    joints.write_text(
+        "time,front_left_wheel_joint,front_right_wheel_joint\n0,0,0\n0.1,5,7\n0.2,9,14\n",
+        "utf-8",
+    )
+    assert_clean_error(run("odom", str(joints), option, value), option.lstrip("-").split("-")[0])
