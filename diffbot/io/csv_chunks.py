@@ -356,6 +356,14 @@ class CsvChunks:
             right = _named_columns(headers, layout.right_columns, "{right_column}", source)
         else:
             right = _columns(headers, sides[1], "right", source)
+        seen = {time_index}
+        for _, index in left + right:
+            if index in seen:
+                raise RecordingError(
+                    f"{source}: column {headers[index]!r} is named for two roles ({{time_column}}, "
+                    "{left_column}, {right_column}): each column is one wheel or the time"
+                )
+            seen.add(index)
         self.joints = tuple(joint for joint, _ in left + right)
         self.left_count = len(left)
         self.indexes = (time_index, *(index for _, index in left + right))

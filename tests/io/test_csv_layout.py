@@ -211,3 +211,25 @@ def test_whole_stamps_far_apart_are_doubted_out_loud(runner: CliRunner, tmp_path
     assert given.stderr == ""
     seconds = runner.invoke(main, [*args, "--time-unit", "s"])
     assert seconds.stderr == ""
+
+
+@pytest.mark.parametrize(
+    ("options", "column"),
+    [
+        (["--left-column", "right", "--right-column", "right"], "right"),
+        (["--left-column", "timestamp", "--right-column", "right"], "timestamp"),
+        (["--left-column", "left", "--right-column", "right,left"], "left"),
+    ],
+)
+def test_a_column_read_for_two_roles_is_refused(
+    runner: CliRunner, tmp_path: Path, options: list[str], column: str
+) -> None:
+    # The same column for both sides drove the robot straight, with exit 0.
+    path = other_tool_csv(tmp_path)
+    args = ["odom", str(path), "--robot", str(urdf(tmp_path)), "--time-column", "timestamp"]
+    result = runner.invoke(main, [*args, *options])
+    assert result.exit_code == 2, result.output
+    assert result.stderr == (
+        f"error: {path}: column {column!r} is named for two roles (--time-column, "
+        "--left-column, --right-column): each column is one wheel or the time\n"
+    )
