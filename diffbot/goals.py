@@ -24,7 +24,7 @@ from typing import Any, Literal
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
 from diffbot.kinematics import DiffDriveParams, Pose
-from diffbot.numbers import MAX_WAYPOINTS
+from diffbot.numbers import MAX_COORDINATE, MAX_WAYPOINTS, WHEEL_SIZE_RANGE
 from diffbot.planning import ROUNDING, Piece, balkcom_mason, dubins, reeds_shepp
 from diffbot.trajectory import (
     DEFAULT_SPEED,
@@ -62,11 +62,15 @@ Waypoint = tuple[float, float, float | None]
 
 
 def _number(value: object, what: str) -> float:
-    if type(value) is float and math.isfinite(value):
+    """A coordinate (m) or heading (rad) within ±1e9: beyond, no robot drives, and a heading
+    keeps no digit below a turn."""
+    if type(value) is float and -MAX_COORDINATE <= value <= MAX_COORDINATE:
         return value
     number = as_float(value)
-    if not math.isfinite(number):
-        raise PlanError(f"{what} must be a finite number, got {brief(value)}")
+    if not (math.isfinite(number) and abs(number) <= MAX_COORDINATE):
+        raise PlanError(
+            f"{what} must be a finite number within ±{MAX_COORDINATE:g}, got {brief(value)}"
+        )
     return number
 
 
@@ -99,9 +103,11 @@ def _check_shape(shape: str, min_radius: float | None, forward_only: bool) -> fl
         raise PlanError(f"unknown shape {brief(shape)}: give one of {', '.join(SHAPES)}")
     if min_radius is not None:
         radius = as_float(min_radius)
-        if not (math.isfinite(radius) and radius > 0.0):
+        low = WHEEL_SIZE_RANGE[0]
+        if not (math.isfinite(radius) and low <= radius <= MAX_COORDINATE):
             raise PlanError(
-                f"the minimum radius must be a positive finite number (m), got {brief(min_radius)}"
+                f"the minimum radius must be a positive finite number from {low:g} to "
+                f"{MAX_COORDINATE:g} (m), got {brief(min_radius)}"
             )
         min_radius = radius
     if shape in ("dubins", "reeds-shepp") and min_radius is None:

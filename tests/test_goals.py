@@ -147,6 +147,11 @@ def test_goal_at_the_start_is_an_empty_plan() -> None:
             "with forward_only=True, the shape is dubins",
         ),
         ((1.0, 0.0), {}, "x, y and a heading"),
+        # Beyond any drive: a heading of 1e308 has no digit left below a turn.
+        ((1.0, 0.0, 1e308), {}, r"the goal must be a finite number within ±1e\+09, got 1e\+308"),
+        ((1e10, 0.0, 0.0), {}, r"the goal must be a finite number within ±1e\+09"),
+        ((1.0, 0.0, 0.0), {"start": (0.0, -1e12, 0.0)}, r"the start must be a finite number"),
+        ((1.0, 1.0, 0.0), {"shape": "dubins", "min_radius": 1e-300}, r"from 0.0001 to 1e\+09"),
     ],
 )
 def test_bad_input(goal: tuple[float, ...], options: dict[str, object], message: str) -> None:
