@@ -15,9 +15,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
-from diffbot.calibration.checks import check_geometry, positive
+from diffbot.calibration.checks import check_geometry
 from diffbot.errors import CalibrationError, ParameterError
 from diffbot.kinematics import DiffDriveParams
+from diffbot.numbers import MAX_COORDINATE, finite_in_range
 from diffbot.trajectory import Spin, Straight
 
 if TYPE_CHECKING:
@@ -44,7 +45,7 @@ def umbmark_segments(side: float, direction: Literal["cw", "ccw"]) -> list[Strai
     Raises:
         ParameterError: ``side`` not a positive finite number, or an unknown direction.
     """
-    length = positive("side", side)
+    length = finite_in_range(side, "side", 0.0, MAX_COORDINATE, unit="m", open_low=True)
     if direction not in ("cw", "ccw"):
         raise ParameterError(f"direction must be 'cw' or 'ccw', got {direction!r}")
     turn = 0.5 * math.pi if direction == "ccw" else -0.5 * math.pi
@@ -160,7 +161,7 @@ def umbmark(
         CalibrationError: errors too large for the method (a corner turn or a side's arc
             reversed: the runs do not look like squares).
     """
-    length = positive("side", side)
+    length = finite_in_range(side, "side", 0.0, MAX_COORDINATE, unit="m", open_low=True)
     x_cw, y_cw = _centre("cw_ends", cw_ends, length)
     x_ccw, y_ccw = _centre("ccw_ends", ccw_ends, length)
     alpha = ((x_cw + x_ccw) + (y_cw - y_ccw)) / (8.0 * length)

@@ -162,7 +162,7 @@ def test_umbmark_of_mirrored_runs_swaps_the_wheels(
 
 
 def test_umbmark_rejects_a_side_that_is_not_positive() -> None:
-    with pytest.raises(ParameterError, match="side must be a positive finite number"):
+    with pytest.raises(ParameterError, match="side must be a finite number > 0"):
         umbmark(0.0, [(0.0, 0.0)], [(0.0, 0.0)], BOT)
 
 

@@ -348,3 +348,10 @@ def test_encoder_settings_of_no_real_size_are_refused_before_numpy_warns(
         "utf-8",
     )
     assert_clean_error(run("odom", str(joints), option, value), option.lstrip("-").split("-")[0])
+
+
+@pytest.mark.parametrize("side", ["1e308", "2e9"])
+def test_umbmark_square_beyond_any_drive_is_refused(side: str) -> None:
+    # A side of 1e308 m gave the nominal robot back, its errors lost below rounding, exit 0.
+    result = run("calibrate", "umbmark", "--side", side, "--cw", "-0.3,-0.4", "--ccw", "0.1,-0.1")
+    assert_clean_error(result, "side must be a finite number > 0 and <= 1e+09 m")
