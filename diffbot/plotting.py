@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
@@ -491,7 +492,10 @@ def save(
     """
     kind = file_format(path)
     # atomic_text's temporary file is opened for text; the figure goes to its byte stream.
-    with atomic_text(Path(path), force=force, inputs=inputs) as out:
+    with atomic_text(Path(path), force=force, inputs=inputs) as out, warnings.catch_warnings():
+        # matplotlib's notes on its layout (a legend of many recordings squeezes the axes) are
+        # no business of the user's terminal: the figure is written all the same.
+        warnings.simplefilter("ignore", UserWarning)
         figure.savefig(out.buffer, format=kind)
 
 

@@ -179,3 +179,30 @@ def test_a_recording_is_read_in_chunks_as_odom_reads_it(
     assert result.exit_code == 0, result.output
     miss = math.hypot(final["x"] - 1.0, final["y"])
     assert result.stdout == f"{csv}: odometry ends {miss:.3g} m from the plan's end\n"
+
+
+def test_a_figure_of_many_recordings_prints_no_matplotlib_warning(tmp_path: Path) -> None:
+    import subprocess
+
+    # Sixty legend entries squeeze the axes to nothing: matplotlib said so on the terminal.
+    joints = Path(__file__).parents[2] / "docs" / "examples" / "joints.csv"
+    odom = [arg for _ in range(60) for arg in ("--odom", str(joints))]
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "diffbot",
+            "plot",
+            "straight 1",
+            *odom,
+            "-o",
+            str(tmp_path / "p.png"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr[-300:]
+    assert "Warning" not in done.stderr
+    assert (tmp_path / "p.png").stat().st_size > 0
