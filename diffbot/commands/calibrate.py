@@ -193,6 +193,11 @@ def calibrate() -> None:
     """
 
 
+#: Most runs a runs file may hold: UMBmark drives five each way; a million rows took 20 s and
+#: 700 MB.
+MAX_RUNS = 10_000
+
+
 def _runs_file(path: str) -> tuple[list[tuple[float, float]], list[tuple[float, float]]]:
     """The cw and ccw end points of a runs file: YAML ``{cw: [[x, y], ...], ccw: [...]}`` or
     CSV with columns ``direction,x,y``."""
@@ -215,6 +220,8 @@ def _runs_file(path: str) -> tuple[list[tuple[float, float]], list[tuple[float, 
             if points is not None and not isinstance(points, list):
                 fail(f"{path}: {key} must be a list of [x, y] (m), got {shown(points)}")
             rows += [(str(key), point) for point in points or []]
+    if len(rows) > MAX_RUNS:
+        fail(f"{path}: {len(rows)} runs, more than {MAX_RUNS}: not a UMBmark test's record")
     for direction, point in rows:
         if direction not in runs or not isinstance(point, list) or len(point) != 2:
             fail(f"{path}: {direction} {shown(point)}: expected cw or ccw and two numbers x, y (m)")

@@ -171,3 +171,16 @@ def test_a_waypoints_file_beyond_ten_thousand_rows_is_refused_quickly(tmp_path: 
     assert done.stderr.startswith("error: ")
     assert "300000 waypoints, more than the 10000 a plan may go through" in done.stderr
     assert len(done.stderr.splitlines()) == 1
+
+
+def test_a_runs_file_of_a_million_rows_is_refused_quickly(tmp_path: Path) -> None:
+    path = tmp_path / "runs.csv"
+    path.write_text("direction,x,y\n" + "cw,0.1,0.1\nccw,0.1,0.1\n" * 500_000, "utf-8")
+    start = time.perf_counter()
+    done = run_process("calibrate", "umbmark", "--side", "4", "--runs", str(path))
+    assert time.perf_counter() - start < QUICK
+    assert done.returncode == 2, done.stderr[:300]
+    assert (
+        done.stderr
+        == f"error: {path}: 1000000 runs, more than 10000: not a UMBmark test's record\n"
+    )
