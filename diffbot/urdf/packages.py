@@ -24,6 +24,8 @@ from pathlib import Path
 from typing import Final
 from xml.etree import ElementTree
 
+from diffbot.io.outputs import note_input
+
 __all__ = [
     "MAX_DEPTH",
     "MAX_FOLDERS",
@@ -57,6 +59,7 @@ def package_name(folder: Path) -> str:
     manifest = folder / "package.xml"
     with contextlib.suppress(OSError, ElementTree.ParseError, ValueError):
         if manifest.is_file() and manifest.stat().st_size <= MAX_MANIFEST:
+            note_input(manifest)  # read: no output may replace it
             name = ElementTree.parse(manifest).getroot().findtext("name")
             if name and name.strip():
                 return name.strip()

@@ -733,3 +733,16 @@ def test_a_fifo_as_the_truth_never_blocks(tmp_path: Path) -> None:
     os.mkfifo(tmp_path / "truth.mcap")
     done = run_process("calibrate", "fit", str(given), "--truth", str(tmp_path / "truth.mcap"))
     assert_process_error(done, "not a regular file")
+
+
+def test_no_output_goes_over_the_package_xml_that_named_the_package(tmp_path: Path) -> None:
+    # $(find rover_description) is resolved by the <name> of rover/package.xml: it is read.
+    rover = tmp_path / "rover"
+    shutil.copytree(Path(__file__).parents[2] / "docs" / "examples" / "rover", rover)
+    manifest = rover / "package.xml"
+    before = manifest.read_bytes()
+    result = CliRunner().invoke(
+        main, ["urdf", str(rover / "urdf" / "rover.urdf.xacro"), "-o", str(manifest), "--force"]
+    )
+    assert_one_line_error(result, "is an input")
+    assert manifest.read_bytes() == before
