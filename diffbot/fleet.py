@@ -8,14 +8,11 @@ stop the others. Results come back in the order of the tasks.
 
 from __future__ import annotations
 
-import asyncio
 import contextlib
-import logging
 import os
 import re
 import warnings
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Final, TextIO
@@ -303,6 +300,9 @@ def run_tasks(
                 done(result)
             yield result
         return
+    # Loaded here: the process pool and asyncio below weigh on every single-input run's start.
+    from concurrent.futures import ProcessPoolExecutor
+
     with ProcessPoolExecutor(max_workers=min(jobs, len(tasks))) as pool:
         futures = [pool.submit(run_task, task) for task in tasks]
         if done is not None:
@@ -368,6 +368,9 @@ def _run_dask(
         raise RecordingError(
             f"running on a Dask cluster needs dask.distributed: {DASK_INSTALL_HINT}"
         ) from None
+    import asyncio
+    import logging
+
     remote = [_absolute(task) for task in tasks]
     logger = logging.getLogger("distributed")
     level = logger.level
@@ -391,6 +394,8 @@ async def _dask_results(
     tasks: list[OdometryTask], address: str, timeout: float
 ) -> list[OdometryResult]:
     """Run the tasks on the cluster; any failure to reach or talk to it is one error."""
+    import asyncio
+
     from distributed import Client
 
     client = Client(address, asynchronous=True, timeout=timeout, set_as_default=False)  # type: ignore[no-untyped-call]

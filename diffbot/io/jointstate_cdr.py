@@ -18,7 +18,7 @@ from __future__ import annotations
 import struct
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Final, NamedTuple
+from typing import TYPE_CHECKING, Any, Final, NamedTuple
 
 import numpy as np
 
@@ -185,33 +185,33 @@ def parse_layout(blob: bytes) -> Layout:
     )
 
 
-def _matches(
-    rows: NDArray[np.uint8], layout: Layout, first: NDArray[np.uint8]
-) -> NDArray[np.bool_]:
-    """Which rows (messages of the layout's size) share the layout bytes of ``first``, row 0."""
-    size = rows.shape[1]
-    if size % 4 == 0 and rows.flags.c_contiguous:
-        # Compared as 4-byte words, a quarter of the work. Word 0 holds the encapsulation
-        # options too, and the last key word the padding after the last name: comparing them
-        # as well only sends more messages to the exact path.
-        words = rows.view("<u4")
-        columns = [0, *range(3, (layout.key_end + 3) // 4)]
-        columns += [offset // 4 for offset in layout.count_offsets]
-        picked = words[:, columns]
-        same: NDArray[np.bool_] = np.all(picked == words[0, columns], axis=1)
-        return same
-    same = np.all(rows[:, :2] == first[:2], axis=1)
-    if layout.key_end > 12:
-        same &= np.all(rows[:, 12 : layout.key_end] == first[12 : layout.key_end], axis=1)
-    for offset in layout.count_offsets:
-        same &= np.all(rows[:, offset : offset + 4] == first[offset : offset + 4], axis=1)
-    return same
-
-
-def _column(rows: NDArray[np.uint8], offset: int, dtype: str) -> NDArray[np.generic]:
-    """One fixed-offset field of every row, as a 1-D array of ``dtype`` (4 or 8 bytes)."""
+def _field(rows: NDArray[np.uint8], offset: int, dtype: str) -> NDArray[Any]:
+    """One fixed-offset field of every row (a message), as a 1-D view of ``dtype``: a
+    structured look at the rows' bytes, no copy."""
     width = np.dtype(dtype).itemsize
-    return np.ascontiguousarray(rows[:, offset : offset + width]).view(dtype).reshape(-1)
+    field: NDArray[Any] = rows[:, offset : offset + width].view(dtype)[:, 0]
+    return field
+
+
+def _matches(rows: NDArray[np.uint8], layout: Layout) -> NDArray[np.bool_]:
+    """Which rows (messages of the layout's size) share the layout bytes of row 0.
+
+    Compared a field at a time (8-byte words where they fit), each over all rows at once: the
+    encapsulation word (its options too), the frame id and names, and the three sequence
+    lengths. Comparing the options and the padding after the last name as well only sends more
+    messages to the exact path.
+    """
+    key_end = (layout.key_end + 3) & -4
+    fields = [(0, "<u4")]
+    fields += [(offset, "<u8") for offset in range(12, key_end - 7, 8)]
+    if (key_end - 12) % 8:
+        fields.append((key_end - 4, "<u4"))
+    fields += [(offset, "<u4") for offset in layout.count_offsets]
+    same = np.ones(rows.shape[0], dtype=np.bool_)
+    for offset, dtype in fields:
+        column = _field(rows, offset, dtype)
+        same &= column == column[0]
+    return same
 
 
 class _Decoder:
@@ -224,15 +224,19 @@ class _Decoder:
         self.present = np.zeros((n, len(self.joints)), dtype=np.bool_)
         self.readable = np.zeros(n, dtype=np.bool_)
 
-    def rows(self, index: NDArray[np.intp], rows: NDArray[np.uint8], layout: Layout) -> None:
-        sec = _column(rows, 4, "<i4").astype(np.int64)
-        nanosec = _column(rows, 8, "<u4").astype(np.int64)
-        self.stamp_ns[index] = sec * NS_PER_S + nanosec
+    def rows(
+        self, index: NDArray[np.intp] | slice, rows: NDArray[np.uint8], layout: Layout
+    ) -> None:
+        sec = _field(rows, 4, "<i4").astype(np.int64)
+        nanosec = _field(rows, 8, "<u4").astype(np.int64)
+        sec *= NS_PER_S
+        sec += nanosec
+        self.stamp_ns[index] = sec
         self.readable[index] = True
         for j, joint in enumerate(self.joints):
             k = layout.position_index(joint)
             if k is not None:
-                self.positions[index, j] = _column(rows, layout.position_offset + 8 * k, "<f8")
+                self.positions[index, j] = _field(rows, layout.position_offset + 8 * k, "<f8")
                 self.present[index, j] = True
 
     def one(self, i: int, blob: bytes, typestore: Typestore) -> None:
@@ -283,9 +287,12 @@ def decode_positions(blobs: Sequence[bytes], joints: Sequence[str]) -> DecodedPo
         return out.result()
     lengths = np.fromiter(map(len, blobs), dtype=np.int64, count=n)
     leftover: list[int] = []
-    for size in np.unique(lengths).tolist():
-        index = np.flatnonzero(lengths == size)
-        group = blobs if len(index) == n else [blobs[i] for i in index.tolist()]
+    # One size (the common case) needs no grouping: np.unique would also import numpy.ma.
+    sizes = [int(lengths[0])] if lengths.min() == lengths.max() else sorted(set(lengths.tolist()))
+    for size in sizes:
+        whole = len(sizes) == 1
+        index = np.arange(n) if whole else np.flatnonzero(lengths == size)
+        group = blobs if whole else [blobs[i] for i in index.tolist()]
         rows = np.frombuffer(b"".join(group), dtype=np.uint8).reshape(len(index), size)
         for _ in range(_MAX_LAYOUTS):
             try:
@@ -294,9 +301,9 @@ def decode_positions(blobs: Sequence[bytes], joints: Sequence[str]) -> DecodedPo
                 leftover.append(int(index[0]))
                 index, rows = index[1:], rows[1:]
             else:
-                same = _matches(rows, layout, rows[0])
+                same = _matches(rows, layout)
                 if same.all():  # the common case: no copy of the rows
-                    out.rows(index, rows, layout)
+                    out.rows(slice(None) if len(index) == n else index, rows, layout)
                     break
                 out.rows(index[same], rows[same], layout)
                 index, rows = index[~same], rows[~same]
