@@ -53,6 +53,7 @@ if TYPE_CHECKING:
     from diffbot.planfile import format_plan, load_plan, parse_plan
     from diffbot.profiles import Limits, PathLimits
     from diffbot.ramps import CommandStream, RampedPlan, controller_limits, ramp
+    from diffbot.recordings import read_recording
     from diffbot.ros.messages import OdometryMessage, TransformStamped
     from diffbot.trajectory import (
         EXAMPLES,
@@ -99,6 +100,7 @@ _LAZY = {
     "write_command_bag": "diffbot.io.command_bag",
     "plan_to": "diffbot.goals",
     "plan_through": "diffbot.goals",
+    "read_recording": "diffbot.recordings",
 }
 
 
@@ -170,6 +172,7 @@ __all__ = [
     "pose_at",
     "rad_s_from_rpm",
     "ramp",
+    "read_recording",
     "rpm_from_rad_s",
     "saturate",
     "wheel_from_joint",

@@ -22,7 +22,7 @@ from diffbot.batch_odometry import advance
 from diffbot.errors import ParameterError, RecordingError
 from diffbot.kinematics import DiffDriveParams, Pose, Twist, norm_angle
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, SKIP_STAMP_NOT_AFTER
-from diffbot.samples import NS_PER_S
+from diffbot.samples import NS_PER_S, side_means
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike, NDArray
@@ -109,48 +109,6 @@ def seconds_since(stamps_ns: ArrayLike, origin_ns: int) -> NDArray[np.float64]:
         for k in np.flatnonzero(far).tolist():
             seconds[k] = (int(stamps[k]) - origin_ns) / NS_PER_S
     return seconds
-
-
-def side_means(
-    positions: NDArray[np.float64], present: NDArray[np.bool_], left_count: int
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
-    """Each side's wheel angle per sample: the mean of that side's joints present in it.
-
-    As diff_drive_controller averages the wheels of a side, and as
-    :meth:`diffbot.odometry.Odometry.update_joint_state` does: the present positions are added
-    in the order of the side's joints, the first one starting the sum, then divided by how many
-    there are (one joint: its position unchanged).
-
-    Args:
-        positions: joint angles (rad), shape (n, joints): the left joints first, then the right.
-        present: whether each sample has each joint, bool, same shape.
-        left_count: how many of the columns are left joints.
-
-    Returns:
-        The left and right angles (rad), shape (n,) each, and whether the sample has at least
-        one joint of each side.
-    """
-    means = []
-    have = np.ones(positions.shape[0], dtype=np.bool_)
-    for columns in (slice(0, left_count), slice(left_count, positions.shape[1])):
-        values, mask = positions[:, columns], present[:, columns]
-        if values.shape[1] == 1:
-            means.append(np.where(mask[:, 0], values[:, 0], 0.0))
-            have &= mask[:, 0]
-            continue
-        total = np.zeros(positions.shape[0])
-        count = np.zeros(positions.shape[0])
-        for j in range(values.shape[1]):
-            # The first present position starts the sum (not 0.0 + it: -0.0 stays -0.0).
-            with np.errstate(all="ignore"):
-                added = np.where(count > 0, total + values[:, j], values[:, j])
-            total = np.where(mask[:, j], added, total)
-            count += mask[:, j]
-        side = count > 0
-        with np.errstate(invalid="ignore", divide="ignore"):
-            means.append(np.where(side, total / np.where(side, count, 1.0), 0.0))
-        have &= side
-    return means[0], means[1], have
 
 
 class ChunkOdometry:

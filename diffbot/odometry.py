@@ -38,6 +38,7 @@ from diffbot.ros.messages import (
     Vector3,
     covariance_matrix,
 )
+from diffbot.samples import SKIP_NOT_FINITE
 
 __all__ = [
     "DEFAULT_POSE_COVARIANCE",
@@ -52,8 +53,6 @@ __all__ = [
 
 #: Why a sample was skipped: the sample lacks every wheel joint of a side.
 SKIP_MISSING_JOINT: Final = "missing joint"
-#: Why a sample was skipped: a wheel position or the stamp is NaN or infinite.
-SKIP_NOT_FINITE: Final = "not finite"
 #: Why a sample was skipped: its stamp is not after the previous used sample's (duplicate, late).
 SKIP_STAMP_NOT_AFTER: Final = "stamp not after previous"
 

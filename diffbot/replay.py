@@ -17,17 +17,16 @@ compact columns.
 
 from __future__ import annotations
 
-import array
 import itertools
 import os
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from contextlib import closing
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, TextIO
+from typing import TYPE_CHECKING, Any, Protocol, TextIO
 
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
-from diffbot.kinematics import Pose, Twist, norm_angle
+from diffbot.kinematics import Pose
 from diffbot.odometry import SKIP_MISSING_JOINT, Odometry
 from diffbot.samples import (
     CLOCK_HEADER,
@@ -37,7 +36,8 @@ from diffbot.samples import (
     SKIP_POSITION_RANGE,
     SKIP_UNREADABLE,
     ColumnSamples,
-    ColumnView,
+    OdometryRow,
+    OdometryRows,
     Recording,
 )
 
@@ -62,56 +62,6 @@ __all__ = [
     "recording_odometry",
     "run_odometry",
 ]
-
-
-class OdometryRow(NamedTuple):
-    """The odometry after one used sample: its stamp (ns), the pose and the twist."""
-
-    stamp_ns: int
-    pose: Pose
-    twist: Twist
-
-
-class OdometryRows(ColumnView[OdometryRow]):
-    """Odometry rows as compact columns: stamps int64 ns, the rest float64 (48 bytes a row).
-
-    ``theta`` holds the unwrapped heading; rows report it in (-pi, pi].
-    """
-
-    def __init__(self) -> None:
-        self.stamps_ns = array.array("q")
-        self.x = array.array("d")
-        self.y = array.array("d")
-        self.heading = array.array("d")
-        self.linear = array.array("d")
-        self.angular = array.array("d")
-
-    def add(self, stamp_ns: int, odom: Odometry) -> None:
-        """Append the integrator's state after a used sample."""
-        # One read of the whole state: odom.pose and odom.twist would wrap the heading and build
-        # two records per row only to be taken apart here.
-        x, y, heading, linear, angular = odom.state
-        self.stamps_ns.append(stamp_ns)
-        self.x.append(x)
-        self.y.append(y)
-        self.heading.append(heading)
-        self.linear.append(linear)
-        self.angular.append(angular)
-
-    def __len__(self) -> int:
-        return len(self.stamps_ns)
-
-    def row(self, index: int) -> OdometryRow:
-        return OdometryRow(
-            self.stamps_ns[index],
-            Pose(self.x[index], self.y[index], norm_angle(self.heading[index])),
-            Twist(self.linear[index], self.angular[index]),
-        )
-
-    def __iter__(self) -> Iterator[OdometryRow]:
-        columns = (self.stamps_ns, self.x, self.y, self.heading, self.linear, self.angular)
-        for stamp_ns, x, y, heading, linear, angular in zip(*columns, strict=True):
-            yield OdometryRow(stamp_ns, Pose(x, y, norm_angle(heading)), Twist(linear, angular))
 
 
 @dataclass(frozen=True)

@@ -14,8 +14,14 @@ from dataclasses import dataclass, field
 from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
 from typing import TYPE_CHECKING, Final, Generic, NamedTuple, TypeVar, overload
 
+from diffbot.kinematics import Pose, Twist, norm_angle
+
 if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
     from diffbot.conditioning import ConditioningReport
+    from diffbot.odometry import Odometry
 
 __all__ = [
     "CLOCK_HEADER",
@@ -24,22 +30,28 @@ __all__ = [
     "MAX_POSITION",
     "NS_PER_S",
     "SKIP_MISSING_STAMP",
+    "SKIP_NOT_FINITE",
     "SKIP_POSITION_RANGE",
     "SKIP_STAMP_RANGE",
     "SKIP_UNREADABLE",
     "ColumnSamples",
     "ColumnView",
     "JointSample",
+    "OdometryRow",
+    "OdometryRows",
     "Recording",
     "beyond_range",
     "ns_from_seconds",
     "seconds_text",
+    "side_means",
 ]
 
 #: :attr:`Recording.clock` of a bag stamped by the messages' header stamps.
 CLOCK_HEADER: Final = "header"
 #: :attr:`Recording.clock` of a bag stamped by the times the bag received the messages.
 CLOCK_RECEIVE: Final = "receive"
+#: Why a sample was skipped: a wheel position or its stamp is NaN or infinite.
+SKIP_NOT_FINITE: Final = "not finite"
 #: Why a CSV row was skipped: its time cell is empty.
 SKIP_MISSING_STAMP: Final = "missing stamp"
 #: Why a CSV row or bag message was skipped: a value (or the message) cannot be read.
@@ -197,3 +209,97 @@ class ColumnSamples(ColumnView[JointSample]):
         present = self.present[index]
         values = (left, right) if present == 3 else (right,) if present == 2 else (left,)
         return JointSample(stamp_ns, self._names[present], values[: bin(present).count("1")])
+
+
+def side_means(
+    positions: NDArray[np.float64], present: NDArray[np.bool_], left_count: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+    """Each side's wheel angle per sample: the mean of that side's joints present in it.
+
+    As diff_drive_controller averages the wheels of a side, and as
+    :meth:`diffbot.odometry.Odometry.update_joint_state` does: the present positions are added
+    in the order of the side's joints, the first one starting the sum, then divided by how many
+    there are (one joint: its position unchanged).
+
+    Args:
+        positions: joint angles (rad), shape (n, joints): the left joints first, then the right.
+        present: whether each sample has each joint, bool, same shape.
+        left_count: how many of the columns are left joints.
+
+    Returns:
+        The left and right angles (rad), shape (n,) each, and whether the sample has at least
+        one joint of each side.
+    """
+    import numpy as np  # here: reading a CSV or a bag needs NumPy, quick commands do not
+
+    means = []
+    have = np.ones(positions.shape[0], dtype=np.bool_)
+    for columns in (slice(0, left_count), slice(left_count, positions.shape[1])):
+        values, mask = positions[:, columns], present[:, columns]
+        if values.shape[1] == 1:
+            means.append(np.where(mask[:, 0], values[:, 0], 0.0))
+            have &= mask[:, 0]
+            continue
+        total = np.zeros(positions.shape[0])
+        count = np.zeros(positions.shape[0])
+        for j in range(values.shape[1]):
+            # The first present position starts the sum (not 0.0 + it: -0.0 stays -0.0).
+            with np.errstate(all="ignore"):
+                added = np.where(count > 0, total + values[:, j], values[:, j])
+            total = np.where(mask[:, j], added, total)
+            count += mask[:, j]
+        side = count > 0
+        with np.errstate(invalid="ignore", divide="ignore"):
+            means.append(np.where(side, total / np.where(side, count, 1.0), 0.0))
+        have &= side
+    return means[0], means[1], have
+
+
+class OdometryRow(NamedTuple):
+    """The odometry after one used sample: its stamp (ns), the pose and the twist."""
+
+    stamp_ns: int
+    pose: Pose
+    twist: Twist
+
+
+class OdometryRows(ColumnView[OdometryRow]):
+    """Odometry rows as compact columns: stamps int64 ns, the rest float64 (48 bytes a row).
+
+    ``theta`` holds the unwrapped heading; rows report it in (-pi, pi].
+    """
+
+    def __init__(self) -> None:
+        self.stamps_ns = array.array("q")
+        self.x = array.array("d")
+        self.y = array.array("d")
+        self.heading = array.array("d")
+        self.linear = array.array("d")
+        self.angular = array.array("d")
+
+    def add(self, stamp_ns: int, odom: Odometry) -> None:
+        """Append the integrator's state after a used sample."""
+        # One read of the whole state: odom.pose and odom.twist would wrap the heading and build
+        # two records per row only to be taken apart here.
+        x, y, heading, linear, angular = odom.state
+        self.stamps_ns.append(stamp_ns)
+        self.x.append(x)
+        self.y.append(y)
+        self.heading.append(heading)
+        self.linear.append(linear)
+        self.angular.append(angular)
+
+    def __len__(self) -> int:
+        return len(self.stamps_ns)
+
+    def row(self, index: int) -> OdometryRow:
+        return OdometryRow(
+            self.stamps_ns[index],
+            Pose(self.x[index], self.y[index], norm_angle(self.heading[index])),
+            Twist(self.linear[index], self.angular[index]),
+        )
+
+    def __iter__(self) -> Iterator[OdometryRow]:
+        columns = (self.stamps_ns, self.x, self.y, self.heading, self.linear, self.angular)
+        for stamp_ns, x, y, heading, linear, angular in zip(*columns, strict=True):
+            yield OdometryRow(stamp_ns, Pose(x, y, norm_angle(heading)), Twist(linear, angular))

@@ -537,7 +537,7 @@ def fit_recording(
     the two first stamps, so that stamps since 1970 keep their precision.
 
     Args:
-        recording: the wheel joint samples (:func:`diffbot.io.recordings.read_recording`).
+        recording: the wheel joint samples (:func:`diffbot.recordings.read_recording`).
         truth: the ground truth (:func:`diffbot.io.poses.read_pose_track`).
         params: the nominal robot.
         time_offset: how late the wheel stamps are against the truth (s), or ``"auto"`` to

@@ -51,7 +51,7 @@ class RecordingOptions:
     time_unit: str | None = None
 
     def csv(self) -> dict[str, str | None]:
-        """The CSV options as :func:`~diffbot.io.recordings.read_recording` takes them."""
+        """The CSV options as :func:`~diffbot.recordings.read_recording` takes them."""
         return {
             "time_column": self.time_column,
             "left_column": self.left_column,
@@ -63,7 +63,7 @@ class RecordingOptions:
     def read(self, source: str, params: DiffDriveParams, topic: str | None) -> Recording:
         """A recording read whole with these options, what was judged or found said on
         stderr."""
-        from diffbot.io.recordings import read_recording
+        from diffbot.recordings import read_recording
 
         recording = read_recording(
             source, params, topic, conditioning=self.conditioning(), **self.csv()

@@ -32,7 +32,6 @@ from typing import TYPE_CHECKING, Any, Final, NamedTuple, TextIO
 
 import numpy as np
 
-from diffbot.chunk_odometry import side_means
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.csv_stamps import (
@@ -43,17 +42,18 @@ from diffbot.io.csv_stamps import (
     unit_by_magnitude,
 )
 from diffbot.io.textfile import open_text
-from diffbot.odometry import SKIP_NOT_FINITE
 from diffbot.samples import (
     INT64,
     MAX_POSITION,
     SKIP_MISSING_STAMP,
+    SKIP_NOT_FINITE,
     SKIP_POSITION_RANGE,
     SKIP_STAMP_RANGE,
     SKIP_UNREADABLE,
     ColumnSamples,
     Recording,
     beyond_range,
+    side_means,
 )
 
 if TYPE_CHECKING:
@@ -590,7 +590,7 @@ def read_csv(
     """Read the wheel joint samples of a recording CSV whole, as compact columns.
 
     A side with several joints gives the mean of its joints present in each row (see
-    :func:`diffbot.chunk_odometry.side_means`).
+    :func:`diffbot.samples.side_means`).
 
     Args:
         path: the file, or an open text stream (read from where it stands).

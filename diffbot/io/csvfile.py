@@ -11,8 +11,7 @@ from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Final
 
 from diffbot.kinematics import norm_angle
-from diffbot.replay import OdometryRow, OdometryRows
-from diffbot.samples import seconds_text
+from diffbot.samples import OdometryRow, OdometryRows, seconds_text
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike

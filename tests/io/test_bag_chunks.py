@@ -20,8 +20,8 @@ from sinks import Collect
 
 from diffbot.errors import RecordingError
 from diffbot.io.bag_chunks import BagError, TopicChunks
-from diffbot.io.recordings import read_recording
 from diffbot.odometry import Odometry
+from diffbot.recordings import read_recording
 from diffbot.replay import bag_odometry, run_odometry
 from diffbot.samples import CLOCK_HEADER, CLOCK_RECEIVE, SKIP_UNREADABLE
 

@@ -14,7 +14,7 @@ import diffbot
 from diffbot.cli import main
 from diffbot.conditioning import Conditioning
 from diffbot.io.csv_chunks import stamp_ns_from_text, stamps_from_digits, unit_by_magnitude
-from diffbot.io.recordings import read_recording
+from diffbot.recordings import read_recording
 from diffbot.replay import run_odometry
 from diffbot.samples import ColumnSamples
 

@@ -19,9 +19,9 @@ import diffbot
 from diffbot.io.bag import read_bag, write_joint_states_bag, write_odometry_bag
 from diffbot.io.csv_chunks import CHUNK_BYTES, read_csv
 from diffbot.io.csvfile import format_joint_states_csv, format_odometry_csv
-from diffbot.io.recordings import read_recording
 from diffbot.kinematics import Pose
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry
+from diffbot.recordings import read_recording
 from diffbot.replay import OdometryRow, run_odometry
 from diffbot.samples import (
     CLOCK_HEADER,

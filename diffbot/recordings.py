@@ -1,0 +1,123 @@
+"""Recordings read whole, their positions conditioned: :func:`read_recording`, the library's
+entry, which reads with :mod:`diffbot.io` and then conditions with :mod:`diffbot.conditioning`
+(the readers never call the conditioning themselves).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from collections.abc import Sequence
+
+import numpy as np
+
+from diffbot.conditioning import Conditioner, Conditioning
+from diffbot.io.bag import is_bag, read_bag
+from diffbot.io.csv_chunks import read_csv
+from diffbot.io.recordings import csv_layout, existing_recording
+from diffbot.kinematics import DiffDriveParams
+from diffbot.samples import SKIP_POSITION_RANGE, JointSample, Recording, beyond_range
+
+__all__ = ["read_recording"]
+
+
+def read_recording(
+    path: str | os.PathLike[str],
+    params: DiffDriveParams,
+    topic: str | None = None,
+    *,
+    conditioning: Conditioning | None = None,
+    time_column: str | None = None,
+    left_column: str | Sequence[str] | None = None,
+    right_column: str | Sequence[str] | None = None,
+    delimiter: str | None = None,
+    time_unit: str | None = None,
+) -> Recording:
+    """Read wheel joint samples whole from a CSV file or a rosbag2 recording.
+
+    Args:
+        path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
+        params: the robot, whose wheel joint names select the CSV columns.
+        topic: the JointState topic of a bag.
+        conditioning: the positions' units and wrap (default: radians, wraps detected); the
+            samples hold the wheel angles, and ``conditioning`` of the result says what was
+            done.
+        time_column: a CSV's time column (default: ``time``, ``stamp``, ``t`` or ``__time``).
+        left_column: a CSV's left wheel position column(s) (default: named by the joints).
+        right_column: a CSV's right wheel position column(s).
+        delimiter: a CSV's delimiter (default: a comma, or what splits the header).
+        time_unit: a CSV's time unit, ``s``, ``ms``, ``us`` or ``ns`` (default: seconds, or as
+            the first stamp's size says; the result's ``notes`` say so).
+
+    Returns:
+        The samples.
+
+    Raises:
+        RecordingError: missing, empty or unreadable input; missing columns or topic.
+    """
+    p = existing_recording(path)
+    if is_bag(p):
+        wheels = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
+        recording = _within_range(read_bag(p, topic), wheels)
+        return _conditioned(recording, params, conditioning)
+
+    def conditioner(joints: Sequence[str], left_count: int) -> Conditioner:
+        return Conditioner.for_robot(params, joints, left_count, conditioning)
+
+    layout = csv_layout(time_column, left_column, right_column, delimiter, time_unit)
+    return read_csv(
+        p, params.left_joints, params.right_joints, conditioner=conditioner, layout=layout
+    )
+
+
+def _conditioned(
+    recording: Recording, params: DiffDriveParams, conditioning: Conditioning | None
+) -> Recording:
+    """A bag's samples with their wheel joints' positions conditioned (other joints as read)."""
+    joints = [*params.left_joints, *params.right_joints]
+    conditioner = Conditioner.for_robot(params, joints, len(params.left_joints), conditioning)
+    samples = recording.samples
+    n = len(samples)
+    positions = np.zeros((n, len(joints)))
+    present = np.zeros((n, len(joints)), dtype=np.bool_)
+    stamps = np.empty(n, dtype=np.int64)
+    column = {joint: j for j, joint in enumerate(joints)}
+    for k, (stamp_ns, names, values) in enumerate(samples):
+        stamps[k] = stamp_ns
+        for name, value in zip(names, values, strict=False):
+            j = column.get(name)
+            if j is not None:
+                positions[k, j] = value
+                present[k, j] = True
+    conditioned = conditioner.feed(stamps, positions, present)
+    report = conditioner.report()
+    if conditioned is positions:
+        return dataclasses.replace(recording, conditioning=report)
+    kept = []
+    for k, sample in enumerate(samples):
+        values = list(sample.positions)
+        for i, name in enumerate(sample.names[: len(values)]):
+            j = column.get(name)
+            if j is not None:
+                values[i] = float(conditioned[k, j])
+        kept.append(JointSample(sample.stamp_ns, sample.names, values))
+    return dataclasses.replace(recording, samples=kept, conditioning=report)
+
+
+def _within_range(recording: Recording, wheels: set[str]) -> Recording:
+    """The recording without the samples whose wheel positions are too large to compute with
+    (counted as skipped, as a CSV reader counts them)."""
+    kept = [
+        sample
+        for sample in recording.samples
+        if not any(
+            name in wheels and beyond_range(value)
+            for name, value in zip(sample.names, sample.positions, strict=False)
+        )
+    ]
+    dropped = len(recording.samples) - len(kept)
+    if not dropped:
+        return recording
+    skipped = dict(recording.skipped)
+    skipped[SKIP_POSITION_RANGE] = skipped.get(SKIP_POSITION_RANGE, 0) + dropped
+    return dataclasses.replace(recording, samples=kept, skipped=skipped)
