@@ -192,6 +192,15 @@ def _check_not_compressed(connection: sqlite3.Connection, path: Path) -> None:
         )
 
 
+def _blobs(values: list[Any]) -> list[bytes]:
+    """A chunk's ``data`` cells as messages. A damaged or hostile bag may hold TEXT, numbers or
+    NULL where a message's bytes go: those become empty messages, which decode as unreadable
+    and are skipped. (Checked here, once a chunk, rather than by SQL on every row.)"""
+    if set(map(type, values)) <= {bytes}:
+        return values
+    return [value if type(value) is bytes else b"" for value in values]
+
+
 class TopicChunks:
     """The messages of one topic of a rosbag2 recording, chunk by chunk.
 
@@ -390,10 +399,7 @@ class TopicChunks:
                 )
             ]
             marks = ",".join("?" * len(ids))
-            # A damaged or hostile bag may hold TEXT, numbers or NULL where a message's bytes
-            # go: those arrive as empty messages, which decode as unreadable and are skipped.
-            blob = "CASE WHEN typeof(data) = 'blob' THEN data ELSE x'' END"
-            columns = f"timestamp, {blob}" if receive_times else blob
+            columns = "timestamp, data" if receive_times else "data"
             cursor = connection.execute(
                 f"SELECT {columns} FROM messages WHERE topic_id IN ({marks}) "
                 "ORDER BY timestamp, id",
@@ -402,12 +408,12 @@ class TopicChunks:
             if not receive_times:
                 data = itemgetter(0)
                 while rows := cursor.fetchmany(self.chunk_size):
-                    yield BagChunk(None, list(map(data, rows)))
+                    yield BagChunk(None, _blobs(list(map(data, rows))))
                 return
             stamp, data = itemgetter(0), itemgetter(1)
             while rows := cursor.fetchmany(self.chunk_size):
                 stamps = np.fromiter(map(stamp, rows), dtype=np.int64, count=len(rows))
-                yield BagChunk(stamps, list(map(data, rows)))
+                yield BagChunk(stamps, _blobs(list(map(data, rows))))
         finally:
             connection.close()
 
