@@ -13,10 +13,16 @@ import numpy as np
 
 from diffbot.conditioning import Conditioner, Conditioning
 from diffbot.io.bag import is_bag, read_bag
-from diffbot.io.csv_chunks import read_csv
+from diffbot.io.csv_chunks import open_csv_chunks
 from diffbot.io.recordings import csv_layout, existing_recording
 from diffbot.kinematics import DiffDriveParams
-from diffbot.samples import SKIP_POSITION_RANGE, JointSample, Recording, beyond_range
+from diffbot.samples import (
+    SKIP_POSITION_RANGE,
+    ColumnSamples,
+    JointSample,
+    Recording,
+    beyond_range,
+)
 
 __all__ = ["read_recording"]
 
@@ -61,13 +67,21 @@ def read_recording(
         recording = _within_range(read_bag(p, topic), wheels)
         return _conditioned(recording, params, conditioning)
 
-    def conditioner(joints: Sequence[str], left_count: int) -> Conditioner:
-        return Conditioner.for_robot(params, joints, left_count, conditioning)
-
     layout = csv_layout(time_column, left_column, right_column, delimiter, time_unit)
-    return read_csv(
-        p, params.left_joints, params.right_joints, conditioner=conditioner, layout=layout
-    )
+    sides = (params.left_joints, params.right_joints)
+    skipped: dict[str, int] = {}
+    with open_csv_chunks(p, sides, layout=layout) as chunks:
+        samples = ColumnSamples(params.left_joints[0], params.right_joints[0])
+        conditioner = Conditioner.for_robot(params, chunks.joints, chunks.left_count, conditioning)
+        for chunk in chunks:
+            for reason, count in chunk.skipped.items():
+                skipped[reason] = skipped.get(reason, 0) + count
+            positions = conditioner.feed(chunk.stamp_ns, chunk.positions, chunk.present)
+            samples.add_chunk(chunk.stamp_ns, positions, chunk.present, chunks.left_count)
+        report = conditioner.report()
+        return Recording(
+            chunks.source, "csv", samples, skipped, conditioning=report, notes=chunks.notes()
+        )
 
 
 def _conditioned(

@@ -12,7 +12,7 @@ import math
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
-from typing import TYPE_CHECKING, Final, Generic, NamedTuple, TypeVar, overload
+from typing import TYPE_CHECKING, Any, Final, Generic, NamedTuple, TypeVar, overload
 
 from diffbot.kinematics import Pose, Twist, norm_angle
 
@@ -196,6 +196,29 @@ class ColumnSamples(ColumnView[JointSample]):
     def __len__(self) -> int:
         return len(self.stamps_ns)
 
+    def add_chunk(
+        self,
+        stamps_ns: NDArray[np.int64],
+        positions: NDArray[np.float64],
+        present: NDArray[np.bool_],
+        left_count: int,
+    ) -> None:
+        """Append a chunk of rows: each side the mean of its joints present (:func:`side_means`).
+
+        Args:
+            stamps_ns: the rows' stamps (ns), shape (n,).
+            positions: the joints' angles (rad), shape (n, joints): the left joints first.
+            present: whether each row has each joint, same shape.
+            left_count: how many of the joints are on the left.
+        """
+        left, right, _ = side_means(positions, present, left_count)
+        have_left = present[:, :left_count].any(axis=1)
+        have_right = present[:, left_count:].any(axis=1)
+        _extend(self.stamps_ns, stamps_ns, "<i8")
+        _extend(self.left, left, "<f8")
+        _extend(self.right, right, "<f8")
+        self.present += (have_left + 2 * have_right.astype("u1")).tobytes()
+
     def row(self, index: int) -> JointSample:
         return self._sample(self.stamps_ns[index], self.left[index], self.right[index], index)
 
@@ -209,6 +232,14 @@ class ColumnSamples(ColumnView[JointSample]):
         present = self.present[index]
         values = (left, right) if present == 3 else (right,) if present == 2 else (left,)
         return JointSample(stamp_ns, self._names[present], values[: bin(present).count("1")])
+
+
+def _extend(column: array.array[Any], values: NDArray[Any], dtype: str) -> None:
+    """Append an array's values to a typed column as raw bytes: no Python number per cell,
+    whose freed memory would stay with the process."""
+    import numpy as np
+
+    column.frombytes(np.ascontiguousarray(values, dtype=dtype).view(np.uint8).data)
 
 
 def side_means(

@@ -18,7 +18,6 @@ is converted on its own.
 
 from __future__ import annotations
 
-import array
 import contextlib
 import csv
 import io
@@ -26,9 +25,9 @@ import itertools
 import math
 import os
 import re
-from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Final, NamedTuple, TextIO
+from typing import TYPE_CHECKING, Final, NamedTuple, TextIO
 
 import numpy as np
 
@@ -53,17 +52,11 @@ from diffbot.samples import (
     ColumnSamples,
     Recording,
     beyond_range,
-    side_means,
 )
 
 if TYPE_CHECKING:
     from numpy.typing import NDArray
 
-    from diffbot.conditioning import Conditioner
-
-#: Makes the conditioner of a file's wheel columns from their joints (the left ones first) and
-#: how many are on the left.
-ConditionerFactory = Callable[[Sequence[str], int], "Conditioner"]
 
 __all__ = [
     "CHUNK_BYTES",
@@ -584,7 +577,6 @@ def read_csv(
     right_joint: str | Sequence[str],
     *,
     source: str | None = None,
-    conditioner: ConditionerFactory | None = None,
     layout: CsvLayout | None = None,
 ) -> Recording:
     """Read the wheel joint samples of a recording CSV whole, as compact columns.
@@ -597,8 +589,6 @@ def read_csv(
         left_joint: the left wheel joint's name, or all of the left side's.
         right_joint: likewise on the right.
         source: the input's name in messages (default: the path, or the stream's name).
-        conditioner: makes what turns each joint's recorded positions into angles (units,
-            wraps) before the sides are averaged; None to take them as they are.
         layout: columns, delimiter and time unit, where not the defaults.
 
     Returns:
@@ -615,27 +605,8 @@ def read_csv(
     skipped: dict[str, int] = {}
     with open_csv_chunks(path, (sides[0], sides[1]), source=source, layout=layout) as chunks:
         samples = ColumnSamples(*first)
-        condition = None if conditioner is None else conditioner(chunks.joints, chunks.left_count)
         for chunk in chunks:
             for reason, count in chunk.skipped.items():
                 skipped[reason] = skipped.get(reason, 0) + count
-            positions = chunk.positions
-            if condition is not None:
-                positions = condition.feed(chunk.stamp_ns, positions, chunk.present)
-            left, right, _ = side_means(positions, chunk.present, chunks.left_count)
-            have_left = chunk.present[:, : chunks.left_count].any(axis=1)
-            have_right = chunk.present[:, chunks.left_count :].any(axis=1)
-            _extend(samples.stamps_ns, chunk.stamp_ns, np.int64)
-            _extend(samples.left, left, np.float64)
-            _extend(samples.right, right, np.float64)
-            samples.present += (have_left + 2 * have_right.astype(np.uint8)).tobytes()
-        report = None if condition is None else condition.report()
-        return Recording(
-            chunks.source, "csv", samples, skipped, conditioning=report, notes=chunks.notes()
-        )
-
-
-def _extend(column: array.array[Any], values: NDArray[Any], dtype: type[np.generic]) -> None:
-    """Append an array's values to a typed column as raw bytes: no Python number per cell,
-    whose freed memory would stay with the process."""
-    column.frombytes(np.ascontiguousarray(values, dtype=dtype).view(np.uint8).data)
+            samples.add_chunk(chunk.stamp_ns, chunk.positions, chunk.present, chunks.left_count)
+        return Recording(chunks.source, "csv", samples, skipped, notes=chunks.notes())
