@@ -117,3 +117,31 @@ def test_plotting_loads_matplotlib_and_numpy_but_not_bags(warm_cache: Path, tmp_
 def test_umbmark_loads_numpy_but_not_scipy(warm_cache: Path) -> None:
     args = ["calibrate", "umbmark", "--side", "4", "--cw", "0,0", "--ccw", "0,0"]
     assert loaded_by(args, warm_cache) == {"numpy"}
+
+
+def test_odometry_of_a_sqlite_bag_loads_numpy_but_not_rosbags_asyncio_or_a_process_pool(
+    warm_cache: Path, tmp_path: Path
+) -> None:
+    pytest.importorskip("rosbags")  # only to write the bag
+    bag = tmp_path / "a_bag"
+    env = {"DIFFBOT_CACHE_DIR": str(warm_cache), "PATH": "/usr/bin:/bin"}
+    subprocess.run(
+        [sys.executable, "-m", "diffbot", "simulate", "straight 0.1", "-o", str(bag), "--bag"],
+        check=True,
+        capture_output=True,
+        env=env,
+    )
+    assert loaded_by(["odom", str(bag)], warm_cache) == {"numpy"}
+    probe = PROBE.replace(
+        'name.split(".")[0] for name in sys.modules', "name for name in sys.modules"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe, "odom", str(bag)],
+        capture_output=True,
+        text=True,
+        env=env,
+        check=True,
+    )
+    loaded = set(json.loads(done.stdout))
+    assert "sqlite3" in loaded  # the probe sees the reading
+    assert not loaded & {"asyncio", "concurrent.futures", "multiprocessing"}
