@@ -149,6 +149,20 @@ def test_known_message_gives_its_stamp_and_positions_by_name() -> None:
     assert got.present.tolist() == [[True, True, False]] * 3
 
 
+def test_equal_sized_messages_with_other_names_or_lengths_are_told_apart() -> None:
+    # The same byte length with the joints in the other order; messages of other lengths (one
+    # position and one velocity, a single joint) between them: each is read by its own names.
+    first = serialize(1, 0, "", ["lw", "rw"], ([1.0, 2.0], [], []))
+    swapped = serialize(2, 0, "", ["rw", "lw"], ([3.0, 4.0], [], []))
+    velocity = serialize(3, 0, "", ["lw", "rw"], ([5.0], [6.0], []))
+    short = serialize(4, 0, "", ["lw"], ([7.0], [], []))
+    assert len(first) == len(swapped) != len(short)
+    got = decode_positions([first, swapped, short, velocity, first], ["lw", "rw"])
+    assert got.stamp_ns.tolist() == [n * 1_000_000_000 for n in (1, 2, 4, 3, 1)]
+    assert got.positions.tolist() == [[1, 2], [4, 3], [7, 0], [5, 0], [1, 2]]
+    assert got.present.tolist() == [[1, 1], [1, 1], [1, 0], [1, 0], [1, 1]]
+
+
 def test_a_joint_named_but_without_a_position_is_absent() -> None:
     blob = serialize(0, 1, "", ["left", "right"], ([4.0], [], []))
     got = decode_positions([blob], ["left", "right"])
