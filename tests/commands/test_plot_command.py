@@ -163,7 +163,7 @@ def test_a_recording_is_read_in_chunks_as_odom_reads_it(
 ) -> None:
     import json
 
-    from diffbot.io import recordings
+    from diffbot import recordings
 
     rows = [f"{k / 10},{k * 0.05!r},{k * 0.07!r}" for k in range(300)]
     csv = tmp_path / "curve.csv"
