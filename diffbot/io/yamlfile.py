@@ -78,16 +78,32 @@ def _check_events(text: str) -> None:
         parser.dispose()
 
 
+def _merged(earlier: Any, later: Any, replaced: list[str], path: str = "") -> Any:
+    """``later`` over ``earlier``: mappings key by key, anything else replaced (each value
+    replaced by a different one is appended to ``replaced`` as ``path.key, value``)."""
+    if not (isinstance(earlier, dict) and isinstance(later, dict)):
+        if earlier != later:
+            replaced.append(f"{path} {brief(later)}")
+        return later
+    merged = dict(earlier)
+    for key, value in later.items():
+        inner = f"{path}.{key}" if path else str(key)
+        merged[key] = _merged(merged[key], value, replaced, inner) if key in merged else value
+    return merged
+
+
 @functools.cache
-def _loader(ros_floats: bool, unique_keys: bool) -> type[Any]:
-    """A safe loader class: optionally ROS floats and no duplicate keys (YAML forbids them;
-    PyYAML keeps the last)."""
+def _loader(ros_floats: bool, duplicates: str) -> type[Any]:
+    """A safe loader class: optionally ROS floats, and repeated keys refused (YAML forbids them;
+    PyYAML keeps the last) or read as ROS reads them (mappings merged, the later value kept)."""
     import yaml
     from yaml.nodes import MappingNode
 
     class BoundedLoader(_base()):  # type: ignore[misc]
+        repeated: list[str]
+
         def construct_mapping(self, node: MappingNode, deep: bool = False) -> dict[Any, Any]:
-            if unique_keys:
+            if duplicates == "refuse":
                 seen: set[Any] = set()
                 for key_node, _ in node.value:
                     key = self.construct_object(key_node, deep=True)
@@ -100,7 +116,40 @@ def _loader(ros_floats: bool, unique_keys: bool) -> type[Any]:
                             None, None, f"duplicate key {brief(key)}", key_node.start_mark
                         )
                     seen.add(key)
+            elif duplicates == "ros":
+                return self._ros_mapping(node)
             return super().construct_mapping(node, deep)  # type: ignore[no-any-return]
+
+        def _ros_mapping(self, node: MappingNode) -> dict[Any, Any]:
+            mapping: dict[Any, Any] = {}
+            lines: dict[Any, int] = {}
+            for key_node, value_node in node.value:
+                key = self.construct_object(key_node, deep=True)
+                value = self.construct_object(value_node, deep=True)
+                try:
+                    repeated = key in mapping
+                except TypeError:  # unhashable: the SafeLoader reports it
+                    return super().construct_mapping(node, True)  # type: ignore[no-any-return]
+                line = key_node.start_mark.line + 1
+                if repeated:
+                    where = f"lines {lines[key]} and {line}"
+                    replaced: list[str] = []
+                    earlier = mapping[key]
+                    value = _merged(earlier, value, replaced)
+                    if isinstance(earlier, dict) and isinstance(value, dict):
+                        later = f"; later values used: {', '.join(replaced)}" if replaced else ""
+                        self.repeated.append(
+                            f"{brief(key)} appears twice ({where}): its entries are merged, "
+                            f"as ROS merges them{later}"
+                        )
+                    elif replaced:
+                        self.repeated.append(
+                            f"{brief(key)} is given twice ({where}): the later value, "
+                            f"{brief(value)}, is used, as ROS uses it"
+                        )
+                mapping[key] = value
+                lines[key] = line
+            return mapping
 
     if ros_floats:
         BoundedLoader.add_implicit_resolver(
@@ -117,6 +166,7 @@ def load_yaml(
     *,
     ros_floats: bool = False,
     unique_keys: bool = False,
+    repeated: list[str] | None = None,
 ) -> Any:
     """The data of a YAML document, read safely and within bounds.
 
@@ -127,6 +177,8 @@ def load_yaml(
         kind: what the file is, for messages (``a plan file``).
         ros_floats: read ``1e-3`` as a float, as ROS does (YAML 1.1 reads a string).
         unique_keys: refuse a mapping that repeats a key.
+        repeated: read repeated keys as ROS reads a parameters file (mappings merged, a value
+            given twice taken from its later place) and append a sentence per repetition here.
 
     Raises:
         error: malformed YAML, an alias, nesting deeper than :data:`MAX_NESTING`, a repeated key
@@ -137,7 +189,13 @@ def load_yaml(
 
     try:
         _check_events(text)
-        return yaml.load(text, Loader=_loader(ros_floats, unique_keys))  # a SafeLoader
+        duplicates = "refuse" if unique_keys else "ros" if repeated is not None else "last"
+        loader = _loader(ros_floats, duplicates)(text)  # a SafeLoader
+        loader.repeated = [] if repeated is None else repeated
+        try:
+            return loader.get_single_data()
+        finally:
+            loader.dispose()
     except _RefusedError as err:
         if err.why.startswith("aliases"):
             why = f"aliases (*name) are not allowed in {kind}, write each entry out"

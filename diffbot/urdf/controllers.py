@@ -80,12 +80,19 @@ _WILDCARDS = frozenset({"*", "**"})
 # --- YAML -------------------------------------------------------------------------------------
 
 
-def _parse_yaml(text: str, source: str) -> Any:
+def _parse_yaml(text: str, source: str, repeated: list[str] | None = None) -> Any:
     if len(text) > MAX_FILE_BYTES:
         raise ControllerConfigError(
             f"{source}: controllers file is larger than {MAX_FILE_BYTES} bytes"
         )
-    return load_yaml(text, source, ControllerConfigError, "a controllers file", ros_floats=True)
+    return load_yaml(
+        text,
+        source,
+        ControllerConfigError,
+        "a controllers file",
+        ros_floats=True,
+        repeated=[] if repeated is None else repeated,  # read as ROS reads them, said or not
+    )
 
 
 def _flatten(params: Mapping[Any, Any], prefix: str = "") -> dict[str, Any]:
@@ -265,7 +272,8 @@ def read_controllers(
     """
     used = tuple(dict.fromkeys(_ARG.findall(text)))
     text, unresolved = substitute_args(text, args)
-    tree = _parse_yaml(text, source)
+    repeated: list[str] = []
+    tree = _parse_yaml(text, source, repeated)
     if tree is None:
         return []
     if not isinstance(tree, Mapping):
@@ -328,7 +336,7 @@ def read_controllers(
     unset = [
         f"$(arg {name}) has no value: give it as {name}:=VALUE, as the launch file would"
         for name in unresolved
-    ]
+    ] + [f"{source}: {sentence}" for sentence in repeated]
     return [
         dataclasses.replace(c, warnings=(*c.warnings, *unset), arguments=used)
         for c in (_follow_chain(c, nodes) for c in configs)

@@ -78,3 +78,30 @@ def test_an_integer_of_thousands_of_digits_is_an_error() -> None:
 def test_malformed_yaml_names_the_line() -> None:
     with pytest.raises(PlanError, match=r"f.yaml: malformed YAML: .*\(line 3, column 1\)"):
         load("a:\n  b: [1, 2\n")
+
+
+def test_repeated_keys_read_as_ros_reads_them_merge_mappings_and_say_so() -> None:
+    # ROS merges a node or namespace written twice (ros2/rclcpp#2166); PyYAML keeps only the last.
+    text = "ns:\n  a: 1\n  b: {c: 2}\nns:\n  b: {d: 3}\n  a: 1\n"
+    repeated: list[str] = []
+    data = load_yaml(text, "p.yaml", PlanError, "a file", repeated=repeated)
+    assert data == {"ns": {"a": 1, "b": {"c": 2, "d": 3}}}
+    assert len(repeated) == 1
+    assert "'ns' appears twice (lines 1 and 4)" in repeated[0]
+    assert "later values used" not in repeated[0]  # nothing was replaced by another value
+
+
+def test_a_value_given_twice_takes_the_later_and_names_both_lines() -> None:
+    repeated: list[str] = []
+    data = load_yaml("r: 0.05\nq: 1\nr: 7\n", "p.yaml", PlanError, "a file", repeated=repeated)
+    assert data == {"q": 1, "r": 7}
+    assert repeated == [
+        "'r' is given twice (lines 1 and 3): the later value, 7, is used, as ROS uses it"
+    ]
+    nested: list[str] = []
+    load_yaml("n:\n  r: 1\nn:\n  r: 2\n", "p.yaml", PlanError, "a file", repeated=nested)
+    assert nested[0].endswith("later values used: r 2")
+
+
+def test_without_asking_the_later_key_still_wins_silently() -> None:
+    assert load_yaml("n: {a: 1}\nn: {b: 2}\n", "p.yaml", PlanError, "a file") == {"n": {"b": 2}}

@@ -983,3 +983,23 @@ def test_a_type_given_as_a_list_is_no_controller_type() -> None:
         "type: diff_drive_controller/DiffDriveController", "type: [a, b]"
     )
     assert read_controllers(text, "robot.yaml") == []
+
+
+def test_a_controller_written_twice_is_merged_as_ros_merges_it_and_said() -> None:
+    # A file that configures one controller in two places: ROS merges them (ros2/rclcpp#2166),
+    # the later value of a key winning; PyYAML alone would drop the first place's wheels.
+    text = (
+        "controller_manager:\n  ros__parameters:\n    update_rate: 50\n"
+        "    diff_cont:\n      type: diff_drive_controller/DiffDriveController\n"
+        "diff_cont:\n  ros__parameters:\n    left_wheel_names: [l]\n"
+        "    right_wheel_names: [r]\n    wheel_separation: 0.30\n    wheel_radius: 0.05\n"
+        "diff_cont:\n  ros__parameters:\n    wheel_radius: 0.07\n"
+    )
+    (config,) = read_controllers(text, "c.yaml")
+    assert config.left_wheel_names == ("l",)
+    assert math.isclose(config.wheel_separation or 0.0, 0.30, rel_tol=0, abs_tol=1e-15)
+    assert math.isclose(config.wheel_radius or 0.0, 0.07, rel_tol=0, abs_tol=1e-15)
+    said = [w for w in config.warnings if "appears twice" in w]
+    assert len(said) == 1
+    assert "lines 6 and 12" in said[0]
+    assert "wheel_radius 0.07" in said[0]
