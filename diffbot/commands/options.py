@@ -11,6 +11,7 @@ import difflib
 import functools
 import json
 import math
+import os
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -514,7 +515,10 @@ class OutOptions:
     force: bool
 
     def path(self, inputs: Sequence[Path]) -> Path | None:
-        """The --out path, checked early against ``inputs`` (see :func:`check_out`)."""
+        """The --out path of one output, checked early against ``inputs`` (see
+        :func:`check_out`); a file's path may not end in a slash."""
+        if not self.as_bag:
+            file_output(self.out)
         return check_out(self.out, inputs, self.force)
 
     def require_out_for_bag(self) -> None:
@@ -527,11 +531,25 @@ class OutOptions:
 OUTPUT_NAMES = ("-o", "--output", "--out")
 
 
+def file_output(value: str | None, option: str = "-o/--out") -> str | None:
+    """``value`` unless it names a folder (a trailing slash) where a file is written: the path
+    would otherwise lose its slash and a file appear where the user asked for a folder."""
+    if value is not None and value.endswith(("/", os.sep)) and value.rstrip("/" + os.sep):
+        fail(f"{option} {value}: ends with a slash (a folder), but a file is written there")
+    return value
+
+
 def output_option(
     help_text: str, *, metavar: str = "FILE", dest: str = "output"
 ) -> Callable[[F], F]:
-    """The output option, ``-o``, ``--output`` or ``--out`` alike, received as ``dest``."""
-    return click.option(*OUTPUT_NAMES, dest, metavar=metavar, help=help_text)
+    """The output option, ``-o``, ``--output`` or ``--out`` alike, received as ``dest``
+    (a file: a path ending in a slash is refused; ``--out`` of :func:`out_options` may be a
+    bag folder)."""
+
+    def checked(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
+        return value if metavar != "FILE" else file_output(value)
+
+    return click.option(*OUTPUT_NAMES, dest, metavar=metavar, help=help_text, callback=checked)
 
 
 def out_options(out_help: str, bag_help: str) -> Callable[[F], F]:
@@ -542,6 +560,7 @@ def out_options(out_help: str, bag_help: str) -> Callable[[F], F]:
         click.option("--bag", "as_bag", is_flag=True, help=bag_help),
         click.option("--force", is_flag=True, help="Overwrite --out if it exists."),
     ]
+
     return option_group(
         options, "out", lambda kw: OutOptions(kw.pop("out"), kw.pop("as_bag"), kw.pop("force"))
     )

@@ -746,3 +746,28 @@ def test_no_output_goes_over_the_package_xml_that_named_the_package(tmp_path: Pa
     )
     assert_one_line_error(result, "is an input")
     assert manifest.read_bytes() == before
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("plan", "-o", "out.csv/"),
+        ("simulate", "--out", "out.csv/"),
+        ("plot", "--output", "out.png/"),
+        ("urdf", "-o", "out.urdf/"),
+    ],
+)
+def test_a_file_output_ending_in_a_slash_is_refused_not_written_without_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, args: tuple[str, ...]
+) -> None:
+    # A trailing slash asks for a folder; the file used to appear under the name without it.
+    monkeypatch.chdir(tmp_path)
+    assert_one_line_error(run(CliRunner(), *args), "ends with a slash")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_bag_output_may_end_in_a_slash(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    result = run(CliRunner(), "plan", "-o", "run_bag/", "--bag")
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "run_bag" / "metadata.yaml").is_file()
