@@ -197,13 +197,16 @@ def calibrate() -> None:
 #: 700 MB.
 MAX_RUNS = 10_000
 
+#: Longest runs file read (characters): room for :data:`MAX_RUNS` runs written out at length.
+MAX_RUNS_CHARS = 100 * MAX_RUNS
+
 
 def _runs_file(path: str) -> tuple[list[tuple[float, float]], list[tuple[float, float]]]:
     """The cw and ccw end points of a runs file: YAML ``{cw: [[x, y], ...], ccw: [...]}`` or
     CSV with columns ``direction,x,y``."""
     from diffbot.io.yamlfile import load_yaml
 
-    text = read_text(path, CalibrationError, "a runs file (CSV or YAML)")
+    text = read_text(path, CalibrationError, "a runs file (CSV or YAML)", max_chars=MAX_RUNS_CHARS)
     runs: dict[str, list[tuple[float, float]]] = {"cw": [], "ccw": []}
     if path.lower().endswith(".csv"):
         lines = [line.split(",") for line in text.splitlines() if line.strip()]

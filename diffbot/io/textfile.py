@@ -99,7 +99,23 @@ def open_regular(
     return fd
 
 
-def read_text(path: str | os.PathLike[str], error: type[DiffbotError], kind: str) -> str:
-    """The text of a UTF-8 file (a leading BOM dropped); see :func:`open_text`."""
+def read_text(
+    path: str | os.PathLike[str],
+    error: type[DiffbotError],
+    kind: str,
+    *,
+    max_chars: int | None = None,
+) -> str:
+    """The text of a UTF-8 file (a leading BOM dropped); see :func:`open_text`.
+
+    Raises:
+        error: as :func:`open_text`, or the file holds more than ``max_chars`` characters
+            (found without reading past them).
+    """
     with open_text(path, error, kind) as handle:
-        return handle.read()
+        if max_chars is None:
+            return handle.read()
+        text = handle.read(max_chars + 1)
+    if len(text) > max_chars:
+        raise error(f"{os.fspath(path)}: {kind} of more than {max_chars} characters")
+    return text

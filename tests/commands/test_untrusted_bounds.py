@@ -180,7 +180,34 @@ def test_a_runs_file_of_a_million_rows_is_refused_quickly(tmp_path: Path) -> Non
     done = run_process("calibrate", "umbmark", "--side", "4", "--runs", str(path))
     assert time.perf_counter() - start < QUICK
     assert done.returncode == 2, done.stderr[:300]
-    assert (
-        done.stderr
-        == f"error: {path}: 1000000 runs, more than 10000: not a UMBmark test's record\n"
+    assert done.stderr == (
+        f"error: {path}: a runs file (CSV or YAML) of more than 1000000 characters\n"
     )
+
+
+def test_a_runs_file_of_more_runs_than_a_test_drives_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "runs.csv"
+    path.write_text("direction,x,y\n" + "cw,0.1,0.1\n" * 10_001, "utf-8")
+    done = run_process("calibrate", "umbmark", "--side", "4", "--runs", str(path))
+    assert done.returncode == 2, done.stderr[:300]
+    assert (
+        done.stderr == f"error: {path}: 10001 runs, more than 10000: not a UMBmark test's record\n"
+    )
+
+
+def test_a_runs_file_is_read_no_further_than_its_bound(tmp_path: Path) -> None:
+    import tracemalloc
+
+    from diffbot.commands.calibrate import MAX_RUNS_CHARS, _runs_file
+    from diffbot.errors import CalibrationError
+
+    path = tmp_path / "runs.csv"
+    path.write_text("direction,x,y\n" + "cw,0.1,0.1\n" * 2_000_000, "utf-8")  # 24 MB
+    tracemalloc.start()
+    try:
+        with pytest.raises(CalibrationError, match="more than"):
+            _runs_file(str(path))
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 20 * MAX_RUNS_CHARS  # the whole file would be over 24 MB before splitting
