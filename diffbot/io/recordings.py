@@ -10,7 +10,8 @@ from collections.abc import Sequence
 from contextlib import closing
 from pathlib import Path
 
-from diffbot.errors import RecordingError
+from diffbot.errors import ParameterError, RecordingError
+from diffbot.formats.text import brief
 from diffbot.io.bag import bag_suffix, is_bag
 from diffbot.io.bag_chunks import TopicChunks
 from diffbot.io.csv_chunks import CsvLayout
@@ -71,10 +72,21 @@ def csv_layout(
     """A :class:`~diffbot.io.csv_chunks.CsvLayout` from the library's arguments (a column
     given as a string may list several, comma-separated)."""
 
-    def names(value: str | Sequence[str] | None) -> tuple[str, ...] | None:
+    def names(value: str | Sequence[str] | None, name: str) -> tuple[str, ...] | None:
         if value is None:
             return None
         parts = value.split(",") if isinstance(value, str) else list(value)
-        return tuple(part.strip() for part in parts if part.strip()) or None
+        if not parts or not all(str(part).strip() for part in parts):
+            # An empty name fell back to the joints' columns, silently reading other data.
+            raise ParameterError(f"{{{name}}} {brief(value)}: a column name is empty")
+        return tuple(str(part).strip() for part in parts)
 
-    return CsvLayout(time_column, names(left_column), names(right_column), delimiter, time_unit)
+    if time_column is not None and not time_column.strip():
+        raise ParameterError(f"{{time_column}} {brief(time_column)}: a column name is empty")
+    return CsvLayout(
+        time_column,
+        names(left_column, "left_column"),
+        names(right_column, "right_column"),
+        delimiter,
+        time_unit,
+    )

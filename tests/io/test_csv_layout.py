@@ -233,3 +233,32 @@ def test_a_column_read_for_two_roles_is_refused(
         f"error: {path}: column {column!r} is named for two roles (--time-column, "
         "--left-column, --right-column): each column is one wheel or the time\n"
     )
+
+
+@pytest.mark.parametrize(
+    ("arguments", "named"),
+    [
+        ({"left_column": ""}, "left_column"),
+        ({"left_column": "a,"}, "left_column"),
+        ({"right_column": ["r", " "]}, "right_column"),
+        ({"time_column": " "}, "time_column"),
+    ],
+)
+def test_an_empty_column_name_is_refused_not_replaced_by_the_joints(
+    arguments: dict[str, object], named: str
+) -> None:
+    # An empty name used to fall back to the joints' own columns: other data, read silently.
+    from diffbot.errors import ParameterError
+    from diffbot.io.recordings import csv_layout
+
+    with pytest.raises(ParameterError, match="a column name is empty") as caught:
+        csv_layout(**arguments)  # type: ignore[arg-type]
+    assert f"{named}=" in str(caught.value)
+
+
+def test_an_empty_column_option_is_one_error_line(tmp_path: Path) -> None:
+    path = tmp_path / "run.csv"
+    path.write_text("time,left_wheel_joint,right_wheel_joint\n0,0,0\n1,1,1\n", "utf-8")
+    result = CliRunner().invoke(main, ["odom", str(path), "--right-column", "b,"])
+    assert result.exit_code == 2
+    assert result.stderr == "error: --right-column 'b,': a column name is empty\n"
