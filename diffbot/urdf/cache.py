@@ -5,6 +5,12 @@ result is cached on disk keyed by the expanded URDF text: a second run on the sa
 only pays for the xacro expansion. ``DIFFBOT_CACHE_DIR`` moves the cache; ``DIFFBOT_NO_CACHE=1``
 turns it off.
 
+When an entry is missing, the parameters are derived in a short-lived child process: yourdfpy
+and trimesh (with SciPy and networkx behind it) weigh about 90 MB once imported, and that memory
+would otherwise stay with a command that then reads or writes a million samples. Any failure of
+the child (an error in the description above all) derives again in this process, so errors are
+raised here as they always were.
+
 An entry holds only JSON data, written atomically (a temporary file renamed into place). It is
 validated on read: its key, a digest of its fields and each field's type and domain must be
 right, or the entry is ignored and the parameters derived again; so a hand-edited or truncated
@@ -20,6 +26,8 @@ import json
 import math
 import os
 import stat
+import subprocess
+import sys
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -112,6 +120,46 @@ def _read_entry(path: Path) -> Any:
         return json.loads(stream.read(_MAX_ENTRY).decode("utf-8"))
 
 
+#: Longest a child process may take to derive the parameters (s) before this process does.
+_CHILD_TIMEOUT = 120.0
+
+
+def _derived_apart(
+    urdf: str, source: str, left_joint: JointChoice, right_joint: JointChoice
+) -> Derived | None:
+    """:func:`derive_text` run in a child process; None when it fails in any way."""
+    request = json.dumps([urdf, source, _key(left_joint), _key(right_joint)])
+    with contextlib.suppress(OSError, ValueError, subprocess.SubprocessError):
+        done = subprocess.run(
+            [sys.executable, "-c", "from diffbot.urdf.cache import _child; _child()"],
+            input=request.encode("utf-8"),
+            capture_output=True,
+            timeout=_CHILD_TIMEOUT,
+            check=False,
+        )
+        if done.returncode == 0:
+            return _from_entry(json.loads(done.stdout.decode("utf-8")))
+    return None
+
+
+def _child() -> None:
+    """The child's side of :func:`_derived_apart`: a request on stdin, the fields on stdout."""
+    urdf, source, left, right = json.loads(sys.stdin.buffer.read().decode("utf-8"))
+    try:
+        fields = derive_text(urdf, source, _joints(left), _joints(right))
+    except Exception:  # the parent derives again and raises the error itself
+        sys.exit(1)
+    json.dump(_fields(fields), sys.stdout)
+
+
+def _joints(value: Any) -> JointChoice:
+    return value if value is None or isinstance(value, str) else tuple(value)
+
+
+def _fields(fields: Derived) -> dict[str, Any]:
+    return {**dataclasses.asdict(fields), "warnings": list(fields.warnings)}
+
+
 def _key(joints: JointChoice) -> object:
     return joints if joints is None or isinstance(joints, str) else list(joints)
 
@@ -133,14 +181,15 @@ def cached_fields(
             cached = _from_entry(_unwrap(_read_entry(path), key))
             if cached is not None:
                 return cached
-    fields = derive_text(urdf, source, left_joint, right_joint)
+    apart = _derived_apart(urdf, source, left_joint, right_joint) if path is not None else None
+    fields = apart or derive_text(urdf, source, left_joint, right_joint)
     if path is not None:
         with _quiet_oserror():
             path.parent.mkdir(parents=True, exist_ok=True)
             fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".params-", suffix=".tmp")
             try:
                 with os.fdopen(fd, "w", encoding="utf-8") as out:
-                    data = {**dataclasses.asdict(fields), "warnings": list(fields.warnings)}
+                    data = _fields(fields)
                     json.dump({"key": key, "digest": _digest(key, data), "fields": data}, out)
                 os.replace(tmp, path)
             finally:

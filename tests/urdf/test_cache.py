@@ -72,3 +72,51 @@ def test_a_directory_where_an_entry_should_be_is_ignored(cache: Path, write: Wri
     entry.mkdir()
     assert diffbot.load_params(path) == first
     assert entry.is_dir()
+
+
+def run_python(code: str, cache: Path) -> str:
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "DIFFBOT_CACHE_DIR": str(cache)}
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
+def test_a_missing_entry_is_derived_apart_and_yourdfpy_stays_out_of_this_process(
+    cache: Path, write: Write
+) -> None:
+    # yourdfpy pulls in trimesh, SciPy and networkx: about 90 MB that a command reading a
+    # million samples afterwards would carry. Derived in a child, they never load here.
+    path = write("robot.urdf", two_wheel_urdf())
+    code = (
+        "import sys, diffbot\n"
+        f"p = diffbot.load_params({str(path)!r})\n"
+        "print(p.wheel_radius, p.wheel_separation, 'yourdfpy' in sys.modules, "
+        "'trimesh' in sys.modules)\n"
+    )
+    radius, separation, yourdfpy, trimesh = run_python(code, cache).split()
+    assert (float(radius), float(separation)) == (0.05, 0.2)
+    assert (yourdfpy, trimesh) == ("False", "False")
+    entry = json.loads(only_entry(cache).read_text(encoding="utf-8"))
+    assert entry["fields"]["wheel_radius"] == 0.05
+    from diffbot.urdf.wheels import derive_text
+
+    here = derive_text(path.read_text(encoding="utf-8"), str(path))
+    assert diffbot.load_params(path).wheel_separation == here.wheel_separation
+
+
+def test_a_description_the_child_cannot_derive_raises_its_error_here(
+    cache: Path, write: Write
+) -> None:
+    from diffbot.errors import DescriptionError
+
+    path = write("robot.urdf", two_wheel_urdf().replace("continuous", "fixed"))
+    with pytest.raises(DescriptionError) as caught:
+        diffbot.load_params(path)
+    assert "robot.urdf" in str(caught.value)
+    assert list(cache.glob("params-*.json")) == []
