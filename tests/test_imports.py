@@ -48,7 +48,9 @@ def loaded_by(args: list[str], cache: Path) -> set[str]:
 def warm_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A parameter cache that already holds the bundled robot (as after a first run)."""
     cache = tmp_path_factory.mktemp("cache")
-    assert "yourdfpy" in loaded_by(["params"], cache)  # the first run derives: yourdfpy loads
+    # The first run derives, in a child process: yourdfpy never loads in the command's own.
+    assert "yourdfpy" not in loaded_by(["params"], cache)
+    assert len(list(cache.glob("params-*.json"))) == 1
     return cache
 
 

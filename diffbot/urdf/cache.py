@@ -181,7 +181,12 @@ def cached_fields(
             cached = _from_entry(_unwrap(_read_entry(path), key))
             if cached is not None:
                 return cached
-    apart = _derived_apart(urdf, source, left_joint, right_joint) if path is not None else None
+    # Apart only while this process is still free of yourdfpy: once loaded, nothing is saved.
+    apart = (
+        _derived_apart(urdf, source, left_joint, right_joint)
+        if path is not None and "yourdfpy" not in sys.modules
+        else None
+    )
     fields = apart or derive_text(urdf, source, left_joint, right_joint)
     if path is not None:
         with _quiet_oserror():
