@@ -13,6 +13,7 @@ from diffbot.commands.options import (
     POSITIVE,
     FiniteFloat,
     RobotOptions,
+    encoder_noise_options,
     quiet_option,
     robot_options,
     true_geometry_options,
@@ -278,19 +279,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
     metavar="N",
     help="Encoder resolution (counts per revolution): quantise the reported wheel angles.",
 )
-@click.option(
-    "--noise",
-    type=NON_NEGATIVE,
-    default=0.0,
-    metavar="STD",
-    help="Standard deviation of Gaussian noise on the reported wheel angles (rad).",
-)
-@click.option(
-    "--seed",
-    type=click.IntRange(min=0, max=2**64 - 1),
-    metavar="N",
-    help="Seed of the noise, for reproducible runs.",
-)
+@encoder_noise_options
 @true_geometry_options(
     "The real left and right wheel radii (m): ground_truth/odom moves by them, while "
     "joint_states report the angles the wheels turned.",

@@ -23,7 +23,7 @@ import click
 from diffbot.errors import EXIT_BAD_INPUT
 from diffbot.io.outputs import input_clash
 from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
-from diffbot.numbers import MAX_PLAN_DURATION, WHEEL_SIZE_RANGE
+from diffbot.numbers import MAX_NOISE, MAX_PLAN_DURATION, WHEEL_SIZE_RANGE
 from diffbot.urdf import load_params
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -598,6 +598,24 @@ def true_geometry_options(radii_help: str, separation_help: str) -> Callable[[F]
         )(command)
 
     return decorate
+
+
+def encoder_noise_options(command: F) -> F:
+    """``--noise STD`` (rad, at most a revolution) and ``--seed N``: the simulated encoders'
+    Gaussian noise, for ``simulate`` and ``node robot`` alike."""
+    command = click.option(
+        "--seed",
+        type=click.IntRange(min=0, max=2**64 - 1),
+        metavar="N",
+        help="Seed of the noise (0 to 2**64-1), for reproducible runs.",
+    )(command)
+    return click.option(
+        "--noise",
+        type=FiniteFloat(0.0, maximum=MAX_NOISE),
+        default=0.0,
+        metavar="STD",
+        help="Standard deviation of Gaussian noise on the wheel angles (rad), at most 2 pi.",
+    )(command)
 
 
 def quiet_option(command: F) -> F:

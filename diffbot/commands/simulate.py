@@ -18,6 +18,7 @@ from diffbot.commands.options import (
     OutOptions,
     RobotOptions,
     emit_json,
+    encoder_noise_options,
     fail,
     out_options,
     quiet_option,
@@ -37,7 +38,6 @@ from diffbot.formats.text import fmt
 from diffbot.io.bag import JointStatesBagWriter
 from diffbot.io.csvfile import joint_states_header, joint_states_lines
 from diffbot.io.outputs import atomic_text
-from diffbot.numbers import MAX_NOISE
 from diffbot.samples import ns_from_seconds
 from diffbot.simulation import (
     MAX_RATE,
@@ -155,19 +155,7 @@ def _write(
     metavar="N",
     help="Encoder resolution (counts per revolution, up to 2**32): quantise the wheel angles.",
 )
-@click.option(
-    "--noise",
-    type=FiniteFloat(0.0, maximum=MAX_NOISE),
-    default=0.0,
-    metavar="STD",
-    help="Standard deviation of Gaussian noise on the wheel angles (rad), at most 2 pi.",
-)
-@click.option(
-    "--seed",
-    type=click.IntRange(min=0, max=2**64 - 1),
-    metavar="N",
-    help="Seed of the noise (0 to 2**64-1), for reproducible runs.",
-)
+@encoder_noise_options
 @click.option(
     "--start",
     "start_ns",

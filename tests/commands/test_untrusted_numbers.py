@@ -302,10 +302,11 @@ def test_a_true_robot_of_no_real_size_is_refused(option: str, value: str, fragme
     assert_clean_error(run("simulate", "straight 1", option, value), option, fragment)
 
 
+@pytest.mark.parametrize("command", [("simulate", "straight 1"), ("node", "robot")])
 @pytest.mark.parametrize("value", ["1e308", "7", "-1"])
-def test_encoder_noise_beyond_a_revolution_is_refused(value: str) -> None:
+def test_encoder_noise_beyond_a_revolution_is_refused(command: tuple[str, str], value: str) -> None:
     # Noise of more than a revolution says nothing of the angle (1e308 wrote angles of 1e307).
-    result = run("simulate", "straight 1", "--noise", value)
+    result = run(*command, "--noise", value)
     assert_clean_error(result, "--noise", "6.28319" if value != "-1" else ">= 0")
 
 
