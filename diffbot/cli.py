@@ -64,6 +64,8 @@ FLAGS = {
     "delimiter": "--delimiter",
     "time_unit": "--time-unit",
     "time_offset": "--time-offset",
+    "dask_address": "--dask",
+    "dask_timeout": "--dask-timeout",
 }
 
 

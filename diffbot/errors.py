@@ -43,6 +43,8 @@ PARAMETERS: Mapping[str, str] = {
     "delimiter": "delimiter=",
     "time_unit": "time_unit=",
     "time_offset": "time_offset=",
+    "dask_address": "dask_address=",
+    "dask_timeout": "dask_timeout=",
 }
 
 __all__ = [

@@ -330,21 +330,23 @@ def dask_address(address: str) -> str:
         scheme, rest = "tcp", address
     if scheme not in DASK_SCHEMES:
         raise RecordingError(
-            f"--dask {shown}: unknown scheme {brief(scheme)} (expected {', '.join(DASK_SCHEMES)})"
+            f"{{dask_address}} {shown}: unknown scheme {brief(scheme)} "
+            f"(expected {', '.join(DASK_SCHEMES)})"
         )
     if scheme == "inproc":
         if not rest or any(c.isspace() for c in rest):
-            raise RecordingError(f"--dask {shown}: an inproc address names HOST/PID/N")
+            raise RecordingError(f"{{dask_address}} {shown}: an inproc address names HOST/PID/N")
         return address
     host, colon, port_text = rest.rpartition(":")
     if not colon or "]" in port_text:  # no port; an IPv6 address in brackets has colons
         host, port_text = rest, str(DASK_DEFAULT_PORT)
     if not _HOST.fullmatch(host):
         raise RecordingError(
-            f"--dask {shown}: expected {scheme}://HOST:PORT, the host is missing or malformed"
+            f"{{dask_address}} {shown}: expected {scheme}://HOST:PORT, "
+            "the host is missing or malformed"
         )
     if not port_text.isdigit() or not 1 <= int(port_text[:6]) <= 65535:
-        raise RecordingError(f"--dask {shown}: the port must be a number from 1 to 65535")
+        raise RecordingError(f"{{dask_address}} {shown}: the port must be a number from 1 to 65535")
     return f"{scheme}://{host}:{int(port_text)}"
 
 
@@ -407,7 +409,7 @@ async def _dask_results(
         if isinstance(err, TimeoutError):
             raise RecordingError(
                 f"the Dask scheduler at {address} did not answer within {fmt(timeout)} s "
-                "(--dask-timeout)"
+                "({dask_timeout})"
             ) from None
         if isinstance(err, Exception):
             raise RecordingError(
