@@ -3,7 +3,8 @@ against a ground truth, and the results in the forms a robot's configuration tak
 
 - :mod:`~diffbot.calibration.umbmark`: Borenstein and Feng's square test.
 - :mod:`~diffbot.calibration.fit`: least squares over windows of a recording (SciPy, a
-  dependency of the base install).
+  dependency of the base install); :mod:`~diffbot.calibration.fit_recordings` the same over
+  recordings as read from files, one at a time.
 - :mod:`~diffbot.calibration.results`: multipliers and xacro arguments.
 - :mod:`~diffbot.calibration.apply`: calibrated copies of a controllers YAML or a description.
 - :mod:`~diffbot.calibration.truth`: the ground truth of a simulated robot.
@@ -14,7 +15,8 @@ The derivations are in ``docs/calibration.md``.
 from __future__ import annotations
 
 from diffbot.calibration.apply import ApplyResult, apply_to, calibrated_path
-from diffbot.calibration.fit import DEFAULT_WINDOW, FitResult, fit, fit_recording
+from diffbot.calibration.fit import DEFAULT_WINDOW, FitResult, fit
+from diffbot.calibration.fit_recordings import fit_recording
 from diffbot.calibration.results import (
     WheelGeometry,
     XacroArguments,

@@ -11,28 +11,25 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from diffbot.calibration.checks import positive, vector
 from diffbot.errors import CalibrationError, ParameterError
 from diffbot.kinematics import DiffDriveParams, norm_angle
-from diffbot.samples import INT64, NS_PER_S, ColumnSamples, Recording
+from diffbot.samples import NS_PER_S
 
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
-    from diffbot.io.poses import PoseTrack
 
 __all__ = [
     "DEFAULT_WINDOW",
     "SCIPY_INSTALL_HINT",
     "FitResult",
     "fit",
-    "fit_recording",
-    "fit_recordings",
     "require_scipy",
 ]
 
@@ -119,13 +116,13 @@ class FitResult:
     windows: int
 
 
-def _increasing(name: str, stamps: NDArray[np.float64]) -> None:
+def check_increasing(name: str, stamps: NDArray[np.float64]) -> None:
     # One comparison array (a byte a sample), not the differences (eight).
     if stamps.size < 2 or not (stamps[1:] > stamps[:-1]).all():
         raise ParameterError(f"{name} must be at least two strictly increasing times (s)")
 
 
-def _unwrapped(theta: NDArray[np.float64]) -> NDArray[np.float64]:
+def unwrapped(theta: NDArray[np.float64]) -> NDArray[np.float64]:
     """``numpy.unwrap(theta)``, equal value for value, worked out :data:`_PASS` samples at a
     time: its differences, corrections and their running sum are never as long as the track."""
     import numpy as np
@@ -151,7 +148,7 @@ def _unwrapped(theta: NDArray[np.float64]) -> NDArray[np.float64]:
     return out
 
 
-def _seconds(stamps_ns: NDArray[np.int64], origin: int) -> NDArray[np.float64]:
+def seconds_since(stamps_ns: NDArray[np.int64], origin: int) -> NDArray[np.float64]:
     """``(stamps_ns - origin) / NS_PER_S``, value for value, with no int64 array as long as
     the stamps (the caller has checked that the differences fit in int64)."""
     import numpy as np
@@ -162,7 +159,7 @@ def _seconds(stamps_ns: NDArray[np.int64], origin: int) -> NDArray[np.float64]:
     return out
 
 
-def _window_bounds(
+def window_bounds(
     stamps: NDArray[np.float64],
     window: int | None,
     window_duration: float | None,
@@ -174,7 +171,7 @@ def _window_bounds(
 
     if segments:
         spans = [(a, b) for a, b in itertools.pairwise([0, *segments, stamps.size]) if b - a >= 2]
-        parts = [_window_bounds(stamps[a:b], window, window_duration) for a, b in spans]
+        parts = [window_bounds(stamps[a:b], window, window_duration) for a, b in spans]
         offsets = [a for a, _ in spans]
         return (
             np.concatenate([p[0] + a for p, a in zip(parts, offsets, strict=True)]),
@@ -346,22 +343,22 @@ def fit(
             f"truth_stamps, truth_x, truth_y and truth_theta must have equal lengths, got "
             f"{tt.size}, {tx.size}, {ty.size} and {tth.size}"
         )
-    _increasing("stamps", t)
-    _increasing("truth_stamps", tt)
-    weight, limit = _weights(params, heading_weight, max_relative_stderr)
+    check_increasing("stamps", t)
+    check_increasing("truth_stamps", tt)
+    weight, limit = weights(params, heading_weight, max_relative_stderr)
 
     inside = (t >= tt[0]) & (t <= tt[-1])
     if not inside.all():
         t, left, right = t[inside], left[inside], right[inside]
-    _enough_samples(t.size, f" ({tt[0]:.6g} s to {tt[-1]:.6g} s)")
-    starts, ends = _window_bounds(t, window, window_duration, segments if inside.all() else ())
-    index, first, last = _bound_samples(starts, ends)
+    enough_samples(t.size, f" ({tt[0]:.6g} s to {tt[-1]:.6g} s)")
+    starts, ends = window_bounds(t, window, window_duration, segments if inside.all() else ())
+    index, first, last = bound_samples(starts, ends)
     at = t[index]
-    truth = (np.interp(at, tt, tx), np.interp(at, tt, ty), np.interp(at, tt, _unwrapped(tth)))
-    return _solve(params, left, right, index, first, last, truth, weight, limit)
+    truth = (np.interp(at, tt, tx), np.interp(at, tt, ty), np.interp(at, tt, unwrapped(tth)))
+    return solve(params, left, right, index, first, last, truth, weight, limit)
 
 
-def _weights(
+def weights(
     params: DiffDriveParams, heading_weight: float | None, max_relative_stderr: float
 ) -> tuple[float, float]:
     """The heading weight (m/rad) and the largest relative standard error, checked."""
@@ -373,14 +370,14 @@ def _weights(
     return weight, positive("max_relative_stderr", max_relative_stderr)
 
 
-def _enough_samples(count: int, span: str = "") -> None:
+def enough_samples(count: int, span: str = "") -> None:
     if count < 3:
         raise CalibrationError(
             f"only {count} wheel samples fall within the ground truth's time span{span}"
         )
 
 
-def _bound_samples(
+def bound_samples(
     starts: NDArray[np.intp], ends: NDArray[np.intp]
 ) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp]]:
     """The samples at the windows' bounds, in order (``index``; the poses are needed there
@@ -400,7 +397,7 @@ def _bound_samples(
     return index, np.searchsorted(index, starts), np.searchsorted(index, ends)
 
 
-def _solve(
+def solve(
     params: DiffDriveParams,
     left: NDArray[np.float64],
     right: NDArray[np.float64],
@@ -412,7 +409,7 @@ def _solve(
     limit: float,
 ) -> FitResult:
     """The least-squares fit once the problem is set: the wheel angles, the samples at the
-    windows' bounds (:func:`_bound_samples`) and the truth's x, y and unwrapped heading there.
+    windows' bounds (:func:`bound_samples`) and the truth's x, y and unwrapped heading there.
     """
     import numpy as np
 
@@ -491,228 +488,3 @@ def _solve(
         heading_rms_after=heading_after,
         windows=int(first.size),
     )
-
-
-def _wheel_series(
-    recording: Recording, params: DiffDriveParams
-) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
-    """Stamps (ns) and the two wheel joints' angles (rad) of the samples that hold both: views
-    of a CSV's columns when every sample does, copies otherwise."""
-    import numpy as np
-
-    samples = recording.samples
-    if isinstance(samples, ColumnSamples):
-        columns = (
-            np.frombuffer(samples.stamps_ns, dtype=np.int64),
-            np.frombuffer(samples.left, dtype=np.float64),
-            np.frombuffer(samples.right, dtype=np.float64),
-        )
-        both = np.frombuffer(samples.present, dtype=np.uint8) == 3
-        if both.all():
-            return columns
-        return columns[0][both], columns[1][both], columns[2][both]
-    stamps: list[int] = []
-    left: list[float] = []
-    right: list[float] = []
-    for stamp_ns, names, positions in samples:
-        index = {name: k for k, name in enumerate(names)}
-        if params.left_joint in index and params.right_joint in index:
-            stamps.append(stamp_ns)
-            left.append(positions[index[params.left_joint]])
-            right.append(positions[index[params.right_joint]])
-    return np.array(stamps, dtype=np.int64), np.array(left), np.array(right)
-
-
-def fit_recording(
-    recording: Recording,
-    truth: PoseTrack,
-    params: DiffDriveParams,
-    *,
-    time_offset: float | str = 0.0,
-    **options: Any,
-) -> FitResult:
-    """:func:`fit` of a recording of wheel joint states against a ground-truth pose track.
-
-    Samples without both wheel joints are left out; stamps become seconds from the earlier of
-    the two first stamps, so that stamps since 1970 keep their precision.
-
-    Args:
-        recording: the wheel joint samples (:func:`diffbot.recordings.read_recording`).
-        truth: the ground truth (:func:`diffbot.io.poses.read_pose_track`).
-        params: the nominal robot.
-        time_offset: how late the wheel stamps are against the truth (s), or ``"auto"`` to
-            find it by aligning heading rates (:func:`diffbot.conditioning.
-            estimate_time_offset`).
-        **options: ``window``, ``window_duration``, ``heading_weight``,
-            ``max_relative_stderr``, as for :func:`fit`.
-
-    Raises:
-        CalibrationError: fewer than two samples with both wheels, or what :func:`fit` raises.
-    """
-    result, _ = fit_recordings([(recording, truth)], params, time_offset=time_offset, **options)
-    return result
-
-
-@dataclass(frozen=True)
-class _Part:
-    """What the fit keeps of one recording: its wheel angles, its windows' bounds (sample
-    indices within it) and the truth's x, y (m) and unwrapped heading (rad) at those."""
-
-    left: NDArray[np.float64]
-    right: NDArray[np.float64]
-    starts: NDArray[np.intp]
-    ends: NDArray[np.intp]
-    truth_at: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
-
-
-def fit_recordings(
-    pairs: Iterable[tuple[Recording, PoseTrack]],
-    params: DiffDriveParams,
-    *,
-    time_offset: float | str = 0.0,
-    window: int | None = None,
-    window_duration: float | None = None,
-    heading_weight: float | None = None,
-    max_relative_stderr: float = 0.01,
-) -> tuple[FitResult, list[float]]:
-    """:func:`fit` over several recordings at once, each against its own ground truth.
-
-    Each recording's windows stay within it; the truth is interpolated at its wheel stamps once
-    they are moved back by the time offset. The recordings are taken one at a time and only
-    what the fit needs is kept of each (the wheel angles, the truth at the windows' bounds):
-    given as a generator that reads them, a recording and its truth are let go before the next
-    one is read, and SciPy is loaded only then.
-
-    Args:
-        pairs: the recordings and their ground truths.
-        params: the nominal robot.
-        time_offset: how late the wheel stamps are (s), the same for all, or ``"auto"`` to find
-            it for each recording by aligning heading rates.
-        window: as for :func:`fit`.
-        window_duration: as for :func:`fit`.
-        heading_weight: as for :func:`fit`.
-        max_relative_stderr: as for :func:`fit`.
-
-    Returns:
-        The fit, and the time offset (s) used for each recording.
-
-    Raises:
-        CalibrationError: no recording, fewer than two samples with both wheels in one, stamps
-            that cannot be aligned, or what :func:`fit` raises.
-    """
-    import numpy as np
-
-    require_scipy()
-    if isinstance(time_offset, str) and time_offset != "auto":
-        raise ParameterError(f"time_offset must be seconds or 'auto', got {time_offset!r}")
-    weight, limit = _weights(params, heading_weight, max_relative_stderr)
-    if window is not None and window_duration is not None:
-        raise ParameterError("give window or window_duration, not both")
-    parts: list[_Part] = []
-    offsets: list[float] = []
-    clock = 0.0
-    remaining = iter(pairs)
-    while (
-        taken := _part(remaining, params, time_offset, clock, window, window_duration)
-    ) is not None:
-        part, offset, clock = taken
-        parts.append(part)
-        offsets.append(offset)
-    if not parts:
-        raise CalibrationError("no recording to fit")
-    _enough_samples(sum(part.left.size for part in parts))
-    # One recording's columns are used as they are; several are joined one at a time.
-    sizes = np.cumsum([0] + [part.left.size for part in parts])
-    starts = np.concatenate([p.starts + n for p, n in zip(parts, sizes, strict=False)])
-    ends = np.concatenate([p.ends + n for p, n in zip(parts, sizes, strict=False)])
-    index, first, last = _bound_samples(starts, ends)
-    del starts, ends
-    truth_at = (
-        np.concatenate([p.truth_at[0] for p in parts]),
-        np.concatenate([p.truth_at[1] for p in parts]),
-        np.concatenate([p.truth_at[2] for p in parts]),
-    )
-    left = parts[0].left if len(parts) == 1 else np.concatenate([p.left for p in parts])
-    right = parts[0].right if len(parts) == 1 else np.concatenate([p.right for p in parts])
-    del parts
-    result = _solve(params, left, right, index, first, last, truth_at, weight, limit)
-    return result, offsets
-
-
-def _part(
-    pairs: Iterator[tuple[Recording, PoseTrack]],
-    params: DiffDriveParams,
-    time_offset: float | str,
-    clock: float,
-    window: int | None,
-    window_duration: float | None,
-) -> tuple[_Part, float, float] | None:
-    """The next recording reduced to what the fit keeps, the time offset used, and where the
-    next recording's clock starts (1 s after this one ends: no window spans two recordings);
-    None when there is none left.
-
-    The pair is taken from the iterator here, so that nothing else holds a generator's
-    recording and truth: each array is let go as soon as it has served. No array as long as
-    the recording is kept but the wheel angles, and few are made.
-    """
-    import numpy as np
-
-    from diffbot.conditioning import estimate_time_offset
-
-    pair = next(pairs, None)
-    if pair is None:
-        return None
-    recording, truth = pair
-    del pair
-    source, truth_source = recording.source, truth.source
-    stamps_ns, left, right = _wheel_series(recording, params)
-    del recording
-    if stamps_ns.size < 2:
-        raise CalibrationError(
-            f"{source}: {stamps_ns.size} samples hold both wheel joints "
-            f"({params.left_joint!r}, {params.right_joint!r}): at least two are needed"
-        )
-    origin = min(int(stamps_ns[0]), int(truth.stamps_ns[0]))
-    end = max(int(stamps_ns[-1]), int(truth.stamps_ns[-1]))
-    if end - origin >= INT64:  # the int64 differences below would wrap around
-        raise CalibrationError(
-            f"{source} and {truth_source} lie {(end - origin) / NS_PER_S:.3g} s "
-            "apart: their times cannot be the same clock's"
-        )
-    t = _seconds(stamps_ns, origin)
-    del stamps_ns
-    tt = _seconds(truth.stamps_ns, origin)
-    tx, ty, tth = truth.x, truth.y, truth.theta
-    del truth
-    if time_offset == "auto":
-        try:
-            offset = estimate_time_offset(t, left, right, tt, tth, params)
-        except ParameterError as err:
-            # The template, not str(err): its parameter markers stay for the caller to spell.
-            raise CalibrationError(f"{source}: {err.template}") from None
-    else:
-        offset = float(time_offset)
-    t -= offset
-    inside = (t >= tt[0]) & (t <= tt[-1])
-    if not inside.all():
-        t, left, right = t[inside], left[inside], right[inside]
-    del inside
-    if t.size < 2:
-        raise CalibrationError(
-            f"{source}: only {t.size} wheel samples fall within the ground truth's time span"
-        )
-    shift = clock - t[0]
-    shifted = t + shift
-    _increasing("stamps", shifted)
-    starts, ends = _window_bounds(shifted, window, window_duration)
-    clock = float(shifted[-1]) + 1.0
-    del shifted
-    # The truth is needed at the windows' bounds only.
-    at = t[np.unique(np.concatenate((starts, ends)))]
-    del t
-    x_at = np.interp(at, tt, tx)
-    del tx
-    y_at = np.interp(at, tt, ty)
-    del ty
-    truth_at = (x_at, y_at, np.interp(at, tt, _unwrapped(tth)))
-    return _Part(left, right, starts, ends, truth_at), float(offset), clock

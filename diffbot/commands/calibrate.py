@@ -380,7 +380,8 @@ def fit(
       diffbot simulate --example A --true-separation 0.138 -o run_bag --bag && \\
           diffbot calibrate fit run_bag --truth-topic /ground_truth --json
     """
-    from diffbot.calibration.fit import fit_recordings, require_scipy
+    from diffbot.calibration.fit import require_scipy
+    from diffbot.calibration.fit_recordings import fit_recordings
     from diffbot.io.poses import read_pose_track
 
     require_scipy()

@@ -11,7 +11,7 @@ from click.testing import CliRunner
 from pioneer import COUNTS_PER_REV, PIONEER, RADIUS, SEPARATION, counts, truth, urdf
 from wheel_motion import Segment
 
-from diffbot.calibration.fit import fit_recordings
+from diffbot.calibration.fit_recordings import fit_recordings
 from diffbot.cli import FLAGS, main
 from diffbot.conditioning import Conditioner, Conditioning, estimate_time_offset
 from diffbot.errors import ParameterError
