@@ -24,6 +24,7 @@ from xml.etree import ElementTree
 from diffbot.errors import DescriptionError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.urdf.cache import cached_fields
+from diffbot.urdf.shipped import BUNDLED_LABEL, shipped_fields
 from diffbot.urdf.sources import (
     Overriding,
     find_controller,
@@ -105,7 +106,7 @@ def load_params(
     given = Overriding(left_joint, right_joint, wheel_radius, wheel_separation, max_wheel_speed)
     if path is None and None not in (left_joint, right_joint, wheel_radius, wheel_separation):
         return from_options(given, controllers, controller, args, no_controllers)
-    label = str(path) if path is not None else "bundled diffbot"
+    label = str(path) if path is not None else BUNDLED_LABEL
     expansion = expand(path, args, packages, trust=trust)
     root = ElementTree.fromstring(expansion.urdf)
     warnings = list(expansion.warnings)
@@ -135,7 +136,8 @@ def load_params(
         warnings += [f"controller {config.name!r}: {note}" for note in config.warnings]
 
     def derive(left: JointChoice, right: JointChoice) -> Derived:
-        return cached_fields(expansion.urdf, label, left, right)
+        shipped = shipped_fields(expansion.urdf, label, left, right)
+        return shipped or cached_fields(expansion.urdf, label, left, right)
 
     if root.find("link") is None and config is not None:
         params = from_controller(config, root, label, warnings, given)

@@ -35,7 +35,7 @@ from typing import Any
 from diffbot.urdf import tree, wheels
 from diffbot.urdf.wheels import Derived, JointChoice, derive_text
 
-__all__ = ["cached_fields"]
+__all__ = ["cached_fields", "fields_json", "from_entry"]
 
 _CACHE_VERSION = "2"
 #: JSON types of each annotation used by :class:`Derived` (tuples are stored as lists).
@@ -66,7 +66,7 @@ def _quiet_oserror() -> contextlib.suppress:
     return contextlib.suppress(OSError, ValueError, TypeError, KeyError, RecursionError)
 
 
-def _from_entry(data: Any) -> Derived | None:
+def from_entry(data: Any) -> Derived | None:
     """The record a cache entry holds, or None when it is not exactly a well-typed one."""
     if not isinstance(data, dict) or set(data) != set(_FIELD_TYPES):
         return None
@@ -138,7 +138,7 @@ def _derived_apart(
             check=False,
         )
         if done.returncode == 0:
-            return _from_entry(json.loads(done.stdout.decode("utf-8")))
+            return from_entry(json.loads(done.stdout.decode("utf-8")))
     return None
 
 
@@ -149,14 +149,15 @@ def _child() -> None:
         fields = derive_text(urdf, source, _joints(left), _joints(right))
     except Exception:  # the parent derives again and raises the error itself
         sys.exit(1)
-    json.dump(_fields(fields), sys.stdout)
+    json.dump(fields_json(fields), sys.stdout)
 
 
 def _joints(value: Any) -> JointChoice:
     return value if value is None or isinstance(value, str) else tuple(value)
 
 
-def _fields(fields: Derived) -> dict[str, Any]:
+def fields_json(fields: Derived) -> dict[str, Any]:
+    """The JSON form of derived fields (tuples as lists), as an entry stores them."""
     return {**dataclasses.asdict(fields), "warnings": list(fields.warnings)}
 
 
@@ -178,7 +179,7 @@ def cached_fields(
     path = directory / f"params-{key}.json" if directory else None
     if path is not None:
         with _quiet_oserror():
-            cached = _from_entry(_unwrap(_read_entry(path), key))
+            cached = from_entry(_unwrap(_read_entry(path), key))
             if cached is not None:
                 return cached
     # Apart only while this process is still free of yourdfpy: once loaded, nothing is saved.
@@ -194,7 +195,7 @@ def cached_fields(
             fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".params-", suffix=".tmp")
             try:
                 with os.fdopen(fd, "w", encoding="utf-8") as out:
-                    data = _fields(fields)
+                    data = fields_json(fields)
                     json.dump({"key": key, "digest": _digest(key, data), "fields": data}, out)
                 os.replace(tmp, path)
             finally:
