@@ -28,6 +28,7 @@ from diffbot.commands.plan_options import check_topic
 from diffbot.commands.recording_options import (
     RecordingOptions,
     recording_options,
+    robot_label,
 )
 from diffbot.errors import CalibrationError
 from diffbot.formats.calibration import calibration_data, calibration_lines
@@ -389,6 +390,7 @@ def fit(
     rest, robot, params = _robot(robot, tokens)
     if not rest:
         fail("give an INPUT: the recording of wheel joint positions")
+    recording.check_robot(robot, params)
     if truth and len(truth) != len(rest):
         fail(
             f"give --truth once per INPUT ({len(rest)} INPUT{'s' if len(rest) != 1 else ''}, "
@@ -422,4 +424,6 @@ def fit(
     if offset == "auto" and not output.as_json:
         for source, found in zip(rest, offsets, strict=True):
             click.echo(f"time offset {fmt(found, 4)} s ({source}: heading rates aligned)")
-    _report(result, params, output, robot, {"time_offsets": offsets})
+    if not output.as_json:
+        click.echo(f"{'robot':<13} {robot_label(robot)}")
+    _report(result, params, output, robot, {"time_offsets": offsets, "robot": robot_label(robot)})

@@ -21,6 +21,7 @@ from diffbot.commands.recording_options import (
     RecordingOptions,
     conditioning_lines,
     recording_options,
+    robot_label,
     warn_conditioning,
     warn_notes,
 )
@@ -233,6 +234,7 @@ def odom(
         for source in sources:  # all of them before any output is written
             note_input(source)
         p = robot.load()
+        recording.check_robot(robot, p)
         outputs = _outputs(sources, out)
         tasks = [
             OdometryTask(
@@ -240,7 +242,14 @@ def odom(
             )
             for source, output in zip(sources, outputs, strict=True)
         ]
-        _many(tasks, jobs, (dask_address, dask_timeout), quiet=quiet, as_json=as_json)
+        _many(
+            tasks,
+            jobs,
+            (dask_address, dask_timeout),
+            quiet=quiet,
+            as_json=as_json,
+            robot=robot_label(robot),
+        )
         return
     source = sources[0]
     from_stdin = source == "-"
@@ -249,15 +258,16 @@ def odom(
     inputs = [Path(path) for path in (None if from_stdin else source, robot.robot) if path]
     out.path(inputs)
     p = robot.load()
+    recording.check_robot(robot, p)
     out_path = out.path([*inputs, *(Path(path) for path in p.description_files)])
     output = None if out_path is None else str(out_path)
     task = OdometryTask(
         source, p, topic, output, out.as_bag, out.force, conditioning, layout, reference
     )
-    _one(task, quiet, as_json, out)
+    _one(task, quiet, as_json, out, robot_label(robot))
 
 
-def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> None:
+def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot: str) -> None:
     """One input: the detailed summary."""
     from diffbot.fleet import run_task
     from diffbot.io.bag import is_bag
@@ -286,7 +296,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
     warn_conditioning(run.conditioning, source)
     pose = summary.final_pose
     if as_json:
-        opt.emit_json(_summary(result) | {"output": out.out})
+        opt.emit_json(_summary(result) | {"output": out.out, "robot": robot})
         _exit_if_implausible(result)
         return
     chosen = " (its only JointState topic)" if run.topic_chosen else ""
@@ -294,6 +304,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
     kind = "CSV" if run.kind == "csv" else f"{bag}, topic {run.topic}{chosen}, {run.clock} stamps"
     rows = [
         ("input", f"{source} ({kind})"),
+        ("robot", robot),
         ("samples", f"{summary.samples} used, {skipped_total} skipped"),
         ("duration", f"{fmt(summary.duration)} s"),
         ("distance", f"{fmt(summary.distance)} m"),
@@ -308,7 +319,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions) -> Non
     if out.out is not None:
         what = "rosbag2: /odom, /tf" if out.as_bag else "CSV"
         rows.append(("output", f"{out.out} ({what}, {result.poses} poses)"))
-    rows[1:1] = conditioning_lines(run.conditioning)
+    rows[2:2] = conditioning_lines(run.conditioning)
     if result.reference is not None:
         rows.append(("reference", _reference_text(result.reference)))
     for label, value in rows:
@@ -360,6 +371,7 @@ def _many(
     *,
     quiet: bool,
     as_json: bool,
+    robot: str,
 ) -> None:
     """Several inputs: one row (or JSON line) each; exit 1 when any failed."""
     from diffbot.fleet import run_tasks
@@ -378,6 +390,7 @@ def _many(
     # The inputs' column as wide as the longest name, so the other columns stay aligned.
     width = max([24, *(len(result.task.input) for result in results)])
     if not as_json:
+        click.echo(f"robot {robot}")
         click.echo(
             f"{'input':<{width}} {'samples':>9} {'skipped':>8} {'distance m':>11} final pose"
         )
@@ -395,7 +408,7 @@ def _many(
         warn_notes(result.run.notes, result.task.input)
         warn_conditioning(result.run.conditioning, result.task.input)
         implausible += result.run.conditioning.implausible_steps > 0
-        data = _summary(result)
+        data = _summary(result) | {"robot": robot}
         if as_json:
             click.echo(json.dumps(data, allow_nan=False))
             continue

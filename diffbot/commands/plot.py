@@ -22,6 +22,7 @@ from diffbot.commands.plan_options import PlanOptions, plan_arguments
 from diffbot.commands.recording_options import (
     RecordingOptions,
     recording_options,
+    robot_label,
 )
 from diffbot.formats.text import fmt
 from diffbot.io.outputs import output_target
@@ -69,9 +70,12 @@ def _recordings_only(
     given = [robot.robot, robot.controllers, *odom_inputs]
     inputs = _prepared(given, output, force, show)
     differences: list[tuple[str, list[float], list[float]]] = []
-    recordings = _odometry(odom_inputs, robot.load(), topic, options, reference, differences)
+    params = robot.load()
+    options.check_robot(robot, params)
+    recordings = _odometry(odom_inputs, params, topic, options, reference, differences)
     figure = plotting.recordings_figure(recordings, differences=differences, window=show)
     references = {label for label, _, _ in differences}
+    click.echo(f"robot {robot_label(robot)}")
     for label, xs, ys in recordings:
         what = "ends" if label in references else "odometry ends"
         click.echo(f"{label}: {what} at x {fmt(xs[-1], 4)} m, y {fmt(ys[-1], 4)} m")
@@ -275,6 +279,9 @@ def plot(
         warn("a ramped plan is drawn at its cruise speeds: the ramps are not drawn")
         made = made.steps
     p = made
+    if odom_inputs:
+        recording.check_robot(robot, params)
+        click.echo(f"robot {robot_label(robot)}")
     recordings = _odometry(odom_inputs, params, topic, recording, reference)
     figure = plotting.plan_figure(p, params, recordings=recordings, window=show)
     for label, xs, ys in recordings:

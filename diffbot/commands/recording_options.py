@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from diffbot.commands.options import F, FiniteFloat, option_group, warn
+from diffbot.commands.options import F, FiniteFloat, RobotOptions, fail, option_group, warn
 from diffbot.formats.text import fmt
 
 if TYPE_CHECKING:
@@ -23,6 +23,7 @@ __all__ = [
     "RecordingOptions",
     "conditioning_lines",
     "recording_options",
+    "robot_label",
     "warn_conditioning",
     "warn_notes",
 ]
@@ -72,6 +73,37 @@ class RecordingOptions:
         if recording.conditioning is not None:
             warn_conditioning(recording.conditioning, source)
         return recording
+
+    def check_robot(self, robot: RobotOptions, params: DiffDriveParams) -> None:
+        """Refuse wheel columns that name none of the robot's joints when no robot is given.
+
+        Columns chosen by option are read with the robot's geometry whatever they are called:
+        with the bundled robot taken by default, another robot's wheels would give a path of
+        the wrong size and turns of the wrong angle, and nothing would say so.
+        """
+        if robot_label(robot) != "bundled" or None not in (
+            robot.wheel_radius,
+            robot.wheel_separation,
+        ):
+            return
+        named = [
+            name.strip()
+            for option in (self.left_column, self.right_column)
+            if option
+            for name in option.split(",")
+        ]
+        joints = (*params.left_joints, *params.right_joints)
+        if not named or any(
+            name == joint or name.endswith(f"/{joint}/position")
+            for name in named
+            for joint in joints
+        ):
+            return
+        fail(
+            f"the wheel columns {', '.join(repr(n) for n in named)} name none of the bundled "
+            f"robot's wheel joints ({', '.join(joints)}): give the robot that recorded them "
+            "(--robot PATH), or its --wheel-radius and --wheel-separation"
+        )
 
     def layout(self) -> CsvLayout:
         """The CSV options as a :class:`~diffbot.io.csv_chunks.CsvLayout`."""
@@ -205,3 +237,12 @@ def _cause(report: ConditioningReport) -> str:
     if report.wrap is None:
         return "a counter that wraps? --wrap; or --counts-per-rev too small"
     return "a jump in the counts, or --counts-per-rev too small"
+
+
+def robot_label(robot: RobotOptions) -> str:
+    """Which robot a result used, as ``--json``'s ``robot`` says it: the description's path,
+    ``"bundled"``, or ``"options"`` when the joint and geometry options alone define it."""
+    if robot.robot is not None:
+        return robot.robot
+    given = (robot.left_joint, robot.right_joint, robot.wheel_radius, robot.wheel_separation)
+    return "bundled" if None in given else "options"

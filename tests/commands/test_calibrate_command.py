@@ -102,6 +102,7 @@ def test_fit_recovers_the_simulated_truth(runner: CliRunner, run_csv: Path) -> N
     )
     assert data["controller_yaml"][0] == "wheel_separation_multiplier: 1.02222222"
     assert data["xacro_arguments"] == "wheel_radius:=0.035 wheel_separation:=0.138"
+    assert data["robot"] == "bundled"
 
 
 def test_fit_recovers_the_truth_through_noisy_encoders(runner: CliRunner, tmp_path: Path) -> None:
@@ -123,8 +124,9 @@ def test_fit_reads_a_bag_with_its_ground_truth_topic(runner: CliRunner, tmp_path
 
 def test_fit_prints_the_geometry_and_how_to_apply_it(runner: CliRunner, run_csv: Path) -> None:
     lines = run(runner, "calibrate", "fit", str(run_csv)).stdout.splitlines()
-    assert lines[0] == "windows       40"
-    assert lines[2].startswith("left radius   0.0352 m ± ")
+    assert lines[0] == "robot         bundled"
+    assert lines[1] == "windows       40"
+    assert lines[3].startswith("left radius   0.0352 m ± ")
     assert "  left_wheel_radius_multiplier: 1.00571429" in lines
     assert lines[-1].startswith("note: the radii differ")
 

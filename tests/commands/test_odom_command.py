@@ -9,8 +9,9 @@ from pathlib import Path
 
 import pytest
 from bags import write_bag
+from cli_results import assert_one_error_line
 from click.testing import CliRunner, Result
-from robots import BOT
+from robots import BOT, two_wheel_urdf
 from rosbags.highlevel import AnyReader
 from wheel_motion import TRAJECTORY_A, wheel_samples
 
@@ -377,3 +378,46 @@ def test_odom_skips_times_too_large_for_ros_time_and_fails_only_without_samples(
         runner.invoke(main, ["odom", str(path)]),
         "no usable sample (skipped: stamp out of range: 1, unreadable value: 1)",
     )
+
+
+def renamed_wheels(trajectory_a: Path, left: str, right: str) -> Path:
+    """Trajectory A's recording with its wheel columns renamed, as another robot's driver
+    names them."""
+    text = trajectory_a.read_text(encoding="utf-8").replace(LEFT, left).replace(RIGHT, right)
+    path = trajectory_a.with_name("renamed.csv")
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_odom_names_the_robot_it_used_in_its_text_and_json(
+    runner: CliRunner, trajectory_a: Path, tmp_path: Path
+) -> None:
+    result = runner.invoke(main, ["odom", str(trajectory_a)])
+    assert "\nrobot       bundled\n" in result.stdout
+    assert odom_json(runner, str(trajectory_a))["robot"] == "bundled"
+    robot = tmp_path / "robot.urdf"
+    robot.write_text(two_wheel_urdf(), encoding="utf-8")
+    renamed = renamed_wheels(trajectory_a, "left_wheel_joint", "right_wheel_joint")
+    given = odom_json(runner, str(renamed), "--robot", str(robot))
+    assert given["robot"] == str(robot)
+    assert given["samples"] == 400
+    both = runner.invoke(main, ["odom", str(trajectory_a), str(trajectory_a), "--json"])
+    assert [json.loads(line)["robot"] for line in both.stdout.splitlines()] == ["bundled"] * 2
+
+
+def test_wheel_columns_of_another_robot_read_with_the_bundled_one_are_refused(
+    runner: CliRunner, trajectory_a: Path
+) -> None:
+    # Read with the bundled robot's geometry, another robot's run turns by the wrong angle
+    # with exit 0: the columns name none of its joints, so the robot must be said.
+    renamed = renamed_wheels(trajectory_a, "wheel_left_joint", "wheel_right_joint")
+    columns = ["--left-column", "wheel_left_joint", "--right-column", "wheel_right_joint"]
+    result = runner.invoke(main, ["odom", str(renamed), *columns])
+    assert_one_error_line(result, "'wheel_left_joint'", "--robot", "--wheel-radius")
+    geometry = ["--wheel-radius", "0.035", "--wheel-separation", "0.135"]
+    data = odom_json(runner, str(renamed), *columns, *geometry)
+    assert data["distance"] == pytest.approx(3.5707963267948966, rel=1e-9)
+    # Columns that name the bundled robot's own joints are its recording.
+    exported = renamed_wheels(trajectory_a, f"/joint_states/{LEFT}/position", RIGHT)
+    own = ["--left-column", f"/joint_states/{LEFT}/position", "--right-column", RIGHT]
+    assert odom_json(runner, str(exported), *own)["robot"] == "bundled"

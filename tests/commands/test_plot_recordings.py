@@ -35,7 +35,8 @@ def test_recordings_without_a_plan_are_drawn_alone_in_counts(
     result = run(runner, *args, "--counts-per-rev", repr(COUNTS_PER_REV), "--wrap", "65536")
     assert result.exit_code == 0, result.output
     # The run ends 1 m along x and 0.5 m along y (pioneer.RUN_END); no plan's end is named.
-    assert result.stdout == f"{csv}: odometry ends at x 1 m, y 0.5 m\n"
+    robot = tmp_path / "pioneer.urdf"
+    assert result.stdout == f"robot {robot}\n{csv}: odometry ends at x 1 m, y 0.5 m\n"
     assert result.stderr == ""
 
 
