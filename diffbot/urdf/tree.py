@@ -237,12 +237,14 @@ def _steers(tree: Tree, joint: Joint) -> bool:
 def steered_wheels(tree: Tree) -> dict[str, list[str]]:
     """The wheel joints that turn on steering joints, each with its steering joints (base side
     first): wheel joints are continuous (or whole-turn revolute) joints whose axis is lateral in
-    the base frame at rest."""
+    the base frame at rest, hanging from the base through no other free joint."""
     found: dict[str, list[str]] = {}
     for joint in tree.joints.values():
         if not _rotary(joint) or abs(float(_axis_in_base(tree, joint)[1])) < _ALIGNED_MIN:
             continue
         chain = tree.joints_between(joint.parent, tree.base)
+        if any(_rotary(j) or j.type in ("floating", "planar") for j in chain):
+            continue  # under a free joint (an arm's, a caster's): no wheel of the base
         steering = [j.name for j in reversed(chain) if _steers(tree, j)]
         if steering:
             found[joint.name] = steering

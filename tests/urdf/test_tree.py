@@ -89,6 +89,17 @@ def test_a_range_short_of_a_turn_by_more_than_the_slack_steers() -> None:
     assert steered_wheels(tree) == {"drive": ["steer"]}
 
 
+def test_a_free_joint_between_makes_no_wheel_of_the_base() -> None:
+    # An arm's pan joint is limited about z, but the joint below it rolls freely: the
+    # continuous joint under both belongs to the arm, not to a steered wheel.
+    tree = tree_of(
+        swivel("pan", "0.1 0 0.3", limit=limits(-2.9, 2.9))
+        + '<joint name="roll" type="continuous"><parent link="pan_l"/><child link="roll_l"/>'
+        '<axis xyz="1 0 0"/></joint><link name="roll_l"/>' + wheel_under("roll_l", "wrist")
+    )
+    assert steered_wheels(tree) == {}
+
+
 def test_suspension_about_a_lateral_axis_does_not_steer() -> None:
     tree = tree_of(
         swivel("rocker", "0 0.3 0", axis="0 1 0", limit=limits(-0.5, 0.5))
