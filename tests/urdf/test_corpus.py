@@ -79,14 +79,16 @@ def _load(case: dict[str, Any]) -> diffbot.DiffDriveParams:
         case.get("args"),
         packages or None,
         controllers=case.get("controllers"),
+        left_joint=case.get("left_joint"),
+        right_joint=case.get("right_joint"),
     )
 
 
-def test_the_corpus_holds_at_least_34_descriptions() -> None:
+def test_the_corpus_holds_at_least_36_descriptions() -> None:
     folders = {p.name for p in CORPUS.iterdir() if p.is_dir()}
     described = {Path(case["path"]).parts[0] for case in MANIFEST.values()}
     assert folders == described  # every folder has its expectations, every case its folder
-    assert len(folders) >= 34
+    assert len(folders) >= 36
 
 
 @pytest.mark.parametrize(("name", "case"), _cases())
@@ -138,6 +140,9 @@ def test_corpus_description_from_the_command_line(
     args += [f"{key}:={value}" for key, value in case.get("args", {}).items()]
     if case.get("controllers"):
         args += ["--controllers", case["controllers"]]
+    for side in ("left", "right"):
+        if case.get(f"{side}_joint"):
+            args += [f"--{side}-joint", case[f"{side}_joint"]]
     with cpu_bound(CPU_BOUND):
         result = CliRunner().invoke(main, args)
     if "error" in case:
