@@ -52,6 +52,7 @@ FLAGS = {
     "trust": "--trust",
     "controllers": "--controllers",
     "controller": "--controller",
+    "no_controllers": "--no-controllers",
     "window": "--window",
     "window_duration": "--window-duration",
     "max_relative_stderr": "--max-stderr",

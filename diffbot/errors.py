@@ -31,6 +31,7 @@ PARAMETERS: Mapping[str, str] = {
     "trust": "trust=True",
     "controllers": "controllers=",
     "controller": "controller=",
+    "no_controllers": "no_controllers=True",
     "window": "window=",
     "window_duration": "window_duration=",
     "max_relative_stderr": "max_relative_stderr=",
@@ -56,6 +57,7 @@ __all__ = [
     "DiffbotError",
     "DriveWheelError",
     "ExpansionLimitError",
+    "NotDifferentialError",
     "OutputError",
     "OutputExistsError",
     "OutsideRootsError",
@@ -131,6 +133,11 @@ class ExpansionLimitError(SandboxError):
 
 class DriveWheelError(DescriptionError):
     """No drive wheels, or more than two without a way to choose, or a wheel without a radius."""
+
+
+class NotDifferentialError(DescriptionError):
+    """The robot is no differential drive: its wheels steer, or it runs a steering, mecanum or
+    omnidirectional controller."""
 
 
 class PlanError(DiffbotError):

@@ -121,7 +121,7 @@ class DiffDriveParams:
         passive_joints: the description's other moving joints (a caster's), which a simulation
             reports at 0.
         sources: where each value came from, by field (``description``, ``controllers:<path>``,
-            ``gazebo plugin``, ``override``).
+            ``plugin``, ``mesh:<file>``, ``override``).
         disagreements: the values on which the sources disagree.
         controller: the diff_drive_controller configuration the robot runs with, if one was
             read (its limits, frame ids, odometry settings).

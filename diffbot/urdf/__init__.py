@@ -19,11 +19,13 @@ from __future__ import annotations
 import dataclasses
 import os
 from collections.abc import Mapping
+from pathlib import Path
 from xml.etree import ElementTree
 
 from diffbot.errors import DescriptionError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.urdf.cache import cached_fields
+from diffbot.urdf.meshes import finder_for, wheel_mesh_radius
 from diffbot.urdf.shipped import BUNDLED_LABEL, shipped_fields
 from diffbot.urdf.sources import (
     Overriding,
@@ -110,6 +112,7 @@ def load_params(
     expansion = expand(path, args, packages, trust=trust)
     root = ElementTree.fromstring(expansion.urdf)
     warnings = list(expansion.warnings)
+    other_drives: list[tuple[str, str]] = []
     if no_controllers and controllers is not None:
         raise DescriptionError(
             "a controllers file is given ({controllers}) and refused (no_controllers=True): "
@@ -127,6 +130,7 @@ def load_params(
             folders=None if trust else expansion.folders,
             args=args,
             named_from=dict(expansion.named_from),
+            others=other_drives,
         )
     )
     if config is not None:
@@ -142,6 +146,22 @@ def load_params(
     if root.find("link") is None and config is not None:
         params = from_controller(config, root, label, warnings, given)
     else:
-        params = reconcile(derive, root, label, warnings, config, given, source)
+        params = reconcile(
+            derive,
+            root,
+            label,
+            warnings,
+            config,
+            given,
+            source,
+            other_drives,
+            meshes=lambda fields: wheel_mesh_radius(
+                root,
+                [*fields.left_joints, *fields.right_joints],
+                Path(expansion.files[0]) if expansion.files else None,
+                finder_for(Path(path) if path is not None else None, packages),
+                None if trust else expansion.folders,
+            ),
+        )
     files = tuple(str(path) for path in expansion.files)
     return dataclasses.replace(params, description_files=files)

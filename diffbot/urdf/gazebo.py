@@ -1,6 +1,6 @@
-"""Diff-drive plugins in a robot description: Gazebo classic's ``gazebo_ros_diff_drive`` and
-``gazebo_ros_skid_steer_drive``, the gz-sim / Ignition ``DiffDrive`` system, and the
-``<parameters>`` file of a ros2_control plugin.
+"""Diff-drive plugins in a robot description: Gazebo classic's ``gazebo_ros_diff_drive``,
+``gazebo_ros_skid_steer_drive`` and its own ``DiffDrivePlugin``, the gz-sim / Ignition
+``DiffDrive`` system, and the ``<parameters>`` file of a ros2_control plugin.
 
 They are read as a cross-check of the geometry and the controller configuration.
 """
@@ -14,7 +14,13 @@ from xml.etree.ElementTree import Element
 
 from diffbot.errors import DescriptionError
 
-__all__ = ["GazeboDrive", "GazeboPluginError", "gazebo_drives", "ros2_control_parameter_files"]
+__all__ = [
+    "GazeboDrive",
+    "GazeboPluginError",
+    "gazebo_drives",
+    "other_drive_plugins",
+    "ros2_control_parameter_files",
+]
 
 
 class GazeboPluginError(DescriptionError):
@@ -27,7 +33,8 @@ class GazeboDrive:
 
     Attributes:
         kind: ``gazebo_ros_diff_drive`` (Gazebo classic, ROS 1 or 2),
-            ``gazebo_ros_skid_steer_drive`` (Gazebo classic, ROS 1) or ``gz_sim_diff_drive``
+            ``gazebo_ros_skid_steer_drive`` (Gazebo classic, ROS 1), ``gazebo_diff_drive``
+            (Gazebo classic's own ``DiffDrivePlugin``, without ROS) or ``gz_sim_diff_drive``
             (gz-sim and Ignition Gazebo).
         plugin: the plugin's ``filename`` attribute, as written.
         left_joints: the left wheel joints, in the order written.
@@ -60,9 +67,13 @@ class GazeboDrive:
 # --- Gazebo plugins ---------------------------------------------------------------------------
 
 _CLASSIC = re.compile(r"^(lib)?gazebo_ros_diff_drive(\.so)?$")
+_CLASSIC_OWN = re.compile(r"^(lib)?DiffDrivePlugin(\.so)?$")
 _SKID_STEER = re.compile(r"^(lib)?gazebo_ros_skid_steer_drive(\.so)?$")
 _GZ_SIM = re.compile(r"^(lib)?(gz-sim|ignition-gazebo)\d*-diff-drive-system(\.so)?$")
 _GZ_SIM_NAMES = frozenset({"gz::sim::systems::DiffDrive", "ignition::gazebo::systems::DiffDrive"})
+#: Plugins that drive a base but not as a differential drive: gz-sim's AckermannSteering and
+#: MecanumDrive systems, Gazebo classic's ackermann and tricycle drives.
+_OTHER_DRIVE = re.compile(r"(ackermann|steering|tricycle|bicycle|mecanum|omni|swerve)", re.I)
 _ROS2_CONTROL = re.compile(r"^(lib)?(gazebo_ros2_control|gz_ros2_control|ign_ros2_control)")
 
 
@@ -95,7 +106,10 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
     ``rightFrontJoint``, ``rightRearJoint``, ``wheelSeparation``, ``wheelDiameter``: it drives
     both wheels of a side alike, as a diff drive of that separation) and the gz-sim / Ignition
     DiffDrive system (``left_joint`` and ``right_joint`` repeated per wheel, ``wheel_separation``,
-    ``wheel_radius``).
+    ``wheel_radius``). Gazebo classic's own ``libDiffDrivePlugin.so`` (``left_joint``,
+    ``right_joint``, ``torque``) takes no lengths: it runs with the distance between the two
+    joints' anchors (their frames, whatever their lateral offset) and the radius of the left
+    wheel link's first collision, a cylinder or a sphere, as its ``Init`` measures them.
 
     Args:
         root: the ``<robot>`` element of the expanded URDF.
@@ -117,6 +131,12 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
             radii += _plugin_lengths(plugin, filename, "wheelDiameter", 0.5)
             left = _plugin_texts(plugin, "left_joint", "leftJoint")
             right = _plugin_texts(plugin, "right_joint", "rightJoint")
+        elif _CLASSIC_OWN.match(filename):
+            # Gazebo classic's own plugin takes no lengths: it measures them when it starts.
+            kind = "gazebo_diff_drive"
+            left = _plugin_texts(plugin, "left_joint")
+            right = _plugin_texts(plugin, "right_joint")
+            separations, radii = _measured(root, left[:1], right[:1])
         elif _SKID_STEER.match(filename):
             kind = "gazebo_ros_skid_steer_drive"
             separations = _plugin_lengths(plugin, filename, "wheelSeparation", 1.0)
@@ -144,6 +164,58 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
     return drives
 
 
+def _anchor(root: Element, name: str) -> tuple[float, float, float] | None:
+    """Where a joint's frame lies in the root link's frame (m), every joint at rest (0); None
+    when the joint is unknown, malformed or the links do not form a chain to a root."""
+    joints = {j.get("name"): j for j in root.iter("joint")}
+    by_child: dict[str | None, Element] = {}
+    for joint in joints.values():
+        child = joint.find("child")
+        if child is not None:
+            by_child.setdefault(child.get("link"), joint)
+    chain: list[Element] = []
+    step = joints.get(name)
+    while step is not None and len(chain) <= len(joints):
+        chain.append(step)
+        parent = step.find("parent")
+        step = by_child.get(None if parent is None else parent.get("link"))
+    if not chain or len(chain) > len(joints):
+        return None
+    from diffbot.urdf.meshes import origin_matrix
+
+    frame = [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+    for joint in reversed(chain):
+        try:
+            pose = origin_matrix(joint.find("origin"), f"joint {name!r}")
+        except DescriptionError:
+            return None
+        frame = [
+            [sum(frame[i][k] * pose[k][j] for k in range(4)) for j in range(4)] for i in range(4)
+        ]
+    return frame[0][3], frame[1][3], frame[2][3]
+
+
+def _measured(
+    root: Element, left: list[str], right: list[str]
+) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """The separation and radius Gazebo classic's DiffDrivePlugin measures (m), each empty
+    when it cannot be measured."""
+    from diffbot.urdf.ros1 import urdf_radius
+
+    separations: tuple[float, ...] = ()
+    radii: tuple[float, ...] = ()
+    if left and right:
+        a, b = _anchor(root, left[0]), _anchor(root, right[0])
+        distance = math.dist(a, b) if a is not None and b is not None else math.nan
+        if math.isfinite(distance) and distance > 0.0:
+            separations = (distance,)
+    if left:
+        radius = urdf_radius(root, left[0])
+        if radius is not None:
+            radii = (radius,)
+    return separations, radii
+
+
 def ros2_control_parameter_files(root: Element) -> list[str]:
     """The controller files named by the ros2_control plugins of Gazebo in a description.
 
@@ -160,3 +232,18 @@ def ros2_control_parameter_files(root: Element) -> list[str]:
             continue
         files.extend(text for text in _plugin_texts(plugin, "parameters") if text)
     return files
+
+
+def other_drive_plugins(root: Element) -> list[str]:
+    """The plugins of an expanded description that drive a base but not as a differential
+    drive (gz-sim ``AckermannSteering`` or ``MecanumDrive``, Gazebo classic
+    ``gazebo_ros_ackermann_drive``...), each named by its ``name`` when that is a system's
+    scoped name, else by its ``filename``; in document order."""
+    found: list[str] = []
+    for plugin in root.iter("plugin"):
+        filename, name = plugin.get("filename", ""), plugin.get("name", "")
+        if _OTHER_DRIVE.search(filename) or ("::" in name and _OTHER_DRIVE.search(name)):
+            label = name if "::" in name else filename
+            if label not in found:
+                found.append(label)
+    return found

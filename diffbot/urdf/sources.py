@@ -20,12 +20,9 @@ from xml.etree import ElementTree
 from diffbot.controller_config import ControllerConfig
 from diffbot.errors import DescriptionError, DriveWheelError, OutsideRootsError
 from diffbot.kinematics import DiffDriveParams, Disagreement
-from diffbot.urdf.controllers import (
-    choose_controller,
-    load_controllers,
-    load_other_drive_controllers,
-)
+from diffbot.urdf.controllers import choose_controller, load_controllers
 from diffbot.urdf.gazebo import GazeboDrive, gazebo_drives, ros2_control_parameter_files
+from diffbot.urdf.other_drives import note_other_drives, refusing_other_drives
 from diffbot.urdf.ros1 import urdf_radius, urdf_separation
 from diffbot.urdf.ros2_control import velocity_limits
 from diffbot.urdf.sandbox import inside_folders
@@ -82,6 +79,7 @@ def find_controller(
     folders: Sequence[Path] | None = None,
     args: Mapping[str, object] | None = None,
     named_from: Mapping[str, Path] | None = None,
+    others: list[tuple[str, str]] | None = None,
 ) -> ControllerConfig | None:
     """The diff-drive controller the robot runs with: from ``controllers`` when given, else from
     the parameters file its ros2_control Gazebo plugin names (a missing file is a warning).
@@ -103,6 +101,8 @@ def find_controller(
         args: the values of ``$(arg NAME)`` in ROS 1 files.
         named_from: the folder of the included file that wrote each ``<parameters>`` text
             (:attr:`diffbot.urdf.xacro.Expansion.named_from`).
+        others: receives the other drives' controllers, ``(name, type)``, of files that hold
+            no diff-drive controller.
 
     Returns None when no file is given or found, or the files found hold no diff-drive
     controller (and none was asked for by name).
@@ -115,7 +115,7 @@ def find_controller(
     if controllers is not None:
         configs = load_controllers(controllers, values)
         if not configs:
-            _other_drives([Path(controllers)], warnings)
+            note_other_drives([Path(controllers)], warnings, others)
         return choose_controller(configs, controller)
     configs = []
     base = Path(description).resolve().parent if description is not None else Path.cwd()
@@ -139,21 +139,10 @@ def find_controller(
         configs += load_controllers(_shown(path), values)
         read.append(_shown(path))
     if not configs:
-        _other_drives(read, warnings)
+        note_other_drives(read, warnings, others)
     if not configs and controller is None:
         return None
     return choose_controller(configs, controller)
-
-
-def _other_drives(paths: Sequence[Path], warnings: list[str]) -> None:
-    for path in paths:
-        others = load_other_drive_controllers(path)
-        if others:
-            listed = ", ".join(f"{name!r} ({kind})" for name, kind in others)
-            warnings.append(
-                f"{path} configures no diff-drive controller, only {listed}: not a differential "
-                "drive's settings, so they are not used"
-            )
 
 
 def _shown(path: Path) -> Path:
@@ -261,6 +250,8 @@ def reconcile(
     config: ControllerConfig | None,
     given: Overriding,
     mode: str = "auto",
+    other_drives: Sequence[tuple[str, str]] = (),
+    meshes: Callable[[Derived], tuple[float, str] | None] | None = None,
 ) -> DiffDriveParams:
     """The robot's parameters, each from the source that wins, with the cross-check.
 
@@ -274,8 +265,17 @@ def reconcile(
         given: the caller's overrides.
         mode: which source the values come from (:data:`SOURCE_MODES`): ``auto`` takes the
             controller when there is one, else the simulator's plugin, else the geometry.
+        other_drives: the controllers of other drives (mecanum, steering...) that the
+            controllers files read hold, as ``(name, type)``.
+        meshes: the radius of wheels whose collision is a mesh, and its source
+            (``mesh:<file>``), asked only when no other source gives a radius.
+
+    Raises:
+        NotDifferentialError: the wheels steer, or the description is driven by a steering,
+            mecanum or omnidirectional controller or plugin and by no diff-drive one.
     """
     drives = gazebo_drives(root)
+    derive = refusing_other_drives(derive, root, source, config, drives, other_drives)
     chosen = _choose_mode(mode, config, drives)
     ctl = _controller_source(config) if config is not None else ""
     plugin = drives[0] if drives else None
@@ -358,6 +358,11 @@ def reconcile(
             left_radius = right_radius = radius
         if separation is None and plugin.wheel_separation is not None:
             separation, separation_source = plugin.wheel_separation, PLUGIN
+    if radius is None and fields.wheel_radius is None and meshes is not None:
+        measured = meshes(fields)
+        if measured is not None:
+            radius, radius_source = measured
+            left_radius = right_radius = radius
     if radius is None:
         radius_source = DESCRIPTION
     if separation is None:

@@ -7,7 +7,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from diffbot.errors import DescriptionError
+from diffbot.errors import DescriptionError, NotDifferentialError
 from diffbot.formats.text import one_line
 from diffbot.urdf.xacro import check_xml
 
@@ -15,11 +15,22 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
-__all__ = ["MAX_OFFSET", "Joint", "Tree", "joints_of", "parse_urdf"]
+__all__ = [
+    "FULL_TURN_SLACK",
+    "MAX_OFFSET",
+    "Joint",
+    "Tree",
+    "check_not_steered",
+    "joints_of",
+    "parse_urdf",
+]
 
 #: Farthest a joint may sit from its parent link (m): beyond, a description is taken for a unit
 #: mistake or a hostile file, and its frames would lose all precision or overflow.
 MAX_OFFSET = 1e6
+#: A revolute joint whose range falls short of a turn by less than this (rad) turns all the way
+#: round: descriptions write the limits of a free swivel as +-3.14159 or +-3.14.
+FULL_TURN_SLACK = 0.01
 
 
 @dataclass(frozen=True)
@@ -109,7 +120,8 @@ def joints_of(robot: Any, source: str) -> dict[str, Joint]:
             if j.limit.velocity is not None:
                 velocity = float(j.limit.velocity)
             if j.limit.lower is not None and j.limit.upper is not None:
-                full_turn = float(j.limit.upper) - float(j.limit.lower) >= 2.0 * math.pi
+                span = float(j.limit.upper) - float(j.limit.lower)
+                full_turn = span >= 2.0 * math.pi - FULL_TURN_SLACK
                 if j.type in ("prismatic", "revolute") and not full_turn:
                     rest = min(max(0.0, float(j.limit.lower)), float(j.limit.upper))
         joints[j.name] = Joint(
@@ -197,3 +209,67 @@ class Tree:
         common = next(link for link in up_a if link in set(up_b))
         path = up_a[: up_a.index(common)] + up_b[: up_b.index(common)]
         return [self.parent_joint[link] for link in path]
+
+
+#: A joint axis counts as vertical (a steering joint's) or lateral (a wheel's) when its z or y
+#: component (unit axis, base frame) is at least this.
+_ALIGNED_MIN = math.cos(math.radians(25.0))
+
+
+def _axis_in_base(tree: Tree, joint: Joint) -> NDArray[np.float64]:
+    return (tree.frame(joint.parent) @ joint.origin)[:3, :3] @ joint.axis
+
+
+def _rotary(joint: Joint) -> bool:
+    return joint.type == "continuous" or (joint.type == "revolute" and joint.full_turn)
+
+
+def _steers(tree: Tree, joint: Joint) -> bool:
+    """Whether a joint steers: revolute about the vertical axis, with a range short of a turn
+    (a free swivel, continuous or limited to a whole turn, is a caster's)."""
+    return (
+        joint.type == "revolute"
+        and not joint.full_turn
+        and abs(float(_axis_in_base(tree, joint)[2])) >= _ALIGNED_MIN
+    )
+
+
+def steered_wheels(tree: Tree) -> dict[str, list[str]]:
+    """The wheel joints that turn on steering joints, each with its steering joints (base side
+    first): wheel joints are continuous (or whole-turn revolute) joints whose axis is lateral in
+    the base frame at rest, hanging from the base through no other free joint."""
+    found: dict[str, list[str]] = {}
+    for joint in tree.joints.values():
+        if not _rotary(joint) or abs(float(_axis_in_base(tree, joint)[1])) < _ALIGNED_MIN:
+            continue
+        chain = tree.joints_between(joint.parent, tree.base)
+        if any(_rotary(j) or j.type in ("floating", "planar") for j in chain):
+            continue  # under a free joint (an arm's, a caster's): no wheel of the base
+        steering = [j.name for j in reversed(chain) if _steers(tree, j)]
+        if steering:
+            found[joint.name] = steering
+    return found
+
+
+def check_not_steered(tree: Tree, source: str) -> None:
+    """Refuse a robot whose wheels steer (Ackermann, tricycle, swerve): its wheel speeds do not
+    follow from a body twist as a differential drive's do, and taking it for a skid steer
+    would be wrong.
+
+    Raises:
+        NotDifferentialError: a wheel turns on a steering joint; the message names the steering
+            joints, and ``fields["steering_joints"]`` lists them.
+    """
+    steered = steered_wheels(tree)
+    if not steered:
+        return
+    steering: list[str] = []
+    for names in steered.values():
+        steering += [name for name in names if name not in steering]
+    raise NotDifferentialError(
+        f"{source}: a steered robot, not a differential drive: the wheel joint(s) "
+        f"{sorted(steered)} turn with the steering joint(s) {steering} (limited, about the "
+        "vertical axis)",
+        path=source,
+        steering_joints=steering,
+    )

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, TypedDict
 from diffbot.errors import DescriptionError, DriveWheelError, ParameterError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.numbers import WHEEL_SIZE_RANGE
-from diffbot.urdf.tree import Joint, Tree, joints_of, parse_urdf
+from diffbot.urdf.tree import Joint, Tree, check_not_steered, joints_of, parse_urdf
 
 if TYPE_CHECKING:
     import numpy as np
@@ -323,6 +323,7 @@ def derive(
 
     joints = joints_of(robot, source)
     tree = Tree(robot, joints, source)
+    check_not_steered(tree, source)
     warnings: list[str] = []
     lefts, rights = _pick(tree, source, left_joint, right_joint, warnings)
     left, right = lefts[0], rights[0]
@@ -505,6 +506,8 @@ def finish(
                         )
         elif given == "plugin":
             _check_size(value, what, name, "the simulator's diff-drive plugin", source)
+        elif given.startswith("mesh:"):
+            _check_size(value, what, name, f"the collision meshes {given[5:]}", source)
         elif (wheel_radius if name == "wheel_radius" else wheel_separation) is None or (
             given == "description"
         ):

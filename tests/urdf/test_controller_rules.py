@@ -247,7 +247,11 @@ drive_controller:
 """
 
 
-def test_a_file_of_non_differential_controllers_is_named_with_their_types(tmp_path: Path) -> None:
+def test_a_robot_driven_by_non_differential_controllers_is_refused_naming_them(
+    tmp_path: Path,
+) -> None:
+    # Its four lateral wheels look like a skid steer's, but the robot runs a mecanum drive:
+    # taken for a skid steer, its odometry would be wrong.
     robot, yaml = files(tmp_path, JACKAL)
     yaml.write_text(MECANUM, encoding="utf-8")
     plugin = (
@@ -255,11 +259,17 @@ def test_a_file_of_non_differential_controllers_is_named_with_their_types(tmp_pa
         f"<parameters>{yaml}</parameters></plugin></gazebo>"
     )
     robot.write_text(JACKAL.replace("</robot>", plugin + "</robot>"), encoding="utf-8")
-    params = diffbot.load_params(robot)
+    with pytest.raises(diffbot.NotDifferentialError) as raised:
+        diffbot.load_params(robot)
+    message = str(raised.value)
+    assert "not a differential drive" in message
+    assert "'drive_controller' (mecanum_drive_controller/MecanumDriveController" in message
+    assert "joint_state_broadcaster" not in message
+    assert "no_controllers=True" in message
+    # Reading no controllers file is the way to take its wheels all the same.
+    params = diffbot.load_params(robot, no_controllers=True)
     assert params.controller is None
-    (warning,) = [w for w in params.warnings if "configures no diff-drive controller" in w]
-    assert "'drive_controller' (mecanum_drive_controller/MecanumDriveController)" in warning
-    assert "joint_state_broadcaster" not in warning
+    assert len(params.left_joints) == 2
 
 
 def test_a_velocity_command_interface_max_is_the_motor_limit(tmp_path: Path) -> None:
@@ -345,8 +355,8 @@ def test_a_ros1_file_of_other_drives_is_named_too(tmp_path: Path) -> None:
         f"<parameters>{yaml}</parameters></plugin></gazebo>"
     )
     robot.write_text(JACKAL.replace("</robot>", plugin + "</robot>"), encoding="utf-8")
-    params = diffbot.load_params(robot)
-    assert any(
-        "'mobile_base_controller' (steer_drive_controller/SteerDriveController)" in w
-        for w in params.warnings
-    )
+    with pytest.raises(
+        diffbot.NotDifferentialError,
+        match=r"'mobile_base_controller' \(steer_drive_controller/SteerDriveController",
+    ):
+        diffbot.load_params(robot)

@@ -319,3 +319,24 @@ def test_an_expansion_says_which_included_file_wrote_each_parameters_element(
     }
     assert "diffbot-named-from" not in expansion.urdf
     assert "<parameters>config/c.yaml</parameters>" in expansion.urdf
+
+
+# --- wheels whose collision is a mesh ----------------------------------------------------
+
+
+def test_a_mesh_is_read_only_when_no_other_source_gives_the_radius(tmp_path: Path) -> None:
+    # The wheels' meshes lie outside the description's folders; the controller gives the
+    # radius, so they are never needed.
+    robot = workspace(tmp_path)
+    (robot.parent / "wheels.xacro").write_text(
+        WHEELS_XACRO.replace(
+            '<cylinder radius="${wheel_radius}" length="0.03"/>',
+            '<mesh filename="file:///nowhere/tyre.stl"/>',
+        ),
+        encoding="utf-8",
+    )
+    params = load(robot)
+    assert params.wheel_radius == pytest.approx(0.05, rel=1e-15)
+    assert params.sources["wheel_radius"].startswith("controllers:")
+    with pytest.raises(diffbot.DescriptionError, match="outside the description's folders"):
+        load(robot, no_controllers=True)

@@ -1,0 +1,113 @@
+"""Gazebo plugins read from a description: Gazebo classic's own DiffDrivePlugin, which measures
+its separation and radius, and the plugins of drives that are not differential."""
+
+from __future__ import annotations
+
+import math
+from xml.etree import ElementTree
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from diffbot.urdf.gazebo import gazebo_drives, other_drive_plugins
+
+OWN_PLUGIN = (
+    '<gazebo><plugin filename="libDiffDrivePlugin.so" name="diff_drive">'
+    "<left_joint>left_hinge</left_joint><right_joint>right_hinge</right_joint>"
+    "<torque>5</torque></plugin></gazebo>"
+)
+
+
+def wheel(name: str, parent: str, xyz: str, rpy: str = "0 0 0", shape: str = "") -> str:
+    shape = shape or '<cylinder radius="0.1" length="0.04"/>'
+    return (
+        f'<joint name="{name}_hinge" type="continuous"><parent link="{parent}"/>'
+        f'<child link="{name}_wheel"/><origin xyz="{xyz}" rpy="{rpy}"/><axis xyz="0 0 1"/>'
+        f'</joint><link name="{name}_wheel"><collision><geometry>{shape}</geometry>'
+        "</collision></link>"
+    )
+
+
+def root(body: str, plugins: str = OWN_PLUGIN) -> ElementTree.Element:
+    return ElementTree.fromstring(f'<robot name="r"><link name="chassis"/>{body}{plugins}</robot>')
+
+
+def test_the_own_plugin_measures_the_anchors_distance_and_the_left_wheels_radius() -> None:
+    # Anchors at (0, 0.22, 0.1) and (0.05, -0.2, 0.1): 0.05 m apart along x, 0.42 m along y.
+    body = wheel("left", "chassis", "0 0.22 0.1") + wheel(
+        "right", "chassis", "0.05 -0.2 0.1", shape='<cylinder radius="0.3" length="0.04"/>'
+    )
+    (drive,) = gazebo_drives(root(body))
+    assert drive.kind == "gazebo_diff_drive"
+    assert (drive.left_joints, drive.right_joints) == (("left_hinge",), ("right_hinge",))
+    assert drive.wheel_separation == pytest.approx(math.hypot(0.05, 0.42), abs=1e-12)
+    assert drive.wheel_radius == pytest.approx(0.1, abs=1e-12)  # the left wheel's, not 0.3
+
+
+def test_the_anchors_are_taken_through_the_whole_chain_of_joints() -> None:
+    # The wheels hang from a mount yawed a quarter turn: its x is the chassis' y.
+    mount = (
+        '<joint name="mount_joint" type="fixed"><parent link="chassis"/><child link="mount"/>'
+        f'<origin xyz="0.1 0 0.05" rpy="0 0 {math.pi / 2!r}"/></joint><link name="mount"/>'
+    )
+    body = mount + wheel("left", "mount", "0.25 0 0") + wheel("right", "mount", "-0.25 0 0")
+    (drive,) = gazebo_drives(root(body))
+    assert drive.wheel_separation == pytest.approx(0.5, abs=1e-12)
+
+
+def test_a_sphere_is_a_radius_and_a_missing_joint_leaves_the_lengths_out() -> None:
+    body = wheel("left", "chassis", "0 0.2 0", shape='<sphere radius="0.07"/>')
+    body += wheel("right", "chassis", "0 -0.2 0")
+    (drive,) = gazebo_drives(root(body))
+    assert drive.wheel_radius == pytest.approx(0.07, abs=1e-12)
+    (missing,) = gazebo_drives(root(wheel("left", "chassis", "0 0.2 0")))
+    assert missing.wheel_separations == ()
+    assert missing.wheel_radius == pytest.approx(0.1, abs=1e-12)
+
+
+def test_a_cycle_of_joints_measures_nothing() -> None:
+    body = (
+        '<joint name="left_hinge" type="continuous"><parent link="a"/><child link="b"/></joint>'
+        '<joint name="back" type="fixed"><parent link="b"/><child link="a"/></joint>'
+        + wheel("right", "chassis", "0 -0.2 0")
+    )
+    (drive,) = gazebo_drives(root(body))
+    assert drive.wheel_separations == ()
+
+
+@settings(max_examples=50, deadline=None)
+@given(
+    left=st.tuples(*[st.floats(min_value=-2.0, max_value=2.0)] * 3),
+    right=st.tuples(*[st.floats(min_value=-2.0, max_value=2.0)] * 3),
+    yaw=st.floats(min_value=-math.pi, max_value=math.pi),
+)
+def test_the_separation_is_the_euclidean_distance_whatever_the_frames(
+    left: tuple[float, float, float], right: tuple[float, float, float], yaw: float
+) -> None:
+    body = wheel("left", "chassis", " ".join(map(repr, left)), rpy=f"0 0 {yaw!r}")
+    body += wheel("right", "chassis", " ".join(map(repr, right)), rpy=f"{yaw!r} 0 0")
+    (drive,) = gazebo_drives(root(body))
+    distance = math.dist(left, right)
+    if distance == 0.0:
+        assert drive.wheel_separations == ()
+    else:
+        assert drive.wheel_separation == pytest.approx(distance, abs=1e-12)
+
+
+def test_steering_and_mecanum_plugins_are_named() -> None:
+    plugins = (
+        '<gazebo><plugin filename="gz-sim-ackermann-steering-system" '
+        'name="gz::sim::systems::AckermannSteering"/></gazebo>'
+        '<gazebo><plugin filename="libgazebo_ros_ackermann_drive.so" name="car"/></gazebo>'
+        '<gazebo><plugin filename="gz-sim-mecanum-drive-system" '
+        'name="gz::sim::systems::MecanumDrive"/></gazebo>'
+        '<gazebo><plugin filename="libgazebo_ros_skid_steer_drive.so" name="skid"/></gazebo>'
+        '<gazebo><plugin filename="gz-sim-diff-drive-system" '
+        'name="gz::sim::systems::DiffDrive"/></gazebo>'
+    )
+    assert other_drive_plugins(root("", plugins)) == [
+        "gz::sim::systems::AckermannSteering",
+        "libgazebo_ros_ackermann_drive.so",
+        "gz::sim::systems::MecanumDrive",
+    ]
