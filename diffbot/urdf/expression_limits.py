@@ -37,7 +37,9 @@ MAX_EXPRESSION = 10_000
 MAX_FORMAT_WIDTH = 1000
 
 PADDING_METHODS = frozenset({"center", "ljust", "rjust", "zfill"})
-_FORMAT_FIELD = re.compile(r"%(?:\([^)]*\))?[#0 +-]*(\*|\d+)?(?:\.(\*|\d+))?")
+#: A ``%`` format field; a mapping key never closed (a format Python refuses) runs to the end
+#: of the text, so that no ``%(`` is scanned to the end more than once.
+_FORMAT_FIELD = re.compile(r"%(?:\([^)]*\)?)?[#0 +-]*(\*|\d+)?(?:\.(\*|\d+))?")
 _T = TypeVar("_T")
 
 
