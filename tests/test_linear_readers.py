@@ -69,7 +69,7 @@ def _urdf(shape: str, word: str) -> Callable[[int], bytes]:
         if shape == "comments between elements":
             return two_wheel_urdf(body=f"<!-- {word} -->\n" * n).encode()
         if shape == "a long attribute":
-            body = f'<link name="{"x" * (40 * n)}"/>'
+            body = f'<material name="{"x" * (40 * n)}"><color rgba="0 0 0 1"/></material>'
             return two_wheel_urdf(body=body).encode()
         body = "".join(
             f'<material name="m{i}"><color rgba="0 0 0 1"/></material>' for i in range(n)
@@ -140,7 +140,7 @@ def _sdf(shape: str, word: str) -> Callable[[int], bytes]:
 )
 def test_an_sdf_model_is_read_in_linear_time(shape: str, word: str) -> None:
     read = on_file("model.sdf", expand)
-    print("sdf", shape, assert_linear(read, _sdf(shape, word), 200, accepts=True))
+    print("sdf", shape, assert_linear(read, _sdf(shape, word), 200, accepts=shape != "nesting"))
 
 
 # --- YAML, text and JSON files --------------------------------------------------------------
@@ -188,8 +188,8 @@ def _plan(kind: str, token: str) -> Callable[[int], bytes]:
             return ("straight 1; spin 90\n" * n + f"# {token * n}\n").encode()
         if kind == "yaml":
             return ("- straight: 1\n" * n + f"# {token * n}\n").encode()
-        if kind == "json":
-            return ('[{"straight": 1}, ' * 1 + f'"{token * n}"' + "]").encode()
+        if kind == "json":  # a string never closed, full of escaped quotes
+            return ('[{"straight": 1}, "' + (token + '\\"') * n + "]").encode()
         return ("[" * n + "]" * n).encode()
 
     return make
