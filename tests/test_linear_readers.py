@@ -5,13 +5,12 @@ the same shape (harness: tests/linear_time.py)."""
 
 from __future__ import annotations
 
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
 import click
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from linear_time import assert_linear
 from robots import two_wheel_urdf
@@ -37,14 +36,12 @@ WORDS = st.text(
     max_size=40,
 )
 TOKENS = st.sampled_from(["a", "1", " ", "$", "\\", '"', "%(", "<!--", "{", "[", ",", "é"])
-_FOLDER = Path(tempfile.mkdtemp(prefix="linear-readers-"))
 
 
-def on_file(name: str, reader: Callable[[Path], object]) -> Callable[[bytes], object]:
-    """A reader of bytes that writes them to a file ``name`` and reads it with ``reader``."""
+def on_file(path: Path, reader: Callable[[Path], object]) -> Callable[[bytes], object]:
+    """A reader of bytes that writes them to ``path`` and reads it with ``reader``."""
 
     def read(data: bytes) -> object:
-        path = _FOLDER / name
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_bytes(data)
         return reader(path)
@@ -86,8 +83,9 @@ def _urdf(shape: str, word: str) -> Callable[[int], bytes]:
     ),
     word=WORDS,
 )
-def test_a_urdf_is_read_in_linear_time(shape: str, word: str) -> None:
-    read = on_file("robot.urdf", diffbot.load_params)
+@example(shape="comments before the root", word="generated banner")
+def test_a_urdf_is_read_in_linear_time(tmp_path: Path, shape: str, word: str) -> None:
+    read = on_file(tmp_path / "robot.urdf", diffbot.load_params)
     print("urdf", shape, assert_linear(read, _urdf(shape, word), 300, accepts=True))
 
 
@@ -106,8 +104,11 @@ def _xacro(shape: str, word: str) -> Callable[[int], bytes]:
 
 @FEW
 @given(shape=st.sampled_from(["comments", "properties", "a long expression"]), word=WORDS)
-def test_a_xacro_description_is_expanded_in_linear_time(shape: str, word: str) -> None:
-    read = on_file("robot.urdf.xacro", expand)
+@example(shape="comments", word="<!-")
+def test_a_xacro_description_is_expanded_in_linear_time(
+    tmp_path: Path, shape: str, word: str
+) -> None:
+    read = on_file(tmp_path / "robot.urdf.xacro", expand)
     print("xacro", shape, assert_linear(read, _xacro(shape, word), 200, accepts=True))
 
 
@@ -138,8 +139,9 @@ def _sdf(shape: str, word: str) -> Callable[[int], bytes]:
     shape=st.sampled_from(["comments before the root", "comments in the model", "nesting"]),
     word=WORDS,
 )
-def test_an_sdf_model_is_read_in_linear_time(shape: str, word: str) -> None:
-    read = on_file("model.sdf", expand)
+@example(shape="comments before the root", word="model")
+def test_an_sdf_model_is_read_in_linear_time(tmp_path: Path, shape: str, word: str) -> None:
+    read = on_file(tmp_path / "model.sdf", expand)
     print("sdf", shape, assert_linear(read, _sdf(shape, word), 200, accepts=shape != "nesting"))
 
 
@@ -173,8 +175,9 @@ YAML_SHAPES = st.sampled_from(["comments", "a long line", "many keys", "nesting"
 
 @FEW
 @given(shape=YAML_SHAPES, word=WORDS)
-def test_a_controllers_file_is_read_in_linear_time(shape: str, word: str) -> None:
-    read = on_file("controllers.yaml", load_controllers)
+@example(shape="tokens", word="a")
+def test_a_controllers_file_is_read_in_linear_time(tmp_path: Path, shape: str, word: str) -> None:
+    read = on_file(tmp_path / "controllers.yaml", load_controllers)
     print(
         "controllers",
         shape,
@@ -197,9 +200,10 @@ def _plan(kind: str, token: str) -> Callable[[int], bytes]:
 
 @FEW
 @given(kind=st.sampled_from(["txt", "yaml", "json", "nesting"]), token=TOKENS)
-def test_a_plan_file_is_read_in_linear_time(kind: str, token: str) -> None:
+@example(kind="json", token="a")
+def test_a_plan_file_is_read_in_linear_time(tmp_path: Path, kind: str, token: str) -> None:
     suffix = "json" if kind == "nesting" else kind
-    read = on_file(f"plan.{suffix}", load_plan)
+    read = on_file(tmp_path / f"plan.{suffix}", load_plan)
     print(
         "plan",
         kind,
@@ -221,8 +225,9 @@ def _waypoints(shape: str, token: str) -> Callable[[int], bytes]:
 
 @FEW
 @given(shape=st.sampled_from(["rows", "a long number", "long blanks"]), token=TOKENS)
-def test_a_waypoints_file_is_read_in_linear_time(shape: str, token: str) -> None:
-    read = on_file("points.csv", read_waypoints)
+@example(shape="a long number", token="x")
+def test_a_waypoints_file_is_read_in_linear_time(tmp_path: Path, shape: str, token: str) -> None:
+    read = on_file(tmp_path / "points.csv", read_waypoints)
     print(
         "waypoints",
         shape,
@@ -251,8 +256,9 @@ def _runs(kind: str, token: str) -> Callable[[int], bytes]:
 
 @FEW
 @given(kind=st.sampled_from(["csv", "yaml"]), token=TOKENS)
-def test_a_runs_file_is_read_in_linear_time(kind: str, token: str) -> None:
-    read = on_file(f"runs.{kind}", _read_runs)
+@example(kind="csv", token="1")
+def test_a_runs_file_is_read_in_linear_time(tmp_path: Path, kind: str, token: str) -> None:
+    read = on_file(tmp_path / f"runs.{kind}", _read_runs)
     print(
         "runs",
         kind,
@@ -281,8 +287,9 @@ def _csv(shape: str, token: str) -> Callable[[int], bytes]:
 
 @FEW
 @given(shape=st.sampled_from(["rows", "columns", "a long cell"]), token=TOKENS)
-def test_a_csv_recording_is_read_in_linear_time(shape: str, token: str) -> None:
-    read = on_file("run.csv", lambda path: read_csv(path, "left", "right"))
+@example(shape="columns", token="1")
+def test_a_csv_recording_is_read_in_linear_time(tmp_path: Path, shape: str, token: str) -> None:
+    read = on_file(tmp_path / "run.csv", lambda path: read_csv(path, "left", "right"))
     print(
         "csv",
         shape,
@@ -320,8 +327,9 @@ def _metadata(shape: str, word: str) -> Callable[[int], bytes]:
 @given(
     shape=st.sampled_from(["files", "comments", "a long line", "many keys", "nesting"]), word=WORDS
 )
-def test_bag_metadata_is_read_in_linear_time(shape: str, word: str) -> None:
-    read = on_file("bag/metadata.yaml", _read_bag_metadata)
+@example(shape="files", word="b")
+def test_bag_metadata_is_read_in_linear_time(tmp_path: Path, shape: str, word: str) -> None:
+    read = on_file(tmp_path / "bag/metadata.yaml", _read_bag_metadata)
     print("bag metadata", shape, assert_linear(read, _metadata(shape, word), 400, accepts=False))
 
 
@@ -361,6 +369,7 @@ def _decode_recorded(data: bytes) -> object:
 
 @FEW
 @given(shape=JOINT_SHAPES, word=NAMES)
+@example(shape="many joints", word="wheel")
 def test_a_live_joint_state_is_decoded_in_linear_time(shape: str, word: str) -> None:
     print(
         "live cdr",
@@ -371,6 +380,7 @@ def test_a_live_joint_state_is_decoded_in_linear_time(shape: str, word: str) -> 
 
 @FEW
 @given(shape=JOINT_SHAPES, word=NAMES)
+@example(shape="repeated names", word="left")
 def test_a_recorded_joint_state_is_decoded_in_linear_time(shape: str, word: str) -> None:
     print(
         "recorded cdr",
