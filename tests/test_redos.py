@@ -205,6 +205,14 @@ def _unbounded(item: tuple[object, object]) -> bool:
     return str(item[0]) in ("MAX_REPEAT", "MIN_REPEAT") and item[1][1] == sre_constants.MAXREPEAT  # type: ignore[index]
 
 
+def _may_be_empty(item: tuple[object, object]) -> bool:
+    """Whether ``item`` may match no character (an anchor, a lookaround, an optional repeat)."""
+    name = str(item[0])
+    if name in ("AT", "ASSERT", "ASSERT_NOT"):
+        return True
+    return name in ("MAX_REPEAT", "MIN_REPEAT", "POSSESSIVE_REPEAT") and item[1][0] == 0  # type: ignore[index]
+
+
 def _runs_on(sequence: list[tuple[object, object]], flags: int) -> Iterator[str]:
     for item in sequence:
         if _unbounded(item):
@@ -219,9 +227,7 @@ def _runs_on(sequence: list[tuple[object, object]], flags: int) -> Iterator[str]
                 rest = body[index + 1 :]
                 # the inner repeat can take the rest of this round and the start of the next
                 if start & swallows and all(
-                    _chars(part, flags) & swallows
-                    for part in rest
-                    if str(part[0]) not in ("AT",) and not (_unbounded(part) or part[1] == 0)
+                    _chars(part, flags) & swallows for part in rest if not _may_be_empty(part)
                 ):
                     yield f"{inner[0]} inside a repeat can run into its next round"
         for sub in _children(item):
