@@ -437,7 +437,9 @@ def load_plan(path: str | os.PathLike[str]) -> list[Segment]:
 #: Deepest nesting of lists and mappings read from a plan file (a plan needs 2): deeper data is
 #: refused before it is parsed, as the parsers would recurse once per level.
 MAX_NESTING = 32
-_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
+#: A JSON string; one never closed runs to the end of the text (json refuses it), so that no
+#: opening quote is scanned to the end more than once.
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"?', re.DOTALL)
 _BRACKETS = re.compile(r"[\[\]{}]")
 
 

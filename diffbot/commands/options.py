@@ -12,7 +12,6 @@ import functools
 import json
 import math
 import os
-import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,6 +21,7 @@ import click
 
 from diffbot.errors import EXIT_BAD_INPUT
 from diffbot.io.outputs import input_clash
+from diffbot.io.xmlhead import root_name
 from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
 from diffbot.numbers import MAX_NOISE, MAX_PLAN_DURATION, WHEEL_SIZE_RANGE
 from diffbot.urdf import load_params
@@ -405,9 +405,6 @@ DESCRIPTION_SUFFIXES = (".urdf", ".xacro", ".sdf")
 DESCRIPTION_ROOTS = ("robot", "sdf")
 #: How much of a file is read to find its XML root element (bytes).
 _HEAD_BYTES = 65536
-#: What may come before an XML root element: a declaration, comments, a doctype, blanks.
-_PROLOG = re.compile(rb"\s*(?:<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)?", re.DOTALL)
-_ROOT = re.compile(rb"<([A-Za-z_][\w.-]*:)?([A-Za-z_][\w.-]*)")
 
 
 def xml_root(path: Path) -> str | None:
@@ -418,15 +415,8 @@ def xml_root(path: Path) -> str | None:
             head = stream.read(_HEAD_BYTES)
     except OSError:
         return None
-    head = head.removeprefix(b"\xef\xbb\xbf")
-    position = 0
-    while True:
-        prolog = _PROLOG.match(head, position)
-        if prolog is None or prolog.end() == position:
-            break
-        position = prolog.end()
-    root = _ROOT.match(head, position)
-    return None if root is None else root.group(2).decode("ascii")
+    # XML names here are ASCII; any other byte only has to be neither a name nor a blank
+    return root_name(head.removeprefix(b"\xef\xbb\xbf").decode("ascii", "replace"))
 
 
 def is_description(token: str) -> bool:

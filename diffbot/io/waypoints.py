@@ -21,7 +21,9 @@ __all__ = ["parse_pose", "read_waypoints"]
 
 Waypoint = tuple[float, float, float | None]
 
-_NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(m|rad|deg)?\s*")
+#: A number and its unit; no two repeats here can take the same characters, so a text that is
+#: not a number is refused in time linear in its length.
+_NUMBER = re.compile(r"\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(?:(m|rad|deg)\s*)?")
 _HEADER = ("x", "y", "heading")
 
 

@@ -37,7 +37,8 @@ MAX_EXPRESSION = 10_000
 MAX_FORMAT_WIDTH = 1000
 
 PADDING_METHODS = frozenset({"center", "ljust", "rjust", "zfill"})
-_FORMAT_FIELD = re.compile(r"%(?:\([^)]*\))?[#0 +-]*(\*|\d+)?(?:\.(\*|\d+))?")
+#: What follows the ``%`` (and mapping key) of a format field: flags, width, precision.
+_FORMAT_FIELD = re.compile(r"[#0 +-]*(\*|\d+)?(?:\.(\*|\d+))?")
 _T = TypeVar("_T")
 
 
@@ -89,11 +90,30 @@ def check_repeat(sequence: Any, count: Any) -> None:
         raise RefusalError(f"a repetition of more than {MAX_ITEMS} characters or items")
 
 
+def _key_end(template: str, start: int) -> int:
+    """End of the mapping key opening at ``start`` (a ``(``): its parentheses nest, as Python
+    reads them; the end of the text when it is never closed (Python then refuses the format)."""
+    depth, position = 0, start
+    while position < len(template):
+        depth += {"(": 1, ")": -1}.get(template[position], 0)
+        position += 1
+        if depth == 0:
+            break
+    return position
+
+
 def check_format(template: str) -> None:
-    for width, precision in _FORMAT_FIELD.findall(template):
-        for number in (width, precision):
+    position = template.find("%")
+    while position >= 0:
+        start = position + 1
+        if template.startswith("(", start):
+            start = _key_end(template, start)
+        field = _FORMAT_FIELD.match(template, start)
+        assert field is not None  # every part of the pattern may be empty
+        for number in field.groups():
             if number == "*" or (number and int(number) > MAX_FORMAT_WIDTH):
                 raise RefusalError(f"a format field wider than {MAX_FORMAT_WIDTH}")
+        position = template.find("%", field.end())
 
 
 def check_binary(kind: type[ast.operator], left: Any, right: Any) -> None:

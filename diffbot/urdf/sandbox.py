@@ -410,7 +410,7 @@ NAMED_FROM = "diffbot-named-from"
 def _mark_origin(document: Any, folder: Path) -> None:
     """Tag the ``<parameters>`` elements of an included file with its folder (written so that
     xacro, which evaluates attributes, gives it back as it is)."""
-    escaped = re.sub(r"\$+(?=[{(])", lambda match: "$" + match.group(0), str(folder))
+    escaped = re.sub(r"(?<!\$)\$+(?=[{(])", lambda match: "$" + match.group(0), str(folder))
     for element in document.getElementsByTagName("parameters"):
         element.setAttribute(NAMED_FROM, escaped)
 

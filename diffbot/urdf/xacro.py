@@ -19,6 +19,7 @@ from xml.etree import ElementTree as ET
 from diffbot.errors import DescriptionError, PackageNotFoundError
 from diffbot.formats.text import one_line
 from diffbot.io.textfile import read_text
+from diffbot.io.xmlhead import prolog_end
 from diffbot.urdf.packages import PackageFinder
 
 __all__ = ["BUNDLED_DESCRIPTION", "BUNDLED_PACKAGES", "Expansion", "check_xml", "expand"]
@@ -164,7 +165,13 @@ def expand(
 
 
 def _is_sdf_text(text: str) -> bool:
-    return re.match(r"\s*(<\?xml[^>]*\?>\s*)?(<!--.*?-->\s*)*<sdf[\s>]", text, re.S) is not None
+    """Whether the root element, past the prolog, is ``<sdf>`` (read in time linear in the text,
+    however many comments come before it)."""
+    start = prolog_end(text)
+    if start is None or not text.startswith("<sdf", start) or len(text) == start + 4:
+        return False
+    after = text[start + 4]
+    return after == ">" or after.isspace()
 
 
 def _read_bag(source: Path, given: Mapping[str, str]) -> Expansion:

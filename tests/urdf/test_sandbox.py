@@ -435,6 +435,8 @@ def test_everyday_expressions_give_known_values(expression: str, expected: objec
         ("'x' * 10**7", "a repetition of more than"),
         ("[0] * 10**7", "a repetition of more than"),
         ("'%9999d' % 1", "a format field wider than"),
+        ("'%(a(b)c)9999d' % {'a(b)c': 1}", "a format field wider than"),
+        ("'%(a)%(b)*d' % {'a': 1}", "a format field wider than"),
         ("range(10**9)", "a range of more than"),
         ("1 << 10**6", "a shift of more than"),
         ("python.pow(10, 10**6)", "a power of more than"),
