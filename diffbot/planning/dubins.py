@@ -107,7 +107,8 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
         phi: the goal heading (rad).
 
     Returns:
-        Three pieces, lengths in radii (turns: the angle turned), every length >= 0.
+        Three pieces, lengths in radii (turns: the angle turned), every length >= 0; none for a
+        goal that is not finite.
     """
     atan2, sqrt, two_pi = math.atan2, math.sqrt, TWO_PI
     sp, cp = math.sin(phi), math.cos(phi)
@@ -186,10 +187,13 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
                     if length < best:
                         best, word, a, b, c = length, ccc, t, p, q
                         cut = best + _SLACK * (1.0 + best)
+    if not best < math.inf:  # no word reaches a goal that is not finite
+        return []
     new = tuple.__new__
     return [new(Piece, (word[0], a)), new(Piece, (word[1], b)), new(Piece, (word[2], c))]
 
 
 def distance(x: float, y: float, phi: float) -> float:
     """The length of the shortest Dubins path to ``(x, y, phi)``, in turning radii."""
-    return sum(piece.length for piece in path(x, y, phi))
+    pieces = path(x, y, phi)
+    return pieces[0].length + pieces[1].length + pieces[2].length if pieces else 0.0

@@ -269,8 +269,10 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
 
 
 def distance(x: float, y: float, phi: float) -> float:
-    """The length of the shortest Reeds-Shepp path to ``(x, y, phi)``, in turning radii."""
-    return sum(abs(piece.length) for piece in path(x, y, phi))
+    """The length of the shortest Reeds-Shepp path to ``(x, y, phi)``, in turning radii (0 where
+    no word reaches it, as for NaN)."""
+    # The sum path()'s pieces give, without making them.
+    return sum([abs(v) for v in shortest(x, y, phi)[1]])
 
 
 def distances(x: ArrayLike, y: ArrayLike, phi: ArrayLike) -> NDArray[np.float64]:

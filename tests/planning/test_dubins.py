@@ -95,3 +95,7 @@ def test_singular_goals() -> None:
     # Its mirror image is the same length, turning the other way.
     assert "".join(p.kind for p in dubins.path(0.0, 0.0, -0.5 * math.pi)) == "RLR"
     assert dubins.distance(0.0, 0.0, -0.5 * math.pi) == pytest.approx(expected, rel=1e-12)
+    # No word reaches a goal that is not finite.
+    assert dubins.path(1.0, 2.0, math.nan) == []
+    assert dubins.path(math.inf, 0.0, 0.0) == []
+    assert dubins.distance(1.0, 2.0, math.nan) == 0.0
