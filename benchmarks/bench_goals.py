@@ -136,7 +136,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     ompl = ompl_side(points, args.cpu)
     if ompl is not None:
         sides[OMPL] = ompl
-        sides[OMPL_DUBINS] = ompl_side(points, args.cpu, "DubinsStateSpace") or ompl
+        dubins_side = ompl_side(points, args.cpu, "DubinsStateSpace")
+        assert dubins_side is not None  # OMPL imported a line above
+        sides[OMPL_DUBINS] = dubins_side
     for shape in SHAPES:
         sides[f"plan_to {shape}"] = each(
             points,
