@@ -57,6 +57,7 @@ Shape = Literal["fastest", "spin-straight-spin", "dubins", "reeds-shepp"]
 SHAPES: tuple[Shape, ...] = ("fastest", "spin-straight-spin", "dubins", "reeds-shepp")
 #: The origin, heading along x.
 ORIGIN = (0.0, 0.0, 0.0)
+_ORIGIN = Pose(*ORIGIN)
 #: A waypoint: x, y (m) and a heading (rad), or None for the direction of the next leg.
 Waypoint = tuple[float, float, float | None]
 
@@ -75,10 +76,13 @@ def _number(value: object, what: str) -> float:
 
 
 def _pose(value: Sequence[float], what: str) -> Pose:
+    if value is ORIGIN:
+        return _ORIGIN
     if len(value) != 3:
         raise PlanError(f"{what} must be x, y and a heading, got {brief(value)}")
     x, y, heading = value
-    return Pose(_number(x, what), _number(y, what), _number(heading, what))
+    # The named tuple's own __new__ is a Python function: tuple.__new__ builds the same.
+    return tuple.__new__(Pose, (_number(x, what), _number(y, what), _number(heading, what)))
 
 
 def _waypoint(value: Sequence[float | None], number: int) -> Waypoint:
@@ -120,25 +124,28 @@ def _check_shape(shape: str, min_radius: float | None, forward_only: bool) -> fl
 def _arcs(pieces: list[Piece], radius: float) -> list[Segment]:
     """Reeds-Shepp or Dubins pieces (radii) as arcs and straights (m)."""
     # The segments are valid by construction (a positive finite radius, angles and lengths
-    # above the rounding): built without their checks.
+    # above the rounding): built as built() builds them, without their checks, inline (a goal
+    # plan's segments cost more than its path otherwise).
+    new = object.__new__
     out: list[Segment] = []
     for kind, length in pieces:
         if kind == "S":
             if abs(length) * radius > ROUNDING:
-                out.append(built(Straight, length=length * radius, duration=None))
-        elif abs(length) > ROUNDING:
+                segment: Segment = new(Straight)
+                segment.__dict__.update(length=length * radius, duration=None)
+                out.append(segment)
+        elif length > ROUNDING or length < -ROUNDING:
             # A left turn driven backwards turns the heading clockwise (and a right one, ccw).
             reverse = length < 0.0
-            out.append(
-                built(
-                    Arc,
-                    radius=radius,
-                    angle=-length if reverse else length,
-                    direction="cw" if (kind == "L") == reverse else "ccw",
-                    duration=None,
-                    reverse=reverse,
-                )
+            segment = new(Arc)
+            segment.__dict__.update(
+                radius=radius,
+                angle=-length if reverse else length,
+                direction="cw" if (kind == "L") == reverse else "ccw",
+                duration=None,
+                reverse=reverse,
             )
+            out.append(segment)
     return out
 
 
@@ -159,9 +166,11 @@ def _leg(
 ) -> list[Segment]:
     """The segments of the path of ``shape`` from ``start`` to ``goal`` (m, rad) for a robot of
     half wheel separation ``half`` (m); empty when the goal is the start."""
-    rel = relative_pose(start, goal)
-    x, y = rel.x, rel.y
-    turn = math.remainder(rel.theta, 2.0 * math.pi)
+    # relative_pose() without its Pose.
+    c, s = math.cos(start.theta), math.sin(start.theta)
+    dx, dy = goal.x - start.x, goal.y - start.y
+    x, y = c * dx + s * dy, -s * dx + c * dy
+    turn = math.remainder(goal.theta - start.theta, 2.0 * math.pi)
     if x == 0.0 and y == 0.0 and turn == 0.0:
         return []
     if shape == "fastest":

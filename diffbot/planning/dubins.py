@@ -7,6 +7,10 @@ The words are those of Shkel and Lumelsky (2001), "Classification of the Dubins 
 and Autonomous Systems 34, section 3 (eq. 4-9), built here from the turning circles' centres in
 the start's frame with the radius 1 (the tangent construction of their section 2), which keeps
 the path closing on the goal to rounding even where their ``p**2`` cancels.
+
+:func:`candidates` lists every feasible word; :func:`path` finds the same shortest one with the
+same operations, but solves a word only when a lower bound of its length, known before solving
+it, does not already exceed the shortest so far (see :func:`path`).
 """
 
 from __future__ import annotations
@@ -19,6 +23,35 @@ __all__ = ["WORDS", "candidates", "distance", "path"]
 
 #: The six words, in the order they are tried (ties go to the first).
 WORDS = ("LSL", "RSR", "RSL", "LSR", "RLR", "LRL")
+TWO_PI = 2.0 * math.pi
+#: A bound is trusted to rule a word out only when it exceeds the shortest length so far by
+#: more than this, relative (far above the rounding of either).
+_SLACK = 1e-9
+
+
+def _ccc(
+    word: str, cx: float, cy: float, ex: float, ey: float, d: float, phi: float
+) -> list[tuple[float, float, float]]:
+    """RLR (``word`` "RLR", first centre (0, -1)) or LRL (first centre (0, 1)) to the goal's
+    circle centred at (ex, ey), ``d`` (0 < d <= 4) from the first: a third circle touching
+    both, its centre two radii from each, on either side (eq. 8, 9)."""
+    vx, vy = ex - cx, ey - cy
+    base = math.atan2(vy, vx)
+    gap = math.acos(0.25 * d)
+    found = []
+    for side in (gap, -gap):
+        # w: from the first centre to the touching point; w2: from the middle centre to the
+        # second touching point.
+        wx, wy = math.cos(base + side), math.sin(base + side)
+        mx, my = cx + 2.0 * wx, cy + 2.0 * wy
+        w2x, w2y = 0.5 * (ex - mx), 0.5 * (ey - my)
+        if word == "RLR":
+            h1, h2 = math.atan2(-wx, wy), math.atan2(w2x, -w2y)
+            found.append((mod2pi(-h1), mod2pi(h2 - h1), mod2pi(h2 - phi)))
+        else:
+            h1, h2 = math.atan2(wx, -wy), math.atan2(-w2x, w2y)
+            found.append((mod2pi(h1), mod2pi(h1 - h2), mod2pi(phi - h2)))
+    return found
 
 
 def candidates(x: float, y: float, phi: float) -> list[tuple[str, tuple[float, float, float]]]:
@@ -49,49 +82,118 @@ def candidates(x: float, y: float, phi: float) -> list[tuple[str, tuple[float, f
         p = math.sqrt(d2 - 4.0)
         h = math.atan2(vy, vx) + math.atan2(2.0, p)
         found.append(("LSR", (mod2pi(h), p, mod2pi(h - phi))))
-    # RLR and LRL (eq. 8, 9): a third circle touching both, its centre two radii from each.
+    # RLR and LRL (eq. 8, 9): the centres of one side at most four radii apart.
     for word, (cx, cy), (ex, ey) in (("RLR", (0.0, -1.0), right2), ("LRL", (0.0, 1.0), left2)):
-        vx, vy = ex - cx, ey - cy
-        d = math.hypot(vx, vy)
-        if d > 4.0 or d == 0.0:
-            continue
-        base = math.atan2(vy, vx)
-        gap = math.acos(0.25 * d)
-        for side in (gap, -gap):
-            # w: from the first centre to the touching point; w2: from the middle centre to the
-            # second touching point.
-            wx, wy = math.cos(base + side), math.sin(base + side)
-            mx, my = cx + 2.0 * wx, cy + 2.0 * wy
-            w2x, w2y = 0.5 * (ex - mx), 0.5 * (ey - my)
-            if word == "RLR":
-                h1, h2 = math.atan2(-wx, wy), math.atan2(w2x, -w2y)
-                found.append((word, (mod2pi(-h1), mod2pi(h2 - h1), mod2pi(h2 - phi))))
-            else:
-                h1, h2 = math.atan2(wx, -wy), math.atan2(-w2x, w2y)
-                found.append((word, (mod2pi(h1), mod2pi(h1 - h2), mod2pi(phi - h2))))
+        d = math.hypot(ex - cx, ey - cy)
+        if 0.0 < d <= 4.0:
+            found += [(word, lengths) for lengths in _ccc(word, cx, cy, ex, ey, d, phi)]
     return found
 
 
 def path(x: float, y: float, phi: float) -> list[Piece]:
     """The shortest Dubins path from the origin heading along x to ``(x, y, phi)``.
 
+    The first shortest word of :func:`candidates`, with its lengths to the bit, found with fewer
+    words solved: LSL and RSR always (they always exist), then a word only where a lower bound
+    of its length does not exceed the shortest so far. RSL and LSR: their straight, fixed by the
+    distance ``d`` between their circles, plus their arcs, which turn the heading by ``phi`` and
+    so at least by ``|phi|`` wrapped to [-pi, pi]. RLR and LRL (circles at most four radii
+    apart): the middle arc is ``a`` or ``2 pi - a`` for the angle ``a = 2 asin(d / 4)`` the
+    neighbours' centres subtend at its centre, and the outer arcs add what the middle one leaves
+    of the turn ``phi`` (mod 2 pi); and no word is shorter than the straight line to the goal.
+
     Args:
         x, y: the goal position in turning radii (start frame).
         phi: the goal heading (rad).
 
     Returns:
-        Three pieces, lengths in radii (turns: the angle turned), every length >= 0.
+        Three pieces, lengths in radii (turns: the angle turned), every length >= 0; none for a
+        goal that is not finite.
     """
-    best: list[Piece] = []
-    best_length = math.inf
-    for word, (t, p, q) in candidates(x, y, phi):
-        length = t + p + q
-        if length < best_length:
-            best_length = length
-            best = [Piece(word[0], t), Piece(word[1], p), Piece(word[2], q)]
-    return best
+    atan2, sqrt, two_pi = math.atan2, math.sqrt, TWO_PI
+    sp, cp = math.sin(phi), math.cos(phi)
+    lx, ly, rx, ry = x - sp, y + cp, x + sp, y - cp
+    # LSL. a % 2 pi is mod2pi(a) (the same fmod and correction) but for its last step, kept.
+    vy = ly - 1.0
+    h = atan2(vy, lx)
+    t, q = h % two_pi, (phi - h) % two_pi
+    if t >= two_pi:
+        t = 0.0
+    if q >= two_pi:
+        q = 0.0
+    same_left = math.hypot(lx, vy)
+    best = t + same_left + q
+    word, a, b, c = "LSL", t, same_left, q
+    # RSR.
+    vy = ry + 1.0
+    h = atan2(vy, rx)
+    t, q = -h % two_pi, (h - phi) % two_pi
+    if t >= two_pi:
+        t = 0.0
+    if q >= two_pi:
+        q = 0.0
+    same_right = math.hypot(rx, vy)
+    length = t + same_right + q
+    if length < best:
+        best, word, a, b, c = length, "RSR", t, same_right, q
+    cut = best + _SLACK * (1.0 + best)
+    turn = abs(math.remainder(phi, two_pi))
+    # RSL.
+    vy = ly + 1.0
+    d2 = lx * lx + vy * vy
+    if d2 >= 4.0:
+        p = sqrt(d2 - 4.0)
+        if p + turn <= cut:
+            h = atan2(vy, lx) - atan2(2.0, p)
+            t, q = -h % two_pi, (phi - h) % two_pi
+            if t >= two_pi:
+                t = 0.0
+            if q >= two_pi:
+                q = 0.0
+            length = t + p + q
+            if length < best:
+                best, word, a, b, c = length, "RSL", t, p, q
+                cut = best + _SLACK * (1.0 + best)
+    # LSR.
+    vy = ry - 1.0
+    d2 = rx * rx + vy * vy
+    if d2 >= 4.0:
+        p = sqrt(d2 - 4.0)
+        if p + turn <= cut:
+            h = atan2(vy, rx) + atan2(2.0, p)
+            t, q = h % two_pi, (h - phi) % two_pi
+            if t >= two_pi:
+                t = 0.0
+            if q >= two_pi:
+                q = 0.0
+            length = t + p + q
+            if length < best:
+                best, word, a, b, c = length, "LSR", t, p, q
+                cut = best + _SLACK * (1.0 + best)
+    # RLR and LRL: the middle arc a or 2 pi - a; RLR's outer arcs turn by (middle - phi) mod 2 pi
+    # (at least), LRL's by (phi + middle).
+    if (same_right <= 4.0 or same_left <= 4.0) and math.hypot(x, y) <= cut:
+        for ccc, sign, cy, ex, ey, d in (
+            ("RLR", -1.0, -1.0, rx, ry, same_right),
+            ("LRL", 1.0, 1.0, lx, ly, same_left),
+        ):
+            if not 0.0 < d <= 4.0:
+                continue
+            arc = math.pi - 2.0 * math.acos(0.25 * d)
+            low = min(arc + (sign * phi + arc) % two_pi, two_pi - arc + (sign * phi - arc) % two_pi)
+            if low <= cut:
+                for t, p, q in _ccc(ccc, 0.0, cy, ex, ey, d, phi):
+                    length = t + p + q
+                    if length < best:
+                        best, word, a, b, c = length, ccc, t, p, q
+                        cut = best + _SLACK * (1.0 + best)
+    if not best < math.inf:  # no word reaches a goal that is not finite
+        return []
+    new = tuple.__new__
+    return [new(Piece, (word[0], a)), new(Piece, (word[1], b)), new(Piece, (word[2], c))]
 
 
 def distance(x: float, y: float, phi: float) -> float:
     """The length of the shortest Dubins path to ``(x, y, phi)``, in turning radii."""
-    return sum(piece.length for piece in path(x, y, phi))
+    pieces = path(x, y, phi)
+    return pieces[0].length + pieces[1].length + pieces[2].length if pieces else 0.0

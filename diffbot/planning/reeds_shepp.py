@@ -18,8 +18,9 @@ drives backwards.
 The formulas are written once for both numbers and NumPy arrays (a *backend* gives the
 functions): :func:`candidates` lists one goal's words with :mod:`math`, :func:`distances` measures
 many goals at once with NumPy, and :func:`paths` plans them. :func:`path` plans one goal with the
-same formulas on floats, each giving up at its first unmet condition, and skips the words a lower
-bound of their length rules out: the same words and lengths, several times faster.
+same formulas on floats (:mod:`diffbot.planning.reeds_shepp_search`), each giving up at its first
+unmet condition, and skips the words a lower bound of their length rules out: the same words and
+lengths, several times faster.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from diffbot.planning import Piece
+from diffbot.planning.reeds_shepp_search import SLACK, ZERO, shortest
 
 if TYPE_CHECKING:
     import numpy as np
@@ -36,8 +38,6 @@ if TYPE_CHECKING:
 
 __all__ = ["WORDS", "candidates", "distance", "distances", "path", "paths"]
 
-#: Tolerance of the formulas' sign conditions, as in OMPL (10 machine epsilons).
-ZERO = 10.0 * 2.220446049250313e-16
 HALF_PI = 0.5 * math.pi
 TWO_PI = 2.0 * math.pi
 
@@ -240,265 +240,12 @@ def candidates(x: float, y: float, phi: float) -> list[tuple[str, _Lengths]]:
     return [(w, lengths) for w, _, lengths in _evaluations(_Math, x, y, phi)]
 
 
-# --------------------------------------------------------------------------------------------
-# One goal: the same formulas on floats, each giving up at its first unmet condition (as OMPL's
-# do), with the same operations in the same order, so the lengths are the same numbers. They
-# are tried symmetry by symmetry, sharing what the formulas of one symmetry have in common, and
-# a formula is skipped when a lower bound of its length already exceeds the shortest so far:
-#
-# - The formulas use two pairs of circle centres: (xi, eta) = (x - s, y - 1 + c), whose norm
-#   is the distance between the start's and the goal's left turning circles (8.1, 8.3/8.4,
-#   8.9), and (x + s, y - 1 - c), from the start's left circle to the goal's right one (8.2,
-#   8.7, 8.8, 8.10, 8.11). A word's straight is at least what that distance fixes: rho (8.1),
-#   sqrt(rho^2 - 4) (8.2), sqrt(rho^2 - 4) - 2 (8.9), rho - 2 (8.10), sqrt(rho^2 - 4) - 4
-#   (8.11). The symmetries only change signs, and a word read backwards joins the same two
-#   circles, so four distances serve all 48 words.
-# - Its arcs turn the heading by phi modulo 2 pi with the signs the formula's conditions fix:
-#   at least phi mod 2 pi (8.1), |phi| wrapped (8.2, 8.8, and any word), pi/2 + |phi - pi/2|
-#   wrapped (8.9), pi/2 + (phi - pi/2) mod 2 pi (8.10), pi + |phi| wrapped (8.11).
-#
-# A bound is skipped only when it exceeds the shortest length by more than 1e-9 relative (far
-# above rounding), and equally short words keep the order of _EVALUATIONS: the word chosen is
-# the one the full search chooses.
-
-_SLACK = 1e-9
-
-
-def _wrap(angle: float) -> float:
-    v = math.fmod(angle, TWO_PI)
-    if v < -math.pi:
-        return v + TWO_PI
-    return v - TWO_PI if v > math.pi else v
-
-
-def _tau_omega_1(u: float, v: float, xi: float, eta: float, phi: float) -> tuple[float, float]:
-    delta = _wrap(u - v)
-    a1 = math.sin(u) - math.sin(delta)
-    b1 = math.cos(u) - math.cos(delta) - 1.0
-    t1 = math.atan2(eta * a1 - xi * b1, xi * a1 + eta * b1)
-    t2 = 2.0 * (math.cos(delta) - math.cos(v) - math.cos(u)) + 3.0
-    tau = _wrap(t1 + math.pi) if t2 < 0.0 else _wrap(t1)
-    return tau, _wrap(tau - u + v - phi)
-
-
-def _lrl_1(xi: float, eta: float, rho: float, phi: float) -> tuple[float, float, float] | None:
-    """8.3/8.4 L+ R- L from (xi, eta) of norm ``rho`` <= 4 (as :func:`_lrl`, on floats)."""
-    u = -2.0 * math.asin(0.25 * rho)
-    t = _wrap(math.atan2(eta, xi) + 0.5 * u + math.pi)
-    if not (t >= -ZERO and u <= ZERO):
-        return None
-    return t, u, _wrap(phi - t + u)
-
-
-def _lrsl_1(xi: float, eta: float, rho: float, phi: float) -> _Lengths | None:
-    """8.9 L+ R-(pi/2) S- L- from (xi, eta) of norm ``rho`` >= 2 (as :func:`_lrsl`)."""
-    r = math.sqrt(max(rho * rho - 4.0, 0.0))
-    u = 2.0 - r
-    if not u <= ZERO:
-        return None
-    t = _wrap(math.atan2(eta, xi) + math.atan2(r, -2.0))
-    if not t >= -ZERO:
-        return None
-    v = _wrap(phi - HALF_PI - t)
-    return (t, -HALF_PI, u, v) if v <= ZERO else None
-
-
-def _lrsr_1(xi: float, eta: float, phi: float) -> _Lengths | None:
-    """8.10 L+ R-(pi/2) S- R- from (xi, eta) (as :func:`_lrsr`)."""
-    rho = math.hypot(-eta, xi)
-    if not rho >= 2.0:
-        return None
-    t = math.atan2(xi, -eta)
-    u = 2.0 - rho
-    if not (t >= -ZERO and u <= ZERO):
-        return None
-    v = _wrap(t + HALF_PI - phi)
-    return (t, -HALF_PI, u, v) if v <= ZERO else None
-
-
-def _turned(angle: float) -> float:
-    """``angle`` mod 2 pi, or 0 where rounding may carry a turn of almost 2 pi round to 0."""
-    m = angle % TWO_PI
-    return m if m < TWO_PI - _SLACK else 0.0
-
-
 #: The word of every formula under every symmetry, in the order tried: :func:`paths` gives
 #: each goal's word as an index into it.
 WORDS: tuple[str, ...] = tuple(word for *_, word in _EVALUATIONS)
 _WORDS = WORDS
 #: The sign of x of each evaluation's symmetry (timeflip drives it backwards).
 _SIGNS = tuple(sx for _, _, sx, *_ in _EVALUATIONS)
-
-
-def _shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
-    """The index in :data:`_EVALUATIONS` of the first shortest word to ``(x, y, phi)`` and its
-    lengths before the symmetry's sign (-1 and none when no formula holds: NaN)."""
-    sin, cos, atan2, hypot, fmod, sqrt = (
-        math.sin,
-        math.cos,
-        math.atan2,
-        math.hypot,
-        math.fmod,
-        math.sqrt,
-    )
-    pi, two_pi, half_pi, zero = math.pi, TWO_PI, HALF_PI, ZERO
-    s, c = sin(phi), cos(phi)
-    # Heading bounds for phi and -phi (the symmetries' headings).
-    w = abs(math.remainder(phi, two_pi))
-    plus = (_turned(phi), abs(math.remainder(phi - half_pi, two_pi)), _turned(phi - half_pi))
-    minus = (_turned(-phi), abs(math.remainder(-phi - half_pi, two_pi)), _turned(-phi - half_pi))
-    best, found = math.inf, -1
-    lengths: tuple[float, ...] = ()
-    cut = math.inf  # best plus the slack: bounds above it cannot win
-    # Forward formulas, symmetry k: (x, y, phi), timeflip, reflect, both.
-    left_same = hypot(x - s, y - 1.0 + c)  # start's left circle to the goal's left
-    left_cross = hypot(x + s, y - 1.0 - c)  # start's left circle to the goal's right
-    right_same = hypot(x + s, -y - 1.0 + c)
-    right_cross = hypot(x - s, -y - 1.0 - c)
-    forward = (
-        (0, x, y, s, phi, plus, left_same, left_cross),
-        (1, -x, y, -s, -phi, minus, left_same, left_cross),
-        (2, x, -y, -s, -phi, minus, right_same, right_cross),
-        (3, -x, -y, s, phi, plus, right_same, right_cross),
-    )
-    for k, px, py, ps, p, (turned, _, _), da, db in forward:
-        xi, eta = px - ps, py - 1.0 + c
-        theta = atan2(eta, xi)
-        # 8.1 LSL (t, rho, v): rho = da.
-        if da + turned <= cut and theta >= -zero:
-            v = fmod(p - theta, two_pi)
-            if v < -pi:
-                v += two_pi
-            elif v > pi:
-                v -= two_pi
-            if v >= -zero:
-                length = abs(theta) + da + abs(v)
-                if length < best or (length == best and k < found):
-                    best, found, lengths = length, k, (theta, da, v)
-                    cut = best + _SLACK * (1.0 + best)
-        xj, ej = px + ps, py - 1.0 - c
-        # 8.2 LSR.
-        u1 = db * db
-        if u1 >= 4.0:
-            u = sqrt(u1 - 4.0)
-            if u + w <= cut:
-                t = _wrap(atan2(ej, xj) + atan2(2.0, u))
-                if t >= -zero:
-                    v = _wrap(t - p)
-                    if v >= -zero:
-                        length = abs(t) + u + abs(v)
-                        if length < best or (length == best and 4 + k < found):
-                            best, found, lengths = length, 4 + k, (t, u, v)
-                            cut = best + _SLACK * (1.0 + best)
-    # The others, once the shortest of those two gives their bounds something to cut.
-    for k, px, py, ps, p, (_, quarter, quarter_turned), da, db in forward:
-        xi, eta = px - ps, py - 1.0 + c
-        xj, ej = px + ps, py - 1.0 - c
-        u1 = db * db
-        # 8.3 LRL, forwards.
-        if da <= 4.0 and w <= cut:
-            lrl = _lrl_1(xi, eta, da, p)
-            if lrl is not None:
-                t, u, v = lrl
-                length = abs(t) + abs(u) + abs(v)
-                if length < best or (length == best and 8 + k < found):
-                    best, found, lengths = length, 8 + k, lrl
-                    cut = best + _SLACK * (1.0 + best)
-        # 8.7 LR+L-R (rho <= 1) and 8.8 L-R+L-R (0 <= rho <= 1): at most one holds.
-        if db <= 2.0 + _SLACK and w <= cut:
-            rho = 0.25 * (2.0 + db)
-            if rho <= 1.0:
-                u = math.acos(rho)
-                t, v = _tau_omega_1(u, -u, xj, ej, p)
-                if t >= -zero and v <= zero:
-                    length = abs(t) + abs(u) + abs(-u) + abs(v)
-                    if length < best or (length == best and 16 + k < found):
-                        best, found, lengths = length, 16 + k, (t, u, -u, v)
-                        cut = best + _SLACK * (1.0 + best)
-        if 1.9 <= db <= 4.5 and w <= cut:
-            rho = (20.0 - xj * xj - ej * ej) / 16.0
-            if rho >= 0.0 and rho <= 1.0:
-                u = -math.acos(rho)
-                # Its arcs: 2 |u|, and t + v >= |phi| wrapped (t - v is phi).
-                if u >= -half_pi and w - 2.0 * u <= cut:
-                    t, v = _tau_omega_1(u, u, xj, ej, p)
-                    if t >= -zero and v >= -zero:
-                        length = abs(t) + abs(u) + abs(u) + abs(v)
-                        if length < best or (length == best and 20 + k < found):
-                            best, found, lengths = length, 20 + k, (t, u, u, v)
-                            cut = best + _SLACK * (1.0 + best)
-        # 8.9 LRSL, forwards.
-        if da >= 2.0 and half_pi + quarter + sqrt(max(da * da - 4.0, 0.0)) - 2.0 <= cut:
-            lrsl = _lrsl_1(xi, eta, da, p)
-            if lrsl is not None:
-                t, _, u, v = lrsl
-                length = abs(t) + half_pi + abs(u) + abs(v)
-                if length < best or (length == best and 24 + k < found):
-                    best, found, lengths = length, 24 + k, lrsl
-                    cut = best + _SLACK * (1.0 + best)
-        # 8.10 LRSR, forwards.
-        if db >= 2.0 - _SLACK and half_pi + quarter_turned + db - 2.0 <= cut:
-            lrsr = _lrsr_1(xj, ej, p)
-            if lrsr is not None:
-                t, _, u, v = lrsr
-                length = abs(t) + half_pi + abs(u) + abs(v)
-                if length < best or (length == best and 28 + k < found):
-                    best, found, lengths = length, 28 + k, lrsr
-                    cut = best + _SLACK * (1.0 + best)
-        # 8.11 LRSLR.
-        if u1 >= 20.0 - _SLACK:
-            u = 4.0 - sqrt(max(db * db - 4.0, 0.0))
-            if u <= zero and pi + w - u <= cut and db >= 2.0:
-                t = _wrap(atan2((4.0 - u) * xj - 2.0 * ej, -2.0 * xj + (u - 4.0) * ej))
-                if t >= -zero:
-                    v = _wrap(t - p)
-                    if v >= -zero:
-                        length = abs(t) + half_pi + abs(u) + half_pi + abs(v)
-                        if length < best or (length == best and 40 + k < found):
-                            best, found, lengths = length, 40 + k, (t, -half_pi, u, -half_pi, v)
-                            cut = best + _SLACK * (1.0 + best)
-    # The formulas read backwards (8.4, 8.9 and 8.10 from the goal): the same four distances,
-    # the cross ones swapped between the symmetries.
-    xb, yb = x * c + y * s, x * s - y * c
-    backward = (
-        (0, xb, yb, s, phi, plus, left_same, right_cross),
-        (1, -xb, yb, -s, -phi, minus, left_same, right_cross),
-        (2, xb, -yb, -s, -phi, minus, right_same, left_cross),
-        (3, -xb, -yb, s, phi, plus, right_same, left_cross),
-    )
-    for k, px, py, ps, p, (_, quarter, quarter_turned), da, db in backward:
-        try_lrl = da <= 4.0 + _SLACK and w <= cut
-        try_lrsl = (
-            da >= 2.0 - _SLACK and half_pi + quarter + sqrt(max(da * da - 4.0, 0.0)) - 2.0 <= cut
-        )
-        if try_lrl or try_lrsl:
-            xi, eta = px - ps, py - 1.0 + c
-            rho = hypot(xi, eta)
-            if try_lrl and rho <= 4.0:
-                lrl = _lrl_1(xi, eta, rho, p)
-                if lrl is not None:
-                    t, u, v = lrl
-                    length = abs(v) + abs(u) + abs(t)
-                    if length < best or (length == best and 12 + k < found):
-                        best, found, lengths = length, 12 + k, (v, u, t)
-                        cut = best + _SLACK * (1.0 + best)
-            if try_lrsl and rho >= 2.0:
-                lrsl = _lrsl_1(xi, eta, rho, p)
-                if lrsl is not None:
-                    t, _, u, v = lrsl
-                    length = abs(v) + abs(u) + half_pi + abs(t)
-                    if length < best or (length == best and 32 + k < found):
-                        best, found, lengths = length, 32 + k, (v, u, -half_pi, t)
-                        cut = best + _SLACK * (1.0 + best)
-        if db >= 2.0 - _SLACK and half_pi + quarter_turned + db - 2.0 <= cut:
-            lrsr = _lrsr_1(px + ps, py - 1.0 - c, p)
-            if lrsr is not None:
-                t, _, u, v = lrsr
-                length = abs(v) + abs(u) + half_pi + abs(t)
-                if length < best or (length == best and 36 + k < found):
-                    best, found, lengths = length, 36 + k, (v, u, -half_pi, t)
-                    cut = best + _SLACK * (1.0 + best)
-    return found, lengths
 
 
 def path(x: float, y: float, phi: float) -> list[Piece]:
@@ -512,7 +259,7 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
         Three to five pieces (lengths in radii, negative backwards); the first of equally short
         words in OMPL's order.
     """
-    found, lengths = _shortest(x, y, phi)
+    found, lengths = shortest(x, y, phi)
     if found < 0:
         return []
     if _SIGNS[found] < 0:
@@ -522,8 +269,10 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
 
 
 def distance(x: float, y: float, phi: float) -> float:
-    """The length of the shortest Reeds-Shepp path to ``(x, y, phi)``, in turning radii."""
-    return sum(abs(piece.length) for piece in path(x, y, phi))
+    """The length of the shortest Reeds-Shepp path to ``(x, y, phi)``, in turning radii (0 where
+    no word reaches it, as for NaN)."""
+    # The sum path()'s pieces give, without making them.
+    return sum([abs(v) for v in shortest(x, y, phi)[1]])
 
 
 def distances(x: ArrayLike, y: ArrayLike, phi: ArrayLike) -> NDArray[np.float64]:
@@ -588,10 +337,10 @@ def paths(
             for j, v in enumerate(lengths):
                 out[chosen, j] = np.broadcast_to(v, (n,))[chosen]
     with np.errstate(invalid="ignore"):  # no word: inf - inf
-        near = ~(runner_up - best > _SLACK * (1.0 + best))
+        near = ~(runner_up - best > SLACK * (1.0 + best))
     doubtful = np.flatnonzero(near & np.isfinite(best))
     for i in doubtful.tolist():
-        found, exact = _shortest(*(float(a[i]) for a in flat))
+        found, exact = shortest(*(float(a[i]) for a in flat))
         words[i] = found
         out[i] = np.nan
         if found >= 0:

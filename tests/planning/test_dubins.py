@@ -5,7 +5,8 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from path_pieces import COORDINATES, HEADINGS, PAIRS, assert_agrees_with_ompl, assert_ends_at
 
 from diffbot.planning import dubins
@@ -39,3 +40,62 @@ def test_never_backwards_and_never_shorter_than_the_distance(
 def test_lengths_and_words_equal_ompls() -> None:
     ob = pytest.importorskip("ompl.base", reason="the comparison needs OMPL (pip install ompl)")
     assert_agrees_with_ompl(dubins, ob.DubinsStateSpace(1.0), PAIRS)
+
+
+#: Goals where words tie or degenerate: the start itself, turns in place, goals on the start's
+#: line or its circles, whole radii and quarter turns, mirror images, the tiny and the huge.
+SINGULAR_HEADINGS = st.sampled_from(
+    [0.0, math.pi, -math.pi, 0.5 * math.pi, -0.5 * math.pi, 2.0 * math.pi, 1e-17, -1e-17]
+)
+GRID = st.integers(-4, 4).map(float)
+SPREAD = st.one_of(COORDINATES, GRID, st.floats(-1e-6, 1e-6), st.floats(-1e4, 1e4))
+GOALS = st.one_of(
+    st.tuples(SPREAD, SPREAD, st.one_of(HEADINGS, SINGULAR_HEADINGS)),
+    st.tuples(st.just(0.0), st.just(0.0), st.one_of(HEADINGS, SINGULAR_HEADINGS)),
+    st.tuples(SPREAD, st.just(0.0), SINGULAR_HEADINGS),
+    st.tuples(st.just(0.0), st.sampled_from([2.0, -2.0, 4.0, -4.0]), SINGULAR_HEADINGS),
+)
+
+
+def first_shortest(x: float, y: float, phi: float) -> list[tuple[str, float]]:
+    """The first shortest of all feasible words, every one solved (no bound skips any)."""
+    best: list[tuple[str, float]] = []
+    best_length = math.inf
+    for word, lengths in dubins.candidates(x, y, phi):
+        length = lengths[0] + lengths[1] + lengths[2]
+        if length < best_length:
+            best, best_length = list(zip(word, lengths, strict=True)), length
+    return best
+
+
+@settings(max_examples=1000, deadline=None)
+@given(GOALS, st.booleans())
+def test_path_is_the_first_shortest_of_every_word_exactly(
+    goal: tuple[float, float, float], mirrored: bool
+) -> None:
+    # path() skips the words whose lower bound exceeds the shortest so far: it must still find
+    # the word and the lengths that solving every word finds, bit for bit, mirror images too.
+    x, y, phi = goal
+    if mirrored:
+        y, phi = -y, -phi
+    assert [(p.kind, p.length) for p in dubins.path(x, y, phi)] == first_shortest(x, y, phi)
+
+
+def test_singular_goals() -> None:
+    # The start itself is no motion.
+    assert dubins.distance(0.0, 0.0, 0.0) == 0.0
+    assert dubins.distance(0.0, 0.0, 2.0 * math.pi) == 0.0
+    # A quarter turn in place, forward only: LRL, its middle arc 2 pi less the angle
+    # 2 asin(sqrt(2) / 4) that the two left circles (sqrt(2) apart) subtend at its centre, its
+    # outer arcs the pi/2 - 2 asin(sqrt(2) / 4) left: 5 pi / 2 - 4 asin(sqrt(2) / 4) in all.
+    pieces = dubins.path(0.0, 0.0, 0.5 * math.pi)
+    assert "".join(p.kind for p in pieces) == "LRL"
+    expected = 2.5 * math.pi - 4.0 * math.asin(math.sqrt(2.0) / 4.0)
+    assert dubins.distance(0.0, 0.0, 0.5 * math.pi) == pytest.approx(expected, rel=1e-12)
+    # Its mirror image is the same length, turning the other way.
+    assert "".join(p.kind for p in dubins.path(0.0, 0.0, -0.5 * math.pi)) == "RLR"
+    assert dubins.distance(0.0, 0.0, -0.5 * math.pi) == pytest.approx(expected, rel=1e-12)
+    # No word reaches a goal that is not finite.
+    assert dubins.path(1.0, 2.0, math.nan) == []
+    assert dubins.path(math.inf, 0.0, 0.0) == []
+    assert dubins.distance(1.0, 2.0, math.nan) == 0.0

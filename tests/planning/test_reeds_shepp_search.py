@@ -1,0 +1,82 @@
+"""One goal's shortest Reeds-Shepp word: the search that skips words by their bounds finds the
+word and lengths that solving all 48 finds, bit for bit, singular goals included."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from path_pieces import COORDINATES, HEADINGS
+
+from diffbot.planning import reeds_shepp
+from diffbot.planning.reeds_shepp_search import shortest
+
+#: Headings where words tie or degenerate: none, half and quarter turns, a full turn, rounding.
+SINGULAR_HEADINGS = st.sampled_from(
+    [0.0, math.pi, -math.pi, 0.5 * math.pi, -0.5 * math.pi, 2.0 * math.pi, 1e-17, -1e-17]
+)
+ANY_HEADING = st.one_of(HEADINGS, SINGULAR_HEADINGS)
+#: Whole radii put goals on the turning circles and their tangents.
+SPREAD = st.one_of(
+    COORDINATES, st.integers(-4, 4).map(float), st.floats(-1e-6, 1e-6), st.floats(-1e4, 1e4)
+)
+GOALS = st.one_of(
+    st.tuples(SPREAD, SPREAD, ANY_HEADING),
+    # The start itself, and turns in place.
+    st.tuples(st.just(0.0), st.just(0.0), ANY_HEADING),
+    # On the start's line (ahead, behind), facing along it or across.
+    st.tuples(SPREAD, st.just(0.0), SINGULAR_HEADINGS),
+    st.tuples(st.just(0.0), SPREAD, SINGULAR_HEADINGS),
+)
+
+
+def exhaustive(x: float, y: float, phi: float) -> tuple[str, tuple[float, ...]]:
+    """The first shortest of every word that holds, all 48 solved (no bound skips one)."""
+    best: tuple[str, tuple[float, ...]] = ("", ())
+    best_length = math.inf
+    for word, lengths in reeds_shepp.candidates(x, y, phi):
+        length = sum(abs(v) for v in lengths)
+        if length < best_length:
+            best, best_length = (word, lengths), length
+    return best
+
+
+def searched(x: float, y: float, phi: float) -> tuple[str, tuple[float, ...]]:
+    found, lengths = shortest(x, y, phi)
+    if found < 0:
+        return "", ()
+    # A timeflip (odd symmetries) drives the word backwards.
+    signed = tuple(-v for v in lengths) if found % 2 else lengths
+    return reeds_shepp.WORDS[found], signed
+
+
+@settings(max_examples=1500, deadline=None)
+@given(GOALS, st.sampled_from([(1, 1), (-1, 1), (1, -1), (-1, -1)]))
+def test_the_search_finds_the_first_shortest_of_all_words_exactly(
+    goal: tuple[float, float, float], signs: tuple[int, int]
+) -> None:
+    # Mirror images and time reversals of a goal too: the symmetries must tie-break alike.
+    x, y, phi = goal
+    x, y = signs[0] * x, signs[1] * y
+    phi = signs[0] * signs[1] * phi
+    assert searched(x, y, phi) == exhaustive(x, y, phi)
+
+
+def test_singular_goals() -> None:
+    # The start itself: a word of empty pieces.
+    word, lengths = searched(0.0, 0.0, 0.0)
+    assert sum(abs(v) for v in lengths) == 0.0
+    # On the start's line, ahead or behind: a straight of that length between empty arcs.
+    for x in (3.0, -3.0):
+        word, lengths = searched(x, 0.0, 0.0)
+        assert word[1] == "S"
+        assert lengths == pytest.approx((0.0, x, 0.0), abs=1e-12)
+    # A half turn in place: three arcs of pi/3, the middle one backwards (8.3), pi in all.
+    word, lengths = searched(0.0, 0.0, math.pi)
+    assert word == "LRL"
+    third = math.pi / 3.0
+    assert lengths == pytest.approx((third, -third, third), abs=1e-12)
+    # No word reaches a NaN goal.
+    assert shortest(math.nan, 0.0, 0.0) == (-1, ())
