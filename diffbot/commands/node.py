@@ -356,6 +356,13 @@ def robot_command(
     """
     from diffbot.urdf.xacro import expand
 
+    for option, given in (
+        ("--cmd-vel", cmd_vel),
+        ("--left-topic", left_topic),
+        ("--right-topic", right_topic),
+    ):
+        if given is not None:
+            checked_topic(option, given)
     options = robot.with_path(description, {})
     params = options.load()
     if stamped and cmd_vel is None:
