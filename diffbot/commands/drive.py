@@ -8,11 +8,8 @@ from typing import TYPE_CHECKING
 
 import click
 
-from diffbot.commands.live import announce_option, checked_frame, checked_topic
+from diffbot.commands.live import RATE, WAIT, announce_option, checked_frame, checked_topic
 from diffbot.commands.options import (
-    MAX_PUBLISH_RATE,
-    NON_NEGATIVE,
-    FiniteFloat,
     RobotOptions,
     fail,
     quiet_option,
@@ -36,7 +33,7 @@ DRIVE_RATE = 20.0
 @plan_arguments
 @click.option(
     "--rate",
-    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
+    type=RATE,
     default=DRIVE_RATE,
     show_default=True,
     metavar="HZ",
@@ -76,7 +73,7 @@ DRIVE_RATE = 20.0
 )
 @click.option(
     "--wait",
-    type=NON_NEGATIVE,
+    type=WAIT,
     default=5.0,
     show_default=True,
     metavar="S",

@@ -9,13 +9,35 @@ from typing import TYPE_CHECKING
 
 import click
 
-from diffbot.commands.options import POSITIVE, F, fail
-from diffbot.numbers import shown
+from diffbot.commands.options import (
+    MAX_PUBLISH_RATE,
+    MIN_COMMAND_RATE,
+    POSITIVE,
+    F,
+    FiniteFloat,
+    fail,
+)
+from diffbot.numbers import MAX_PLAN_DURATION, shown
 
 if TYPE_CHECKING:
     from diffbot.live.transport import Node
 
-__all__ = ["announce_option", "checked_frame", "checked_topic", "duration_option", "run_node"]
+#: A live node's rate (Hz): from one update per longest plan to the fastest publisher's.
+RATE = FiniteFloat(MIN_COMMAND_RATE, maximum=MAX_PUBLISH_RATE)
+#: How often odometry may be published (Hz): at least once per longest plan.
+PUBLISH_RATE = FiniteFloat(MIN_COMMAND_RATE)
+#: A time a live command waits (s): up to the longest plan.
+WAIT = FiniteFloat(0.0, maximum=MAX_PLAN_DURATION)
+
+__all__ = [
+    "PUBLISH_RATE",
+    "RATE",
+    "WAIT",
+    "checked_frame",
+    "checked_topic",
+    "duration_option",
+    "run_node",
+]
 
 
 def checked_topic(option: str, name: str) -> str:

@@ -8,6 +8,9 @@ from typing import TYPE_CHECKING, TypeVar
 import click
 
 from diffbot.commands.live import (
+    PUBLISH_RATE,
+    RATE,
+    WAIT,
     announce_option,
     checked_frame,
     checked_topic,
@@ -15,10 +18,6 @@ from diffbot.commands.live import (
     run_node,
 )
 from diffbot.commands.options import (
-    MAX_PUBLISH_RATE,
-    NON_NEGATIVE,
-    POSITIVE,
-    FiniteFloat,
     RobotOptions,
     encoder_noise_options,
     quiet_option,
@@ -76,7 +75,7 @@ def node() -> None:
 )
 @click.option(
     "--publish-rate",
-    type=POSITIVE,
+    type=PUBLISH_RATE,
     metavar="HZ",
     help="Publish at most this often, by the joint states' stamps [controllers file, else one "
     "odometry per joint state].",
@@ -166,7 +165,7 @@ def odom(
 @click.option("--right-topic", metavar="TOPIC", help="The right side's, likewise.")
 @click.option(
     "--timeout",
-    type=NON_NEGATIVE,
+    type=WAIT,
     default=0.5,
     show_default=True,
     metavar="S",
@@ -175,7 +174,7 @@ def odom(
 )
 @click.option(
     "--rate",
-    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
+    type=RATE,
     metavar="HZ",
     help="Limiter updates per second, when the controllers file has limits [its update_rate, "
     "else 100].",
@@ -274,7 +273,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
 @robot_options
 @click.option(
     "--rate",
-    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
+    type=RATE,
     default=50.0,
     show_default=True,
     metavar="HZ",
@@ -295,7 +294,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
 @click.option("--right-topic", metavar="TOPIC", help="The right side's, likewise.")
 @click.option(
     "--timeout",
-    type=NON_NEGATIVE,
+    type=WAIT,
     default=0.5,
     show_default=True,
     metavar="S",

@@ -21,10 +21,13 @@ from diffbot.live import types
 from diffbot.live.messages import commands, twist_mismatch
 from diffbot.live.transport import LiveError, Node, Subscription
 from diffbot.live.wire import NOT_FINITE, Refusals, twist_problem
+from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
 
 __all__ = ["IkSettings", "InverseKinematicsNode"]
 
+#: The shortest period of the timeout's watch (s).
+_SHORTEST_WATCH = 1e-3
 #: How long the last zero may wait for reliable subscribers' acknowledgements (s).
 _FLUSH = 1.0
 
@@ -72,8 +75,8 @@ class InverseKinematicsNode(Node):
         domain: int | None = None,
         name: str = "diffbot_ik",
     ) -> None:
-        if settings.timeout < 0.0 or not settings.rate > 0.0:
-            raise LiveError("the timeout must be >= 0 and the rate > 0")
+        finite_in_range(settings.timeout, "timeout", 0.0, MAX_PLAN_DURATION, error=LiveError)
+        finite_in_range(settings.rate, "rate", 1.0 / MAX_PLAN_DURATION, error=LiveError)
         self.settings = settings
         self.commander = WheelCommander(params, use_limits=settings.use_limits)
         self.commands = 0
@@ -101,7 +104,8 @@ class InverseKinematicsNode(Node):
         if self.commander.limited:
             self.create_timer(period, self.update)
         elif settings.timeout > 0.0:
-            self.create_timer(min(period, settings.timeout / 4), self.watch)
+            # A quarter of the timeout, but not a busy loop for a timeout of nanoseconds.
+            self.create_timer(max(min(period, settings.timeout / 4), _SHORTEST_WATCH), self.watch)
 
     def type_mismatch(self, topic: str, found: str, ours: list[str]) -> str:
         """Name the option that reads the other kind of twist."""

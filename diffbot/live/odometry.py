@@ -20,8 +20,9 @@ from diffbot.live import types
 from diffbot.live.cdr import decode_joint_state, encode_odometry, encode_tf
 from diffbot.live.messages import stamp_ns, yaw_quaternion
 from diffbot.live.names import check_frame_id
-from diffbot.live.transport import SUBSCRIPTION, TF, Node
+from diffbot.live.transport import SUBSCRIPTION, TF, LiveError, Node
 from diffbot.live.wire import Refusals, joint_state_problem
+from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
 
@@ -108,6 +109,10 @@ class OdometryNode(Node):
         domain: int | None = None,
         name: str = "diffbot_odometry",
     ) -> None:
+        if settings.publish_rate is not None:
+            finite_in_range(
+                settings.publish_rate, "publish_rate", 1.0 / MAX_PLAN_DURATION, error=LiveError
+            )
         check_frame_id(settings.frame_id, "frame_id")
         check_frame_id(settings.child_frame_id, "child_frame_id")
         self.settings = settings

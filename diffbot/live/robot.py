@@ -27,8 +27,9 @@ from diffbot.calibration.truth import true_robot
 from diffbot.kinematics import DiffDriveParams, WheelSpeeds, forward, wheel_from_joint
 from diffbot.live import types
 from diffbot.live.messages import now_ns, odometry, time_of, transform, twist_mismatch
-from diffbot.live.transport import LATCHED, TF, Node, Subscription
+from diffbot.live.transport import LATCHED, TF, LiveError, Node, Subscription
 from diffbot.live.wire import Refusals, twist_problem, wheel_problem
+from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
 from diffbot.urdf.link_frames import MOVING, LinkTransform, description_joints, link_transform
@@ -93,6 +94,8 @@ class RobotNode(Node):
         domain: int | None = None,
         name: str = "diffbot_robot",
     ) -> None:
+        finite_in_range(settings.rate, "rate", 1.0 / MAX_PLAN_DURATION, error=LiveError)
+        finite_in_range(settings.timeout, "timeout", 0.0, MAX_PLAN_DURATION, error=LiveError)
         self.params = params
         self.settings = settings
         self.left_joints = params.left_joints or (params.left_joint,)
