@@ -84,8 +84,9 @@ def test_hundreds_of_signals_at_random_moments_end_every_run_cleanly(seed: int) 
         assert report["sigterm"] > 0, (kind, report)
         assert report["sigint"] + report["sigterm"] == SIGNALS
         # The loop noticed at once: a woken wait returns at once, an unwoken one within its
-        # 50 ms slice (a drive's stop includes its final zero's acknowledgement).
-        assert 0.0 < report["slowest_stop"] < 1.0, (kind, report)
+        # 50 ms slice; the bound leaves room for a busy machine (a drive's stop includes its
+        # final zero's acknowledgement).
+        assert 0.0 < report["slowest_stop"] < 2.0, (kind, report)
         # Fed throughout, and still working after every signal.
         assert report["handled"] > SIGNALS, (kind, report)
         if kind != "drive":
