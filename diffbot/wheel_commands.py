@@ -8,7 +8,8 @@ controller configuration has limits, then to wheel speeds (:func:`diffbot.kinema
 then within the motor limit (:func:`diffbot.kinematics.saturate`: one factor for both wheels,
 keeping the turning radius, unless the configuration says ``preserve_turning_radius: false``),
 then to each joint with its direction sign. A NaN or infinite command is refused: the wheels
-are commanded to stop.
+are commanded to stop; so they are when a finite command is too large to compute wheel speeds
+from (a robot without a motor limit commanded 1e307 m/s): no command is ever infinite.
 """
 
 from __future__ import annotations
@@ -53,7 +54,8 @@ class WheelCommander:
         use_limits: run the commands through the controller's limiter (when it has limits).
 
     Attributes:
-        refused: commands refused for a NaN or infinite value.
+        refused: commands refused for a NaN or infinite value, or wheel speeds too large to
+            compute.
     """
 
     def __init__(self, params: DiffDriveParams, *, use_limits: bool = True) -> None:
@@ -95,6 +97,12 @@ class WheelCommander:
             angular = limit(self._angular, angular, w0, w1, dt)
             self._history = [linear, v0, angular, w0]
         speeds = inverse(self.params, linear, angular)
+        if (speeds.left - speeds.left) + (speeds.right - speeds.right) != 0.0:
+            # Finite commands too large to compute wheel speeds from (1e307 m/s): refused as a
+            # NaN is, never saturated from infinity nor sent as an infinite wheel command.
+            self.refused += 1
+            self.reset()
+            return JointCommands((0.0,) * self._left_count, (0.0,) * self._right_count, 0.0, 0.0)
         wheels = saturate(self.params, speeds, preserve_turning_radius=self._preserve)
         joints = joint_from_wheel(self.params, wheels)
         left, right = float(joints.left), float(joints.right)

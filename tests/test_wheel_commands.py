@@ -71,3 +71,16 @@ def test_the_controllers_limiter_ramps_the_commands() -> None:
     # The same numbers as the limiter itself gives.
     assert limit(controller.linear, 0.2, 0.0, 0.0, 0.1) == pytest.approx(0.05)
     assert not WheelCommander(BOT.replace(controller=controller), use_limits=False).limited
+
+
+@pytest.mark.parametrize("robot", [BOT, BOT_50_RPM])
+@pytest.mark.parametrize(("v", "w"), [(1e307, 0.0), (0.0, 1e308), (1e308, -1e308)])
+def test_commands_too_large_to_compute_stop_the_wheels(robot: object, v: float, w: float) -> None:
+    # Finite commands whose wheel speeds overflow: refused as a NaN is, whether or not the robot
+    # has a motor limit to scale them down; never an infinite command.
+    commander = WheelCommander(robot)  # type: ignore[arg-type]
+    out = commander.step(v, w, 0.01)
+    assert (out.left, out.right, out.linear, out.angular) == ((0.0,), (0.0,), 0.0, 0.0)
+    assert commander.refused == 1
+    fine = commander.step(0.07, 0.0, 0.01)
+    assert fine.left == pytest.approx((2.0,))

@@ -3,22 +3,25 @@
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 import click
 
-from diffbot.commands.live import announce_option
+from diffbot.commands.live import RATE, WAIT, announce_option, checked_frame, checked_topic
 from diffbot.commands.options import (
-    MAX_PUBLISH_RATE,
-    NON_NEGATIVE,
-    FiniteFloat,
     RobotOptions,
     fail,
     quiet_option,
     warn,
 )
-from diffbot.commands.plan_options import PlanOptions, check_topic, frame_id_option, plan_arguments
+from diffbot.commands.plan_options import PlanOptions, frame_id_option, plan_arguments
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
+
+if TYPE_CHECKING:
+    from diffbot.live.drive import DriveReport, DriveSettings
+    from diffbot.ramps import CommandStream
 
 __all__ = ["drive"]
 
@@ -30,7 +33,7 @@ DRIVE_RATE = 20.0
 @plan_arguments
 @click.option(
     "--rate",
-    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
+    type=RATE,
     default=DRIVE_RATE,
     show_default=True,
     metavar="HZ",
@@ -70,7 +73,7 @@ DRIVE_RATE = 20.0
 )
 @click.option(
     "--wait",
-    type=NON_NEGATIVE,
+    type=WAIT,
     default=5.0,
     show_default=True,
     metavar="S",
@@ -112,7 +115,8 @@ def drive(
         ("--left-topic", left_topic),
         ("--right-topic", right_topic),
     ):
-        check_topic(option, name)
+        checked_topic(option, name)
+    checked_frame("--frame-id", frame_id)
     if stamped and wheels:
         warn("--stamped changes Twist commands only, and --wheels sends none")
     built = plan_options.build(plan_options.request(robot, tokens))
@@ -124,9 +128,11 @@ def drive(
         for line in violation_lines(built.steps):
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
-    stream = sampled(built.made).commands(rate)
-    from diffbot.commands.progress import progress
-    from diffbot.live.drive import Driver, DriveSettings
+    ramped = sampled(built.made)
+    total = ramped.command_count(rate)
+    planned = (total - 1) / rate  # the final zero's time
+    from diffbot.live.drive import DriveSettings
+    from diffbot.live.signals import deferred
 
     settings = DriveSettings(
         cmd_vel=cmd_vel,
@@ -137,30 +143,51 @@ def drive(
         right_topic=right_topic,
         joints=(max(len(params.left_joints), 1), max(len(params.right_joints), 1)),
     )
-    with Driver(stream, settings) as driver:
+    # From the node's making on, a signal only stops the drive between two commands; it is
+    # handed on (exit status 130, 143 or 129) once the robot was commanded zero.
+    with deferred():
+        report = _drive_live(
+            ramped.command_chunks(rate), settings, total, source.label, wait, announce, quiet
+        )
+    if report is not None:
+        click.echo(
+            f"drove {source.label}: {report.sent} commands at {fmt(rate)} Hz over "
+            f"{fmt(planned)} s, ending with zero; timing p99 "
+            f"{report.percentile(0.99) * 1e3:.2f} ms late, "
+            f"end {report.duration_error * 1e3:.2f} ms late",
+            err=True,
+        )
+
+
+def _drive_live(
+    pieces: Iterator[CommandStream],
+    settings: DriveSettings,
+    total: int,
+    label: str,
+    wait: float,
+    announce: bool,
+    quiet: bool,
+) -> DriveReport | None:
+    """Drive the commands once a subscriber matched; None when a signal came first. Says so
+    when a signal cut the drive short."""
+    from diffbot.commands.progress import progress
+    from diffbot.live.drive import Driver
+    from diffbot.live.signals import caught
+
+    with Driver(pieces, settings) as driver:
         if announce:
             driver.announce()
         if not driver.wait_for_subscriber(wait):
+            if caught() is not None:
+                return None
             fail(f"no subscriber on {', '.join(driver.topics)} after {fmt(wait)} s")
         if driver.other_publishers():
             warn(
                 f"another publisher sends on {', '.join(driver.topics)}: "
                 "its commands mix with these"
             )
-        planned = float(stream.times[-1])
-        total = int(stream.times.size)
-        with progress(total, source.label, "commands", quiet=quiet) as advance:
-            try:
-                report = driver.drive(advance)
-            except (KeyboardInterrupt, SystemExit):
-                click.echo(
-                    f"stopped after {driver.sent} of {total} commands: commanded zero",
-                    err=True,
-                )
-                raise
-    click.echo(
-        f"drove {source.label}: {report.sent} commands at {fmt(rate)} Hz over {fmt(planned)} s, "
-        f"ending with zero; timing p99 {report.percentile(0.99) * 1e3:.2f} ms late, "
-        f"end {report.duration_error * 1e3:.2f} ms late",
-        err=True,
-    )
+        with progress(total, label, "commands", quiet=quiet) as advance:
+            report = driver.drive(advance)
+        if not report.completed:
+            click.echo(f"stopped after {report.sent} of {total} commands: commanded zero", err=True)
+        return report

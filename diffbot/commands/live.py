@@ -9,12 +9,57 @@ from typing import TYPE_CHECKING
 
 import click
 
-from diffbot.commands.options import POSITIVE, F
+from diffbot.commands.options import (
+    MAX_PUBLISH_RATE,
+    MIN_COMMAND_RATE,
+    POSITIVE,
+    F,
+    FiniteFloat,
+    fail,
+)
+from diffbot.numbers import MAX_PLAN_DURATION, shown
 
 if TYPE_CHECKING:
     from diffbot.live.transport import Node
 
-__all__ = ["announce_option", "duration_option", "run_node"]
+#: A live node's rate (Hz): from one update per longest plan to the fastest publisher's.
+RATE = FiniteFloat(MIN_COMMAND_RATE, maximum=MAX_PUBLISH_RATE)
+#: How often odometry may be published (Hz): at least once per longest plan.
+PUBLISH_RATE = FiniteFloat(MIN_COMMAND_RATE)
+#: A time a live command waits (s): up to the longest plan.
+WAIT = FiniteFloat(0.0, maximum=MAX_PLAN_DURATION)
+
+__all__ = [
+    "PUBLISH_RATE",
+    "RATE",
+    "WAIT",
+    "checked_frame",
+    "checked_topic",
+    "duration_option",
+    "run_node",
+]
+
+
+def checked_topic(option: str, name: str) -> str:
+    """``name`` when a live node can use it as a topic (ROS name rules, length, encoding),
+    else one error naming ``option``."""
+    from diffbot.live.names import topic_problem
+
+    problem = topic_problem(name)
+    if problem is not None:
+        fail(f"{option} {shown(name)} is not a valid ROS topic name: it {problem}")
+    return name
+
+
+def checked_frame(option: str, name: str | None) -> str | None:
+    """``name`` (None passes) when it is a usable frame id (length, encoding), else one error
+    naming ``option``."""
+    from diffbot.live.names import frame_problem
+
+    problem = None if name is None else frame_problem(name)
+    if problem is not None:
+        fail(f"{option} {shown(name)} is not a usable frame id: it {problem}")
+    return name
 
 
 def duration_option(command: F) -> F:
@@ -39,28 +84,35 @@ def announce_option(command: F) -> F:
 
 
 def run_node(
-    node: Node,
+    make: Callable[[], Node],
     label: str,
-    status: Callable[[], str],
     *,
     quiet: bool,
     duration: float | None,
     announce: bool = False,
 ) -> None:
-    """Spin ``node`` until Ctrl-C, SIGTERM, SIGHUP or ``duration`` seconds, then destroy it and
-    print its final ``status()`` on stderr (refreshed every second on a terminal meanwhile);
-    with ``announce``, list it on ``ros_discovery_info`` first."""
-    if announce:
-        node.announce()
-    live = not quiet and sys.stderr.isatty()
-    if live:
-        node.create_timer(
-            1.0, lambda: click.echo(f"\r{label}: {status()}\x1b[K", err=True, nl=False)
-        )
-    try:
-        node.spin(duration)
-    except (KeyboardInterrupt, SystemExit):
-        pass  # a signal is how a node is asked to end: a normal end
-    finally:
-        node.destroy_node()
-        click.echo(f"{chr(13) if live else ''}{label}: {status()}", err=True)
+    """Make a node with ``make()`` and spin it until Ctrl-C, SIGTERM, SIGHUP or ``duration``
+    seconds, then destroy it and print its final status on stderr (refreshed every second on a
+    terminal meanwhile); with ``announce``, list it on ``ros_discovery_info`` first.
+
+    From the node's making to the status line, an ending signal only asks the node to stop
+    (:mod:`diffbot.live.signals`): the node ends cleanly wherever the signal comes, and a
+    signal is the normal end of a node's run (exit code 0).
+    """
+    from diffbot.live.signals import deferred
+
+    with deferred(deliver=False):
+        node = make()
+        try:
+            if announce:
+                node.announce()
+            live = not quiet and sys.stderr.isatty()
+            if live:
+                node.create_timer(
+                    1.0,
+                    lambda: click.echo(f"\r{label}: {node.status()}\x1b[K", err=True, nl=False),
+                )
+            node.spin(duration)
+        finally:
+            node.destroy_node()
+        click.echo(f"{chr(13) if live else ''}{label}: {node.status()}", err=True)

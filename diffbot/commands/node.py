@@ -3,15 +3,21 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING, TypeVar
 
 import click
 
-from diffbot.commands.live import announce_option, duration_option, run_node
+from diffbot.commands.live import (
+    PUBLISH_RATE,
+    RATE,
+    WAIT,
+    announce_option,
+    checked_frame,
+    checked_topic,
+    duration_option,
+    run_node,
+)
 from diffbot.commands.options import (
-    MAX_PUBLISH_RATE,
-    NON_NEGATIVE,
-    POSITIVE,
-    FiniteFloat,
     RobotOptions,
     encoder_noise_options,
     quiet_option,
@@ -19,8 +25,10 @@ from diffbot.commands.options import (
     true_geometry_options,
     warn,
 )
-from diffbot.commands.plan_options import check_topic
 from diffbot.kinematics import DiffDriveParams
+
+if TYPE_CHECKING:
+    from diffbot.live.transport import Node
 
 __all__ = ["node"]
 
@@ -67,7 +75,7 @@ def node() -> None:
 )
 @click.option(
     "--publish-rate",
-    type=POSITIVE,
+    type=PUBLISH_RATE,
     metavar="HZ",
     help="Publish at most this often, by the joint states' stamps [controllers file, else one "
     "odometry per joint state].",
@@ -108,10 +116,12 @@ def odom(
       diffbot node odom --duration 1     listen for a second, then say what was counted
       ROS_LOCALHOST_ONLY=1 diffbot node odom --controllers my_controllers.yaml
     """
-    check_topic("--joint-states", joint_states)
-    check_topic("--odom-topic", odom_topic)
+    checked_topic("--joint-states", joint_states)
+    checked_topic("--odom-topic", odom_topic)
     from diffbot.live.odometry import OdometryNode, OdometrySettings
 
+    checked_frame("--frame-id", frame_id)
+    checked_frame("--child-frame-id", child_frame_id)
     params = robot.with_path(description, {}).load()
     settings = OdometrySettings(joint_states=joint_states, odom_topic=odom_topic).with_controller(
         params.controller,
@@ -121,9 +131,13 @@ def odom(
         window=window,
         publish_tf=False if no_tf else None,
     )
-    live = OdometryNode(params, settings)
-    live.warn = warn
-    run_node(live, "odom", live.status, quiet=quiet, duration=duration, announce=announce)
+    run_node(
+        lambda: _warning(OdometryNode(params, settings)),
+        "odom",
+        quiet=quiet,
+        duration=duration,
+        announce=announce,
+    )
 
 
 @node.command("ik")
@@ -151,7 +165,7 @@ def odom(
 @click.option("--right-topic", metavar="TOPIC", help="The right side's, likewise.")
 @click.option(
     "--timeout",
-    type=NON_NEGATIVE,
+    type=WAIT,
     default=0.5,
     show_default=True,
     metavar="S",
@@ -160,7 +174,7 @@ def odom(
 )
 @click.option(
     "--rate",
-    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
+    type=RATE,
     metavar="HZ",
     help="Limiter updates per second, when the controllers file has limits [its update_rate, "
     "else 100].",
@@ -199,7 +213,7 @@ def ik(
       diffbot node ik --duration 1       listen for a second, then say what was counted
       ROS_LOCALHOST_ONLY=1 diffbot node ik --stamped
     """
-    check_topic("--cmd-vel", cmd_vel)
+    checked_topic("--cmd-vel", cmd_vel)
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
 
     params = robot.with_path(description, {}).load()
@@ -208,15 +222,28 @@ def ik(
     settings = IkSettings(
         cmd_vel=cmd_vel,
         stamped=True if stamped else None,
-        left_topic=check_topic("--left-topic", left_topic or left),
-        right_topic=check_topic("--right-topic", right_topic or right),
+        left_topic=checked_topic("--left-topic", left_topic or left),
+        right_topic=checked_topic("--right-topic", right_topic or right),
         timeout=timeout,
         rate=rate or (controller.update_rate if controller and controller.update_rate else 100.0),
         use_limits=not no_limits,
     )
-    live = InverseKinematicsNode(params, settings)
+    run_node(
+        lambda: _warning(InverseKinematicsNode(params, settings)),
+        "ik",
+        quiet=quiet,
+        duration=duration,
+        announce=announce,
+    )
+
+
+L = TypeVar("L", bound="Node")
+
+
+def _warning(live: L) -> L:
+    """``live``, printing its warnings as every command does."""
     live.warn = warn
-    run_node(live, "ik", live.status, quiet=quiet, duration=duration, announce=announce)
+    return live
 
 
 def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[str, str]:
@@ -246,7 +273,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
 @robot_options
 @click.option(
     "--rate",
-    type=FiniteFloat(0.0, open_min=True, maximum=MAX_PUBLISH_RATE),
+    type=RATE,
     default=50.0,
     show_default=True,
     metavar="HZ",
@@ -267,7 +294,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
 @click.option("--right-topic", metavar="TOPIC", help="The right side's, likewise.")
 @click.option(
     "--timeout",
-    type=NON_NEGATIVE,
+    type=WAIT,
     default=0.5,
     show_default=True,
     metavar="S",
@@ -328,6 +355,13 @@ def robot_command(
     """
     from diffbot.urdf.xacro import expand
 
+    for option, given in (
+        ("--cmd-vel", cmd_vel),
+        ("--left-topic", left_topic),
+        ("--right-topic", right_topic),
+    ):
+        if given is not None:
+            checked_topic(option, given)
     options = robot.with_path(description, {})
     params = options.load()
     if stamped and cmd_vel is None:
@@ -338,10 +372,10 @@ def robot_command(
 
     settings = RobotSettings(
         rate=rate,
-        cmd_vel=None if cmd_vel is None else check_topic("--cmd-vel", cmd_vel),
+        cmd_vel=None if cmd_vel is None else checked_topic("--cmd-vel", cmd_vel),
         stamped=stamped,
-        left_topic=check_topic("--left-topic", left_topic or left),
-        right_topic=check_topic("--right-topic", right_topic or right),
+        left_topic=checked_topic("--left-topic", left_topic or left),
+        right_topic=checked_topic("--right-topic", right_topic or right),
         timeout=timeout,
         ticks=ticks,
         noise=noise,
@@ -350,6 +384,10 @@ def robot_command(
         true_separation=true_separation,
         limit_wheels=limit_wheels,
     )
-    live = RobotNode(params, expansion.urdf, settings)
-    live.warn = warn
-    run_node(live, "robot", live.status, quiet=quiet, duration=duration, announce=announce)
+    run_node(
+        lambda: _warning(RobotNode(params, expansion.urdf, settings)),
+        "robot",
+        quiet=quiet,
+        duration=duration,
+        announce=announce,
+    )

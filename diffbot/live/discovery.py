@@ -18,6 +18,7 @@ from diffbot.live.errors import LiveError
 
 __all__ = [
     "DISCOVERY_TOPIC",
+    "INTERNAL",
     "MAX_DOMAIN_ID",
     "cyclone_config",
     "dds_topic",
@@ -73,30 +74,39 @@ def discovery_range(environ: Mapping[str, str] | None = None) -> str:
     return text
 
 
+#: What every domain of diffbot's sets, whatever the range: a key hash in every sample of a
+#: keyed topic (discovery's disposals included). Fast DDS (ROS 2's default middleware) reads a
+#: participant's or endpoint's disposal by its key hash only: without one it kept a diffbot
+#: node on its graph until the lease ran out (10 s), with one it drops it at once.
+INTERNAL = "<Internal><GenerateKeyhash>true</GenerateKeyhash></Internal>"
+
+
 def cyclone_config(reach: str, user_config: str = "") -> str:
     """The Cyclone DDS configuration of a discovery range, after the user's own
     (``CYCLONEDDS_URI``), so that ours wins where both set something.
 
-    ``LOCALHOST``: the loopback interface only, no multicast, the local participants found by
-    unicast (``Peers``: localhost, participant indices assigned automatically). ``OFF``: the same
-    without peers, so only this process's participants meet. ``SUBNET``: the user's
-    configuration alone (empty: Cyclone's defaults, multicast discovery on the default interface).
+    Every range: key hashes sent (:data:`INTERNAL`). ``LOCALHOST``: the loopback interface
+    only, no multicast, the local participants found by unicast (``Peers``: localhost,
+    participant indices assigned automatically). ``OFF``: the same without peers, so only this
+    process's participants meet. ``SUBNET``: nothing more than the user's configuration
+    (Cyclone's defaults: multicast discovery on the default interface).
     """
     if reach == "SUBNET":
-        return user_config
-    peers = (
-        "<Peers><Peer address='localhost'/></Peers>"
-        "<ParticipantIndex>auto</ParticipantIndex>"
-        "<MaxAutoParticipantIndex>64</MaxAutoParticipantIndex>"
-        if reach == "LOCALHOST"
-        else ""
-    )
-    ours = (
-        "<CycloneDDS><Domain Id='any'><General>"
-        "<Interfaces><NetworkInterface name='lo'/></Interfaces>"
-        "<AllowMulticast>false</AllowMulticast></General>"
-        f"<Discovery>{peers}</Discovery></Domain></CycloneDDS>"
-    )
+        ours = f"<CycloneDDS><Domain Id='any'>{INTERNAL}</Domain></CycloneDDS>"
+    else:
+        peers = (
+            "<Peers><Peer address='localhost'/></Peers>"
+            "<ParticipantIndex>auto</ParticipantIndex>"
+            "<MaxAutoParticipantIndex>64</MaxAutoParticipantIndex>"
+            if reach == "LOCALHOST"
+            else ""
+        )
+        ours = (
+            "<CycloneDDS><Domain Id='any'><General>"
+            "<Interfaces><NetworkInterface name='lo'/></Interfaces>"
+            "<AllowMulticast>false</AllowMulticast></General>"
+            f"<Discovery>{peers}</Discovery>{INTERNAL}</Domain></CycloneDDS>"
+        )
     return f"{user_config},{ours}" if user_config else ours
 
 

@@ -5,12 +5,12 @@ The maths is :class:`diffbot.wheel_commands.WheelCommander`'s (limiter, inverse 
 saturation, signs). The node publishes each command as it comes when no limiter applies, and on a
 timer of the controller's update rate when one does (the limiter works per update). When
 ``cmd_vel`` stays quiet for ``timeout`` seconds the wheels are commanded to stop, as
-diff_drive_controller's ``cmd_vel_timeout`` does; a NaN or infinite command stops them at once.
+diff_drive_controller's ``cmd_vel_timeout`` does; a command that is not finite or out of range
+(:mod:`diffbot.live.wire`) is refused and stops them at once; so does the node's end.
 """
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -20,9 +20,16 @@ from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
 from diffbot.live.messages import commands, twist_mismatch
 from diffbot.live.transport import LiveError, Node, Subscription
+from diffbot.live.wire import NOT_FINITE, Refusals, twist_problem
+from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
 
 __all__ = ["IkSettings", "InverseKinematicsNode"]
+
+#: The shortest period of the timeout's watch (s).
+_SHORTEST_WATCH = 1e-3
+#: How long the last zero may wait for reliable subscribers' acknowledgements (s).
+_FLUSH = 1.0
 
 
 @dataclass(frozen=True)
@@ -68,12 +75,13 @@ class InverseKinematicsNode(Node):
         domain: int | None = None,
         name: str = "diffbot_ik",
     ) -> None:
-        if settings.timeout < 0.0 or not settings.rate > 0.0:
-            raise LiveError("the timeout must be >= 0 and the rate > 0")
+        finite_in_range(settings.timeout, "timeout", 0.0, MAX_PLAN_DURATION, error=LiveError)
+        finite_in_range(settings.rate, "rate", 1.0 / MAX_PLAN_DURATION, error=LiveError)
         self.settings = settings
         self.commander = WheelCommander(params, use_limits=settings.use_limits)
         self.commands = 0
-        self.refused = 0
+        #: Commands refused (:mod:`diffbot.live.wire`), by reason.
+        self.refusals = Refusals()
         self.timeouts = 0
         self._command = (0.0, 0.0)
         self._last: float | None = None
@@ -96,26 +104,33 @@ class InverseKinematicsNode(Node):
         if self.commander.limited:
             self.create_timer(period, self.update)
         elif settings.timeout > 0.0:
-            self.create_timer(min(period, settings.timeout / 4), self.watch)
+            # A quarter of the timeout, but not a busy loop for a timeout of nanoseconds.
+            self.create_timer(max(min(period, settings.timeout / 4), _SHORTEST_WATCH), self.watch)
 
     def type_mismatch(self, topic: str, found: str, ours: list[str]) -> str:
         """Name the option that reads the other kind of twist."""
         return twist_mismatch(topic, found)
 
     def on_twist(self, twist: types.Twist) -> None:
-        """Take one velocity command (linear.x, angular.z)."""
+        """Take one velocity command (linear.x, angular.z); one that fails the wire checks
+        (:func:`~diffbot.live.wire.twist_problem`) is refused and stops the wheels at once."""
         self.commands += 1
         self._last = time.monotonic()
-        self._command = (twist.linear.x, twist.angular.z)
-        if not (math.isfinite(twist.linear.x) and math.isfinite(twist.angular.z)):
+        linear, angular = twist.linear.x, twist.angular.z
+        if not self.refusals.check(twist_problem(linear, angular)):
             # Refused: the wheels stop now, without the limiter's ramp down.
-            self.refused += 1
             self._command = (0.0, 0.0)
             self.commander.reset()
             self._send(0.0, 0.0, 0.0)
             return
+        self._command = (linear, angular)
         if not self.commander.limited:
             self._send(*self._command, 0.0)
+
+    @property
+    def refused(self) -> int:
+        """Commands refused at the boundary."""
+        return self.refusals.total
 
     def _stale(self) -> bool:
         timeout = self.settings.timeout
@@ -143,9 +158,29 @@ class InverseKinematicsNode(Node):
         self.right.publish(commands(joints.right))
         self._moving = joints.linear != 0.0 or joints.angular != 0.0
 
+    def destroy_node(self) -> None:
+        """Command zero on both sides, then go: the wheels stop when the node ends (however it
+        ends), as diff_drive_controller's do when it is deactivated."""
+        if not self._destroyed:
+            params = self.commander.params
+            for publisher, joints in (
+                (self.left, params.left_joints),
+                (self.right, params.right_joints),
+            ):
+                publisher.publish(commands([0.0] * max(len(joints), 1)))
+            for publisher in (self.left, self.right):
+                publisher.flush(_FLUSH)
+        super().destroy_node()
+
     def status(self) -> str:
         """One line of counts for people."""
+        counts = self.refusals.counts
+        if set(counts) <= {NOT_FINITE}:
+            refused = f"{self.refused} refused (not finite)"
+        else:
+            reasons = ", ".join(f"{n} {reason}" for reason, n in counts.items())
+            refused = f"{self.refused} refused ({reasons})"
         return (
-            f"{self.commands} commands, {self.refused} refused (not finite), "
-            f"{self.timeouts} timeouts, {sum(s.malformed for s in self.subscriptions)} malformed"
+            f"{self.commands} commands, {refused}, {self.timeouts} timeouts, "
+            f"{sum(s.malformed for s in self.subscriptions)} malformed"
         )

@@ -3,8 +3,9 @@
 What diff_drive_controller publishes from its wheel feedback, computed by
 :class:`diffbot.odometry.Odometry` (exact along each step's arc): each joint state moves the pose
 by its wheels' motion since the last used one, stamped with the joint state's own header stamp.
-A sample with mismatched ``name``/``position`` lengths, without a wheel joint, with a NaN or
-going back in time is skipped and counted (:attr:`OdometryNode.counts`), never read as zero.
+A sample with mismatched ``name``/``position`` lengths, a NaN or an angle out of range, a stamp
+ahead of this machine's clock (:mod:`diffbot.live.wire`), without a wheel joint or going back in
+time is skipped and counted (:attr:`OdometryNode.counts`), never read as zero.
 """
 
 from __future__ import annotations
@@ -18,7 +19,10 @@ from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
 from diffbot.live.cdr import decode_joint_state, encode_odometry, encode_tf
 from diffbot.live.messages import stamp_ns, yaw_quaternion
-from diffbot.live.transport import SUBSCRIPTION, TF, Node
+from diffbot.live.names import check_frame_id
+from diffbot.live.transport import SUBSCRIPTION, TF, LiveError, Node
+from diffbot.live.wire import Refusals, joint_state_problem
+from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
 
@@ -105,6 +109,12 @@ class OdometryNode(Node):
         domain: int | None = None,
         name: str = "diffbot_odometry",
     ) -> None:
+        if settings.publish_rate is not None:
+            finite_in_range(
+                settings.publish_rate, "publish_rate", 1.0 / MAX_PLAN_DURATION, error=LiveError
+            )
+        check_frame_id(settings.frame_id, "frame_id")
+        check_frame_id(settings.child_frame_id, "child_frame_id")
         self.settings = settings
         self.odometry = Odometry(
             params,
@@ -119,6 +129,8 @@ class OdometryNode(Node):
         self._period_ns = 0 if settings.publish_rate is None else round(1e9 / settings.publish_rate)
         self._last_published: int | None = None
         self.mismatched = 0
+        #: Joint states refused at the boundary (:mod:`diffbot.live.wire`), by reason.
+        self.refusals = Refusals()
         #: Odometry messages published.
         self.published = 0
         super().__init__(name, domain=domain)
@@ -140,7 +152,10 @@ class OdometryNode(Node):
         if len(message.position) != len(names):
             self.mismatched += 1
             return
-        stamp = stamp_ns(message.header.stamp)
+        when = message.header.stamp
+        if not self.refusals.check(joint_state_problem(when.sec, when.nanosec, message.position)):
+            return
+        stamp = stamp_ns(when)
         if not self.odometry.update_joint_state(names, message.position, stamp_ns=stamp):
             return
         last = self._last_published
@@ -176,7 +191,9 @@ class OdometryNode(Node):
     def counts(self) -> dict[str, int]:
         """Joint states received, used, published, and skipped by reason (malformed payloads,
         mismatched lengths and :class:`~diffbot.odometry.Odometry`'s reasons)."""
-        skipped = dict(self.odometry.skipped)
+        skipped = dict(self.refusals.counts)
+        for reason, n in self.odometry.skipped.items():
+            skipped[reason] = skipped.get(reason, 0) + n
         if self.mismatched:
             skipped[SKIP_MISMATCHED] = self.mismatched
         if self.subscription.malformed:

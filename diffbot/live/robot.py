@@ -27,7 +27,9 @@ from diffbot.calibration.truth import true_robot
 from diffbot.kinematics import DiffDriveParams, WheelSpeeds, forward, wheel_from_joint
 from diffbot.live import types
 from diffbot.live.messages import now_ns, odometry, time_of, transform, twist_mismatch
-from diffbot.live.transport import LATCHED, TF, Node, Subscription
+from diffbot.live.transport import LATCHED, TF, LiveError, Node, Subscription
+from diffbot.live.wire import Refusals, twist_problem, wheel_problem
+from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
 from diffbot.urdf.link_frames import MOVING, LinkTransform, description_joints, link_transform
@@ -92,6 +94,8 @@ class RobotNode(Node):
         domain: int | None = None,
         name: str = "diffbot_robot",
     ) -> None:
+        finite_in_range(settings.rate, "rate", 1.0 / MAX_PLAN_DURATION, error=LiveError)
+        finite_in_range(settings.timeout, "timeout", 0.0, MAX_PLAN_DURATION, error=LiveError)
         self.params = params
         self.settings = settings
         self.left_joints = params.left_joints or (params.left_joint,)
@@ -127,7 +131,8 @@ class RobotNode(Node):
         )
         self.updates = 0
         self.timeouts = 0
-        self.refused = 0
+        #: Commands refused (:mod:`diffbot.live.wire`), by reason.
+        self.refusals = Refusals()
         super().__init__(name, domain=domain)
         self.joint_states = self.create_publisher(types.JointState, "joint_states")
         self.ground_truth = self.create_publisher(types.Odometry, "ground_truth/odom")
@@ -169,10 +174,10 @@ class RobotNode(Node):
         return super().type_mismatch(topic, found, ours)
 
     def on_wheels(self, side: int, values: list[float]) -> None:
-        """Take one side's joint velocity commands (rad/s), one per joint of the side."""
+        """Take one side's joint velocity commands (rad/s), one per joint of the side; refused
+        ones (:func:`~diffbot.live.wire.wheel_problem`) stop the side."""
         joints = self.right_joints if side else self.left_joints
-        if len(values) != len(joints) or not all(math.isfinite(v) for v in values):
-            self.refused += 1
+        if not self.refusals.check(wheel_problem(values, len(joints))):
             values = [0.0] * len(joints)
         held = self.velocities if self.targets is None else self.targets
         for joint, value in zip(joints, values, strict=True):
@@ -180,13 +185,23 @@ class RobotNode(Node):
         self._last_command = time.monotonic()
 
     def on_twist(self, twist: types.Twist) -> None:
-        """Take a velocity command, turned into wheel commands as ``node ik`` does."""
+        """Take a velocity command, turned into wheel commands as ``node ik`` does; a refused
+        one (:func:`~diffbot.live.wire.twist_problem`) stops the wheels."""
         assert self.commander is not None
-        out = self.commander.step(twist.linear.x, twist.angular.z, 1.0 / self.settings.rate)
+        linear, angular = twist.linear.x, twist.angular.z
+        if not self.refusals.check(twist_problem(linear, angular)):
+            linear = angular = 0.0
+            self.commander.reset()
+        out = self.commander.step(linear, angular, 1.0 / self.settings.rate)
         for joints, values in ((self.left_joints, out.left), (self.right_joints, out.right)):
             for joint, value in zip(joints, values, strict=True):
                 self.velocities[joint] = value
         self._last_command = time.monotonic()
+
+    @property
+    def refused(self) -> int:
+        """Commands refused at the boundary."""
+        return self.refusals.total
 
     def update(self) -> None:
         """Move the wheels by their velocities over the time since the last update; publish."""

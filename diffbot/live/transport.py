@@ -48,8 +48,10 @@ from diffbot.live.discovery import (
 )
 from diffbot.live.endpoints import Publisher, Subscription, Timer
 from diffbot.live.errors import INSTALL_HINT, LiveError
+from diffbot.live.names import check_node_name, check_topic
 from diffbot.live.participant import participant
 from diffbot.live.qos import LATCHED, PUBLISHER, SUBSCRIPTION, TF, QosProfile
+from diffbot.live.signals import caught, deferred
 
 __all__ = [
     "DISCOVERY_TOPIC",
@@ -82,15 +84,16 @@ class Node:
     """A node on the ROS 2 graph, shaped like rclpy's.
 
     Args:
-        name: the node's name (for people; DDS has no node names).
+        name: the node's name (for people and ``ros2 node list``; DDS has no node names).
         domain: the DDS domain; ``ROS_DOMAIN_ID`` when None.
 
     Raises:
-        LiveError: a bad domain id or discovery range, or DDS cannot start.
+        LiveError: a bad node name, domain id or discovery range, or DDS cannot start; a bad
+            topic name when an endpoint is made (:mod:`diffbot.live.names`).
     """
 
     def __init__(self, name: str, *, domain: int | None = None) -> None:
-        self.name = name
+        self.name = check_node_name(name)
         self.participant = participant(domain)
         self._waitset = WaitSet(self.participant)
         self._wake = GuardCondition(self.participant)
@@ -112,7 +115,7 @@ class Node:
         self.warn: Callable[[str], None] = lambda message: None
 
     def _topic(self, msg_type: type[M], name: str) -> Topic[M]:
-        dds_name = dds_topic(name)
+        dds_name = dds_topic(check_topic(name))
         key = (dds_name, msg_type.__idl_typename__)
         topic = self._topics.get(key)
         if topic is None:
@@ -266,14 +269,31 @@ class Node:
             timer.fire_if_due(now)
 
     def spin(self, duration: float | None = None) -> None:
-        """Run until :meth:`shutdown`, a signal (KeyboardInterrupt, SystemExit from SIGTERM or
-        SIGHUP, raised to the caller) or ``duration`` seconds."""
+        """Run until :meth:`shutdown`, a signal or ``duration`` seconds.
+
+        In the main thread SIGINT, SIGTERM and SIGHUP only wake the node while it spins
+        (:mod:`diffbot.live.signals`): the loop ends cleanly between two steps, and the signal
+        is then handed to the handler installed before (KeyboardInterrupt, or the SystemExit
+        of the command line's SIGTERM and SIGHUP, raised to the caller), unless an enclosing
+        :func:`~diffbot.live.signals.deferred` block takes it.
+        """
         end = math.inf if duration is None else time.monotonic() + duration
-        while not self._stop.is_set():
-            left = end - time.monotonic()
-            if left <= 0.0:
-                return
-            self.spin_once(min(left, _WAIT_SLICE))
+        with deferred(self.wake):
+            while not self._stop.is_set() and caught() is None:
+                left = end - time.monotonic()
+                if left <= 0.0:
+                    break
+                self.spin_once(min(left, _WAIT_SLICE))
+            if not self._stop.is_set():
+                self._wake.set(False)  # woken by a signal: the next spin waits again
+
+    def wake(self) -> None:
+        """Wake a wait in :meth:`spin_once` at once (safe from a signal handler)."""
+        self._wake.set(True)
+
+    def status(self) -> str:
+        """One line of what the node counted, for people (nodes that count say more)."""
+        return f"{len(self._subscriptions)} subscriptions"
 
     def start(self: N) -> N:
         """Spin in a background thread (for notebooks and tests) until :meth:`shutdown`."""

@@ -3,9 +3,21 @@ counts, the missing extra is named."""
 
 from __future__ import annotations
 
+import os
+import random
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
+from typing import Any
+
+import pytest
+from live_graph import PATIENCE
+
+from diffbot.live import types
+from diffbot.live.transport import Node, QosProfile
+from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
 
 
 def test_a_bad_domain_is_one_error_line() -> None:
@@ -67,3 +79,98 @@ def test_the_controllers_file_names_the_command_topics(tmp_path: Path) -> None:
         "left_wheel_velocity_controller/commands",
         "right_wheel_velocity_controller/commands",
     )
+
+
+def until_seen(seen: dict[str, int], topics: tuple[str, ...]) -> None:
+    """Wait until 50 more messages came on each of ``topics``."""
+    start = {t: seen.get(t, 0) for t in topics}
+    end = time.monotonic() + 3 * PATIENCE
+    while time.monotonic() < end and not all(seen.get(t, 0) > start[t] + 50 for t in topics):
+        time.sleep(0.01)
+    assert all(seen.get(t, 0) > start[t] + 50 for t in topics), f"nothing on {topics}: {seen}"
+
+
+def _live(*args: str) -> subprocess.Popen[str]:
+    return subprocess.Popen(
+        [sys.executable, "-m", "diffbot", *args, "--quiet"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=os.environ.copy(),
+    )
+
+
+@pytest.mark.parametrize("seed", [3])
+def test_every_live_command_ends_cleanly_on_a_signal_under_load(seed: int) -> None:
+    """The whole loop at 1 kHz (drive -> ik -> robot -> odom), each process then sent SIGINT
+    or SIGTERM at a seeded random moment: the nodes exit 0 with their status line, drive as a
+    signal ends a run (130, 143) saying where it stopped; the last commands are zero."""
+    rng = random.Random(seed)
+    last: dict[str, Any] = {}
+    seen: dict[str, int] = {}
+
+    def keep(topic: str, value: Any) -> None:
+        last[topic] = value
+        seen[topic] = seen.get(topic, 0) + 1
+
+    reliable = QosProfile(reliable=True, depth=100_000)
+    with Node("monitor") as monitor:
+        for topic in (LEFT_TOPIC, RIGHT_TOPIC):
+            monitor.create_subscription(
+                types.Float64MultiArray,
+                topic,
+                lambda m, topic=topic: keep(topic, list(m.data)),
+                reliable,
+            )
+        monitor.create_subscription(
+            types.Twist, "cmd_vel", lambda m: keep("cmd_vel", (m.linear.x, m.angular.z)), reliable
+        )
+        monitor.create_subscription(types.Odometry, "odom", lambda m: keep("odom", 1))
+        monitor.start()
+        processes = {
+            "odom": _live("node", "odom", "--no-tf"),
+            "robot": _live("node", "robot", "--rate", "1000"),
+            "ik": _live("node", "ik"),
+        }
+        outcomes: dict[str, tuple[int, str]] = {}
+        try:
+            # The drive starts once the nodes are up (it waits for its first subscriber only).
+            until_seen(seen, ("odom",))
+            time.sleep(0.5)  # for node ik, which shows nothing before a command comes
+            processes["drive"] = _live(
+                "drive", "straight 2 20s", "--rate", "1000", "--wait", str(PATIENCE)
+            )
+            until_seen(seen, ("cmd_vel", LEFT_TOPIC, RIGHT_TOPIC, "odom"))
+            assert all(p.poll() is None for p in processes.values()), "a command ended early"
+            order = list(processes)
+            rng.shuffle(order)
+            sent = {}
+            for name in order:
+                time.sleep(rng.uniform(0.0, 0.2))
+                sent[name] = rng.choice((signal.SIGINT, signal.SIGTERM))
+                processes[name].send_signal(sent[name])
+            for name, process in processes.items():
+                _, err = process.communicate(timeout=PATIENCE)
+                outcomes[name] = (process.returncode, err)
+        finally:
+            for process in processes.values():
+                process.kill()
+        zero = [0.0]
+        end = time.monotonic() + PATIENCE
+        while time.monotonic() < end and not (
+            last.get(LEFT_TOPIC) == zero
+            and last.get(RIGHT_TOPIC) == zero
+            and last.get("cmd_vel") == (0.0, 0.0)
+        ):
+            time.sleep(0.01)
+    for name in ("odom", "robot", "ik"):
+        code, err = outcomes[name]
+        assert code == 0, (name, sent[name], err)
+        assert err.splitlines()[-1].startswith(f"{name}: "), (name, err)
+    code, err = outcomes["drive"]
+    assert code == 128 + sent["drive"], err
+    assert "commands: commanded zero" in err, err
+    assert "Traceback" not in "".join(err for _, err in outcomes.values())
+    assert last[LEFT_TOPIC] == zero
+    assert last[RIGHT_TOPIC] == zero
+    assert last["cmd_vel"] == (0.0, 0.0)

@@ -1,0 +1,122 @@
+"""Names checked before they reach DDS: topics, frame ids and node names.
+
+A name goes into Cyclone's C code (a topic name: DDS aborts the process on one of 64 KiB or
+more) or into every message (a frame id, as UTF-8 with a terminating NUL), so each is checked
+once, here, for what ROS allows: its length, its encoding, and for topics and nodes the ROS
+name rules (``rmw_validate_full_topic_name``, ``rmw_validate_node_name``). Plain string tests,
+no regular expression: linear in the name's length.
+"""
+
+from __future__ import annotations
+
+from typing import Final
+
+from diffbot.live.errors import LiveError
+from diffbot.numbers import shown
+
+__all__ = [
+    "MAX_FRAME_LENGTH",
+    "MAX_NODE_NAME_LENGTH",
+    "MAX_TOPIC_LENGTH",
+    "check_frame_id",
+    "check_node_name",
+    "check_topic",
+    "frame_problem",
+    "node_name_problem",
+    "topic_problem",
+]
+
+#: Longest topic name ROS 2 accepts, its leading ``/`` included (rmw: 255 less 8 for the
+#: ``rt/`` and other prefixes).
+MAX_TOPIC_LENGTH: Final = 247
+#: Longest node name (rmw).
+MAX_NODE_NAME_LENGTH: Final = 255
+#: Longest frame id taken (characters): far beyond any robot's, short enough for every tool.
+MAX_FRAME_LENGTH: Final = 255
+
+
+def _encoding_problem(name: str) -> str | None:
+    try:
+        name.encode("utf-8")
+    except UnicodeEncodeError:
+        return "is not valid UTF-8"
+    if any(ord(c) < 0x20 or ord(c) == 0x7F for c in name):
+        return "holds a control character"
+    return None
+
+
+def _token_problem(token: str) -> str | None:
+    if not token:
+        return "has an empty part (a doubled or trailing '/')"
+    if not (token.isascii() and token.replace("_", "a").isalnum()):
+        return "may hold only letters, digits, '_' and '/'"
+    if token[0].isdigit():
+        return "has a part starting with a digit"
+    return None
+
+
+def topic_problem(name: str) -> str | None:
+    """What is wrong with ``name`` as a ROS topic name (``/a/b``, ``a/b``, ``~/a``); None
+    when it is a valid one."""
+    if len(name) > MAX_TOPIC_LENGTH:
+        return f"is longer than {MAX_TOPIC_LENGTH} characters ({len(name)})"
+    problem = _encoding_problem(name)
+    if problem is not None:
+        return problem
+    body = name[2:] if name.startswith("~/") else name[1:] if name.startswith("/") else name
+    for token in body.split("/"):
+        problem = _token_problem(token)
+        if problem is not None:
+            return problem
+    return None
+
+
+def node_name_problem(name: str) -> str | None:
+    """What is wrong with ``name`` as a ROS node name (one token: letters, digits, ``_``, not
+    starting with a digit); None when it is a valid one."""
+    if len(name) > MAX_NODE_NAME_LENGTH:
+        return f"is longer than {MAX_NODE_NAME_LENGTH} characters ({len(name)})"
+    return _encoding_problem(name) or _token_problem(name)
+
+
+def frame_problem(name: str) -> str | None:
+    """What is wrong with ``name`` as a frame id (tf2 frames: any UTF-8 text without control
+    characters, not empty, at most :data:`MAX_FRAME_LENGTH` characters); None when fine."""
+    if not name:
+        return "is empty"
+    if len(name) > MAX_FRAME_LENGTH:
+        return f"is longer than {MAX_FRAME_LENGTH} characters ({len(name)})"
+    return _encoding_problem(name)
+
+
+def _checked(name: str, what: str, problem: str | None) -> str:
+    if problem is not None:
+        raise LiveError(f"{what} {shown(name)} {problem}")
+    return name
+
+
+def check_topic(name: str, what: str = "topic") -> str:
+    """``name`` when it is a valid ROS topic name.
+
+    Raises:
+        LiveError: naming ``what`` and the problem.
+    """
+    return _checked(name, what, topic_problem(name))
+
+
+def check_node_name(name: str, what: str = "node name") -> str:
+    """``name`` when it is a valid ROS node name.
+
+    Raises:
+        LiveError: naming ``what`` and the problem.
+    """
+    return _checked(name, what, node_name_problem(name))
+
+
+def check_frame_id(name: str, what: str = "frame id") -> str:
+    """``name`` when it is a usable frame id.
+
+    Raises:
+        LiveError: naming ``what`` and the problem.
+    """
+    return _checked(name, what, frame_problem(name))

@@ -1,0 +1,112 @@
+"""Signals that end a live node (SIGINT, SIGTERM, SIGHUP), taken where they cannot hurt.
+
+Python runs a signal's handler in the main thread between two bytecodes, wherever it is. A
+handler that raises (the KeyboardInterrupt of Ctrl-C, the SystemExit the command line raises for
+SIGTERM and SIGHUP) can land inside cyclonedds' ``take``, in the Python code its C part calls
+for each sample's info; that call then returns NULL to C, and the process dies of a
+segmentation fault (about once in 65 signals to a node fed at 1 kHz).
+
+So, as rclpy does, while a node runs the handlers only record the signal and wake the nodes'
+wait sets (:func:`deferred`); the loops check :func:`caught` between their steps and end
+cleanly. When the outermost :func:`deferred` block ends, the signal goes to the handler that was
+there before (raising its KeyboardInterrupt or SystemExit at that safe point), or, with
+``deliver=False``, is taken as the normal end of the run (how ``diffbot node`` ends: exit code
+0, the status line printed).
+
+Only the main thread handles signals: elsewhere :func:`deferred` does nothing and
+:func:`caught` is None.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+__all__ = ["ENDING_SIGNALS", "caught", "deferred"]
+
+#: The signals that ask a node to end.
+ENDING_SIGNALS = tuple(
+    getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)
+)
+
+
+class _State:
+    """What the active :func:`deferred` blocks share (main thread only)."""
+
+    def __init__(self) -> None:
+        self.depth = 0
+        self.signum: int | None = None
+        self.saved: dict[int, Any] = {}
+        self.wakers: list[Callable[[], None]] = []
+
+
+_STATE = _State()
+
+
+def _handler(signum: int, frame: object) -> None:
+    # Records and wakes, nothing else: no exception may start here.
+    if _STATE.signum is None:
+        _STATE.signum = signum
+    for wake in tuple(_STATE.wakers):
+        wake()
+
+
+def _in_main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
+
+
+def caught() -> int | None:
+    """The signal a :func:`deferred` block of the main thread has caught and not yet handed on
+    (None: none, or not called from the main thread)."""
+    return _STATE.signum if _in_main_thread() else None
+
+
+@contextmanager
+def deferred(wake: Callable[[], None] | None = None, *, deliver: bool = True) -> Iterator[None]:
+    """Within the block, an ending signal is only recorded (:func:`caught`) and ``wake()``
+    called (from the handler: it must only wake, as a guard condition's ``set`` does).
+
+    Blocks nest: the outermost installs the handlers (not over a signal that is ignored, as
+    under ``nohup``), and on leaving restores them and, when a signal came, hands it to the
+    handler that was there before (``deliver``), or drops it (``deliver=False``). A block left
+    by an exception restores the handlers and hands nothing on.
+    """
+    if not _in_main_thread():
+        yield
+        return
+    outermost = _STATE.depth == 0
+    if outermost:
+        _STATE.signum = None
+        for signum in ENDING_SIGNALS:
+            previous = signal.getsignal(signum)
+            if previous is signal.SIG_IGN or previous is None:
+                continue
+            _STATE.saved[signum] = signal.signal(signum, _handler)
+    _STATE.depth += 1
+    if wake is not None:
+        _STATE.wakers.append(wake)
+    try:
+        yield
+    finally:
+        _STATE.depth -= 1
+        if wake is not None:
+            _STATE.wakers.remove(wake)
+        if outermost:
+            saved, _STATE.saved = _STATE.saved, {}
+            for signum, previous in saved.items():
+                signal.signal(signum, previous)
+            received, _STATE.signum = _STATE.signum, None
+    if outermost and deliver and received is not None:
+        _hand_on(received, saved.get(received, signal.SIG_DFL))
+
+
+def _hand_on(signum: int, previous: Any) -> None:
+    """Give ``signum`` to the handler that was installed before: call it (it may raise), or
+    raise the signal again under the default action."""
+    if callable(previous):
+        previous(signum, None)
+    elif previous == signal.SIG_DFL:
+        signal.raise_signal(signum)

@@ -1,0 +1,121 @@
+"""What arrives on the wire, checked once, in one place, for every node.
+
+A message is someone else's numbers: each one a node computes with passes these checks before
+it touches the node's state. Every number the node uses must be finite and within a physical
+range (a wheel turning 1e300 rad, a twist of 1e308 m/s, a stamp years ahead are garbage, not
+motion); a failed check names its reason, and the node counts the message under it (its
+status line says how many) and skips it. A bad message never ends a node and never changes
+what the next good one does.
+
+The ranges are far beyond any robot's (a unit mistake passes; it is the controller's limits
+that bound the motion), and small enough that everything computed from a value stays finite.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from typing import Final
+
+__all__ = [
+    "BAD_STAMP",
+    "MAX_ANGULAR_SPEED",
+    "MAX_JOINT_ANGLE",
+    "MAX_JOINT_SPEED",
+    "MAX_LINEAR_SPEED",
+    "MAX_STAMP_AHEAD_NS",
+    "NOT_FINITE",
+    "OUT_OF_RANGE",
+    "STAMPED_AHEAD",
+    "WRONG_LENGTH",
+    "Refusals",
+    "joint_state_problem",
+    "twist_problem",
+    "wheel_problem",
+]
+
+#: Why a message was refused: a NaN or an infinity.
+NOT_FINITE: Final = "not finite"
+#: A number beyond its physical range.
+OUT_OF_RANGE: Final = "out of range"
+#: A stamp's nanoseconds not within 0..999999999.
+BAD_STAMP: Final = "bad stamp"
+#: A stamp further ahead of this machine's clock than :data:`MAX_STAMP_AHEAD_NS`.
+STAMPED_AHEAD: Final = "stamped in the future"
+#: Not one value per joint.
+WRONG_LENGTH: Final = "wrong length"
+
+#: Fastest linear velocity command taken (m/s): no wheeled robot drives at 1 km/s.
+MAX_LINEAR_SPEED: Final = 1e3
+#: Fastest angular velocity command taken (rad/s): about 160 turns a second.
+MAX_ANGULAR_SPEED: Final = 1e3
+#: Fastest joint velocity command taken (rad/s): about 95,000 rpm.
+MAX_JOINT_SPEED: Final = 1e4
+#: Largest joint angle taken (rad): 160 million turns, years of driving at any motor's speed.
+MAX_JOINT_ANGLE: Final = 1e9
+#: Furthest a stamp may lie ahead of this machine's clock (ns): clocks on one network agree
+#: far better; a stamp beyond it would hold up every later message as "going back in time".
+MAX_STAMP_AHEAD_NS: Final = 60 * 1_000_000_000
+
+
+def _number_problem(value: float, bound: float) -> str | None:
+    # x - x is 0.0 for every finite x and NaN for NaN and the infinities.
+    if value - value != 0.0:
+        return NOT_FINITE
+    if abs(value) > bound:
+        return OUT_OF_RANGE
+    return None
+
+
+def twist_problem(linear: float, angular: float) -> str | None:
+    """Why a velocity command of ``linear`` (m/s) and ``angular`` (rad/s) is refused, or
+    None."""
+    return _number_problem(linear, MAX_LINEAR_SPEED) or _number_problem(angular, MAX_ANGULAR_SPEED)
+
+
+def wheel_problem(values: Sequence[float], joints: int) -> str | None:
+    """Why one side's joint velocity commands (rad/s) for ``joints`` joints are refused, or
+    None."""
+    if len(values) != joints:
+        return WRONG_LENGTH
+    for value in values:
+        problem = _number_problem(value, MAX_JOINT_SPEED)
+        if problem is not None:
+            return problem
+    return None
+
+
+def joint_state_problem(
+    sec: int, nanosec: int, positions: Sequence[float], now_ns: int | None = None
+) -> str | None:
+    """Why a joint state stamped ``sec``/``nanosec`` with joint angles ``positions`` (rad) is
+    refused, or None. ``now_ns``: this machine's clock (ns; read when None)."""
+    if not 0 <= nanosec < 1_000_000_000:
+        return BAD_STAMP
+    now = time.time_ns() if now_ns is None else now_ns
+    if sec * 1_000_000_000 + nanosec - now > MAX_STAMP_AHEAD_NS:
+        return STAMPED_AHEAD
+    for value in positions:
+        problem = _number_problem(value, MAX_JOINT_ANGLE)
+        if problem is not None:
+            return problem
+    return None
+
+
+class Refusals:
+    """Messages refused, by reason, in the order the reasons first came."""
+
+    def __init__(self) -> None:
+        self.counts: dict[str, int] = {}
+
+    def check(self, problem: str | None) -> bool:
+        """Count ``problem`` (a reason, or None); whether the message passed."""
+        if problem is None:
+            return True
+        self.counts[problem] = self.counts.get(problem, 0) + 1
+        return False
+
+    @property
+    def total(self) -> int:
+        """Messages refused."""
+        return sum(self.counts.values())
