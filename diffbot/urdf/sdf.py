@@ -28,7 +28,8 @@ from xml.etree import ElementTree as ET
 
 from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsError
 from diffbot.io.textfile import check_regular
-from diffbot.urdf.packages import PackageFinder
+from diffbot.urdf.packages import PackageFinder, folder_below
+from diffbot.urdf.sandbox import inside_folders
 
 __all__ = ["MAX_DEPTH", "MAX_FILE_BYTES", "MAX_INCLUDES", "expand_sdf", "model_file"]
 
@@ -199,8 +200,7 @@ class _Reader:
         self.model = _Model()
 
     def check(self, path: Path) -> None:
-        real = path.resolve()
-        if self.trust or any(real == r or r in real.parents for r in self.roots):
+        if self.trust or inside_folders(path, self.roots):
             return
         folders = ", ".join(str(r) for r in self.roots)
         raise OutsideRootsError(
@@ -232,13 +232,14 @@ class _Reader:
         return target if target.is_absolute() else here / target
 
     def _resource(self, name: str) -> Path | None:
-        sibling = self.source.resolve().parent.parent / name  # models/<this>, models/<name>
-        if (sibling / "model.config").is_file():
+        # models/<this>, models/<name>: a sibling, but never one linked from elsewhere
+        sibling = folder_below(self.source.resolve().parent.parent, name)
+        if sibling is not None and (sibling / "model.config").is_file():
             return sibling
         for variable in _RESOURCE_PATHS:
             for entry in os.environ.get(variable, "").split(os.pathsep):
-                candidate = Path(entry) / name
-                if entry and candidate.is_dir():
+                candidate = folder_below(Path(entry), name) if entry else None
+                if candidate is not None:
                     return candidate
         return None
 
@@ -300,6 +301,7 @@ class _Reader:
             uri = (include.findtext("uri") or "").strip()
             target = self.locate(uri, here)
             if target.is_dir():
+                self.check(target)  # before its model.config is read
                 target = model_file(target)
             name = (include.findtext("name") or "").strip() or target.parent.name
             include_pose, _ = _pose(include, f"{where} include {uri!r}")
