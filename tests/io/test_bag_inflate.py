@@ -10,12 +10,14 @@ from typing import Any
 
 import lz4.frame
 import pytest
+from bags import JOINT_STATE, TYPESTORE, joint_state, lone_storage, write_bag
 from cli_results import assert_one_error_line
 from click.testing import CliRunner
 from robots import BOT
 
 from diffbot.cli import main
 from diffbot.errors import RecordingError
+from diffbot.io import bag_inflate
 from diffbot.io.bag_inflate import inflate
 
 try:
@@ -114,3 +116,85 @@ def test_a_ros1_chunk_inflating_past_its_declared_size_is_one_error_line(
     results: list[Any] = []
     assert peak_bytes(lambda: results.append(odom(bomb))) < 5 << 20
     assert_one_error_line(results[0], "bomb.bag: a chunk declaring", "decompresses to more than")
+
+
+def compressed_bag(
+    path: Path, monkeypatch: pytest.MonkeyPatch, mode: str, inflate_to: int = 0
+) -> Path:
+    """A rosbag2 bag compressed with zstd by ``mode`` (``message`` or ``file``); with
+    ``inflate_to``, every compressed message or file has that many zeros packed after it."""
+    import rosbags.rosbag2.writer as writer_module
+    from rosbags.rosbag2 import Writer
+    from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
+
+    class Packing:
+        @staticmethod
+        def compress(data: bytes) -> bytes:
+            return zstd.compress(data + bytes(inflate_to))
+
+        @staticmethod
+        def open(target: Any, mode: str) -> Any:
+            stream = zstd.open(target, mode)
+            if inflate_to:
+                stream.write(bytes(inflate_to))
+            return stream
+
+    monkeypatch.setattr(writer_module, "zstd", Packing)
+    writer = Writer(path, version=9)
+    writer.set_compression(CompressionMode[mode.upper()], CompressionFormat.ZSTD)
+    with writer:
+        conn = writer.add_connection("/joint_states", JOINT_STATE, typestore=TYPESTORE)
+        for stamp, received, names, positions in messages():
+            writer.write(conn, received, joint_state(stamp, names, positions))
+    monkeypatch.undo()
+    return path
+
+
+def test_a_message_inflating_past_its_bound_is_one_error_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    honest = compressed_bag(tmp_path / "honest", monkeypatch, "message")
+    assert odom(honest).exit_code == 0
+    bomb = compressed_bag(tmp_path / "bomb", monkeypatch, "message", ZEROS)
+    monkeypatch.setattr(bag_inflate, "MAX_MESSAGE_BYTES", 1 << 20)
+    results: list[Any] = []
+    assert peak_bytes(lambda: results.append(odom(bomb))) < 5 << 20
+    assert_one_error_line(results[0], "a compressed bag message decompresses to more than 1048576")
+
+
+def test_a_storage_file_inflating_past_its_bound_is_one_error_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    honest = compressed_bag(tmp_path / "honest", monkeypatch, "file")
+    assert odom(honest).exit_code == 0
+    bomb = compressed_bag(tmp_path / "bomb", monkeypatch, "file", ZEROS)
+    monkeypatch.setattr(bag_inflate, "MIN_FILE_BYTES", 1 << 20)
+    result = odom(bomb)
+    assert_one_error_line(result, "a compressed bag file decompresses to more than 1048576")
+
+
+def test_a_lone_compressed_storage_file_inflating_past_its_bound_is_one_error_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    bag = write_bag(tmp_path / "rec", messages())
+    honest = lone_storage(bag, tmp_path / "honest.db3.zstd")
+    assert odom(honest).exit_code == 0
+    bomb = tmp_path / "bomb.db3.zstd"
+    (storage,) = bag.glob("*.db3")
+    bomb.write_bytes(zstd.compress(storage.read_bytes() + bytes(ZEROS)))
+    monkeypatch.setattr(bag_inflate, "MIN_FILE_BYTES", 1 << 20)
+    assert_one_error_line(odom(bomb), "bomb.db3.zstd decompresses to more than 1048576")
+    assert bag_inflate.file_limit(10) == 1 << 20
+    assert bag_inflate.file_limit(1 << 20) == 100 << 20
+
+
+def test_an_mcap_chunk_inflating_past_its_declared_size_is_refused() -> None:
+    import rosbags.rosbag2.storage_mcap as mcap
+
+    bag_inflate.bound_rosbags()
+    data = bytes(range(256)) * 8
+    assert mcap.DECOMPRESSORS["zstd"](zstd.compress(data), len(data)) == data
+    with pytest.raises(RecordingError, match="a bag chunk decompresses to more than 2047"):
+        mcap.DECOMPRESSORS["zstd"](zstd.compress(data), len(data) - 1)
+    with pytest.raises(RecordingError, match="a bag chunk decompresses to more than 2047"):
+        mcap.DECOMPRESSORS["lz4"](lz4.frame.compress(data), len(data) - 1)
