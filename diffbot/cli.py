@@ -64,6 +64,7 @@ FLAGS = {
     "delimiter": "--delimiter",
     "time_unit": "--time-unit",
     "time_offset": "--time-offset",
+    "wrap": "--wrap",
 }
 
 

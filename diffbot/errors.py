@@ -43,6 +43,7 @@ PARAMETERS: Mapping[str, str] = {
     "delimiter": "delimiter=",
     "time_unit": "time_unit=",
     "time_offset": "time_offset=",
+    "wrap": "wrap=",
 }
 
 __all__ = [
