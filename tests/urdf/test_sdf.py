@@ -311,3 +311,28 @@ def test_a_model_folder_outside_is_refused_before_its_model_config_is_read(
     )
     with pytest.raises(OutsideRootsError, match="outside the description's folders"):
         diffbot.load_params(robot)
+
+
+@pytest.mark.parametrize(
+    ("limits", "expected"),
+    [
+        ("<lower>abc</lower><upper>1</upper>", "a limit must be a number, got 'abc'"),
+        ("<lower>nan</lower><upper>1</upper>", "a limit must be a number, got 'nan'"),
+        ("<lower>0</lower><upper>1</upper><velocity>fast</velocity>", "got 'fast'"),
+        (f"<lower>0</lower><upper>{'9' * 400}</upper>", None),  # beyond a float: no bound
+    ],
+)
+def test_joint_limits_are_numbers_or_one_error_line(
+    tmp_path: Path, limits: str, expected: str | None
+) -> None:
+    text = DOLLY.replace(
+        "<limit><lower>-1.79769e+308</lower><upper>1.79769e+308</upper></limit>",
+        f"<limit>{limits}</limit>",
+    )
+    folder = model_folder(tmp_path, "dolly", text)
+    result = CliRunner().invoke(main, ["params", str(folder)])
+    if expected is None:
+        assert result.exit_code == 0, result.output
+        assert "wheel radius      0.3 m" in result.stdout
+    else:
+        assert_one_error_line(result, "joint 'left_wheel_joint'", expected)
