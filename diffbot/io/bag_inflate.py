@@ -123,6 +123,8 @@ def inflate(data: bytes, kind: str, limit: int, what: str) -> bytes:
                 if stream.needs_input:
                     raise RecordingError(f"{what}: its {kind} data is truncated")
                 piece = stream.decompress(b"", limit + 1 - len(out))
+                if not (piece or stream.eof or stream.needs_input):
+                    raise RecordingError(f"{what}: its {kind} data is truncated")  # no progress
             rest = stream.unused_data
     except (OSError, EOFError, ValueError, RuntimeError) as err:
         # lz4 raises RuntimeError, bz2 OSError, zstd its ZstdError (a ValueError in 3.14)

@@ -51,7 +51,7 @@ def test_a_stream_is_inflated_whole_up_to_its_bound(kind: str) -> None:
     data = bytes(range(256)) * 40
     packed = COMPRESS[kind](data) + COMPRESS[kind](b"tail")  # two frames or streams
     assert inflate(packed, kind, len(data) + 4, "x") == data + b"tail"
-    with pytest.raises(RecordingError, match=r"x decompresses to more than 10243 bytes"):
+    with pytest.raises(RecordingError, match=r"^x decompresses to more than 10243 bytes"):
         inflate(packed, kind, len(data) + 3, "x")
 
 
@@ -67,7 +67,7 @@ def test_a_bomb_is_refused_without_inflating_it(kind: str) -> None:
             caught.append(err)
 
     assert peak_bytes(run) < 1 << 20
-    assert "a chunk decompresses to more than 1024 bytes" in str(caught[0])
+    assert str(caught[0]) == "a chunk decompresses to more than 1024 bytes, refused (a bomb?)"
 
 
 @pytest.mark.parametrize("kind", ["zstd", "lz4", "bz2"])
