@@ -28,6 +28,16 @@ _NUMBER = re.compile(r"([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(m|rad|
 _HEADER = ("x", "y", "heading")
 
 
+#: The largest magnitude of each kind of number, and its unit: (angle, unit) -> (limit, shown).
+_LIMITS = {
+    (False, None): (MAX_COORDINATE, "m"),
+    (False, "m"): (MAX_COORDINATE, "m"),
+    (True, "rad"): (MAX_TURN, "rad"),
+    (True, None): (math.degrees(MAX_TURN), "deg"),
+    (True, "deg"): (math.degrees(MAX_TURN), "deg"),
+}
+
+
 def _value(text: object, angle: bool, what: str, name: str) -> float:
     """One number: metres, or for an angle degrees (``rad`` for radians), SI out.
 
@@ -37,30 +47,25 @@ def _value(text: object, angle: bool, what: str, name: str) -> float:
     """
     if isinstance(text, bool) or not isinstance(text, int | float | str):
         raise PlanError(f"{what}: {brief(text)} is not a number")
-    number: object = text
     unit = None
     if isinstance(text, str):
-        stripped = text.strip()
-        if stripped.lower().lstrip("+-") in ("nan", "inf", "infinity"):
-            raise PlanError(f"{what}: {brief(text)} is not a finite number")
-        match = _NUMBER.fullmatch(stripped)
+        match = _NUMBER.fullmatch(text.strip())
         if match is None:
+            if text.strip().lower().lstrip("+-") in ("nan", "inf", "infinity"):
+                raise PlanError(f"{what}: {brief(text)} is not a finite number")
             raise PlanError(f"{what}: {brief(text)} is not a number")
-        number, unit = match.group(1), match.group(2)
+        value, unit = float(match.group(1)), match.group(2)  # digits: never an error
         if unit is not None and (unit == "m") == angle:
             raise PlanError(f"{what}: {brief(text)} has the wrong unit")
-    where = f"{what}: {name}"
-    value = as_number(number, where, PlanError, "a finite number")
+    else:
+        value = as_number(text, f"{what}: {name}", PlanError, "a finite number")
     if not math.isfinite(value):
         raise PlanError(f"{what}: {brief(text)} is not a finite number")
-    if not angle:
-        return finite_in_range(
-            value, where, -MAX_COORDINATE, MAX_COORDINATE, error=PlanError, unit="m"
-        )
-    if unit == "rad":
-        return finite_in_range(value, where, -MAX_TURN, MAX_TURN, error=PlanError, unit="rad")
-    limit = math.degrees(MAX_TURN)
-    return math.radians(finite_in_range(value, where, -limit, limit, error=PlanError, unit="deg"))
+    limit, shown_unit = _LIMITS[angle, unit]
+    if not -limit <= value <= limit:
+        # raises, naming the range
+        finite_in_range(value, f"{what}: {name}", -limit, limit, error=PlanError, unit=shown_unit)
+    return math.radians(value) if angle and unit != "rad" else value
 
 
 def _waypoint(items: list[Any], what: str) -> Waypoint:
