@@ -13,9 +13,8 @@ search is bounded (:data:`MAX_FOLDERS` folders, :data:`MAX_DEPTH` deep), follows
 out of the tree, skips hidden, build and ignored folders, and is cached per tree.
 
 A name is looked up only when it is a plain package name (letters, digits, ``_``, ``-`` and
-``.``, not starting with a dot), and a folder found by name under a search folder must lie in that
-folder once links are resolved (:func:`folder_below`): a description asking for ``$(find /)``,
-``$(find ../..)`` or a package linked out of its prefix reaches nothing outside.
+``.``, not starting with a dot; :func:`folder_below`): a description asking for ``$(find /)`` or
+``$(find ../..)`` reaches nothing outside.
 """
 
 from __future__ import annotations
@@ -68,14 +67,21 @@ def plain_name(name: str) -> bool:
     return _PLAIN_NAME.fullmatch(name) is not None
 
 
-def folder_below(base: Path, name: str) -> Path | None:
-    """``base / name`` when ``name`` is a plain name and that folder, links resolved, lies in
-    ``base`` (links resolved); None otherwise."""
+def folder_below(base: Path, name: str, *, links: bool = False) -> Path | None:
+    """``base / name`` when ``name`` is a plain name and that folder exists; None otherwise.
+
+    Args:
+        base: the folder searched.
+        name: the package's or model's name.
+        links: whether the folder may be a link to elsewhere: yes in a folder the user's
+            environment names (an install may link its packages), no in a description's tree,
+            whose links are the description's own.
+    """
     if not plain_name(name):
         return None
     candidate = base / name
     with contextlib.suppress(OSError, RuntimeError):  # RuntimeError: a link loop (Python < 3.13)
-        if candidate.is_dir() and candidate.resolve().parent == base.resolve():
+        if candidate.is_dir() and (links or candidate.resolve().parent == base.resolve()):
             return candidate
     return None
 
@@ -189,7 +195,7 @@ class PackageFinder:
         if name in self.bundled:
             return self.bundled[name]
         for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-            candidate = folder_below(Path(prefix) / "share", name) if prefix else None
+            candidate = folder_below(Path(prefix) / "share", name, links=True) if prefix else None
             if candidate is not None:
                 return candidate
         for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):

@@ -253,7 +253,7 @@ class _Reader:
             return sibling
         for variable in _RESOURCE_PATHS:
             for entry in os.environ.get(variable, "").split(os.pathsep):
-                candidate = folder_below(Path(entry), name) if entry else None
+                candidate = folder_below(Path(entry), name, links=True) if entry else None
                 if candidate is not None:
                     return candidate
         return None

@@ -299,15 +299,17 @@ def test_find_of_a_path_reaches_nothing_outside_the_descriptions_folders(
     assert_one_error_line(result, "not found")
 
 
-def test_a_package_linked_out_of_its_prefix_is_not_found(
+def test_a_package_linked_into_a_prefix_is_found_but_no_path_through_it(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
+    # An install may link its packages: the environment's folders are the user's own. Only the
+    # name is the description's, and it never walks out of them.
     secret = secret_folder(tmp_path)
     share = tmp_path / "prefix" / "share"
     share.mkdir(parents=True)
     (share / "linked").symlink_to(secret, target_is_directory=True)
-    (share / "real").mkdir()
     monkeypatch.setenv("AMENT_PREFIX_PATH", str(tmp_path / "prefix"))
     finder = PackageFinder(None, {})
-    assert finder.locate("linked") is None
-    assert finder.locate("real") == share / "real"
+    assert finder.locate("linked") == share / "linked"
+    assert finder.locate("linked/..") is None
+    assert finder.locate("../share/linked") is None
