@@ -67,6 +67,7 @@ FLAGS = {
     "time_offset": "--time-offset",
     "dask_address": "--dask",
     "dask_timeout": "--dask-timeout",
+    "wrap": "--wrap",
 }
 
 

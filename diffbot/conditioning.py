@@ -67,6 +67,9 @@ ENCODER_SIZE_RANGE: Final = (1e-9, 1e15)
 _WRAP_JUMP: Final = 0.75
 #: ... and, undone, is at most this many times the largest ordinary step.
 _WRAP_TYPICAL: Final = 4.0
+#: Relative rounding a given modulus may be short of the positions' spread (angles that wrap in
+#: ``[-pi, pi]`` span the whole of ``2*pi``).
+_WRAP_SLACK: Final = 1e-9
 
 
 @dataclass(frozen=True)
@@ -340,6 +343,8 @@ class Conditioner:
                 if detect_wrap(width, steps, column.typical):
                     column.modulus = width
                     self._detected = True
+        elif self.conditioning.wrap:
+            self._check_given_wrap(column, raw)
         if column.modulus is None:
             return raw
         turns = np.rint(steps / column.modulus)
@@ -351,6 +356,24 @@ class Conditioner:
         column.turns = float(total[-1])
         unwrapped: NDArray[np.float64] = raw - total * column.modulus
         return unwrapped
+
+    def _check_given_wrap(self, column: _Column, raw: NDArray[np.float64]) -> None:
+        """Refuse a given modulus the positions do not fit: a counter of modulus ``N`` holds its
+        values within ``N`` of each other, and unwrapping with a smaller one turns every step
+        beyond ``N/2`` into a false wrap (a wrong pose, said nowhere)."""
+        column.lowest = min(column.lowest, float(raw.min()))
+        column.highest = max(column.highest, float(raw.max()))
+        modulus = float(self.conditioning.wrap or 0.0)
+        spread = column.highest - column.lowest
+        if spread > modulus * (1.0 + _WRAP_SLACK):
+            joint = next(self.joints[k] for k, c in enumerate(self._columns) if c is column)
+            raise ParameterError(
+                f"the counter's modulus ({{wrap}}) of {modulus:g} is smaller than the range the "
+                f"positions of {joint!r} cover ({column.lowest:g} to {column.highest:g}, "
+                f"{spread:g} apart): a counter that wraps at {modulus:g} cannot hold them, and "
+                "its steps would be taken for wraps; give the counter's real modulus, or 0 for "
+                "none"
+            )
 
     @staticmethod
     def _steps(

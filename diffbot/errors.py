@@ -46,6 +46,7 @@ PARAMETERS: Mapping[str, str] = {
     "time_offset": "time_offset=",
     "dask_address": "dask_address=",
     "dask_timeout": "dask_timeout=",
+    "wrap": "wrap=",
 }
 
 __all__ = [

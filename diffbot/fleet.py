@@ -27,6 +27,7 @@ from diffbot.io.csvfile import ODOMETRY_HEADER, odometry_lines
 from diffbot.io.outputs import atomic_text, input_clash
 from diffbot.kinematics import DiffDriveParams, norm_angle
 from diffbot.odometry import Odometry
+from diffbot.processes import safe_starts
 from diffbot.reference import ReferenceComparison, ReferenceResult
 from diffbot.replay import Progress, RecordingOdometry, csv_odometry, recording_odometry
 
@@ -303,8 +304,13 @@ def run_tasks(
     # Loaded here: the process pool and asyncio below weigh on every single-input run's start.
     from concurrent.futures import ProcessPoolExecutor
 
-    with ProcessPoolExecutor(max_workers=min(jobs, len(tasks))) as pool:
-        futures = [pool.submit(run_task, task) for task in tasks]
+    # The pool's helper process starts with it and every worker during the submissions, so
+    # all of them start clear of the current folder's code.
+    with safe_starts():
+        pool = ProcessPoolExecutor(max_workers=min(jobs, len(tasks)))
+    with pool:
+        with safe_starts():
+            futures = [pool.submit(run_task, task) for task in tasks]
         if done is not None:
             for future in futures:
                 future.add_done_callback(lambda f: done(f.result()))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -201,3 +202,50 @@ def test_unwrapping_recovers_any_travel_of_steps_under_half_the_range(
     ]
     unwrapped = np.concatenate(parts)[:, 0]
     np.testing.assert_array_equal(unwrapped - unwrapped[0], travel - travel[0])
+
+
+@pytest.mark.parametrize("wrap", [1.0, 3.0, 1e-9, WRAP / 2])
+def test_a_given_wrap_smaller_than_the_counts_it_must_hold_is_refused(wrap: float) -> None:
+    # Unwrapped with a modulus smaller than the counter's, every step beyond half of it would be
+    # taken for a wrap: a wrong pose, said nowhere.
+    stamps, left, right = counts()
+    conditioner = pioneer_conditioner(Conditioning(counts_per_rev=COUNTS_PER_REV, wrap=wrap))
+    with pytest.raises(ParameterError) as caught:
+        conditioner.feed(stamps, np.stack([left, right], axis=1))
+    message = str(caught.value)
+    assert f"the counter's modulus (wrap=) of {wrap:g} is smaller than the range" in message
+    assert f"positions of {PIONEER.left_joint!r} cover" in message
+
+
+def test_a_wrap_is_checked_against_every_chunk_seen() -> None:
+    stamps = np.arange(4, dtype=np.int64) * 100_000_000
+    conditioner = Conditioner.for_robot(BOT, ("l",), 1, Conditioning(wrap=300))
+    assert conditioner.feed(stamps[:2], np.array([[10.0], [250.0]]))[:, 0].tolist() == [
+        10.0,
+        -50.0,
+    ]
+    with pytest.raises(ParameterError, match=r"cover \(10 to 320, 310 apart\)"):
+        conditioner.feed(stamps[2:], np.array([[290.0], [320.0]]))
+
+
+def test_angles_wrapping_in_the_closed_circle_fit_a_wrap_of_two_pi() -> None:
+    stamps = np.arange(4, dtype=np.int64) * 100_000_000
+    positions = np.array([[3.0], [math.pi], [-math.pi], [-3.0]])
+    conditioner = Conditioner.for_robot(BOT, ("l",), 1, Conditioning(wrap=2 * math.pi))
+    out = conditioner.feed(stamps, positions)[:, 0]
+    assert out[-1] == pytest.approx(2 * math.pi - 3.0, abs=1e-12)
+
+
+def test_the_command_line_names_the_option_of_a_wrap_refused(tmp_path: Path) -> None:
+    from cli_results import assert_one_error_line
+    from click.testing import CliRunner
+    from pioneer import counts_csv, urdf
+
+    from diffbot.cli import main
+
+    csv, robot = counts_csv(tmp_path), urdf(tmp_path)
+    args = ["odom", str(csv), "--robot", str(robot), "--counts-per-rev", str(COUNTS_PER_REV)]
+    good = CliRunner().invoke(main, [*args, "--wrap", str(WRAP)])
+    assert good.exit_code == 0, good.output
+    result = CliRunner().invoke(main, [*args, "--wrap", "3"])
+    assert_one_error_line(result, "the counter's modulus (--wrap) of 3 is smaller")

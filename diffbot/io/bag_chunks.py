@@ -16,7 +16,6 @@ Without a topic, ``/joint_states`` is read, or else the bag's only JointState to
 from __future__ import annotations
 
 import os
-import shutil
 import sqlite3
 import tempfile
 from collections.abc import Callable, Iterator
@@ -29,6 +28,7 @@ import numpy as np
 from diffbot.errors import DiffbotError, RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.bag import BAG_INSTALL_HINT, DEFAULT_TOPIC, JOINT_STATE, bag_suffix
+from diffbot.io.bag_inflate import bound_rosbags, copy_inflated, ros1_reader
 from diffbot.io.textfile import check_regular
 
 if TYPE_CHECKING:
@@ -95,18 +95,8 @@ def _decompressed(files: list[Path], into: Path) -> list[Path]:
         if not path.name.lower().endswith(".zstd"):
             out.append(path)
             continue
-        try:
-            from compression import zstd  # type: ignore[import-not-found,unused-ignore]
-        except ImportError:
-            try:
-                from backports import zstd  # type: ignore[no-redef,import-not-found,unused-ignore]
-            except ImportError:
-                raise BagError(
-                    f"{path}: decompressing zstd needs the rosbags library: {BAG_INSTALL_HINT}"
-                ) from None
         target = into / f"{k}_{path.name[: -len('.zstd')]}"
-        with zstd.open(path, "rb") as source, target.open("wb") as sink:
-            shutil.copyfileobj(source, sink, 1 << 20)
+        copy_inflated(path, target)
         out.append(target)
     return out
 
@@ -290,7 +280,7 @@ class TopicChunks:
         self._ros1 = bag_suffix(p) == ".bag" and p.is_file()
         try:
             if self._ros1:
-                from rosbags.rosbag1 import Reader as Reader1
+                import rosbags.rosbag1  # noqa: F401
             else:
                 from rosbags.rosbag2 import Reader
         except ImportError:
@@ -299,7 +289,8 @@ class TopicChunks:
                 f"reading this {kind} bag needs the rosbags library: {BAG_INSTALL_HINT}"
             ) from None
         try:
-            self._reader = Reader1(p) if self._ros1 else Reader(p)
+            bound_rosbags()
+            self._reader = ros1_reader(p) if self._ros1 else Reader(p)
             self._reader.open()
         except Exception as err:
             kind = "ROS 1 bag" if self._ros1 else "rosbag2 recording"

@@ -45,6 +45,10 @@ def read_description(path: str | os.PathLike[str]) -> str:
     existing_recording(path)
     from rosbags.rosbag2 import Reader
 
+    from diffbot.io.bag_inflate import bound_rosbags
+
+    bound_rosbags()
+
     source = os.fspath(path)
     store = typestore()
     text: str | None = None

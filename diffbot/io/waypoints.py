@@ -16,47 +16,67 @@ from typing import Any
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
 from diffbot.io.textfile import read_text
+from diffbot.numbers import MAX_COORDINATE, MAX_TURN, as_number, finite_in_range
 
 __all__ = ["parse_pose", "read_waypoints"]
 
 Waypoint = tuple[float, float, float | None]
 
-#: A number and its unit; no two repeats here can take the same characters, so a text that is
-#: not a number is refused in time linear in its length.
-_NUMBER = re.compile(r"\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(?:(m|rad|deg)\s*)?")
+#: A number and its unit, the text stripped first. Unambiguous (one way to match any text), so
+#: its time is linear in the text's length.
+_NUMBER = re.compile(r"([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(m|rad|deg)?")
 _HEADER = ("x", "y", "heading")
 
 
-def _value(text: object, angle: bool, what: str) -> float:
-    """One number: metres, or for an angle degrees (``rad`` for radians), SI out."""
+#: The largest magnitude of each kind of number, and its unit: (angle, unit) -> (limit, shown).
+_LIMITS = {
+    (False, None): (MAX_COORDINATE, "m"),
+    (False, "m"): (MAX_COORDINATE, "m"),
+    (True, "rad"): (MAX_TURN, "rad"),
+    (True, None): (math.degrees(MAX_TURN), "deg"),
+    (True, "deg"): (math.degrees(MAX_TURN), "deg"),
+}
+
+
+def _value(text: object, angle: bool, what: str, name: str) -> float:
+    """One number: metres, or for an angle degrees (``rad`` for radians), SI out.
+
+    Coordinates lie within :data:`~diffbot.numbers.MAX_COORDINATE` (m) of the origin and headings
+    within :data:`~diffbot.numbers.MAX_TURN` (rad) of zero; an integer of any size is refused as
+    too large, never overflows.
+    """
     if isinstance(text, bool) or not isinstance(text, int | float | str):
         raise PlanError(f"{what}: {brief(text)} is not a number")
-    if isinstance(text, int | float):
-        number, unit = float(text), None
-    else:
-        match = _NUMBER.fullmatch(text)
-        if text.strip().lower().lstrip("+-") in ("nan", "inf", "infinity"):
-            raise PlanError(f"{what}: {brief(text)} is not a finite number")
+    unit = None
+    if isinstance(text, str):
+        match = _NUMBER.fullmatch(text.strip())
         if match is None:
+            if text.strip().lower().lstrip("+-") in ("nan", "inf", "infinity"):
+                raise PlanError(f"{what}: {brief(text)} is not a finite number")
             raise PlanError(f"{what}: {brief(text)} is not a number")
-        number, unit = float(match.group(1)), match.group(2)
+        value, unit = float(match.group(1)), match.group(2)  # digits: never an error
         if unit is not None and (unit == "m") == angle:
             raise PlanError(f"{what}: {brief(text)} has the wrong unit")
-    value = math.radians(number) if angle and unit != "rad" else number
+    else:
+        value = as_number(text, f"{what}: {name}", PlanError, "a finite number")
     if not math.isfinite(value):
         raise PlanError(f"{what}: {brief(text)} is not a finite number")
-    return value
+    limit, shown_unit = _LIMITS[angle, unit]
+    if not -limit <= value <= limit:
+        # raises, naming the range
+        finite_in_range(value, f"{what}: {name}", -limit, limit, error=PlanError, unit=shown_unit)
+    return math.radians(value) if angle and unit != "rad" else value
 
 
 def _waypoint(items: list[Any], what: str) -> Waypoint:
     if len(items) not in (2, 3):
         raise PlanError(f"{what}: give x,y or x,y,heading, got {len(items)} values")
-    x = _value(items[0], False, what)
-    y = _value(items[1], False, what)
+    x = _value(items[0], False, what, "x")
+    y = _value(items[1], False, what, "y")
     empty = (
         len(items) == 2 or items[2] is None or (isinstance(items[2], str) and not items[2].strip())
     )
-    return x, y, None if empty else _value(items[2], True, what)
+    return x, y, None if empty else _value(items[2], True, what, "heading")
 
 
 def parse_pose(text: str, what: str) -> Waypoint:

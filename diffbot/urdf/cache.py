@@ -9,7 +9,8 @@ When an entry is missing, the parameters are derived in a short-lived child proc
 and trimesh (with SciPy and networkx behind it) weigh about 90 MB once imported, and that memory
 would otherwise stay with a command that then reads or writes a million samples. Any failure of
 the child (an error in the description above all) derives again in this process, so errors are
-raised here as they always were.
+raised here as they always were. The child is isolated (:mod:`diffbot.processes`): the current
+folder, often the description's own repository, is never on its path.
 
 An entry holds only JSON data, written atomically (a temporary file renamed into place). It is
 validated on read: its key, a digest of its fields and each field's type and domain must be
@@ -32,6 +33,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+from diffbot.processes import python_command
 from diffbot.urdf import tree, wheels
 from diffbot.urdf.wheels import Derived, JointChoice, derive_text
 
@@ -131,7 +133,7 @@ def _derived_apart(
     request = json.dumps([urdf, source, _key(left_joint), _key(right_joint)])
     with contextlib.suppress(OSError, ValueError, subprocess.SubprocessError):
         done = subprocess.run(
-            [sys.executable, "-c", "from diffbot.urdf.cache import _child; _child()"],
+            python_command("from diffbot.urdf.cache import _child; _child()"),
             input=request.encode("utf-8"),
             capture_output=True,
             timeout=_CHILD_TIMEOUT,

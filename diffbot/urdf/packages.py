@@ -11,6 +11,10 @@ nearest folder holding a ``package.xml``, at most :data:`PACKAGE_LEVELS` up), th
 at most :data:`TREE_LEVELS` up; else the package's parent folder, which holds its siblings. The
 search is bounded (:data:`MAX_FOLDERS` folders, :data:`MAX_DEPTH` deep), follows no symbolic link
 out of the tree, skips hidden, build and ignored folders, and is cached per tree.
+
+A name is looked up only when it is a plain package name (letters, digits, ``_``, ``-`` and
+``.``, not starting with a dot; :func:`folder_below`): a description asking for ``$(find /)`` or
+``$(find ../..)`` reaches nothing outside.
 """
 
 from __future__ import annotations
@@ -18,6 +22,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import os
+import re
 from collections import deque
 from collections.abc import Mapping
 from pathlib import Path
@@ -32,9 +37,11 @@ __all__ = [
     "PACKAGE_LEVELS",
     "TREE_LEVELS",
     "PackageFinder",
+    "folder_below",
     "own_package",
     "package_name",
     "packages_under",
+    "plain_name",
     "source_tree",
 ]
 
@@ -50,8 +57,33 @@ MAX_DEPTH: Final = 8
 #: Largest ``package.xml`` read (bytes): real ones are a few kB.
 MAX_MANIFEST: Final = 1 << 20
 
+_PLAIN_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.\-]*")
 _SKIPPED = frozenset({"build", "install", "log", "node_modules", "__pycache__", "site-packages"})
 _IGNORE_MARKERS = ("COLCON_IGNORE", "CATKIN_IGNORE", "AMENT_IGNORE")
+
+
+def plain_name(name: str) -> bool:
+    """Whether ``name`` can name a package: no path separator, not ``.`` or ``..``, not empty."""
+    return _PLAIN_NAME.fullmatch(name) is not None
+
+
+def folder_below(base: Path, name: str, *, links: bool = False) -> Path | None:
+    """``base / name`` when ``name`` is a plain name and that folder exists; None otherwise.
+
+    Args:
+        base: the folder searched.
+        name: the package's or model's name.
+        links: whether the folder may be a link to elsewhere: yes in a folder the user's
+            environment names (an install may link its packages), no in a description's tree,
+            whose links are the description's own.
+    """
+    if not plain_name(name):
+        return None
+    candidate = base / name
+    with contextlib.suppress(OSError, RuntimeError):  # RuntimeError: a link loop (Python < 3.13)
+        if candidate.is_dir() and (links or candidate.resolve().parent == base.resolve()):
+            return candidate
+    return None
 
 
 def package_name(folder: Path) -> str:
@@ -154,6 +186,8 @@ class PackageFinder:
         """The package's folder, or None when no place knows it."""
         if name in self.given:
             return self.given[name]
+        if not plain_name(name):
+            return None
         if self.tree is not None:
             found = packages_under(self.tree).get(name)
             if found is not None:
@@ -161,8 +195,8 @@ class PackageFinder:
         if name in self.bundled:
             return self.bundled[name]
         for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-            candidate = Path(prefix) / "share" / name
-            if prefix and candidate.is_dir():
+            candidate = folder_below(Path(prefix) / "share", name, links=True) if prefix else None
+            if candidate is not None:
                 return candidate
         for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
             if entry and Path(entry).is_dir():

@@ -28,7 +28,9 @@ from xml.etree import ElementTree as ET
 
 from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsError
 from diffbot.io.textfile import check_regular
-from diffbot.urdf.packages import PackageFinder
+from diffbot.numbers import as_number, shown
+from diffbot.urdf.packages import PackageFinder, folder_below
+from diffbot.urdf.sandbox import inside_folders
 
 __all__ = ["MAX_DEPTH", "MAX_FILE_BYTES", "MAX_INCLUDES", "expand_sdf", "model_file"]
 
@@ -104,6 +106,20 @@ def _numbers(text: str | None, count: int, where: str) -> list[float]:
     if len(values) != count or not all(math.isfinite(v) for v in values):
         raise DescriptionError(f"{where}: expected {count} finite numbers, got {text!r}")
     return values
+
+
+def _limit_value(text: str | None, where: str) -> float | None:
+    """A joint limit as written (infinities stand for none), or None when it is not given.
+
+    Raises:
+        DescriptionError: it is not a number, or NaN.
+    """
+    if text is None:
+        return None
+    value = as_number(text.strip() or "0", f"{where}: a limit", DescriptionError)
+    if math.isnan(value):
+        raise DescriptionError(f"{where}: a limit must be a number, got {shown(text)}")
+    return value
 
 
 def _pose(element: ET.Element | None, where: str) -> tuple[Matrix, str | None]:
@@ -199,8 +215,7 @@ class _Reader:
         self.model = _Model()
 
     def check(self, path: Path) -> None:
-        real = path.resolve()
-        if self.trust or any(real == r or r in real.parents for r in self.roots):
+        if self.trust or inside_folders(path, self.roots):
             return
         folders = ", ".join(str(r) for r in self.roots)
         raise OutsideRootsError(
@@ -232,13 +247,14 @@ class _Reader:
         return target if target.is_absolute() else here / target
 
     def _resource(self, name: str) -> Path | None:
-        sibling = self.source.resolve().parent.parent / name  # models/<this>, models/<name>
-        if (sibling / "model.config").is_file():
+        # models/<this>, models/<name>: a sibling, but never one linked from elsewhere
+        sibling = folder_below(self.source.resolve().parent.parent, name)
+        if sibling is not None and (sibling / "model.config").is_file():
             return sibling
         for variable in _RESOURCE_PATHS:
             for entry in os.environ.get(variable, "").split(os.pathsep):
-                candidate = Path(entry) / name
-                if entry and candidate.is_dir():
+                candidate = folder_below(Path(entry), name, links=True) if entry else None
+                if candidate is not None:
                     return candidate
         return None
 
@@ -300,6 +316,7 @@ class _Reader:
             uri = (include.findtext("uri") or "").strip()
             target = self.locate(uri, here)
             if target.is_dir():
+                self.check(target)  # before its model.config is read
                 target = model_file(target)
             name = (include.findtext("name") or "").strip() or target.parent.name
             include_pose, _ = _pose(include, f"{where} include {uri!r}")
@@ -350,19 +367,19 @@ class _Reader:
                 "1",
             ):
                 in_model = frame
-            lower = axis_element.findtext("limit/lower")
-            upper = axis_element.findtext("limit/upper")
-            velocity = axis_element.findtext("limit/velocity")
+            limits = {
+                key: _limit_value(axis_element.findtext(f"limit/{key}"), f"{where} joint {name!r}")
+                for key in ("lower", "upper", "velocity")
+            }
+            lower, upper, velocity = limits["lower"], limits["upper"], limits["velocity"]
             bounded = lower is not None and upper is not None
-            if kind == "revolute" and (
-                not bounded or float(upper or 0) - float(lower or 0) >= 2 * math.pi
-            ):
+            if kind == "revolute" and (not bounded or (upper or 0) - (lower or 0) >= 2 * math.pi):
                 kind = "continuous"
             parts = []
             if kind != "continuous" and bounded:
-                parts.append(f'lower="{float(lower or 0)!r}" upper="{float(upper or 0)!r}"')
-            if velocity is not None and float(velocity) > 0 and math.isfinite(float(velocity)):
-                parts.append(f'velocity="{float(velocity)!r}"')
+                parts.append(f'lower="{lower or 0.0!r}" upper="{upper or 0.0!r}"')
+            if velocity is not None and velocity > 0 and math.isfinite(velocity):
+                parts.append(f'velocity="{velocity!r}"')
             if parts:
                 limit = f'<limit effort="0" {" ".join(parts)}/>'
         if kind not in ("continuous", "revolute", "prismatic", "fixed"):

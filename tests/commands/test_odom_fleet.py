@@ -208,3 +208,31 @@ def test_a_cluster_in_its_own_processes_and_folder_gets_relative_paths_right(
     for name in written:
         assert (tmp_path / "dask" / name).read_text() == (tmp_path / "serial" / name).read_text()
     assert not (tmp_path / "cluster" / "dask").exists()
+
+
+@pytest.mark.skipif(sys.version_info < (3, 11), reason="PYTHONSAFEPATH arrived in Python 3.11")
+@pytest.mark.parametrize("method", ["spawn", "forkserver"])
+def test_pool_workers_started_afresh_run_no_code_from_the_current_folder(
+    tmp_path: Path, fleet: list[str], method: str
+) -> None:
+    # A spawned worker starts as `python -c ...`, which puts the current folder first on its
+    # path before the pool hands it this process's own: a multiprocessing/ there would run.
+    from hostile import CLI, hostile_folder
+
+    marker = tmp_path / "marker"
+    repo = hostile_folder(tmp_path / "repo", marker)
+    code = f"import multiprocessing as m\nm.set_start_method({method!r})\n" + CLI.replace(
+        "import sys\n", "", 1
+    )
+    code = "import sys\nsys.path[:] = [p for p in sys.path if p]\n" + code
+    done = subprocess.run(
+        [sys.executable, "-c", code, "odom", fleet[0], fleet[1], "--jobs", "2", "--json"],
+        cwd=repo,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert not marker.exists(), marker.read_text(encoding="utf-8")
+    assert done.returncode == 0, done.stderr
+    rows = [json.loads(line) for line in done.stdout.splitlines()]
+    assert [row["input"] for row in rows] == fleet[:2]

@@ -120,3 +120,37 @@ def test_a_description_the_child_cannot_derive_raises_its_error_here(
         diffbot.load_params(path)
     assert "robot.urdf" in str(caught.value)
     assert list(cache.glob("params-*.json")) == []
+
+
+@pytest.mark.parametrize("command", ["params", "check"])
+def test_no_code_in_the_descriptions_folder_runs_when_a_missing_entry_is_derived(
+    tmp_path: Path, command: str
+) -> None:
+    # A description's repository may hold a json.py, numpy.py or diffbot/ of its own; deriving
+    # apart must not import them (a plain child process has the current folder on its path).
+    import os
+    import subprocess
+    import sys
+
+    from hostile import CLI, hostile_folder
+
+    marker = tmp_path / "marker"
+    repo = hostile_folder(tmp_path / "repo", marker)
+    (repo / "robot.urdf").write_text(two_wheel_urdf(), encoding="utf-8")
+    cache = tmp_path / "cache"
+    env = {**os.environ, "DIFFBOT_CACHE_DIR": str(cache)}
+    done = subprocess.run(
+        [sys.executable, "-c", CLI, command, "robot.urdf"],
+        cwd=repo,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert not marker.exists(), marker.read_text(encoding="utf-8")
+    assert done.returncode == 0, done.stderr
+    if command == "params":
+        assert "wheel radius      0.05 m" in done.stdout
+        assert "wheel separation  0.2 m" in done.stdout
+    entry = json.loads(only_entry(cache).read_text(encoding="utf-8"))
+    assert entry["fields"]["wheel_radius"] == 0.05

@@ -247,3 +247,69 @@ def test_a_workspace_wins_over_the_repository_for_repositories_side_by_side(
     assert PackageFinder(description, {}).locate("lidar_description") == (
         src / "sensors" / "lidar_description"
     )
+
+
+@pytest.mark.parametrize("name", ["a", "ros2_control", "gz-ros2-control", "Pkg.v2", "_x"])
+def test_plain_package_names(name: str) -> None:
+    assert packages.plain_name(name)
+
+
+@pytest.mark.parametrize("name", ["", ".", "..", ".hidden", "/etc", "a/b", "../x", "a\\b", "a b"])
+def test_names_that_are_paths_are_no_package_names(name: str) -> None:
+    assert not packages.plain_name(name)
+
+
+def secret_folder(tmp_path: Path) -> Path:
+    secret = tmp_path / "secret"
+    secret.mkdir()
+    (secret / "s.xacro").write_text(
+        f'<robot {XACRO_NS}><link name="SECRET_CONTENT"/></robot>', encoding="utf-8"
+    )
+    return secret
+
+
+@pytest.mark.parametrize("variable", ["AMENT_PREFIX_PATH", "ROS_PACKAGE_PATH"])
+@pytest.mark.parametrize("how", ["absolute", "dotdot", "parent"])
+def test_find_of_a_path_reaches_nothing_outside_the_descriptions_folders(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, variable: str, how: str
+) -> None:
+    # $(find NAME) adds NAME's folder to those the description may read: a NAME that is a path
+    # would open any folder, through a search folder that joins it as it is.
+    from cli_results import assert_one_error_line
+    from click.testing import CliRunner
+
+    from diffbot.cli import main
+
+    secret = secret_folder(tmp_path)
+    prefix = tmp_path / "prefix" / "share"
+    prefix.mkdir(parents=True)
+    monkeypatch.setenv(variable, str(tmp_path / "prefix"))
+    name = {"absolute": str(secret), "dotdot": "../../secret", "parent": ".."}[how]
+    include = "$(find ..)/secret/s.xacro" if how == "parent" else f"$(find {name})/s.xacro"
+    robot = tmp_path / "desc" / "robot.urdf.xacro"
+    robot.parent.mkdir()
+    robot.write_text(
+        f'<?xml version="1.0"?>\n<robot name="r" {XACRO_NS}><xacro:include filename="{include}"/>'
+        "</robot>\n",
+        encoding="utf-8",
+    )
+    assert PackageFinder(robot, {}).locate(name) is None
+    result = CliRunner().invoke(main, ["urdf", str(robot)])
+    assert "SECRET_CONTENT" not in result.output
+    assert_one_error_line(result, "not found")
+
+
+def test_a_package_linked_into_a_prefix_is_found_but_no_path_through_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # An install may link its packages: the environment's folders are the user's own. Only the
+    # name is the description's, and it never walks out of them.
+    secret = secret_folder(tmp_path)
+    share = tmp_path / "prefix" / "share"
+    share.mkdir(parents=True)
+    (share / "linked").symlink_to(secret, target_is_directory=True)
+    monkeypatch.setenv("AMENT_PREFIX_PATH", str(tmp_path / "prefix"))
+    finder = PackageFinder(None, {})
+    assert finder.locate("linked") == share / "linked"
+    assert finder.locate("linked/..") is None
+    assert finder.locate("../share/linked") is None

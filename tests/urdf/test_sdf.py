@@ -263,3 +263,76 @@ def test_a_joint_pose_relative_to_the_model_is_taken_as_written(tmp_path: Path) 
     # the wheels roll on their cylinders, which have not moved: the same separation
     assert described.wheel_separation == pytest.approx(0.160, abs=1e-4)
     assert (described.left_sign, described.right_sign) == (1, 1)
+
+
+#: :data:`ROBOT` as a whole robot (its mast's joint to itself taken out).
+ROVER = ROBOT.replace(
+    '<joint name="fix" type="fixed"><parent>top</parent><child>top</child></joint>', ""
+)
+
+
+def test_a_sibling_model_linked_from_elsewhere_is_not_read(tmp_path: Path) -> None:
+    # models/<name> beside the robot is read as model://<name>; a link there pointing out of
+    # the models folder would open whatever folder it names.
+    elsewhere = model_folder(tmp_path / "elsewhere", "wheel", WHEEL)
+    models = tmp_path / "ws" / "models"
+    robot = model_folder(models, "rover", ROVER)
+    (models / "wheel").symlink_to(elsewhere, target_is_directory=True)
+    result = CliRunner().invoke(main, ["params", str(robot)])
+    assert_one_error_line(result, "model 'wheel' of 'model://wheel' not found")
+    # the same folder copied in place is a sibling like any other
+    (models / "wheel").unlink()
+    model_folder(models, "wheel", WHEEL)
+    assert diffbot.load_params(robot).wheel_radius == 0.08
+
+
+@pytest.mark.parametrize("variable", ["GZ_SIM_RESOURCE_PATH", "GAZEBO_MODEL_PATH"])
+@pytest.mark.parametrize("uri", ["model://../secret", "model://./../secret", "package://../secret"])
+def test_a_model_name_that_is_a_path_reaches_nothing_outside(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, variable: str, uri: str
+) -> None:
+    model_folder(tmp_path, "secret", WHEEL)
+    (tmp_path / "resources").mkdir()
+    monkeypatch.setenv(variable, str(tmp_path / "resources"))
+    monkeypatch.setenv("AMENT_PREFIX_PATH", str(tmp_path / "resources"))
+    robot = model_folder(tmp_path / "ws" / "models", "rover", ROVER.replace("model://wheel", uri))
+    result = CliRunner().invoke(main, ["params", str(robot)])
+    assert_one_error_line(result, "not found")
+
+
+def test_a_model_folder_outside_is_refused_before_its_model_config_is_read(
+    tmp_path: Path,
+) -> None:
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (outside / "model.config").write_text("<model><sdf>not closed", encoding="utf-8")
+    robot = model_folder(
+        tmp_path / "ws" / "models", "rover", ROVER.replace("model://wheel", "../../../outside")
+    )
+    with pytest.raises(OutsideRootsError, match="outside the description's folders"):
+        diffbot.load_params(robot)
+
+
+@pytest.mark.parametrize(
+    ("limits", "expected"),
+    [
+        ("<lower>abc</lower><upper>1</upper>", "a limit must be a number, got 'abc'"),
+        ("<lower>nan</lower><upper>1</upper>", "a limit must be a number, got 'nan'"),
+        ("<lower>0</lower><upper>1</upper><velocity>fast</velocity>", "got 'fast'"),
+        (f"<lower>0</lower><upper>{'9' * 400}</upper>", None),  # beyond a float: no bound
+    ],
+)
+def test_joint_limits_are_numbers_or_one_error_line(
+    tmp_path: Path, limits: str, expected: str | None
+) -> None:
+    text = DOLLY.replace(
+        "<limit><lower>-1.79769e+308</lower><upper>1.79769e+308</upper></limit>",
+        f"<limit>{limits}</limit>",
+    )
+    folder = model_folder(tmp_path, "dolly", text)
+    result = CliRunner().invoke(main, ["params", str(folder)])
+    if expected is None:
+        assert result.exit_code == 0, result.output
+        assert "wheel radius      0.3 m" in result.stdout
+    else:
+        assert_one_error_line(result, "joint 'left_wheel_joint'", expected)
