@@ -8,6 +8,7 @@ import math
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from robots import BOT_50_RPM
 
 from diffbot.errors import ParameterError
 from diffbot.follow import DWELL, Follower, Gains, default_gains
@@ -16,7 +17,6 @@ from diffbot.planfile import parse_plan
 from diffbot.profiles import Limits, PathLimits
 from diffbot.ramps import ramp
 from diffbot.trajectory import EXAMPLES, Arc, Plan, Spin, Straight, plan, pose_at
-from tests.robots import BOT_50_RPM
 
 ROBOT = BOT_50_RPM
 LIMIT = 5.235987755982989
