@@ -50,7 +50,8 @@ turns toward the goal point (or away from it, to reverse onto it) and drives the
 (``w = k_spin beta``, ``v = ±k_x d cos beta``, moving only while the bearing error ``beta``
 is under 0.3 rad), then aligns (``v = k_x e_x``, ``w = k_spin sin e_theta``). It is done when
 past the plan's end (the last leg reached, for pure pursuit) and within ``xy_tolerance`` and
-``yaw_tolerance`` for :data:`DWELL` s; within half those tolerances it commands zero.
+``yaw_tolerance`` for :data:`DWELL` s; once :meth:`Follower.done` has said so it commands
+zero (until the pose leaves the tolerances).
 
 Every command is brought within the motor limit by scaling both wheels by one factor (the
 commanded curvature is kept, as :func:`diffbot.kinematics.saturate` does), then, when the
@@ -333,6 +334,7 @@ class Follower:
         self._last: tuple[float, float, float, float, float] | None = None  # t, v0, w0, v1, w1
         self._approach = False
         self._within_since: float | None = None
+        self._done: bool | None = None
         self._pursuit = None
         if law == "pure-pursuit":
             from diffbot.pursuit import Pursuit
@@ -380,11 +382,12 @@ class Follower:
             and dx * dx + dy * dy <= self.xy_tolerance * self.xy_tolerance
             and abs(_wrap(self.goal_heading - pose[2])) <= self.yaw_tolerance
         ):
-            self._within_since = None
+            self._within_since = self._done = None
             return False
         if self._within_since is None or t < self._within_since:
             self._within_since = t
-        return t - self._within_since >= DWELL
+        self._done = t - self._within_since >= DWELL or None
+        return bool(self._done)
 
     def command(self, t: float, pose: Pose) -> Twist:
         """The command (linear.x m/s, angular.z rad/s) at ``t`` (s since the plan started)
@@ -424,7 +427,7 @@ class Follower:
         ey = cos_t * dy - sin_t * dx
         eh = math.remainder(self.goal_heading - theta, _TWO_PI)
         distance = math.hypot(dx, dy)
-        if distance <= 0.5 * tol and abs(eh) <= 0.5 * self.yaw_tolerance:
+        if self._done:
             return 0.0, 0.0
         if self._approach:
             self._approach = distance > 0.25 * tol
@@ -463,7 +466,8 @@ class Follower:
         if last is None or t > last[0]:
             previous = (0.0, 0.0) if last is None else (last[1], last[2])
             self._last = (t, v, w, *previous)
-        return Twist(v + 0.0, w + 0.0)
+        # The named tuple's own __new__ is a Python function: tuple.__new__ builds the same.
+        return tuple.__new__(Twist, (v + 0.0, w + 0.0))
 
 
 def _share(limited: float, last: float, command: float) -> float:

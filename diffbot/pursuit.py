@@ -97,6 +97,7 @@ class Pursuit:
         self.legs = legs(plan, min(0.01, 0.25 * lookahead))
         self.leg = 0
         self.index = 0
+        self.ahead = 0
         self.turning = True
         #: True once the last leg is reached: the follower's arrival phase takes over.
         self.finished = not self.legs
@@ -113,7 +114,7 @@ class Pursuit:
             if not self._leg_done(leg, x, y, theta):
                 return False
             self.leg += 1
-            self.index = 0
+            self.index = self.ahead = 0
             self.turning = True
             if self.leg == len(self.legs):
                 self.finished = True
@@ -152,22 +153,23 @@ class Pursuit:
         xs, ys, i = leg.xs, leg.ys, self.index
         last = len(xs) - 1
         reach = self.lookahead * self.lookahead
-        k, inside = i, 0.0
-        while k < last:
-            distance = (xs[k + 1] - x) ** 2 + (ys[k + 1] - y) ** 2
-            if distance >= reach:
-                break
+        # The first point from the nearest on that lies outside the lookahead circle, searched
+        # from where it was last time (it moves little between calls).
+        k = min(max(self.ahead, i + 1), last)
+        while k > i + 1 and (xs[k - 1] - x) ** 2 + (ys[k - 1] - y) ** 2 >= reach:
+            k -= 1
+        outside = (xs[k] - x) ** 2 + (ys[k] - y) ** 2
+        while outside < reach and k < last:
             k += 1
-            inside = distance
-        if k < last:
-            # Between point k (inside the circle) and k + 1 (outside), by squared distance.
-            if k == i:
-                inside = (xs[k] - x) ** 2 + (ys[k] - y) ** 2
-            outside = (xs[k + 1] - x) ** 2 + (ys[k + 1] - y) ** 2
+            outside = (xs[k] - x) ** 2 + (ys[k] - y) ** 2
+        self.ahead = k
+        if outside >= reach:
+            # Between point k - 1 (inside the circle) and k (outside), by squared distance.
+            inside = (xs[k - 1] - x) ** 2 + (ys[k - 1] - y) ** 2
             share = (reach - inside) / (outside - inside) if outside > inside else 1.0
             share = min(max(share, 0.0), 1.0)
-            px = xs[k] + share * (xs[k + 1] - xs[k])
-            py = ys[k] + share * (ys[k + 1] - ys[k])
+            px = xs[k - 1] + share * (xs[k] - xs[k - 1])
+            py = ys[k - 1] + share * (ys[k] - ys[k - 1])
         else:
             px, py = xs[last], ys[last]
         cos_t, sin_t = math.cos(theta), math.sin(theta)

@@ -324,11 +324,12 @@ def test_a_command_costs_under_20_microseconds():
     p = made(EXAMPLES["A"])
     follower = Follower(ROBOT, p)
     poses = [Pose(*follower.reference(0.05 * k)[:3]) for k in range(800)]
+    poses = [Pose(pose.x + 0.003, pose.y - 0.002, pose.theta + 0.01) for pose in poses]
     best = math.inf
     for _ in range(3):
-        start = time.perf_counter()
+        # CPU time: other processes on a loaded machine do not count against it.
+        start = time.process_time()
         for k, pose in enumerate(poses):
-            follower.command(0.05 * k, Pose(pose.x + 0.003, pose.y - 0.002, pose.theta + 0.01))
-        best = min(best, (time.perf_counter() - start) / len(poses))
-    # The target is 20 us on a desktop; the bound leaves room for a loaded test machine.
-    assert best < 60e-6
+            follower.command(0.05 * k, pose)
+        best = min(best, (time.process_time() - start) / len(poses))
+    assert best < 20e-6
