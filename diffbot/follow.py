@@ -44,14 +44,15 @@ leg's end (never below a creep speed); when the lookahead point lies more than 4
 the robot's heading it first turns in place toward it.
 
 Arrival, both laws: Kanayama's law at ``v_r = 0`` corrects ``e_x`` and the heading but not a
-lateral error (``e_y`` is unobservable from ``v``), so past the plan's end the follower
-stabilises the final pose itself: while the lateral error exceeds half ``xy_tolerance`` it
-turns toward the goal point (or away from it, to reverse onto it) and drives there
-(``w = k_spin beta``, ``v = ±k_x d cos beta``, moving only while the bearing error ``beta``
-is under 0.3 rad), then aligns (``v = k_x e_x``, ``w = k_spin sin e_theta``). It is done when
-past the plan's end (the last leg reached, for pure pursuit) and within ``xy_tolerance`` and
-``yaw_tolerance`` for :data:`DWELL` s; once :meth:`Follower.done` has said so it commands
-zero (until the pose leaves the tolerances).
+lateral error (no command moves the robot sideways), so past the plan's end the follower
+stabilises the final pose itself: from when the lateral error exceeds 0.6 ``xy_tolerance``
+until the distance is under 0.4 of it, it turns toward the goal point (or away from it, to
+reverse onto it) and drives there (``w = k_spin beta``, ``v = ±k_x d cos beta``, moving only
+while the bearing error ``beta`` is under 0.3 rad); otherwise it aligns (``v = k_x e_x``,
+``w = k_spin sin e_theta``). The wide hysteresis keeps a noisy pose source from toggling the
+two. It is done when past the plan's end (the last leg reached, for pure pursuit) and within
+``xy_tolerance`` and ``yaw_tolerance`` for :data:`DWELL` s; once :meth:`Follower.done` has said
+so it commands zero (until the pose leaves the tolerances).
 
 Every command is brought within the motor limit by scaling both wheels by one factor (the
 commanded curvature is kept, as :func:`diffbot.kinematics.saturate` does), then, when the
@@ -429,10 +430,11 @@ class Follower:
         distance = math.hypot(dx, dy)
         if self._done:
             return 0.0, 0.0
+        # Wide hysteresis: a noisy pose source (a millimetre) must not toggle the phases.
         if self._approach:
-            self._approach = distance > 0.25 * tol
+            self._approach = distance > 0.4 * tol
         else:
-            self._approach = abs(ey) > 0.5 * tol
+            self._approach = abs(ey) > 0.6 * tol
         if not self._approach:
             return g.kx * ex, g.kspin * math.sin(eh)
         way = 1.0 if ex >= 0.0 else -1.0

@@ -104,5 +104,6 @@ def follow_options(command: F) -> F:
         flag_value="tracking",
         default=None,
         help="Close the loop: follow the plan from the pose (tracking: the timed plan, the "
-        "default; pure-pursuit: its path, untimed).",
+        "default, its feed-forward taken --motor-lag plus --latency ahead; pure-pursuit: its "
+        "path, untimed).",
     )(command)

@@ -248,7 +248,7 @@ def simulate(
       diffbot simulate "straight 1; spin 90" --rate 20 --ticks 1024 --noise 0.001 --seed 1
       diffbot simulate --example B --out b_bag --bag --start 1700000000
       diffbot simulate --example A --motor-lag 0.15 --latency 0.04 --drop 0.05 --seed 1 \\
-          --ticks 4096 --follow -o a.csv
+          --ticks 4096 --follow -o followed.csv
     """
 
     check_topic("--topic", topic)

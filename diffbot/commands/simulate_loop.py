@@ -134,7 +134,12 @@ def run_loop(
         pose_source="truth" if request.pose_source == "truth" else "odom",
         pose_noise=(metres, math.radians(degrees)),
     )
-    follower = None if request.follow is None else Follower(params, made, law=request.follow)
+    follower = None
+    if request.follow is not None:
+        # The tracking law takes its feed-forward ahead by the delay the simulated robot has
+        # (its motor lag and latency), as one measured on a real base would be given.
+        lead = request.motor_lag + request.latency if request.follow == "tracking" else None
+        follower = Follower(params, made, law=request.follow, lookahead=lead)
     result = run(made, params, settings, follower)
     states = JointStateChunks(
         result.names, result.times.size, iter([(result.times, result.positions)])
