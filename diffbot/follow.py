@@ -45,8 +45,8 @@ the robot's heading it first turns in place toward it.
 
 Arrival, both laws: Kanayama's law at ``v_r = 0`` corrects ``e_x`` and the heading but not a
 lateral error (no command moves the robot sideways), so past the plan's end the follower
-stabilises the final pose itself: from when the lateral error exceeds 0.6 ``xy_tolerance``
-until the distance is under 0.4 of it, it turns toward the goal point (or away from it, to
+stabilises the final pose itself: from when the robot is out of ``xy_tolerance`` with a
+lateral error over 0.6 of it until the distance is under 0.4 of it, it turns toward the goal point (or away from it, to
 reverse onto it) and drives there (``w = k_spin beta``, ``v = ±k_x d cos beta``, moving only
 while the bearing error ``beta`` is under 0.3 rad); otherwise it aligns (``v = k_x e_x``,
 ``w = k_spin sin e_theta``). The wide hysteresis keeps a noisy pose source from toggling the
@@ -434,7 +434,7 @@ class Follower:
         if self._approach:
             self._approach = distance > 0.4 * tol
         else:
-            self._approach = abs(ey) > 0.6 * tol
+            self._approach = abs(ey) > 0.6 * tol and distance > tol
         if not self._approach:
             return g.kx * ex, g.kspin * math.sin(eh)
         way = 1.0 if ex >= 0.0 else -1.0
