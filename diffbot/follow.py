@@ -46,13 +46,14 @@ the robot's heading it first turns in place toward it.
 Arrival, both laws: Kanayama's law at ``v_r = 0`` corrects ``e_x`` and the heading but not a
 lateral error (no command moves the robot sideways), so past the plan's end the follower
 stabilises the final pose itself: from when the robot is out of ``xy_tolerance`` with a
-lateral error over 0.6 of it until the distance is under 0.4 of it, it turns toward the goal point (or away from it, to
-reverse onto it) and drives there (``w = k_spin beta``, ``v = ±k_x d cos beta``, moving only
-while the bearing error ``beta`` is under 0.3 rad); otherwise it aligns (``v = k_x e_x``,
-``w = k_spin sin e_theta``). The wide hysteresis keeps a noisy pose source from toggling the
-two. It is done when past the plan's end (the last leg reached, for pure pursuit) and within
-``xy_tolerance`` and ``yaw_tolerance`` for :data:`DWELL` s; once :meth:`Follower.done` has said
-so it commands zero (until the pose leaves the tolerances).
+lateral error over 0.6 of it until the distance is under 0.4 of it, it turns toward the goal
+point (or away from it, to reverse onto it) and drives there (``w = k_spin beta``,
+``v = ±k_x d cos beta``, moving only while the bearing error ``beta`` is under 0.3 rad);
+otherwise it aligns (``v = k_x e_x``, ``w = k_spin sin e_theta``). The wide hysteresis keeps
+a noisy pose source from toggling the two. It is done when past the plan's end (the last leg
+reached, for pure pursuit) and within ``xy_tolerance`` and ``yaw_tolerance`` for :data:`DWELL`
+s; once :meth:`Follower.done` has said so it commands zero (until the pose leaves the
+tolerances).
 
 Every command is brought within the motor limit by scaling both wheels by one factor (the
 commanded curvature is kept, as :func:`diffbot.kinematics.saturate` does), then, when the

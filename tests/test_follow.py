@@ -333,3 +333,15 @@ def test_a_command_costs_under_20_microseconds():
             follower.command(0.05 * k, pose)
         best = min(best, (time.process_time() - start) / len(poses))
     assert best < 20e-6
+
+
+def test_a_lead_time_takes_the_feed_forward_ahead_of_the_reference_pose():
+    # A straight, then a spin: 0.1 s before the corner, a 0.2 s lead already asks for the spin.
+    p = made("straight 1 10s; spin 90 2s")
+    follower = Follower(ROBOT, p, lookahead=0.2)
+    x, y, heading, _, _ = follower.reference(9.9)
+    command = follower.command(9.9, Pose(x, y, heading))
+    assert command.linear == pytest.approx(0.0, abs=1e-12)
+    assert command.angular == pytest.approx(math.radians(90.0) / 2.0, rel=1e-12)
+    plain = Follower(ROBOT, p).command(9.9, Pose(x, y, heading))
+    assert plain == pytest.approx((0.1, 0.0), abs=1e-12)
