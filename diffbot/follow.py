@@ -92,7 +92,7 @@ __all__ = [
 #: The control laws :class:`Follower` offers.
 LAWS: Final = ("tracking", "pure-pursuit")
 #: How long (s) the pose must stay within the tolerances before a follower is done.
-DWELL: Final = 0.5
+DWELL: Final = 1.0
 #: Distance from the final pose within which a follower is done (m).
 DEFAULT_XY_TOLERANCE: Final = 0.005
 #: Heading error within which a follower is done (rad): 0.5 degrees.
