@@ -52,7 +52,7 @@ class LoopRequest:
             fail("--pose-source and --pose-noise choose what --follow is given: add --follow")
         if self.pose_noise is not None and self.pose_source != "truth":
             fail("--pose-noise is noise on the true pose: add --pose-source truth")
-        if self.control_rate > rate:
+        if self.wanted and self.control_rate > rate:
             fail(
                 f"--control-rate {fmt(self.control_rate)} Hz is above the simulation's --rate "
                 f"{fmt(rate)} Hz: the controller sees one pose a sample"

@@ -89,7 +89,7 @@ def test_the_table_says_how_far_the_run_ended(runner: CliRunner, tmp_path: Path)
         (["--slip", "nan"], "--slip"),
         (["--motor-lag", "-0.1"], "--motor-lag"),
         (["--latency", "inf"], "--latency"),
-        (["--control-rate", "60"], "--control-rate"),
+        (["--follow", "--control-rate", "60"], "--control-rate"),
         (["--control-rate", "0"], "--control-rate"),
         (["--pose-source", "truth"], "--follow"),
         (["--follow", "--pose-noise", "0.001,0.2"], "--pose-source truth"),
@@ -117,3 +117,19 @@ def test_a_plan_over_the_limit_is_not_followed(runner: CliRunner, tmp_path: Path
     assert "segment 1" in result.stderr
     assert "shortest duration" in result.stderr
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_a_plain_simulation_below_the_control_rate_is_not_refused(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # --control-rate only paces a disturbed or followed run; an exact one samples at any rate.
+    result = runner.invoke(
+        main, ["simulate", "straight 0.2", "--rate", "7", "-o", str(tmp_path / "x.csv")]
+    )
+    assert result.exit_code == 0, result.stderr
+    refused = runner.invoke(
+        main,
+        ["simulate", "straight 0.2", "--rate", "7", "--drop", "0.1", "-o", str(tmp_path / "y.csv")],
+    )
+    assert refused.exit_code == 2
+    assert "--control-rate" in refused.stderr
