@@ -48,6 +48,7 @@ from diffbot.urdf import BUNDLED_DESCRIPTION, derive_params, expand, load_params
 # start-up of every CLI run (about 13 ms of it).
 if TYPE_CHECKING:
     from diffbot.execution import Execution, execute_plan
+    from diffbot.follow import Follower
     from diffbot.goals import plan_through, plan_to
     from diffbot.io.command_bag import write_command_bag
     from diffbot.odometry import Odometry, PoseSeries, integrate
@@ -98,6 +99,7 @@ _LAZY = {
     "ramp": "diffbot.ramps",
     "Execution": "diffbot.execution",
     "execute_plan": "diffbot.execution",
+    "Follower": "diffbot.follow",
     "write_command_bag": "diffbot.io.command_bag",
     "plan_to": "diffbot.goals",
     "plan_through": "diffbot.goals",
@@ -130,6 +132,7 @@ __all__ = [
     "DiffbotError",
     "DriveWheelError",
     "Execution",
+    "Follower",
     "Limits",
     "NotDifferentialError",
     "Odometry",

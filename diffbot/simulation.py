@@ -360,3 +360,162 @@ def simulate(
     times = np.concatenate([t for t, _ in parts]) if parts else np.empty(0)
     positions = np.hstack([p for _, p in parts]) if parts else np.empty((len(states.names), 0))
     return JointStates(times, states.names, positions)
+
+
+# --------------------------------------------------------------------------------------------
+# A robot that does not do what it is told
+
+
+#: Longest motor lag or command latency a simulated robot may have (s).
+MAX_DELAY: Final = 60.0
+#: How often a slipping wheel's loss of traction changes (s).
+SLIP_PERIOD: Final = 0.1
+#: Longest step of the wheels' integration (s): short beside any turn of the path.
+MAX_STEP: Final = 0.001
+
+
+@dataclass(frozen=True)
+class Disturbances:
+    """What a real base does besides what it is told.
+
+    Attributes:
+        motor_lag: time constant (s) of each wheel's first-order velocity response, >= 0.
+        latency: delay (s) from a command to the motors, >= 0.
+        drop: share of commands lost, in [0, 1).
+        slip: mean share of each wheel's travel lost to slip, in [0, 1): every
+            :data:`SLIP_PERIOD` each wheel draws a loss of traction uniformly in
+            ``[0, 2 slip]`` (capped below 1); the encoder counts the wheel's turn, the ground
+            sees less.
+        seed: seed (an integer >= 0) of the drops and the slip, for reproducible runs.
+    """
+
+    motor_lag: float = 0.0
+    latency: float = 0.0
+    drop: float = 0.0
+    slip: float = 0.0
+    seed: int | None = None
+
+    def __post_init__(self) -> None:
+        for name, high in (("motor_lag", MAX_DELAY), ("latency", MAX_DELAY)):
+            value = finite_in_range(getattr(self, name), name, 0.0, high, unit="s")
+            object.__setattr__(self, name, value)
+        for name in ("drop", "slip"):
+            value = finite_in_range(getattr(self, name), name, 0.0, 1.0)
+            if value >= 1.0:
+                raise ParameterError(f"{name} must be a fraction below 1, got {value!r}")
+            object.__setattr__(self, name, value)
+        seed = self.seed
+        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
+            raise ParameterError(f"seed must be an integer >= 0, got {seed!r}")
+
+    @property
+    def any(self) -> bool:
+        """Whether the robot is disturbed at all."""
+        return bool(self.motor_lag or self.latency or self.drop or self.slip)
+
+
+class DisturbedRobot:
+    """A differential-drive base stepped in time: commands in, wheel angles and true pose out.
+
+    Commanded wheel-ground speeds (rad/s) arrive ``latency`` s after :meth:`command` (or never,
+    a ``drop`` share of them); each wheel's speed approaches the last arrived command with the
+    first-order ``motor_lag``, clamped to the motor limit whatever it is told. The wheels turn
+    the encoders; the ground moves by the real radii and separation, less the slip.
+
+    Args:
+        params: the robot as described (its motor limit, direction signs).
+        disturbances: the disturbances.
+        true_params: the real robot (:func:`diffbot.calibration.truth.true_robot`); ``params``
+            when None.
+    """
+
+    def __init__(
+        self,
+        params: DiffDriveParams,
+        disturbances: Disturbances,
+        true_params: DiffDriveParams | None = None,
+    ) -> None:
+        import random
+        from collections import deque
+
+        self.params = params
+        self.disturbances = disturbances
+        real = params if true_params is None else true_params
+        self._radii = real.radii
+        self._separation = real.wheel_separation
+        self._limit = params.max_wheel_speed
+        self._random = random.Random(disturbances.seed)
+        self._slip_random = random.Random(
+            None if disturbances.seed is None else disturbances.seed + 1
+        )
+        self._pending: deque[tuple[float, float, float]] = deque()
+        self.time = 0.0
+        #: Each wheel's speed (rad/s, wheel-ground) and its target.
+        self.speeds = [0.0, 0.0]
+        self._target = (0.0, 0.0)
+        #: Each wheel's angle (rad, wheel-ground: positive rolls forward).
+        self.angles = [0.0, 0.0]
+        #: The true pose: x, y (m), heading (rad, not wrapped).
+        self.pose = [0.0, 0.0, 0.0]
+        self._traction = (1.0, 1.0)
+        self._next_slip = 0.0
+
+    def command(self, left: float, right: float) -> None:
+        """Command wheel-ground speeds (rad/s) now (it arrives after the latency, if at all)."""
+        if self.disturbances.drop and self._random.random() < self.disturbances.drop:
+            return
+        self._pending.append((self.time + self.disturbances.latency, left, right))
+
+    @property
+    def stopped(self) -> bool:
+        """Whether nothing moves or is still to arrive (speeds under 1e-6 rad/s)."""
+        return (
+            not self._pending
+            and self._target == (0.0, 0.0)
+            and max(abs(self.speeds[0]), abs(self.speeds[1])) < 1e-6
+        )
+
+    def advance(self, until: float) -> None:
+        """Step the robot to time ``until`` (s)."""
+        pending = self._pending
+        while self.time < until:
+            while pending and pending[0][0] <= self.time + 1e-12:
+                _, left, right = pending.popleft()
+                lim = self._limit
+                if lim is not None:
+                    left, right = min(max(left, -lim), lim), min(max(right, -lim), lim)
+                self._target = (left, right)
+            end = min(until, self.time + MAX_STEP)
+            if pending and pending[0][0] < end:
+                end = max(pending[0][0], self.time)
+            if self.disturbances.slip and self.time >= self._next_slip:
+                self._traction = self._draw_traction()
+                self._next_slip += SLIP_PERIOD
+            self._step(end - self.time)
+            self.time = end
+
+    def _draw_traction(self) -> tuple[float, float]:
+        high = min(2.0 * self.disturbances.slip, 0.999)
+        uniform = self._slip_random.uniform
+        return 1.0 - uniform(0.0, high), 1.0 - uniform(0.0, high)
+
+    def _step(self, dt: float) -> None:
+        if dt <= 0.0:
+            return
+        lag = self.disturbances.motor_lag
+        travel = [0.0, 0.0]
+        decay = math.exp(-dt / lag) if lag > 0.0 else 0.0
+        for side in (0, 1):
+            target, speed = self._target[side], self.speeds[side]
+            gap = speed - target
+            travel[side] = target * dt + gap * lag * (1.0 - decay)
+            self.speeds[side] = target + gap * decay
+            self.angles[side] += travel[side]
+        left = travel[0] * self._radii[0] * self._traction[0]
+        right = travel[1] * self._radii[1] * self._traction[1]
+        ds, turn = 0.5 * (left + right), (right - left) / self._separation
+        half = 0.5 * turn
+        chord = ds * (math.sin(half) / half) if half != 0.0 else ds
+        x, y, heading = self.pose
+        mean = heading + half
+        self.pose = [x + chord * math.cos(mean), y + chord * math.sin(mean), heading + turn]

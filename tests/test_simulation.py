@@ -27,6 +27,8 @@ from diffbot.odometry import integrate
 from diffbot.planfile import parse_plan
 from diffbot.replay import run_odometry
 from diffbot.simulation import (
+    Disturbances,
+    DisturbedRobot,
     Sampling,
     quantise,
     sample_time_chunks,
@@ -514,3 +516,80 @@ def test_noise_is_refused_beyond_a_revolution(noise: float) -> None:
         ParameterError, match=r"noise must be a finite number >= 0 and <= 6\.28319 rad"
     ):
         simulate(plan(parse_plan("straight 1"), BOT), BOT, 50.0, noise=noise)
+
+
+# --------------------------------------------------------------------------------------------
+# A robot that does not do what it is told
+
+
+def _disturbed(**kwargs: float) -> DisturbedRobot:
+    return DisturbedRobot(BOT_50_RPM, Disturbances(**kwargs, seed=3))
+
+
+def test_a_wheel_follows_its_command_with_the_first_order_lag() -> None:
+    robot = _disturbed(motor_lag=0.2)
+    robot.command(2.0, 2.0)
+    robot.advance(0.2)
+    assert robot.speeds[0] == pytest.approx(2.0 * (1.0 - math.exp(-1.0)), rel=1e-9)
+    # The angle is the integral of the exponential approach.
+    assert robot.angles[0] == pytest.approx(2.0 * (0.2 - 0.2 * (1.0 - math.exp(-1.0))), rel=1e-9)
+    assert robot.pose[0] == pytest.approx(robot.angles[0] * 0.035, rel=1e-9)
+
+
+def test_a_command_arrives_after_the_latency() -> None:
+    robot = _disturbed(latency=0.04)
+    robot.command(1.0, 1.0)
+    robot.advance(0.04)
+    assert robot.angles == [0.0, 0.0]
+    robot.advance(0.14)
+    assert robot.angles[0] == pytest.approx(0.1, rel=1e-9)
+
+
+def test_the_motor_limit_clamps_what_the_wheel_does() -> None:
+    robot = _disturbed()
+    robot.command(100.0, -100.0)
+    robot.advance(1.0)
+    assert robot.angles[0] == pytest.approx(5.235987755982989, rel=1e-9)
+    assert robot.angles[1] == pytest.approx(-5.235987755982989, rel=1e-9)
+
+
+def test_a_share_of_the_commands_is_dropped_reproducibly() -> None:
+    counts = []
+    for _ in range(2):
+        robot = _disturbed(drop=0.25)
+        arrived = 0
+        for k in range(4000):
+            before = len(robot._pending)
+            robot.command(float(k), 0.0)
+            arrived += len(robot._pending) - before
+            robot._pending.clear()
+        counts.append(arrived)
+    assert counts[0] == counts[1]
+    assert 0.72 * 4000 < counts[0] < 0.78 * 4000
+
+
+def test_slip_loses_ground_travel_the_encoders_still_count() -> None:
+    robot = _disturbed(slip=0.1)
+    robot.command(2.0, 2.0)
+    robot.advance(20.0)
+    ground = math.hypot(robot.pose[0], robot.pose[1])
+    counted = robot.angles[0] * 0.035
+    assert robot.angles[0] == pytest.approx(40.0, rel=1e-9)
+    assert ground == pytest.approx(0.9 * counted, rel=0.03)
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"motor_lag": -0.1},
+        {"latency": math.nan},
+        {"drop": 1.0},
+        {"slip": -0.01},
+        {"slip": 1.0},
+        {"motor_lag": math.inf},
+        {"seed": -1},
+    ],
+)
+def test_disturbances_outside_their_physical_ranges_are_refused(kwargs: dict[str, float]) -> None:
+    with pytest.raises(ParameterError):
+        Disturbances(**kwargs)  # type: ignore[arg-type]

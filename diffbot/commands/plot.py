@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -156,9 +157,49 @@ def _odometry(
             )
         stamps, x, y, heading = sink.arrays()
         recordings.append((source, x, y))
+        truth = _true_path(source)
+        if truth is not None:
+            recordings.append(truth)
         if reference is not None:
             recordings.append(_reference(source, reference, (stamps, x, y, heading), differences))
     return recordings
+
+
+#: The label a recording's true path is drawn under: its source and this.
+TRUE_PATH = "true pose"
+
+
+def _true_path(source: str) -> _Path | None:
+    """The true path of a simulated run's CSV (its ``x`` and ``y`` columns, as ``diffbot
+    simulate`` writes them with a true robot or a disturbed one), or None when it has none."""
+    import csv
+
+    import numpy as np
+
+    from diffbot.calibration.truth import TRUTH_COLUMNS
+    from diffbot.io.bag import is_bag
+
+    if is_bag(source):
+        return None
+    with open(source, newline="", encoding="utf-8", errors="replace") as handle:
+        rows = csv.reader(handle)
+        header = [name.strip() for name in next(rows, [])]
+        if not set(TRUTH_COLUMNS) <= set(header):
+            return None
+        at_x, at_y = header.index("x"), header.index("y")
+        xs: list[float] = []
+        ys: list[float] = []
+        for row in rows:
+            try:
+                x, y = float(row[at_x]), float(row[at_y])
+            except (IndexError, ValueError):
+                continue
+            if math.isfinite(x) and math.isfinite(y):
+                xs.append(x)
+                ys.append(y)
+    if not xs:
+        return None
+    return f"{source} {TRUE_PATH}", np.array(xs), np.array(ys)
 
 
 def _reference(
@@ -243,7 +284,10 @@ def plot(
     SPEC, FILE and the plan options are those of 'diffbot plan'; without a plan,
     Trajectory A is drawn. Above: the path in the odom frame (equal axes), the start and end
     poses, the robot's footprint at each segment's end and the segment numbers; with --odom,
-    each recording's odometry path, its legend giving how far it ends from the plan's end.
+    each recording's odometry path, its legend giving how far it ends from the plan's end, and
+    the true path of a simulated run's CSV (its x, y columns: `diffbot simulate --follow`, or
+    a true robot), so that a followed run shows the plan, where the robot went and where its
+    odometry says it went.
     Below: both wheels' speeds over time (rpm, rad/s on the right), the motor limit, and the
     segments over it shaded (a warning names them; the exit code stays 0).
 
@@ -286,7 +330,8 @@ def plot(
     figure = plotting.plan_figure(p, params, recordings=recordings, window=show)
     for label, xs, ys in recordings:
         miss = plotting.end_distance(p, xs[-1], ys[-1])
-        click.echo(f"{label}: odometry ends {fmt(miss, 3)} m from the plan's end")
+        what = "ends" if label.endswith(TRUE_PATH) else "odometry ends"
+        click.echo(f"{label}: {what} {fmt(miss, 3)} m from the plan's end")
     for found in sorted({v.index for v in p.violations()}):
         segment = p.segments[found]
         warn(f"segment {found + 1} ({segment.kind}) is over the motor limit: shaded in the figure")

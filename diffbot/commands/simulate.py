@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from diffbot.calibration.truth import TRUTH_COLUMNS, TruthStream, true_robot
+from diffbot.commands.follow_options import disturbance_options, follow_options
 from diffbot.commands.options import (
     NUMBERS,
     FiniteFloat,
@@ -32,6 +33,7 @@ from diffbot.commands.plan_options import (
     plan_input_options,
 )
 from diffbot.commands.progress import progress
+from diffbot.commands.simulate_loop import LoopRequest, run_loop
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.plan_table import violation_lines
 from diffbot.formats.text import fmt
@@ -170,6 +172,8 @@ def _write(
     "gains its ground-truth pose (x, y, theta).",
     "The real wheel separation (m); likewise adds the ground-truth pose.",
 )
+@disturbance_options
+@follow_options
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable summary (needs --out).")
 @topic_option("The JointState topic of --bag.")
 @out_options(
@@ -192,6 +196,14 @@ def simulate(
     true_separation: float | None,
     as_json: bool,
     quiet: bool,
+    motor_lag: float,
+    latency: float,
+    drop: float,
+    slip: float,
+    follow: str | None,
+    control_rate: float,
+    pose_source: str,
+    pose_noise: tuple[float, float] | None,
 ) -> None:
     """Wheel joint states that executing a plan would produce.
 
@@ -221,11 +233,22 @@ def simulate(
     the CSV, or as geometry_msgs/PoseStamped on /ground_truth in a bag: data for `diffbot
     calibrate fit`.
 
+    --motor-lag, --latency, --drop and --slip make the robot disobey as a real base does (its
+    wheels also never exceed the motor limit); the plan's commands are then sent open loop at
+    --control-rate, or, with --follow, a follower (`diffbot.follow`) closes the loop from the
+    robot's wheel odometry (--pose-source odom) or its true pose with noise (--pose-source
+    truth --pose-noise M,DEG). Such runs add the true pose columns x, y, theta and their
+    --json summary gives final_position_error, final_heading_error (m, rad),
+    max_cross_track_error, rms_cross_track_error (m), peak_limit_fraction, duration (s) and
+    arrived.
+
     \b
     Examples:
       diffbot simulate --out a.csv && diffbot odom a.csv
       diffbot simulate "straight 1; spin 90" --rate 20 --ticks 1024 --noise 0.001 --seed 1
       diffbot simulate --example B --out b_bag --bag --start 1700000000
+      diffbot simulate --example A --motor-lag 0.15 --latency 0.04 --drop 0.05 --seed 1 \\
+          --ticks 4096 --follow -o followed.csv
     """
 
     check_topic("--topic", topic)
@@ -234,12 +257,31 @@ def simulate(
     out.require_out_for_bag()
     if as_json and out.out is None:
         fail("--json prints a summary, so the samples need --out")
+    loop = LoopRequest(
+        follow, control_rate, pose_source, pose_noise, motor_lag, latency, drop, slip
+    )
+    loop.check(rate)
     inputs = [path for path in (source.path, robot.robot) if path is not None]
     out.path([Path(path) for path in inputs])
     built = plan_options.build(request)
     source, params, made = built.source, built.params, built.made
     out_path = out.path([Path(path) for path in (*inputs, *params.description_files)])
     p = made if isinstance(made, Plan) else made.steps
+    if loop.wanted:
+        real = None
+        if true_radii is not None or true_separation is not None:
+            real = true_robot(params, true_radii, true_separation)
+
+        def write(states: JointStateChunks, truth: Any) -> None:
+            _write(states, start_ns, out_path, out, topic, lambda _: None, truth)
+
+        sampling = (rate, ticks, noise, seed)
+        run_loop(loop, made, params, sampling, real, write, out, source.label, as_json)
+        if not p.within_limit:
+            for line in violation_lines(p):
+                click.echo(line, err=True)
+            sys.exit(EXIT_CHECK_FAILED)
+        return
     motion, executed = _executed(made, params)
     duration, extra = motion.duration, len(boundaries(motion))
     count = sample_count(duration, rate, extra)

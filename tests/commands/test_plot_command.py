@@ -206,3 +206,30 @@ def test_a_figure_of_many_recordings_prints_no_matplotlib_warning(tmp_path: Path
     assert done.returncode == 0, done.stderr[-300:]
     assert "Warning" not in done.stderr
     assert (tmp_path / "p.png").stat().st_size > 0
+
+
+def test_a_simulated_runs_true_path_is_drawn_beside_its_odometry(
+    runner: CliRunner, params: DiffDriveParams, tmp_path: Path
+) -> None:
+    # The wheels report 1 m straight ahead; the true pose went along a line 0.3 m to the left.
+    turns = 1.0 / params.wheel_radius
+    rows = [f"{k / 10},{k / 10 * turns!r},{k / 10 * turns!r},{k / 10},0.3,0" for k in range(11)]
+    csv = tmp_path / "run.csv"
+    header = f"time,{params.left_joint},{params.right_joint},x,y,theta"
+    csv.write_text(header + "\n" + "\n".join(rows) + "\n")
+    target = tmp_path / "run.png"
+    result = run(runner, "straight 1 10s", "--odom", str(csv), "-o", str(target))
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines() == [
+        f"{csv}: odometry ends 0 m from the plan's end",
+        f"{csv} true pose: ends 0.3 m from the plan's end",
+    ]
+    image = png_pixels(target)
+    drawn = plan(parse_plan("straight 1 10s"), params)
+    recordings = [(str(csv), [0.0, 1.0], [0.0, 0.0]), (f"{csv} true pose", [0.0, 1.0], [0.3, 0.3])]
+    layout = plan_figure(drawn, params, recordings=recordings)
+    layout.canvas.draw()
+    path = axes_labelled(layout, "path")
+    assert near(image, path, 0.5, 0.3, RECORDING_COLOURS[1], tolerance=45)
+    assert not near(image, path, 0.5, 0.15, RECORDING_COLOURS[1], tolerance=45)
+    assert near(image, path, 0.5, 0.0, PATH_COLOUR)

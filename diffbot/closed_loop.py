@@ -1,0 +1,273 @@
+"""A plan run on a disturbed simulated robot, open loop or closed by a follower, and how far it
+strayed.
+
+:func:`run` steps a :class:`diffbot.simulation.DisturbedRobot`: at the control rate a
+controller (a :class:`diffbot.follow.Follower`, or anything with its ``command`` and ``done``)
+gets the pose estimate (the robot's wheel odometry, or its true pose with noise) and commands
+the wheels; without a controller the plan's own commands at the control rate are sent open
+loop. The joint states are sampled at the simulation rate with their encoder resolution and
+noise, beside the true pose. :func:`path_distance` measures the true path against the plan's.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Final, Literal, Protocol
+
+from diffbot.errors import ParameterError
+from diffbot.kinematics import DiffDriveParams, Pose, Twist
+from diffbot.numbers import finite_in_range
+from diffbot.simulation import MAX_RATE, MAX_SAMPLES, Disturbances, DisturbedRobot
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
+    from diffbot.ramps import RampedPlan
+    from diffbot.trajectory import Plan
+
+__all__ = ["Controller", "LoopResult", "LoopSettings", "path_distance", "run"]
+
+#: Longest a run goes on past the plan's end waiting to arrive (s), at least.
+MIN_OVERTIME: Final = 10.0
+
+
+class Controller(Protocol):
+    """What closes the loop: a :class:`diffbot.follow.Follower`, or another law."""
+
+    def command(self, t: float, pose: Pose) -> Twist:
+        """The command (m/s, rad/s) at ``t`` (s) for the robot at ``pose``."""
+
+    def done(self, t: float, pose: Pose) -> bool:
+        """Whether it has arrived."""
+
+
+@dataclass(frozen=True)
+class LoopSettings:
+    """How the simulated run goes.
+
+    Attributes:
+        rate: joint state sampling rate (Hz); the odometry and the pose source update at it.
+        control_rate: commands per second (Hz), at most ``rate``.
+        ticks: encoder resolution (counts per revolution), or None.
+        noise: encoder noise (rad, standard deviation).
+        seed: seed of the encoder and pose noise.
+        disturbances: the robot's disturbances.
+        true_params: the real robot (other radii and separation), or None.
+        pose_source: ``"odom"`` (wheel odometry) or ``"truth"`` (the true pose with noise).
+        pose_noise: standard deviations of the true pose's noise (m, rad).
+    """
+
+    rate: float = 50.0
+    control_rate: float = 20.0
+    ticks: int | None = None
+    noise: float = 0.0
+    seed: int | None = None
+    disturbances: Disturbances = field(default_factory=Disturbances)
+    true_params: DiffDriveParams | None = None
+    pose_source: Literal["odom", "truth"] = "odom"
+    pose_noise: tuple[float, float] = (0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        rate = finite_in_range(self.rate, "rate", 0.0, MAX_RATE, open_low=True, unit="Hz")
+        control = finite_in_range(
+            self.control_rate, "control_rate", 0.0, MAX_RATE, open_low=True, unit="Hz"
+        )
+        if control > rate:
+            raise ParameterError(
+                f"control_rate ({control:g} Hz) must not exceed the simulation rate "
+                f"({rate:g} Hz): the controller sees one pose a sample"
+            )
+        if self.pose_source not in ("odom", "truth"):
+            raise ParameterError(f"pose_source must be odom or truth, got {self.pose_source!r}")
+        metres, radians = self.pose_noise
+        finite_in_range(metres, "pose_noise", 0.0, 1e3, unit="m")
+        finite_in_range(radians, "pose_noise", 0.0, math.pi, unit="rad")
+
+
+@dataclass(frozen=True)
+class LoopResult:
+    """A run: samples and what they say.
+
+    Attributes:
+        times: sample times (s), shape (n,).
+        positions: the joint angles as the encoders report them (rad, signs applied): left
+            wheels, right wheels, then the passive joints at 0; shape (joints, n).
+        names: the joint names.
+        truth: the true pose x, y (m), theta (rad, wrapped) at each sample, shape (3, n).
+        odometry: the wheel odometry's pose at each sample, shape (3, n).
+        peak_limit_fraction: the largest commanded wheel speed over the motor limit (or None
+            without one).
+        arrived: whether the controller said done (open loop: whether the plan ran out).
+        duration: the time until arrival, or the run's end without it (s).
+    """
+
+    times: NDArray[np.float64]
+    positions: NDArray[np.float64]
+    names: tuple[str, ...]
+    truth: NDArray[np.float64]
+    odometry: NDArray[np.float64]
+    peak_limit_fraction: float | None
+    arrived: bool
+    duration: float
+
+
+def _open_loop(made: Plan | RampedPlan, rate: float) -> tuple[list[float], list[Twist]]:
+    from diffbot.ramps import sampled
+
+    stream = sampled(made).commands(rate)
+    return stream.times.tolist(), [
+        Twist(v, w) for v, w in zip(stream.linear.tolist(), stream.angular.tolist(), strict=True)
+    ]
+
+
+def run(
+    made: Plan | RampedPlan,
+    params: DiffDriveParams,
+    settings: LoopSettings,
+    controller: Controller | None = None,
+) -> LoopResult:
+    """Run ``made`` on the disturbed robot, closed by ``controller`` or open loop.
+
+    A closed loop runs until the controller is done, then until the wheels stop; it gives up
+    ``max(10 s, half the plan's duration)`` past the plan's end (then ``arrived`` is False).
+    An open loop runs its commands, then until the wheels stop.
+
+    Raises:
+        ParameterError: a run of more than :data:`diffbot.simulation.MAX_SAMPLES` samples.
+    """
+    import random
+
+    import numpy as np
+
+    from diffbot.kinematics import inverse
+    from diffbot.odometry import Odometry
+
+    s = settings
+    robot = DisturbedRobot(params, s.disturbances, s.true_params)
+    odometry = Odometry(params)
+    noise_random = random.Random(s.seed)
+    sample_period = 1.0 / s.rate
+    period = 1.0 / s.control_rate
+    lag = s.disturbances.motor_lag + s.disturbances.latency
+    give_up = made.duration + max(MIN_OVERTIME, made.duration)
+    if (give_up + 10.0 * lag) * s.rate > MAX_SAMPLES:
+        raise ParameterError(f"the run would take more than {MAX_SAMPLES} samples")
+    open_times, open_commands = (
+        ([], []) if controller is not None else _open_loop(made, s.control_rate)
+    )
+    limit = params.max_wheel_speed
+    tick_step = 0.0 if s.ticks is None else 2.0 * math.pi / s.ticks
+    left_sign, right_sign = params.left_sign, params.right_sign
+    rows: list[tuple[float, ...]] = []
+    peak = 0.0
+    estimate = Pose(0.0, 0.0, 0.0)
+    arrived, finish, stop = False, None, None
+    sample, tick, k = 0, 0, 0
+    while True:
+        t_sample, t_control = sample * sample_period, tick * period
+        t = min(t_sample, t_control)
+        robot.advance(t)
+        if t_sample <= t:
+            left, right = robot.angles
+            readings = [left_sign * left, right_sign * right]
+            if s.noise:
+                readings = [a + noise_random.gauss(0.0, s.noise) for a in readings]
+            if tick_step:
+                readings = [round(a / tick_step) * tick_step for a in readings]
+            odometry.update(readings[0], readings[1], t)
+            odom = odometry.pose
+            x, y, heading = robot.pose
+            if s.pose_source == "odom":
+                estimate = odom
+            else:
+                metres, radians = s.pose_noise
+                estimate = Pose(
+                    x + noise_random.gauss(0.0, metres) if metres else x,
+                    y + noise_random.gauss(0.0, metres) if metres else y,
+                    heading + noise_random.gauss(0.0, radians) if radians else heading,
+                )
+            rows.append((t, *readings, x, y, heading, *odom))
+            sample += 1
+            if stop is not None and t >= stop:
+                break
+        if t_control <= t:
+            tick += 1
+            if controller is not None:
+                if finish is None and controller.done(t, estimate):
+                    arrived, finish = True, t
+                twist = controller.command(t, estimate) if finish is None else Twist(0.0, 0.0)
+                if finish is None and t >= give_up:
+                    finish, twist = t, Twist(0.0, 0.0)
+            else:
+                twist = Twist(0.0, 0.0)
+                while k < len(open_times) and open_times[k] <= t + 1e-9:
+                    twist = open_commands[k]
+                    k += 1
+                if k == len(open_times) and finish is None and twist == Twist(0.0, 0.0):
+                    finish = t
+                    arrived = True
+            wheels = inverse(params, float(twist.linear), float(twist.angular))
+            if limit:
+                peak = max(peak, abs(float(wheels.left)) / limit, abs(float(wheels.right)) / limit)
+            if finish is None or t == finish:
+                robot.command(float(wheels.left), float(wheels.right))
+            if finish is not None and stop is None:
+                stop = t + 5.0 * s.disturbances.motor_lag + s.disturbances.latency + 2 * period
+    table = np.array(rows, dtype=np.float64).T
+    times = table[0]
+    angles = table[1:3]
+    positions = np.repeat(angles, (len(params.left_joints), len(params.right_joints)), axis=0)
+    extra = params.passive_joints
+    positions = np.vstack((positions, np.zeros((len(extra), times.size))))
+    names = (*params.left_joints, *params.right_joints, *extra)
+    truth = table[3:6].copy()
+    truth[2] = np.remainder(truth[2] + math.pi, 2.0 * math.pi) - math.pi
+    return LoopResult(
+        times=times,
+        positions=positions,
+        names=names,
+        truth=truth,
+        odometry=table[6:9],
+        peak_limit_fraction=peak if limit else None,
+        arrived=arrived,
+        duration=float(finish if finish is not None else times[-1]),
+    )
+
+
+def path_distance(
+    plan: Plan, xs: NDArray[np.float64], ys: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The distance (m) from each point ``(xs, ys)`` to the plan's path, in closed form per
+    segment (a line piece, an arc, or the point of a spin)."""
+    import numpy as np
+
+    from diffbot.trajectory import geometry
+
+    best = np.full(np.shape(xs), np.inf)
+    heading = 0.0
+    for planned in plan.segments:
+        ds, turn = geometry(planned.segment)
+        start, end = planned.start_pose, planned.end_pose
+        to_end = np.hypot(xs - end.x, ys - end.y)
+        if ds == 0.0:
+            distance = to_end
+        elif turn == 0.0:
+            ux, uy = math.cos(heading), math.sin(heading)
+            along = np.clip((xs - start.x) * ux + (ys - start.y) * uy, min(0.0, ds), max(0.0, ds))
+            distance = np.hypot(xs - start.x - along * ux, ys - start.y - along * uy)
+        else:
+            radius = ds / turn  # signed: the centre lies this far to the left of the heading
+            cx, cy = start.x - radius * math.sin(heading), start.y + radius * math.cos(heading)
+            phi0 = math.atan2(start.y - cy, start.x - cx)
+            angle = np.remainder(np.arctan2(ys - cy, xs - cx) - phi0, 2.0 * math.pi)
+            if turn < 0.0:
+                angle = np.remainder(-angle, 2.0 * math.pi)
+            on_arc = (angle <= abs(turn)) | (abs(turn) >= 2.0 * math.pi)
+            to_circle = np.abs(np.hypot(xs - cx, ys - cy) - abs(radius))
+            to_start = np.hypot(xs - start.x, ys - start.y)
+            distance = np.where(on_arc, to_circle, np.minimum(to_start, to_end))
+        best = np.minimum(best, distance)
+        heading = planned.end_heading
+    return best

@@ -1,0 +1,109 @@
+"""Options of closing the loop and of disturbed simulated robots, shared by ``simulate``,
+``node robot`` and ``drive``."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+import click
+
+from diffbot.commands.options import FiniteFloat, NumberPair
+from diffbot.simulation import MAX_DELAY
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+__all__ = ["Fraction", "disturbance_options", "follow_options"]
+
+
+class Fraction(FiniteFloat):
+    """A share from 0 up to, but not including, 1."""
+
+    name = "fraction"
+
+    def __init__(self) -> None:
+        super().__init__(0.0)
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
+        number = super().convert(value, param, ctx)
+        if number >= 1.0:
+            self.fail(f"{value!r} must be below 1 (a share of all)", param, ctx)
+        return number
+
+
+def disturbance_options(command: F) -> F:
+    """``--motor-lag S``, ``--latency S``, ``--drop FRACTION``, ``--slip FRACTION``: what a
+    simulated base does besides what it is told, for ``simulate`` and ``node robot`` alike
+    (seeded by ``--seed``)."""
+    for name, meta, text, kind in reversed(
+        (
+            (
+                "--motor-lag",
+                "S",
+                "Time constant of each wheel's first-order velocity response (s).",
+                FiniteFloat(0.0, maximum=MAX_DELAY),
+            ),
+            (
+                "--latency",
+                "S",
+                "Delay from a command to the motors (s).",
+                FiniteFloat(0.0, maximum=MAX_DELAY),
+            ),
+            (
+                "--drop",
+                "FRACTION",
+                "Share of commands lost, below 1 (seeded by --seed).",
+                Fraction(),
+            ),
+            (
+                "--slip",
+                "FRACTION",
+                "Mean share of each wheel's travel lost to slip, below 1 (seeded by --seed).",
+                Fraction(),
+            ),
+        )
+    ):
+        command = click.option(name, type=kind, default=0.0, metavar=meta, help=text)(command)
+    return command
+
+
+def follow_options(command: F) -> F:
+    """``--follow [tracking|pure-pursuit]``, ``--control-rate HZ``, ``--pose-source
+    odom|truth``, ``--pose-noise M,DEG``: a simulated run closed by a follower."""
+    command = click.option(
+        "--pose-noise",
+        type=NumberPair("M,DEG", "m, degrees", bounds=(0.0, 1e3)),
+        default=None,
+        metavar="M,DEG",
+        help="Standard deviations of the noise on the true pose given to the follower with "
+        "--pose-source truth (m, degrees); default none.",
+    )(command)
+    command = click.option(
+        "--pose-source",
+        type=click.Choice(["odom", "truth"]),
+        default="odom",
+        show_default=True,
+        help="What the follower is given: the robot's wheel odometry, or its true pose (with "
+        "--pose-noise), as motion capture or localization gives it.",
+    )(command)
+    command = click.option(
+        "--control-rate",
+        type=FiniteFloat(0.0, open_min=True),
+        default=20.0,
+        show_default=True,
+        metavar="HZ",
+        help="Commands per second of the follower or of the open-loop commands on a disturbed "
+        "robot (Hz), at most --rate.",
+    )(command)
+    return click.option(
+        "--follow",
+        type=click.Choice(["tracking", "pure-pursuit"]),
+        is_flag=False,
+        flag_value="tracking",
+        default=None,
+        help="Close the loop: follow the plan from the pose (tracking: the timed plan, the "
+        "default, its feed-forward taken --motor-lag plus --latency ahead; pure-pursuit: its "
+        "path, untimed).",
+    )(command)

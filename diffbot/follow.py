@@ -1,0 +1,479 @@
+"""Closing the loop: a plan and a pose estimate in, a velocity command out.
+
+:class:`Follower` drives a robot along a plan from its pose estimate (odometry, or an external
+pose source), with one of two published control laws:
+
+``tracking`` (default): trajectory tracking of the timed plan. The reference pose
+``(x_r, y_r, theta_r)`` and velocity ``(v_r, w_r)`` at time ``t`` come from the plan in closed
+form (the same poses :func:`diffbot.trajectory.pose_at` and :meth:`RampedPlan.pose_at` give). The
+error in the robot frame is::
+
+    e_x =  cos(theta) (x_r - x) + sin(theta) (y_r - y)
+    e_y = -sin(theta) (x_r - x) + cos(theta) (y_r - y)
+    e_theta = wrap(theta_r - theta)
+
+and the command is the nonlinear law of Kanayama, Kimura, Miyazaki and Noguchi, "A stable
+tracking control method for an autonomous mobile robot", IEEE ICRA 1990, pp. 384-389::
+
+    v = v_r cos(e_theta) + k_x e_x
+    w = w_r + v_r k_y e_y + k(v_r) sin(e_theta)
+    k(v_r) = |v_r| k_theta + k_spin max(0, 1 - |v_r| k_theta / k_spin)²
+
+With ``V = (e_x² + e_y²)/2 + (1 - cos e_theta)/k_y`` its derivative along the error dynamics is
+``-k_x e_x² - k(v_r) sin²(e_theta)/k_y <= 0`` for every sign of ``v_r`` whenever ``k_x, k_y,
+k_theta > 0`` and ``k(v_r) >= 0``: the law is stable, and asymptotically so while the
+reference keeps moving (``v_r`` or ``w_r`` not tending to zero). Two departures from the paper,
+both within that proof: the heading gain multiplies ``|v_r|`` instead of ``v_r``, so reversing
+segments keep their sign of correction (the paper's law turns the wrong way when ``v_r < 0``),
+and ``k_spin`` corrects the heading where ``v_r`` is 0 (spins in place), fading out as the
+speed grows (a heading gain above ``2 v_r sqrt(k_y)`` over-damps the lateral error: at speed
+``k_theta = 2/l`` with ``k_y = 1/l²`` is critical damping).
+No division by ``v_r`` appears anywhere. On the reference the errors are zero and the command
+is the feed-forward ``(v_r, w_r)`` exactly.
+
+``pure-pursuit``: untimed path following, the regulated pure pursuit of Macenski, Singh,
+Martin and Gines, "Regulated pure pursuit for robot path tracking", Autonomous Robots 47,
+2023 (the Nav2 controller). The plan's straights and arcs are cut into legs driven in one
+direction (a spin or a change of direction starts a new leg, reached by turning in place); on
+a leg the robot steers along the circle through the lookahead point ``(x_l, y_l)`` (robot
+frame, at the lookahead distance ``L`` along the path): curvature ``kappa = 2 y_l / (x_l² +
+y_l²)``, ``w = v kappa`` (the same formula holds driving backwards with ``v < 0``). The speed
+is the plan's own along the leg, regulated: times ``r / r_min`` on curves tighter than
+``r_min`` (``r = 1/|kappa|``), and times ``d / d_approach`` within ``d_approach`` of the
+leg's end (never below a creep speed); when the lookahead point lies more than 45 degrees off
+the robot's heading it first turns in place toward it.
+
+Arrival, both laws: Kanayama's law at ``v_r = 0`` corrects ``e_x`` and the heading but not a
+lateral error (no command moves the robot sideways), so past the plan's end the follower
+stabilises the final pose itself: from when the robot is out of ``xy_tolerance`` with a
+lateral error over 0.6 of it until the distance is under 0.4 of it, it turns toward the goal
+point (or away from it, to reverse onto it) and drives there (``w = k_spin beta``,
+``v = ±k_x d cos beta``, moving only while the bearing error ``beta`` is under 0.3 rad);
+otherwise it aligns (``v = k_x e_x``, ``w = k_spin sin e_theta``). The wide hysteresis keeps
+a noisy pose source from toggling the two. It is done when past the plan's end (the last leg
+reached, for pure pursuit) and within ``xy_tolerance`` and ``yaw_tolerance`` for :data:`DWELL`
+s; once :meth:`Follower.done` has said so it commands zero (until the pose leaves the
+tolerances).
+
+Every command is brought within the motor limit by scaling both wheels by one factor (the
+commanded curvature is kept, as :func:`diffbot.kinematics.saturate` does), then, when the
+robot's controller configuration or the ramped plan gives acceleration or jerk limits, through
+the diff_drive_controller limiter model of :mod:`diffbot.limiter` (both axes moved the same
+share of the way, so the curvature stays).
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, fields, replace
+from typing import TYPE_CHECKING, Final
+
+from diffbot.errors import ParameterError
+from diffbot.kinematics import DiffDriveParams, Pose, Twist
+from diffbot.numbers import finite_in_range, shown
+
+if TYPE_CHECKING:
+    from diffbot.controller_config import AxisLimits
+    from diffbot.ramps import RampedPlan
+    from diffbot.trajectory import Plan
+
+__all__ = [
+    "DEFAULT_XY_TOLERANCE",
+    "DEFAULT_YAW_TOLERANCE",
+    "DWELL",
+    "LAWS",
+    "Follower",
+    "Gains",
+    "default_gains",
+]
+
+#: The control laws :class:`Follower` offers.
+LAWS: Final = ("tracking", "pure-pursuit")
+#: How long (s) the pose must stay within the tolerances before a follower is done.
+DWELL: Final = 1.0
+#: Distance from the final pose within which a follower is done (m).
+DEFAULT_XY_TOLERANCE: Final = 0.005
+#: Heading error within which a follower is done (rad): 0.5 degrees.
+DEFAULT_YAW_TOLERANCE: Final = math.radians(0.5)
+
+_TWO_PI = 2.0 * math.pi
+#: Bearing error (rad) under which the arrival phase drives toward the goal point.
+_DRIVE_BEARING = 0.3
+
+
+@dataclass(frozen=True)
+class Gains:
+    """Feedback gains, SI units.
+
+    Attributes:
+        kx: along-track gain (1/s): m/s of speed per m of error ahead.
+        ky: lateral gain (1/m²): rad/s per (m/s of reference speed · m of lateral error).
+        ktheta: heading gain per speed (1/m): rad/s per (m/s · rad).
+        kspin: heading gain at any speed (1/s): rad/s per rad, for spins and arrival.
+        min_radius: pure pursuit's curvature regulation radius (m): slower on tighter curves.
+        approach: pure pursuit's slow-down distance before a leg's end (m).
+        creep: the slowest pure-pursuit speed while approaching (m/s).
+    """
+
+    kx: float
+    ky: float
+    ktheta: float
+    kspin: float
+    min_radius: float
+    approach: float
+    creep: float
+
+
+def _wrap(angle: float) -> float:
+    return math.remainder(angle, _TWO_PI)
+
+
+def _top_speeds(params: DiffDriveParams, limit: float | None) -> tuple[float, float]:
+    """The robot's top straight speed (m/s) and spin rate (rad/s) within the motor limit, or
+    infinities without one."""
+    if limit is None:
+        return math.inf, math.inf
+    radius = min(params.radii)
+    return limit * radius, 2.0 * limit * radius / params.wheel_separation
+
+
+def default_gains(params: DiffDriveParams, limit: float | None = None) -> Gains:
+    """Gains scaled to the robot: its size sets the lengths, its motor limit the rates.
+
+    With ``l = 0.75 · wheel_separation`` (0.10 m for the bundled robot): ``ky = 1/l²``,
+    ``ktheta = 2/l`` (a critically damped lateral response over about ``l`` of travel),
+    ``min_radius = 4 l``, ``approach = 3 l``. The rates: ``kspin = min(3, w_max / (pi/4))``
+    (1/s; a 45-degree error asks at most the top spin rate ``w_max``), ``kx = 2 kspin / 3``,
+    ``creep = 0.1 v_max`` (at most 0.02 m/s). The bundled robot (r = 0.035 m, b = 0.135 m,
+    50 rpm): kx 2 1/s, ky 97.5 1/m², ktheta 19.8 1/m, kspin 3 1/s, min_radius 0.41 m,
+    approach 0.30 m, creep 0.018 m/s.
+
+    Args:
+        params: the robot.
+        limit: its motor limit (rad/s); ``params.max_wheel_speed`` when None.
+    """
+    lim = params.max_wheel_speed if limit is None else limit
+    v_max, w_max = _top_speeds(params, lim)
+    scale = 0.75 * params.wheel_separation
+    kspin = min(3.0, w_max / (math.pi / 4.0))
+    return Gains(
+        kx=2.0 * kspin / 3.0,
+        ky=1.0 / (scale * scale),
+        ktheta=2.0 / scale,
+        kspin=kspin,
+        min_radius=4.0 * scale,
+        approach=1.5 * scale,
+        creep=min(0.05, 0.2 * v_max),
+    )
+
+
+def _checked_gains(gains: Gains | Mapping[str, float] | None, base: Gains) -> Gains:
+    if gains is None:
+        return base
+    if isinstance(gains, Gains):
+        given = {item.name: getattr(gains, item.name) for item in fields(Gains)}
+    elif isinstance(gains, Mapping):
+        unknown = sorted(set(gains) - {item.name for item in fields(Gains)})
+        if unknown:
+            raise ParameterError(f"gains: unknown gain {unknown[0]!r}")
+        given = dict(gains)
+    else:
+        raise ParameterError(f"gains must be a Gains or a mapping of names, got {shown(gains)}")
+    checked: dict[str, float] = {}
+    for name, value in given.items():
+        low_open = name != "kspin"
+        checked[name] = finite_in_range(value, f"gains {name}", 0.0, 1e9, open_low=low_open)
+    return replace(base, **checked)
+
+
+# --------------------------------------------------------------------------------------------
+# The reference: pieces of constant gains along a polynomial path coordinate
+
+
+def _pieces(plan: Plan | RampedPlan) -> list[tuple[float, ...]]:
+    """The plan as pieces ``(t0, x0, y0, h0, linear_gain, angular_gain, p, v, a, j)``: from
+    time ``t0`` (s) the path coordinate is ``s = p + v tau + a tau²/2 + j tau³/6`` (tau = t -
+    t0) and the pose is ``advance(x0, y0, h0, linear_gain s, angular_gain s)``."""
+    from diffbot.trajectory import Plan
+
+    pieces: list[tuple[float, ...]] = []
+    if isinstance(plan, Plan):
+        elapsed, heading = 0.0, 0.0
+        for planned in plan.segments:
+            start = planned.start_pose
+            v, w = float(planned.twist.linear), float(planned.twist.angular)
+            pieces.append((elapsed, start.x, start.y, heading, v, w, 0.0, 1.0, 0.0, 0.0))
+            elapsed += planned.duration
+            heading = planned.end_heading
+        return pieces
+    for run in plan.runs:
+        x0, y0, h0 = run.start_pose
+        for phase in run.profile.phases:
+            pieces.append(
+                (
+                    run.start + phase.start,
+                    x0,
+                    y0,
+                    h0,
+                    run.linear_gain,
+                    run.angular_gain,
+                    phase.position,
+                    phase.velocity,
+                    phase.acceleration,
+                    phase.jerk,
+                )
+            )
+    return pieces
+
+
+def _axis_limits(plan: Plan | RampedPlan, params: DiffDriveParams) -> tuple[AxisLimits, ...]:
+    """The (linear, angular) limits the commands keep besides the motor limit: the ramped
+    plan's, else the controller's, else none (an empty tuple)."""
+    from diffbot.controller_config import AxisLimits
+    from diffbot.trajectory import Plan
+
+    if not isinstance(plan, Plan):
+        axes = []
+        for path in (plan.limits.linear, plan.limits.angular):
+            jerk = path.jerk
+            axes.append(
+                AxisLimits(
+                    max_velocity=path.velocity,
+                    max_acceleration=path.acceleration,
+                    max_jerk=jerk,
+                )
+            )
+        if any(a.max_acceleration is not None or a.max_jerk is not None for a in axes):
+            return tuple(axes)
+    controller = params.controller
+    if controller is None:
+        return ()
+    from diffbot.limiter import checked
+
+    linear, angular = checked(controller.linear, "linear"), checked(controller.angular, "angular")
+    if any(
+        a.max_acceleration is not None or a.max_jerk is not None or a.max_velocity is not None
+        for a in (linear, angular)
+    ):
+        return linear, angular
+    return ()
+
+
+class Follower:
+    """A plan follower: call :meth:`command` at the control rate with the pose estimate.
+
+    Args:
+        params: the robot (its geometry and motor limit).
+        plan: the plan to follow (a step plan or a ramped one), from pose (0, 0, 0) of the odom
+            frame.
+        law: ``"tracking"`` (timed, Kanayama's law) or ``"pure-pursuit"`` (untimed, regulated
+            pure pursuit).
+        gains: the gains, or a mapping of the ones to change (see :class:`Gains`); by default
+            :func:`default_gains` of the robot and the plan's motor limit.
+        lookahead: pure pursuit's lookahead distance (m), by default ``2 · 0.75 ·
+            wheel_separation`` (0.2 m for the bundled robot); for tracking, a lead time (s) by
+            which the feed-forward velocity is taken ahead of the reference pose, to make up
+            for a known actuation delay (default 0).
+        xy_tolerance: distance from the final pose within which it is done (m), > 0.
+        yaw_tolerance: heading error within which it is done (rad), > 0.
+
+    Raises:
+        ParameterError: an unknown law, a gain, lookahead or tolerance that is not finite or
+            out of its range.
+    """
+
+    def __init__(
+        self,
+        params: DiffDriveParams,
+        plan: Plan | RampedPlan,
+        *,
+        law: str = "tracking",
+        gains: Gains | Mapping[str, float] | None = None,
+        lookahead: float | None = None,
+        xy_tolerance: float = DEFAULT_XY_TOLERANCE,
+        yaw_tolerance: float = DEFAULT_YAW_TOLERANCE,
+    ) -> None:
+        from diffbot.trajectory import Plan
+
+        if law not in LAWS:
+            raise ParameterError(f"law must be one of {', '.join(LAWS)}, got {shown(law)}")
+        self.params = params
+        self.plan = plan
+        self.law = law
+        steps = plan if isinstance(plan, Plan) else plan.steps
+        self.limit = steps.limit if steps.limit is not None else params.max_wheel_speed
+        self.gains = _checked_gains(gains, default_gains(params, self.limit))
+        self.xy_tolerance = finite_in_range(
+            xy_tolerance, "xy_tolerance", 0.0, 1e3, open_low=True, unit="m"
+        )
+        self.yaw_tolerance = finite_in_range(
+            yaw_tolerance, "yaw_tolerance", 0.0, math.pi, open_low=True, unit="rad"
+        )
+        default_lookahead = 1.5 * 0.75 * params.wheel_separation if law != "tracking" else 0.0
+        self.lookahead = (
+            default_lookahead
+            if lookahead is None
+            else finite_in_range(
+                lookahead,
+                "lookahead",
+                0.0,
+                1e3,
+                open_low=law != "tracking",
+                unit="m" if law != "tracking" else "s",
+            )
+        )
+        self.duration = plan.duration
+        self.goal = steps.final_pose
+        self.goal_heading = steps.segments[-1].end_heading
+        self._pieces = _pieces(plan)
+        self._starts = [piece[0] for piece in self._pieces]
+        self._index = 0
+        left, right = params.radii
+        self._wheel = (left, right, 0.5 * params.wheel_separation)
+        self._axes = _axis_limits(plan, params)
+        self._last: tuple[float, float, float, float, float] | None = None  # t, v0, w0, v1, w1
+        self._approach = False
+        self._within_since: float | None = None
+        self._done: bool | None = None
+        self._pursuit = None
+        if law == "pure-pursuit":
+            from diffbot.pursuit import Pursuit
+
+            self._pursuit = Pursuit(steps, self.gains, self.lookahead, self.xy_tolerance)
+
+    # ----------------------------------------------------------------------------------------
+    def reference(self, t: float) -> tuple[float, float, float, float, float]:
+        """The timed reference at ``t`` (s): x, y (m), heading (rad, not wrapped), linear
+        (m/s) and angular (rad/s) velocity; the final pose and zero velocity past the end."""
+        if t >= self.duration:
+            goal = self.goal
+            return goal.x, goal.y, self.goal_heading, 0.0, 0.0
+        starts, i = self._starts, self._index
+        if t < starts[i] or (i + 1 < len(starts) and t >= starts[i + 1]):
+            i = max(0, bisect.bisect_right(starts, t) - 1)
+            self._index = i
+        t0, x0, y0, h0, lg, ag, p, v, a, j = self._pieces[i]
+        tau = t - t0 if t > t0 else 0.0
+        s = p + tau * (v + tau * (0.5 * a + tau * j / 6.0))
+        speed = v + tau * (a + 0.5 * j * tau)
+        ds, turn = lg * s, ag * s
+        half = 0.5 * turn
+        chord = ds * (math.sin(half) / half) if half != 0.0 else ds
+        mean = h0 + half
+        return (
+            x0 + chord * math.cos(mean),
+            y0 + chord * math.sin(mean),
+            h0 + turn,
+            lg * speed,
+            ag * speed,
+        )
+
+    def done(self, t: float, pose: Pose) -> bool:
+        """Whether the plan is finished: past its end (for pure pursuit: on its last leg) and
+        within ``xy_tolerance`` and ``yaw_tolerance`` of its final pose, as every pose given
+        for the last :data:`DWELL` s was (a robot still coasting leaves the tolerance within
+        that time; call this at every control step)."""
+        pursuit = self._pursuit
+        finished = pursuit.finished if pursuit is not None else t >= self.duration
+        goal = self.goal
+        dx, dy = goal.x - pose[0], goal.y - pose[1]
+        if not (
+            finished
+            and dx * dx + dy * dy <= self.xy_tolerance * self.xy_tolerance
+            and abs(_wrap(self.goal_heading - pose[2])) <= self.yaw_tolerance
+        ):
+            self._within_since = self._done = None
+            return False
+        if self._within_since is None or t < self._within_since:
+            self._within_since = t
+        self._done = t - self._within_since >= DWELL or None
+        return bool(self._done)
+
+    def command(self, t: float, pose: Pose) -> Twist:
+        """The command (linear.x m/s, angular.z rad/s) at ``t`` (s since the plan started)
+        for the robot at ``pose`` (m, m, rad; odom frame): within the motor limit and the
+        acceleration limits; zero once done."""
+        x, y, theta = pose[0], pose[1], pose[2]
+        pursuit = self._pursuit
+        if pursuit is not None:
+            arriving = pursuit.finished or pursuit.update(x, y, theta)
+            if not arriving:
+                v, w = pursuit.command(x, y, theta)
+                return self._limited(t, v, w)
+        elif t < self.duration:
+            xr, yr, hr, vr, wr = self.reference(t)
+            if self.lookahead:
+                vr, wr = self.reference(t + self.lookahead)[3:]
+            cos_t, sin_t = math.cos(theta), math.sin(theta)
+            dx, dy = xr - x, yr - y
+            ex = cos_t * dx + sin_t * dy
+            ey = cos_t * dy - sin_t * dx
+            eh = math.remainder(hr - theta, _TWO_PI)
+            g = self.gains
+            v = vr * math.cos(eh) + g.kx * ex
+            speed = abs(vr) * g.ktheta
+            fade = 1.0 - speed / g.kspin if speed < g.kspin else 0.0
+            w = wr + vr * g.ky * ey + (speed + g.kspin * fade * fade) * math.sin(eh)
+            return self._limited(t, v, w)
+        v, w = self._arrive(t, x, y, theta)
+        return self._limited(t, v, w)
+
+    def _arrive(self, t: float, x: float, y: float, theta: float) -> tuple[float, float]:
+        """The pose-stabilising command past the plan's end (see the module's notes)."""
+        goal, g, tol = self.goal, self.gains, self.xy_tolerance
+        dx, dy = goal.x - x, goal.y - y
+        cos_t, sin_t = math.cos(theta), math.sin(theta)
+        ex = cos_t * dx + sin_t * dy
+        ey = cos_t * dy - sin_t * dx
+        eh = math.remainder(self.goal_heading - theta, _TWO_PI)
+        distance = math.hypot(dx, dy)
+        if self._done:
+            return 0.0, 0.0
+        # Wide hysteresis: a noisy pose source (a millimetre) must not toggle the phases.
+        if self._approach:
+            self._approach = distance > 0.4 * tol
+        else:
+            self._approach = abs(ey) > 0.6 * tol and distance > tol
+        if not self._approach:
+            return g.kx * ex, g.kspin * math.sin(eh)
+        way = 1.0 if ex >= 0.0 else -1.0
+        bearing = math.atan2(way * ey, way * ex)
+        v = way * g.kx * distance * math.cos(bearing) if abs(bearing) < _DRIVE_BEARING else 0.0
+        return v, g.kspin * bearing
+
+    def _limited(self, t: float, v: float, w: float) -> Twist:
+        """``(v, w)`` within the motor limit (curvature kept), then the acceleration limits."""
+        lim = self.limit
+        left_radius, right_radius, half = self._wheel
+        if lim is not None:
+            track = half * w
+            peak = max(abs((v - track) / left_radius), abs((v + track) / right_radius))
+            if peak > lim:
+                scale = lim / peak
+                v, w = v * scale, w * scale
+        last = self._last
+        if self._axes:
+            from diffbot.limiter import limit
+
+            t0, v0, w0, v1, w1 = (t, 0.0, 0.0, 0.0, 0.0) if last is None else last
+            dt = t - t0
+            if dt > 0.0:
+                lin, ang = self._axes
+                lv, lw = limit(lin, v, v0, v1, dt), limit(ang, w, w0, w1, dt)
+                share = min(_share(lv, v0, v), _share(lw, w0, w))
+                v, w = v0 + share * (v - v0), w0 + share * (w - w0)
+            else:
+                v, w = v0, w0
+        if last is None or t > last[0]:
+            previous = (0.0, 0.0) if last is None else (last[1], last[2])
+            self._last = (t, v, w, *previous)
+        # The named tuple's own __new__ is a Python function: tuple.__new__ builds the same.
+        return tuple.__new__(Twist, (v + 0.0, w + 0.0))
+
+
+def _share(limited: float, last: float, command: float) -> float:
+    if command == last:
+        return 1.0
+    return min(max((limited - last) / (command - last), 0.0), 1.0)

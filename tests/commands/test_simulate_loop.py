@@ -1,0 +1,135 @@
+"""``diffbot simulate`` on a disturbed robot: open loop and with ``--follow``, its summary, its
+true pose columns and its refusals."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from diffbot.cli import main
+
+DISTURBED = ["--motor-lag", "0.15", "--latency", "0.04", "--drop", "0.05", "--seed", "1"]
+KEYS = {
+    "final_position_error",
+    "final_heading_error",
+    "max_cross_track_error",
+    "rms_cross_track_error",
+    "peak_limit_fraction",
+    "duration",
+    "arrived",
+}
+
+
+def simulate(runner: CliRunner, tmp_path: Path, *args: str) -> dict[str, object]:
+    out = tmp_path / "run.csv"
+    result = runner.invoke(main, ["simulate", *args, "-o", str(out), "--json", "--force"])
+    assert result.exit_code == 0, result.output + result.stderr
+    return json.loads(result.output)
+
+
+def test_wrong_radii_open_loop_end_far_off_and_a_followed_run_on_truth_arrives(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    real = ["--true-wheel-radius", "0.0357,0.0343", "--true-separation", "0.139", "--ticks", "4096"]
+    common = ["--example", "B", *DISTURBED, *real]
+    open_loop = simulate(runner, tmp_path, *common)
+    followed = simulate(
+        runner, tmp_path, *common, "--follow", "--pose-source", "truth", "--pose-noise", "0.001,0.2"
+    )
+    assert set(open_loop) >= KEYS
+    assert set(followed) >= KEYS
+    assert open_loop["control"] == "open-loop"
+    assert followed["control"] == "tracking"
+    assert open_loop["final_position_error"] > 0.1
+    assert followed["final_position_error"] < 0.01
+    assert followed["final_heading_error"] < math.radians(1.0)
+    assert followed["max_cross_track_error"] < 0.02
+    assert followed["arrived"] is True
+    assert 0.0 < followed["peak_limit_fraction"] <= 1.0
+
+
+def test_pure_pursuit_arrives_and_writes_the_true_pose_columns(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    summary = simulate(
+        runner,
+        tmp_path,
+        "straight 0.5; spin 90; straight 0.3",
+        *DISTURBED,
+        "--follow",
+        "pure-pursuit",
+    )
+    assert summary["arrived"] is True
+    assert summary["final_position_error"] < 0.01
+    lines = (tmp_path / "run.csv").read_text().splitlines()
+    assert lines[0].split(",")[-3:] == ["x", "y", "theta"]
+    x, y, theta = (float(v) for v in lines[-1].split(",")[-3:])
+    assert math.hypot(x - 0.5, y - 0.3) < 0.01
+    assert abs(theta - math.pi / 2) < math.radians(1.0)
+
+
+def test_the_table_says_how_far_the_run_ended(runner: CliRunner, tmp_path: Path) -> None:
+    out = tmp_path / "a.csv"
+    result = runner.invoke(
+        main, ["simulate", "straight 0.2", *DISTURBED, "--follow", "-o", str(out)]
+    )
+    assert result.exit_code == 0, result.stderr
+    assert "followed (tracking) at 20 Hz" in result.output
+    assert "arrived" in result.output
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--drop", "1"], "--drop"),
+        (["--slip", "nan"], "--slip"),
+        (["--motor-lag", "-0.1"], "--motor-lag"),
+        (["--latency", "inf"], "--latency"),
+        (["--follow", "--control-rate", "60"], "--control-rate"),
+        (["--control-rate", "0"], "--control-rate"),
+        (["--pose-source", "truth"], "--follow"),
+        (["--follow", "--pose-noise", "0.001,0.2"], "--pose-source truth"),
+        (["--follow", "--pose-source", "truth", "--pose-noise", "-1,0"], "--pose-noise"),
+        (["--follow", "stanley"], "--follow"),
+    ],
+)
+def test_bad_options_are_one_error_line(
+    runner: CliRunner, tmp_path: Path, args: list[str], message: str
+) -> None:
+    result = runner.invoke(main, ["simulate", "straight 0.2", *args, "-o", str(tmp_path / "x.csv")])
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1
+    assert lines[0].startswith("error: ")
+    assert message in lines[0]
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_a_plan_over_the_limit_is_not_followed(runner: CliRunner, tmp_path: Path) -> None:
+    result = runner.invoke(
+        main, ["simulate", "straight 1 1s", "--follow", "-o", str(tmp_path / "x.csv")]
+    )
+    assert result.exit_code == 2
+    assert "segment 1" in result.stderr
+    assert "shortest duration" in result.stderr
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_a_plain_simulation_below_the_control_rate_is_not_refused(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # --control-rate only paces a disturbed or followed run; an exact one samples at any rate.
+    result = runner.invoke(
+        main, ["simulate", "straight 0.2", "--rate", "7", "-o", str(tmp_path / "x.csv")]
+    )
+    assert result.exit_code == 0, result.stderr
+    refused = runner.invoke(
+        main,
+        ["simulate", "straight 0.2", "--rate", "7", "--drop", "0.1", "-o", str(tmp_path / "y.csv")],
+    )
+    assert refused.exit_code == 2
+    assert "--control-rate" in refused.stderr

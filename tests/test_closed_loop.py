@@ -1,0 +1,129 @@
+"""Plans run on a disturbed simulated robot, open loop and closed, and the distance of a path
+from a plan's."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from robots import BOT_50_RPM
+
+from diffbot.calibration.truth import true_robot
+from diffbot.closed_loop import LoopSettings, path_distance, run
+from diffbot.errors import ParameterError
+from diffbot.follow import Follower
+from diffbot.kinematics import Twist
+from diffbot.planfile import parse_plan
+from diffbot.simulation import Disturbances
+from diffbot.trajectory import EXAMPLES, plan, pose_at
+
+ROBOT = BOT_50_RPM.replace(left_joints=("l",), right_joints=("r",), left_joint="l", right_joint="r")
+DISTURBED = Disturbances(motor_lag=0.15, latency=0.04, drop=0.05, seed=1)
+
+
+def made(text: str):
+    return plan(parse_plan(text), ROBOT)
+
+
+def final_error(p, result) -> tuple[float, float]:
+    goal = p.final_pose
+    x, y, theta = result.truth[:, -1]
+    return math.hypot(x - goal.x, y - goal.y), abs(math.remainder(theta - goal.theta, 2 * math.pi))
+
+
+def test_an_undisturbed_open_loop_run_ends_at_the_plans_end() -> None:
+    p = made(EXAMPLES["A"])
+    result = run(p, ROBOT, LoopSettings(rate=50.0, control_rate=50.0))
+    position, heading = final_error(p, result)
+    assert position < 1e-9
+    assert heading < 1e-9
+    # The odometry of exact wheel angles agrees with the truth.
+    assert np.allclose(result.odometry[:2], result.truth[:2], atol=1e-9)
+    assert result.arrived
+    peak = max(s.fraction or 0.0 for s in p.segments)
+    assert result.peak_limit_fraction == pytest.approx(peak, rel=1e-9)
+
+
+def test_wrong_radii_throw_the_open_loop_off_and_a_true_pose_source_corrects_it() -> None:
+    p = made(EXAMPLES["B"])
+    real = true_robot(ROBOT, (0.0357, 0.0343), 0.139)
+    base = {"ticks": 4096, "seed": 2, "disturbances": DISTURBED, "true_params": real}
+    open_loop = run(p, ROBOT, LoopSettings(**base))
+    truth = LoopSettings(**base, pose_source="truth", pose_noise=(0.001, math.radians(0.2)))
+    closed = run(p, ROBOT, truth, Follower(ROBOT, p))
+    assert final_error(p, open_loop)[0] > 0.1
+    position, heading = final_error(p, closed)
+    assert position < 0.01
+    assert heading < math.radians(1.0)
+    assert closed.arrived
+    assert closed.peak_limit_fraction <= 1.0 + 1e-9
+
+
+def test_closing_the_loop_on_odometry_ends_within_a_centimetre_and_a_degree() -> None:
+    p = made(EXAMPLES["A"])
+    settings = LoopSettings(ticks=4096, seed=1, disturbances=DISTURBED)
+    for law in ("tracking", "pure-pursuit"):
+        result = run(p, ROBOT, settings, Follower(ROBOT, p, law=law))
+        position, heading = final_error(p, result)
+        assert position < 0.01, law
+        assert heading < math.radians(1.0), law
+        cross = path_distance(p, result.truth[0], result.truth[1])
+        assert cross.max() < 0.02, law
+
+
+def test_a_run_that_never_arrives_gives_up() -> None:
+    p = made("straight 0.2 2s")
+
+    class Stubborn:
+        def command(self, t, pose):
+            return Twist(0.0, 0.0)
+
+        def done(self, t, pose):
+            return False
+
+    result = run(p, ROBOT, LoopSettings(), Stubborn())  # type: ignore[arg-type]
+    assert not result.arrived
+    assert result.duration == pytest.approx(2.0 + 10.0, abs=0.05)
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"rate": 20.0, "control_rate": 50.0},
+        {"rate": math.nan},
+        {"control_rate": -1.0},
+        {"pose_source": "gps"},
+        {"pose_noise": (-0.1, 0.0)},
+    ],
+)
+def test_bad_settings_are_refused(kwargs) -> None:
+    with pytest.raises(ParameterError):
+        LoopSettings(**kwargs)
+
+
+def test_the_distance_from_a_plans_path_in_closed_form() -> None:
+    # A straight from (0, 0) to (1, 0), a ccw quarter circle about (1, 0.5) to (1.5, 0.5), a spin.
+    p = made("straight 1; ccw 0.5 90; spin 90")
+    on_arc = (1.0 + 0.5 * math.sin(math.pi / 4), 0.5 - 0.5 * math.cos(math.pi / 4))
+    points = [(0.5, 0.0), (0.5, 0.2), (-0.3, 0.0), (1.0, 0.5), on_arc, (1.0, 0.7), (1.5, 1.5)]
+    # on the straight; beside it; before its start; the arc's centre; on the arc; beyond the
+    # arc's quarter (nearest its end); above the end.
+    expected = [0.0, 0.2, 0.3, 0.5, 0.0, math.hypot(0.5, 0.2), 1.0]
+    xs, ys = (np.array(column) for column in zip(*points, strict=True))
+    assert path_distance(p, xs, ys) == pytest.approx(expected, abs=1e-12)
+
+
+@pytest.mark.parametrize("text", ["reverse cw 1 90", "reverse ccw 0.5 120", "straight -1"])
+def test_the_distance_from_a_reversing_path(text: str) -> None:
+    p = made(text)
+    poses = [pose_at(p, share * p.duration) for share in (0.0, 0.25, 0.5, 1.0)]
+    xs, ys = np.array([q.x for q in poses]), np.array([q.y for q in poses])
+    assert path_distance(p, xs, ys) == pytest.approx([0.0] * 4, abs=1e-12)
+    mid = poses[2]
+    beside = path_distance(
+        p,
+        np.array([mid.x - 0.1 * math.sin(mid.theta)]),
+        np.array([mid.y + 0.1 * math.cos(mid.theta)]),
+    )
+    assert beside == pytest.approx([0.1], abs=1e-12)

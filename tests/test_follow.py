@@ -1,0 +1,347 @@
+"""The plan follower: feed-forward on the reference, errors that decay, commands within the
+limits, spins, reversing and tiny plans, and both laws arriving."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from robots import BOT_50_RPM
+
+from diffbot.errors import ParameterError
+from diffbot.follow import DWELL, Follower, Gains, default_gains
+from diffbot.kinematics import DiffDriveParams, Pose, inverse
+from diffbot.planfile import parse_plan
+from diffbot.profiles import Limits, PathLimits
+from diffbot.ramps import ramp
+from diffbot.trajectory import EXAMPLES, Arc, Plan, Spin, Straight, plan, pose_at
+
+ROBOT = BOT_50_RPM
+LIMIT = 5.235987755982989
+
+
+def made(text: str, params: DiffDriveParams = ROBOT) -> Plan:
+    return plan(parse_plan(text), params)
+
+
+def wrap(angle: float) -> float:
+    return math.remainder(angle, 2.0 * math.pi)
+
+
+def drive(
+    follower: Follower, start: Pose, *, dt: float = 0.01, extra: float = 10.0
+) -> tuple[Pose, list[tuple[float, float, float]]]:
+    """An ideal unicycle driven by the follower (each command held for dt, exact arcs) until
+    done or the plan's end plus ``extra``; the final pose and (t, v, w) of every command."""
+    x, y, heading = start
+    commands = []
+    t = 0.0
+    while t < follower.duration + extra:
+        pose = Pose(x, y, heading)
+        if follower.done(t, pose):
+            break
+        v, w = follower.command(t, pose)
+        commands.append((t, float(v), float(w)))
+        ds, turn = v * dt, w * dt
+        half = 0.5 * turn
+        chord = ds * (math.sin(half) / half if half else 1.0)
+        x, y = x + chord * math.cos(heading + half), y + chord * math.sin(heading + half)
+        heading += turn
+        t += dt
+    return Pose(x, y, heading), commands
+
+
+segments = st.one_of(
+    st.builds(
+        Straight,
+        st.sampled_from([-1.0, 1.0]).flatmap(lambda s: st.floats(0.05, 2).map(lambda v: s * v)),
+    ),
+    st.builds(
+        Arc,
+        st.floats(0.1, 1.0),
+        st.floats(0.1, 3.0),
+        st.sampled_from(["cw", "ccw"]),
+        reverse=st.booleans(),
+    ),
+    st.builds(
+        Spin, st.sampled_from([-1.0, 1.0]).flatmap(lambda s: st.floats(0.1, 3).map(lambda v: s * v))
+    ),
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(segments, min_size=1, max_size=5), st.floats(0.0, 1.0))
+def test_on_the_reference_the_command_is_the_feed_forward_exactly(items, share):
+    p = plan(items, ROBOT, limit=1e9)
+    follower = Follower(ROBOT, p)
+    t = share * p.duration * 0.999999
+    x, y, heading, v, w = follower.reference(t)
+    expected = pose_at(p, t)
+    assert math.hypot(x - expected.x, y - expected.y) <= 1e-9 * (1 + math.hypot(x, y))
+    assert abs(wrap(heading - expected.theta)) <= 1e-9 * (1 + abs(heading))
+    segment = next(
+        s for s, start in zip(p.segments, p._starts, strict=True) if start <= t < start + s.duration
+    )
+    assert (v, w) == (float(segment.twist.linear), float(segment.twist.angular))
+    command = follower.command(t, Pose(x, y, heading))
+    assert command.linear == pytest.approx(v, rel=1e-12, abs=1e-15)
+    assert command.angular == pytest.approx(w, rel=1e-12, abs=1e-15)
+
+
+def test_a_ramped_reference_is_its_plans_pose_and_speed():
+    steps = made(EXAMPLES["A"])
+    ramped = ramp(
+        steps, Limits(linear=PathLimits(acceleration=0.2), angular=PathLimits(acceleration=1.0))
+    )
+    follower = Follower(ROBOT, ramped)
+    for t in (0.0, 0.3, 5.0, 10.2, 17.0, 33.3, ramped.duration - 1e-3):
+        x, y, heading, v, w = follower.reference(t)
+        expected = ramped.pose_at(t)
+        assert math.hypot(x - expected.x, y - expected.y) < 1e-9
+        assert abs(wrap(heading - expected.theta)) < 1e-9
+        linear, angular = ramped.twist_at(t)
+        assert v == pytest.approx(float(linear), abs=1e-9)
+        assert w == pytest.approx(float(angular), abs=1e-9)
+
+
+def test_known_values_of_kanayamas_law():
+    # 1 m in 10 s; the robot 1 cm to the right of the reference and 2 cm behind, heading 0.
+    p = made("straight 1 10s")
+    follower = Follower(ROBOT, p)
+    g = follower.gains
+    command = follower.command(5.0, Pose(0.48, -0.01, 0.0))
+    assert command.linear == pytest.approx(0.1 + g.kx * 0.02)
+    assert command.angular == pytest.approx(0.1 * g.ky * 0.01)
+    # Heading 0.1 rad to the left of the reference, on it: v_r cos, and the heading terms.
+    command = follower.command(5.0, Pose(0.5, 0.0, 0.1))
+    assert command.linear == pytest.approx(0.1 * math.cos(-0.1))
+    fade = (1.0 - 0.1 * g.ktheta / g.kspin) ** 2
+    assert command.angular == pytest.approx((0.1 * g.ktheta + g.kspin * fade) * math.sin(-0.1))
+
+
+def test_default_gains_of_the_bundled_robot_and_their_scaling():
+    g = default_gains(ROBOT)
+    assert (g.kx, g.kspin) == pytest.approx((2.0, 3.0))
+    assert g.ky == pytest.approx(1.0 / (0.75 * 0.135) ** 2)
+    assert g.ktheta == pytest.approx(2.0 / (0.75 * 0.135))
+    big = default_gains(ROBOT.replace(wheel_separation=1.35, wheel_radius=0.35))
+    assert big.ky == pytest.approx(g.ky / 100.0)
+    slow = default_gains(ROBOT.replace(max_wheel_speed=0.5))
+    top_spin = 2.0 * 0.5 * 0.035 / 0.135
+    assert slow.kspin == pytest.approx(top_spin / (math.pi / 4.0))
+    assert slow.kspin * math.pi / 4.0 <= top_spin * (1 + 1e-12)
+
+
+@pytest.mark.parametrize(
+    ("text", "offset"),
+    [
+        ("straight 1 10s", Pose(0.0, 0.03, 0.1)),
+        ("straight -1 10s", Pose(0.0, 0.03, 0.1)),
+        ("straight -1 10s", Pose(0.0, -0.03, -0.1)),
+        (EXAMPLES["A"], Pose(0.0, -0.03, 0.05)),
+        ("reverse ccw 0.5 90 10s", Pose(0.0, 0.02, -0.08)),
+    ],
+)
+def test_an_offset_start_arrives_forward_and_reversing(text, offset):
+    p = made(text)
+    follower = Follower(ROBOT, p)
+    final, _ = drive(follower, offset)
+    goal = p.final_pose
+    assert math.hypot(final.x - goal.x, final.y - goal.y) <= follower.xy_tolerance
+    assert abs(wrap(final.theta - goal.theta)) <= follower.yaw_tolerance
+
+
+def _tracking_error_over_time(text: str, start: Pose) -> list[float]:
+    p = made(text)
+    follower = Follower(ROBOT, p)
+    x, y, heading = start
+    errors, t, dt = [], 0.0, 0.01
+    while t < p.duration:
+        xr, yr, hr, _, _ = follower.reference(t)
+        errors.append(math.hypot(xr - x, yr - y) + 0.1 * abs(wrap(hr - heading)))
+        v, w = follower.command(t, Pose(x, y, heading))
+        x += v * dt * math.cos(heading + 0.5 * w * dt)
+        y += v * dt * math.sin(heading + 0.5 * w * dt)
+        heading += w * dt
+        t += dt
+    return errors
+
+
+@pytest.mark.parametrize("text", ["straight 1 10s", "straight -1 10s", "reverse cw 0.5 90 10s"])
+def test_the_tracking_error_shrinks_and_reversing_does_not_flip_its_sign(text):
+    errors = _tracking_error_over_time(text, Pose(0.0, 0.03, 0.15))
+    assert errors[-1] < 0.05 * errors[0]
+    # Never grows by more than rounding: a Lyapunov-like decrease on the way.
+    third = len(errors) // 3
+    assert max(errors[third:]) < 0.5 * errors[0]
+
+
+def test_a_spin_in_place_corrects_its_heading_with_no_speed_reference():
+    p = made("spin 90 3s")
+    follower = Follower(ROBOT, p)
+    command = follower.command(1.0, Pose(0.0, 0.0, math.radians(30.0) + 0.1))
+    assert command.linear == pytest.approx(0.0, abs=1e-12)
+    reference_rate = math.radians(90.0) / 3.0
+    assert command.angular < reference_rate  # ahead of the reference: slower
+    final, _ = drive(follower, Pose(0.0, 0.0, 0.2))
+    assert abs(wrap(final.theta - math.pi / 2)) <= follower.yaw_tolerance
+    assert math.hypot(final.x, final.y) <= follower.xy_tolerance
+
+
+def test_arrival_corrects_a_lateral_error_kanayamas_law_leaves():
+    p = made("straight 0.5 5s")
+    follower = Follower(ROBOT, p)
+    # Past the end, 3 cm to the side of the goal and heading along the path.
+    start = Pose(0.5, 0.03, 0.0)
+    x, y, heading = start
+    t, dt = p.duration, 0.01
+    while not follower.done(t, Pose(x, y, heading)) and t < p.duration + 30.0:
+        v, w = follower.command(t, Pose(x, y, heading))
+        x += v * dt * math.cos(heading + 0.5 * w * dt)
+        y += v * dt * math.sin(heading + 0.5 * w * dt)
+        heading += w * dt
+        t += dt
+    assert follower.done(t, Pose(x, y, heading))
+    assert math.hypot(x - 0.5, y) <= follower.xy_tolerance
+    assert abs(wrap(heading)) <= follower.yaw_tolerance
+
+
+def test_a_tiny_plan_is_followed_without_dividing_by_its_length():
+    for law in ("tracking", "pure-pursuit"):
+        p = made("straight 1e-6 1s")
+        follower = Follower(ROBOT, p, law=law)
+        final, commands = drive(follower, Pose(0.0, 0.0, 0.0))
+        assert all(math.isfinite(v) and math.isfinite(w) for _, v, w in commands)
+        assert math.hypot(final.x, final.y) <= follower.xy_tolerance
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    st.floats(-5, 5),
+    st.floats(-5, 5),
+    st.floats(-10, 10),
+    st.floats(0, 60),
+    st.sampled_from(["tracking", "pure-pursuit"]),
+)
+def test_every_command_is_within_the_motor_limit_and_keeps_its_curvature(x, y, heading, t, law):
+    p = made(EXAMPLES["B"])
+    follower = Follower(ROBOT, p, law=law, gains={"kx": 50.0, "kspin": 40.0})
+    v, w = follower.command(t, Pose(x, y, heading))
+    wheels = inverse(ROBOT, v, w)
+    assert max(abs(wheels.left), abs(wheels.right)) <= LIMIT * (1 + 1e-9)
+    free = Follower(
+        ROBOT.replace(max_wheel_speed=None), p, law=law, gains={"kx": 50.0, "kspin": 40.0}
+    )
+    fv, fw = free.command(t, Pose(x, y, heading))
+    # Saturation scales both velocities alike: the same curvature.
+    assert v * fw == pytest.approx(w * fv, abs=1e-9)
+
+
+def test_commands_keep_a_ramped_plans_acceleration_limits():
+    steps = made("straight 1 10s")
+    ramped = ramp(
+        steps, Limits(linear=PathLimits(acceleration=0.1), angular=PathLimits(acceleration=0.5))
+    )
+    follower = Follower(ROBOT, ramped)
+    last_v, dt = 0.0, 0.05
+    # Far behind: the feedback asks for a jump the limiter spreads out.
+    for k in range(1, 40):
+        v, _ = follower.command(k * dt, Pose(-0.5, 0.0, 0.0))
+        assert abs(v - last_v) <= 0.1 * dt * (1 + 1e-9) + 1e-12
+        last_v = v
+    assert last_v > 0.0
+
+
+def test_pure_pursuit_steers_by_the_lookahead_points_curvature():
+    p = made("straight 2 20s")
+    follower = Follower(ROBOT, p, law="pure-pursuit", lookahead=0.2)
+    v, w = follower.command(0.0, Pose(0.5, -0.05, 0.0))
+    # The lookahead point: on the path 0.2 m from the robot, lateral 0.05 m to its left.
+    expected = 2.0 * 0.05 / 0.2**2
+    assert v > 0.0
+    assert w / v == pytest.approx(expected, rel=1e-3)
+
+
+def test_pure_pursuit_reverses_along_a_reverse_leg():
+    p = made("straight -1 10s")
+    follower = Follower(ROBOT, p, law="pure-pursuit", lookahead=0.2)
+    v, w = follower.command(0.0, Pose(-0.3, 0.05, 0.0))
+    assert v < 0.0
+    # Backing up toward a path to the right (y = 0): the rear swings right, the heading turns ccw.
+    assert w > 0.0
+    final, _ = drive(follower, Pose(0.0, 0.02, 0.05), extra=40.0)
+    assert math.hypot(final.x + 1.0, final.y) <= follower.xy_tolerance
+    assert abs(wrap(final.theta)) <= follower.yaw_tolerance
+
+
+@pytest.mark.parametrize("text", [EXAMPLES["A"], "straight 0.5; spin 90; straight -0.3; cw 0.3 45"])
+def test_pure_pursuit_arrives_with_the_goal_heading(text):
+    p = made(text)
+    follower = Follower(ROBOT, p, law="pure-pursuit")
+    final, commands = drive(follower, Pose(0.0, 0.0, 0.0), extra=60.0)
+    goal = p.final_pose
+    assert follower.done(commands[-1][0] + DWELL + 1.0, final)
+    assert math.hypot(final.x - goal.x, final.y - goal.y) <= follower.xy_tolerance
+    assert abs(wrap(final.theta - goal.theta)) <= follower.yaw_tolerance
+
+
+def test_done_only_past_the_end_within_the_tolerances_for_the_dwell():
+    p = made("straight 1 10s")
+    follower = Follower(ROBOT, p)
+    goal = Pose(1.0, 0.0, 0.0)
+    assert not follower.done(9.9, goal)
+    assert not follower.done(10.0, goal)  # the dwell starts
+    assert follower.done(10.0 + DWELL, goal)
+    assert not follower.done(11.0, Pose(1.0, 0.006, 0.0))
+    assert not follower.done(11.1, Pose(1.0, 0.0, math.radians(0.6)))
+    assert follower.command(11.2, goal) == (0.0, 0.0)
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"law": "stanley"},
+        {"gains": {"kx": -1.0}},
+        {"gains": {"ky": math.nan}},
+        {"gains": {"gain": 1.0}},
+        {"gains": Gains(1, 1, 1, 1, 1, 1, 0)},
+        {"xy_tolerance": 0.0},
+        {"yaw_tolerance": math.inf},
+        {"lookahead": -0.1},
+        {"law": "pure-pursuit", "lookahead": 0.0},
+    ],
+)
+def test_bad_settings_are_refused(kwargs):
+    with pytest.raises(ParameterError):
+        Follower(ROBOT, made("straight 1"), **kwargs)
+
+
+def test_a_command_costs_under_20_microseconds():
+    import time
+
+    p = made(EXAMPLES["A"])
+    follower = Follower(ROBOT, p)
+    poses = [Pose(*follower.reference(0.05 * k)[:3]) for k in range(800)]
+    poses = [Pose(pose.x + 0.003, pose.y - 0.002, pose.theta + 0.01) for pose in poses]
+    best = math.inf
+    for _ in range(3):
+        # CPU time: other processes on a loaded machine do not count against it.
+        start = time.process_time()
+        for k, pose in enumerate(poses):
+            follower.command(0.05 * k, pose)
+        best = min(best, (time.process_time() - start) / len(poses))
+    assert best < 20e-6
+
+
+def test_a_lead_time_takes_the_feed_forward_ahead_of_the_reference_pose():
+    # A straight, then a spin: 0.1 s before the corner, a 0.2 s lead already asks for the spin.
+    p = made("straight 1 10s; spin 90 2s")
+    follower = Follower(ROBOT, p, lookahead=0.2)
+    x, y, heading, _, _ = follower.reference(9.9)
+    command = follower.command(9.9, Pose(x, y, heading))
+    assert command.linear == pytest.approx(0.0, abs=1e-12)
+    assert command.angular == pytest.approx(math.radians(90.0) / 2.0, rel=1e-12)
+    plain = Follower(ROBOT, p).command(9.9, Pose(x, y, heading))
+    assert plain == pytest.approx((0.1, 0.0), abs=1e-12)
