@@ -11,8 +11,7 @@ Quick use::
 SI units throughout: metres, seconds, radians, rad/s.
 """
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from diffbot.errors import (
     DescriptionError,
@@ -42,6 +41,7 @@ from diffbot.kinematics import (
     wheel_from_joint,
     within_limit,
 )
+from diffbot.lazy import lazy_names
 from diffbot.urdf import BUNDLED_DESCRIPTION, derive_params, expand, load_params
 
 # Plans and odometry load on first use: most commands need neither, and they would add to the
@@ -107,17 +107,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'diffbot' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value  # later lookups skip this function
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*globals(), *_LAZY])
+__getattr__, __dir__ = lazy_names("diffbot", _LAZY, globals())
 
 
 __version__ = "0.1.0"

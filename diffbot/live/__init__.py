@@ -8,8 +8,9 @@ by ``import diffbot``; :mod:`diffbot.live.cyclone` is the only module that impor
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from diffbot.lazy import lazy_names
 
 if TYPE_CHECKING:
     from diffbot.live.drive import Driver, DriveReport, DriveSettings
@@ -49,8 +50,6 @@ _HOMES = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    home = _HOMES.get(name)
-    if home is None:
-        raise AttributeError(f"module 'diffbot.live' has no attribute {name!r}")
-    return getattr(importlib.import_module(f"diffbot.live.{home}"), name)
+__getattr__, __dir__ = lazy_names(
+    "diffbot.live", {name: f"diffbot.live.{home}" for name, home in _HOMES.items()}, globals()
+)
