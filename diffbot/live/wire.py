@@ -67,6 +67,14 @@ def _number_problem(value: float, bound: float) -> str | None:
     return None
 
 
+def _values_problem(values: Sequence[float], bound: float) -> str | None:
+    for value in values:
+        problem = _number_problem(value, bound)
+        if problem is not None:
+            return problem
+    return None
+
+
 def twist_problem(linear: float, angular: float) -> str | None:
     """Why a velocity command of ``linear`` (m/s) and ``angular`` (rad/s) is refused, or
     None."""
@@ -78,11 +86,7 @@ def wheel_problem(values: Sequence[float], joints: int) -> str | None:
     None."""
     if len(values) != joints:
         return WRONG_LENGTH
-    for value in values:
-        problem = _number_problem(value, MAX_JOINT_SPEED)
-        if problem is not None:
-            return problem
-    return None
+    return _values_problem(values, MAX_JOINT_SPEED)
 
 
 def joint_state_problem(
@@ -95,11 +99,7 @@ def joint_state_problem(
     now = time.time_ns() if now_ns is None else now_ns
     if sec * 1_000_000_000 + nanosec - now > MAX_STAMP_AHEAD_NS:
         return STAMPED_AHEAD
-    for value in positions:
-        problem = _number_problem(value, MAX_JOINT_ANGLE)
-        if problem is not None:
-            return problem
-    return None
+    return _values_problem(positions, MAX_JOINT_ANGLE)
 
 
 class Refusals:
