@@ -9,7 +9,8 @@ from typing import Any
 from diffbot.formats.robot import robot_json
 from diffbot.kinematics import Pose, rpm_from_rad_s
 from diffbot.planfile import format_plan, format_segment
-from diffbot.trajectory import Plan, describe_segment
+from diffbot.segments import describe_segment
+from diffbot.trajectory import Plan
 
 __all__ = ["plan_csv", "plan_json", "pose_json"]
 

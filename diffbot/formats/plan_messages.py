@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from diffbot.formats.text import fmt, one_line
 from diffbot.ros.messages import array_yaml, command_type, command_yaml
-from diffbot.trajectory import Plan, PlannedSegment, describe_segment
+from diffbot.segments import describe_segment
+from diffbot.trajectory import Plan, PlannedSegment
 
 __all__ = ["plan_twist", "plan_wheels", "segment_note"]
 

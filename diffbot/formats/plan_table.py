@@ -7,7 +7,8 @@ import math
 from diffbot.formats.text import ceil_text, fixed, fmt
 from diffbot.kinematics import DiffDriveParams, rpm_from_rad_s
 from diffbot.planfile import format_plan
-from diffbot.trajectory import Plan, Violation, describe_segment
+from diffbot.segments import describe_segment
+from diffbot.trajectory import Plan, Violation
 
 #: Significant digits of the plan text above the table (machine outputs keep every digit).
 HEADER_DIGITS = 6
