@@ -179,14 +179,29 @@ class DiffbotGroup(SuggestingGroup):
         except click.Abort:
             _error("aborted", 130)
         except (BrokenPipeError, _PipeClosedError):
-            # The reader went away (``| head``). Exit as a process killed by SIGPIPE would, and
-            # point stdout at /dev/null so the flush at exit cannot fail again.
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, sys.stdout.fileno())
+            # The reader went away (``| head``): exit as a process killed by SIGPIPE would.
+            _drop_stdout()
             sys.exit(128 + 13)
         except OSError as err:
+            _flush_or_drop_stdout()
             _error(f"{err.filename + ': ' if err.filename else ''}{err.strerror or err}", 2)
         return code
+
+
+def _drop_stdout() -> None:
+    """Point stdout at /dev/null, so that the flush at exit of what it still holds cannot fail
+    again (and print a traceback and exit 120)."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    os.close(devnull)
+
+
+def _flush_or_drop_stdout() -> None:
+    """Write out what stdout holds, or drop it when stdout cannot take it (a full disk)."""
+    try:
+        sys.stdout.flush()
+    except OSError:
+        _drop_stdout()
 
 
 def _error(message: str, code: int) -> NoReturn:

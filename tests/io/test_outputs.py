@@ -206,7 +206,12 @@ def test_a_full_disk_under_a_bag_is_one_error_line(
     assert list(tmp_path.iterdir()) == []
 
 
-def test_stdout_on_a_full_disk_is_one_error_line() -> None:
+@pytest.mark.parametrize("unbuffered", [False, True])
+def test_stdout_on_a_full_disk_is_one_error_line(unbuffered: bool) -> None:
+    # A shell as a new user has it: stdout buffered unless PYTHONUNBUFFERED says otherwise.
+    env = {name: os.environ[name] for name in ("PATH", "HOME", "LANG") if name in os.environ}
+    if unbuffered:
+        env["PYTHONUNBUFFERED"] = "1"
     with open("/dev/full", "w", encoding="utf-8") as full:
         done = subprocess.run(
             [sys.executable, "-m", "diffbot", "plan", "straight 1"],
@@ -215,6 +220,8 @@ def test_stdout_on_a_full_disk_is_one_error_line() -> None:
             text=True,
             timeout=30,
             check=False,
+            env=env,
+            cwd=Path(diffbot.__file__).parent.parent,
         )
     assert done.returncode == 2, done.stderr
     one_error_line(done.stderr, "No space left on device")
