@@ -59,6 +59,7 @@ __all__ = [
     "OutsideRootsError",
     "PackageNotFoundError",
     "ParameterError",
+    "PathError",
     "PlanError",
     "RecordingError",
     "RefusedExpressionError",
@@ -129,6 +130,10 @@ class ExpansionLimitError(SandboxError):
 
 class DriveWheelError(DescriptionError):
     """No drive wheels, or more than two without a way to choose, or a wheel without a radius."""
+
+
+class PathError(DiffbotError):
+    """A path cannot be resolved: a loop of symbolic links, a name too long, no permission."""
 
 
 class PlanError(DiffbotError):

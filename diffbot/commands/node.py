@@ -19,6 +19,7 @@ from diffbot.commands.options import (
     true_geometry_options,
     warn,
 )
+from diffbot.commands.paths import InputPath
 from diffbot.commands.plan_options import check_topic
 from diffbot.kinematics import DiffDriveParams
 
@@ -42,7 +43,7 @@ def node() -> None:
 
 
 @node.command("odom")
-@click.argument("description", required=False, metavar="[ROBOT]")
+@click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
 @robot_options
 @click.option(
     "--joint-states",
@@ -127,7 +128,7 @@ def odom(
 
 
 @node.command("ik")
-@click.argument("description", required=False, metavar="[ROBOT]")
+@click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
 @robot_options
 @click.option(
     "--cmd-vel",
@@ -242,7 +243,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
 
 
 @node.command("robot")
-@click.argument("description", required=False, metavar="[ROBOT]")
+@click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
 @robot_options
 @click.option(
     "--rate",

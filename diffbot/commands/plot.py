@@ -18,6 +18,7 @@ from diffbot.commands.options import (
     topic_option,
     warn,
 )
+from diffbot.commands.paths import InputPath
 from diffbot.commands.plan_options import PlanOptions, plan_arguments
 from diffbot.commands.recording_options import (
     RecordingOptions,
@@ -203,6 +204,7 @@ def _reference(
 @click.option(
     "--odom",
     "odom_inputs",
+    type=InputPath(allow_dash=True),
     metavar="INPUT",
     multiple=True,
     help="A recording of the wheel joints (CSV or rosbag2, as for 'diffbot odom') whose "

@@ -29,6 +29,7 @@ import numpy as np
 from diffbot.errors import DiffbotError, RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.bag import BAG_INSTALL_HINT, DEFAULT_TOPIC, JOINT_STATE, bag_suffix
+from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular
 
 if TYPE_CHECKING:
@@ -68,7 +69,7 @@ def _unreadable(source: str, err: Exception) -> BagError:
 
 
 def _open_uri(path: Path) -> sqlite3.Connection:
-    return sqlite3.connect(path.resolve().as_uri() + "?mode=ro&immutable=1", uri=True)
+    return sqlite3.connect(resolved(path, BagError).as_uri() + "?mode=ro&immutable=1", uri=True)
 
 
 class _SqlitePlan(NamedTuple):

@@ -24,7 +24,9 @@ from pathlib import Path
 from typing import Final
 from xml.etree import ElementTree
 
+from diffbot.errors import DescriptionError, PackageNotFoundError
 from diffbot.io.outputs import note_input
+from diffbot.io.pathnames import resolved
 
 __all__ = [
     "MAX_DEPTH",
@@ -68,7 +70,7 @@ def package_name(folder: Path) -> str:
 
 def own_package(description: Path) -> Path | None:
     """The folder of the package a description lies in, or None when it lies in none."""
-    folder = description.resolve().parent
+    folder = resolved(description, DescriptionError).parent
     for candidate in [folder, *folder.parents][:PACKAGE_LEVELS]:
         if candidate == Path(candidate.anchor):
             break
@@ -166,7 +168,7 @@ class PackageFinder:
                 return candidate
         for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
             if entry and Path(entry).is_dir():
-                found = packages_under(Path(entry).resolve()).get(name)
+                found = packages_under(resolved(entry, PackageNotFoundError)).get(name)
                 if found is not None:
                     return found
         return None
