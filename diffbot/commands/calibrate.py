@@ -13,6 +13,7 @@ from diffbot.commands.groups import SuggestingGroup
 from diffbot.commands.options import (
     NUMBERS,
     POSITIVE,
+    Count,
     NumberPair,
     RobotOptions,
     emit_json,
@@ -333,7 +334,7 @@ def umbmark(
 )
 @click.option(
     "--window",
-    type=click.IntRange(min=1),
+    type=Count(1),
     metavar="N",
     help="Sample intervals per window (default 50).",
 )

@@ -11,6 +11,7 @@ from diffbot.commands.options import (
     MAX_PUBLISH_RATE,
     NON_NEGATIVE,
     POSITIVE,
+    Count,
     FiniteFloat,
     RobotOptions,
     encoder_noise_options,
@@ -75,7 +76,7 @@ def node() -> None:
 )
 @click.option(
     "--window",
-    type=click.IntRange(min=1),
+    type=Count(1),
     metavar="N",
     help="Velocity rolling window in steps [controllers file, else 1].",
 )
@@ -276,7 +277,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
 )
 @click.option(
     "--ticks",
-    type=click.IntRange(min=1, max=2**32),
+    type=Count(1, 2**32),
     metavar="N",
     help="Encoder resolution (counts per revolution): quantise the reported wheel angles.",
 )

@@ -141,7 +141,7 @@ def _error_text(result: OdometryResult) -> str:
 @click.option(
     "--jobs",
     "-j",
-    type=click.IntRange(min=1),
+    type=opt.Count(1),
     default=1,
     show_default=True,
     metavar="N",

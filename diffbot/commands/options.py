@@ -31,13 +31,20 @@ from diffbot.commands.paths import check_out as check_out
 from diffbot.commands.paths import file_output as file_output
 from diffbot.commands.paths import out_options as out_options
 from diffbot.commands.paths import output_option as output_option
+from diffbot.errors import DescriptionError
 from diffbot.io.pathnames import resolved
+from diffbot.io.textfile import open_regular
 from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
-from diffbot.numbers import MAX_NOISE, MAX_PLAN_DURATION, WHEEL_SIZE_RANGE
+from diffbot.numbers import MAX_COUNT, MAX_NOISE, MAX_PLAN_DURATION, WHEEL_SIZE_RANGE
 from diffbot.urdf import load_params
 
 
-class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+class CheckedNumber(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+    """Base of the types of every numeric option and argument: each refuses, as click converts
+    it, NaN, infinities, and values outside its range (integers of sane size)."""
+
+
+class FiniteFloat(CheckedNumber):
     """A finite float, optionally bounded; rejects NaN and infinities."""
 
     name = "number"
@@ -71,7 +78,7 @@ class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
         return number
 
 
-class NumberPair(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+class NumberPair(CheckedNumber):
     """Two finite numbers, comma-separated (``X,Y``), optionally both positive."""
 
     def __init__(
@@ -119,6 +126,13 @@ class NumberPair(click.ParamType):  # type: ignore[type-arg,unused-ignore]
                     f"{value!r}: both must be from {low:g} to {high:g} {self.unit}", param, ctx
                 )
         return first, second
+
+
+class Count(click.IntRange, CheckedNumber):  # type: ignore[type-arg,unused-ignore,misc]
+    """A whole number from ``minimum`` to ``maximum`` (both given: no count is unbounded)."""
+
+    def __init__(self, minimum: int, maximum: int = MAX_COUNT) -> None:
+        super().__init__(min=minimum, max=maximum)
 
 
 class Names(click.Choice):  # type: ignore[type-arg,unused-ignore]
@@ -368,9 +382,9 @@ def xml_root(path: Path) -> str | None:
     """The name of the root element of an XML file (without namespace prefix), read from its
     head only; None when the file is not XML or cannot be read."""
     try:
-        with path.open("rb") as stream:
+        with open(open_regular(path, DescriptionError, "a description"), "rb") as stream:
             head = stream.read(_HEAD_BYTES)
-    except OSError:
+    except (OSError, DescriptionError):
         return None
     head = head.removeprefix(b"\xef\xbb\xbf")
     position = 0
@@ -478,7 +492,7 @@ def encoder_noise_options(command: F) -> F:
     Gaussian noise, for ``simulate`` and ``node robot`` alike."""
     command = click.option(
         "--seed",
-        type=click.IntRange(min=0, max=2**64 - 1),
+        type=Count(0, 2**64 - 1),
         metavar="N",
         help="Seed of the noise (0 to 2**64-1), for reproducible runs.",
     )(command)

@@ -30,7 +30,7 @@ from diffbot.errors import DiffbotError, RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.bag import BAG_INSTALL_HINT, DEFAULT_TOPIC, JOINT_STATE, bag_suffix
 from diffbot.io.pathnames import resolved
-from diffbot.io.textfile import check_regular
+from diffbot.io.textfile import check_regular, read_text
 
 if TYPE_CHECKING:
     from numpy.typing import NDArray
@@ -146,7 +146,7 @@ def _sqlite_plan(path: Path, scratch: Path | None = None) -> _SqlitePlan | None:
         from diffbot.io.yamlfile import load_yaml
 
         metadata = path / "metadata.yaml"
-        text = metadata.read_text(encoding="utf-8")
+        text = read_text(metadata, BagError, "bag metadata")
         info: Any = load_yaml(text, str(metadata), BagError, "bag metadata")
         info = info["rosbag2_bagfile_information"]
         mode = str(info.get("compression_mode") or "").lower()

@@ -25,8 +25,8 @@ from typing import Final
 from xml.etree import ElementTree
 
 from diffbot.errors import DescriptionError, PackageNotFoundError
-from diffbot.io.outputs import note_input
 from diffbot.io.pathnames import resolved
+from diffbot.io.textfile import read_text
 
 __all__ = [
     "MAX_DEPTH",
@@ -59,10 +59,10 @@ _IGNORE_MARKERS = ("COLCON_IGNORE", "CATKIN_IGNORE", "AMENT_IGNORE")
 def package_name(folder: Path) -> str:
     """A package's name: the ``<name>`` of its ``package.xml``, else the folder's name."""
     manifest = folder / "package.xml"
-    with contextlib.suppress(OSError, ElementTree.ParseError, ValueError):
-        if manifest.is_file() and manifest.stat().st_size <= MAX_MANIFEST:
-            note_input(manifest)  # read: no output may replace it
-            name = ElementTree.parse(manifest).getroot().findtext("name")
+    with contextlib.suppress(OSError, ElementTree.ParseError, ValueError, DescriptionError):
+        if manifest.is_file():
+            text = read_text(manifest, DescriptionError, "a package.xml", max_chars=MAX_MANIFEST)
+            name = ElementTree.fromstring(text).findtext("name")
             if name and name.strip():
                 return name.strip()
     return folder.name
