@@ -10,7 +10,8 @@ recording this tool could have written (``metadata.yaml`` and storage files, not
 and never anything but a regular file or such a directory (a device, a FIFO, a socket).
 
 Every file a run reads is noted (:func:`note_input`) while a run is guarded (:func:`guarded_run`,
-which the command line opens around every command): the files named on the command line before
+which the command line opens around every command): the paths of the command line as click
+parses them (options and arguments of the path types of :mod:`diffbot.commands.paths`), before
 the command starts, and each file as its reader opens it (descriptions and what they include,
 controllers files, plans, recordings, truth files). Every output check here compares the output
 with all of them, so a command cannot forget one.
@@ -62,7 +63,7 @@ def guarded_run(inputs: Iterable[str | os.PathLike[str]] = ()) -> Iterator[None]
     """Guard one run: the inputs noted inside it are kept off every output checked inside it.
 
     Args:
-        inputs: inputs known from the start (the files named on the command line).
+        inputs: inputs known from the start.
     """
     global _noted
     with _noted_lock:
