@@ -71,33 +71,6 @@ FLAGS = {
 }
 
 
-#: The options whose value is an output: the only paths on a command line that are not inputs.
-OUTPUT_OPTIONS = frozenset({"-o", "--out", "--output"})
-
-
-def named_inputs(tokens: Sequence[str]) -> list[str]:
-    """The existing files and folders a command line names, but for output option values: the
-    inputs of the run, known before any output is opened (``--opt=VALUE`` counts as VALUE;
-    ``-`` and ``NAME:=VALUE`` xacro arguments are no paths)."""
-    found: list[str] = []
-    after_output = False
-    for token in tokens:
-        value: str | None = token
-        if after_output:
-            value, after_output = None, False
-        elif token in OUTPUT_OPTIONS:
-            value, after_output = None, True
-        elif token.startswith("-") and token != "-":
-            option, equals, given = token.partition("=")
-            shortcut = token.startswith("-o") and not token.startswith("--")
-            value = None if option in OUTPUT_OPTIONS or shortcut else given if equals else None
-        elif ":=" in token:
-            value = None
-        if value and value != "-" and os.path.lexists(value):
-            found.append(value)
-    return found
-
-
 #: Signals that end a run as Ctrl-C does: by an exception, so that temporary files are removed.
 _ENDING_SIGNALS = tuple(
     getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)
@@ -148,9 +121,10 @@ class DiffbotGroup(SuggestingGroup):
             _error("standard output is closed: nowhere to write the results", 2)
         ending = _ENDING_SIGNALS if threading.current_thread() is threading.main_thread() else ()
         saved = {signum: signal.signal(signum, _end_run) for signum in ending}
-        tokens = list(sys.argv[1:] if args is None else args)
         try:
-            with guarded_run(named_inputs(tokens)):
+            # The inputs are noted as click converts the arguments of path types, and as the
+            # readers open files: all within the guarded run.
+            with guarded_run():
                 code = self._run(args, prog_name, complete_var, **extra)
         finally:
             for signum, handler in saved.items():
@@ -183,14 +157,29 @@ class DiffbotGroup(SuggestingGroup):
         except click.Abort:
             _error("aborted", 130)
         except (BrokenPipeError, _PipeClosedError):
-            # The reader went away (``| head``). Exit as a process killed by SIGPIPE would, and
-            # point stdout at /dev/null so the flush at exit cannot fail again.
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, sys.stdout.fileno())
+            # The reader went away (``| head``): exit as a process killed by SIGPIPE would.
+            _drop_stdout()
             sys.exit(128 + 13)
         except OSError as err:
+            _flush_or_drop_stdout()
             _error(f"{err.filename + ': ' if err.filename else ''}{err.strerror or err}", 2)
         return code
+
+
+def _drop_stdout() -> None:
+    """Point stdout at /dev/null, so that the flush at exit of what it still holds cannot fail
+    again (and print a traceback and exit 120)."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    os.close(devnull)
+
+
+def _flush_or_drop_stdout() -> None:
+    """Write out what stdout holds, or drop it when stdout cannot take it (a full disk)."""
+    try:
+        sys.stdout.flush()
+    except OSError:
+        _drop_stdout()
 
 
 def _error(message: str, code: int) -> NoReturn:

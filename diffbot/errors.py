@@ -64,6 +64,7 @@ __all__ = [
     "OutsideRootsError",
     "PackageNotFoundError",
     "ParameterError",
+    "PathError",
     "PlanError",
     "RecordingError",
     "RefusedExpressionError",
@@ -139,6 +140,10 @@ class DriveWheelError(DescriptionError):
 class NotDifferentialError(DescriptionError):
     """The robot is no differential drive: its wheels steer, or it runs a steering, mecanum or
     omnidirectional controller."""
+
+
+class PathError(DiffbotError):
+    """A path cannot be resolved: a loop of symbolic links, a name too long, no permission."""
 
 
 class PlanError(DiffbotError):

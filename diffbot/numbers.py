@@ -14,6 +14,7 @@ from diffbot.errors import DiffbotError, ParameterError
 
 __all__ = [
     "MAX_COORDINATE",
+    "MAX_COUNT",
     "MAX_NOISE",
     "MAX_PLAN_DURATION",
     "MAX_PLAN_SAMPLES",
@@ -44,6 +45,10 @@ MAX_COORDINATE = 1e9
 #: Largest standard deviation of simulated encoder noise (rad): a revolution. Beyond it a
 #: reading says nothing of the angle.
 MAX_NOISE = 2.0 * math.pi
+
+#: Largest count an option takes (processes, samples per window, ticks per revolution): beyond
+#: it a count is a mistake, and an integer of hundreds of digits is refused before any use.
+MAX_COUNT = 2**32
 
 #: Largest total turn a plan may make (rad): about 160 million turns, where a float still
 #: holds the heading to a tenth of a microradian.

@@ -13,6 +13,7 @@ from diffbot.commands.groups import SuggestingGroup
 from diffbot.commands.options import (
     NUMBERS,
     POSITIVE,
+    Count,
     NumberPair,
     RobotOptions,
     emit_json,
@@ -24,6 +25,7 @@ from diffbot.commands.options import (
     split_xacro_args,
     topic_option,
 )
+from diffbot.commands.paths import InputPath, input_path
 from diffbot.commands.plan_options import check_topic
 from diffbot.commands.recording_options import (
     RecordingOptions,
@@ -33,6 +35,7 @@ from diffbot.commands.recording_options import (
 from diffbot.errors import CalibrationError
 from diffbot.formats.calibration import calibration_data, calibration_lines
 from diffbot.formats.text import fmt
+from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import read_text
 from diffbot.kinematics import DiffDriveParams
 from diffbot.numbers import finite_in_range, shown
@@ -87,6 +90,7 @@ _output_options = option_group(
         click.option("--json", "as_json", is_flag=True, help="Machine-readable output."),
         click.option(
             "--apply-to",
+            type=InputPath(),
             metavar="FILE",
             help="Write a calibrated copy of FILE beside it (FILE.calibrated...): a controllers "
             "YAML gets the multipliers of the robot's diff-drive controller, a .urdf/.xacro the "
@@ -108,7 +112,7 @@ def _read_back(robot: RobotOptions, path: Path) -> Callable[[Path], DiffDrivePar
     """How to load a calibrated copy of the description ``path``: as the robot was loaded
     (its packages, joints, trust; its xacro arguments when it is the robot's own description)
     but without the overrides and arguments of the calibrated values themselves."""
-    same = robot.robot is not None and Path(robot.robot).resolve() == path.resolve()
+    same = robot.robot is not None and resolved(robot.robot) == resolved(path)
     args = {
         name: value
         for name, value in (robot.xacro_args.items() if same else ())
@@ -255,7 +259,10 @@ def _runs_file(path: str) -> tuple[list[tuple[float, float]], list[tuple[float, 
     help="End of a counter-clockwise run.",
 )
 @click.option(
-    "--runs", metavar="FILE", help="The ends in a file: CSV direction,x,y or YAML {cw, ccw}."
+    "--runs",
+    type=InputPath(),
+    metavar="FILE",
+    help="The ends in a file: CSV direction,x,y or YAML {cw, ccw}.",
 )
 @click.option(
     "--exact",
@@ -315,6 +322,7 @@ def umbmark(
 @recording_options
 @click.option(
     "--truth",
+    type=InputPath(),
     metavar="FILE",
     multiple=True,
     help="The ground truth: a CSV with time, x, y, theta, or a bag. Default: INPUT itself. "
@@ -327,7 +335,7 @@ def umbmark(
 )
 @click.option(
     "--window",
-    type=click.IntRange(min=1),
+    type=Count(1),
     metavar="N",
     help="Sample intervals per window (default 50).",
 )
@@ -386,8 +394,10 @@ def fit(
     from diffbot.io.poses import read_pose_track
 
     require_scipy()
+    # the recordings are inputs before the output is checked
+    rest = [input_path(token) for token in split_xacro_args(tokens)[0]]
     output.check()
-    rest, robot, params = _robot(robot, tokens)
+    _, robot, params = _robot(robot, tokens)
     if not rest:
         fail("give an INPUT: the recording of wheel joint positions")
     recording.check_robot(robot, params)

@@ -18,6 +18,7 @@ from diffbot.commands.live import (
     run_node,
 )
 from diffbot.commands.options import (
+    Count,
     RobotOptions,
     encoder_noise_options,
     quiet_option,
@@ -25,6 +26,7 @@ from diffbot.commands.options import (
     true_geometry_options,
     warn,
 )
+from diffbot.commands.paths import InputPath
 from diffbot.kinematics import DiffDriveParams
 
 if TYPE_CHECKING:
@@ -50,7 +52,7 @@ def node() -> None:
 
 
 @node.command("odom")
-@click.argument("description", required=False, metavar="[ROBOT]")
+@click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
 @robot_options
 @click.option(
     "--joint-states",
@@ -82,7 +84,7 @@ def node() -> None:
 )
 @click.option(
     "--window",
-    type=click.IntRange(min=1),
+    type=Count(1),
     metavar="N",
     help="Velocity rolling window in steps [controllers file, else 1].",
 )
@@ -141,7 +143,7 @@ def odom(
 
 
 @node.command("ik")
-@click.argument("description", required=False, metavar="[ROBOT]")
+@click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
 @robot_options
 @click.option(
     "--cmd-vel",
@@ -269,7 +271,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
 
 
 @node.command("robot")
-@click.argument("description", required=False, metavar="[ROBOT]")
+@click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
 @robot_options
 @click.option(
     "--rate",
@@ -302,7 +304,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
 )
 @click.option(
     "--ticks",
-    type=click.IntRange(min=1, max=2**32),
+    type=Count(1, 2**32),
     metavar="N",
     help="Encoder resolution (counts per revolution): quantise the reported wheel angles.",
 )

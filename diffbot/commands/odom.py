@@ -16,6 +16,7 @@ import click
 
 from diffbot.commands import options as opt
 from diffbot.commands.options import OutOptions, RobotOptions
+from diffbot.commands.paths import input_path
 from diffbot.commands.progress import progress
 from diffbot.commands.recording_options import (
     RecordingOptions,
@@ -27,7 +28,7 @@ from diffbot.commands.recording_options import (
 )
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
-from diffbot.io.outputs import check_not_input, note_input
+from diffbot.io.outputs import check_not_input
 from diffbot.odometry import SKIP_MISSING_JOINT
 
 if TYPE_CHECKING:
@@ -53,7 +54,7 @@ def _expand(sources: list[str]) -> list[str]:
             found.extend(matches)
         else:
             found.append(source)
-    return found
+    return [input_path(source) for source in found]  # all of them before any output
 
 
 def _stdin_stream() -> io.TextIOWrapper:
@@ -141,7 +142,7 @@ def _error_text(result: OdometryResult) -> str:
 @click.option(
     "--jobs",
     "-j",
-    type=click.IntRange(min=1),
+    type=opt.Count(1),
     default=1,
     show_default=True,
     metavar="N",
@@ -231,8 +232,6 @@ def odom(
     if len(sources) > 1:
         if "-" in sources:
             opt.fail("- (a CSV on stdin) cannot be read with other inputs")
-        for source in sources:  # all of them before any output is written
-            note_input(source)
         p = robot.load()
         recording.check_robot(robot, p)
         outputs = _outputs(sources, out)

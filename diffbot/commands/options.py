@@ -1,72 +1,50 @@
-"""What the commands share: option types, the robot options, the plan options, messages.
+"""What the commands share: number types, the robot options, descriptions among arguments.
 
 The library never imports click: commands convert their arguments here, call the library, and
-format its results.
+format its results. Path types and output options are :mod:`diffbot.commands.paths`'; errors
+and messages :mod:`diffbot.commands.messages`'.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import difflib
-import functools
-import json
 import math
-import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NoReturn, TypeVar
+from typing import Any
 
 import click
 
-from diffbot.errors import EXIT_BAD_INPUT
-from diffbot.io.outputs import input_clash
+from diffbot.commands.messages import InputError as InputError
+from diffbot.commands.messages import emit_json as emit_json
+from diffbot.commands.messages import fail as fail
+from diffbot.commands.messages import no_such_option as no_such_option
+from diffbot.commands.messages import warn as warn
+from diffbot.commands.option_groups import F as F
+from diffbot.commands.option_groups import option_group as option_group
+from diffbot.commands.paths import OUTPUT_NAMES as OUTPUT_NAMES
+from diffbot.commands.paths import InputPath, PackageDir, input_path
+from diffbot.commands.paths import OutOptions as OutOptions
+from diffbot.commands.paths import check_out as check_out
+from diffbot.commands.paths import file_output as file_output
+from diffbot.commands.paths import out_options as out_options
+from diffbot.commands.paths import output_option as output_option
+from diffbot.errors import DescriptionError
+from diffbot.io.pathnames import resolved
+from diffbot.io.textfile import open_regular
 from diffbot.io.xmlhead import root_name
 from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
-from diffbot.numbers import MAX_NOISE, MAX_PLAN_DURATION, WHEEL_SIZE_RANGE
+from diffbot.numbers import MAX_COUNT, MAX_NOISE, MAX_PLAN_DURATION, WHEEL_SIZE_RANGE
 from diffbot.urdf import load_params
 
-F = TypeVar("F", bound=Callable[..., Any])
+
+class CheckedNumber(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+    """Base of the types of every numeric option and argument: each refuses, as click converts
+    it, NaN, infinities, and values outside its range (integers of sane size)."""
 
 
-class InputError(click.ClickException):
-    """Bad input found by a command: reported as ``error: ...`` with exit code 2."""
-
-    exit_code = EXIT_BAD_INPUT
-
-
-def fail(message: str) -> NoReturn:
-    """Stop the command with a bad-input error."""
-    raise InputError(message)
-
-
-def no_such_option(token: str) -> NoReturn:
-    """Stop with click's own usage error for an unknown option (the one click gives when it
-    parses the options itself, with the ``--help`` hint), suggesting the command's closest
-    option names. For commands that let unknown options through as (negative number)
-    arguments."""
-    ctx = click.get_current_context(silent=True)
-    names = [] if ctx is None else [name for p in ctx.command.params for name in p.opts]
-    close = difflib.get_close_matches(token.partition("=")[0], [n for n in names if n[:1] == "-"])
-    raise click.NoSuchOption(token, possibilities=close, ctx=ctx)
-
-
-def warn(message: str) -> None:
-    """Tell the user something on stderr, on one line."""
-    click.echo(f"warning: {' '.join(message.split())}", err=True)
-
-
-def emit_json(data: Any) -> None:
-    """Print machine-readable output (strict JSON: no NaN), or a bad-input error when a result
-    is not finite (inputs checked at the boundary should leave none)."""
-    try:
-        text = json.dumps(data, indent=2, allow_nan=False)
-    except ValueError:
-        fail("a result is infinite or NaN: the inputs are too large to compute with")
-    click.echo(text)
-
-
-class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+class FiniteFloat(CheckedNumber):
     """A finite float, optionally bounded; rejects NaN and infinities."""
 
     name = "number"
@@ -100,7 +78,7 @@ class FiniteFloat(click.ParamType):  # type: ignore[type-arg,unused-ignore]
         return number
 
 
-class NumberPair(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+class NumberPair(CheckedNumber):
     """Two finite numbers, comma-separated (``X,Y``), optionally both positive."""
 
     def __init__(
@@ -148,6 +126,13 @@ class NumberPair(click.ParamType):  # type: ignore[type-arg,unused-ignore]
                     f"{value!r}: both must be from {low:g} to {high:g} {self.unit}", param, ctx
                 )
         return first, second
+
+
+class Count(click.IntRange, CheckedNumber):  # type: ignore[type-arg,unused-ignore,misc]
+    """A whole number from ``minimum`` to ``maximum`` (both given: no count is unbounded)."""
+
+    def __init__(self, minimum: int, maximum: int = MAX_COUNT) -> None:
+        super().__init__(min=minimum, max=maximum)
 
 
 class Names(click.Choice):  # type: ignore[type-arg,unused-ignore]
@@ -223,17 +208,10 @@ def split_xacro_args(tokens: Sequence[str]) -> tuple[list[str], dict[str, str]]:
     return rest, args
 
 
-def parse_packages(values: Sequence[str]) -> dict[str, str]:
-    """``--package NAME=DIR`` values as a mapping."""
-    packages: dict[str, str] = {}
-    for value in values:
-        name, sep, directory = value.partition("=")
-        if not sep or not name or not directory:
-            fail(f"--package {value!r}: expected NAME=DIR")
-        if not Path(directory).is_dir():
-            fail(f"--package {value!r}: {directory} is not a directory")
-        packages[name] = directory
-    return packages
+def parse_packages(values: Sequence[tuple[str, str]]) -> dict[str, str]:
+    """``--package NAME=DIR`` values (of :class:`~diffbot.commands.paths.PackageDir`) as a
+    mapping."""
+    return dict(values)
 
 
 # --------------------------------------------------------------------------------------------
@@ -262,7 +240,7 @@ class RobotOptions:
         """The same options with a positional PATH and ``NAME:=VALUE`` tokens merged in."""
         if path is not None and self.robot is not None and path != self.robot:
             fail(f"two robots given: {path!r} and --robot {self.robot!r}")
-        robot = path if path is not None else self.robot
+        robot = input_path(path) if path is not None else self.robot
         return dataclasses.replace(self, robot=robot, xacro_args={**self.xacro_args, **xacro_args})
 
     def load(self, *, quiet: bool = False) -> DiffDriveParams:
@@ -296,28 +274,6 @@ class RobotOptions:
         return params
 
 
-def option_group(
-    options: Sequence[Callable[[Any], Any]], name: str, build: Callable[[dict[str, Any]], object]
-) -> Callable[[F], F]:
-    """A decorator adding ``options`` to a command, which receives them as one object.
-
-    ``build`` takes the options' values out of the keyword arguments (popping them) and
-    returns the object, passed to the command as ``name``.
-    """
-
-    def decorate(command: F) -> F:
-        def wrapper(**kwargs: Any) -> Any:
-            return command(**{name: build(kwargs)}, **kwargs)
-
-        functools.update_wrapper(wrapper, command)  # keeps options declared below this one
-        decorated: Any = wrapper
-        for option in reversed(options):
-            decorated = option(decorated)
-        return decorated  # type: ignore[no-any-return]
-
-    return decorate
-
-
 #: ``--trust``: let the description run xacro's full Python (robot options and ``urdf``).
 trust_option = click.option(
     "--trust",
@@ -326,22 +282,34 @@ trust_option = click.option(
     "sandbox that reads only the description's folders and packages).",
 )
 
-_ROBOT_OPTIONS = [
-    click.option(
-        "--robot",
-        metavar="PATH",
-        help="Robot description: .urdf, .urdf.xacro, an SDF model (.sdf or model folder) or a "
-        "bag with /robot_description; a description file or model folder may also be the first "
-        "argument. Default: the bundled diffbot, unless both joints, the radius and the "
-        "separation are given.",
-    ),
-    click.option(
+
+def robot_path_option(help_text: str) -> Callable[[F], F]:
+    """``--robot PATH``: the robot description, an input of the run."""
+    return click.option("--robot", type=InputPath(), metavar="PATH", help=help_text)
+
+
+def package_option(help_text: str) -> Callable[[F], F]:
+    """``--package NAME=DIR`` (repeatable), received as ``packages``."""
+    return click.option(
         "--package",
         "packages",
+        type=PackageDir(),
         metavar="NAME=DIR",
         multiple=True,
-        help="Directory of ROS package NAME, for $(find NAME), when the description's source "
-        "tree does not hold it. Repeatable.",
+        help=help_text,
+    )
+
+
+_ROBOT_OPTIONS = [
+    robot_path_option(
+        "Robot description: .urdf, .urdf.xacro, an SDF model (.sdf or model folder) or a "
+        "bag with /robot_description; a description file or model folder may also be the first "
+        "argument. Default: the bundled diffbot, unless both joints, the radius and the "
+        "separation are given."
+    ),
+    package_option(
+        "Directory of ROS package NAME, for $(find NAME), when the description's source "
+        "tree does not hold it. Repeatable."
     ),
     click.option(
         "--left-joint",
@@ -371,7 +339,7 @@ _ROBOT_OPTIONS = [
     click.option(
         "--controllers",
         metavar="FILE",
-        type=click.Path(exists=True, dir_okay=False),
+        type=InputPath(exists=True, dir_okay=False),
         help="The robot's ros2_control controllers YAML: its diff_drive_controller's separation, "
         "radii (multipliers applied), wheels and limits win over the description. Default: the "
         "file the description's ros2_control Gazebo plugin names, if it exists.",
@@ -411,9 +379,9 @@ def xml_root(path: Path) -> str | None:
     """The name of the root element of an XML file (without namespace prefix), read from its
     head only; None when the file is not XML or cannot be read."""
     try:
-        with path.open("rb") as stream:
+        with open(open_regular(path, DescriptionError, "a description"), "rb") as stream:
             head = stream.read(_HEAD_BYTES)
-    except OSError:
+    except (OSError, DescriptionError):
         return None
     # XML names here are ASCII; any other byte only has to be neither a name nor a blank
     return root_name(head.removeprefix(b"\xef\xbb\xbf").decode("ascii", "replace"))
@@ -461,9 +429,9 @@ def _robot_from(kwargs: dict[str, Any]) -> RobotOptions:
     if tokens and is_description(tokens[0]):
         path = tokens[0]
         other = given["robot"]
-        if other is not None and Path(other).resolve() != Path(path).resolve():
+        if other is not None and resolved(other) != resolved(path):
             fail(f"two robots given: {path!r} and --robot {given['robot']!r}")
-        given["robot"] = path
+        given["robot"] = input_path(path)
         kwargs[ARGUMENTS] = tuple(tokens[1:])
     return RobotOptions(xacro_args={}, packages=packages, **given)
 
@@ -473,87 +441,6 @@ robot_options = option_group(_ROBOT_OPTIONS, "robot", _robot_from)
 
 
 NUMBERS = {"ignore_unknown_options": True}  # lets negative numbers through as arguments
-
-
-def check_out(out: str | None, inputs: Sequence[Path], force: bool) -> Path | None:
-    """The --out path, refused early when it is empty, exists (without --force), or is, holds
-    or lies inside an input (compared as resolved paths, links followed)."""
-    if out is None:
-        return None
-    if not out.strip():
-        fail("--out needs a file or directory name, got ''")
-    path = Path(out)
-    clash = input_clash(path, inputs)
-    if clash is not None:
-        relation, given = clash
-        if relation == "inside":
-            fail(f"--out {out} lies inside the input {given}: inputs are never modified")
-        what = "is the input" if relation == "is" else "contains the input"
-        fail(f"--out {out} {what} {given}: inputs are never overwritten")
-    if (path.exists() or path.is_symlink()) and not force:
-        fail(f"{out} exists: use --force to overwrite it")
-    return path
-
-
-@dataclass(frozen=True)
-class OutOptions:
-    """Where a command writes its samples: ``--out`` (a CSV file or, with ``--bag``, a rosbag2
-    directory) and ``--force``."""
-
-    out: str | None
-    as_bag: bool
-    force: bool
-
-    def path(self, inputs: Sequence[Path]) -> Path | None:
-        """The --out path of one output, checked early against ``inputs`` (see
-        :func:`check_out`); a file's path may not end in a slash."""
-        if not self.as_bag:
-            file_output(self.out)
-        return check_out(self.out, inputs, self.force)
-
-    def require_out_for_bag(self) -> None:
-        """Bad input when --bag is given without --out."""
-        if self.as_bag and self.out is None:
-            fail("--bag writes the --out directory: give --out DIR")
-
-
-#: The one output option of every command that writes, in its three spellings.
-OUTPUT_NAMES = ("-o", "--output", "--out")
-
-
-def file_output(value: str | None, option: str = "-o/--out") -> str | None:
-    """``value`` unless it names a folder (a trailing slash) where a file is written: the path
-    would otherwise lose its slash and a file appear where the user asked for a folder."""
-    if value is not None and value.endswith(("/", os.sep)) and value.rstrip("/" + os.sep):
-        fail(f"{option} {value}: ends with a slash (a folder), but a file is written there")
-    return value
-
-
-def output_option(
-    help_text: str, *, metavar: str = "FILE", dest: str = "output"
-) -> Callable[[F], F]:
-    """The output option, ``-o``, ``--output`` or ``--out`` alike, received as ``dest``
-    (a file: a path ending in a slash is refused; ``--out`` of :func:`out_options` may be a
-    bag folder)."""
-
-    def checked(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
-        return value if metavar != "FILE" else file_output(value)
-
-    return click.option(*OUTPUT_NAMES, dest, metavar=metavar, help=help_text, callback=checked)
-
-
-def out_options(out_help: str, bag_help: str) -> Callable[[F], F]:
-    """Add the output option, ``--bag`` and ``--force``; the command receives
-    ``out: OutOptions``."""
-    options = [
-        output_option(out_help, metavar="PATH", dest="out"),
-        click.option("--bag", "as_bag", is_flag=True, help=bag_help),
-        click.option("--force", is_flag=True, help="Overwrite --out if it exists."),
-    ]
-
-    return option_group(
-        options, "out", lambda kw: OutOptions(kw.pop("out"), kw.pop("as_bag"), kw.pop("force"))
-    )
 
 
 def topic_option(help_text: str, *, reading: bool = False) -> Callable[[F], F]:
@@ -595,7 +482,7 @@ def encoder_noise_options(command: F) -> F:
     Gaussian noise, for ``simulate`` and ``node robot`` alike."""
     command = click.option(
         "--seed",
-        type=click.IntRange(min=0, max=2**64 - 1),
+        type=Count(0, 2**64 - 1),
         metavar="N",
         help="Seed of the noise (0 to 2**64-1), for reproducible runs.",
     )(command)

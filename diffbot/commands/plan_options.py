@@ -26,6 +26,7 @@ from diffbot.commands.options import (
     split_xacro_args,
     warn,
 )
+from diffbot.commands.paths import InputPath, input_path
 from diffbot.formats.text import fmt
 from diffbot.kinematics import DiffDriveParams
 from diffbot.planfile import load_plan, parse_plan
@@ -130,6 +131,7 @@ def plan_input(
         named_file = bool(token.strip()) and exists(path)
         file_like = path.suffix.lower() in PLAN_SUFFIXES and not any(c.isspace() for c in token)
         if named_file or file_like:
+            input_path(token)
             return PlanInput(load_plan(path), str(path), path)
     return PlanInput(parse_plan(join_plan_arguments(tokens)), "plan", None)
 
@@ -420,7 +422,7 @@ _GOAL_OPTIONS = [
     ),
     click.option(
         "--waypoints",
-        type=click.Path(dir_okay=False),
+        type=InputPath(dir_okay=False),
         metavar="FILE",
         help="Plan through the waypoints of a CSV (x,y[,heading] rows), YAML or JSON file.",
     ),

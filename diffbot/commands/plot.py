@@ -19,6 +19,7 @@ from diffbot.commands.options import (
     topic_option,
     warn,
 )
+from diffbot.commands.paths import InputPath
 from diffbot.commands.plan_options import PlanOptions, plan_arguments
 from diffbot.commands.recording_options import (
     RecordingOptions,
@@ -248,6 +249,7 @@ def _reference(
 @click.option(
     "--odom",
     "odom_inputs",
+    type=InputPath(allow_dash=True),
     metavar="INPUT",
     multiple=True,
     help="A recording of the wheel joints (CSV or rosbag2, as for 'diffbot odom') whose "

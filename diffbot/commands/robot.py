@@ -16,13 +16,16 @@ from diffbot.commands.options import (
     emit_json,
     fail,
     output_option,
+    package_option,
     parse_number,
     parse_packages,
     robot_options,
+    robot_path_option,
     split_xacro_args,
     trust_option,
     warn,
 )
+from diffbot.commands.paths import input_path
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.plan_table import limit_text
 from diffbot.formats.robot import params_json, params_lines
@@ -87,15 +90,15 @@ def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
 
 @click.command()
 @click.argument("tokens", nargs=-1, metavar="[PATH] [NAME:=VALUE]...")
-@click.option("--robot", metavar="PATH", help="Robot description (same as PATH).")
-@click.option("--package", "packages", metavar="NAME=DIR", multiple=True, help="Package directory.")
+@robot_path_option("Robot description (same as PATH).")
+@package_option("Package directory.")
 @output_option("Write to this file instead of stdout.")
 @click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
 @trust_option
 def urdf(
     tokens: tuple[str, ...],
     robot: str | None,
-    packages: tuple[str, ...],
+    packages: tuple[tuple[str, str], ...],
     output: str | None,
     force: bool,
     trust: bool,
@@ -115,7 +118,7 @@ def urdf(
     rest, xacro_args = split_xacro_args(tokens)
     if len(rest) > 1:
         fail(f"expected at most one PATH, got {rest}")
-    path = rest[0] if rest else robot
+    path = input_path(rest[0]) if rest else robot
     if rest and robot and rest[0] != robot:
         fail(f"two robots given: {rest[0]!r} and --robot {robot!r}")
     expansion = expand(path, xacro_args, parse_packages(packages), trust=trust)

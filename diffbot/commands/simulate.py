@@ -15,6 +15,8 @@ from diffbot.calibration.truth import TRUTH_COLUMNS, TruthStream, true_robot
 from diffbot.commands.follow_options import disturbance_options, follow_options
 from diffbot.commands.options import (
     NUMBERS,
+    CheckedNumber,
+    Count,
     FiniteFloat,
     OutOptions,
     RobotOptions,
@@ -79,7 +81,7 @@ class _RateType(FiniteFloat):
         return number
 
 
-class _StartType(click.ParamType):  # type: ignore[type-arg,unused-ignore]
+class _StartType(CheckedNumber):
     """Seconds since 1970 as a decimal number, read exactly into integer nanoseconds."""
 
     name = "seconds"
@@ -153,7 +155,7 @@ def _write(
 )
 @click.option(
     "--ticks",
-    type=click.IntRange(min=1, max=2**32),  # diffbot.simulation.MAX_TICKS
+    type=Count(1, 2**32),  # diffbot.simulation.MAX_TICKS
     metavar="N",
     help="Encoder resolution (counts per revolution, up to 2**32): quantise the wheel angles.",
 )

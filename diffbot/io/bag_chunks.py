@@ -29,7 +29,8 @@ from diffbot.errors import DiffbotError, RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.bag import BAG_INSTALL_HINT, DEFAULT_TOPIC, JOINT_STATE, bag_suffix
 from diffbot.io.bag_inflate import bound_rosbags, copy_inflated, ros1_reader
-from diffbot.io.textfile import check_regular
+from diffbot.io.pathnames import resolved
+from diffbot.io.textfile import check_regular, read_text
 
 if TYPE_CHECKING:
     from numpy.typing import NDArray
@@ -68,7 +69,7 @@ def _unreadable(source: str, err: Exception) -> BagError:
 
 
 def _open_uri(path: Path) -> sqlite3.Connection:
-    return sqlite3.connect(path.resolve().as_uri() + "?mode=ro&immutable=1", uri=True)
+    return sqlite3.connect(resolved(path, BagError).as_uri() + "?mode=ro&immutable=1", uri=True)
 
 
 class _SqlitePlan(NamedTuple):
@@ -135,7 +136,7 @@ def _sqlite_plan(path: Path, scratch: Path | None = None) -> _SqlitePlan | None:
         from diffbot.io.yamlfile import load_yaml
 
         metadata = path / "metadata.yaml"
-        text = metadata.read_text(encoding="utf-8")
+        text = read_text(metadata, BagError, "bag metadata")
         info: Any = load_yaml(text, str(metadata), BagError, "bag metadata")
         info = info["rosbag2_bagfile_information"]
         mode = str(info.get("compression_mode") or "").lower()

@@ -10,7 +10,8 @@ recording this tool could have written (``metadata.yaml`` and storage files, not
 and never anything but a regular file or such a directory (a device, a FIFO, a socket).
 
 Every file a run reads is noted (:func:`note_input`) while a run is guarded (:func:`guarded_run`,
-which the command line opens around every command): the files named on the command line before
+which the command line opens around every command): the paths of the command line as click
+parses them (options and arguments of the path types of :mod:`diffbot.commands.paths`), before
 the command starts, and each file as its reader opens it (descriptions and what they include,
 controllers files, plans, recordings, truth files). Every output check here compares the output
 with all of them, so a command cannot forget one.
@@ -30,11 +31,13 @@ from pathlib import Path
 from typing import TextIO
 
 from diffbot.errors import OutputError, OutputExistsError
+from diffbot.io.pathnames import resolved
 
 __all__ = [
     "BAG_FILES",
     "atomic_text",
     "check_bag_output",
+    "check_file_name",
     "check_not_input",
     "check_replaceable",
     "guarded_run",
@@ -60,7 +63,7 @@ def guarded_run(inputs: Iterable[str | os.PathLike[str]] = ()) -> Iterator[None]
     """Guard one run: the inputs noted inside it are kept off every output checked inside it.
 
     Args:
-        inputs: inputs known from the start (the files named on the command line).
+        inputs: inputs known from the start.
     """
     global _noted
     with _noted_lock:
@@ -88,6 +91,28 @@ def noted_inputs() -> tuple[Path, ...]:
         return () if _noted is None else tuple(_noted)
 
 
+def check_file_name(path: str) -> None:
+    """Refuse a file output named as a folder: ending in a slash, or in a last part ``.`` or
+    ``..``. The file would otherwise appear under another name (``x.csv/`` and ``x.csv/.`` as
+    ``x.csv``, ``x.csv/..`` as the folder holding it) than the one asked for.
+
+    Raises:
+        OutputError: the name ends in a slash, ``/.`` or ``/..``.
+    """
+    separators = "/" + os.sep
+    last = path.rstrip(separators)
+    if last and last != path:
+        raise OutputError(
+            f"{path}: ends with a slash (a folder), but a file is written there", path=path
+        )
+    for separator in separators:
+        last = last.rpartition(separator)[2]
+    if last in (".", ".."):
+        raise OutputError(
+            f"{path}: ends with {last!r} (a folder), but a file is written there", path=path
+        )
+
+
 def check_replaceable(path: Path) -> None:
     """Refuse to replace what ``path`` names unless it is a regular file or a directory (whose
     content the caller judges): never a device, a FIFO or a socket, even with ``force``.
@@ -109,14 +134,14 @@ def check_replaceable(path: Path) -> None:
 
 def _occupied(path: Path) -> Path:
     """The resolved path an input occupies: a bag given as one of its files is its directory."""
-    resolved = path.resolve()
+    real = resolved(path)
     if (
-        resolved.is_file()
-        and resolved.suffix.lower() in BAG_FILES
-        and (resolved.parent / "metadata.yaml").is_file()
+        real.is_file()
+        and real.suffix.lower() in BAG_FILES
+        and (real.parent / "metadata.yaml").is_file()
     ):
-        return resolved.parent
-    return resolved
+        return real.parent
+    return real
 
 
 def input_clash(target: Path, inputs: Sequence[Path] = ()) -> tuple[str, Path] | None:
@@ -125,15 +150,19 @@ def input_clash(target: Path, inputs: Sequence[Path] = ()) -> tuple[str, Path] |
     The inputs are ``inputs`` and every input noted in the guarded run (:func:`note_input`).
     Paths are compared resolved, links followed; a bag given as one of its files is its whole
     directory. None when the output touches no input.
+
+    Raises:
+        OutputError: the output is a loop of symbolic links, or cannot be resolved.
+        PathError: an input cannot be resolved.
     """
-    resolved = target.resolve()
+    real = resolved(target, OutputError)
     for given in dict.fromkeys([*inputs, *noted_inputs()]):
         occupied = _occupied(given)
-        if resolved == occupied:
+        if real == occupied:
             return "is", given
-        if occupied in resolved.parents:
+        if occupied in real.parents:
             return "inside", given
-        if resolved in occupied.parents:
+        if real in occupied.parents:
             return "contains", given
     return None
 
@@ -144,9 +173,9 @@ def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Pa
     Raises:
         OutputExistsError: the path exists and ``force`` is not given.
         OutputError: it is not a regular file (a directory, a device), lies in a missing
-            directory, or is (or is inside) one of the ``inputs``.
+            directory, is (or is inside) one of the ``inputs``, or is a loop of symbolic links.
     """
-    target = path.resolve() if path.is_symlink() else path
+    target = resolved(path, OutputError) if path.is_symlink() else path
     if path.exists() or path.is_symlink():
         if not force:
             raise OutputExistsError(f"{path} exists: use {{force}} to overwrite it", path=str(path))

@@ -29,7 +29,9 @@ from pathlib import Path
 from typing import Final
 from xml.etree import ElementTree
 
-from diffbot.io.outputs import note_input
+from diffbot.errors import DescriptionError, PackageNotFoundError
+from diffbot.io.pathnames import resolved
+from diffbot.io.textfile import read_text
 
 __all__ = [
     "MAX_DEPTH",
@@ -89,10 +91,10 @@ def folder_below(base: Path, name: str, *, links: bool = False) -> Path | None:
 def package_name(folder: Path) -> str:
     """A package's name: the ``<name>`` of its ``package.xml``, else the folder's name."""
     manifest = folder / "package.xml"
-    with contextlib.suppress(OSError, ElementTree.ParseError, ValueError):
-        if manifest.is_file() and manifest.stat().st_size <= MAX_MANIFEST:
-            note_input(manifest)  # read: no output may replace it
-            name = ElementTree.parse(manifest).getroot().findtext("name")
+    with contextlib.suppress(OSError, ElementTree.ParseError, ValueError, DescriptionError):
+        if manifest.is_file():
+            text = read_text(manifest, DescriptionError, "a package.xml", max_chars=MAX_MANIFEST)
+            name = ElementTree.fromstring(text).findtext("name")
             if name and name.strip():
                 return name.strip()
     return folder.name
@@ -100,7 +102,7 @@ def package_name(folder: Path) -> str:
 
 def own_package(description: Path) -> Path | None:
     """The folder of the package a description lies in, or None when it lies in none."""
-    folder = description.resolve().parent
+    folder = resolved(description, DescriptionError).parent
     for candidate in [folder, *folder.parents][:PACKAGE_LEVELS]:
         if candidate == Path(candidate.anchor):
             break
@@ -200,7 +202,7 @@ class PackageFinder:
                 return candidate
         for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
             if entry and Path(entry).is_dir():
-                found = packages_under(Path(entry).resolve()).get(name)
+                found = packages_under(resolved(entry, PackageNotFoundError)).get(name)
                 if found is not None:
                     return found
         return None

@@ -26,6 +26,7 @@ from typing import Any
 
 from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsError, XacroError
 from diffbot.formats.text import one_line
+from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular
 from diffbot.urdf.expression_limits import weight
 from diffbot.urdf.expressions import SafeFunction, safe_eval, symbols
@@ -68,7 +69,7 @@ def description_roots(path: str | os.PathLike[str]) -> tuple[Path, ...]:
     Returns:
         The folders, symbolic links resolved.
     """
-    folder = Path(path).resolve().parent
+    folder = resolved(path, DescriptionError).parent
     roots = [folder]
     for parent in list(folder.parents)[:2]:
         if (parent / "package.xml").is_file() and parent != Path(parent.anchor):
@@ -80,8 +81,9 @@ def description_roots(path: str | os.PathLike[str]) -> tuple[Path, ...]:
 def inside_folders(path: str | os.PathLike[str], folders: Iterable[Path]) -> bool:
     """Whether ``path``, symbolic links resolved, is one of ``folders`` (resolved) or lies
     inside one."""
-    real = Path(path).resolve()
-    return any(real == f or f in real.parents for f in (Path(f).resolve() for f in folders))
+    real = resolved(path, DescriptionError)
+    real_folders = [resolved(f, DescriptionError) for f in folders]
+    return any(real == f or f in real.parents for f in real_folders)
 
 
 class _Roots:
@@ -93,7 +95,7 @@ class _Roots:
             self.add(root)
 
     def add(self, root: str | os.PathLike[str]) -> None:
-        folder = Path(root).resolve()
+        folder = resolved(root, DescriptionError)
         if folder not in self.folders:
             self.folders.append(folder)
 
@@ -327,7 +329,7 @@ def sandboxed(
                 check_regular(included, DescriptionError, "a xacro file")
                 read.append(Path(included))
                 document = saved["parse"](source, filename)
-                _mark_origin(document, Path(included).resolve().parent)
+                _mark_origin(document, resolved(included, DescriptionError).parent)
                 return document
             return saved["parse"](source, filename)
 

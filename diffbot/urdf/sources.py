@@ -19,6 +19,7 @@ from xml.etree import ElementTree
 
 from diffbot.controller_config import ControllerConfig
 from diffbot.errors import DescriptionError, DriveWheelError, OutsideRootsError
+from diffbot.io.pathnames import resolved
 from diffbot.kinematics import DiffDriveParams, Disagreement
 from diffbot.urdf.controllers import choose_controller, load_controllers
 from diffbot.urdf.gazebo import GazeboDrive, gazebo_drives, ros2_control_parameter_files
@@ -118,7 +119,7 @@ def find_controller(
             note_other_drives([Path(controllers)], warnings, others)
         return choose_controller(configs, controller)
     configs = []
-    base = Path(description).resolve().parent if description is not None else Path.cwd()
+    base = resolved(description, DescriptionError).parent if description is not None else Path.cwd()
     read = []
     for name in ros2_control_parameter_files(root):
         named = Path(name.strip())

@@ -18,6 +18,7 @@ from xml.etree import ElementTree as ET
 
 from diffbot.errors import DescriptionError, PackageNotFoundError
 from diffbot.formats.text import one_line
+from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import read_text
 from diffbot.io.xmlhead import prolog_end
 from diffbot.urdf.packages import PackageFinder
@@ -159,7 +160,7 @@ def expand(
         check_xml(text, str(source))
         warnings = [f"{source} is plain URDF: xacro argument {name!r} ignored" for name in given]
         known = [*finder.given.values(), *finder.bundled.values()]
-        folders = (*description_roots(source), *(p.resolve() for p in known))
+        folders = (*description_roots(source), *(resolved(p, DescriptionError) for p in known))
         return Expansion(text, tuple(warnings), (source,), folders)
     return _run_xacro(source, given, finder, trust)
 
@@ -194,7 +195,7 @@ def _read_sdf(
     urdf, files = expand_sdf(source, finder, roots, trust=trust)
     warnings = [f"{source} is SDF: xacro argument {name!r} ignored" for name in given]
     # the folders of the models it included count as its own, as a xacro's packages do
-    folders = tuple(dict.fromkeys([*roots, *(f.resolve().parent for f in files)]))
+    folders = tuple(dict.fromkeys([*roots, *(resolved(f, DescriptionError).parent for f in files)]))
     return Expansion(urdf, tuple(warnings), files, folders)
 
 

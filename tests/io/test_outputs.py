@@ -206,7 +206,12 @@ def test_a_full_disk_under_a_bag_is_one_error_line(
     assert list(tmp_path.iterdir()) == []
 
 
-def test_stdout_on_a_full_disk_is_one_error_line() -> None:
+@pytest.mark.parametrize("unbuffered", [False, True])
+def test_stdout_on_a_full_disk_is_one_error_line(unbuffered: bool) -> None:
+    # A shell as a new user has it: stdout buffered unless PYTHONUNBUFFERED says otherwise.
+    env = {name: os.environ[name] for name in ("PATH", "HOME", "LANG") if name in os.environ}
+    if unbuffered:
+        env["PYTHONUNBUFFERED"] = "1"
     with open("/dev/full", "w", encoding="utf-8") as full:
         done = subprocess.run(
             [sys.executable, "-m", "diffbot", "plan", "straight 1"],
@@ -215,6 +220,8 @@ def test_stdout_on_a_full_disk_is_one_error_line() -> None:
             text=True,
             timeout=30,
             check=False,
+            env=env,
+            cwd=Path(diffbot.__file__).parent.parent,
         )
     assert done.returncode == 2, done.stderr
     one_error_line(done.stderr, "No space left on device")
@@ -316,20 +323,53 @@ def test_a_file_output_over_a_fifo_is_refused_with_force(tmp_path: Path) -> None
     assert stat.S_ISFIFO(fifo.lstat().st_mode)
 
 
-def test_the_command_line_names_its_inputs_but_not_its_outputs(tmp_path: Path) -> None:
-    from diffbot.cli import named_inputs
+def test_a_command_word_is_no_input_even_where_a_folder_has_its_name(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    for name in ("plot", "plan", "straight"):
+        (tmp_path / name).mkdir()
+    runner = CliRunner()
+    result = runner.invoke(main, ["plot", "--example", "A", "-o", "plot/a.png"])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "plot" / "a.png").is_file()
+    # plan text whose first word names a folder is no file of the run either
+    result = runner.invoke(main, ["plan", "straight", "1", "-o", "straight/p.txt"])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "straight" / "p.txt").is_file()
 
-    for name in ("robot.urdf", "plan.txt", "in.csv", "out.csv", "o.csv", "x.png", "bag"):
-        (tmp_path / name).write_text("", encoding="utf-8")
-    given = {name: str(tmp_path / name) for name in os.listdir(tmp_path)}
-    tokens = [
-        *("plan", given["plan.txt"], f"--robot={given['robot.urdf']}", "wheel_radius:=0.1"),
-        *("--odom", given["in.csv"], "--out", given["out.csv"], f"-o{given['o.csv']}"),
-        *(f"--output={given['x.png']}", "-", "--force", given["bag"], "missing.csv"),
-    ]
-    assert named_inputs(tokens) == [
-        given["plan.txt"],
-        given["robot.urdf"],
-        given["in.csv"],
-        given["bag"],
-    ]
+
+def test_the_inputs_are_the_arguments_parsed_as_paths(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from diffbot.io import outputs
+
+    seen: list[tuple[Path, ...]] = []
+    check = outputs.check_not_input
+
+    def spy(*args: Any, **kwargs: Any) -> None:
+        seen.append(outputs.noted_inputs())
+        check(*args, **kwargs)
+
+    monkeypatch.setattr(outputs, "check_not_input", spy)
+    monkeypatch.chdir(tmp_path)
+    robot = tmp_path / "robot.urdf"
+    robot.write_text(two_wheel_urdf(), encoding="utf-8")
+    plan = tmp_path / "plan.txt"
+    plan.write_text("straight 1\n", encoding="utf-8")
+    (tmp_path / "unread.csv").write_text("", encoding="utf-8")
+    args = ["urdf", "robot.urdf", "wheel_radius:=0.1", "-o", "out.urdf"]
+    assert CliRunner().invoke(main, args).exit_code == 0
+    assert seen[-1] == (robot,)
+    args = ["plan", "plan.txt", "--robot", "robot.urdf", "--out", "out.txt"]
+    assert CliRunner().invoke(main, args).exit_code == 0
+    assert set(seen[-1]) == {robot, plan}  # not the output, not the word "plan"
+
+
+@pytest.mark.parametrize("name", ["x.csv/.", "x.csv/..", "x.csv/", "."])
+def test_a_file_output_named_as_a_folder_is_refused(name: str, tmp_path: Path) -> None:
+    # written out: a Path would drop a trailing "/."
+    result = CliRunner().invoke(main, ["plan", "straight 1", "-o", f"{tmp_path}/{name}"])
+    assert result.exit_code == 2, result.output
+    one_error_line(result.stderr, "a file is written there")
+    assert list(tmp_path.iterdir()) == []
