@@ -178,11 +178,13 @@ def _true_path(source: str) -> _Path | None:
     import numpy as np
 
     from diffbot.calibration.truth import TRUTH_COLUMNS
+    from diffbot.errors import RecordingError
     from diffbot.io.bag import is_bag
+    from diffbot.io.textfile import open_text
 
     if is_bag(source):
         return None
-    with open(source, newline="", encoding="utf-8", errors="replace") as handle:
+    with open_text(source, RecordingError, "a recording", newline="") as handle:
         rows = csv.reader(handle)
         header = [name.strip() for name in next(rows, [])]
         if not set(TRUTH_COLUMNS) <= set(header):

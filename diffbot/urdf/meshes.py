@@ -10,6 +10,7 @@ following references to other files.
 
 from __future__ import annotations
 
+import io
 import math
 import os
 from collections.abc import Callable, Mapping, Sequence
@@ -84,7 +85,7 @@ def mesh_radius(
         DescriptionError: not a regular file, too large, of a format not read, unreadable or
             without vertices.
     """
-    from diffbot.io.textfile import check_regular
+    from diffbot.io.textfile import check_regular, open_regular
 
     check_regular(path, DescriptionError, "a mesh", name=name)
     if path.stat().st_size > MAX_MESH_BYTES:
@@ -99,8 +100,9 @@ def mesh_radius(
     import trimesh
 
     try:
-        with path.open("rb") as stream:
-            loaded = trimesh.load(stream, file_type=kind, force="mesh", process=False)
+        with open(open_regular(path, DescriptionError, "a mesh", name=name), "rb") as stream:
+            data = io.BytesIO(stream.read(MAX_MESH_BYTES + 1))
+        loaded = trimesh.load(data, file_type=kind, force="mesh", process=False)
         vertices = np.asarray(getattr(loaded, "vertices", ()), dtype=np.float64)
     except Exception as err:  # trimesh and its format readers raise anything on a bad file
         raise DescriptionError(f"{name}: cannot read the mesh ({type(err).__name__})") from None

@@ -169,6 +169,8 @@ OWN_READERS = {
     ("diffbot/urdf/sdf.py", "_parse"),
     # a descriptor from textfile.open_regular: the head of a file, to tell a description
     ("diffbot/commands/options.py", "xml_root"),
+    # a descriptor from textfile.open_regular: a wheel's mesh, bounded in size, in binary
+    ("diffbot/urdf/meshes.py", "mesh_radius"),
     # the parameter cache is the tool's own file, read from a small regular file only
     ("diffbot/urdf/cache.py", "_code_fingerprint"),
     ("diffbot/urdf/cache.py", "_read_entry"),
@@ -179,6 +181,12 @@ OWN_READERS = {
     ("diffbot/io/bag_chunks.py", "_decompressed"),
     # numbers from text already read (a StringIO), not from a file
     ("diffbot/io/csv_chunks.py", "_fast"),
+    # the bundled robot's derived parameters, a file of the package itself
+    ("diffbot/urdf/shipped.py", "shipped_fields"),
+    # compressed storage of a recording checked regular by io.recordings first, inflated within
+    # a bound (a file object rosbags opened, or diffbot's own copy of a .db3.zstd)
+    ("diffbot/io/bag_inflate.py", "copy_inflated"),
+    ("diffbot/io/bag_inflate.py", "open"),
 }
 
 
