@@ -66,6 +66,8 @@ FLAGS = {
     "time_offset": "--time-offset",
     "dask_address": "--dask",
     "dask_timeout": "--dask-timeout",
+    "feedback": "--feedback",
+    "open_loop": "--open-loop",
 }
 
 

@@ -45,6 +45,8 @@ PARAMETERS: Mapping[str, str] = {
     "time_offset": "time_offset=",
     "dask_address": "dask_address=",
     "dask_timeout": "dask_timeout=",
+    "feedback": "feedback=",
+    "open_loop": "open_loop=True",
 }
 
 __all__ = [
