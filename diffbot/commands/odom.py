@@ -378,7 +378,6 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot:
     rows = [
         ("input", f"{source} ({kind})"),
         ("robot", robot),
-        ("feedback", _feedback_text(task)),
         ("samples", f"{summary.samples} used, {skipped_total} skipped"),
         ("duration", f"{fmt(summary.duration)} s"),
         ("distance", f"{fmt(summary.distance)} m"),
@@ -394,6 +393,8 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot:
         what = "rosbag2: /odom, /tf" if out.as_bag else "CSV"
         rows.append(("output", f"{out.out} ({what}, {result.poses} poses)"))
     rows[2:2] = conditioning_lines(run.conditioning)
+    if _feedback(task) != "position":
+        rows.insert(2, ("feedback", _feedback_text(task)))
     if result.reference is not None:
         rows.append(("reference", _reference_text(result.reference)))
     for label, value in rows:
