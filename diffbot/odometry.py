@@ -139,8 +139,10 @@ class Odometry:
         feedback: str = "position",
     ) -> None:
         self.params = params
-        #: Samples are wheel velocities, integrated into the wheel angles ``_left``/``_right``.
-        self.velocity = check_feedback(feedback) == "velocity"
+        #: What the samples are: ``position`` or ``velocity``.
+        self.feedback = check_feedback(feedback)
+        # Velocities are integrated into the wheel angles _left/_right before each step.
+        self._velocity = feedback == "velocity"
         self.frame_id = frame_id
         self.child_frame_id = child_frame_id
         self.pose_covariance = covariance_matrix(pose_covariance, "pose covariance")
@@ -258,7 +260,7 @@ class Odometry:
             return False
         last = self._stamp
         if last is None:
-            if self.velocity:  # the first velocity only starts the clock
+            if self._velocity:  # the first velocity only starts the clock
                 left, right = self._left, self._right
             self._left0 = self._left = left
             self._right0 = self._right = right
@@ -277,7 +279,7 @@ class Odometry:
                 self._skip(SKIP_STAMP_NOT_AFTER)
                 return False
             dt = stamp - last
-        if self.velocity:
+        if self._velocity:
             left = self._left + left * dt
             right = self._right + right * dt
         # The same formulas as integrate(), so both agree to the last bit wherever math and NumPy
@@ -379,7 +381,7 @@ class Odometry:
             ParameterError: neither or both of ``stamp`` and ``stamp_ns`` given, a
                 ``stamp_ns`` that is not an integer, or no ``velocities`` with velocity feedback.
         """
-        if self.velocity:
+        if self._velocity:
             if velocities is None:
                 raise ParameterError("feedback='velocity' reads the message's velocities=")
             positions = velocities

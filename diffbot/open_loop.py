@@ -68,6 +68,7 @@ class Commands(NamedTuple):
         clock: for a bag, the header stamps or the receive times; None for a CSV.
         topic: for a bag, the topic read.
         notes: what a CSV reader judged by itself, for people.
+        guessed: whether the topic was not asked for but taken as the bag's only command topic.
     """
 
     source: str
@@ -79,6 +80,7 @@ class Commands(NamedTuple):
     clock: str | None = None
     topic: str | None = None
     notes: tuple[str, ...] = ()
+    guessed: bool = False
 
 
 def command_angles(
@@ -122,11 +124,12 @@ def open_loop_odometry(
     """The odometry of the commanded body velocities of a recording.
 
     Args:
-        path: a bag (its ``topic``, default ``/cmd_vel``, of Twist or TwistStamped) or a CSV
+        path: a bag (its ``topic``: default ``/cmd_vel``, or else the bag's only Twist or
+            TwistStamped topic) or a CSV
             of ``t,v,w`` columns (the layout's time column, delimiter and unit apply; its left
             and right columns, if named, are the linear and angular ones).
         params: the robot, whose wheels carry out the commands.
-        topic: the command topic of a bag.
+        topic: the command topic of a bag (Twist or TwistStamped).
         sink: where the poses go.
         progress: called once with the number of commands read.
         layout: how to read a CSV, where not the defaults.
@@ -159,6 +162,7 @@ def open_loop_odometry(
         commands.clock,
         conditioner.report(),
         commands.topic,
+        commands.guessed,
         notes=commands.notes,
     )
 
@@ -198,11 +202,29 @@ def read_commands(
 
     p = existing_recording(path)
     if is_bag(p):
-        return _bag_commands(p, COMMAND_TOPIC if topic is None else topic)
+        return _bag_commands(p, topic)
     return _csv_commands(p, layout)
 
 
-def _bag_commands(path: os.PathLike[str], topic: str) -> Commands:
+def _command_topic(topics: dict[str, set[str]]) -> str:
+    """Without a topic given: ``/cmd_vel``, else the bag's only Twist or TwistStamped topic."""
+    from diffbot.formats.text import listing
+    from diffbot.io.bag_chunks import BagError
+
+    for name in (COMMAND_TOPIC, COMMAND_TOPIC.lstrip("/")):
+        if name in topics:
+            return name
+    found = sorted(t for t, types in topics.items() if types & {TWIST, TWIST_STAMPED})
+    if len(found) == 1:
+        return found[0]
+    what = f"several command topics: {listing(found)}" if found else "no Twist topic"
+    raise BagError(
+        f"no topic {COMMAND_TOPIC!r} and {what}; give the command topic ({{topic}}); topics "
+        f"found: {listing(sorted(topics))}"
+    )
+
+
+def _bag_commands(path: os.PathLike[str], topic: str | None) -> Commands:
     from diffbot.io.bag import typestore
     from diffbot.io.bag_chunks import BagError, TopicChunks
 
@@ -211,7 +233,7 @@ def _bag_commands(path: os.PathLike[str], topic: str) -> Commands:
     header: list[int] = []
     values: list[tuple[float, float]] = []
     unreadable = 0
-    with closing(TopicChunks(path, topic)) as chunks:
+    with closing(TopicChunks(path, topic, choose=_command_topic)) as chunks:
         kind = chunks.msgtype
         if kind not in (TWIST, TWIST_STAMPED):
             raise BagError(
@@ -234,6 +256,8 @@ def _bag_commands(path: os.PathLike[str], topic: str) -> Commands:
                 stamps.append(int(receive_ns))
                 header.append(int(stamp_ns))
         source, chosen, ros1 = chunks.source, chunks.topic, chunks.ros1
+        # Named in the summary only when it was not /cmd_vel by default.
+        guessed = chunks.topic_chosen and chosen.lstrip("/") != COMMAND_TOPIC.lstrip("/")
     use_header = kind == TWIST_STAMPED and all(header)
     pairs = np.array(values, dtype=np.float64).reshape(-1, 2)
     return Commands(
@@ -245,6 +269,7 @@ def _bag_commands(path: os.PathLike[str], topic: str) -> Commands:
         {SKIP_UNREADABLE: unreadable} if unreadable else {},
         CLOCK_HEADER if use_header else CLOCK_RECEIVE,
         chosen,
+        guessed=guessed,
     )
 
 

@@ -145,3 +145,19 @@ def test_open_loop_odometry_of_a_plans_twists_ends_at_its_final_pose(
     odom.feed(stamps, left, right)
     scale = max(1.0, *(abs(s.end_pose.x) + abs(s.end_pose.y) for s in plan.segments))
     assert_pose_close(odom.summary("plan").final_pose, plan.final_pose, 1e-9 * scale)
+
+
+def test_without_a_topic_the_bags_only_command_topic_is_read(tmp_path: Path) -> None:
+    commands = [(S, twist_message(0.2, 0.0)), (2 * S, twist_message(0.0, 0.0))]
+    bag = write_topics(
+        tmp_path / "bag", {"/diff_cont/cmd_vel_unstamped": ("geometry_msgs/msg/Twist", commands)}
+    )
+    run = open_loop_odometry(bag, BOT)
+    assert (run.topic, run.topic_chosen) == ("/diff_cont/cmd_vel_unstamped", True)
+    assert run.summary.final_pose.x == pytest.approx(0.2, abs=1e-12)
+    two = write_topics(
+        tmp_path / "two",
+        dict.fromkeys(("/a/cmd_vel", "/b/cmd_vel"), ("geometry_msgs/msg/Twist", commands)),
+    )
+    with pytest.raises(RecordingError, match=r"several command topics: '/a/cmd_vel', '/b/cmd"):
+        open_loop_odometry(two, BOT)

@@ -133,7 +133,7 @@ def _error_text(result: OdometryResult) -> str:
 @opt.robot_options
 @opt.topic_option(
     "The sensor_msgs/JointState topic of a bag (with --open-loop, its Twist or TwistStamped "
-    "command topic, default /cmd_vel).",
+    "command topic: default /cmd_vel, or else the bag's only one).",
     reading=True,
 )
 @recording_options
@@ -246,8 +246,8 @@ def odom(
       diffbot simulate --example B -o b_bag --bag && diffbot odom b_bag --topic /joint_states
       diffbot odom b_bag -o odom_bag --bag --json
       diffbot odom docs/examples/joints.csv b_bag --jobs 2 -o poses/ --json
-      diffbot odom run_bag --feedback velocity
-      diffbot odom run_bag --open-loop --topic /diff_cont/cmd_vel_unstamped
+      diffbot odom docs/examples/wheel_velocities.csv --feedback velocity
+      diffbot odom docs/examples/commands.csv --open-loop
     """
     from diffbot.fleet import OdometryTask
     from diffbot.fleet import dask_address as checked_address
@@ -348,7 +348,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot:
 
     source, topic = task.input, task.topic
     from_stdin = source == "-"
-    total = None if from_stdin else recording_size(source, topic)
+    total = None if from_stdin or task.open_loop else recording_size(source, topic)
     unit = "B" if from_stdin or not is_bag(source) else "msg"
     stream = _stdin_stream() if from_stdin else None
     with progress(total, Path(source).name, unit, quiet=quiet) as advance:
@@ -372,7 +372,8 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot:
         opt.emit_json(_summary(result) | {"output": out.out, "robot": robot})
         _exit_if_implausible(result)
         return
-    chosen = " (its only JointState topic)" if run.topic_chosen else ""
+    only = "command" if task.open_loop else "JointState"
+    chosen = f" (its only {only} topic)" if run.topic_chosen else ""
     bag = "ROS 1 bag" if run.kind == "rosbag1" else "rosbag2"
     kind = "CSV" if run.kind == "csv" else f"{bag}, topic {run.topic}{chosen}, {run.clock} stamps"
     rows = [
