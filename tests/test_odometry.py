@@ -659,5 +659,7 @@ def test_velocity_feedback_holds_each_velocity_over_the_step_before_its_sample()
 
 
 def test_an_unknown_feedback_is_refused() -> None:
+    assert Odometry(BOT).feedback == "position"
+    assert Odometry(BOT, feedback="velocity").feedback == "velocity"
     with pytest.raises(diffbot.ParameterError, match="feedback"):
         Odometry(BOT, feedback="effort")

@@ -253,3 +253,23 @@ def test_bad_feedback_value_is_one_error(runner: CliRunner, tmp_path: Path) -> N
     bag = write_bag(tmp_path / "b", [(S, S, NAMES, [0.0, 0.0])])
     result = runner.invoke(main, ["odom", str(bag), "--feedback", "effort"])
     assert_one_error_line(result, "--feedback")
+
+
+def test_velocity_feedback_reads_a_csv_on_stdin(runner: CliRunner, robot: Path) -> None:
+    text = "t,/js/left_wheel_joint/velocity,/js/right_wheel_joint/velocity\n0,0,0\n2,1,1\n"
+    result = runner.invoke(
+        main, ["odom", "-", "--robot", str(robot), "--feedback", "velocity", "--json"], input=text
+    )
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["feedback"] == "velocity"
+    assert final(data) == pytest.approx((0.1, 0.0, 0.0), abs=1e-12)
+
+
+def test_open_loop_names_the_command_topic_it_chose(runner: CliRunner, tmp_path: Path) -> None:
+    commands = [(S, twist_message(0.2, 0.0)), (2 * S, twist_message(0.0, 0.0))]
+    topics = {"/diff_cont/cmd_vel_unstamped": ("geometry_msgs/msg/Twist", commands)}
+    bag = write_topics(tmp_path / "bag", topics)
+    result = runner.invoke(main, ["odom", str(bag), "--open-loop"])
+    assert result.exit_code == 0, result.output
+    assert "topic /diff_cont/cmd_vel_unstamped (its only command topic)" in result.stdout
