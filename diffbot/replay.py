@@ -370,6 +370,11 @@ def bag_odometry(
         hint = ""
         if odom.skipped.get(SKIP_MISSING_JOINT) and not odom.used:
             hint = _joints_hint(chunks, params)
+            if feedback == "velocity":
+                hint += (
+                    "; the messages hold no velocity for a side's wheels (empty velocity "
+                    "fields?): read the positions with {feedback} position"
+                )
         summary = odom.summary(chunks.source, hint)
         return RecordingOdometry(
             chunks.source,

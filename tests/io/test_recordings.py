@@ -598,3 +598,11 @@ def test_an_unknown_feedback_is_refused_by_the_readers(tmp_path: Path) -> None:
         read_recording(path, BOT, feedback="effort")
     with pytest.raises(diffbot.ParameterError, match="feedback"):
         recording_odometry(path, BOT, feedback="effort")
+
+
+def test_velocity_feedback_of_messages_without_velocities_says_to_read_positions(
+    tmp_path: Path,
+) -> None:
+    bag = write_bag(tmp_path / "bag", trajectory_a_messages()[:5])
+    with pytest.raises(diffbot.RecordingError, match=r"no velocity .*feedback= position"):
+        recording_odometry(bag, BOT, feedback="velocity")
