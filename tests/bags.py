@@ -191,3 +191,16 @@ def write_topics(path: Path, topics: dict[str, tuple[str, Sequence[tuple[int, by
             for received_ns, raw in messages:
                 writer.write(conn, received_ns, raw)
     return path
+
+
+def velocity_bag(path: Path, start_ns: int = 0, positions: bool = True) -> Path:
+    """Trajectory A of the course's robot as wheel velocities, its positions stuck at 0 (or
+    absent without ``positions``), as a driver that reports velocities only records it."""
+    from wheel_motion import trajectory_a_velocities
+
+    names = ["front_right_wheel_joint", "front_left_wheel_joint"]
+    messages: list[Message] = [
+        (stamp, joint_state(stamp, names, [0.0, 0.0] if positions else [], "", [right, left]))
+        for stamp, left, right in trajectory_a_velocities(start_ns)
+    ]
+    return write_bag(path, messages)

@@ -273,3 +273,15 @@ def test_open_loop_names_the_command_topic_it_chose(runner: CliRunner, tmp_path:
     result = runner.invoke(main, ["odom", str(bag), "--open-loop"])
     assert result.exit_code == 0, result.output
     assert "topic /diff_cont/cmd_vel_unstamped (its only command topic)" in result.stdout
+
+
+def test_velocity_columns_named_by_the_bundled_robots_joints_need_no_robot(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    left, right = "/js/front_left_wheel_joint/velocity", "/js/front_right_wheel_joint/velocity"
+    path = tmp_path / "v.csv"
+    speed = 0.1 / 0.035  # the bundled robot's wheels at 0.1 m/s, within its motor limit
+    path.write_text(f"t,{left},{right}\n0,0,0\n1,{speed!r},{speed!r}\n")
+    args = ["--feedback", "velocity", "--left-column", left, "--right-column", right]
+    data = odom_json(runner, str(path), *args)
+    assert final(data) == pytest.approx((0.1, 0.0, 0.0), abs=1e-12)

@@ -10,10 +10,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from bags import write_bag
+from bags import velocity_bag, write_bag
 from robots import BOT
 from rosbags.highlevel import AnyReader
-from wheel_motion import TRAJECTORY_A, assert_pose_close, wheel_samples
+from wheel_motion import TRAJECTORY_A, assert_pose_close, trajectory_a_velocities, wheel_samples
 
 import diffbot
 from diffbot.io.bag import read_bag, write_joint_states_bag, write_odometry_bag
@@ -22,7 +22,7 @@ from diffbot.io.csvfile import format_joint_states_csv, format_odometry_csv
 from diffbot.kinematics import Pose
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry
 from diffbot.recordings import read_recording
-from diffbot.replay import OdometryRow, recording_odometry, run_odometry, velocities_move
+from diffbot.replay import OdometryRow, recording_odometry, run_odometry
 from diffbot.samples import (
     CLOCK_HEADER,
     CLOCK_RECEIVE,
@@ -515,37 +515,12 @@ def test_a_rosbag2_directory_named_like_a_ros1_bag_is_read_as_rosbag2(
 # Velocity feedback: recordings of wheels that report velocities only
 
 
-def trajectory_a_velocities() -> list[tuple[int, float, float]]:
-    """Trajectory A at 10 Hz as (stamp ns, left, right joint velocity rad/s): each sample holds
-    the velocity of the step that ends at it (the first: 0)."""
-    rows = [(EPOCH, 0.0, 0.0)]
-    stamp = 0.0
-    for linear, angular, duration, steps in TRAJECTORY_A:
-        speeds = diffbot.inverse(BOT, linear, angular)
-        for k in range(1, steps + 1):
-            t = stamp + duration * k / steps
-            rows.append((EPOCH + round(t * 1e9), float(speeds.left), float(speeds.right)))
-        stamp += duration
-    return rows
-
-
-def velocity_bag(path: Path, positions: bool = True) -> Path:
-    """Trajectory A as velocities, positions stuck at 0 (or absent without ``positions``)."""
-    from bags import joint_state
-
-    messages = [
-        (stamp, joint_state(stamp, [RIGHT, LEFT], [0.0, 0.0] if positions else [], "", [r, lf]))
-        for stamp, lf, r in trajectory_a_velocities()
-    ]
-    return write_bag(path, messages)
-
-
 def test_bag_velocities_read_with_velocity_feedback_give_the_plans_final_pose(
     tmp_path: Path,
 ) -> None:
-    bag = velocity_bag(tmp_path / "bag")
+    bag = velocity_bag(tmp_path / "bag", EPOCH)
     assert read_bag(bag, field="velocity").samples[5].positions[1] == pytest.approx(
-        trajectory_a_velocities()[5][1], abs=0.0
+        trajectory_a_velocities(EPOCH)[5][1], abs=0.0
     )
     recording = read_recording(bag, BOT, feedback="velocity")
     run = run_odometry(recording, Odometry(BOT))
@@ -559,7 +534,9 @@ def test_csv_velocity_columns_read_with_velocity_feedback_give_the_plans_final_p
     tmp_path: Path,
 ) -> None:
     lines = [f"time,/js/{LEFT}/position,/js/{LEFT}/velocity,/js/{RIGHT}/velocity"]
-    lines += [f"{(s - EPOCH) / 1e9!r},0,{lf!r},{r!r}" for s, lf, r in trajectory_a_velocities()]
+    lines += [
+        f"{(s - EPOCH) / 1e9!r},0,{lf!r},{r!r}" for s, lf, r in trajectory_a_velocities(EPOCH)
+    ]
     path = tmp_path / "v.csv"
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     run = run_odometry(read_recording(path, BOT, feedback="velocity"), Odometry(BOT))
@@ -568,41 +545,9 @@ def test_csv_velocity_columns_read_with_velocity_feedback_give_the_plans_final_p
     assert_pose_close(chunked.summary.final_pose, Pose(0.0, 1.0, 0.0), 1e-9)
 
 
-def test_positions_that_never_move_beside_velocities_that_do_are_refused(tmp_path: Path) -> None:
-    bag = velocity_bag(tmp_path / "bag")
-    with pytest.raises(diffbot.RecordingError, match="never change") as raised:
-        recording_odometry(bag, BOT)
-    assert "read the velocities with feedback= velocity" in str(raised.value)
-    # Without any position at all, the error that no sample was usable says it too.
-    empty = velocity_bag(tmp_path / "empty", positions=False)
-    with pytest.raises(diffbot.RecordingError, match=r"no usable sample.*feedback= velocity"):
-        recording_odometry(empty, BOT)
-
-
-def test_a_robot_standing_still_is_not_mistaken_for_velocity_feedback(tmp_path: Path) -> None:
-    from bags import joint_state
-
-    still = [
-        (k * 10**8, joint_state(k * 10**8, [LEFT, RIGHT], [1.0, 2.0], "", [0.0, 0.0]))
-        for k in range(1, 11)
-    ]
-    bag = write_bag(tmp_path / "bag", still)
-    assert not velocities_move(bag, BOT)
-    assert recording_odometry(bag, BOT).summary.distance == 0.0
-    assert velocities_move(velocity_bag(tmp_path / "moving"), BOT)
-
-
 def test_an_unknown_feedback_is_refused_by_the_readers(tmp_path: Path) -> None:
     path = trajectory_a_csv(tmp_path / "a.csv")
     with pytest.raises(diffbot.ParameterError, match="feedback"):
         read_recording(path, BOT, feedback="effort")
     with pytest.raises(diffbot.ParameterError, match="feedback"):
         recording_odometry(path, BOT, feedback="effort")
-
-
-def test_velocity_feedback_of_messages_without_velocities_says_to_read_positions(
-    tmp_path: Path,
-) -> None:
-    bag = write_bag(tmp_path / "bag", trajectory_a_messages()[:5])
-    with pytest.raises(diffbot.RecordingError, match=r"no velocity .*feedback= position"):
-        recording_odometry(bag, BOT, feedback="velocity")
