@@ -45,3 +45,19 @@ def test_velocity_feedback_of_messages_without_velocities_says_to_read_positions
     bag = write_bag(tmp_path / "bag", [(k * S, k * S, names, [0.1 * k, 0.2 * k]) for k in range(5)])
     with pytest.raises(diffbot.RecordingError, match=r"no velocity .*feedback= position"):
         recording_odometry(bag, BOT, feedback="velocity")
+
+
+def test_velocity_feedback_of_a_bag_and_a_csv_ends_where_trajectory_a_does(
+    tmp_path: Path,
+) -> None:
+    from wheel_motion import assert_pose_close, trajectory_a_velocities
+
+    bag = recording_odometry(velocity_bag(tmp_path / "bag"), BOT, feedback="velocity")
+    assert_pose_close(bag.summary.final_pose, diffbot.Pose(0.0, 1.0, 0.0), 1e-9)
+    lines = [f"time,/js/{LEFT}/velocity,/js/{RIGHT}/velocity"]
+    lines += [f"{s / S!r},{left!r},{right!r}" for s, left, right in trajectory_a_velocities()]
+    path = tmp_path / "v.csv"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    csv = recording_odometry(path, BOT, feedback="velocity")
+    assert_pose_close(csv.summary.final_pose, diffbot.Pose(0.0, 1.0, 0.0), 1e-9)
+    assert (bag.summary.samples, csv.summary.samples) == (401, 401)
