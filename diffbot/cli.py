@@ -68,6 +68,8 @@ FLAGS = {
     "dask_address": "--dask",
     "dask_timeout": "--dask-timeout",
     "wrap": "--wrap",
+    "feedback": "--feedback",
+    "open_loop": "--open-loop",
 }
 
 

@@ -99,6 +99,8 @@ class ControllerConfig:
         angular: limits of angular.z (rad/s, rad/s², rad/s³).
         preserve_turning_radius: scale both axes alike when limiting (Clearpath and PAL forks).
         open_loop: odometry from the commands instead of the wheel feedback.
+        position_feedback: whether the wheels report positions (True, the controller's default)
+            or velocities only (False: odometry from the velocities).
         use_stamped_vel: commands as TwistStamped (releases before Jazzy).
         odom_frame_id: the odometry frame.
         base_frame_id: the robot's frame.
@@ -128,6 +130,7 @@ class ControllerConfig:
     angular: AxisLimits = AxisLimits()
     preserve_turning_radius: bool | None = None
     open_loop: bool | None = None
+    position_feedback: bool | None = None
     use_stamped_vel: bool | None = None
     odom_frame_id: str | None = None
     base_frame_id: str | None = None

@@ -47,6 +47,8 @@ PARAMETERS: Mapping[str, str] = {
     "dask_address": "dask_address=",
     "dask_timeout": "dask_timeout=",
     "wrap": "wrap=",
+    "feedback": "feedback=",
+    "open_loop": "open_loop=True",
 }
 
 __all__ = [

@@ -72,6 +72,9 @@ class OdometryTask:
         layout: a CSV's columns, delimiter and time unit, where not the defaults.
         reference: a pose topic of the same bag (nav_msgs/Odometry or PoseStamped) to hold
             the odometry against; its poses are added to the CSV output.
+        feedback: ``"position"`` or ``"velocity"``: the wheel joints' field to integrate.
+        open_loop: integrate the commanded body velocities instead (``topic`` is then the
+            command topic, a CSV holds ``t,v,w``).
     """
 
     input: str
@@ -83,6 +86,8 @@ class OdometryTask:
     conditioning: Conditioning | None = None
     layout: CsvLayout | None = None
     reference: str | None = None
+    feedback: str = "position"
+    open_loop: bool = False
 
 
 @dataclass(frozen=True)
@@ -225,6 +230,14 @@ def run_task(
 
         def odometry(output: _CsvSink | _BagSink | None) -> RecordingOdometry:
             sink = compared(output)
+            if task.open_loop:
+                from diffbot.open_loop import open_loop_odometry
+
+                if task.input == "-":
+                    raise RecordingError("{open_loop} reads a bag or a CSV file, not stdin")
+                return open_loop_odometry(
+                    task.input, task.params, task.topic, sink=sink, layout=task.layout
+                )
             if task.input == "-":
                 assert stream is not None
                 return csv_odometry(
@@ -235,6 +248,7 @@ def run_task(
                     progress=progress,
                     conditioning=task.conditioning,
                     layout=task.layout,
+                    feedback=task.feedback,
                 )
             return recording_odometry(
                 task.input,
@@ -244,6 +258,7 @@ def run_task(
                 progress=progress,
                 conditioning=task.conditioning,
                 layout=task.layout,
+                feedback=task.feedback,
             )
 
         inputs = [] if task.input == "-" else [Path(task.input)]

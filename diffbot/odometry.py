@@ -39,6 +39,7 @@ from diffbot.ros.messages import (
     covariance_matrix,
 )
 from diffbot.samples import SKIP_NOT_FINITE
+from diffbot.velocity_feedback import check_feedback
 
 __all__ = [
     "DEFAULT_POSE_COVARIANCE",
@@ -113,10 +114,14 @@ class Odometry:
         twist_covariance: diagonal of the twist covariance.
         velocity_rolling_window_size: how many of the last steps the velocity estimate spans
             (diff_drive_controller's parameter of that name); 1 = the last step alone.
+        feedback: ``"position"`` (samples are wheel angles) or ``"velocity"``: samples are
+            wheel velocities (rad/s; a JointState's ``velocity``), each held over the step
+            that ends at its sample, as diff_drive_controller's ``update_from_vel`` moves by
+            velocity times the period since the last update (``position_feedback: false``).
 
     Raises:
-        ParameterError: a non-finite initial pose, a bad covariance diagonal or a window size
-            that is not a whole number >= 1.
+        ParameterError: a non-finite initial pose, a bad covariance diagonal, a window size
+            that is not a whole number >= 1, or an unknown ``feedback``.
     """
 
     def __init__(
@@ -131,8 +136,13 @@ class Odometry:
         pose_covariance: Sequence[float] = DEFAULT_POSE_COVARIANCE,
         twist_covariance: Sequence[float] = DEFAULT_TWIST_COVARIANCE,
         velocity_rolling_window_size: int = 1,
+        feedback: str = "position",
     ) -> None:
         self.params = params
+        #: What the samples are: ``position`` or ``velocity``.
+        self.feedback = check_feedback(feedback)
+        # Velocities are integrated into the wheel angles _left/_right before each step.
+        self._velocity = feedback == "velocity"
         self.frame_id = frame_id
         self.child_frame_id = child_frame_id
         self.pose_covariance = covariance_matrix(pose_covariance, "pose covariance")
@@ -250,6 +260,8 @@ class Odometry:
             return False
         last = self._stamp
         if last is None:
+            if self._velocity:  # the first velocity only starts the clock
+                left, right = self._left, self._right
             self._left0 = self._left = left
             self._right0 = self._right = right
             self._heading0 = self._heading
@@ -267,6 +279,9 @@ class Odometry:
                 self._skip(SKIP_STAMP_NOT_AFTER)
                 return False
             dt = stamp - last
+        if self._velocity:
+            left = self._left + left * dt
+            right = self._right + right * dt
         # The same formulas as integrate(), so both agree to the last bit wherever math and NumPy
         # agree on sin and cos. The heading is linear in the wheel angles, so it is computed from
         # the angles travelled since the baseline rather than summed step by step: its rounding
@@ -331,6 +346,7 @@ class Odometry:
         stamp: float | None = None,
         *,
         stamp_ns: int | None = None,
+        velocities: Sequence[float] | None = None,
     ) -> bool:
         """Integrate one sensor_msgs/JointState message.
 
@@ -353,6 +369,8 @@ class Odometry:
                 :meth:`update`), so prefer ``stamp_ns``.
             stamp_ns: its header stamp in integer ns (``sec * 10**9 + nanosec``), instead of
                 ``stamp``.
+            velocities: its ``velocity`` field (rad/s): read instead of ``positions`` when
+                the feedback is velocity (and needed then).
 
         Returns:
             True when the sample was used, False when it was skipped (every joint of a side
@@ -360,9 +378,13 @@ class Odometry:
             previous one).
 
         Raises:
-            ParameterError: neither or both of ``stamp`` and ``stamp_ns`` given, or a
-                ``stamp_ns`` that is not an integer.
+            ParameterError: neither or both of ``stamp`` and ``stamp_ns`` given, a
+                ``stamp_ns`` that is not an integer, or no ``velocities`` with velocity feedback.
         """
+        if self._velocity:
+            if velocities is None:
+                raise ParameterError("feedback='velocity' reads the message's velocities=")
+            positions = velocities
         # Sides of several wheels leave this cache empty and take the branch on a miss: the
         # two-wheel path, a node's per-message call, pays for no test of its own.
         cached = self._names

@@ -23,6 +23,7 @@ from diffbot.samples import (
     Recording,
     beyond_range,
 )
+from diffbot.velocity_feedback import VelocityAngles, check_feedback
 
 __all__ = ["read_recording"]
 
@@ -38,8 +39,16 @@ def read_recording(
     right_column: str | Sequence[str] | None = None,
     delimiter: str | None = None,
     time_unit: str | None = None,
+    feedback: str = "position",
 ) -> Recording:
     """Read wheel joint samples whole from a CSV file or a rosbag2 recording.
+
+    With ``feedback="velocity"`` the wheels' velocities are read (a bag's JointState
+    ``velocity`` fields, a CSV's ``/<joint>/velocity`` columns or the columns named) and the
+    samples hold the wheel angles they integrate to, each sample's velocity held over the
+    interval that ends at it, as diff_drive_controller does with ``position_feedback: false``
+    (see :mod:`diffbot.velocity_feedback`): the odometry of the result is that of the
+    velocities.
 
     Args:
         path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
@@ -54,29 +63,37 @@ def read_recording(
         delimiter: a CSV's delimiter (default: a comma, or what splits the header).
         time_unit: a CSV's time unit, ``s``, ``ms``, ``us`` or ``ns`` (default: seconds, or as
             the first stamp's size says; the result's ``notes`` say so).
+        feedback: ``"position"`` or ``"velocity"``: the field read.
 
     Returns:
         The samples.
 
     Raises:
         RecordingError: missing, empty or unreadable input; missing columns or topic.
+        ParameterError: an unknown ``feedback``.
     """
+    velocity = check_feedback(feedback) == "velocity"
     p = existing_recording(path)
     if is_bag(p):
         wheels = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
-        recording = _within_range(read_bag(p, topic), wheels)
-        return _conditioned(recording, params, conditioning)
+        recording = _within_range(read_bag(p, topic, feedback), wheels)
+        return _conditioned(recording, params, conditioning, velocity)
 
     layout = csv_layout(time_column, left_column, right_column, delimiter, time_unit)
+    layout = dataclasses.replace(layout, field=feedback)
     sides = (params.left_joints, params.right_joints)
     skipped: dict[str, int] = {}
     with open_csv_chunks(p, sides, layout=layout) as chunks:
         samples = ColumnSamples(params.left_joints[0], params.right_joints[0])
         conditioner = Conditioner.for_robot(params, chunks.joints, chunks.left_count, conditioning)
+        angles = VelocityAngles(len(chunks.joints)) if velocity else None
         for chunk in chunks:
             for reason, count in chunk.skipped.items():
                 skipped[reason] = skipped.get(reason, 0) + count
-            positions = conditioner.feed(chunk.stamp_ns, chunk.positions, chunk.present)
+            values = chunk.positions
+            if angles is not None:
+                values = angles.feed(chunk.stamp_ns, values, chunk.present)
+            positions = conditioner.feed(chunk.stamp_ns, values, chunk.present)
             samples.add_chunk(chunk.stamp_ns, positions, chunk.present, chunks.left_count)
         report = conditioner.report()
         return Recording(
@@ -85,9 +102,13 @@ def read_recording(
 
 
 def _conditioned(
-    recording: Recording, params: DiffDriveParams, conditioning: Conditioning | None
+    recording: Recording,
+    params: DiffDriveParams,
+    conditioning: Conditioning | None,
+    velocity: bool = False,
 ) -> Recording:
-    """A bag's samples with their wheel joints' positions conditioned (other joints as read)."""
+    """A bag's samples with their wheel joints' positions conditioned (other joints as read);
+    with ``velocity``, the wheel angles integrated from the velocities the samples hold."""
     joints = [*params.left_joints, *params.right_joints]
     conditioner = Conditioner.for_robot(params, joints, len(params.left_joints), conditioning)
     samples = recording.samples
@@ -103,7 +124,8 @@ def _conditioned(
             if j is not None:
                 positions[k, j] = value
                 present[k, j] = True
-    conditioned = conditioner.feed(stamps, positions, present)
+    wheels = VelocityAngles(len(joints)).feed(stamps, positions, present) if velocity else positions
+    conditioned = conditioner.feed(stamps, wheels, present)
     report = conditioner.report()
     if conditioned is positions:
         return dataclasses.replace(recording, conditioning=report)

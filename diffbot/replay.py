@@ -17,6 +17,7 @@ compact columns.
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import os
 from collections.abc import Callable, Mapping, Sequence
@@ -215,11 +216,15 @@ def csv_odometry(
     chunk_bytes: int | None = None,
     conditioning: Conditioning | None = None,
     layout: CsvLayout | None = None,
+    feedback: str = "position",
 ) -> RecordingOdometry:
     """The odometry of the wheel columns of a recording CSV (a file or a text stream).
 
     The positions go through a :class:`~diffbot.conditioning.Conditioner` (units, wraps,
-    implausible steps) as ``conditioning`` says before they are integrated.
+    implausible steps) as ``conditioning`` says before they are integrated. With ``feedback``
+    ``"velocity"`` the columns are wheel velocities (rad/s; ``/<joint>/velocity`` unless
+    ``layout`` names them), turned into angles by
+    :class:`~diffbot.velocity_feedback.VelocityAngles` first.
 
     Raises:
         RecordingError: missing, empty or non-text input, no time column, no column for a side,
@@ -227,22 +232,28 @@ def csv_odometry(
     """
     from diffbot.chunk_odometry import ChunkOdometry, side_means
     from diffbot.conditioning import Conditioner
-    from diffbot.io.csv_chunks import CHUNK_BYTES, open_csv_chunks
+    from diffbot.io.csv_chunks import CHUNK_BYTES, CsvLayout, open_csv_chunks
+    from diffbot.velocity_feedback import VelocityAngles, check_feedback
 
     odom = ChunkOdometry(params)
     sides = (params.left_joints, params.right_joints)
+    velocity = check_feedback(feedback) == "velocity"
     with open_csv_chunks(
         path,
         sides,
         chunk_bytes=CHUNK_BYTES if chunk_bytes is None else chunk_bytes,
         source=source,
-        layout=layout,
+        layout=dataclasses.replace(layout or CsvLayout(), field=feedback),
     ) as chunks:
         conditioner = Conditioner.for_robot(params, chunks.joints, chunks.left_count, conditioning)
+        angles = VelocityAngles(len(chunks.joints)) if velocity else None
         for chunk in chunks:
             for reason, count in chunk.skipped.items():
                 odom.skip(reason, count)
-            positions = conditioner.feed(chunk.stamp_ns, chunk.positions, chunk.present)
+            values = chunk.positions
+            if angles is not None:
+                values = angles.feed(chunk.stamp_ns, values, chunk.present)
+            positions = conditioner.feed(chunk.stamp_ns, values, chunk.present)
             left, right, both = side_means(positions, chunk.present, chunks.left_count)
             poses = odom.feed(chunk.stamp_ns, left, right, both)
             if sink is not None:
@@ -261,6 +272,7 @@ def _bag_pass(
     sink: PoseSink | None,
     progress: Progress | None,
     conditioning: Conditioning | None,
+    feedback: str = "position",
 ) -> tuple[ChunkOdometry, Conditioner] | None:
     """One pass over the topic; None when a zero header stamp asks for the receive clock."""
     import numpy as np
@@ -268,12 +280,14 @@ def _bag_pass(
     from diffbot.chunk_odometry import ChunkOdometry, side_means
     from diffbot.conditioning import Conditioner
     from diffbot.io.jointstate_cdr import decode_positions
+    from diffbot.velocity_feedback import VelocityAngles
 
     odom = ChunkOdometry(params)
     joints = (*params.left_joints, *params.right_joints)
     conditioner = Conditioner.for_robot(params, joints, len(params.left_joints), conditioning)
+    angles = VelocityAngles(len(joints)) if feedback == "velocity" else None
     for chunk in topic.chunks(receive_times=clock == CLOCK_RECEIVE):
-        decoded = decode_positions(chunk.blobs, joints)
+        decoded = decode_positions(chunk.blobs, joints, feedback)
         readable = decoded.readable
         header = decoded.stamp_ns[readable]
         if clock == CLOCK_HEADER and not np.all(header):
@@ -297,6 +311,8 @@ def _bag_pass(
             odom.skip(SKIP_POSITION_RANGE, int(np.count_nonzero(out_of_range)))
             keep = ~out_of_range
             positions, present, stamps = positions[keep], present[keep], stamps[keep]
+        if angles is not None:
+            positions = angles.feed(stamps, positions, present)
         positions = conditioner.feed(stamps, positions, present)
         left, right, both = side_means(positions, present, len(params.left_joints))
         poses = odom.feed(stamps, left, right, both)
@@ -316,11 +332,14 @@ def bag_odometry(
     sink: PoseSink | None = None,
     progress: Progress | None = None,
     conditioning: Conditioning | None = None,
+    feedback: str = "position",
 ) -> RecordingOdometry:
     """The odometry of the sensor_msgs/msg/JointState messages of one bag topic.
 
     Messages of a repeating layout are decoded in bulk (fixed byte offsets, NumPy over many
-    messages at once), any other one by rosbags' deserializer.
+    messages at once), any other one by rosbags' deserializer. With ``feedback``
+    ``"velocity"`` the messages' ``velocity`` fields are read and integrated instead of their
+    positions (see :mod:`diffbot.velocity_feedback`).
 
     Raises:
         RecordingError: rosbags is missing (for storage it must read), the path is not a
@@ -329,7 +348,9 @@ def bag_odometry(
     """
     from diffbot.io.bag import JOINT_STATE
     from diffbot.io.bag_chunks import CHUNK_MESSAGES, BagError, TopicChunks
+    from diffbot.velocity_feedback import check_feedback
 
+    check_feedback(feedback)
     size = CHUNK_MESSAGES if chunk_size is None else chunk_size
     with closing(TopicChunks(path, topic, chunk_size=size)) as chunks:
         if chunks.msgtype != JOINT_STATE:
@@ -338,17 +359,22 @@ def bag_odometry(
                 f"not {JOINT_STATE}"
             )
         clock = CLOCK_HEADER
-        done = _bag_pass(chunks, params, clock, sink, progress, conditioning)
+        done = _bag_pass(chunks, params, clock, sink, progress, conditioning, feedback)
         if done is None:
             clock = CLOCK_RECEIVE
             if sink is not None:
                 sink.restart()
-            done = _bag_pass(chunks, params, clock, sink, progress, conditioning)
+            done = _bag_pass(chunks, params, clock, sink, progress, conditioning, feedback)
         assert done is not None  # the receive clock never asks for another pass
         odom, conditioner = done
         hint = ""
         if odom.skipped.get(SKIP_MISSING_JOINT) and not odom.used:
             hint = _joints_hint(chunks, params)
+            if feedback == "velocity":
+                hint += (
+                    "; the messages hold no velocity for a side's wheels (empty velocity "
+                    "fields?): read the positions with {feedback} position"
+                )
         summary = odom.summary(chunks.source, hint)
         return RecordingOdometry(
             chunks.source,
@@ -416,8 +442,14 @@ def recording_odometry(
     progress: Progress | None = None,
     conditioning: Conditioning | None = None,
     layout: CsvLayout | None = None,
+    feedback: str = "position",
 ) -> RecordingOdometry:
     """The odometry of a CSV file or a rosbag2 recording, by what the path is.
+
+    A recording read for its positions whose wheel positions never move while its wheel
+    velocities do (a robot that reports velocities only, as diff_drive_controller's
+    ``position_feedback: false`` expects) is refused, the message naming ``feedback``: its
+    odometry would say the robot stood still.
 
     Args:
         path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
@@ -428,19 +460,101 @@ def recording_odometry(
             :func:`recording_size`).
         conditioning: the positions' units and wrap (default: radians, wraps detected).
         layout: a CSV's columns, delimiter and time unit, where not the defaults.
+        feedback: ``"position"`` (the wheel joints' positions) or ``"velocity"`` (their
+            velocities, integrated as diff_drive_controller does with
+            ``position_feedback: false``).
 
     Raises:
         RecordingError: missing, empty or unreadable input; missing columns or topic; no
-            usable sample.
+            usable sample; positions that never move beside velocities that do.
     """
     from diffbot.io.bag import is_bag
     from diffbot.io.recordings import existing_recording
 
     p = existing_recording(path)
-    if is_bag(p):
-        return bag_odometry(
-            p, params, topic, sink=sink, progress=progress, conditioning=conditioning
+    try:
+        if is_bag(p):
+            run = bag_odometry(
+                p,
+                params,
+                topic,
+                sink=sink,
+                progress=progress,
+                conditioning=conditioning,
+                feedback=feedback,
+            )
+        else:
+            run = csv_odometry(
+                p,
+                params,
+                sink=sink,
+                progress=progress,
+                conditioning=conditioning,
+                layout=layout,
+                feedback=feedback,
+            )
+    except RecordingError as err:
+        if feedback == "position" and velocities_move(p, params, topic, layout):
+            raise RecordingError(f"{err.template}; {_VELOCITY_HINT}", **err.fields) from None
+        raise
+    summary = run.summary
+    still = summary.distance == 0.0 and summary.heading == 0.0 and summary.samples > 1
+    if feedback == "position" and still and velocities_move(p, params, topic, layout):
+        raise RecordingError(
+            f"{run.source}: the wheel positions never change while the wheel velocities do "
+            f"(the odometry would stand still); {_VELOCITY_HINT}"
         )
-    return csv_odometry(
-        p, params, sink=sink, progress=progress, conditioning=conditioning, layout=layout
-    )
+    return run
+
+
+#: What to do about a recording whose wheels report velocities only.
+_VELOCITY_HINT = (
+    "the wheels report velocities only (a controller with position_feedback: false): read "
+    "the velocities with {feedback} velocity"
+)
+
+
+def velocities_move(
+    path: str | os.PathLike[str],
+    params: DiffDriveParams,
+    topic: str | None = None,
+    layout: CsvLayout | None = None,
+) -> bool:
+    """Whether a recording holds a wheel velocity that is finite and not zero (a JointState
+    topic's ``velocity`` fields, a CSV's ``/<joint>/velocity`` columns); False when it holds
+    none or cannot be read for them."""
+    import numpy as np
+
+    from diffbot.errors import DiffbotError
+    from diffbot.io.bag import JOINT_STATE, is_bag
+
+    joints = (*params.left_joints, *params.right_joints)
+
+    def moving(values: NDArray[np.float64], present: NDArray[np.bool_]) -> bool:
+        with np.errstate(invalid="ignore"):
+            return bool(np.any(present & np.isfinite(values) & (values != 0.0)))
+
+    try:
+        if is_bag(path):
+            from diffbot.io.bag_chunks import TopicChunks
+            from diffbot.io.jointstate_cdr import decode_positions
+
+            with closing(TopicChunks(path, topic)) as chunks:
+                if chunks.msgtype != JOINT_STATE:
+                    return False
+                for chunk in chunks.chunks(receive_times=False):
+                    decoded = decode_positions(chunk.blobs, joints, "velocity")
+                    if moving(decoded.positions, decoded.present):
+                        return True
+            return False
+        from diffbot.io.csv_chunks import CsvLayout, open_csv_chunks
+
+        # The velocity columns by the joints' names (named columns are the positions').
+        wanted = dataclasses.replace(
+            layout or CsvLayout(), field="velocity", left_columns=None, right_columns=None
+        )
+        sides = (params.left_joints, params.right_joints)
+        with open_csv_chunks(path, sides, layout=wanted) as csv_chunks:
+            return any(moving(chunk.positions, chunk.present) for chunk in csv_chunks)
+    except DiffbotError:
+        return False

@@ -19,7 +19,11 @@ Message = tuple[int, int, Sequence[str], Sequence[float]] | tuple[int, bytes]
 
 
 def joint_state(
-    stamp_ns: int, names: Sequence[str], positions: Sequence[float], frame_id: str = ""
+    stamp_ns: int,
+    names: Sequence[str],
+    positions: Sequence[float],
+    frame_id: str = "",
+    velocities: Sequence[float] = (),
 ) -> bytes:
     sec, nanosec = divmod(stamp_ns, 1_000_000_000)
     msg = m.sensor_msgs__msg__JointState(
@@ -28,7 +32,7 @@ def joint_state(
         ),
         name=list(names),
         position=np.array(positions, dtype=np.float64),
-        velocity=np.empty(0),
+        velocity=np.array(velocities, dtype=np.float64),
         effort=np.empty(0),
     )
     return bytes(TYPESTORE.serialize_cdr(msg, JOINT_STATE))
@@ -159,3 +163,44 @@ def write_bag_with_odometry(
         for stamp_ns, x, y, theta in poses:
             writer.write(odom, stamp_ns, odometry_message(stamp_ns, x, y, theta))
     return path
+
+
+def twist_message(linear: float, angular: float, stamp_ns: int | None = None) -> bytes:
+    """A geometry_msgs/Twist, or a TwistStamped when ``stamp_ns`` is given."""
+    twist = m.geometry_msgs__msg__Twist(
+        linear=m.geometry_msgs__msg__Vector3(x=linear, y=0.0, z=0.0),
+        angular=m.geometry_msgs__msg__Vector3(x=0.0, y=0.0, z=angular),
+    )
+    if stamp_ns is None:
+        return bytes(TYPESTORE.serialize_cdr(twist, "geometry_msgs/msg/Twist"))
+    sec, nanosec = divmod(stamp_ns, 1_000_000_000)
+    stamped = m.geometry_msgs__msg__TwistStamped(
+        header=m.std_msgs__msg__Header(
+            stamp=m.builtin_interfaces__msg__Time(sec=sec, nanosec=nanosec), frame_id="base_link"
+        ),
+        twist=twist,
+    )
+    return bytes(TYPESTORE.serialize_cdr(stamped, "geometry_msgs/msg/TwistStamped"))
+
+
+def write_topics(path: Path, topics: dict[str, tuple[str, Sequence[tuple[int, bytes]]]]) -> Path:
+    """A rosbag2 directory with each topic's (type, [(receive time ns, raw message)])."""
+    with Writer(path, version=9, storage_plugin=StoragePlugin.SQLITE3) as writer:
+        for topic, (msgtype, messages) in topics.items():
+            conn = writer.add_connection(topic, msgtype, typestore=TYPESTORE)
+            for received_ns, raw in messages:
+                writer.write(conn, received_ns, raw)
+    return path
+
+
+def velocity_bag(path: Path, start_ns: int = 0, positions: bool = True) -> Path:
+    """Trajectory A of the course's robot as wheel velocities, its positions stuck at 0 (or
+    absent without ``positions``), as a driver that reports velocities only records it."""
+    from wheel_motion import trajectory_a_velocities
+
+    names = ["front_right_wheel_joint", "front_left_wheel_joint"]
+    messages: list[Message] = [
+        (stamp, joint_state(stamp, names, [0.0, 0.0] if positions else [], "", [right, left]))
+        for stamp, left, right in trajectory_a_velocities(start_ns)
+    ]
+    return write_bag(path, messages)

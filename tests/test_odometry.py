@@ -599,3 +599,67 @@ def test_batch_integration_refuses_what_is_not_a_real_number(left: object, match
         integrate(BOT, left, [0.0])  # type: ignore[arg-type]
     with pytest.raises(diffbot.ParameterError, match=match.replace("left", "right")):
         integrate(BOT, [0.0], left)  # type: ignore[arg-type]
+
+
+# --------------------------------------------------------------------------------------------
+# Velocity feedback, as diff_drive_controller's update_from_vel (position_feedback: false)
+
+#: ros2_controllers diff_drive_controller/test/test_odometry.cpp: separation 1 m, radii 1 m.
+UNIT = DiffDriveParams(wheel_radius=1.0, wheel_separation=1.0)
+
+
+@pytest.mark.parametrize(
+    ("left", "right", "expected", "twist"),
+    [
+        # TestLinearMotion: 1 rad/s each for 1 s.
+        (1.0, 1.0, Pose(1.0, 0.0, 0.0), (1.0, 0.0)),
+        # TestPureRotation: -1 and 1 rad/s.
+        (-1.0, 1.0, Pose(0.0, 0.0, 2.0), (0.0, 2.0)),
+        # TestCurvedMotion_ExactArc: 1 and 2 rad/s, an arc of radius 1.5 m through 1 rad.
+        (1.0, 2.0, Pose(1.5 * math.sin(1.0), -1.5 * (math.cos(1.0) - 1.0), 1.0), (1.5, 1.0)),
+    ],
+)
+def test_velocity_feedback_reproduces_the_controllers_odometry_tests(
+    left: float, right: float, expected: Pose, twist: tuple[float, float]
+) -> None:
+    odom = Odometry(UNIT, feedback="velocity")
+    odom.update(123.0, -45.0, 0.0)  # the first velocities only start the clock
+    assert odom.update(left, right, 1.0)
+    assert_pose_close(odom.pose, expected, 1e-15)
+    assert odom.twist.linear == pytest.approx(twist[0], abs=1e-15)
+    assert odom.twist.angular == pytest.approx(twist[1], abs=1e-15)
+
+
+def test_velocity_feedback_reads_the_joint_states_velocities() -> None:
+    odom = Odometry(BOT, feedback="velocity")
+    names = ["caster", RIGHT, LEFT]
+    positions = [0.0, 0.0, 0.0]  # never changing, as a velocity-only driver reports them
+    speed = 0.2 / BOT.wheel_radius
+    for k in range(11):
+        odom.update_joint_state(
+            names,
+            positions,
+            k * 0.1,
+            velocities=[0.0, BOT.right_sign * speed, BOT.left_sign * speed],
+        )
+    assert_pose_close(odom.pose, Pose(0.2, 0.0, 0.0), 1e-12)
+    with pytest.raises(diffbot.ParameterError, match="velocities="):
+        odom.update_joint_state(names, positions, 2.0)
+
+
+def test_velocity_feedback_holds_each_velocity_over_the_step_before_its_sample() -> None:
+    odom = Odometry(UNIT, feedback="velocity")
+    for stamp, speed in [(0.0, 0.0), (1.0, 1.0), (3.0, 0.5), (3.5, 4.0)]:
+        odom.update(speed, speed, stamp)
+    assert odom.pose.x == pytest.approx(1.0 + 1.0 + 2.0, abs=1e-15)
+    odom.update(math.nan, 1.0, 4.0)  # skipped: the next velocity spans the gap
+    odom.update(1.0, 1.0, 5.0)
+    assert odom.pose.x == pytest.approx(4.0 + 1.5, abs=1e-15)
+    assert odom.skipped == {SKIP_NOT_FINITE: 1}
+
+
+def test_an_unknown_feedback_is_refused() -> None:
+    assert Odometry(BOT).feedback == "position"
+    assert Odometry(BOT, feedback="velocity").feedback == "velocity"
+    with pytest.raises(diffbot.ParameterError, match="feedback"):
+        Odometry(BOT, feedback="effort")

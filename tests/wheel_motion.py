@@ -72,3 +72,18 @@ def wheel_samples(
         left += joint_left * duration
         right += joint_right * duration
     return stamps, lefts, rights
+
+
+def trajectory_a_velocities(start_ns: int = 0) -> list[tuple[int, float, float]]:
+    """Trajectory A of the course's robot at 10 Hz as (stamp ns, left, right joint velocity
+    rad/s): each sample holds the velocity of the step that ends at it (the first: 0)."""
+    params = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
+    rows = [(start_ns, 0.0, 0.0)]
+    stamp = 0.0
+    for linear, angular, duration, steps in TRAJECTORY_A:
+        speeds = diffbot.inverse(params, linear, angular)
+        for k in range(1, steps + 1):
+            t = stamp + duration * k / steps
+            rows.append((start_ns + round(t * 1e9), float(speeds.left), float(speeds.right)))
+        stamp += duration
+    return rows

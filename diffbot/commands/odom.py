@@ -34,6 +34,7 @@ from diffbot.odometry import SKIP_MISSING_JOINT
 if TYPE_CHECKING:
     from diffbot.chunk_odometry import OdometrySummary
     from diffbot.fleet import OdometryResult, OdometryTask
+    from diffbot.kinematics import DiffDriveParams
     from diffbot.reference import ReferenceResult
 
 __all__ = ["odom"]
@@ -96,6 +97,11 @@ def _missing_text(summary: OdometrySummary, kind: str) -> str:
     )
 
 
+def _feedback(task: OdometryTask) -> str:
+    """What the odometry was computed from: ``position``, ``velocity`` or ``open-loop``."""
+    return "open-loop" if task.open_loop else task.feedback
+
+
 def _summary(result: OdometryResult) -> dict[str, Any]:
     run = result.run
     assert run is not None
@@ -103,6 +109,7 @@ def _summary(result: OdometryResult) -> dict[str, Any]:
     pose = summary.final_pose
     return {
         "input": result.task.input,
+        "feedback": _feedback(result.task),
         "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},
         "distance": summary.distance,
         "samples": summary.samples,
@@ -125,8 +132,26 @@ def _error_text(result: OdometryResult) -> str:
 @click.command()
 @click.argument("tokens", nargs=-1, metavar="INPUT... [NAME:=VALUE]...")
 @opt.robot_options
-@opt.topic_option("The sensor_msgs/JointState topic of a bag.", reading=True)
+@opt.topic_option(
+    "The sensor_msgs/JointState topic of a bag (with --open-loop, its Twist or TwistStamped "
+    "command topic: default /cmd_vel, or else the bag's only one).",
+    reading=True,
+)
 @recording_options
+@click.option(
+    "--feedback",
+    type=click.Choice(["position", "velocity"]),
+    help="Integrate the wheel joints' positions or their velocities (as diff_drive_controller "
+    "does with position_feedback: false). Default: the controllers file's position_feedback "
+    "when one is given or found, else position.",
+)
+@click.option(
+    "--open-loop",
+    is_flag=True,
+    help="Integrate the commanded body velocities instead (open_loop: true): a bag's "
+    "--topic (default /cmd_vel) or a CSV of t,v,w (s, m/s, rad/s), each command held until "
+    "the next.",
+)
 @click.option(
     "--reference",
     metavar="TOPIC",
@@ -170,6 +195,8 @@ def odom(
     tokens: tuple[str, ...],
     topic: str | None,
     recording: RecordingOptions,
+    feedback: str | None,
+    open_loop: bool,
     reference: str | None,
     out: OutOptions,
     jobs: int,
@@ -178,7 +205,7 @@ def odom(
     quiet: bool,
     as_json: bool,
 ) -> None:
-    """Odometry from recorded wheel joint positions.
+    """Odometry from recorded wheel joint positions (or velocities, or commands).
 
     INPUT is a CSV file (a time column `time`, `stamp`, `t` or `__time` in seconds, and one
     position column per wheel named by its joint or ending with `/<joint>/position`; `-` reads
@@ -189,6 +216,14 @@ def odom(
     exactly along its arc; the first sample sets the encoder baseline. A side with several
     wheels moves by the mean of its joints present in a sample. Samples without a whole side,
     with NaN/inf or with a stamp not after the previous one are skipped and reported.
+
+    With --feedback velocity the wheels' velocities are read instead (a bag's JointState
+    `velocity` fields, a CSV's columns ending with `/<joint>/velocity` or named by
+    --left-column/--right-column), each sample's velocity held over the interval that ends at
+    it, as diff_drive_controller integrates them. A recording whose positions never change
+    while its velocities do is refused, naming --feedback velocity. With --open-loop the
+    commands are integrated: compare them with the wheels' odometry of the same run through
+    --reference or --out.
 
     Positions may be encoder counts (--counts-per-rev) from a counter that wraps around
     (--wrap; detected by itself when not given, and said so). A step no wheel can make (far
@@ -212,6 +247,8 @@ def odom(
       diffbot simulate --example B -o b_bag --bag && diffbot odom b_bag --topic /joint_states
       diffbot odom b_bag -o odom_bag --bag --json
       diffbot odom docs/examples/joints.csv b_bag --jobs 2 -o poses/ --json
+      diffbot odom docs/examples/wheel_velocities.csv --feedback velocity
+      diffbot odom docs/examples/commands.csv --open-loop
     """
     from diffbot.fleet import OdometryTask
     from diffbot.fleet import dask_address as checked_address
@@ -229,15 +266,30 @@ def odom(
     layout = recording.layout()
     out.require_out_for_bag()
     robot = robot.with_path(None, xacro_args)
+    if open_loop and feedback is not None:
+        opt.fail("--open-loop integrates the commands, not the wheels' --feedback: choose one")
+    if open_loop and (recording.counts_per_rev is not None or recording.wrap is not None):
+        opt.fail("--open-loop reads commands: --counts-per-rev and --wrap apply to the wheels")
     if len(sources) > 1:
         if "-" in sources:
             opt.fail("- (a CSV on stdin) cannot be read with other inputs")
         p = robot.load()
-        recording.check_robot(robot, p)
+        if not open_loop:  # commanded twists do not depend on the wheels' geometry
+            recording.check_robot(robot, p)
         outputs = _outputs(sources, out)
         tasks = [
             OdometryTask(
-                source, p, topic, output, out.as_bag, out.force, conditioning, layout, reference
+                source,
+                p,
+                topic,
+                output,
+                out.as_bag,
+                out.force,
+                conditioning,
+                layout,
+                reference,
+                _feedback_of(feedback, p),
+                open_loop,
             )
             for source, output in zip(sources, outputs, strict=True)
         ]
@@ -257,13 +309,34 @@ def odom(
     inputs = [Path(path) for path in (None if from_stdin else source, robot.robot) if path]
     out.path(inputs)
     p = robot.load()
-    recording.check_robot(robot, p)
+    if not open_loop:
+        recording.check_robot(robot, p)
     out_path = out.path([*inputs, *(Path(path) for path in p.description_files)])
     output = None if out_path is None else str(out_path)
     task = OdometryTask(
-        source, p, topic, output, out.as_bag, out.force, conditioning, layout, reference
+        source,
+        p,
+        topic,
+        output,
+        out.as_bag,
+        out.force,
+        conditioning,
+        layout,
+        reference,
+        _feedback_of(feedback, p),
+        open_loop,
     )
     _one(task, quiet, as_json, out, robot_label(robot))
+
+
+def _feedback_of(feedback: str | None, params: DiffDriveParams) -> str:
+    """--feedback, else the controller's position_feedback, else position."""
+    if feedback is not None:
+        return feedback
+    controller = params.controller
+    if controller is not None and controller.position_feedback is False:
+        return "velocity"
+    return "position"
 
 
 def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot: str) -> None:
@@ -274,7 +347,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot:
 
     source, topic = task.input, task.topic
     from_stdin = source == "-"
-    total = None if from_stdin else recording_size(source, topic)
+    total = None if from_stdin or task.open_loop else recording_size(source, topic)
     unit = "B" if from_stdin or not is_bag(source) else "msg"
     stream = _stdin_stream() if from_stdin else None
     with progress(total, Path(source).name, unit, quiet=quiet) as advance:
@@ -298,7 +371,8 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot:
         opt.emit_json(_summary(result) | {"output": out.out, "robot": robot})
         _exit_if_implausible(result)
         return
-    chosen = " (its only JointState topic)" if run.topic_chosen else ""
+    only = "command" if task.open_loop else "JointState"
+    chosen = f" (its only {only} topic)" if run.topic_chosen else ""
     bag = "ROS 1 bag" if run.kind == "rosbag1" else "rosbag2"
     kind = "CSV" if run.kind == "csv" else f"{bag}, topic {run.topic}{chosen}, {run.clock} stamps"
     rows = [
@@ -319,11 +393,22 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot:
         what = "rosbag2: /odom, /tf" if out.as_bag else "CSV"
         rows.append(("output", f"{out.out} ({what}, {result.poses} poses)"))
     rows[2:2] = conditioning_lines(run.conditioning)
+    if _feedback(task) != "position":
+        rows.insert(2, ("feedback", _feedback_text(task)))
     if result.reference is not None:
         rows.append(("reference", _reference_text(result.reference)))
     for label, value in rows:
         click.echo(f"{label:<11} {value}")
     _exit_if_implausible(result)
+
+
+def _feedback_text(task: OdometryTask) -> str:
+    """What the odometry integrated, for people."""
+    if task.open_loop:
+        return "open loop: the commanded velocities, each held until the next"
+    if task.feedback == "velocity":
+        return "wheel velocities, each held over the interval before its sample"
+    return "wheel positions"
 
 
 def _reference_text(reference: ReferenceResult) -> str:

@@ -67,7 +67,15 @@ class RecordingOptions:
         from diffbot.recordings import read_recording
 
         recording = read_recording(
-            source, params, topic, conditioning=self.conditioning(), **self.csv()
+            source,
+            params,
+            topic,
+            conditioning=self.conditioning(),
+            time_column=self.time_column,
+            left_column=self.left_column,
+            right_column=self.right_column,
+            delimiter=self.delimiter,
+            time_unit=self.time_unit,
         )
         warn_notes(recording.notes, source)
         if recording.conditioning is not None:
@@ -94,7 +102,7 @@ class RecordingOptions:
         ]
         joints = (*params.left_joints, *params.right_joints)
         if not named or any(
-            name == joint or name.endswith(f"/{joint}/position")
+            name == joint or name.endswith((f"/{joint}/position", f"/{joint}/velocity"))
             for name in named
             for joint in joints
         ):

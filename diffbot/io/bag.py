@@ -102,7 +102,9 @@ def typestore() -> Typestore:
     return get_typestore(Stores.ROS2_HUMBLE)
 
 
-def read_bag(path: str | os.PathLike[str], topic: str | None = None) -> Recording:
+def read_bag(
+    path: str | os.PathLike[str], topic: str | None = None, field: str = "position"
+) -> Recording:
     """Read the sensor_msgs/msg/JointState messages of one topic from a bag.
 
     The bag is opened as :class:`diffbot.io.bag_chunks.TopicChunks` opens it (rosbag2 folders,
@@ -118,6 +120,8 @@ def read_bag(path: str | os.PathLike[str], topic: str | None = None) -> Recordin
             ``.bag``.
         topic: the topic to read (default: ``/joint_states``, or else the only JointState
             topic); other topics are ignored.
+        field: ``"position"``, or ``"velocity"`` for samples holding the joints' velocities
+            (rad/s) in place of their positions.
 
     Returns:
         One sample per message, stamps in ns. Messages that cannot be decoded are counted in
@@ -151,7 +155,8 @@ def read_bag(path: str | os.PathLike[str], topic: str | None = None) -> Recordin
                     stamp = msg.header.stamp
                     stamp_ns = int(stamp.sec) * NS_PER_S + int(stamp.nanosec)
                     names = list(msg.name)
-                    positions: list[float] = msg.position.tolist()
+                    values = msg.velocity if field == "velocity" else msg.position
+                    positions: list[float] = values.tolist()
                 except Exception:  # a corrupt message is one bad sample, not a bad bag
                     skipped[SKIP_UNREADABLE] = skipped.get(SKIP_UNREADABLE, 0) + 1
                     continue

@@ -130,13 +130,14 @@ def _position(text: str) -> float:
 
 
 def _columns(
-    headers: Sequence[str], joints: Sequence[str], side: str, source: str
+    headers: Sequence[str], joints: Sequence[str], side: str, source: str, field: str = "position"
 ) -> list[tuple[str, int]]:
     """The columns of a side's joints that the file has, as (joint, index); at least one."""
     found: list[tuple[str, int]] = []
     for joint in joints:
-        suffix = f"/{joint}/position"
-        matches = [i for i, h in enumerate(headers) if h == joint or h.endswith(suffix)]
+        suffix = f"/{joint}/{field}"
+        bare = joint if field == "position" else None
+        matches = [i for i, h in enumerate(headers) if h == bare or h.endswith(suffix)]
         if len(matches) > 1:
             raise RecordingError(
                 f"{source}: several columns for the {side} wheel joint {joint!r}: "
@@ -146,8 +147,9 @@ def _columns(
     if not found:
         names = " or ".join(repr(j) for j in joints)
         raise RecordingError(
-            f"{source}: no column for the {side} wheel joint {names} (named by the joint or "
-            f"ending with '/<joint>/position'); columns found: {listing(headers)}"
+            f"{source}: no column for the {side} wheel joint {names} ("
+            + ("named by the joint or " if bare else "")
+            + f"ending with '/<joint>/{field}'); columns found: {listing(headers)}"
         )
     return found
 
@@ -211,6 +213,9 @@ class CsvLayout:
             a tab or ``|``).
         time_unit: ``s``, ``ms``, ``us`` or ``ns`` (default: seconds, unless the first stamp is
             too large for seconds since 1970: its magnitude says which).
+        field: ``position`` or ``velocity``: the JointState field whose columns are found by
+            the joints' names (``/<joint>/velocity``; a column named by the joint alone is a
+            position).
     """
 
     time_column: str | None = None
@@ -218,6 +223,7 @@ class CsvLayout:
     right_columns: tuple[str, ...] | None = None
     delimiter: str | None = None
     time_unit: str | None = None
+    field: str = "position"
 
     def __post_init__(self) -> None:
         if self.delimiter is not None and len(self.delimiter) != 1:
@@ -344,11 +350,11 @@ class CsvChunks:
         if layout.left_columns is not None:
             left = _named_columns(headers, layout.left_columns, "{left_column}", source)
         else:
-            left = _columns(headers, sides[0], "left", source)
+            left = _columns(headers, sides[0], "left", source, layout.field)
         if layout.right_columns is not None:
             right = _named_columns(headers, layout.right_columns, "{right_column}", source)
         else:
-            right = _columns(headers, sides[1], "right", source)
+            right = _columns(headers, sides[1], "right", source, layout.field)
         seen = {time_index}
         for _, index in left + right:
             if index in seen:

@@ -1,4 +1,5 @@
-"""Decode many sensor_msgs/msg/JointState CDR messages at once, for the positions of a few joints.
+"""Decode many sensor_msgs/msg/JointState CDR messages at once, for the positions (or the
+velocities) of a few joints.
 
 A recorder publishes the same joint names in the same order, with the same frame id and the same
 lengths of ``position``, ``velocity`` and ``effort``, message after message. Such messages share
@@ -64,6 +65,7 @@ class Layout:
         position_offset: offset of ``position[0]`` (float64).
         names: the joint names.
         frame_id: the header's frame id.
+        velocity_offset: offset of ``velocity[0]`` (float64).
     """
 
     size: int
@@ -73,14 +75,16 @@ class Layout:
     position_offset: int
     names: tuple[str, ...]
     frame_id: str
+    velocity_offset: int = 0
 
-    def position_index(self, joint: str) -> int | None:
-        """The index of a joint's position (its first name), or None when it has none."""
+    def position_index(self, joint: str, field: int = 0) -> int | None:
+        """The index of a joint's position (its first name), or None when it has none; with
+        ``field`` 1, of its velocity."""
         try:
             index = self.names.index(joint)
         except ValueError:
             return None
-        return index if index < self.counts[0] else None
+        return index if index < self.counts[field] else None
 
 
 class DecodedPositions(NamedTuple):
@@ -160,15 +164,15 @@ def parse_layout(blob: bytes) -> Layout:
     key_end = 4 + pos
     count_offsets = []
     counts = []
-    position_offset = 0
+    offsets = [0, 0]
     for field in range(3):
         count, pos = _count(blob, pos, 8)
         count_offsets.append(pos)  # the count's absolute offset: payload offset + 4 - 4
         counts.append(count)
         if count:
             pos = _align(pos, 8)
-        if field == 0:
-            position_offset = 4 + pos
+        if field < 2:
+            offsets[field] = 4 + pos
         pos += 8 * count
         if 4 + pos > len(blob):
             raise CdrError(f"float64 sequence of {count} beyond the message end")
@@ -179,9 +183,10 @@ def parse_layout(blob: bytes) -> Layout:
         key_end=key_end,
         count_offsets=(count_offsets[0], count_offsets[1], count_offsets[2]),
         counts=(counts[0], counts[1], counts[2]),
-        position_offset=position_offset,
+        position_offset=offsets[0],
         names=tuple(names),
         frame_id=frame_id,
+        velocity_offset=offsets[1],
     )
 
 
@@ -217,8 +222,9 @@ def _matches(rows: NDArray[np.uint8], layout: Layout) -> NDArray[np.bool_]:
 class _Decoder:
     """Fills a :class:`DecodedPositions` message by message or row block by row block."""
 
-    def __init__(self, n: int, joints: Sequence[str]) -> None:
+    def __init__(self, n: int, joints: Sequence[str], field: int) -> None:
         self.joints = tuple(joints)
+        self.field = field
         self.stamp_ns = np.zeros(n, dtype=np.int64)
         self.positions = np.zeros((n, len(self.joints)), dtype=np.float64)
         self.present = np.zeros((n, len(self.joints)), dtype=np.bool_)
@@ -233,10 +239,11 @@ class _Decoder:
         sec += nanosec
         self.stamp_ns[index] = sec
         self.readable[index] = True
+        start = layout.velocity_offset if self.field else layout.position_offset
         for j, joint in enumerate(self.joints):
-            k = layout.position_index(joint)
+            k = layout.position_index(joint, self.field)
             if k is not None:
-                self.positions[index, j] = _field(rows, layout.position_offset + 8 * k, "<f8")
+                self.positions[index, j] = _field(rows, start + 8 * k, "<f8")
                 self.present[index, j] = True
 
     def one(self, i: int, blob: bytes, typestore: Typestore) -> None:
@@ -245,7 +252,8 @@ class _Decoder:
             stamp = msg.header.stamp  # type: ignore[attr-defined]
             stamp_ns = int(stamp.sec) * NS_PER_S + int(stamp.nanosec)
             names = list(msg.name)  # type: ignore[attr-defined]
-            values = np.asarray(msg.position, dtype=np.float64)  # type: ignore[attr-defined]
+            field = msg.velocity if self.field else msg.position  # type: ignore[attr-defined]
+            values = np.asarray(field, dtype=np.float64)
         except Exception:  # a corrupt message is one unreadable sample, as read_bag counts it
             return
         self.stamp_ns[i] = stamp_ns
@@ -263,16 +271,20 @@ class _Decoder:
         return DecodedPositions(self.stamp_ns, self.positions, self.present, self.readable)
 
 
-def decode_positions(blobs: Sequence[bytes], joints: Sequence[str]) -> DecodedPositions:
+def decode_positions(
+    blobs: Sequence[bytes], joints: Sequence[str], field: str = "position"
+) -> DecodedPositions:
     """Decode the header stamps and some joints' positions from JointState CDR messages.
 
     Equal, value for value and bit for bit, to deserializing each message with rosbags (ROS 2
     Humble type store) and looking each joint up by name (its first occurrence) in ``name`` and
-    then in ``position``.
+    then in ``position`` (or ``velocity``).
 
     Args:
         blobs: serialized sensor_msgs/msg/JointState messages (CDR, encapsulation included).
         joints: the joint names wanted.
+        field: ``"position"`` or ``"velocity"``: the field whose values are returned (as
+            ``positions``, in rad or rad/s).
 
     Returns:
         Stamps (ns), positions (rad), which joints each message has and which messages could be
@@ -281,8 +293,10 @@ def decode_positions(blobs: Sequence[bytes], joints: Sequence[str]) -> DecodedPo
     Raises:
         RecordingError: a message is not little-endian and rosbags is not installed.
     """
+    if field not in ("position", "velocity"):
+        raise RecordingError(f"field must be 'position' or 'velocity', got {field!r}")
     n = len(blobs)
-    out = _Decoder(n, joints)
+    out = _Decoder(n, joints, field == "velocity")
     if n == 0:
         return out.result()
     lengths = np.fromiter(map(len, blobs), dtype=np.int64, count=n)

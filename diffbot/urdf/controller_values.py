@@ -268,6 +268,7 @@ def config_of(
         angular=_axis(reader, "angular.z", ros_version, notes),
         preserve_turning_radius=reader.flag("preserve_turning_radius"),
         open_loop=reader.flag("open_loop"),
+        position_feedback=reader.flag("position_feedback"),
         use_stamped_vel=reader.flag("use_stamped_vel"),
         odom_frame_id=reader.text("odom_frame_id"),
         base_frame_id=reader.text("base_frame_id"),

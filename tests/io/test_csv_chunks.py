@@ -17,7 +17,13 @@ from robots import NAMED
 from sinks import Collect
 
 from diffbot.errors import RecordingError
-from diffbot.io.csv_chunks import CsvChunks, open_csv_chunks, stamp_ns_from_text, stamps_from_digits
+from diffbot.io.csv_chunks import (
+    CsvChunks,
+    CsvLayout,
+    open_csv_chunks,
+    stamp_ns_from_text,
+    stamps_from_digits,
+)
 from diffbot.odometry import Odometry
 from diffbot.replay import csv_odometry
 
@@ -224,6 +230,17 @@ def test_columns_are_found_by_joint_name_or_position_suffix(tmp_path: Path) -> N
         (chunk,) = list(chunks)
     assert chunk.stamp_ns.tolist() == [1_500_000_000]
     assert chunk.positions.tolist() == [[3.0, 2.0]]
+
+
+def test_velocity_columns_are_found_by_their_suffix_only(tmp_path: Path) -> None:
+    path = tmp_path / "r.csv"
+    path.write_text("t,left,right,/js/left/velocity,/js/right/velocity\n1,2,3,0.5,-0.5\n", "utf-8")
+    with open_csv_chunks(path, (["left"], ["right"]), layout=CsvLayout(field="velocity")) as chunks:
+        (chunk,) = list(chunks)
+    assert chunk.positions.tolist() == [[0.5, -0.5]]
+    path.write_text("t,left,right\n1,2,3\n", "utf-8")
+    with pytest.raises(RecordingError, match=r"\(ending with '/<joint>/velocity'\)"):
+        open_csv_chunks(path, (["left"], ["right"]), layout=CsvLayout(field="velocity")).__enter__()
 
 
 def test_a_file_without_a_time_column_names_the_columns_found(tmp_path: Path) -> None:

@@ -74,7 +74,7 @@ def messages(draw: st.DrawFn, layouts: int = 3) -> list[bytes]:
 
 
 def reference(
-    blobs: list[bytes], joints: list[str]
+    blobs: list[bytes], joints: list[str], field: str = "position"
 ) -> tuple[list[int], list[list[float]], list[list[bool]], list[bool]]:
     """What rosbags gives, joint by joint, as read_bag and Odometry look the joints up."""
     stamps, positions, present, readable = [], [], [], []
@@ -91,20 +91,21 @@ def reference(
             continue
         stamps.append(int(msg.header.stamp.sec) * 10**9 + int(msg.header.stamp.nanosec))
         row, have = [], []
+        values = msg.velocity if field == "velocity" else msg.position
         for joint in joints:
             names = list(msg.name)
-            k = names.index(joint) if joint in names else len(msg.position)
-            have.append(k < len(msg.position))
-            row.append(float(msg.position[k]) if k < len(msg.position) else 0.0)
+            k = names.index(joint) if joint in names else len(values)
+            have.append(k < len(values))
+            row.append(float(values[k]) if k < len(values) else 0.0)
         positions.append(row)
         present.append(have)
         readable.append(True)
     return stamps, positions, present, readable
 
 
-def assert_same(blobs: list[bytes], joints: list[str]) -> None:
-    got = decode_positions(blobs, joints)
-    stamps, positions, present, readable = reference(blobs, joints)
+def assert_same(blobs: list[bytes], joints: list[str], field: str = "position") -> None:
+    got = decode_positions(blobs, joints, field)
+    stamps, positions, present, readable = reference(blobs, joints, field)
     assert got.stamp_ns.tolist() == stamps
     assert got.present.tolist() == present
     assert got.readable.tolist() == readable
@@ -119,6 +120,24 @@ def test_decoded_positions_equal_rosbags_deserializer_bit_for_bit(
     blobs: list[bytes], joints: list[str]
 ) -> None:
     assert_same(blobs, joints)
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(messages(), st.lists(joint_names, min_size=1, max_size=3))
+def test_decoded_velocities_equal_rosbags_deserializer_bit_for_bit(
+    blobs: list[bytes], joints: list[str]
+) -> None:
+    assert_same(blobs, joints, "velocity")
+
+
+def test_velocities_are_read_from_their_own_field_by_name() -> None:
+    blob = serialize(1, 0, "", ["right", "left"], ([1.0, 2.0], [0.5, -0.25], []))
+    got = decode_positions([blob, blob], ["left", "right"], "velocity")
+    assert got.positions.tolist() == [[-0.25, 0.5]] * 2
+    positions_only = serialize(1, 0, "", ["left", "right"], ([1.0, 2.0], [], []))
+    assert decode_positions([positions_only], ["left"], "velocity").present.tolist() == [[False]]
+    with pytest.raises(RecordingError, match="field"):
+        decode_positions([blob], ["left"], "effort")
 
 
 @settings(max_examples=40, deadline=None)

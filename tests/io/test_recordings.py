@@ -10,10 +10,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from bags import write_bag
+from bags import velocity_bag, write_bag
 from robots import BOT
 from rosbags.highlevel import AnyReader
-from wheel_motion import TRAJECTORY_A, assert_pose_close, wheel_samples
+from wheel_motion import TRAJECTORY_A, assert_pose_close, trajectory_a_velocities, wheel_samples
 
 import diffbot
 from diffbot.io.bag import read_bag, write_joint_states_bag, write_odometry_bag
@@ -22,7 +22,7 @@ from diffbot.io.csvfile import format_joint_states_csv, format_odometry_csv
 from diffbot.kinematics import Pose
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry
 from diffbot.recordings import read_recording
-from diffbot.replay import OdometryRow, run_odometry
+from diffbot.replay import OdometryRow, recording_odometry, run_odometry
 from diffbot.samples import (
     CLOCK_HEADER,
     CLOCK_RECEIVE,
@@ -509,3 +509,45 @@ def test_a_rosbag2_directory_named_like_a_ros1_bag_is_read_as_rosbag2(
     assert len(read_recording(bag, BOT).samples) == 5
     storage_file = next(p for p in bag.iterdir() if p.suffix in (".db3", ".mcap"))
     assert len(read_recording(storage_file, BOT).samples) == 5
+
+
+# --------------------------------------------------------------------------------------------
+# Velocity feedback: recordings of wheels that report velocities only
+
+
+def test_bag_velocities_read_with_velocity_feedback_give_the_plans_final_pose(
+    tmp_path: Path,
+) -> None:
+    bag = velocity_bag(tmp_path / "bag", EPOCH)
+    assert read_bag(bag, field="velocity").samples[5].positions[1] == pytest.approx(
+        trajectory_a_velocities(EPOCH)[5][1], abs=0.0
+    )
+    recording = read_recording(bag, BOT, feedback="velocity")
+    run = run_odometry(recording, Odometry(BOT))
+    assert_pose_close(run.final_pose, Pose(0.0, 1.0, 0.0), 1e-9)
+    chunked = recording_odometry(bag, BOT, feedback="velocity")
+    assert_pose_close(chunked.summary.final_pose, Pose(0.0, 1.0, 0.0), 1e-9)
+    assert chunked.summary.samples == 401
+
+
+def test_csv_velocity_columns_read_with_velocity_feedback_give_the_plans_final_pose(
+    tmp_path: Path,
+) -> None:
+    lines = [f"time,/js/{LEFT}/position,/js/{LEFT}/velocity,/js/{RIGHT}/velocity"]
+    lines += [
+        f"{(s - EPOCH) / 1e9!r},0,{lf!r},{r!r}" for s, lf, r in trajectory_a_velocities(EPOCH)
+    ]
+    path = tmp_path / "v.csv"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    run = run_odometry(read_recording(path, BOT, feedback="velocity"), Odometry(BOT))
+    assert_pose_close(run.final_pose, Pose(0.0, 1.0, 0.0), 1e-9)
+    chunked = recording_odometry(path, BOT, feedback="velocity")
+    assert_pose_close(chunked.summary.final_pose, Pose(0.0, 1.0, 0.0), 1e-9)
+
+
+def test_an_unknown_feedback_is_refused_by_the_readers(tmp_path: Path) -> None:
+    path = trajectory_a_csv(tmp_path / "a.csv")
+    with pytest.raises(diffbot.ParameterError, match="feedback"):
+        read_recording(path, BOT, feedback="effort")
+    with pytest.raises(diffbot.ParameterError, match="feedback"):
+        recording_odometry(path, BOT, feedback="effort")

@@ -1003,3 +1003,10 @@ def test_a_controller_written_twice_is_merged_as_ros_merges_it_and_said() -> Non
     assert len(said) == 1
     assert "lines 6 and 12" in said[0]
     assert "wheel_radius 0.07" in said[0]
+
+
+def test_position_feedback_is_read_and_absent_means_the_default() -> None:
+    wheels = "left_wheel_names: [l]\nright_wheel_names: [r]"
+    assert one(section(wheels + "\nposition_feedback: false")).position_feedback is False
+    assert one(section(wheels + "\nposition_feedback: true")).position_feedback is True
+    assert one(section(wheels)).position_feedback is None

@@ -1,0 +1,133 @@
+"""Wheel angles from wheel velocities: each sample's velocity over the interval that ends at it."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from robots import BOT
+from wheel_motion import assert_pose_close
+
+import diffbot
+from diffbot.errors import ParameterError
+from diffbot.odometry import Odometry
+from diffbot.simulation import simulate
+from diffbot.trajectory import Arc, Plan, Spin, Straight
+from diffbot.velocity_feedback import FEEDBACKS, VelocityAngles, check_feedback
+
+S = 1_000_000_000
+
+
+def test_each_velocity_holds_over_the_interval_that_ends_at_its_sample() -> None:
+    # As diff_drive_controller: the velocity read at t_k times (t_k - t_(k-1)).
+    stamps = np.array([0, 1 * S, 3 * S, 3 * S + S // 2])
+    velocities = np.array([[9.0], [2.0], [-1.0], [4.0]])
+    angles = VelocityAngles(1).feed(stamps, velocities, np.ones((4, 1), bool))
+    # The first velocity (9) only starts the clock.
+    assert angles[:, 0].tolist() == [0.0, 2.0, 0.0, 2.0]
+
+
+def test_a_chunk_continues_from_where_the_last_one_left_each_wheel() -> None:
+    stamps = np.arange(7, dtype=np.int64) * (S // 4)
+    velocities = np.column_stack((np.linspace(-1.0, 2.0, 7), np.linspace(3.0, 0.5, 7)))
+    present = np.ones((7, 2), bool)
+    whole = VelocityAngles(2).feed(stamps, velocities, present)
+    split = VelocityAngles(2)
+    parts = [split.feed(stamps[a:b], velocities[a:b], present[a:b]) for a, b in ((0, 3), (3, 7))]
+    np.testing.assert_allclose(np.vstack(parts), whole, rtol=0, atol=1e-15)
+
+
+def test_a_nan_or_missing_velocity_leaves_the_gap_to_the_next_one() -> None:
+    stamps = np.array([0, S, 2 * S, 3 * S])
+    velocities = np.array([[0.0, 0.0], [1.0, math.nan], [1.0, 1.0], [1.0, 1.0]])
+    present = np.array([[1, 1], [1, 1], [0, 1], [1, 1]], bool)
+    angles = VelocityAngles(2).feed(stamps, velocities, present)
+    assert angles[:, 0].tolist() == [0.0, 1.0, 0.0, 3.0]  # row 2 absent: 1 + 1 x 2 s
+    assert math.isnan(angles[1, 1])  # passed on, for the integrator to skip as not finite
+    assert angles[2:, 1].tolist() == [2.0, 3.0]  # 1 rad/s over the 2 s since row 0
+
+
+def test_a_stamp_not_after_the_last_usable_one_keeps_the_wheel_where_it_was() -> None:
+    stamps = np.array([0, 2 * S, S, 2 * S, 3 * S])
+    velocities = np.array([[1.0], [1.0], [50.0], [50.0], [1.0]])
+    angles = VelocityAngles(1).feed(stamps, velocities, np.ones((5, 1), bool))
+    assert angles[:, 0].tolist() == [0.0, 2.0, 2.0, 2.0, 3.0]
+
+
+def test_feedback_names_are_checked() -> None:
+    assert FEEDBACKS == ("position", "velocity")
+    assert check_feedback("velocity") == "velocity"
+    with pytest.raises(ParameterError, match=r"feedback= 'effort'"):
+        check_feedback("effort")
+
+
+# --------------------------------------------------------------------------------------------
+# The law: velocity feedback of a plan's wheel velocities ends where the plan does
+
+positive = st.floats(0.05, 3.0)
+angles = st.floats(0.1, 2 * math.pi)
+#: Whole milliseconds: the segment boundaries fall on whole nanoseconds, as stamps do.
+durations = st.integers(200, 20_000).map(lambda ms: ms / 1000)
+segments = st.one_of(
+    st.builds(Straight, st.floats(-3.0, 3.0).filter(lambda v: abs(v) > 1e-3), durations),
+    st.builds(Arc, positive, angles, st.sampled_from(["cw", "ccw"]), durations),
+    st.builds(Spin, st.floats(-6.0, 6.0).filter(lambda v: abs(v) > 1e-3), durations),
+)
+robots = st.builds(
+    diffbot.DiffDriveParams,
+    wheel_radius=st.floats(0.02, 0.5),
+    wheel_separation=st.floats(0.1, 2.0),
+    left_sign=st.sampled_from([1, -1]),
+    right_sign=st.sampled_from([1, -1]),
+)
+
+
+def plan_velocities(plan: Plan, times: np.ndarray) -> np.ndarray:
+    """Each sample's joint velocities (rad/s): the segment's over the interval ending at it.
+
+    The simulation gives joint positions only; the velocities are the plan's own (its segments'
+    joint speeds), not differences of the simulated positions.
+    """
+    ends = np.cumsum([segment.duration for segment in plan.segments])
+    middle = np.concatenate(([0.0], 0.5 * (times[1:] + times[:-1])))
+    index = np.minimum(np.searchsorted(ends, middle), len(plan.segments) - 1)
+    speeds = np.array([(s.joints.left, s.joints.right) for s in plan.segments], dtype=float)
+    return speeds[index]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(segments, min_size=1, max_size=6), robots, st.floats(2.0, 60.0))
+def test_velocity_feedback_of_a_plans_wheel_velocities_ends_at_its_exact_final_pose(
+    pieces: list[Straight | Arc | Spin], robot: diffbot.DiffDriveParams, rate: float
+) -> None:
+    plan = diffbot.plan(pieces, robot)
+    states = simulate(plan, robot, rate)
+    velocities = plan_velocities(plan, states.times)
+    stamps_ns = np.round(states.times * S).astype(np.int64)
+    scale = max(1.0, *(abs(s.end_pose.x) + abs(s.end_pose.y) for s in plan.segments))
+    # The streaming integrator, fed velocities ...
+    odom = Odometry(robot, feedback="velocity")
+    for t, (left, right) in zip(states.times.tolist(), velocities.tolist(), strict=True):
+        odom.update(left, right, t)
+    assert_pose_close(odom.pose, plan.final_pose, 1e-9 * scale)
+    # ... and the angles they integrate to, fed as positions (stamped in ns: the boundaries
+    # fall on whole ns, and within a segment the rounding of a stamp moves nothing).
+    wheels = VelocityAngles(2).feed(stamps_ns, velocities, np.ones(velocities.shape, bool))
+    angles = Odometry(robot)
+    for stamp, (left, right) in zip(stamps_ns.tolist(), wheels.tolist(), strict=True):
+        angles.update(left, right, stamp_ns=stamp)
+    assert_pose_close(angles.pose, plan.final_pose, 1e-9 * scale)
+
+
+def test_the_bundled_robots_square_from_velocities_closes() -> None:
+    plan = diffbot.plan([Straight(1.0, 5.0), Spin(math.pi / 2, 2.0)] * 4, BOT)
+    states = simulate(plan, BOT, 20.0)
+    velocities = plan_velocities(plan, states.times)
+    odom = Odometry(BOT, feedback="velocity")
+    for t, (left, right) in zip(states.times.tolist(), velocities.tolist(), strict=True):
+        odom.update(left, right, t)
+    assert_pose_close(odom.pose, diffbot.Pose(0.0, 0.0, 0.0), 1e-9)
+    assert odom.distance == pytest.approx(4.0, abs=1e-9)
