@@ -210,3 +210,33 @@ def test_pieces_of_rounding_size_are_left_out() -> None:
 
     assert _arcs([Piece("L", 5e-324), Piece("S", 10.0), Piece("R", 1e-17)], 0.1) == [Straight(1.0)]
     assert _turns([Piece("T", -4e-16), Piece("S", 1e-15), Piece("T", 0.5)], 0.0675) == [Spin(0.5)]
+
+
+def test_through_waypoints_from_a_start_pose_other_than_the_origin() -> None:
+    # From (1, 2) facing +y: 1 m ahead to (1, 3), where the next leg faces -x (heading pi),
+    # a quarter turn left, then 1 m to (0, 3). Seen from the start, the end is (1, 1), pi/2.
+    start = (1.0, 2.0, math.pi / 2)
+    p = plan_through(
+        [(1.0, 3.0), (0.0, 3.0, math.pi)], ROBOT, start=start, shape="spin-straight-spin"
+    )
+    first, turn, second = (s.segment for s in p.segments)
+    assert isinstance(first, Straight) and isinstance(second, Straight)
+    assert isinstance(turn, Spin)
+    assert [first.length, turn.angle, second.length] == pytest.approx(
+        [1.0, math.pi / 2, 1.0], abs=1e-15
+    )
+    assert_reaches(p.final_pose, Pose(1.0, 1.0, math.pi / 2))
+    assert_reaches(p.final_pose, relative_pose(Pose(*start), Pose(0.0, 3.0, math.pi)))
+    # Waypoints already reached from the start give no segment at all.
+    assert plan_through([(1.0, 2.0, math.pi / 2)], ROBOT, start=start).segments == ()
+    # The same route from the origin is another plan: the start is not ignored.
+    assert plan_through([(1.0, 3.0), (0.0, 3.0, math.pi)], ROBOT).final_pose != p.final_pose
+
+
+def test_waypoint_headings_from_a_start_pose() -> None:
+    # A lone waypoint without a heading faces along the leg from the start that reaches it.
+    (pose,) = waypoint_poses([(2.0, 3.0)], (1.0, 2.0, 0.0))
+    assert pose == Pose(2.0, 3.0, math.pi / 4)
+    # A waypoint on the start keeps the start's heading.
+    (pose,) = waypoint_poses([(1.0, 2.0)], (1.0, 2.0, 0.7))
+    assert pose == Pose(1.0, 2.0, 0.7)
