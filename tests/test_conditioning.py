@@ -201,3 +201,44 @@ def test_unwrapping_recovers_any_travel_of_steps_under_half_the_range(
     ]
     unwrapped = np.concatenate(parts)[:, 0]
     np.testing.assert_array_equal(unwrapped - unwrapped[0], travel - travel[0])
+
+
+def test_each_side_is_bounded_by_its_own_wheel_radius() -> None:
+    # Left wheels of 0.05 m, a right one of 0.1 m, no motor limit: 30 m/s at the rim is
+    # 600 rad/s on the left and 300 rad/s on the right, with 0.2 rad and 0.1 rad of slack.
+    robot = BOT.replace(left_wheel_radius=0.05, right_wheel_radius=0.1)
+    conditioner = Conditioner.for_robot(robot, ("l1", "l2", "r"), 2)
+    assert conditioner.limits == [
+        (pytest.approx(600.0, rel=1e-15), pytest.approx(0.2, rel=1e-15)),
+        (pytest.approx(600.0, rel=1e-15), pytest.approx(0.2, rel=1e-15)),
+        (pytest.approx(300.0, rel=1e-15), pytest.approx(0.1, rel=1e-15)),
+    ]
+    report = conditioner.report()
+    assert report.speed_limit == (pytest.approx(600.0), pytest.approx(300.0))
+    assert report.limit_source == "a rim speed of 30 m/s"
+    # 45 rad in 0.1 s (450 rad/s) on every wheel: within the left's bound, beyond the right's.
+    stamps = np.array([0, 100_000_000])
+    conditioner.feed(stamps, np.array([[0.0, 0.0, 0.0], [45.0, 45.0, 45.0]]))
+    report = conditioner.report()
+    assert report.implausible_steps == 1
+    first = report.first_implausible
+    assert first is not None
+    assert (first.sample, first.joint) == (1, "r")
+    assert first.speed == pytest.approx(450.0, rel=1e-12)
+    assert first.seconds == pytest.approx(0.1, abs=1e-15)
+
+
+def test_a_step_just_within_its_sides_bound_and_slack_passes() -> None:
+    robot = BOT.replace(left_wheel_radius=0.05, right_wheel_radius=0.1)
+    conditioner = Conditioner.for_robot(robot, ("l", "r"), 1)
+    # 0.1 s at the bound plus the slack, on each side: allowed; a little more: not.
+    left_edge, right_edge = 600.0 * 0.1 + 0.2, 300.0 * 0.1 + 0.1
+    stamps = np.array([0, 100_000_000, 200_000_000])
+    positions = np.array(
+        [[0.0, 0.0], [left_edge * 0.999, right_edge * 0.999], [left_edge * (0.999 + 1.01), 0.0]]
+    )
+    conditioner.feed(stamps, positions)
+    report = conditioner.report()
+    assert report.implausible_steps == 1
+    assert report.first_implausible is not None
+    assert (report.first_implausible.sample, report.first_implausible.joint) == (2, "l")
