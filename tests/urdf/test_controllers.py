@@ -1003,3 +1003,56 @@ def test_a_controller_written_twice_is_merged_as_ros_merges_it_and_said() -> Non
     assert len(said) == 1
     assert "lines 6 and 12" in said[0]
     assert "wheel_radius 0.07" in said[0]
+
+
+#: A PID controller chained before each wheel, every node under a namespace of two levels,
+#: and the wheels named by the chained controllers' full paths.
+CHAINED_DEEP = """/robot/base:
+  controller_manager:
+    ros__parameters:
+      update_rate: 100
+      pid_left: {type: pid_controller/PidController}
+      pid_right: {type: pid_controller/PidController}
+      diff_cont: {type: diff_drive_controller/DiffDriveController}
+  pid_left:
+    ros__parameters:
+      dof_names: [left_wheel_joint]
+  pid_right:
+    ros__parameters:
+      dof_names: [right_wheel_joint]
+  diff_cont:
+    ros__parameters:
+      left_wheel_names: ["/robot/base/pid_left/left_wheel_joint"]
+      right_wheel_names: ["robot/base/pid_right/right_wheel_joint"]
+      wheel_separation: 0.30
+      wheel_radius: 0.05
+"""
+
+
+def test_a_chained_reference_of_several_levels_is_followed_to_its_joint() -> None:
+    (config,) = read_controllers(CHAINED_DEEP, "c.yaml")
+    assert config.left_wheel_names == ("left_wheel_joint",)
+    assert config.right_wheel_names == ("right_wheel_joint",)
+    assert config.warnings == (
+        "wheel '/robot/base/pid_left/left_wheel_joint' is the reference of the chained "
+        "controller '/robot/base/pid_left': followed to joint 'left_wheel_joint'",
+        "wheel 'robot/base/pid_right/right_wheel_joint' is the reference of the chained "
+        "controller 'robot/base/pid_right': followed to joint 'right_wheel_joint'",
+    )
+
+
+def test_a_reference_of_several_levels_to_another_joint_is_kept() -> None:
+    text = CHAINED_DEEP.replace("dof_names: [left_wheel_joint]", "dof_names: [elbow]")
+    (config,) = read_controllers(text, "c.yaml")
+    # The left one names a joint its controller does not drive: kept as written.
+    assert config.left_wheel_names == ("/robot/base/pid_left/left_wheel_joint",)
+    assert config.right_wheel_names == ("right_wheel_joint",)
+    assert len(config.warnings) == 1
+
+
+def test_a_slashed_name_without_a_chained_controller_is_taken_as_a_joint() -> None:
+    text = CHAINED_DEEP.replace("pid_left/left_wheel_joint", "arm/left_wheel_joint")
+    (config,) = read_controllers(text, "c.yaml")
+    # No controller "arm": the last component is the joint.
+    assert config.left_wheel_names == ("left_wheel_joint",)
+    assert "controller '/robot/base/arm'" in config.warnings[0]
