@@ -220,7 +220,8 @@ def test_through_waypoints_from_a_start_pose_other_than_the_origin() -> None:
         [(1.0, 3.0), (0.0, 3.0, math.pi)], ROBOT, start=start, shape="spin-straight-spin"
     )
     first, turn, second = (s.segment for s in p.segments)
-    assert isinstance(first, Straight) and isinstance(second, Straight)
+    assert isinstance(first, Straight)
+    assert isinstance(second, Straight)
     assert isinstance(turn, Spin)
     assert [first.length, turn.angle, second.length] == pytest.approx(
         [1.0, math.pi / 2, 1.0], abs=1e-15

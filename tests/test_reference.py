@@ -135,7 +135,9 @@ def test_a_turned_and_shifted_reference_is_placed_on_the_odometry_pose_by_pose()
     assert x[0] == pytest.approx(1.5, abs=1e-15)
     assert y[0] == pytest.approx(2.0, abs=1e-15)
     assert th[0] == pytest.approx(0.0, abs=1e-15)
-    assert math.isnan(x[1]) and math.isnan(y[1]) and math.isnan(th[1])
+    assert math.isnan(x[1])
+    assert math.isnan(y[1])
+    assert math.isnan(th[1])
     assert inside.tolist() == [1.0, 0.0]
 
 
@@ -164,9 +166,13 @@ def test_poses_out_of_order_are_sorted_by_stamp_and_spans_are_kept() -> None:
 def test_a_reference_without_poses_compares_nothing_and_says_so() -> None:
     empty = ReferenceComparison("/odom", [], [], [], [])
     rx, ry, rth = empty.add([0, 10**9], [0.0, 1.0], [0.0, 0.0], [0.0, 0.0])
-    assert np.isnan(rx).all() and np.isnan(ry).all() and np.isnan(rth).all()
+    assert np.isnan(rx).all()
+    assert np.isnan(ry).all()
+    assert np.isnan(rth).all()
     x, y, th, inside = empty.at([0])
-    assert math.isnan(x[0]) and math.isnan(y[0]) and math.isnan(th[0])
+    assert math.isnan(x[0])
+    assert math.isnan(y[0])
+    assert math.isnan(th[0])
     assert inside.tolist() == [0.0]
     result = empty.result()
     assert result.samples == 0
