@@ -82,13 +82,13 @@ def test_raw_counts_read_as_radians_are_implausible_steps_with_the_first_named()
     report = conditioner.report()
     # Each step turns 25 mm of travel into 3200 "rad" in 0.1 s: far over 30 m/s / 0.0975 m.
     assert report.limit_source == "a rim speed of 30 m/s"
-    assert report.speed_limit[0] == pytest.approx(RIM_SPEED_BOUND / RADIUS)
+    assert report.speed_limit[0] == pytest.approx(RIM_SPEED_BOUND / RADIUS, abs=1e-12)
     assert report.implausible_steps == 100
     first = report.first_implausible
     assert first is not None
     assert (first.sample, first.joint) == (1, PIONEER.left_joint)
-    assert first.seconds == pytest.approx(0.1)
-    assert first.speed == pytest.approx(32000.0, rel=1e-3)
+    assert first.seconds == pytest.approx(0.1, abs=1e-12)
+    assert first.speed == pytest.approx(32000.0, rel=1e-12)
 
 
 def test_the_motor_limit_sets_the_bound_when_there_is_one() -> None:
@@ -214,7 +214,10 @@ def test_each_side_is_bounded_by_its_own_wheel_radius() -> None:
         (pytest.approx(300.0, rel=1e-15), pytest.approx(0.1, rel=1e-15)),
     ]
     report = conditioner.report()
-    assert report.speed_limit == (pytest.approx(600.0), pytest.approx(300.0))
+    assert report.speed_limit == (
+        pytest.approx(600.0, abs=1e-12),
+        pytest.approx(300.0, abs=1e-12),
+    )
     assert report.limit_source == "a rim speed of 30 m/s"
     # 45 rad in 0.1 s (450 rad/s) on every wheel: within the left's bound, beyond the right's.
     stamps = np.array([0, 100_000_000])

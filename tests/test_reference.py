@@ -52,8 +52,8 @@ def test_the_reference_is_interpolated_between_its_poses_and_not_beyond_them() -
     assert math.isnan(rx[2])  # after the reference's span: not compared
     result = comparison.result()
     assert result.samples == 2
-    assert result.final_position_error == pytest.approx(0.5)
-    assert result.rms_position_error == pytest.approx(math.sqrt(0.25 / 2))
+    assert result.final_position_error == pytest.approx(0.5, abs=1e-12)
+    assert result.rms_position_error == pytest.approx(math.sqrt(0.25 / 2), abs=1e-12)
 
 
 def test_the_heading_is_interpolated_the_short_way_across_pi() -> None:

@@ -41,8 +41,8 @@ def test_twists_become_wheel_commands_and_silence_stops_them() -> None:
         started = time.monotonic()
         cmd_vel.publish(twist_command(0.1, 0.5))
         until(graph, lambda: len(left) >= 1 and len(right) >= 1)
-        assert left[0] == pytest.approx([1.8928571428571428])
-        assert right[0] == pytest.approx([3.8214285714285716])
+        assert left[0] == pytest.approx([1.8928571428571428], abs=1e-12)
+        assert right[0] == pytest.approx([3.8214285714285716], abs=1e-12)
         until(graph, lambda: len(left) >= 2 and len(right) >= 2)  # the timeout's zero
         assert time.monotonic() - started > 0.3  # quiet for longer than the timeout
         assert left[-1] == [0.0]
@@ -72,7 +72,7 @@ def test_stamped_commands_and_the_wrong_kind_named() -> None:
         until(probe, lambda: node.left.subscription_count > 0)
         stamped.publish(types.TwistStamped(twist=twist_command(0.07, 0.0)))
         until(probe, lambda: len(left) == 1)
-        assert left[0] == pytest.approx([2.0])
+        assert left[0] == pytest.approx([2.0], abs=1e-12)
         # A plain Twist publisher on the same topic does not match; the node names it.
         plain = probe.create_publisher(types.Twist, "/cmd_vel")
         assert plain.subscription_count == 0
@@ -105,7 +105,10 @@ def test_by_default_either_kind_of_twist_is_read() -> None:
         until(probe, lambda: len(left) == 1)
         plain.publish(twist_command(0.035, 0.0))
         until(probe, lambda: len(left) == 2)
-    assert left == [pytest.approx([2.0]), pytest.approx([1.0])]
+    assert left == [
+        pytest.approx([2.0], abs=1e-12),
+        pytest.approx([1.0], abs=1e-12),
+    ]
     assert node.warnings == []
 
 

@@ -653,8 +653,8 @@ def test_speed_limiter_step_targets_ten_rad_s() -> None:
     config = one(section("wheel_separation: 1.0\nwheel_radius: 0.1"))
     for linear, expected in ((1.0, 10.0), (-1.0, -10.0)):
         speeds = inverse(params_of(config), linear, 0.0)
-        assert speeds.left == pytest.approx(expected, abs=1e-3)
-        assert speeds.right == pytest.approx(expected, abs=1e-3)
+        assert speeds.left == pytest.approx(expected, abs=TOL)
+        assert speeds.right == pytest.approx(expected, abs=TOL)
 
 
 def test_open_loop_command_clamped_by_the_velocity_limits() -> None:
@@ -682,8 +682,8 @@ def test_open_loop_command_clamped_by_the_velocity_limits() -> None:
         odom = Odometry(params)
         odom.update(0.0, 0.0, 0.0)
         odom.update(float(speeds.left) * dt, float(speeds.right) * dt, dt)
-        assert odom.pose.x == pytest.approx(x, abs=1e-3)
-        assert norm_angle(odom.pose.theta - theta) == pytest.approx(0.0, abs=1e-3)
+        assert odom.pose.x == pytest.approx(x, abs=TOL)
+        assert norm_angle(odom.pose.theta - theta) == pytest.approx(0.0, abs=TOL)
 
 
 @given(
