@@ -18,8 +18,10 @@ from diffbot.conditioning import (
     Conditioning,
     counter_range,
     detect_wrap,
+    estimate_time_offset,
 )
 from diffbot.errors import ParameterError
+from diffbot.kinematics import DiffDriveParams
 
 JOINTS = (PIONEER.left_joint, PIONEER.right_joint)
 
@@ -245,3 +247,41 @@ def test_a_step_just_within_its_sides_bound_and_slack_passes() -> None:
     assert report.implausible_steps == 1
     assert report.first_implausible is not None
     assert (report.first_implausible.sample, report.first_implausible.joint) == (2, "l")
+
+
+def turning_wheels(
+    offset: float, robot: DiffDriveParams
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Wheel angles of a robot driving and turning, stamped ``offset`` s late, and the pose
+    track's heading on its own clock (50 Hz and 25 Hz, 10 s)."""
+    t = np.arange(0.0, 10.0, 0.02)
+    heading = 0.5 * np.sin(1.3 * t) + 0.2 * np.sin(3.1 * t)
+    travel = 0.3 * t + 0.1 * np.sin(0.7 * t)  # forward along the way (m)
+    half = robot.wheel_separation / 2
+    left_radius, right_radius = robot.radii
+    left = (travel - half * heading) / left_radius
+    right = (travel + half * heading) / right_radius
+    truth_t = np.arange(0.0, 10.0, 0.04)
+    truth = 0.5 * np.sin(1.3 * truth_t) + 0.2 * np.sin(3.1 * truth_t)
+    return t + offset, left, right, truth_t, np.angle(np.exp(1j * truth))
+
+
+@pytest.mark.parametrize("offset", [0.1, -0.25])
+def test_the_time_offset_of_wheels_of_unequal_radii(offset: float) -> None:
+    robot = BOT.replace(left_wheel_radius=0.03, right_wheel_radius=0.05)
+    found = estimate_time_offset(*turning_wheels(offset, robot), robot, max_offset=0.5)
+    assert found == pytest.approx(offset, abs=1e-3)
+
+
+def test_the_time_offset_needs_samples_overlap_and_turning() -> None:
+    t, left, right, truth_t, truth = turning_wheels(0.0, BOT)
+    with pytest.raises(ParameterError, match="at least three samples on each side"):
+        estimate_time_offset(t[:2], left[:2], right[:2], truth_t, truth, BOT)
+    with pytest.raises(ParameterError, match="at least three samples on each side"):
+        estimate_time_offset(t, left, right, truth_t[:2], truth[:2], BOT)
+    with pytest.raises(ParameterError, match="overlap too little"):
+        estimate_time_offset(t, left, right, truth_t + 30.0, truth, BOT)
+    with pytest.raises(ParameterError, match="does not turn"):
+        estimate_time_offset(t, left, right, truth_t, np.zeros_like(truth), BOT)
+    with pytest.raises(ParameterError, match=r"at the edge of the offsets tried \(0.5 s"):
+        estimate_time_offset(t + 0.7, left, right, truth_t, truth, BOT, max_offset=0.5)
