@@ -213,3 +213,43 @@ def test_the_errors_by_name() -> None:
         "max_position_error": 0.5,
         "rms_position_error": pytest.approx(math.sqrt(0.125), abs=1e-15),
     }
+
+
+def test_both_frames_turned_the_reference_is_turned_by_their_difference() -> None:
+    # The odometry starts at (1, 2) heading 0.3; the reference at (0, 0) heading 1.2 drives 1 m
+    # along its heading: placed on the odometry, it drives 1 m along 0.3.
+    comparison = ReferenceComparison(
+        "/mocap", [0, 10**9], [0.0, math.cos(1.2)], [0.0, math.sin(1.2)], [1.2, 1.2]
+    )
+    rx, ry, rth = comparison.add([0, 10**9], [1.0, 1.0], [2.0, 2.0], [0.3, 0.3])
+    assert rx.tolist() == pytest.approx([1.0, 1.0 + math.cos(0.3)], abs=1e-15)
+    assert ry.tolist() == pytest.approx([2.0, 2.0 + math.sin(0.3)], abs=1e-15)
+    assert rth.tolist() == pytest.approx([0.3, 0.3], abs=1e-15)
+    assert comparison.result().final_position_error == pytest.approx(1.0, abs=1e-15)
+
+
+def test_the_reference_is_placed_at_the_first_odometry_pose_within_its_span() -> None:
+    # The odometry begins a second before the reference: its pose at 1.5 s, not at 0 s, is
+    # where the reference is placed.
+    comparison = ReferenceComparison(
+        "/mocap", [10**9, 2 * 10**9], [0.0, 1.0], [0.0, 0.0], [0.0, 0.0]
+    )
+    rx, ry, _ = comparison.add(
+        [0, 15 * 10**8, 2 * 10**9], [7.0, 3.0, 3.5], [5.0, 4.0, 4.0], [0, 0, 0]
+    )
+    assert math.isnan(rx[0])
+    assert rx[1:].tolist() == [3.0, 3.5]
+    assert ry[1:].tolist() == [4.0, 4.0]
+    assert comparison.result().samples == 2
+    assert comparison.result().max_position_error == 0.0
+
+
+def test_stamps_since_1970_are_interpolated_to_the_nanosecond() -> None:
+    # Seconds since 1970 as floats are 2.4e-7 s apart: the stamps are taken relative to the
+    # reference's first one before they become seconds.
+    t0 = 1_700_000_000_123_456_789
+    comparison = ReferenceComparison("/odom", [t0, t0 + 10**9], [0.0, 1.0], [0.0, 0.0], [0.0, 0.0])
+    rx, _, _ = comparison.add([t0, t0 + 333_333_333], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0])
+    assert rx[1] == pytest.approx(0.333333333, abs=1e-15)
+    x, _, _, _ = comparison.at([t0 + 777_777_777])
+    assert x[0] == pytest.approx(0.777777777, abs=1e-15)
