@@ -25,8 +25,12 @@ from diffbot.urdf.controllers import (
     ControllerConfig,
     ControllerConfigError,
     choose_controller,
+    load_command_controllers,
     load_controllers,
+    load_other_drive_controllers,
+    other_drive_controllers,
     read_controllers,
+    substitute_args,
 )
 from diffbot.urdf.gazebo import (
     GazeboPluginError,
@@ -1056,3 +1060,83 @@ def test_a_slashed_name_without_a_chained_controller_is_taken_as_a_joint() -> No
     # No controller "arm": the last component is the joint.
     assert config.left_wheel_names == ("left_wheel_joint",)
     assert "controller '/robot/base/arm'" in config.warnings[0]
+
+
+# --- the other controllers of a file ------------------------------------------------------------
+
+
+def test_args_are_substituted_and_the_unresolved_named_once() -> None:
+    text = "r: $(arg radius)\nb: $( arg  sep )\nc: $(arg missing) $(arg missing) $(arg other)"
+    done, unresolved = substitute_args(text, {"radius": "0.05", "sep": "0.3"})
+    assert done == "r: 0.05\nb: $( arg  sep )\nc: $(arg missing) $(arg missing) $(arg other)"
+    assert unresolved == ["missing", "other"]
+    done, unresolved = substitute_args("r: $(arg radius )", None)
+    assert (done, unresolved) == ("r: $(arg radius )", ["radius"])
+    assert substitute_args("r: $(arg r-1)", {"r-1": 2})[0] == "r: 2"  # type: ignore[dict-item]
+
+
+OTHER_DRIVES = """controller_manager:
+  ros__parameters:
+    mecanum: {type: mecanum_drive_controller/MecanumDriveController}
+    diff: {type: diff_drive_controller/DiffDriveController}
+    arm: {type: joint_trajectory_controller/JointTrajectoryController}
+    /ns/steer.type: ackermann_steering_controller/AckermannSteeringController
+    plugin: {type: "pkg::TricycleController"}
+mecanum:
+  ros__parameters: {}
+rover:
+  base:
+    type: omni_wheel_controller/OmniWheelController
+  diff1:
+    type: diff_drive_controller/DiffDriveController
+  arm1:
+    type: position_controllers/JointGroupPositionController
+  empty: {}
+"""
+
+
+def test_base_drives_that_are_not_differential_are_named_with_their_types(tmp_path: Path) -> None:
+    found = other_drive_controllers(OTHER_DRIVES, "c.yaml")
+    assert found == [
+        ("base", "omni_wheel_controller/OmniWheelController"),
+        ("mecanum", "mecanum_drive_controller/MecanumDriveController"),
+        ("steer", "ackermann_steering_controller/AckermannSteeringController"),
+        ("plugin", "pkg::TricycleController"),
+    ]
+    assert other_drive_controllers("[]", "c.yaml") == []
+    assert other_drive_controllers(ROS2_NESTED, "c.yaml") == []
+    path = tmp_path / "c.yaml"
+    path.write_text(OTHER_DRIVES, encoding="utf-8")
+    assert load_other_drive_controllers(path) == found
+
+
+def test_command_controllers_are_found_with_their_joints(tmp_path: Path) -> None:
+    path = tmp_path / "c.yaml"
+    path.write_text(
+        """controller_manager:
+  ros__parameters:
+    left: {type: forward_command_controller/ForwardCommandController}
+/ns/left:
+  ros__parameters:
+    joints: [wheel_a, wheel_b]
+right:
+  ros__parameters:
+    joints: [wheel_c]
+empty:
+  ros__parameters:
+    joints: []
+mixed:
+  ros__parameters:
+    joints: [wheel_d, 3]
+single:
+  ros__parameters:
+    joints: wheel_e
+""",
+        encoding="utf-8",
+    )
+    assert load_command_controllers(path) == {
+        "left": ("wheel_a", "wheel_b"),
+        "right": ("wheel_c",),
+    }
+    path.write_text("- a\n- b\n", encoding="utf-8")
+    assert load_command_controllers(path) == {}
