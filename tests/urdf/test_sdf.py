@@ -372,3 +372,80 @@ def test_poses_in_degrees_and_quaternions_and_links_relative_to_links(tmp_path: 
     # The wheel is at base * link in the model: in base's frame, the link pose itself.
     want = pose_matrix(*WHEEL_LINK) @ pose_matrix(*WHEEL_JOINT)
     np.testing.assert_allclose(origin_matrix(joint), want, rtol=0, atol=1e-12)
+
+
+def joints_model(joints: str) -> str:
+    links = "".join(f'<link name="{n}"/>' for n in ("base", "a", "b", "c", "d", "e"))
+    return f'<sdf version="1.9"><model name="m">{links}{joints}</model></sdf>'
+
+
+def test_joint_kinds_and_limits_as_urdf_has_them(tmp_path: Path) -> None:
+    robot = expanded(
+        tmp_path,
+        joints_model(
+            '<joint name="j1" type="revolute"><parent>base</parent><child>a</child>'
+            "<axis><xyz>0 1 0</xyz><limit><lower>-0.5</lower><upper>1.5</upper>"
+            "<velocity>3.5</velocity></limit></axis></joint>"
+            '<joint name="j2" type="revolute"><parent>base</parent><child>b</child>'
+            "<axis><xyz>0 1 0</xyz><limit><lower>-4</lower><upper>4</upper>"
+            "<velocity>-1</velocity></limit></axis></joint>"
+            '<joint name="j3" type="prismatic"><parent>base</parent><child>c</child>'
+            "<axis><xyz>1 0 0</xyz><limit><lower>0</lower><upper>0.2</upper></limit></axis>"
+            "</joint>"
+            '<joint name="j4" type="universal"><parent>base</parent><child>d</child></joint>'
+            '<joint name="j5" type="revolute"><parent>base</parent><child>e</child>'
+            "<axis><xyz>0 0 1</xyz><limit><velocity>inf</velocity></limit></axis></joint>"
+        ),
+    )
+    kinds = {j.get("name"): j.get("type") for j in robot.iter("joint")}
+    assert kinds == {
+        "j1": "revolute",  # 2 rad of travel: a bounded joint
+        "j2": "continuous",  # 8 rad, a full turn or more: continuous
+        "j3": "prismatic",
+        "j4": "fixed",
+        "j5": "continuous",  # no bounds
+    }
+    limits = {j.get("name"): j.find("limit") for j in robot.iter("joint")}
+    one = limits["j1"]
+    assert one is not None
+    assert one.attrib == {"effort": "0", "lower": "-0.5", "upper": "1.5", "velocity": "3.5"}
+    assert limits["j2"] is None  # continuous, and a negative velocity is no limit
+    three = limits["j3"]
+    assert three is not None
+    assert three.attrib == {"effort": "0", "lower": "0.0", "upper": "0.2"}
+    assert limits["j4"] is None
+    assert limits["j5"] is None  # an infinite velocity is no limit
+    axes = {j.get("name"): j.find("axis") for j in robot.iter("joint")}
+    three_axis = axes["j3"]
+    assert three_axis is not None
+    assert three_axis.get("xyz") == "1.0 0.0 0.0"
+    assert axes["j4"] is None
+
+
+def test_a_pitch_of_a_quarter_turn_keeps_the_rotation(tmp_path: Path) -> None:
+    # Gimbal lock: roll and yaw are one rotation there; the origin still turns the same way.
+    pose = (0.0, 0.0, 0.0, 0.4, math.pi / 2, 0.3)
+    words = " ".join(repr(v) for v in pose)
+    robot = expanded(
+        tmp_path,
+        joints_model(
+            f'<joint name="j" type="fixed"><parent>base</parent><child>a</child>'
+            f'<pose relative_to="base">{words}</pose></joint>'
+        ),
+    )
+    joint = robot.find("joint")
+    assert joint is not None
+    np.testing.assert_allclose(origin_matrix(joint), pose_matrix(*pose), rtol=0, atol=1e-12)
+    # A quaternion of zero length is read as no rotation rather than a division by zero.
+    robot = expanded(
+        tmp_path,
+        joints_model(
+            '<joint name="j" type="fixed"><parent>base</parent><child>a</child>'
+            '<pose relative_to="base">1 2 3 0 0 0 0</pose></joint>'
+        ),
+    )
+    joint = robot.find("joint")
+    assert joint is not None
+    np.testing.assert_allclose(
+        origin_matrix(joint), pose_matrix(1, 2, 3, 0, 0, 0), rtol=0, atol=1e-15
+    )
