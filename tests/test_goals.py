@@ -241,3 +241,80 @@ def test_waypoint_headings_from_a_start_pose() -> None:
     # A waypoint on the start keeps the start's heading.
     (pose,) = waypoint_poses([(1.0, 2.0)], (1.0, 2.0, 0.7))
     assert pose == Pose(1.0, 2.0, 0.7)
+
+
+FREE = DiffDriveParams(0.035, 0.135)  # no motor limit
+
+OPTION_SETS: list[dict[str, object]] = [
+    {"shape": "spin-straight-spin", "speed": 0.05, "spin_rate": 0.4},
+    {"shape": "dubins", "min_radius": 0.3},
+    {"shape": "reeds-shepp", "min_radius": 0.2, "fastest": True},
+    {"shape": "fastest", "forward_only": True},
+    {"shape": "spin-straight-spin", "limit": 2.0, "fastest": True},
+    {"shape": "fastest", "start": (0.5, -0.5, 1.0), "speed": 0.3},
+]
+
+
+@pytest.mark.parametrize("options", OPTION_SETS)
+@pytest.mark.parametrize("robot", [ROBOT, FREE])
+def test_through_one_waypoint_is_the_plan_to_it_option_by_option(
+    options: dict[str, object], robot: DiffDriveParams
+) -> None:
+    goal = (1.0, 0.7, -2.0)
+    if robot is FREE and options.get("fastest") and "limit" not in options:
+        options = {**options, "limit": 4.0}
+    through = plan_through([goal], robot, **options)
+    to = plan_to(goal, robot, **options)  # type: ignore[arg-type]
+    assert through == to
+    assert through.segments
+
+
+def test_unknown_options_are_named() -> None:
+    with pytest.raises(
+        TypeError, match=r"^plan_through\(\) got unexpected keyword arguments: a, b$"
+    ):
+        plan_through([(1.0, 0.0)], ROBOT, b=1, a=2)
+    with pytest.raises(TypeError, match=r"^shape_times\(\) got unexpected keyword arguments: c$"):
+        shape_times([(1.0, 0.0)], ROBOT, c=1)
+    with pytest.raises(PlanError, match="the start must be"):
+        plan_through([(1.0, 0.0)], ROBOT, start=(math.inf, 0.0, 0.0))
+    with pytest.raises(PlanError, match="the start must be"):
+        waypoint_poses([(1.0, 0.0)], (0.0, math.nan, 0.0))
+
+
+def test_waypoints_already_reached_give_an_empty_plan_at_the_limit_asked() -> None:
+    p = plan_through([(0.0, 0.0, 0.0)], ROBOT)
+    assert (p.segments, p.duration, p.final_pose) == ((), 0.0, Pose(0.0, 0.0, 0.0))
+    assert p.within_limit
+    assert p.limit == ROBOT.max_wheel_speed
+    assert plan_through([(0.0, 0.0, 0.0)], ROBOT, limit=3.0).limit == 3.0
+    assert plan_through([(0.0, 0.0, 0.0)], FREE).limit is None
+
+
+@pytest.mark.parametrize("robot", [ROBOT, FREE])
+def test_shape_times_are_the_plans_of_each_shape(robot: DiffDriveParams) -> None:
+    route = [(0.5, 0.5), (1.0, 0.0, 0.0)]
+    # Timed alike: at the limit (the robot's, or the one given) when there is one.
+    options: dict[str, object] = {"min_radius": 0.25}
+    if robot is FREE:
+        options["limit"] = 3.0
+    times = {t.shape: t for t in shape_times(route, robot, **options)}
+    for shape in SHAPES:
+        p = plan_through(route, robot, shape=shape, fastest=True, **options)
+        assert times[shape].duration == p.duration
+        assert times[shape].segments == len(p.segments)
+    # Without a limit: at the cruise speeds.
+    cruise = {t.shape: t for t in shape_times(route, FREE, min_radius=0.25, speed=0.2)}
+    for shape in SHAPES:
+        p = plan_through(route, FREE, shape=shape, min_radius=0.25, speed=0.2)
+        assert cruise[shape].duration == p.duration
+    # Shapes that cannot be planned say so, with no segment.
+    ahead = {t.shape: t for t in shape_times(route, robot, forward_only=True, limit=3.0)}
+    assert (ahead["reeds-shepp"].duration, ahead["reeds-shepp"].segments) == (None, 0)
+    assert (ahead["dubins"].duration, ahead["dubins"].segments) == (None, 0)
+    assert ahead["fastest"].duration is not None
+    with_radius = {
+        t.shape: t for t in shape_times(route, robot, forward_only=True, min_radius=0.25, limit=3.0)
+    }
+    assert with_radius["dubins"].duration is not None
+    assert with_radius["reeds-shepp"].duration is None
