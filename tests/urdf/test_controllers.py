@@ -8,7 +8,9 @@ kinematics and odometry.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import os
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -1140,3 +1142,94 @@ single:
     }
     path.write_text("- a\n- b\n", encoding="utf-8")
     assert load_command_controllers(path) == {}
+
+
+def test_file_errors_are_one_message_each(tmp_path: Path) -> None:
+    missing = tmp_path / "missing.yaml"
+    with pytest.raises(ControllerConfigError) as caught:
+        load_controllers(missing)
+    assert (
+        str(caught.value) == f"{missing}: cannot read controllers file: No such file or directory"
+    )
+    folder = tmp_path / "folder.yaml"
+    folder.mkdir()
+    with pytest.raises(ControllerConfigError, match=r"folder\.yaml: .*controllers file"):
+        load_controllers(folder)
+    fifo = tmp_path / "fifo.yaml"
+    os.mkfifo(fifo)
+    with pytest.raises(ControllerConfigError, match=r"fifo\.yaml: .*controllers file"):
+        load_command_controllers(fifo)  # refused without blocking on the pipe
+    exact = tmp_path / "exact.yaml"
+    exact.write_bytes(b"#" * MAX_FILE_BYTES)  # at the bound: read
+    assert load_controllers(exact) == []
+    huge = tmp_path / "huge.yaml"
+    huge.write_bytes(b"#" * (MAX_FILE_BYTES + 1))
+    with pytest.raises(ControllerConfigError) as caught:
+        load_other_drive_controllers(huge)
+    assert str(caught.value) == (f"{huge}: controllers file is larger than {MAX_FILE_BYTES} bytes")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("a: [1\n", encoding="utf-8")
+    with pytest.raises(ControllerConfigError, match=r"bad\.yaml"):
+        load_command_controllers(bad)
+    latin = tmp_path / "latin.yaml"
+    latin.write_bytes("r: 'é'".encode("latin-1"))
+    with pytest.raises(ControllerConfigError) as caught:
+        load_controllers(latin)
+    assert str(caught.value) == f"{latin}: controllers file is not UTF-8 text"
+
+
+def test_loading_a_file_substitutes_its_args(tmp_path: Path) -> None:
+    path = tmp_path / "c.yaml"
+    path.write_text(
+        ROS2_NESTED.replace("wheel_radius: 0.05", "wheel_radius: $(arg radius)"), encoding="utf-8"
+    )
+    (config,) = load_controllers(path, {"radius": "0.07"})
+    assert config.wheel_radius == 0.07
+
+
+def test_choosing_names_the_files_and_the_controllers() -> None:
+    configs = read_controllers(TWO_CONTROLLERS, "two.yaml")
+    with pytest.raises(ControllerConfigError) as caught:
+        choose_controller(configs)
+    assert str(caught.value) == (
+        "several diff-drive controllers in two.yaml: 'front_drive', 'rear_drive'; "
+        "choose one by name (controller=)"
+    )
+    with pytest.raises(ControllerConfigError) as caught:
+        choose_controller(configs, "middle")
+    assert str(caught.value) == (
+        "no diff-drive controller 'middle' in two.yaml; there are: 'front_drive', 'rear_drive'"
+    )
+    with pytest.raises(ControllerConfigError) as caught:
+        choose_controller([])
+    assert str(caught.value) == "no diff_drive_controller/DiffDriveController found"
+    without_source = [dataclasses.replace(c, source="") for c in configs[:1]]
+    with pytest.raises(ControllerConfigError) as caught:
+        choose_controller(without_source, "middle")
+    assert str(caught.value) == "no diff-drive controller 'middle' in ; there are: 'front_drive'"
+
+
+def test_ros1_types_under_namespaces_after_plain_values() -> None:
+    text = """robot:
+  rate: 50
+  drive:
+    type: mecanum_drive_controller/MecanumDriveController
+  arm:
+    ns:
+      base:
+        type: steering_controllers/SteeringController
+"""
+    assert other_drive_controllers(text, "c.yaml") == [
+        ("drive", "mecanum_drive_controller/MecanumDriveController"),
+        ("base", "steering_controllers/SteeringController"),
+    ]
+
+
+def test_a_chained_reference_to_a_group_command_controller_is_followed() -> None:
+    # The chained controller names its joints under "joints", as a command controller does.
+    text = CHAINED_DEEP.replace("dof_names: [left_wheel_joint]", "joints: [left_wheel_joint]")
+    (config,) = read_controllers(text, "c.yaml")
+    assert config.left_wheel_names == ("left_wheel_joint",)
+    elbow = CHAINED_DEEP.replace("dof_names: [left_wheel_joint]", "joints: [elbow]")
+    (config,) = read_controllers(elbow, "c.yaml")
+    assert config.left_wheel_names == ("/robot/base/pid_left/left_wheel_joint",)
