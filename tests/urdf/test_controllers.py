@@ -1233,3 +1233,27 @@ def test_a_chained_reference_to_a_group_command_controller_is_followed() -> None
     elbow = CHAINED_DEEP.replace("dof_names: [left_wheel_joint]", "joints: [elbow]")
     (config,) = read_controllers(elbow, "c.yaml")
     assert config.left_wheel_names == ("/robot/base/pid_left/left_wheel_joint",)
+
+
+def test_a_drive_is_named_once_and_only_by_its_class_name() -> None:
+    text = """controller_manager:
+  ros__parameters:
+    mecanum.type: mecanum_drive_controller/MecanumDriveController
+    arm.type: drive_tools/JointTrajectoryController
+    grip.type: "drive_tools::GripperController"
+    count.type: 3
+mecanum:
+  ros__parameters:
+    type: mecanum_drive_controller/MecanumDriveController
+/ns/swerve:
+  ros__parameters:
+    type: swerve_drive_controller/SwerveDriveController
+legacy:
+  type: drive_tools/JointStateController
+"""
+    # Declared in the manager and in its own section: once; a package named for driving does
+    # not make its other controllers drives; a type that is not text is no type.
+    assert other_drive_controllers(text, "c.yaml") == [
+        ("mecanum", "mecanum_drive_controller/MecanumDriveController"),
+        ("swerve", "swerve_drive_controller/SwerveDriveController"),
+    ]
