@@ -19,8 +19,10 @@ from diffbot.conditioning import (
     Conditioning,
     counter_range,
     detect_wrap,
+    estimate_time_offset,
 )
 from diffbot.errors import ParameterError
+from diffbot.kinematics import DiffDriveParams
 
 JOINTS = (PIONEER.left_joint, PIONEER.right_joint)
 
@@ -83,13 +85,13 @@ def test_raw_counts_read_as_radians_are_implausible_steps_with_the_first_named()
     report = conditioner.report()
     # Each step turns 25 mm of travel into 3200 "rad" in 0.1 s: far over 30 m/s / 0.0975 m.
     assert report.limit_source == "a rim speed of 30 m/s"
-    assert report.speed_limit[0] == pytest.approx(RIM_SPEED_BOUND / RADIUS)
+    assert report.speed_limit[0] == pytest.approx(RIM_SPEED_BOUND / RADIUS, abs=1e-12)
     assert report.implausible_steps == 100
     first = report.first_implausible
     assert first is not None
     assert (first.sample, first.joint) == (1, PIONEER.left_joint)
-    assert first.seconds == pytest.approx(0.1)
-    assert first.speed == pytest.approx(32000.0, rel=1e-3)
+    assert first.seconds == pytest.approx(0.1, abs=1e-12)
+    assert first.speed == pytest.approx(32000.0, rel=1e-12)
 
 
 def test_the_motor_limit_sets_the_bound_when_there_is_one() -> None:
@@ -249,3 +251,85 @@ def test_the_command_line_names_the_option_of_a_wrap_refused(tmp_path: Path) -> 
     assert good.exit_code == 0, good.output
     result = CliRunner().invoke(main, [*args, "--wrap", "3"])
     assert_one_error_line(result, "the counter's modulus (--wrap) of 3 is smaller")
+
+
+def test_each_side_is_bounded_by_its_own_wheel_radius() -> None:
+    # Left wheels of 0.05 m, a right one of 0.1 m, no motor limit: 30 m/s at the rim is
+    # 600 rad/s on the left and 300 rad/s on the right, with 0.2 rad and 0.1 rad of slack.
+    robot = BOT.replace(left_wheel_radius=0.05, right_wheel_radius=0.1)
+    conditioner = Conditioner.for_robot(robot, ("l1", "l2", "r"), 2)
+    assert conditioner.limits == [
+        (pytest.approx(600.0, rel=1e-15), pytest.approx(0.2, rel=1e-15)),
+        (pytest.approx(600.0, rel=1e-15), pytest.approx(0.2, rel=1e-15)),
+        (pytest.approx(300.0, rel=1e-15), pytest.approx(0.1, rel=1e-15)),
+    ]
+    report = conditioner.report()
+    assert report.speed_limit == (
+        pytest.approx(600.0, abs=1e-12),
+        pytest.approx(300.0, abs=1e-12),
+    )
+    assert report.limit_source == "a rim speed of 30 m/s"
+    # 45 rad in 0.1 s (450 rad/s) on every wheel: within the left's bound, beyond the right's.
+    stamps = np.array([0, 100_000_000])
+    conditioner.feed(stamps, np.array([[0.0, 0.0, 0.0], [45.0, 45.0, 45.0]]))
+    report = conditioner.report()
+    assert report.implausible_steps == 1
+    first = report.first_implausible
+    assert first is not None
+    assert (first.sample, first.joint) == (1, "r")
+    assert first.speed == pytest.approx(450.0, rel=1e-12)
+    assert first.seconds == pytest.approx(0.1, abs=1e-15)
+
+
+def test_a_step_just_within_its_sides_bound_and_slack_passes() -> None:
+    robot = BOT.replace(left_wheel_radius=0.05, right_wheel_radius=0.1)
+    conditioner = Conditioner.for_robot(robot, ("l", "r"), 1)
+    # 0.1 s at the bound plus the slack, on each side: allowed; a little more: not.
+    left_edge, right_edge = 600.0 * 0.1 + 0.2, 300.0 * 0.1 + 0.1
+    stamps = np.array([0, 100_000_000, 200_000_000])
+    positions = np.array(
+        [[0.0, 0.0], [left_edge * 0.999, right_edge * 0.999], [left_edge * (0.999 + 1.01), 0.0]]
+    )
+    conditioner.feed(stamps, positions)
+    report = conditioner.report()
+    assert report.implausible_steps == 1
+    assert report.first_implausible is not None
+    assert (report.first_implausible.sample, report.first_implausible.joint) == (2, "l")
+
+
+def turning_wheels(
+    offset: float, robot: DiffDriveParams
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Wheel angles of a robot driving and turning, stamped ``offset`` s late, and the pose
+    track's heading on its own clock (50 Hz and 25 Hz, 10 s)."""
+    t = np.arange(0.0, 10.0, 0.02)
+    heading = 0.5 * np.sin(1.3 * t) + 0.2 * np.sin(3.1 * t)
+    travel = 0.3 * t + 0.1 * np.sin(0.7 * t)  # forward along the way (m)
+    half = robot.wheel_separation / 2
+    left_radius, right_radius = robot.radii
+    left = (travel - half * heading) / left_radius
+    right = (travel + half * heading) / right_radius
+    truth_t = np.arange(0.0, 10.0, 0.04)
+    truth = 0.5 * np.sin(1.3 * truth_t) + 0.2 * np.sin(3.1 * truth_t)
+    return t + offset, left, right, truth_t, np.angle(np.exp(1j * truth))
+
+
+@pytest.mark.parametrize("offset", [0.1, -0.25])
+def test_the_time_offset_of_wheels_of_unequal_radii(offset: float) -> None:
+    robot = BOT.replace(left_wheel_radius=0.03, right_wheel_radius=0.05)
+    found = estimate_time_offset(*turning_wheels(offset, robot), robot, max_offset=0.5)
+    assert found == pytest.approx(offset, abs=1e-3)
+
+
+def test_the_time_offset_needs_samples_overlap_and_turning() -> None:
+    t, left, right, truth_t, truth = turning_wheels(0.0, BOT)
+    with pytest.raises(ParameterError, match="at least three samples on each side"):
+        estimate_time_offset(t[:2], left[:2], right[:2], truth_t, truth, BOT)
+    with pytest.raises(ParameterError, match="at least three samples on each side"):
+        estimate_time_offset(t, left, right, truth_t[:2], truth[:2], BOT)
+    with pytest.raises(ParameterError, match="overlap too little"):
+        estimate_time_offset(t, left, right, truth_t + 30.0, truth, BOT)
+    with pytest.raises(ParameterError, match="does not turn"):
+        estimate_time_offset(t, left, right, truth_t, np.zeros_like(truth), BOT)
+    with pytest.raises(ParameterError, match=r"at the edge of the offsets tried \(0.5 s"):
+        estimate_time_offset(t + 0.7, left, right, truth_t, truth, BOT, max_offset=0.5)

@@ -210,3 +210,111 @@ def test_pieces_of_rounding_size_are_left_out() -> None:
 
     assert _arcs([Piece("L", 5e-324), Piece("S", 10.0), Piece("R", 1e-17)], 0.1) == [Straight(1.0)]
     assert _turns([Piece("T", -4e-16), Piece("S", 1e-15), Piece("T", 0.5)], 0.0675) == [Spin(0.5)]
+
+
+def test_through_waypoints_from_a_start_pose_other_than_the_origin() -> None:
+    # From (1, 2) facing +y: 1 m ahead to (1, 3), where the next leg faces -x (heading pi),
+    # a quarter turn left, then 1 m to (0, 3). Seen from the start, the end is (1, 1), pi/2.
+    start = (1.0, 2.0, math.pi / 2)
+    p = plan_through(
+        [(1.0, 3.0), (0.0, 3.0, math.pi)], ROBOT, start=start, shape="spin-straight-spin"
+    )
+    first, turn, second = (s.segment for s in p.segments)
+    assert isinstance(first, Straight)
+    assert isinstance(second, Straight)
+    assert isinstance(turn, Spin)
+    assert [first.length, turn.angle, second.length] == pytest.approx(
+        [1.0, math.pi / 2, 1.0], abs=1e-15
+    )
+    assert_reaches(p.final_pose, Pose(1.0, 1.0, math.pi / 2))
+    assert_reaches(p.final_pose, relative_pose(Pose(*start), Pose(0.0, 3.0, math.pi)))
+    # Waypoints already reached from the start give no segment at all.
+    assert plan_through([(1.0, 2.0, math.pi / 2)], ROBOT, start=start).segments == ()
+    # The same route from the origin is another plan: the start is not ignored.
+    assert plan_through([(1.0, 3.0), (0.0, 3.0, math.pi)], ROBOT).final_pose != p.final_pose
+
+
+def test_waypoint_headings_from_a_start_pose() -> None:
+    # A lone waypoint without a heading faces along the leg from the start that reaches it.
+    (pose,) = waypoint_poses([(2.0, 3.0)], (1.0, 2.0, 0.0))
+    assert pose == Pose(2.0, 3.0, math.pi / 4)
+    # A waypoint on the start keeps the start's heading.
+    (pose,) = waypoint_poses([(1.0, 2.0)], (1.0, 2.0, 0.7))
+    assert pose == Pose(1.0, 2.0, 0.7)
+
+
+FREE = DiffDriveParams(0.035, 0.135)  # no motor limit
+
+OPTION_SETS: list[dict[str, object]] = [
+    {"shape": "spin-straight-spin", "speed": 0.05, "spin_rate": 0.4},
+    {"shape": "dubins", "min_radius": 0.3},
+    {"shape": "reeds-shepp", "min_radius": 0.2, "fastest": True},
+    {"shape": "fastest", "forward_only": True},
+    {"shape": "spin-straight-spin", "limit": 2.0, "fastest": True},
+    {"shape": "fastest", "start": (0.5, -0.5, 1.0), "speed": 0.3},
+]
+
+
+@pytest.mark.parametrize("options", OPTION_SETS)
+@pytest.mark.parametrize("robot", [ROBOT, FREE])
+def test_through_one_waypoint_is_the_plan_to_it_option_by_option(
+    options: dict[str, object], robot: DiffDriveParams
+) -> None:
+    goal = (1.0, 0.7, -2.0)
+    if robot is FREE and options.get("fastest") and "limit" not in options:
+        options = {**options, "limit": 4.0}
+    through = plan_through([goal], robot, **options)
+    to = plan_to(goal, robot, **options)  # type: ignore[arg-type]
+    assert through == to
+    assert through.segments
+
+
+def test_unknown_options_are_named() -> None:
+    with pytest.raises(
+        TypeError, match=r"^plan_through\(\) got unexpected keyword arguments: a, b$"
+    ):
+        plan_through([(1.0, 0.0)], ROBOT, b=1, a=2)
+    with pytest.raises(TypeError, match=r"^shape_times\(\) got unexpected keyword arguments: c$"):
+        shape_times([(1.0, 0.0)], ROBOT, c=1)
+    with pytest.raises(PlanError, match="the start must be"):
+        plan_through([(1.0, 0.0)], ROBOT, start=(math.inf, 0.0, 0.0))
+    with pytest.raises(PlanError, match="the start must be"):
+        waypoint_poses([(1.0, 0.0)], (0.0, math.nan, 0.0))
+
+
+def test_waypoints_already_reached_give_an_empty_plan_at_the_limit_asked() -> None:
+    p = plan_through([(0.0, 0.0, 0.0)], ROBOT)
+    assert (p.segments, p.duration, p.final_pose) == ((), 0.0, Pose(0.0, 0.0, 0.0))
+    assert p.within_limit
+    assert p.limit == ROBOT.max_wheel_speed
+    assert plan_through([(0.0, 0.0, 0.0)], ROBOT, limit=3.0).limit == 3.0
+    assert plan_through([(0.0, 0.0, 0.0)], FREE).limit is None
+
+
+@pytest.mark.parametrize("robot", [ROBOT, FREE])
+def test_shape_times_are_the_plans_of_each_shape(robot: DiffDriveParams) -> None:
+    route = [(0.5, 0.5), (1.0, 0.0, 0.0)]
+    # Timed alike: at the limit (the robot's, or the one given) when there is one.
+    options: dict[str, object] = {"min_radius": 0.25}
+    if robot is FREE:
+        options["limit"] = 3.0
+    times = {t.shape: t for t in shape_times(route, robot, **options)}
+    for shape in SHAPES:
+        p = plan_through(route, robot, shape=shape, fastest=True, **options)
+        assert times[shape].duration == p.duration
+        assert times[shape].segments == len(p.segments)
+    # Without a limit: at the cruise speeds.
+    cruise = {t.shape: t for t in shape_times(route, FREE, min_radius=0.25, speed=0.2)}
+    for shape in SHAPES:
+        p = plan_through(route, FREE, shape=shape, min_radius=0.25, speed=0.2)
+        assert cruise[shape].duration == p.duration
+    # Shapes that cannot be planned say so, with no segment.
+    ahead = {t.shape: t for t in shape_times(route, robot, forward_only=True, limit=3.0)}
+    assert (ahead["reeds-shepp"].duration, ahead["reeds-shepp"].segments) == (None, 0)
+    assert (ahead["dubins"].duration, ahead["dubins"].segments) == (None, 0)
+    assert ahead["fastest"].duration is not None
+    with_radius = {
+        t.shape: t for t in shape_times(route, robot, forward_only=True, min_radius=0.25, limit=3.0)
+    }
+    assert with_radius["dubins"].duration is not None
+    assert with_radius["reeds-shepp"].duration is None

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from extras import need
 
 HEAVY = (
     "numpy",
@@ -124,7 +125,7 @@ def test_umbmark_loads_numpy_but_not_scipy(warm_cache: Path) -> None:
 def test_odometry_of_a_sqlite_bag_loads_numpy_but_not_rosbags_asyncio_or_a_process_pool(
     warm_cache: Path, tmp_path: Path
 ) -> None:
-    pytest.importorskip("rosbags")  # only to write the bag
+    need("rosbags")  # only to write the bag
     bag = tmp_path / "a_bag"
     env = {"DIFFBOT_CACHE_DIR": str(warm_cache), "PATH": "/usr/bin:/bin"}
     subprocess.run(

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import pytest
+from extras import need
 from figures import axes_labelled, colour_at, near, rendered
 from robots import BOT_50_RPM
 
@@ -33,7 +34,7 @@ from diffbot.trajectory import EXAMPLES, Plan, plan
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-pytest.importorskip("matplotlib", reason="plotting needs the 'plot' extra")
+need("matplotlib")
 
 
 def _plan(text: str) -> Plan:

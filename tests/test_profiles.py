@@ -7,6 +7,7 @@ from collections.abc import Callable
 
 import numpy as np
 import pytest
+from extras import need
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from robots import BOT
@@ -296,7 +297,7 @@ def test_jerk_limit_only_lengthens_a_profile(
 
 
 def ruckig_profile(length: float, v_max: float, a_max: float, j_max: float) -> object:
-    ruckig = pytest.importorskip("ruckig")
+    ruckig = need("ruckig")
     otg = ruckig.Ruckig(1)
     inp = ruckig.InputParameter(1)
     inp.current_position = [0.0]

@@ -34,8 +34,8 @@ def test_direction_signs_and_several_wheels_per_side() -> None:
         right_joint="fr",
     )
     out = WheelCommander(robot).step(0.07, 0.0, 0.0)
-    assert out.left == pytest.approx((-2.0, -2.0))
-    assert out.right == pytest.approx((2.0, 2.0))
+    assert out.left == pytest.approx((-2.0, -2.0), abs=1e-12)
+    assert out.right == pytest.approx((2.0, 2.0), abs=1e-12)
 
 
 @given(v=st.floats(-2.0, 2.0, allow_nan=False), w=st.floats(-20.0, 20.0, allow_nan=False))
@@ -69,7 +69,7 @@ def test_the_controllers_limiter_ramps_the_commands() -> None:
     # 0.5 m/s² for 0.1 s per update: 0.05 m/s more each update until 0.2 m/s.
     assert executed == pytest.approx([0.05, 0.1, 0.15, 0.2, 0.2, 0.2], abs=1e-12)
     # The same numbers as the limiter itself gives.
-    assert limit(controller.linear, 0.2, 0.0, 0.0, 0.1) == pytest.approx(0.05)
+    assert limit(controller.linear, 0.2, 0.0, 0.0, 0.1) == pytest.approx(0.05, abs=1e-12)
     assert not WheelCommander(BOT.replace(controller=controller), use_limits=False).limited
 
 

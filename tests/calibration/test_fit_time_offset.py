@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from extras import need
 from pioneer import COUNTS_PER_REV, PIONEER, RADIUS, SEPARATION, counts, truth, urdf
 from wheel_motion import Segment
 
@@ -18,7 +19,7 @@ from diffbot.errors import ParameterError
 from diffbot.io.poses import PoseTrack
 from diffbot.samples import ColumnSamples, Recording
 
-pytest.importorskip("scipy", reason="the fit needs the 'calibrate' extra")
+need("scipy")
 
 #: Turns one way only (a recording that alone cannot tell the three parameters apart) ...
 LEFT_TURNS: list[Segment] = [

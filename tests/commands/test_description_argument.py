@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 from cli_results import assert_one_error_line
 from click.testing import CliRunner, Result
+from extras import need
 from robots import two_wheel_urdf
 
 from diffbot.cli import main
@@ -56,7 +57,7 @@ def test_a_description_first_is_the_same_as_robot(
     name: str, folder: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     if name == "plot":
-        pytest.importorskip("matplotlib")
+        need("matplotlib")
     command = name.removesuffix("-file").split()
     rest = COMMANDS[name]
     first = invoke(folder, [*command, "robot.urdf", *rest], monkeypatch)

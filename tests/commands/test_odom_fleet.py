@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 from bags import write_bag
 from click.testing import CliRunner
+from extras import need
 from robots import BOT
 
 from diffbot.cli import main
@@ -97,7 +98,7 @@ def test_a_process_pool_gives_the_serial_results(runner: CliRunner, fleet: list[
 
 
 def test_a_dask_cluster_gives_the_serial_results(runner: CliRunner, fleet: list[str]) -> None:
-    distributed = pytest.importorskip("distributed")
+    distributed = need("distributed")
     serial = json_lines(runner, *fleet)
     with distributed.LocalCluster(
         n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
@@ -129,7 +130,7 @@ def _free_port() -> int:
 def dask_cluster(tmp_path: Path) -> Iterator[str]:
     """A scheduler and a worker in their own processes, started in a folder of their own, as a
     cluster runs; stopped whatever happens."""
-    distributed = pytest.importorskip("distributed")
+    distributed = need("distributed")
     dask = Path(sys.executable).with_name("dask")
     if not dask.exists():
         pytest.skip("no dask command beside this Python")

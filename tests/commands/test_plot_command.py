@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 from cli_results import assert_one_error_line as assert_bad_input
 from click.testing import CliRunner, Result
+from extras import need
 from figures import axes_labelled, colour_at, near, png_pixels
 
 from diffbot.cli import main
@@ -24,7 +25,7 @@ from diffbot.plotting import (
 )
 from diffbot.trajectory import EXAMPLES, plan
 
-pytest.importorskip("matplotlib", reason="plotting needs the 'plot' extra")
+need("matplotlib")
 
 
 def run(runner: CliRunner, *args: str) -> Result:

@@ -6,13 +6,14 @@ import struct
 from pathlib import Path
 
 import pytest
+from extras import need
 from figures import axes_labelled, near, png_pixels
 
 from diffbot.goals import plan_to
 from diffbot.kinematics import DiffDriveParams
 from diffbot.trajectory import pose_at
 
-pytest.importorskip("matplotlib", reason="plotting needs the 'plot' extra")
+need("matplotlib")
 
 IMAGES = Path(__file__).resolve().parents[2] / "docs" / "img"
 #: The page's goal: 10 cm to the left, same heading; arcs of 10 cm.

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import pytest
 from click.testing import CliRunner, Result
+from extras import need
 from figures import axes_labelled, near, rendered
 from pioneer import COUNTS_PER_REV, counts_csv, reference_bag, urdf
 
 from diffbot.cli import main
 from diffbot.plotting import PATH_COLOUR, RECORDING_COLOURS, recordings_figure
 
-pytest.importorskip("matplotlib", reason="plotting needs the 'plot' extra")
+need("matplotlib")
 
 
 def run(runner: CliRunner, *args: str) -> Result:

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 from cli_results import assert_one_error_line
 from click.testing import CliRunner
+from extras import need
 
 from diffbot.cli import main
 
@@ -89,7 +90,7 @@ def test_twenty_thousand_controllers_are_read_in_seconds() -> None:
 
 
 def test_a_plot_of_ten_thousand_segments_takes_seconds(tmp_path: Path) -> None:
-    pytest.importorskip("matplotlib")
+    need("matplotlib")
     plan_file = tmp_path / "long.txt"
     plan_file.write_text("; ".join(["straight 0.1", "ccw 0.5 10"] * 5_000), encoding="utf-8")
     start = time.process_time()

@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 from cli_results import assert_one_error_line
 from click.testing import CliRunner
+from extras import need
 
 from diffbot.cli import main
 from diffbot.errors import RecordingError
@@ -146,7 +147,7 @@ def server(request: pytest.FixtureRequest) -> Iterator[str]:
 def test_a_hostile_scheduler_is_one_error_line_within_the_timeout(
     inputs: list[str], server: str, message: str
 ) -> None:
-    pytest.importorskip("distributed")
+    need("distributed")
     start = time.monotonic()
     done = subprocess.run(
         [sys.executable, "-m", "diffbot", "odom", *inputs, "--dask", server, "--dask-timeout", "1"],

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 from cli_results import assert_one_error_line
 from click.testing import CliRunner, Result
+from extras import need
 
 from diffbot.cli import main
 from diffbot.commands.options import InputError, emit_json
@@ -100,7 +101,7 @@ def test_a_jerk_limit_of_1e_300_from_a_controllers_file_is_refused(write: Write)
 def test_a_jerk_limit_of_1e_300_is_refused_by_every_command_that_ramps(
     command: list[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    pytest.importorskip("matplotlib")
+    need("matplotlib")
     monkeypatch.chdir(tmp_path)
     result = run(*command, "straight 1", "--max-jerk", "1e-300")
     assert_clean_error(result, "jerk limit of 1e-300", "more than 1e+06 s", "--max-jerk 1e-300")
@@ -207,7 +208,7 @@ def truth_file(recording: Path, path: Path, change: Callable[[int, list[str]], l
 
 
 def test_fit_with_a_window_duration_of_1e_300_is_refused(recording: Path) -> None:
-    pytest.importorskip("scipy")
+    need("scipy")
     result = run("calibrate", "fit", str(recording), "--window-duration", "1e-300")
     assert_clean_error(result, "--window-duration 1e-300 s", "give at least 0.02 s")
 
@@ -216,7 +217,7 @@ def test_fit_with_a_window_duration_of_1e_300_is_refused(recording: Path) -> Non
 def test_fit_with_truth_stamps_beyond_int64_nanoseconds_is_refused(
     recording: Path, tmp_path: Path, offset: float
 ) -> None:
-    pytest.importorskip("scipy")
+    need("scipy")
     truth = truth_file(
         recording, tmp_path / "truth.csv", lambda k, row: [repr(float(row[0]) + offset), *row[1:]]
     )
@@ -230,7 +231,7 @@ def test_fit_with_truth_stamps_beyond_int64_nanoseconds_is_refused(
 def test_fit_with_truth_poses_beyond_any_drive_is_refused_before_numpy_warns(
     recording: Path, tmp_path: Path, column: int, fragment: str
 ) -> None:
-    pytest.importorskip("scipy")
+    need("scipy")
 
     def huge(k: int, row: list[str]) -> list[str]:
         row[column] = repr(float(row[column]) * 1e306)
@@ -267,7 +268,7 @@ def test_explain_odom_of_angles_beyond_a_recordings_range_is_refused_not_inf() -
 
 @pytest.mark.parametrize("jobs", ["1", "2"])
 def test_text_cells_in_a_bags_messages_are_skipped_as_unreadable(tmp_path: Path, jobs: str) -> None:
-    pytest.importorskip("rosbags")
+    need("rosbags")
     bag = tmp_path / "bag"
     made = run("simulate", "straight 0.2", "--out", str(bag), "--bag")
     assert made.exit_code == 0, made.output

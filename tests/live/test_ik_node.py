@@ -41,8 +41,8 @@ def test_twists_become_wheel_commands_and_silence_stops_them() -> None:
         started = time.monotonic()
         cmd_vel.publish(twist_command(0.1, 0.5))
         until(graph, lambda: len(left) >= 1 and len(right) >= 1)
-        assert left[0] == pytest.approx([1.8928571428571428])
-        assert right[0] == pytest.approx([3.8214285714285716])
+        assert left[0] == pytest.approx([1.8928571428571428], abs=1e-12)
+        assert right[0] == pytest.approx([3.8214285714285716], abs=1e-12)
         until(graph, lambda: len(left) >= 2 and len(right) >= 2)  # the timeout's zero
         assert time.monotonic() - started > 0.3  # quiet for longer than the timeout
         assert left[-1] == [0.0]
@@ -72,7 +72,7 @@ def test_stamped_commands_and_the_wrong_kind_named() -> None:
         until(probe, lambda: node.left.subscription_count > 0)
         stamped.publish(types.TwistStamped(twist=twist_command(0.07, 0.0)))
         until(probe, lambda: len(left) == 1)
-        assert left[0] == pytest.approx([2.0])
+        assert left[0] == pytest.approx([2.0], abs=1e-12)
         # A plain Twist publisher on the same topic does not match; the node names it.
         plain = probe.create_publisher(types.Twist, "/cmd_vel")
         assert plain.subscription_count == 0
@@ -105,5 +105,108 @@ def test_by_default_either_kind_of_twist_is_read() -> None:
         until(probe, lambda: len(left) == 1)
         plain.publish(twist_command(0.035, 0.0))
         until(probe, lambda: len(left) == 2)
-    assert left == [pytest.approx([2.0]), pytest.approx([1.0])]
+    assert left == [
+        pytest.approx([2.0], abs=1e-12),
+        pytest.approx([1.0], abs=1e-12),
+    ]
     assert node.warnings == []
+
+
+class Clock:
+    """A monotonic clock the test moves by hand (s)."""
+
+    def __init__(self) -> None:
+        self.now = 100.0
+
+    def monotonic(self) -> float:
+        return self.now
+
+
+def test_the_limiter_ramps_on_each_update_and_a_stale_command_ramps_down_to_zero(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from diffbot.controller_config import AxisLimits, ControllerConfig
+    from diffbot.live import inverse_kinematics
+
+    clock = Clock()
+    monkeypatch.setattr(inverse_kinematics, "time", clock)
+    controller = ControllerConfig(
+        name="diff",
+        source="c.yaml",
+        ros_version=2,
+        linear=AxisLimits(max_acceleration=0.5),
+        angular=AxisLimits(max_acceleration=2.0),
+    )
+    robot = BOT.replace(controller=controller)
+    left: list[list[float]] = []
+    right: list[list[float]] = []
+    with InverseKinematicsNode(robot, IkSettings(timeout=0.3, rate=10.0)) as node:
+        assert node.commander.limited
+        node.left.publish = lambda m: left.append(m.data)  # type: ignore[method-assign]
+        node.right.publish = lambda m: right.append(m.data)  # type: ignore[method-assign]
+        node.on_twist(twist_command(0.2, 0.0))
+        assert left == []  # limited: sent on the controller's updates only
+        for _ in range(2):
+            clock.now += 0.1
+            node.update()
+        # 0.5 m/s² for 0.1 s per update: 0.05 then 0.1 m/s, 0.035 m wheels.
+        assert [v for (v,) in left] == pytest.approx([0.05 / 0.035, 0.1 / 0.035], abs=1e-12)
+        assert right == left
+        assert node.timeouts == 0
+        clock.now += 0.35  # quiet for longer than the timeout
+        node.update()
+        assert node.timeouts == 1
+        for _ in range(3):
+            clock.now += 0.1
+            node.update()
+        assert node.timeouts == 1  # counted once, then the command is zero
+        # Down at 0.5 m/s² too: 0.05 m/s, then stopped.
+        assert [v for (v,) in left[2:]] == pytest.approx([0.05 / 0.035, 0.0, 0.0, 0.0], abs=1e-12)
+        # A turn ramps at 2 rad/s²: 0.2 rad/s after one update, wheels opposite.
+        node.on_twist(twist_command(0.0, 1.0))
+        clock.now += 0.1
+        node.update()
+        w = 0.2 * 0.135 / 2 / 0.035
+        assert left[-1] == pytest.approx([-w], abs=1e-12)
+        assert right[-1] == pytest.approx([w], abs=1e-12)
+        # A NaN stops the wheels at once, without the ramp, and forgets the ramp's history.
+        node.on_twist(twist_command(math.nan, 1.0))
+        assert (left[-1], right[-1]) == ([0.0], [0.0])
+        node.on_twist(twist_command(0.2, 0.0))
+        clock.now += 0.1
+        node.update()
+        assert left[-1] == pytest.approx([0.05 / 0.035], abs=1e-12)
+    assert node.status() == "4 commands, 1 refused (not finite), 1 timeouts, 0 malformed"
+
+
+def test_without_limits_a_quiet_command_stops_the_wheels_once(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from diffbot.live import inverse_kinematics
+
+    clock = Clock()
+    monkeypatch.setattr(inverse_kinematics, "time", clock)
+    left: list[list[float]] = []
+    with InverseKinematicsNode(BOT, IkSettings(timeout=0.3)) as node:
+        assert not node.commander.limited
+        node.left.publish = lambda m: left.append(m.data)  # type: ignore[method-assign]
+        node.watch()
+        assert left == []  # nothing commanded yet: nothing to stop
+        node.on_twist(twist_command(0.07, 0.0))
+        assert left == [[2.0]]
+        clock.now += 0.2
+        node.watch()
+        assert left == [[2.0]]  # not quiet for long enough
+        clock.now += 0.2
+        node.watch()
+        node.watch()
+        assert left == [[2.0], [0.0]]
+        assert node.timeouts == 1
+
+
+def test_a_negative_timeout_or_a_rate_not_above_zero_is_refused() -> None:
+    from diffbot.live.transport import LiveError
+
+    for settings in (IkSettings(timeout=-0.1), IkSettings(rate=0.0), IkSettings(rate=math.nan)):
+        with pytest.raises(LiveError, match="the timeout must be >= 0 and the rate > 0"):
+            InverseKinematicsNode(BOT, settings)

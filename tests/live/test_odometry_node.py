@@ -168,3 +168,66 @@ def test_joint_states_of_another_type_are_named_once() -> None:
         "'/joint_states' carries std_msgs/msg/String; this node reads sensor_msgs/msg/JointState"
     ]
     assert node.subscription.received == 0
+
+
+def published_odometry(node: OdometryNode) -> list[types.Odometry]:
+    """Route the node's odometry messages into a list, decoded, instead of onto the graph."""
+    sent: list[types.Odometry] = []
+    node.odom_publisher.publish_serialized = lambda data: sent.append(  # type: ignore[method-assign]
+        types.Odometry.deserialize(data)
+    )
+    return sent
+
+
+def test_the_twist_and_both_covariances_are_published_where_ros_reads_them() -> None:
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    pose_diagonal = (1.0, 2.0, 3.0, 4.0, 5.0, 6.0)
+    twist_diagonal = (0.1, 0.2, 0.3, 0.4, 0.5, 0.6)
+    settings = OdometrySettings(
+        publish_tf=False, pose_covariance=pose_diagonal, twist_covariance=twist_diagonal
+    )
+    with OdometryNode(BOT, settings) as node:
+        sent = published_odometry(node)
+        node.on_joint_state(joint_state(names, [0.0, 0.0], T0))
+        # 0.1 s later the left wheel turned 1 rad and the right one 2 rad.
+        node.on_joint_state(joint_state(names, [1.0, 2.0], T0 + 10**8))
+    assert len(sent) == 2
+    twist = sent[-1].twist.twist
+    r, b, dt = 0.035, 0.135, 0.1
+    assert twist.linear.x == pytest.approx(r * (1.0 + 2.0) / 2 / dt, abs=1e-12)  # 0.525 m/s
+    assert twist.angular.z == pytest.approx(r * (2.0 - 1.0) / b / dt, abs=1e-12)  # 2.59 rad/s
+    assert (twist.linear.y, twist.linear.z) == (0.0, 0.0)
+    assert (twist.angular.x, twist.angular.y) == (0.0, 0.0)
+    # 6x6 row-major: variance k of (x, y, z, about x, about y, about z) at 7 k, zero elsewhere.
+    for diagonal, covariance in (
+        (pose_diagonal, sent[-1].pose.covariance),
+        (twist_diagonal, sent[-1].twist.covariance),
+    ):
+        assert len(covariance) == 36
+        expected = [0.0] * 36
+        for k, variance in enumerate(diagonal):
+            expected[7 * k] = variance
+        assert list(covariance) == expected
+    # The pose the same step gives: along the arc of radius v / w, turned w dt.
+    v, w = r * 1.5 / dt, r / b / dt
+    pose = sent[-1].pose.pose
+    assert pose.position.x == pytest.approx(v / w * math.sin(w * dt), abs=1e-12)
+    assert pose.position.y == pytest.approx(v / w * (1 - math.cos(w * dt)), abs=1e-12)
+    assert yaw_of(pose.orientation) == pytest.approx(w * dt, abs=1e-12)
+    assert stamp_ns(sent[-1].header.stamp) == T0 + 10**8
+    assert (sent[-1].header.frame_id, sent[-1].child_frame_id) == ("odom", "base_link")
+
+
+def test_a_spin_publishes_a_yaw_rate_and_no_linear_speed() -> None:
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    with OdometryNode(BOT, OdometrySettings(publish_tf=False)) as node:
+        sent = published_odometry(node)
+        node.on_joint_state(joint_state(names, [0.0, 0.0], T0))
+        node.on_joint_state(joint_state(names, [0.5, -0.5], T0 + 2 * 10**8))
+    twist = sent[-1].twist.twist
+    assert twist.linear.x == pytest.approx(0.0, abs=1e-15)
+    assert twist.angular.z == pytest.approx(-0.035 * 1.0 / 0.135 / 0.2, abs=1e-12)
+    assert (twist.angular.x, twist.angular.y) == (0.0, 0.0)
+    assert list(sent[-1].twist.covariance) == [
+        0.001 if k in (0, 7, 14, 21, 28) else 0.01 if k == 35 else 0.0 for k in range(36)
+    ]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from extras import need
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from path_pieces import COORDINATES, HEADINGS, PAIRS, assert_agrees_with_ompl, assert_ends_at
@@ -38,7 +39,7 @@ def test_never_backwards_and_never_shorter_than_the_distance(
 
 
 def test_lengths_and_words_equal_ompls() -> None:
-    ob = pytest.importorskip("ompl.base", reason="the comparison needs OMPL (pip install ompl)")
+    ob = need("ompl.base")
     assert_agrees_with_ompl(dubins, ob.DubinsStateSpace(1.0), PAIRS)
 
 

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from extras import need
 from hypothesis import given
 from hypothesis import strategies as st
 from path_pieces import (
@@ -38,7 +39,7 @@ def test_known_values() -> None:
 
 
 def test_lengths_and_words_equal_ompls() -> None:
-    ob = pytest.importorskip("ompl.base", reason="the comparison needs OMPL (pip install ompl)")
+    ob = need("ompl.base")
     assert_agrees_with_ompl(reeds_shepp, ob.ReedsSheppStateSpace(1.0), PAIRS)
 
 

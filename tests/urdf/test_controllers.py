@@ -8,7 +8,9 @@ kinematics and odometry.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import os
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -25,8 +27,12 @@ from diffbot.urdf.controllers import (
     ControllerConfig,
     ControllerConfigError,
     choose_controller,
+    load_command_controllers,
     load_controllers,
+    load_other_drive_controllers,
+    other_drive_controllers,
     read_controllers,
+    substitute_args,
 )
 from diffbot.urdf.gazebo import (
     GazeboPluginError,
@@ -653,8 +659,8 @@ def test_speed_limiter_step_targets_ten_rad_s() -> None:
     config = one(section("wheel_separation: 1.0\nwheel_radius: 0.1"))
     for linear, expected in ((1.0, 10.0), (-1.0, -10.0)):
         speeds = inverse(params_of(config), linear, 0.0)
-        assert speeds.left == pytest.approx(expected, abs=1e-3)
-        assert speeds.right == pytest.approx(expected, abs=1e-3)
+        assert speeds.left == pytest.approx(expected, abs=TOL)
+        assert speeds.right == pytest.approx(expected, abs=TOL)
 
 
 def test_open_loop_command_clamped_by_the_velocity_limits() -> None:
@@ -682,8 +688,8 @@ def test_open_loop_command_clamped_by_the_velocity_limits() -> None:
         odom = Odometry(params)
         odom.update(0.0, 0.0, 0.0)
         odom.update(float(speeds.left) * dt, float(speeds.right) * dt, dt)
-        assert odom.pose.x == pytest.approx(x, abs=1e-3)
-        assert norm_angle(odom.pose.theta - theta) == pytest.approx(0.0, abs=1e-3)
+        assert odom.pose.x == pytest.approx(x, abs=TOL)
+        assert norm_angle(odom.pose.theta - theta) == pytest.approx(0.0, abs=TOL)
 
 
 @given(
@@ -1010,3 +1016,251 @@ def test_position_feedback_is_read_and_absent_means_the_default() -> None:
     assert one(section(wheels + "\nposition_feedback: false")).position_feedback is False
     assert one(section(wheels + "\nposition_feedback: true")).position_feedback is True
     assert one(section(wheels)).position_feedback is None
+
+
+#: A PID controller chained before each wheel, every node under a namespace of two levels,
+#: and the wheels named by the chained controllers' full paths.
+CHAINED_DEEP = """/robot/base:
+  controller_manager:
+    ros__parameters:
+      update_rate: 100
+      pid_left: {type: pid_controller/PidController}
+      pid_right: {type: pid_controller/PidController}
+      diff_cont: {type: diff_drive_controller/DiffDriveController}
+  pid_left:
+    ros__parameters:
+      dof_names: [left_wheel_joint]
+  pid_right:
+    ros__parameters:
+      dof_names: [right_wheel_joint]
+  diff_cont:
+    ros__parameters:
+      left_wheel_names: ["/robot/base/pid_left/left_wheel_joint"]
+      right_wheel_names: ["robot/base/pid_right/right_wheel_joint"]
+      wheel_separation: 0.30
+      wheel_radius: 0.05
+"""
+
+
+def test_a_chained_reference_of_several_levels_is_followed_to_its_joint() -> None:
+    (config,) = read_controllers(CHAINED_DEEP, "c.yaml")
+    assert config.left_wheel_names == ("left_wheel_joint",)
+    assert config.right_wheel_names == ("right_wheel_joint",)
+    assert config.warnings == (
+        "wheel '/robot/base/pid_left/left_wheel_joint' is the reference of the chained "
+        "controller '/robot/base/pid_left': followed to joint 'left_wheel_joint'",
+        "wheel 'robot/base/pid_right/right_wheel_joint' is the reference of the chained "
+        "controller 'robot/base/pid_right': followed to joint 'right_wheel_joint'",
+    )
+
+
+def test_a_reference_of_several_levels_to_another_joint_is_kept() -> None:
+    text = CHAINED_DEEP.replace("dof_names: [left_wheel_joint]", "dof_names: [elbow]")
+    (config,) = read_controllers(text, "c.yaml")
+    # The left one names a joint its controller does not drive: kept as written.
+    assert config.left_wheel_names == ("/robot/base/pid_left/left_wheel_joint",)
+    assert config.right_wheel_names == ("right_wheel_joint",)
+    assert len(config.warnings) == 1
+
+
+def test_a_slashed_name_without_a_chained_controller_is_taken_as_a_joint() -> None:
+    text = CHAINED_DEEP.replace("pid_left/left_wheel_joint", "arm/left_wheel_joint")
+    (config,) = read_controllers(text, "c.yaml")
+    # No controller "arm": the last component is the joint.
+    assert config.left_wheel_names == ("left_wheel_joint",)
+    assert "controller '/robot/base/arm'" in config.warnings[0]
+
+
+# --- the other controllers of a file ------------------------------------------------------------
+
+
+def test_args_are_substituted_and_the_unresolved_named_once() -> None:
+    text = "r: $(arg radius)\nb: $( arg  sep )\nc: $(arg missing) $(arg missing) $(arg other)"
+    done, unresolved = substitute_args(text, {"radius": "0.05", "sep": "0.3"})
+    assert done == "r: 0.05\nb: $( arg  sep )\nc: $(arg missing) $(arg missing) $(arg other)"
+    assert unresolved == ["missing", "other"]
+    done, unresolved = substitute_args("r: $(arg radius )", None)
+    assert (done, unresolved) == ("r: $(arg radius )", ["radius"])
+    assert substitute_args("r: $(arg r-1)", {"r-1": 2})[0] == "r: 2"  # type: ignore[dict-item]
+
+
+OTHER_DRIVES = """controller_manager:
+  ros__parameters:
+    mecanum: {type: mecanum_drive_controller/MecanumDriveController}
+    diff: {type: diff_drive_controller/DiffDriveController}
+    arm: {type: joint_trajectory_controller/JointTrajectoryController}
+    /ns/steer.type: ackermann_steering_controller/AckermannSteeringController
+    plugin: {type: "pkg::TricycleController"}
+mecanum:
+  ros__parameters: {}
+rover:
+  base:
+    type: omni_wheel_controller/OmniWheelController
+  diff1:
+    type: diff_drive_controller/DiffDriveController
+  arm1:
+    type: position_controllers/JointGroupPositionController
+  empty: {}
+"""
+
+
+def test_base_drives_that_are_not_differential_are_named_with_their_types(tmp_path: Path) -> None:
+    found = other_drive_controllers(OTHER_DRIVES, "c.yaml")
+    assert found == [
+        ("base", "omni_wheel_controller/OmniWheelController"),
+        ("mecanum", "mecanum_drive_controller/MecanumDriveController"),
+        ("steer", "ackermann_steering_controller/AckermannSteeringController"),
+        ("plugin", "pkg::TricycleController"),
+    ]
+    assert other_drive_controllers("[]", "c.yaml") == []
+    assert other_drive_controllers(ROS2_NESTED, "c.yaml") == []
+    path = tmp_path / "c.yaml"
+    path.write_text(OTHER_DRIVES, encoding="utf-8")
+    assert load_other_drive_controllers(path) == found
+
+
+def test_command_controllers_are_found_with_their_joints(tmp_path: Path) -> None:
+    path = tmp_path / "c.yaml"
+    path.write_text(
+        """controller_manager:
+  ros__parameters:
+    left: {type: forward_command_controller/ForwardCommandController}
+/ns/left:
+  ros__parameters:
+    joints: [wheel_a, wheel_b]
+right:
+  ros__parameters:
+    joints: [wheel_c]
+empty:
+  ros__parameters:
+    joints: []
+mixed:
+  ros__parameters:
+    joints: [wheel_d, 3]
+single:
+  ros__parameters:
+    joints: wheel_e
+""",
+        encoding="utf-8",
+    )
+    assert load_command_controllers(path) == {
+        "left": ("wheel_a", "wheel_b"),
+        "right": ("wheel_c",),
+    }
+    path.write_text("- a\n- b\n", encoding="utf-8")
+    assert load_command_controllers(path) == {}
+
+
+def test_file_errors_are_one_message_each(tmp_path: Path) -> None:
+    missing = tmp_path / "missing.yaml"
+    with pytest.raises(ControllerConfigError) as caught:
+        load_controllers(missing)
+    assert (
+        str(caught.value) == f"{missing}: cannot read controllers file: No such file or directory"
+    )
+    folder = tmp_path / "folder.yaml"
+    folder.mkdir()
+    with pytest.raises(ControllerConfigError, match=r"folder\.yaml: .*controllers file"):
+        load_controllers(folder)
+    fifo = tmp_path / "fifo.yaml"
+    os.mkfifo(fifo)
+    with pytest.raises(ControllerConfigError, match=r"fifo\.yaml: .*controllers file"):
+        load_command_controllers(fifo)  # refused without blocking on the pipe
+    exact = tmp_path / "exact.yaml"
+    exact.write_bytes(b"#" * MAX_FILE_BYTES)  # at the bound: read
+    assert load_controllers(exact) == []
+    huge = tmp_path / "huge.yaml"
+    huge.write_bytes(b"#" * (MAX_FILE_BYTES + 1))
+    with pytest.raises(ControllerConfigError) as caught:
+        load_other_drive_controllers(huge)
+    assert str(caught.value) == (f"{huge}: controllers file is larger than {MAX_FILE_BYTES} bytes")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("a: [1\n", encoding="utf-8")
+    with pytest.raises(ControllerConfigError, match=r"bad\.yaml"):
+        load_command_controllers(bad)
+    latin = tmp_path / "latin.yaml"
+    latin.write_bytes("r: 'é'".encode("latin-1"))
+    with pytest.raises(ControllerConfigError) as caught:
+        load_controllers(latin)
+    assert str(caught.value) == f"{latin}: controllers file is not UTF-8 text"
+
+
+def test_loading_a_file_substitutes_its_args(tmp_path: Path) -> None:
+    path = tmp_path / "c.yaml"
+    path.write_text(
+        ROS2_NESTED.replace("wheel_radius: 0.05", "wheel_radius: $(arg radius)"), encoding="utf-8"
+    )
+    (config,) = load_controllers(path, {"radius": "0.07"})
+    assert config.wheel_radius == 0.07
+
+
+def test_choosing_names_the_files_and_the_controllers() -> None:
+    configs = read_controllers(TWO_CONTROLLERS, "two.yaml")
+    with pytest.raises(ControllerConfigError) as caught:
+        choose_controller(configs)
+    assert str(caught.value) == (
+        "several diff-drive controllers in two.yaml: 'front_drive', 'rear_drive'; "
+        "choose one by name (controller=)"
+    )
+    with pytest.raises(ControllerConfigError) as caught:
+        choose_controller(configs, "middle")
+    assert str(caught.value) == (
+        "no diff-drive controller 'middle' in two.yaml; there are: 'front_drive', 'rear_drive'"
+    )
+    with pytest.raises(ControllerConfigError) as caught:
+        choose_controller([])
+    assert str(caught.value) == "no diff_drive_controller/DiffDriveController found"
+    without_source = [dataclasses.replace(c, source="") for c in configs[:1]]
+    with pytest.raises(ControllerConfigError) as caught:
+        choose_controller(without_source, "middle")
+    assert str(caught.value) == "no diff-drive controller 'middle' in ; there are: 'front_drive'"
+
+
+def test_ros1_types_under_namespaces_after_plain_values() -> None:
+    text = """robot:
+  rate: 50
+  drive:
+    type: mecanum_drive_controller/MecanumDriveController
+  arm:
+    ns:
+      base:
+        type: steering_controllers/SteeringController
+"""
+    assert other_drive_controllers(text, "c.yaml") == [
+        ("drive", "mecanum_drive_controller/MecanumDriveController"),
+        ("base", "steering_controllers/SteeringController"),
+    ]
+
+
+def test_a_chained_reference_to_a_group_command_controller_is_followed() -> None:
+    # The chained controller names its joints under "joints", as a command controller does.
+    text = CHAINED_DEEP.replace("dof_names: [left_wheel_joint]", "joints: [left_wheel_joint]")
+    (config,) = read_controllers(text, "c.yaml")
+    assert config.left_wheel_names == ("left_wheel_joint",)
+    elbow = CHAINED_DEEP.replace("dof_names: [left_wheel_joint]", "joints: [elbow]")
+    (config,) = read_controllers(elbow, "c.yaml")
+    assert config.left_wheel_names == ("/robot/base/pid_left/left_wheel_joint",)
+
+
+def test_a_drive_is_named_once_and_only_by_its_class_name() -> None:
+    text = """controller_manager:
+  ros__parameters:
+    mecanum.type: mecanum_drive_controller/MecanumDriveController
+    arm.type: drive_tools/JointTrajectoryController
+    grip.type: "drive_tools::GripperController"
+    count.type: 3
+mecanum:
+  ros__parameters:
+    type: mecanum_drive_controller/MecanumDriveController
+/ns/swerve:
+  ros__parameters:
+    type: swerve_drive_controller/SwerveDriveController
+legacy:
+  type: drive_tools/JointStateController
+"""
+    # Declared in the manager and in its own section: once; a package named for driving does
+    # not make its other controllers drives; a type that is not text is no type.
+    assert other_drive_controllers(text, "c.yaml") == [
+        ("mecanum", "mecanum_drive_controller/MecanumDriveController"),
+        ("swerve", "swerve_drive_controller/SwerveDriveController"),
+    ]

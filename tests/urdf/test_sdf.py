@@ -4,11 +4,15 @@ a source, and the untrusted-input rules of xacro descriptions."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
+from xml.etree import ElementTree
 
+import numpy as np
 import pytest
 from cli_results import assert_one_error_line
 from click.testing import CliRunner
+from scipy.spatial.transform import Rotation
 
 import diffbot
 from diffbot.cli import main
@@ -336,3 +340,185 @@ def test_joint_limits_are_numbers_or_one_error_line(
         assert "wheel radius      0.3 m" in result.stdout
     else:
         assert_one_error_line(result, "joint 'left_wheel_joint'", expected)
+
+
+def pose_matrix(x: float, y: float, z: float, roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """A pose as a 4x4 matrix, by SciPy's fixed-axis x-y-z rotations (R = Rz Ry Rx)."""
+    m = np.eye(4)
+    m[:3, :3] = Rotation.from_euler("xyz", [roll, pitch, yaw]).as_matrix()
+    m[:3, 3] = (x, y, z)
+    return m
+
+
+def origin_matrix(element: ElementTree.Element) -> np.ndarray:
+    """A URDF element's <origin> as a 4x4 matrix."""
+    origin = element.find("origin")
+    assert origin is not None
+    xyz = [float(v) for v in origin.get("xyz", "").split()]
+    rpy = [float(v) for v in origin.get("rpy", "").split()]
+    return pose_matrix(*xyz, *rpy)
+
+
+BASE = (0.1, -0.2, 0.05, 0.1, -0.2, 0.3)
+WHEEL_LINK = (0.3, 0.4, 0.1, -1.2, 0.25, 0.7)
+WHEEL_JOINT = (0.02, -0.03, 0.04, 0.3, 0.4, -0.5)
+TYRE = (0.01, 0.0, -0.02, 0.0, 1.0, 0.2)
+
+
+def posed_model(joint_pose: str, axis: str = "<xyz>0 0 1</xyz>") -> str:
+    def words(pose: tuple[float, ...]) -> str:
+        return " ".join(repr(v) for v in pose)
+
+    return f"""<sdf version="1.9"><model name="posed">
+  <pose>5 6 7 0.5 0.5 0.5</pose>
+  <link name="base"><pose>{words(BASE)}</pose></link>
+  <link name="wheel"><pose>{words(WHEEL_LINK)}</pose>
+    <collision name="c"><pose>{words(TYRE)}</pose><geometry>
+      <cylinder><radius>0.05</radius><length>0.02</length></cylinder></geometry></collision>
+  </link>
+  <joint name="spin" type="continuous"><parent>base</parent><child>wheel</child>
+    {joint_pose}<axis>{axis}</axis></joint>
+</model></sdf>
+"""
+
+
+def expanded(tmp_path: Path, text: str) -> ElementTree.Element:
+    path = tmp_path / "posed.sdf"
+    path.write_text(text, encoding="utf-8")
+    urdf, _ = sdf.expand_sdf(path, PackageFinder(None, {}), [tmp_path])
+    return ElementTree.fromstring(urdf)
+
+
+def test_rotated_link_and_joint_poses_compose(tmp_path: Path) -> None:
+    words = " ".join(repr(v) for v in WHEEL_JOINT)
+    robot = expanded(tmp_path, posed_model(f"<pose>{words}</pose>"))
+    joint = robot.find("joint")
+    assert joint is not None
+    # The joint's frame is its pose in its child link's frame; URDF wants it in the parent's.
+    base, wheel, at_joint = pose_matrix(*BASE), pose_matrix(*WHEEL_LINK), pose_matrix(*WHEEL_JOINT)
+    want = np.linalg.inv(base) @ wheel @ at_joint
+    np.testing.assert_allclose(origin_matrix(joint), want, rtol=0, atol=1e-12)
+    # The tyre stays where the SDF put it: in the URDF link frame (the joint's) it is moved
+    # back by the joint's pose.
+    collision = robot.find("link[@name='wheel']/collision")
+    assert collision is not None
+    tyre = np.linalg.inv(at_joint) @ pose_matrix(*TYRE)
+    np.testing.assert_allclose(origin_matrix(collision), tyre, rtol=0, atol=1e-12)
+
+
+def test_a_joint_pose_relative_to_the_parent_link_and_an_axis_in_the_model_frame(
+    tmp_path: Path,
+) -> None:
+    words = " ".join(repr(v) for v in WHEEL_JOINT)
+    text = posed_model(
+        f'<pose relative_to="base">{words}</pose>', '<xyz expressed_in="__model__">0 1 0</xyz>'
+    )
+    robot = expanded(tmp_path, text)
+    joint = robot.find("joint")
+    assert joint is not None
+    at_joint = pose_matrix(*WHEEL_JOINT)  # in base's frame: the URDF origin itself
+    np.testing.assert_allclose(origin_matrix(joint), at_joint, rtol=0, atol=1e-12)
+    # The model's +y, seen from the joint's frame.
+    frame = pose_matrix(*BASE) @ at_joint
+    axis = joint.find("axis")
+    assert axis is not None
+    got = [float(v) for v in axis.get("xyz", "").split()]
+    np.testing.assert_allclose(got, frame[:3, :3].T @ [0.0, 1.0, 0.0], rtol=0, atol=1e-12)
+
+
+def test_poses_in_degrees_and_quaternions_and_links_relative_to_links(tmp_path: Path) -> None:
+    # The wheel link placed relative to base by a quaternion (x y z qx qy qz qw), the joint's
+    # pose in degrees.
+    q = Rotation.from_euler("xyz", WHEEL_LINK[3:]).as_quat()  # x, y, z, w
+    link = " ".join(repr(float(v)) for v in (*WHEEL_LINK[:3], *q))
+    degrees = " ".join(
+        repr(v) for v in (*WHEEL_JOINT[:3], *(math.degrees(a) for a in WHEEL_JOINT[3:]))
+    )
+    text = posed_model(f'<pose degrees="true">{degrees}</pose>')
+    text = text.replace(
+        f"<pose>{' '.join(repr(v) for v in WHEEL_LINK)}</pose>",
+        f'<pose relative_to="base">{link}</pose>',
+    )
+    robot = expanded(tmp_path, text)
+    joint = robot.find("joint")
+    assert joint is not None
+    # The wheel is at base * link in the model: in base's frame, the link pose itself.
+    want = pose_matrix(*WHEEL_LINK) @ pose_matrix(*WHEEL_JOINT)
+    np.testing.assert_allclose(origin_matrix(joint), want, rtol=0, atol=1e-12)
+
+
+def joints_model(joints: str) -> str:
+    links = "".join(f'<link name="{n}"/>' for n in ("base", "a", "b", "c", "d", "e"))
+    return f'<sdf version="1.9"><model name="m">{links}{joints}</model></sdf>'
+
+
+def test_joint_kinds_and_limits_as_urdf_has_them(tmp_path: Path) -> None:
+    robot = expanded(
+        tmp_path,
+        joints_model(
+            '<joint name="j1" type="revolute"><parent>base</parent><child>a</child>'
+            "<axis><xyz>0 1 0</xyz><limit><lower>-0.5</lower><upper>1.5</upper>"
+            "<velocity>3.5</velocity></limit></axis></joint>"
+            '<joint name="j2" type="revolute"><parent>base</parent><child>b</child>'
+            "<axis><xyz>0 1 0</xyz><limit><lower>-4</lower><upper>4</upper>"
+            "<velocity>-1</velocity></limit></axis></joint>"
+            '<joint name="j3" type="prismatic"><parent>base</parent><child>c</child>'
+            "<axis><xyz>1 0 0</xyz><limit><lower>0</lower><upper>0.2</upper></limit></axis>"
+            "</joint>"
+            '<joint name="j4" type="universal"><parent>base</parent><child>d</child></joint>'
+            '<joint name="j5" type="revolute"><parent>base</parent><child>e</child>'
+            "<axis><xyz>0 0 1</xyz><limit><velocity>inf</velocity></limit></axis></joint>"
+        ),
+    )
+    kinds = {j.get("name"): j.get("type") for j in robot.iter("joint")}
+    assert kinds == {
+        "j1": "revolute",  # 2 rad of travel: a bounded joint
+        "j2": "continuous",  # 8 rad, a full turn or more: continuous
+        "j3": "prismatic",
+        "j4": "fixed",
+        "j5": "continuous",  # no bounds
+    }
+    limits = {j.get("name"): j.find("limit") for j in robot.iter("joint")}
+    one = limits["j1"]
+    assert one is not None
+    assert one.attrib == {"effort": "0", "lower": "-0.5", "upper": "1.5", "velocity": "3.5"}
+    assert limits["j2"] is None  # continuous, and a negative velocity is no limit
+    three = limits["j3"]
+    assert three is not None
+    assert three.attrib == {"effort": "0", "lower": "0.0", "upper": "0.2"}
+    assert limits["j4"] is None
+    assert limits["j5"] is None  # an infinite velocity is no limit
+    axes = {j.get("name"): j.find("axis") for j in robot.iter("joint")}
+    three_axis = axes["j3"]
+    assert three_axis is not None
+    assert three_axis.get("xyz") == "1.0 0.0 0.0"
+    assert axes["j4"] is None
+
+
+def test_a_pitch_of_a_quarter_turn_keeps_the_rotation(tmp_path: Path) -> None:
+    # Gimbal lock: roll and yaw are one rotation there; the origin still turns the same way.
+    pose = (0.0, 0.0, 0.0, 0.4, math.pi / 2, 0.3)
+    words = " ".join(repr(v) for v in pose)
+    robot = expanded(
+        tmp_path,
+        joints_model(
+            f'<joint name="j" type="fixed"><parent>base</parent><child>a</child>'
+            f'<pose relative_to="base">{words}</pose></joint>'
+        ),
+    )
+    joint = robot.find("joint")
+    assert joint is not None
+    np.testing.assert_allclose(origin_matrix(joint), pose_matrix(*pose), rtol=0, atol=1e-12)
+    # A quaternion of zero length is read as no rotation rather than a division by zero.
+    robot = expanded(
+        tmp_path,
+        joints_model(
+            '<joint name="j" type="fixed"><parent>base</parent><child>a</child>'
+            '<pose relative_to="base">1 2 3 0 0 0 0</pose></joint>'
+        ),
+    )
+    joint = robot.find("joint")
+    assert joint is not None
+    np.testing.assert_allclose(
+        origin_matrix(joint), pose_matrix(1, 2, 3, 0, 0, 0), rtol=0, atol=1e-15
+    )
