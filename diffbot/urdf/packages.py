@@ -6,7 +6,8 @@ gives, the description's own source tree, the bundled packages, then the folders
 entry). A package is a folder holding a ``package.xml``, named by its ``<name>``.
 
 The source tree is what a workspace or a clone holds: from the description's own package (the
-nearest folder holding a ``package.xml``, at most :data:`PACKAGE_LEVELS` up), the workspace's
+nearest folder above it holding a ``package.xml``, at any depth below the filesystem's root and
+the home folder; at most :data:`PACKAGE_LEVELS` folders are looked at), the workspace's
 ``src`` folder above it, else the repository it lies in (the nearest folder holding ``.git``),
 at most :data:`TREE_LEVELS` up; else the package's parent folder, which holds its siblings. The
 search is bounded (:data:`MAX_FOLDERS` folders, :data:`MAX_DEPTH` deep), follows no symbolic link
@@ -38,9 +39,10 @@ __all__ = [
     "source_tree",
 ]
 
-#: Folders above a description searched for its own ``package.xml`` (the description's folder
-#: counts as the first).
-PACKAGE_LEVELS: Final = 3
+#: Most folders above a description searched for its own ``package.xml`` (the description's
+#: folder counts as the first): deeper than any real layout (``batch/<name>/urdf/`` puts the
+#: package four up), and each is one look-up of a name, nothing read.
+PACKAGE_LEVELS: Final = 64
 #: Folders above a description's package searched for the root of its source tree.
 TREE_LEVELS: Final = 4
 #: Most folders one search of a tree visits.
@@ -70,7 +72,8 @@ def own_package(description: Path) -> Path | None:
     """The folder of the package a description lies in, or None when it lies in none."""
     folder = description.resolve().parent
     for candidate in [folder, *folder.parents][:PACKAGE_LEVELS]:
-        if candidate == Path(candidate.anchor):
+        # the root and the home folder are no package: a stray manifest there takes in everything
+        if candidate == Path(candidate.anchor) or candidate == Path.home():
             break
         if (candidate / "package.xml").is_file():
             return candidate

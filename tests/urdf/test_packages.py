@@ -10,7 +10,13 @@ import pytest
 import diffbot
 from diffbot.errors import OutsideRootsError
 from diffbot.urdf import packages
-from diffbot.urdf.packages import PackageFinder, package_name, packages_under, source_tree
+from diffbot.urdf.packages import (
+    PackageFinder,
+    own_package,
+    package_name,
+    packages_under,
+    source_tree,
+)
 
 XACRO_NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
 
@@ -247,3 +253,20 @@ def test_a_workspace_wins_over_the_repository_for_repositories_side_by_side(
     assert PackageFinder(description, {}).locate("lidar_description") == (
         src / "sensors" / "lidar_description"
     )
+
+
+def test_the_own_package_is_the_nearest_manifest_at_any_depth(tmp_path: Path) -> None:
+    package = tmp_path / "fleet_description"
+    manifest(package, "fleet_description")
+    deep = package / "batch" / "courier_b" / "variants" / "v2" / "urdf" / "courier.urdf.xacro"
+    deep.parent.mkdir(parents=True)
+    assert own_package(deep) == package
+    manifest(package / "batch" / "courier_b", "courier_b")  # a nearer one wins
+    assert own_package(deep) == package / "batch" / "courier_b"
+
+
+def test_the_home_folder_is_no_package(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("HOME", str(tmp_path))
+    manifest(tmp_path, "stray")
+    (tmp_path / "robots" / "urdf").mkdir(parents=True)
+    assert own_package(tmp_path / "robots" / "urdf" / "robot.urdf") is None
