@@ -341,7 +341,8 @@ _ROBOT_OPTIONS = [
         metavar="NAME=DIR",
         multiple=True,
         help="Directory of ROS package NAME, for $(find NAME), when the description's source "
-        "tree does not hold it. Repeatable.",
+        "tree does not hold it: the folder holding its package.xml, an install prefix "
+        "(install/NAME, holding share/NAME) or a share folder (holding NAME). Repeatable.",
     ),
     click.option(
         "--left-joint",

@@ -12,6 +12,11 @@ the home folder; at most :data:`PACKAGE_LEVELS` folders are looked at), the work
 at most :data:`TREE_LEVELS` up; else the package's parent folder, which holds its siblings. The
 search is bounded (:data:`MAX_FOLDERS` folders, :data:`MAX_DEPTH` deep), follows no symbolic link
 out of the tree, skips hidden, build and ignored folders, and is cached per tree.
+
+A folder given for a package (:func:`given_package`) may be the folder holding its
+``package.xml``, an install prefix (``install/NAME``, holding ``share/NAME``) or a share folder
+(holding ``NAME``). A relative entry of ``AMENT_PREFIX_PATH`` or ``ROS_PACKAGE_PATH`` is taken
+from the current folder, as ROS takes it.
 """
 
 from __future__ import annotations
@@ -33,6 +38,7 @@ __all__ = [
     "PACKAGE_LEVELS",
     "TREE_LEVELS",
     "PackageFinder",
+    "given_package",
     "own_package",
     "package_name",
     "packages_under",
@@ -66,6 +72,19 @@ def package_name(folder: Path) -> str:
             if name and name.strip():
                 return name.strip()
     return folder.name
+
+
+def given_package(name: str, folder: Path) -> Path:
+    """The folder of package ``name`` a user means by ``folder``: the folder itself when it
+    holds a ``package.xml`` (a source package), else its ``share/NAME`` (an install prefix), else
+    its ``NAME`` holding a ``package.xml`` (a share folder); else the folder as given."""
+    if (folder / "package.xml").is_file() or not name or name in (".", "..") or "/" in name:
+        return folder
+    if (folder / "share" / name).is_dir():
+        return folder / "share" / name
+    if (folder / name / "package.xml").is_file():
+        return folder / name
+    return folder
 
 
 def own_package(description: Path) -> Path | None:
@@ -139,7 +158,8 @@ class PackageFinder:
 
     Args:
         description: the description file, whose source tree is searched; None for none.
-        given: packages the caller names (a relative folder is taken from the current folder).
+        given: packages the caller names (a relative folder is taken from the current folder):
+            each a package's folder, an install prefix or a share folder (:func:`given_package`).
         bundled: packages that are always known (searched after the source tree).
     """
 
@@ -149,7 +169,17 @@ class PackageFinder:
         given: Mapping[str, str | os.PathLike[str]],
         bundled: Mapping[str, str | os.PathLike[str]] | None = None,
     ) -> None:
-        self.given = {name: Path(folder).absolute() for name, folder in given.items()}
+        self.given = {
+            name: given_package(name, Path(folder).absolute()) for name, folder in given.items()
+        }
+        #: How the caller wrote each given package's folder, by the folder it stands for.
+        self.spelled = {
+            Path(os.path.abspath(self.given[name])): os.path.normpath(
+                os.path.join(folder, os.path.relpath(self.given[name], Path(folder).absolute()))
+            )
+            for name, folder in given.items()
+        }
+        self.relative = description is not None and not description.is_absolute()
         self.bundled = {name: Path(folder) for name, folder in (bundled or {}).items()}
         self.tree = source_tree(description) if description is not None else None
 
@@ -163,8 +193,10 @@ class PackageFinder:
                 return found
         if name in self.bundled:
             return self.bundled[name]
+        # a relative entry is from the current folder: $(find) must not give a relative folder,
+        # which xacro would take from the including file's
         for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-            candidate = Path(prefix) / "share" / name
+            candidate = Path(prefix).absolute() / "share" / name
             if prefix and candidate.is_dir():
                 return candidate
         for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
@@ -173,3 +205,15 @@ class PackageFinder:
                 if found is not None:
                     return found
         return None
+
+    def shown(self, path: str | os.PathLike[str]) -> str:
+        """A path as the user would write it: in a given package, from the folder as given;
+        else from the current folder when the description was given so and it lies below;
+        else as it is."""
+        absolute = Path(os.path.abspath(path))
+        for folder, spelled in self.spelled.items():
+            if absolute == folder or folder in absolute.parents:
+                return os.path.join(spelled, os.path.relpath(absolute, folder)).removesuffix("/.")
+        if self.relative and Path.cwd() in absolute.parents:
+            return os.path.relpath(absolute)
+        return os.fspath(path)
