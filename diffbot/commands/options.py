@@ -19,6 +19,12 @@ from typing import Any, NoReturn, TypeVar
 
 import click
 
+from diffbot.commands.robot_path import (
+    is_controllers_file,
+    is_launch_file,
+    is_package_folder,
+    not_a_description,
+)
 from diffbot.errors import EXIT_BAD_INPUT
 from diffbot.io.outputs import input_clash
 from diffbot.io.xmlhead import root_name
@@ -271,10 +277,9 @@ class RobotOptions:
             path = Path(self.robot)
             if not path.exists():
                 fail(f"{self.robot}: no such file")
-            if path.is_dir() and not any(
-                (path / name).exists() for name in ("model.config", "model.sdf", "metadata.yaml")
-            ):
-                fail(f"{self.robot}: is a directory, not a URDF, xacro or SDF model")
+            problem = not_a_description(self.robot)
+            if problem is not None:
+                fail(problem)
         params = load_params(
             self.robot,
             self.xacro_args,
@@ -424,17 +429,18 @@ def is_description(token: str) -> bool:
     """Whether a command-line argument names a robot description rather than plan text, a plan
     file, a recording or a number: a name ending ``.urdf``, ``.xacro`` or ``.sdf``, an existing
     file whose XML root element is ``<robot>`` or ``<sdf>``, or an SDF model folder (it holds a
-    ``model.config``)."""
+    ``model.config``); a ROS package folder, a launch file or a controllers YAML too, to be told
+    what to give."""
     if not token.strip() or ":=" in token:
         return False
     path = Path(token)
-    if path.name.lower().endswith(DESCRIPTION_SUFFIXES):
+    if path.name.lower().endswith(DESCRIPTION_SUFFIXES) or is_launch_file(path):
         return True
     if not exists(path):
         return False
     if path.is_dir():  # an SDF model folder; a bag folder is a recording, not a robot
-        return (path / "model.config").is_file()
-    return path.is_file() and xml_root(path) in DESCRIPTION_ROOTS
+        return (path / "model.config").is_file() or is_package_folder(path)
+    return path.is_file() and (xml_root(path) in DESCRIPTION_ROOTS or is_controllers_file(path))
 
 
 def exists(path: Path) -> bool:
