@@ -25,6 +25,7 @@ from diffbot.commands.robot_path import (
     is_package_folder,
     not_a_description,
 )
+from diffbot.commands.said_once import quieted, say_warnings
 from diffbot.errors import EXIT_BAD_INPUT
 from diffbot.io.outputs import input_clash
 from diffbot.io.xmlhead import root_name
@@ -58,7 +59,9 @@ def no_such_option(token: str) -> NoReturn:
 
 
 def warn(message: str) -> None:
-    """Tell the user something on stderr, on one line."""
+    """Tell the user something on stderr, on one line; nothing when ``-q/--quiet`` is given."""
+    if quieted():
+        return
     click.echo(f"warning: {' '.join(message.split())}", err=True)
 
 
@@ -272,7 +275,8 @@ class RobotOptions:
         return dataclasses.replace(self, robot=robot, xacro_args={**self.xacro_args, **xacro_args})
 
     def load(self, *, quiet: bool = False) -> DiffDriveParams:
-        """Load the robot; print its warnings on stderr unless ``quiet``."""
+        """Load the robot; print its warnings on stderr unless ``quiet`` (once in full for a
+        description, then as one line: :func:`~diffbot.commands.said_once.say_warnings`)."""
         if self.robot is not None:
             path = Path(self.robot)
             if not path.exists():
@@ -296,8 +300,14 @@ class RobotOptions:
             no_controllers=self.no_controllers,
         )
         if not quiet:
-            for message in params.warnings:
-                warn(message)
+            say_warnings(
+                params.warnings,
+                params.source,
+                self.robot,
+                xacro_args=self.xacro_args,
+                packages=self.packages,
+                controllers=self.controllers,
+            )
         return params
 
 
@@ -618,5 +628,8 @@ def encoder_noise_options(command: F) -> F:
 def quiet_option(command: F) -> F:
     """``--quiet``: no progress bar (it shows only when stderr is a terminal anyway)."""
     return click.option(
-        "--quiet", "-q", is_flag=True, help="No progress bar on stderr (shown on a terminal)."
+        "--quiet",
+        "-q",
+        is_flag=True,
+        help="No progress bar (shown on a terminal) nor warnings on stderr.",
     )(command)
