@@ -120,3 +120,18 @@ def test_every_command_takes_quiet() -> None:
         for one in commands:
             opts = {opt for param in one.params for opt in param.opts}
             assert {"-q", "--quiet"} <= opts, (name, one.name)
+
+
+@pytest.mark.parametrize("shower", ["params", "check"])
+def test_params_and_check_count_as_having_shown_them(shower: str) -> None:
+    _, shown = run(shower, ROBOT, "--controllers", CONTROLLERS)
+    assert len(shown) == 2
+    _, later = run("ik", ROBOT, "0.1", "0", "--controllers", CONTROLLERS)
+    assert len(later) == 1
+    assert later[0].startswith(f"warning: 2 warnings about {ROBOT}, shown before: ")
+
+
+def test_quiet_params_marks_nothing() -> None:
+    run("params", ROBOT, "--controllers", CONTROLLERS, "-q")
+    _, later = run("ik", ROBOT, "0.1", "0", "--controllers", CONTROLLERS)
+    assert len(later) == 2
