@@ -120,3 +120,14 @@ def test_a_description_the_child_cannot_derive_raises_its_error_here(
         diffbot.load_params(path)
     assert "robot.urdf" in str(caught.value)
     assert list(cache.glob("params-*.json")) == []
+
+
+def test_the_cache_folder_is_the_environments_or_none(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from diffbot.urdf.cache import cache_dir
+
+    monkeypatch.setenv("DIFFBOT_CACHE_DIR", str(tmp_path / "c"))
+    assert cache_dir() == tmp_path / "c"
+    monkeypatch.setenv("DIFFBOT_NO_CACHE", "1")
+    assert cache_dir() is None
