@@ -279,6 +279,8 @@ def sandboxed(
         def load_yaml(filename: str) -> Any:
             name = xacro.abs_filename_spec(filename)
             allowed.check(name, "xacro.load_yaml")
+            if not os.path.lexists(name) and xacro.filestack:
+                _missing_include(name, xacro.filestack[-1], located, shown, "loads")
             check_regular(name, DescriptionError, "a YAML file")
             read.append(Path(name))
             with contextlib.suppress(OSError):
@@ -389,17 +391,22 @@ def sandboxed(
 
 
 def _missing_include(
-    included: str, including: str, located: Mapping[str, str], shown: Callable[[str], str]
+    included: str,
+    including: str,
+    located: Mapping[str, str],
+    shown: Callable[[str], str],
+    verb: str = "includes",
 ) -> None:
-    """Raise the error of an included file that does not exist below a package ``$(find PKG)``
-    gave: it names the including file, the ``$(find)`` and the option that would fix it."""
+    """Raise the error of an included (or loaded) file that does not exist below a package
+    ``$(find PKG)`` gave: it names the including file, the ``$(find)`` and the option that would
+    fix it."""
     target = Path(os.path.abspath(included))
     for package, folder in located.items():
         base = Path(os.path.abspath(folder))
         if base in target.parents:
             rest = target.relative_to(base).as_posix()
             raise DescriptionError(
-                f"{shown(including)} includes $(find {package})/{rest}, but {shown(included)} "
+                f"{shown(including)} {verb} $(find {package})/{rest}, but {shown(included)} "
                 f"does not exist (package {package} is at {shown(folder)}): if {package} "
                 f"is elsewhere, give the folder holding its package.xml with {{packages}} "
                 f"{package}=DIR",

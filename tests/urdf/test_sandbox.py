@@ -521,3 +521,22 @@ def test_a_missing_file_behind_find_names_the_includer_the_find_and_the_option(
     write(robot, f'<robot name="r" {XACRO_NS}><xacro:include filename="nowhere.xacro"/></robot>')
     with pytest.raises(DescriptionError, match=r"nowhere\.xacro: no such file"):
         diffbot.load_params(robot)
+
+
+def test_a_missing_yaml_behind_find_names_the_file_that_loads_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    write(tmp_path / "desc" / "package.xml", "<package><name>desc</name></package>")
+    write(
+        tmp_path / "desc" / "urdf" / "robot.urdf.xacro",
+        f'<robot name="r" {XACRO_NS}>'
+        '<xacro:property name="p" value="${xacro.load_yaml(\'$(find desc)/config/p.yaml\')}"/>'
+        "<link name=\"${p['base']}\"/></robot>",
+    )
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(DescriptionError) as raised:
+        diffbot.load_params("desc/urdf/robot.urdf.xacro")
+    assert str(raised.value).startswith(
+        "desc/urdf/robot.urdf.xacro loads $(find desc)/config/p.yaml, but desc/config/p.yaml "
+        "does not exist (package desc is at desc)"
+    )
