@@ -338,3 +338,13 @@ def test_paths_are_shown_as_the_user_gave_them(
         tmp_path / "ws/desc/urdf/w.xacro"
     )
     assert absolute.shown(inside) == str(inside)
+
+
+def test_the_climb_to_the_own_package_is_bounded(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    manifest(tmp_path / "pkg", "pkg")
+    description = tmp_path / "pkg" / "a" / "b" / "robot.urdf"
+    assert own_package(description) == tmp_path / "pkg"
+    monkeypatch.setattr(packages, "PACKAGE_LEVELS", 2)  # b, a: not pkg
+    assert own_package(description) is None
