@@ -20,6 +20,7 @@ from typing import Any, NoReturn
 import click
 
 from diffbot.commands.groups import SuggestingGroup
+from diffbot.commands.said_once import with_quiet
 from diffbot.errors import DiffbotError
 from diffbot.io.outputs import guarded_run
 
@@ -101,7 +102,7 @@ class DiffbotGroup(SuggestingGroup):
         module, _, name = target.partition(":")
         command = getattr(importlib.import_module(module), name)
         assert isinstance(command, click.Command)
-        return command
+        return with_quiet(command)
 
     def invoke(self, ctx: click.Context) -> Any:
         try:

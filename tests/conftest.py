@@ -26,6 +26,17 @@ def _isolated_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
     mp.undo()
 
 
+@pytest.fixture(autouse=True)
+def _warnings_never_shown(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each test starts with no description's warnings shown before (the marks of a test that
+    runs a command twice stay its own)."""
+    import uuid
+
+    from diffbot.commands import said_once
+
+    monkeypatch.setattr(said_once, "SHOWN_FOLDER", f"warned-{uuid.uuid4().hex}")
+
+
 @pytest.fixture(scope="session")
 def params() -> diffbot.DiffDriveParams:
     """The bundled diffbot: r = 0.035 m, b = 0.135 m, 50 rpm."""

@@ -14,6 +14,7 @@ from diffbot.commands.options import (
     split_xacro_args,
     warn,
 )
+from diffbot.commands.said_once import quieted, shown_before
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.robot import check_lines, disagreement_json, multipliers_json
 
@@ -63,5 +64,7 @@ def check(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
         for message in p.warnings:
             if not message.startswith("the sources "):  # each disagreement is shown above
                 warn(message)
+        if p.warnings and not quieted():
+            shown_before(p.source, p.warnings)  # shown in full: later commands count them
     if p.disagreements:
         sys.exit(EXIT_CHECK_FAILED)

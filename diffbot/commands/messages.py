@@ -8,6 +8,7 @@ from typing import Any, NoReturn
 
 import click
 
+from diffbot.commands.said_once import quieted
 from diffbot.errors import EXIT_BAD_INPUT
 
 __all__ = ["InputError", "emit_json", "fail", "no_such_option", "warn"]
@@ -36,7 +37,9 @@ def no_such_option(token: str) -> NoReturn:
 
 
 def warn(message: str) -> None:
-    """Tell the user something on stderr, on one line."""
+    """Tell the user something on stderr, on one line; nothing when ``-q/--quiet`` is given."""
+    if quieted():
+        return
     click.echo(f"warning: {' '.join(message.split())}", err=True)
 
 

@@ -30,6 +30,13 @@ from diffbot.commands.paths import check_out as check_out
 from diffbot.commands.paths import file_output as file_output
 from diffbot.commands.paths import out_options as out_options
 from diffbot.commands.paths import output_option as output_option
+from diffbot.commands.robot_path import (
+    is_controllers_file,
+    is_launch_file,
+    is_package_folder,
+    not_a_description,
+)
+from diffbot.commands.said_once import say_warnings
 from diffbot.errors import DescriptionError
 from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import open_regular
@@ -244,15 +251,15 @@ class RobotOptions:
         return dataclasses.replace(self, robot=robot, xacro_args={**self.xacro_args, **xacro_args})
 
     def load(self, *, quiet: bool = False) -> DiffDriveParams:
-        """Load the robot; print its warnings on stderr unless ``quiet``."""
+        """Load the robot; print its warnings on stderr unless ``quiet`` (once in full for a
+        description, then as one line: :func:`~diffbot.commands.said_once.say_warnings`)."""
         if self.robot is not None:
             path = Path(self.robot)
             if not path.exists():
                 fail(f"{self.robot}: no such file")
-            if path.is_dir() and not any(
-                (path / name).exists() for name in ("model.config", "model.sdf", "metadata.yaml")
-            ):
-                fail(f"{self.robot}: is a directory, not a URDF, xacro or SDF model")
+            problem = not_a_description(self.robot)
+            if problem is not None:
+                fail(problem)
         params = load_params(
             self.robot,
             self.xacro_args,
@@ -269,8 +276,14 @@ class RobotOptions:
             no_controllers=self.no_controllers,
         )
         if not quiet:
-            for message in params.warnings:
-                warn(message)
+            say_warnings(
+                params.warnings,
+                params.source,
+                self.robot,
+                xacro_args=self.xacro_args,
+                packages=self.packages,
+                controllers=self.controllers,
+            )
         return params
 
 
@@ -309,7 +322,8 @@ _ROBOT_OPTIONS = [
     ),
     package_option(
         "Directory of ROS package NAME, for $(find NAME), when the description's source "
-        "tree does not hold it. Repeatable."
+        "tree does not hold it: the folder holding its package.xml, an install prefix "
+        "(install/NAME, holding share/NAME) or a share folder (holding NAME). Repeatable."
     ),
     click.option(
         "--left-joint",
@@ -391,17 +405,18 @@ def is_description(token: str) -> bool:
     """Whether a command-line argument names a robot description rather than plan text, a plan
     file, a recording or a number: a name ending ``.urdf``, ``.xacro`` or ``.sdf``, an existing
     file whose XML root element is ``<robot>`` or ``<sdf>``, or an SDF model folder (it holds a
-    ``model.config``)."""
+    ``model.config``); a ROS package folder, a launch file or a controllers YAML too, to be told
+    what to give."""
     if not token.strip() or ":=" in token:
         return False
     path = Path(token)
-    if path.name.lower().endswith(DESCRIPTION_SUFFIXES):
+    if path.name.lower().endswith(DESCRIPTION_SUFFIXES) or is_launch_file(path):
         return True
     if not exists(path):
         return False
     if path.is_dir():  # an SDF model folder; a bag folder is a recording, not a robot
-        return (path / "model.config").is_file()
-    return path.is_file() and xml_root(path) in DESCRIPTION_ROOTS
+        return (path / "model.config").is_file() or is_package_folder(path)
+    return path.is_file() and (xml_root(path) in DESCRIPTION_ROOTS or is_controllers_file(path))
 
 
 def exists(path: Path) -> bool:
@@ -498,5 +513,8 @@ def encoder_noise_options(command: F) -> F:
 def quiet_option(command: F) -> F:
     """``--quiet``: no progress bar (it shows only when stderr is a terminal anyway)."""
     return click.option(
-        "--quiet", "-q", is_flag=True, help="No progress bar on stderr (shown on a terminal)."
+        "--quiet",
+        "-q",
+        is_flag=True,
+        help="No progress bar (shown on a terminal) nor warnings on stderr.",
     )(command)

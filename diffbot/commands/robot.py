@@ -26,6 +26,7 @@ from diffbot.commands.options import (
     warn,
 )
 from diffbot.commands.paths import input_path
+from diffbot.commands.said_once import quieted, shown_before
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.plan_table import limit_text
 from diffbot.formats.robot import params_json, params_lines
@@ -86,6 +87,8 @@ def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
         click.echo(line)
     for message in p.warnings:
         warn(message)
+    if p.warnings and not quieted():
+        shown_before(p.source, p.warnings)  # shown in full: later commands count them
 
 
 @click.command()

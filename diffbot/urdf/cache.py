@@ -37,7 +37,7 @@ from diffbot.processes import python_command
 from diffbot.urdf import tree, wheels
 from diffbot.urdf.wheels import Derived, JointChoice, derive_text
 
-__all__ = ["cached_fields", "fields_json", "from_entry"]
+__all__ = ["cache_dir", "cached_fields", "fields_json", "from_entry"]
 
 _CACHE_VERSION = "2"
 #: JSON types of each annotation used by :class:`Derived` (tuples are stored as lists).
@@ -61,6 +61,12 @@ def _cache_dir() -> Path | None:
         return Path(os.environ["DIFFBOT_CACHE_DIR"])
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     return Path(base) / "diffbot"
+
+
+def cache_dir() -> Path | None:
+    """The cache's folder (``DIFFBOT_CACHE_DIR``, else ``diffbot`` in the user's cache folder),
+    or None when ``DIFFBOT_NO_CACHE`` turns the cache off."""
+    return _cache_dir()
 
 
 def _quiet_oserror() -> contextlib.suppress:

@@ -6,7 +6,8 @@ gives, the description's own source tree, the bundled packages, then the folders
 entry). A package is a folder holding a ``package.xml``, named by its ``<name>``.
 
 The source tree is what a workspace or a clone holds: from the description's own package (the
-nearest folder holding a ``package.xml``, at most :data:`PACKAGE_LEVELS` up), the workspace's
+nearest folder above it holding a ``package.xml``, at any depth below the filesystem's root and
+the home folder; at most :data:`PACKAGE_LEVELS` folders are looked at), the workspace's
 ``src`` folder above it, else the repository it lies in (the nearest folder holding ``.git``),
 at most :data:`TREE_LEVELS` up; else the package's parent folder, which holds its siblings. The
 search is bounded (:data:`MAX_FOLDERS` folders, :data:`MAX_DEPTH` deep), follows no symbolic link
@@ -15,6 +16,11 @@ out of the tree, skips hidden, build and ignored folders, and is cached per tree
 A name is looked up only when it is a plain package name (letters, digits, ``_``, ``-`` and
 ``.``, not starting with a dot; :func:`folder_below`): a description asking for ``$(find /)`` or
 ``$(find ../..)`` reaches nothing outside.
+
+A folder given for a package (:func:`given_package`) may be the folder holding its
+``package.xml``, an install prefix (``install/NAME``, holding ``share/NAME``) or a share folder
+(holding ``NAME``). A relative entry of ``AMENT_PREFIX_PATH`` or ``ROS_PACKAGE_PATH`` is taken
+from the current folder, as ROS takes it.
 """
 
 from __future__ import annotations
@@ -40,6 +46,7 @@ __all__ = [
     "TREE_LEVELS",
     "PackageFinder",
     "folder_below",
+    "given_package",
     "own_package",
     "package_name",
     "packages_under",
@@ -47,9 +54,10 @@ __all__ = [
     "source_tree",
 ]
 
-#: Folders above a description searched for its own ``package.xml`` (the description's folder
-#: counts as the first).
-PACKAGE_LEVELS: Final = 3
+#: Most folders above a description searched for its own ``package.xml`` (the description's
+#: folder counts as the first): deeper than any real layout (``batch/<name>/urdf/`` puts the
+#: package four up), and each is one look-up of a name, nothing read.
+PACKAGE_LEVELS: Final = 64
 #: Folders above a description's package searched for the root of its source tree.
 TREE_LEVELS: Final = 4
 #: Most folders one search of a tree visits.
@@ -100,11 +108,25 @@ def package_name(folder: Path) -> str:
     return folder.name
 
 
+def given_package(name: str, folder: Path) -> Path:
+    """The folder of package ``name`` a user means by ``folder``: the folder itself when it
+    holds a ``package.xml`` (a source package), else its ``share/NAME`` (an install prefix), else
+    its ``NAME`` holding a ``package.xml`` (a share folder); else the folder as given."""
+    if (folder / "package.xml").is_file() or not name or name in (".", "..") or "/" in name:
+        return folder
+    if (folder / "share" / name).is_dir():
+        return folder / "share" / name
+    if (folder / name / "package.xml").is_file():
+        return folder / name
+    return folder
+
+
 def own_package(description: Path) -> Path | None:
     """The folder of the package a description lies in, or None when it lies in none."""
     folder = resolved(description, DescriptionError).parent
     for candidate in [folder, *folder.parents][:PACKAGE_LEVELS]:
-        if candidate == Path(candidate.anchor):
+        # the root and the home folder are no package: a stray manifest there takes in everything
+        if candidate == Path(candidate.anchor) or candidate == Path.home():
             break
         if (candidate / "package.xml").is_file():
             return candidate
@@ -170,7 +192,8 @@ class PackageFinder:
 
     Args:
         description: the description file, whose source tree is searched; None for none.
-        given: packages the caller names (a relative folder is taken from the current folder).
+        given: packages the caller names (a relative folder is taken from the current folder):
+            each a package's folder, an install prefix or a share folder (:func:`given_package`).
         bundled: packages that are always known (searched after the source tree).
     """
 
@@ -180,7 +203,17 @@ class PackageFinder:
         given: Mapping[str, str | os.PathLike[str]],
         bundled: Mapping[str, str | os.PathLike[str]] | None = None,
     ) -> None:
-        self.given = {name: Path(folder).absolute() for name, folder in given.items()}
+        self.given = {
+            name: given_package(name, Path(folder).absolute()) for name, folder in given.items()
+        }
+        #: How the caller wrote each given package's folder, by the folder it stands for.
+        self.spelled = {
+            Path(os.path.abspath(self.given[name])): os.path.normpath(
+                os.path.join(folder, os.path.relpath(self.given[name], Path(folder).absolute()))
+            )
+            for name, folder in given.items()
+        }
+        self.relative = description is not None and not description.is_absolute()
         self.bundled = {name: Path(folder) for name, folder in (bundled or {}).items()}
         self.tree = source_tree(description) if description is not None else None
 
@@ -196,8 +229,14 @@ class PackageFinder:
                 return found
         if name in self.bundled:
             return self.bundled[name]
+        # a relative entry is from the current folder: $(find) must not give a relative folder,
+        # which xacro would take from the including file's
         for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-            candidate = folder_below(Path(prefix) / "share", name, links=True) if prefix else None
+            candidate = (
+                folder_below(Path(prefix).absolute() / "share", name, links=True)
+                if prefix
+                else None
+            )
             if candidate is not None:
                 return candidate
         for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
@@ -206,3 +245,15 @@ class PackageFinder:
                 if found is not None:
                     return found
         return None
+
+    def shown(self, path: str | os.PathLike[str]) -> str:
+        """A path as the user would write it: in a given package, from the folder as given;
+        else from the current folder when the description was given so and it lies below;
+        else as it is."""
+        absolute = Path(os.path.abspath(path))
+        for folder, spelled in self.spelled.items():
+            if absolute == folder or folder in absolute.parents:
+                return os.path.join(spelled, os.path.relpath(absolute, folder)).removesuffix("/.")
+        if self.relative and Path.cwd() in absolute.parents:
+            return os.path.relpath(absolute)
+        return os.fspath(path)

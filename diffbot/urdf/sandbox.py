@@ -237,6 +237,7 @@ def sandboxed(
     max_depth: int = MAX_DEPTH,
     max_elements: int = MAX_ELEMENTS,
     folders: list[Path] | None = None,
+    shown: Callable[[str], str] = str,
 ) -> Iterator[list[Path]]:
     """Patch xacro so that the expansion of ``path`` run inside is sandboxed and bounded.
 
@@ -255,6 +256,7 @@ def sandboxed(
         folders: a list that receives, on exit, the folders the description may read (its own,
             its package's, ``roots`` and the packages ``$(find PKG)`` resolved), so that files
             its text names (a controllers file) can be held to the same sandbox.
+        shown: how a path is written in a message (as the user gave it).
 
     Yields:
         The files the expansion reads (included files and YAML data, not ``path`` itself), filled
@@ -268,15 +270,19 @@ def sandboxed(
         budget = _Budget(os.fspath(path), max_bytes, max_depth, max_elements)
         read: list[Path] = []
         resolve = find if find is not None else subst._eval_find
+        located: dict[str, str] = {}
 
         def tracking_find(package: str) -> str:
             folder = resolve(package)
             allowed.add(folder)
+            located[package] = folder
             return folder
 
         def load_yaml(filename: str) -> Any:
             name = xacro.abs_filename_spec(filename)
             allowed.check(name, "xacro.load_yaml")
+            if not os.path.lexists(name) and xacro.filestack:
+                _missing_include(name, xacro.filestack[-1], located, shown, "loads")
             check_regular(name, DescriptionError, "a YAML file")
             read.append(Path(name))
             with contextlib.suppress(OSError):
@@ -326,6 +332,8 @@ def sandboxed(
                 included = os.path.join(xacro.root_dir, filename)
                 if not trust:
                     allowed.check(included, "reading")
+                if not os.path.lexists(included) and len(xacro.filestack or ()) > 1:
+                    _missing_include(included, xacro.filestack[-2], located, shown)
                 check_regular(included, DescriptionError, "a xacro file")
                 read.append(Path(included))
                 document = saved["parse"](source, filename)
@@ -382,6 +390,31 @@ def sandboxed(
             subst._eval_find = saved["eval_find"]
             if saved["dict_find"] is not None:
                 subst._eval_dict["find"] = saved["dict_find"]
+
+
+def _missing_include(
+    included: str,
+    including: str,
+    located: Mapping[str, str],
+    shown: Callable[[str], str],
+    verb: str = "includes",
+) -> None:
+    """Raise the error of an included (or loaded) file that does not exist below a package
+    ``$(find PKG)`` gave: it names the including file, the ``$(find)`` and the option that would
+    fix it."""
+    target = Path(os.path.abspath(included))
+    for package, folder in located.items():
+        base = Path(os.path.abspath(folder))
+        if base in target.parents:
+            rest = target.relative_to(base).as_posix()
+            raise DescriptionError(
+                f"{shown(including)} {verb} $(find {package})/{rest}, but {shown(included)} "
+                f"does not exist (package {package} is at {shown(folder)}): if {package} "
+                f"is elsewhere, give the folder holding its package.xml with {{packages}} "
+                f"{package}=DIR",
+                path=included,
+                package=package,
+            )
 
 
 def _diffbot_cause(err: BaseException) -> BaseException | None:

@@ -8,6 +8,12 @@ its parent's, each child link is expressed in its joint's frame as URDF has it, 
 frame, plugins kept under ``<gazebo>``, so that wheels, radii and plugins are found as for any
 URDF.
 
+Up to SDF 1.4 a joint's axis is expressed in the model's frame (what ``use_parent_model_frame``
+says from 1.5 on): the version is read from each file's ``<sdf version=...>``. The base of the
+tree (a link no joint moves) keeps its position but takes the model's orientation: the model's
+frame is its drive plane, even when its main link is rotated in it (a CAD export's chassis
+frame, say).
+
 An SDF model is untrusted like a xacro description: a ``model://NAME`` or ``package://`` include
 is resolved like a package (the description's source tree, the given packages, the folders of
 ``GZ_SIM_RESOURCE_PATH``, ``IGN_GAZEBO_RESOURCE_PATH`` and ``GAZEBO_MODEL_PATH``), no file
@@ -120,6 +126,16 @@ def _limit_value(text: str | None, where: str) -> float | None:
     if math.isnan(value):
         raise DescriptionError(f"{where}: a limit must be a number, got {shown(text)}")
     return value
+
+
+def _axes_in_model(root: ET.Element) -> bool:
+    """Whether an ``<sdf>`` file's version (1.4 or older) expresses joint axes in the model's
+    frame; a version that cannot be read is taken as a current one."""
+    major, _, minor = (root.get("version") or "").strip().partition(".")
+    try:
+        return (int(major), int(minor.partition(".")[0] or 0)) <= (1, 4)
+    except ValueError:
+        return False
 
 
 def _pose(element: ET.Element | None, where: str) -> tuple[Matrix, str | None]:
@@ -272,11 +288,21 @@ class _Reader:
             raise DescriptionError(
                 f"{path}: expected one <model>, found {len(models)}: give the robot's model file"
             )
-        self.read_model(models[0], frame, prefix, path.parent, depth, top=not prefix)
+        legacy = _axes_in_model(root)
+        self.read_model(models[0], frame, prefix, path.parent, depth, top=not prefix, legacy=legacy)
 
     def read_model(
-        self, model: ET.Element, frame: Matrix, prefix: str, here: Path, depth: int, top: bool
+        self,
+        model: ET.Element,
+        frame: Matrix,
+        prefix: str,
+        here: Path,
+        depth: int,
+        top: bool,
+        legacy: bool = False,
     ) -> None:
+        """Read one model's links, joints, plugins, nested and included models (``legacy``: an
+        SDF 1.4 or older file, whose axes are in the model's frame)."""
         if depth > MAX_DEPTH:
             raise ExpansionLimitError(
                 f"{self.source}: models nested more than {MAX_DEPTH} deep (max_depth)"
@@ -301,12 +327,11 @@ class _Reader:
                         record.shapes.append(shape)
             self.model.links[name] = record
         for joint in model.findall("joint"):
-            self.model.joints.append(self.joint(joint, prefix, frame, where))
+            self.model.joints.append(self.joint(joint, prefix, frame, where, legacy))
         self.model.plugins.extend(model.findall("plugin"))
         for nested in model.findall("model"):
-            self.read_model(
-                nested, frame, f"{prefix}{nested.get('name', '')}::", here, depth + 1, top=False
-            )
+            name = f"{prefix}{nested.get('name', '')}::"
+            self.read_model(nested, frame, name, here, depth + 1, top=False, legacy=legacy)
         for include in model.findall("include"):
             self.model.includes += 1
             if self.model.includes > MAX_INCLUDES:
@@ -342,7 +367,9 @@ class _Reader:
             return None
         return kind, pose, inner
 
-    def joint(self, joint: ET.Element, prefix: str, frame: Matrix, where: str) -> _Joint:
+    def joint(
+        self, joint: ET.Element, prefix: str, frame: Matrix, where: str, legacy: bool
+    ) -> _Joint:
         name = prefix + joint.get("name", "")
         kind = joint.get("type", "fixed")
         pose, relative = _pose(joint, f"{where} joint {name!r}")
@@ -362,10 +389,8 @@ class _Reader:
             )
             axis = (x, y, z)
             expressed = "" if xyz_element is None else xyz_element.get("expressed_in", "")
-            if expressed == "__model__" or axis_element.findtext("use_parent_model_frame") in (
-                "true",
-                "1",
-            ):
+            parent_model = axis_element.findtext("use_parent_model_frame")
+            if expressed == "__model__" or legacy or parent_model in ("true", "1"):
                 in_model = frame
             limits = {
                 key: _limit_value(axis_element.findtext(f"limit/{key}"), f"{where} joint {name!r}")
@@ -390,9 +415,10 @@ class _Reader:
 
     def frames(self) -> dict[str, Matrix]:
         """Each link's URDF frame in the top model's: its joint's frame when it is a joint's
-        child (URDF puts a child link where its joint is), else its own pose."""
+        child (URDF puts a child link where its joint is), else its own position turned as the
+        model is (the model's frame is the drive plane, whatever the main link's orientation)."""
         links = self.model.links
-        frames = {name: link.pose for name, link in links.items()}
+        frames = {name: _translation(link.pose) for name, link in links.items()}
         for joint in self.model.joints:
             if joint.child not in links:
                 continue
@@ -447,6 +473,14 @@ class _Reader:
             lines.append(f"<gazebo>{ET.tostring(plugin, encoding='unicode')}</gazebo>")
         lines.append("</robot>\n")
         return "\n".join(lines)
+
+
+def _translation(m: Matrix) -> Matrix:
+    """The pose of ``m``'s origin without its rotation."""
+    moved = _identity()
+    for i in range(3):
+        moved[i][3] = m[i][3]
+    return moved
 
 
 def _attr(text: str) -> str:

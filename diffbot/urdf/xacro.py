@@ -220,6 +220,7 @@ def _run_xacro(
             roots=[*finder.given.values(), *finder.bundled.values()],
             find=find,
             trust=trust,
+            shown=finder.shown,
             files=files,
             folders=folders,
             named_from=named_from,

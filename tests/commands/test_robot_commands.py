@@ -379,3 +379,10 @@ def test_urdf_output_writes_through_a_link_and_never_over_the_input(
     assert_one_line_error(run(runner, "urdf", str(copy), "-o", str(copy), "--force"), "is an input")
     assert copy.read_text() == BUNDLED_DESCRIPTION.read_text()
     assert_one_line_error(run(runner, "urdf", "-o", str(tmp_path), "--force"), "not a regular file")
+
+
+def test_the_package_option_says_which_folders_it_takes() -> None:
+    result = CliRunner().invoke(main, ["params", "--help"], terminal_width=200)
+    text = " ".join(result.output.split())
+    assert "the folder holding its package.xml, an install prefix (install/NAME, holding" in text
+    assert "share/NAME) or a share folder (holding NAME)" in text

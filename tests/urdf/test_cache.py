@@ -154,3 +154,14 @@ def test_no_code_in_the_descriptions_folder_runs_when_a_missing_entry_is_derived
         assert "wheel separation  0.2 m" in done.stdout
     entry = json.loads(only_entry(cache).read_text(encoding="utf-8"))
     assert entry["fields"]["wheel_radius"] == 0.05
+
+
+def test_the_cache_folder_is_the_environments_or_none(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from diffbot.urdf.cache import cache_dir
+
+    monkeypatch.setenv("DIFFBOT_CACHE_DIR", str(tmp_path / "c"))
+    assert cache_dir() == tmp_path / "c"
+    monkeypatch.setenv("DIFFBOT_NO_CACHE", "1")
+    assert cache_dir() is None

@@ -10,7 +10,14 @@ import pytest
 import diffbot
 from diffbot.errors import OutsideRootsError
 from diffbot.urdf import packages
-from diffbot.urdf.packages import PackageFinder, package_name, packages_under, source_tree
+from diffbot.urdf.packages import (
+    PackageFinder,
+    given_package,
+    own_package,
+    package_name,
+    packages_under,
+    source_tree,
+)
 
 XACRO_NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
 
@@ -313,3 +320,97 @@ def test_a_package_linked_into_a_prefix_is_found_but_no_path_through_it(
     assert finder.locate("linked") == share / "linked"
     assert finder.locate("linked/..") is None
     assert finder.locate("../share/linked") is None
+
+
+def test_the_own_package_is_the_nearest_manifest_at_any_depth(tmp_path: Path) -> None:
+    package = tmp_path / "fleet_description"
+    manifest(package, "fleet_description")
+    deep = package / "batch" / "courier_b" / "variants" / "v2" / "urdf" / "courier.urdf.xacro"
+    deep.parent.mkdir(parents=True)
+    assert own_package(deep) == package
+    manifest(package / "batch" / "courier_b", "courier_b")  # a nearer one wins
+    assert own_package(deep) == package / "batch" / "courier_b"
+
+
+def test_the_home_folder_is_no_package(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("HOME", str(tmp_path))
+    manifest(tmp_path, "stray")
+    (tmp_path / "robots" / "urdf").mkdir(parents=True)
+    assert own_package(tmp_path / "robots" / "urdf" / "robot.urdf") is None
+
+
+def test_a_given_package_may_be_its_folder_an_install_prefix_or_a_share_folder(
+    tmp_path: Path,
+) -> None:
+    source = tmp_path / "src" / "tyres"
+    manifest(source, "tyre_models")
+    installed = tmp_path / "install" / "tyre_models" / "share" / "tyre_models"
+    manifest(installed, "tyre_models")
+    prefix = tmp_path / "install" / "tyre_models"
+    assert given_package("tyre_models", source) == source
+    assert given_package("tyre_models", prefix) == installed
+    assert given_package("tyre_models", prefix / "share") == installed
+    # a folder that is none of them is taken as it is (a package without a manifest)
+    assert given_package("tyre_models", tmp_path / "loose") == tmp_path / "loose"
+    assert given_package("../x", prefix) == prefix
+    for folder in (source, prefix, prefix / "share"):
+        finder = PackageFinder(None, {"tyre_models": folder})
+        assert finder.locate("tyre_models") in (source, installed)
+
+
+def test_an_install_prefix_resolves_find(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    robot = clone(tmp_path)
+    share = tmp_path / "install" / "j100_control" / "share" / "j100_control"
+    for folder in ("urdf", "config"):
+        (share / folder).mkdir(parents=True)
+        for file in (robot.parents[2] / "platform" / "control" / folder).iterdir():
+            (share / folder / file.name).write_bytes(file.read_bytes())
+    manifest(share, "j100_control")
+    monkeypatch.chdir(tmp_path)
+    params = diffbot.load_params(robot, packages={"j100_control": "install/j100_control"})
+    # shown from the current folder, as the package was given
+    controllers = "install/j100_control/share/j100_control/config/control.yaml"
+    assert params.sources["wheel_separation"] == f"controllers:{controllers}"
+
+
+def test_relative_environment_entries_are_from_the_current_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    manifest(tmp_path / "ws" / "install" / "tyres" / "share" / "tyres", "tyres")
+    manifest(tmp_path / "ws" / "src" / "rims", "rims")
+    monkeypatch.chdir(tmp_path / "ws")
+    monkeypatch.setenv("AMENT_PREFIX_PATH", "install/tyres")
+    monkeypatch.setenv("ROS_PACKAGE_PATH", "src")
+    finder = PackageFinder(None, {})
+    # absolute: xacro takes a relative $(find) from the including file's folder
+    assert finder.locate("tyres") == tmp_path / "ws/install/tyres/share/tyres"
+    assert finder.locate("rims") == tmp_path / "ws/src/rims"
+
+
+def test_paths_are_shown_as_the_user_gave_them(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    manifest(tmp_path / "install" / "tyres" / "share" / "tyres", "tyres")
+    manifest(tmp_path / "ws" / "desc", "desc")
+    monkeypatch.chdir(tmp_path / "ws")
+    finder = PackageFinder(Path("desc/robot.urdf"), {"tyres": "../install/tyres"})
+    inside = tmp_path / "install/tyres/share/tyres/urdf/t.xacro"
+    assert finder.shown(inside) == "../install/tyres/share/tyres/urdf/t.xacro"
+    assert finder.shown(tmp_path / "install/tyres/share/tyres") == "../install/tyres/share/tyres"
+    assert finder.shown(tmp_path / "ws/desc/urdf/w.xacro") == "desc/urdf/w.xacro"
+    assert finder.shown(tmp_path / "elsewhere.xacro") == str(tmp_path / "elsewhere.xacro")
+    absolute = PackageFinder(tmp_path / "ws/desc/robot.urdf", {"tyres": tmp_path / "install"})
+    assert absolute.shown(tmp_path / "ws/desc/urdf/w.xacro") == str(
+        tmp_path / "ws/desc/urdf/w.xacro"
+    )
+    assert absolute.shown(inside) == str(inside)
+
+
+def test_the_climb_to_the_own_package_is_bounded(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    manifest(tmp_path / "pkg", "pkg")
+    description = tmp_path / "pkg" / "a" / "b" / "robot.urdf"
+    assert own_package(description) == tmp_path / "pkg"
+    monkeypatch.setattr(packages, "PACKAGE_LEVELS", 2)  # b, a: not pkg
+    assert own_package(description) is None

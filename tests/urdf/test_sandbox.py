@@ -493,3 +493,50 @@ def test_every_refusal_is_a_description_error() -> None:
     for error in (RefusedExpressionError, OutsideRootsError, ExpansionLimitError):
         assert issubclass(error, SandboxError)
     assert issubclass(SandboxError, DescriptionError)
+
+
+def test_a_missing_file_behind_find_names_the_includer_the_find_and_the_option(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    write(tmp_path / "ws" / "desc" / "package.xml", "<package><name>desc</name></package>")
+    write(tmp_path / "other" / "tyres" / "package.xml", "<package><name>tyres</name></package>")
+    robot = write(
+        tmp_path / "ws" / "desc" / "urdf" / "robot.urdf.xacro",
+        f'<robot name="r" {XACRO_NS}><xacro:include filename="$(find tyres)/urdf/t.xacro"/>'
+        '<link name="base_link"/></robot>',
+    )
+    monkeypatch.chdir(tmp_path / "ws")
+    with pytest.raises(DescriptionError) as raised:
+        diffbot.load_params("desc/urdf/robot.urdf.xacro", packages={"tyres": "../other/tyres"})
+    assert str(raised.value) == (
+        "desc/urdf/robot.urdf.xacro includes $(find tyres)/urdf/t.xacro, but "
+        "../other/tyres/urdf/t.xacro does not exist (package tyres is at ../other/tyres): if "
+        "tyres is elsewhere, give the folder holding its package.xml with packages: tyres=DIR"
+    )
+    assert raised.value.fields["package"] == "tyres"
+    # absolute stays absolute
+    with pytest.raises(DescriptionError, match=re.escape(f"{robot} includes $(find tyres)")):
+        diffbot.load_params(robot, packages={"tyres": tmp_path / "other" / "tyres"})
+    # a missing file not behind a $(find) keeps its plain message
+    write(robot, f'<robot name="r" {XACRO_NS}><xacro:include filename="nowhere.xacro"/></robot>')
+    with pytest.raises(DescriptionError, match=r"nowhere\.xacro: no such file"):
+        diffbot.load_params(robot)
+
+
+def test_a_missing_yaml_behind_find_names_the_file_that_loads_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    write(tmp_path / "desc" / "package.xml", "<package><name>desc</name></package>")
+    write(
+        tmp_path / "desc" / "urdf" / "robot.urdf.xacro",
+        f'<robot name="r" {XACRO_NS}>'
+        '<xacro:property name="p" value="${xacro.load_yaml(\'$(find desc)/config/p.yaml\')}"/>'
+        "<link name=\"${p['base']}\"/></robot>",
+    )
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(DescriptionError) as raised:
+        diffbot.load_params("desc/urdf/robot.urdf.xacro")
+    assert str(raised.value).startswith(
+        "desc/urdf/robot.urdf.xacro loads $(find desc)/config/p.yaml, but desc/config/p.yaml "
+        "does not exist (package desc is at desc)"
+    )

@@ -522,3 +522,108 @@ def test_a_pitch_of_a_quarter_turn_keeps_the_rotation(tmp_path: Path) -> None:
     np.testing.assert_allclose(
         origin_matrix(joint), pose_matrix(1, 2, 3, 0, 0, 0), rtol=0, atol=1e-15
     )
+
+
+#: Shaped like the Pioneer 2DX of Gazebo's old model database: wheel links turned by
+#: (0, pi/2, pi/2), whose axis 0 1 0 is written in the model's frame as SDF 1.4 has it.
+PIONEER_14 = """<?xml version="1.0"?>
+<sdf version="1.4">
+  <model name="pioneer">
+    <link name="chassis"><pose>0 0 0.16 0 0 0</pose>
+      <collision name="c"><geometry><box><size>0.445 0.277 0.17</size></box></geometry></collision>
+    </link>
+    <link name="left_wheel"><pose>0.1 0.17 0.11 0 1.5707963267948966 1.5707963267948966</pose>
+      <collision name="c"><geometry><cylinder><radius>0.11</radius><length>0.05</length>
+      </cylinder></geometry></collision>
+    </link>
+    <link name="right_wheel"><pose>0.1 -0.17 0.11 0 1.5707963267948966 1.5707963267948966</pose>
+      <collision name="c"><geometry><cylinder><radius>0.11</radius><length>0.05</length>
+      </cylinder></geometry></collision>
+    </link>
+    <joint type="revolute" name="left_wheel_hinge">
+      <child>left_wheel</child><parent>chassis</parent><axis><xyz>0 1 0</xyz></axis>
+    </joint>
+    <joint type="revolute" name="right_wheel_hinge">
+      <child>right_wheel</child><parent>chassis</parent><axis><xyz>0 1 0</xyz></axis>
+    </joint>
+  </model>
+</sdf>
+"""
+
+
+@pytest.mark.parametrize(
+    ("version", "in_model"),
+    [
+        ("1.4", True),
+        ("1.3", True),
+        ("1.0", True),
+        (" 1.4 ", True),
+        ("1.5", False),
+        ("1.10", False),
+        ("2.0", False),
+        ("", False),
+        ("one", False),
+        ("1.x", False),
+    ],
+)
+def test_axes_are_in_the_model_frame_up_to_sdf_1_4(version: str, in_model: bool) -> None:
+    root = sdf.ET.fromstring(f'<sdf version="{version}"/>')
+    assert sdf._axes_in_model(root) is in_model
+
+
+def test_an_sdf_1_4_axis_is_read_in_the_model_frame(tmp_path: Path) -> None:
+    folder = model_folder(tmp_path / "models", "pioneer", PIONEER_14)
+    params = diffbot.load_params(folder, source="description")
+    assert (params.left_joint, params.right_joint) == ("left_wheel_hinge", "right_wheel_hinge")
+    assert params.wheel_separation == pytest.approx(0.34, abs=1e-9)
+    assert params.wheel_radius == pytest.approx(0.11, abs=1e-12)
+    assert (params.left_sign, params.right_sign) == (1, 1)
+    # from 1.5 on the same axis is in the joint's frame: the turned wheels' y is the model's -x,
+    # an axle along the robot, no drive wheel
+    newer = model_folder(tmp_path / "models", "newer", PIONEER_14.replace('"1.4"', '"1.5"'))
+    with pytest.raises(diffbot.DescriptionError, match="no drive wheels"):
+        diffbot.load_params(newer, source="description")
+
+
+#: A CAD export: the chassis yawed a quarter turn in the model, the wheels placed in the model.
+ROTATED_CHASSIS = """<?xml version="1.0"?>
+<sdf version="1.6">
+  <model name="cad_bot">
+    <link name="chassis"><pose>0 0 0.1 0 0 1.5707963267948966</pose>
+      <collision name="c"><geometry><box><size>0.3 0.4 0.1</size></box></geometry></collision>
+    </link>
+    <link name="wheel_l"><pose>0.02 0.15 0.05 -1.5707963267948966 0 0</pose>
+      <collision name="c"><geometry><cylinder><radius>0.05</radius><length>0.02</length>
+      </cylinder></geometry></collision>
+    </link>
+    <link name="wheel_r"><pose>0.02 -0.15 0.05 1.5707963267948966 0 0</pose>
+      <collision name="c"><geometry><cylinder><radius>0.05</radius><length>0.02</length>
+      </cylinder></geometry></collision>
+    </link>
+    <joint name="wheel_l_joint" type="revolute">
+      <parent>chassis</parent><child>wheel_l</child><axis><xyz>0 0 1</xyz></axis>
+    </joint>
+    <joint name="wheel_r_joint" type="revolute">
+      <parent>chassis</parent><child>wheel_r</child><axis><xyz>0 0 1</xyz></axis>
+    </joint>
+  </model>
+</sdf>
+"""
+
+
+def test_the_drive_plane_is_the_models_frame_when_the_main_link_is_rotated(
+    tmp_path: Path,
+) -> None:
+    folder = model_folder(tmp_path / "models", "cad_bot", ROTATED_CHASSIS)
+    params = diffbot.load_params(folder, source="description")
+    assert params.wheel_separation == pytest.approx(0.3, abs=1e-9)
+    assert params.wheel_radius == pytest.approx(0.05, abs=1e-12)
+    # left z -> +y, right z -> -y: forward is +1 on the left, -1 on the right
+    assert (params.left_sign, params.right_sign) == (1, -1)
+    urdf, _ = sdf.expand_sdf(folder, PackageFinder(None, {}), [folder])
+    chassis = urdf[urdf.index('<link name="chassis">') :]
+    chassis = chassis[: chassis.index("</link>")]
+    # the chassis frame is the model's turned, its box keeps its quarter turn
+    assert 'rpy="0 -0 1.5707963267948966"' in chassis or 'rpy="0 0 1.5707963267948966"' in chassis
+    joint = urdf[urdf.index('<joint name="wheel_l_joint"') :]
+    assert '<origin xyz="0.02 0.14999999999999999 -0.050000000000000003"' in joint
