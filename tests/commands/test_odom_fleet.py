@@ -62,7 +62,8 @@ def test_the_table_has_one_row_per_input_and_exit_code_1_on_a_failure(
 ) -> None:
     result = runner.invoke(main, ["odom", *fleet])
     assert result.exit_code == 1
-    lines = result.stdout.splitlines()
+    robot, *lines = result.stdout.splitlines()
+    assert robot == "robot bundled"
     assert lines[0].split()[:2] == ["input", "samples"]
     assert [line.split()[0] for line in lines[1:]] == fleet
     assert "error: " in lines[3]

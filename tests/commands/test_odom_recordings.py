@@ -324,7 +324,8 @@ def test_the_table_of_several_inputs_stays_aligned_with_long_names(
     long = counts_csv(tmp_path, "a_recording_name_well_beyond_twenty_four_characters.csv")
     result = runner.invoke(main, ["odom", str(short), str(long), *robot, *COUNTS])
     assert result.exit_code == 0, result.output
-    header, *rows = result.stdout.splitlines()
+    robot_line, header, *rows = result.stdout.splitlines()
+    assert robot_line.startswith("robot ")
     end = header.index("samples") + len("samples")
     assert [row[:end].rstrip().endswith(" 101") for row in rows] == [True, True]
     assert len({row.index(" x ") for row in rows}) == 1

@@ -62,6 +62,7 @@ def test_a_reference_is_drawn_beside_the_odometry_with_their_distance_over_time(
     # Known values: the reference runs 0.002 m * k ahead at sample k (see test_odom_recordings).
     assert result.stdout.splitlines() == [
         f"{bag} /odom: final 0.2 m, max 0.2 m, RMS 0.116 m from the odometry",
+        f"robot {tmp_path / 'pioneer.urdf'}",
         f"{bag}: odometry ends at x 1 m, y 0.5 m",
         f"{bag} /odom: ends at x 1.2 m, y 0.5 m",
     ]
@@ -110,6 +111,7 @@ def test_a_reference_named_without_its_leading_slash_is_drawn_as_the_reference(
     result = run(runner, *args, "-o", str(tmp_path / "ref.png"))
     assert result.exit_code == 0, result.output
     assert result.stdout.splitlines()[1:] == [
+        f"robot {tmp_path / 'pioneer.urdf'}",
         f"{bag}: odometry ends at x 1 m, y 0.5 m",
         f"{bag} /odom: ends at x 1.2 m, y 0.5 m",
     ]
