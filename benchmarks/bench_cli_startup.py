@@ -10,8 +10,12 @@ and from the files of git revision REV (exported to a temporary folder, removed 
 importing its own package (checked once); the working tree's time over the revision's is
 reported the same way (the layout goal: within 1.2x).
 
+With ``--cold`` every run of a command starts with an empty parameter cache, as the first
+command after ``pip install`` and the first on a new description do (``params ROBOT`` then
+derives the robot; the bundled robot's parameters ship with the package).
+
 Run by hand: ``python benchmarks/bench_cli_startup.py [--rounds N] [--baseline REV] [--cpu]
-[COMMAND ...]``.
+[--cold] [COMMAND ...]``.
 """
 
 from __future__ import annotations
@@ -32,6 +36,17 @@ NUMPY_TARGET = 3.0
 BASELINE_GOAL = 1.2
 
 
+def cold(argv: Sequence[str], *, env: dict[str, str], cpu: bool = False) -> Side:
+    """A side that runs ``argv`` with a new, empty parameter cache each time (made and removed
+    outside the timing)."""
+
+    def run() -> float:
+        with tempfile.TemporaryDirectory() as cache:
+            return command(argv, env={**env, "DIFFBOT_CACHE_DIR": cache}, cpu=cpu)()
+
+    return run
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0],
@@ -44,6 +59,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="also compare each command with python -m diffbot from git revision REV",
     )
     parser.add_argument("--cpu", action="store_true", help=CPU_HELP)
+    parser.add_argument(
+        "--cold", action="store_true", help="an empty parameter cache for every run of a command"
+    )
     parser.add_argument(
         "commands",
         nargs="*",
@@ -68,7 +86,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             ]
         for index, line in enumerate(args.commands):
             words = line.split()
-            sides[f"{index}"] = command([script, *words], env=env, cpu=args.cpu)
+            run = cold if args.cold else command
+            sides[f"{index}"] = run([script, *words], env=env, cpu=args.cpu)
             for name, tree in trees:
                 # Separate caches: two cache formats in one folder could evict each other.
                 side_env = {**env, "DIFFBOT_CACHE_DIR": str(Path(cache) / name)}
@@ -77,7 +96,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     print(f"{rounds} rounds, commands taking turns (order reversed every other round), after one")
     clock = "CPU time (user + system)" if args.cpu else "wall time"
-    print(f"untimed round; median {clock}, then the median of per-round ratios:")
+    cache_state = "an empty parameter cache every run" if args.cold else "a warm parameter cache"
+    print(f"untimed round, {cache_state}; median {clock}, then the median of per-round ratios:")
     print(f"python -c 'import numpy'   {timings.median('numpy') * 1e3:7.1f} ms")
     for index, line in enumerate(args.commands):
         ratio = timings.ratio(f"{index}", "numpy").describe()
