@@ -13,6 +13,9 @@ import stat
 from pathlib import Path
 from typing import Final
 
+from diffbot.errors import DescriptionError
+from diffbot.io.textfile import open_regular
+
 __all__ = [
     "HEAD_BYTES",
     "LAUNCH_SUFFIXES",
@@ -94,12 +97,10 @@ def is_controllers_file(path: Path) -> bool:
     if not path.name.lower().endswith((".yaml", ".yml")):
         return False
     try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except OSError:
+        fd = open_regular(path, DescriptionError, "a controllers file")
+    except (OSError, DescriptionError):
         return False
     try:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            return False
         head = os.read(fd, HEAD_BYTES).decode("utf-8", "replace")
     except OSError:
         return False

@@ -181,6 +181,8 @@ OWN_READERS = {
     ("diffbot/io/bag_chunks.py", "_decompressed"),
     # numbers from text already read (a StringIO), not from a file
     ("diffbot/io/csv_chunks.py", "_fast"),
+    # the tool's own marks of the warnings shown, created empty (a write, not a read)
+    ("diffbot/commands/said_once.py", "shown_before"),
     # the bundled robot's derived parameters, a file of the package itself
     ("diffbot/urdf/shipped.py", "shipped_fields"),
     # compressed storage of a recording checked regular by io.recordings first, inflated within
