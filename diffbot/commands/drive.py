@@ -121,11 +121,11 @@ def drive(
         warn("--stamped changes Twist commands only, and --wheels sends none")
     built = plan_options.build(plan_options.request(robot, tokens))
     source, params = built.source, built.params
-    from diffbot.formats.plan_table import violation_lines
     from diffbot.ramps import sampled
 
-    if not built.steps.within_limit:
-        for line in violation_lines(built.steps):
+    limit_lines = built.limit_lines()
+    if limit_lines:
+        for line in limit_lines:
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
     ramped = sampled(built.made)

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 import click
 
+from diffbot.commands.limit_options import body_limit_option
 from diffbot.commands.live import (
     PUBLISH_RATE,
     RATE,
@@ -182,6 +183,8 @@ def odom(
 @click.option(
     "--no-limits", is_flag=True, help="Ignore the controllers file's acceleration and jerk limits."
 )
+@body_limit_option(0)
+@body_limit_option(1)
 @duration_option
 @announce_option
 @quiet_option
@@ -195,6 +198,8 @@ def ik(
     timeout: float,
     rate: float | None,
     no_limits: bool,
+    max_linear: float | None,
+    max_angular: float | None,
     duration: float | None,
     announce: bool,
     quiet: bool,
@@ -205,8 +210,10 @@ def ik(
 
     Wheel speeds over the motor limit are scaled down together, keeping the turning radius; the
     controllers file's velocity, acceleration and jerk limits go through diff_drive_controller's
-    limiter. A NaN or infinite command is refused and the wheels stop; so they do when CMD_VEL
-    goes quiet for --timeout seconds.
+    limiter. Linear and angular commands beyond --max-linear and --max-angular (else the
+    controllers file's linear.x and angular.z max_velocity) are clamped apart, as the controller
+    does (the turning radius changes). A NaN or infinite command is refused and the wheels
+    stop; so they do when CMD_VEL goes quiet for --timeout seconds.
 
     \b
     Examples:
@@ -214,6 +221,7 @@ def ik(
       ROS_LOCALHOST_ONLY=1 diffbot node ik --stamped
     """
     checked_topic("--cmd-vel", cmd_vel)
+    from diffbot.body_limits import body_limits
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
 
     params = robot.with_path(description, {}).load()
@@ -227,6 +235,7 @@ def ik(
         timeout=timeout,
         rate=rate or (controller.update_rate if controller and controller.update_rate else 100.0),
         use_limits=not no_limits,
+        body=body_limits(params, max_linear, max_angular),
     )
     run_node(
         lambda: _warning(InverseKinematicsNode(params, settings)),

@@ -33,7 +33,7 @@ from diffbot.errors import EXIT_CHECK_FAILED, OutputError
 from diffbot.formats.command_stream import write_stream_csv, write_stream_json
 from diffbot.formats.plan_data import plan_csv, plan_json
 from diffbot.formats.plan_messages import plan_twist, plan_wheels
-from diffbot.formats.plan_table import plan_table, violation_lines
+from diffbot.formats.plan_table import plan_table
 from diffbot.formats.text import fmt
 from diffbot.io.command_bag import write_command_bag
 from diffbot.io.outputs import atomic_text, check_not_input, input_clash, write_text_atomic
@@ -175,8 +175,11 @@ def plan_command(
     commands: --rate HZ samples them (csv, json), --out DIR --bag writes them for 'ros2 bag play'.
 
     Segments without a duration run at --speed (spins at --spin-rate). The robot starts at
-    (0, 0) heading along x. Exit code 1 when a wheel exceeds the motor limit (the output is still
-    printed); the message names the segment, the wheel and the shortest duration that fits.
+    (0, 0) heading along x. Exit code 1 when a wheel exceeds the motor limit, or a segment's
+    velocity the body limits (--max-linear, --max-angular, or the controller's linear.x and
+    angular.z max_velocity); the output is still printed, and the message names the segment and
+    the shortest duration that fits. Segments the plan times itself (--speed, --fastest, goal
+    plans) take as long as the body limits ask.
 
     \b
     Examples:
@@ -215,9 +218,9 @@ def plan_command(
     built = plan_options.build(request)
     source, params, made = built.source, built.params, built.made
     ramped: RampedPlan | None = None
-    p = steps = made if isinstance(made, Plan) else made.summary
+    p = made if isinstance(made, Plan) else made.summary
     if not isinstance(made, Plan):
-        ramped, steps = made, made.steps
+        ramped = made
     frame = frame_id if stamped else None
     if as_bag:
         if output is None:
@@ -244,7 +247,7 @@ def plan_command(
             f"({fmt((count - 1) / bag_rate)} s) to {output}: {kind} on {cmd_vel_topic}, "
             f"Float64MultiArray on {left_topic} and {right_topic}"
         )
-        _check_limit(steps)
+        _check_limit(built.limit_lines())
         return
     if rate is not None and output_format in ("csv", "json"):
         commands = _commands(made)
@@ -260,7 +263,7 @@ def plan_command(
 
         read = [source.path, *params.description_files]
         _write_streamed(write, output, force, [Path(x) for x in read if x is not None])
-        _check_limit(steps)
+        _check_limit(built.limit_lines())
         return
     if ramped is not None and output_format in ("csv", "twist", "wheels", "ros2"):
         fail(
@@ -313,13 +316,13 @@ def plan_command(
             inputs=[Path(path) for path in inputs],
             executable=output_format == "ros2",
         )
-    _check_limit(steps)
+    _check_limit(built.limit_lines())
 
 
-def _check_limit(p: Plan) -> None:
-    """Exit 1, naming every wheel over the motor limit, when there is one."""
-    if not p.within_limit:
-        for line in violation_lines(p):
+def _check_limit(lines: list[str]) -> None:
+    """Exit 1, naming every segment over the motor or a body velocity limit, when there is one."""
+    if lines:
+        for line in lines:
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
 

@@ -33,7 +33,6 @@ from diffbot.commands.plan_options import (
 )
 from diffbot.commands.progress import progress
 from diffbot.errors import EXIT_CHECK_FAILED
-from diffbot.formats.plan_table import violation_lines
 from diffbot.formats.text import fmt
 from diffbot.io.bag import JointStatesBagWriter
 from diffbot.io.csvfile import joint_states_header, joint_states_lines
@@ -316,8 +315,9 @@ def simulate(
                 ]
             for label, value in rows:
                 click.echo(f"{label:<11} {value}")
-    if not p.within_limit:
-        for line in violation_lines(p):
+    limit_lines = built.limit_lines()
+    if limit_lines:
+        for line in limit_lines:
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
 
