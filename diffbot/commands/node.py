@@ -26,6 +26,7 @@ from diffbot.commands.options import (
     true_geometry_options,
     warn,
 )
+from diffbot.commands.topic_options import CMD_VEL_HELP, distro_option, resolve_cmd_vel
 from diffbot.kinematics import DiffDriveParams
 
 if TYPE_CHECKING:
@@ -144,13 +145,8 @@ def odom(
 @node.command("ik")
 @click.argument("description", required=False, metavar="[ROBOT]")
 @robot_options
-@click.option(
-    "--cmd-vel",
-    default="cmd_vel",
-    show_default=True,
-    metavar="TOPIC",
-    help="The velocity command topic to read.",
-)
+@click.option("--cmd-vel", metavar="TOPIC", help=CMD_VEL_HELP)
+@distro_option
 @click.option(
     "--stamped",
     is_flag=True,
@@ -191,7 +187,8 @@ def odom(
 def ik(
     robot: RobotOptions,
     description: str | None,
-    cmd_vel: str,
+    cmd_vel: str | None,
+    distro: str | None,
     stamped: bool,
     left_topic: str | None,
     right_topic: str | None,
@@ -220,15 +217,17 @@ def ik(
       diffbot node ik --duration 1       listen for a second, then say what was counted
       ROS_LOCALHOST_ONLY=1 diffbot node ik --stamped
     """
-    checked_topic("--cmd-vel", cmd_vel)
+    if cmd_vel is not None:
+        checked_topic("--cmd-vel", cmd_vel)
     from diffbot.body_limits import body_limits
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
 
     params = robot.with_path(description, {}).load()
     left, right = command_topics(robot.controllers, params)
+    topic, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
     controller = params.controller
     settings = IkSettings(
-        cmd_vel=cmd_vel,
+        cmd_vel=topic,
         stamped=True if stamped else None,
         left_topic=checked_topic("--left-topic", left_topic or left),
         right_topic=checked_topic("--right-topic", right_topic or right),

@@ -29,6 +29,7 @@ from diffbot.commands.plan_options import (
     frame_id_option,
     plan_input_options,
 )
+from diffbot.commands.topic_options import distro_option, resolve_cmd_vel
 from diffbot.errors import EXIT_CHECK_FAILED, OutputError
 from diffbot.formats.command_stream import write_stream_csv, write_stream_json
 from diffbot.formats.plan_data import plan_csv, plan_json
@@ -97,11 +98,12 @@ __all__ = ["plan_command"]
 @frame_id_option
 @click.option(
     "--cmd-vel-topic",
-    default="cmd_vel",
-    show_default=True,
     metavar="TOPIC",
-    help="Twist topic (twist and ros2 formats).",
+    help="Twist topic (twist and ros2 formats, --bag) [the controllers file's diff-drive "
+    "controller's /<name>/cmd_vel, TwistStamped from Jazzy on (cmd_vel_unstamped with "
+    "use_stamped_vel: false on Humble), else cmd_vel].",
 )
+@distro_option
 @click.option(
     "--left-topic",
     default="left_wheel_velocity_controller/commands",
@@ -141,7 +143,8 @@ def plan_command(
     rate: float | None,
     stamped: bool,
     frame_id: str,
-    cmd_vel_topic: str,
+    cmd_vel_topic: str | None,
+    distro: str | None,
     left_topic: str,
     right_topic: str,
     output: str | None,
@@ -201,7 +204,8 @@ def plan_command(
         warn("--stamped changes Twist commands only (twist, json, ros2 and --bag)")
     if frame_id != "base_link" and not stamped:
         warn("--frame-id only applies to --stamped commands")
-    check_topic("--cmd-vel-topic", cmd_vel_topic)
+    if cmd_vel_topic is not None:
+        check_topic("--cmd-vel-topic", cmd_vel_topic)
     check_topic("--left-topic", left_topic)
     check_topic("--right-topic", right_topic)
     request = plan_options.request(robot, tokens)
@@ -217,6 +221,7 @@ def plan_command(
         check_not_input(Path(output))
     built = plan_options.build(request)
     source, params, made = built.source, built.params, built.made
+    cmd_vel_topic, stamped = resolve_cmd_vel(params, cmd_vel_topic, stamped, distro)
     ramped: RampedPlan | None = None
     p = made if isinstance(made, Plan) else made.summary
     if not isinstance(made, Plan):
