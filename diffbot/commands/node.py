@@ -113,6 +113,10 @@ def odom(
     from the options. A joint state without a wheel joint, with a NaN, going back in time or
     with mismatched arrays is skipped and counted in the status line.
 
+    It serves diff_drive_controller's ~/set_odometry (control_msgs/srv/SetOdometry: x, y, yaw)
+    and a ~/reset_odometry (std_srvs/srv/Empty) back to the origin, under the controller's name
+    when the controllers file names one (else /diffbot_odometry/...), for 'ros2 service call'.
+
     \b
     Examples:
       diffbot node odom --duration 1     listen for a second, then say what was counted

@@ -8,7 +8,7 @@ from typing import Final
 
 from diffbot.live.cyclone import Policy, Qos
 
-__all__ = ["LATCHED", "PUBLISHER", "SUBSCRIPTION", "TF", "QosProfile"]
+__all__ = ["LATCHED", "PUBLISHER", "SERVICE", "SUBSCRIPTION", "TF", "QosProfile"]
 
 
 @dataclass(frozen=True)
@@ -50,6 +50,8 @@ class QosProfile:
 
 #: rclpy's default publisher profile: reliable, volatile, keep last 10.
 PUBLISHER: Final = QosProfile()
+#: rmw's services profile, for both of a service's topics: reliable, volatile, keep last 10.
+SERVICE: Final = QosProfile()
 #: /tf as tf2_ros' TransformBroadcaster publishes it: depth 100.
 TF: Final = QosProfile(depth=100)
 #: /tf_static and /robot_description: late joiners still get the last message.

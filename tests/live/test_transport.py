@@ -127,3 +127,37 @@ def test_a_stalled_timer_skips_the_ticks_it_missed_and_stays_on_its_grid() -> No
     timer.fire_if_due(1.11)
     timer.fire_if_due(1.12)
     assert fired == pytest.approx([1.02, 1.12, 1.14], abs=1e-12)
+
+
+def test_a_service_answers_each_client_under_its_own_id_and_sequence() -> None:
+    from live_graph import ServiceClient
+
+    from diffbot.live import types
+
+    def handler(request: types.SetOdometryRequest) -> types.SetOdometryResponse:
+        return types.SetOdometryResponse(success=request.x > 0.0, message=f"x {request.x:g}")
+
+    with Node("server") as server:
+        server.create_service(
+            types.SetOdometryRequest, types.SetOdometryResponse, "/server/echo", handler
+        )
+        server.start()
+        first = ServiceClient(
+            "/server/echo", types.SetOdometryRequest, types.SetOdometryResponse, 1
+        )
+        second = ServiceClient(
+            "/server/echo", types.SetOdometryRequest, types.SetOdometryResponse, 2
+        )
+        try:
+            first.wait_for_service()
+            second.wait_for_service()
+            a = first.call(types.SetOdometryRequest(x=1.5))
+            b = second.call(types.SetOdometryRequest(x=-1.0))
+            a2 = first.call(types.SetOdometryRequest(x=2.0))
+        finally:
+            first.close()
+            second.close()
+    # Each reply carries its request's client id and sequence number, and its own answer.
+    assert (a.guid, a.seq, a.success, a.message) == (1, 1, True, "x 1.5")  # type: ignore[attr-defined]
+    assert (b.guid, b.seq, b.success, b.message) == (2, 1, False, "x -1")  # type: ignore[attr-defined]
+    assert (a2.guid, a2.seq, a2.message) == (1, 2, "x 2")  # type: ignore[attr-defined]
