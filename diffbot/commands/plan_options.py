@@ -554,7 +554,8 @@ plan_input_options = option_group(
             "--fastest",
             is_flag=True,
             help="Give every segment the shortest duration that keeps its wheels within the "
-            "limit (durations given in the plan are ignored).",
+            "whole motor limit and its body within --max-linear and --max-angular (durations "
+            "given in the plan are ignored).",
         ),
         *(
             click.option(name, type=POSITIVE, metavar=unit, help=text)
