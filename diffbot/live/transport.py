@@ -102,6 +102,7 @@ class Node:
         self._topics: dict[tuple[str, str], Topic[Any]] = {}
         self._subscriptions: list[Subscription[Any]] = []
         self._services: list[Subscription[Any]] = []
+        self._checking = False
         self._timers: list[Timer] = []
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -159,8 +160,7 @@ class Node:
             topic,
             type_name=msg_type.__idl_typename__,
         )
-        if not self._subscriptions:
-            self.create_timer(1.0, self.check_types)
+        self._check_types_every_second()
         self.reader_guids.append(reader.guid.bytes)
         if self._announce is not None:
             self._announce()
@@ -207,12 +207,19 @@ class Node:
             name,
             type_name=request_type.__idl_typename__,
         )
+        self._check_types_every_second()
         self.reader_guids.append(reader.guid.bytes)
         if self._announce is not None:
             self._announce()
         self._waitset.attach(ReadCondition(reader, SampleState.Any))
         self._services.append(service)
         return service
+
+    def _check_types_every_second(self) -> None:
+        """Start the timer of :meth:`check_types` with the node's first reader."""
+        if not self._checking:
+            self._checking = True
+            self.create_timer(1.0, self.check_types)
 
     def create_timer(self, period: float, callback: Callable[[], None]) -> Timer:
         """A timer calling ``callback`` every ``period`` seconds (monotonic) while spinning."""
@@ -266,27 +273,38 @@ class Node:
         for subscription in self._subscriptions:
             topic = "/" + subscription.topic.lstrip("/")
             read.setdefault(topic, set()).add(subscription.type_name)
-        for topic, ours in read.items():
-            for found in sorted(self.publisher_types(topic) - ours):
-                message = self.type_mismatch(
-                    topic, ros_type_name(found), sorted(ros_type_name(t) for t in ours)
-                )
-                if message not in self.warnings:
-                    self.warnings.append(message)
-                    self.warn(message)
+        found_types: list[tuple[str, str, set[str]]] = [
+            (topic, found, ours)
+            for topic, ours in read.items()
+            for found in sorted(self.publisher_types(topic) - ours)
+        ]
+        for service in self._services:
+            name = "/" + service.topic.lstrip("/")
+            request = f"rq/{name.lstrip('/')}Request"
+            ours = {service.type_name}
+            for found in sorted(set(self.publications(name, request)) - ours):
+                found_types.append((name, found, ours))
+        for topic, found, ours in found_types:
+            message = self.type_mismatch(
+                topic, ros_type_name(found), sorted(ros_type_name(t) for t in ours)
+            )
+            if message not in self.warnings:
+                self.warnings.append(message)
+                self.warn(message)
 
     def type_mismatch(self, topic: str, found: str, ours: list[str]) -> str:
         """The warning when ``topic`` carries ``found`` (a ROS type name) where this node reads
         ``ours``; nodes with an option that changes what they read say which."""
         return f"{topic!r} carries {found}; this node reads {' or '.join(ours)}"
 
-    def publications(self, topic: str) -> list[str]:
-        """The DDS type name of each publisher on ``topic`` discovered so far, this node's own
-        included (other types than ours too: how a node tells a TwistStamped topic from a Twist
-        one, or sees a second publisher)."""
+    def publications(self, topic: str, dds_name: str | None = None) -> list[str]:
+        """The DDS type name of each publisher on ``topic`` (or on the DDS topic ``dds_name``,
+        such as a service's request topic) discovered so far, this node's own included (other
+        types than ours too: how a node tells a TwistStamped topic from a Twist one, or sees a
+        second publisher)."""
         if self._publications is None:
             self._publications = BuiltinDataReader(self.participant, BuiltinTopicDcpsPublication)
-        dds_name = dds_topic(topic)
+        dds_name = dds_topic(topic) if dds_name is None else dds_name
         alive = InstanceState.Alive
         return [
             sample.type_name

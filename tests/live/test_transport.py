@@ -161,3 +161,31 @@ def test_a_service_answers_each_client_under_its_own_id_and_sequence() -> None:
     assert (a.guid, a.seq, a.success, a.message) == (1, 1, True, "x 1.5")  # type: ignore[attr-defined]
     assert (b.guid, b.seq, b.success, b.message) == (2, 1, False, "x -1")  # type: ignore[attr-defined]
     assert (a2.guid, a2.seq, a2.message) == (1, 2, "x 2")  # type: ignore[attr-defined]
+
+
+def test_a_request_of_another_type_is_named_once() -> None:
+    from cyclonedds.pub import DataWriter
+    from cyclonedds.topic import Topic
+
+    from diffbot.live import types
+    from diffbot.live.qos import SERVICE
+
+    with Node("server") as server, Node("client") as client:
+        server.create_service(
+            types.SetOdometryRequest,
+            types.SetOdometryResponse,
+            "/server/set_odometry",
+            lambda request: types.SetOdometryResponse(success=True),
+        )
+        # A std_srvs/srv/Empty client of the same service name: it never matches the server.
+        topic = Topic(client.participant, "rq/server/set_odometryRequest", types.EmptyRequest)
+        writer = DataWriter(client.participant, topic, SERVICE.qos())
+        end = time.monotonic() + PATIENCE
+        while not server.warnings and time.monotonic() < end:
+            server.spin_once(0.05)
+            server.check_types()
+        del writer
+    assert server.warnings == [
+        "'/server/set_odometry' carries std_srvs/srv/Empty_Request; this node reads "
+        "control_msgs/srv/SetOdometry_Request"
+    ]
