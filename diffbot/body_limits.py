@@ -30,7 +30,16 @@ if TYPE_CHECKING:
     from diffbot.kinematics import DiffDriveParams
     from diffbot.trajectory import Plan
 
-__all__ = ["UNLIMITED", "BodyLimits", "BodyViolation", "body_limits", "clamp", "violations"]
+__all__ = [
+    "UNLIMITED",
+    "BodyLimits",
+    "BodyViolation",
+    "axis_with_velocity",
+    "body_limits",
+    "clamp",
+    "violations",
+    "with_velocity_limits",
+]
 
 Range = tuple[float, float]
 
@@ -184,12 +193,24 @@ def violations(plan: Plan, limits: BodyLimits) -> list[BodyViolation]:
     return found
 
 
-def check_limits(limits: BodyLimits) -> BodyLimits:
-    """``limits`` when each range is finite and holds 0, else a :class:`ParameterError`."""
-    for name, bounds in (("linear", limits.linear), ("angular", limits.angular)):
-        if bounds is None:
-            continue
-        low, high = bounds
-        if not (math.isfinite(low) and math.isfinite(high) and low <= 0.0 <= high):
-            raise ParameterError(f"the {name} velocity range must hold 0, got {bounds}")
-    return limits
+def with_velocity_limits(params: DiffDriveParams, limits: BodyLimits) -> DiffDriveParams:
+    """``params`` whose controller configuration's velocity limits are ``limits`` (the given
+    ones replace the file's, so that its speed limiter clamps where the plan was bounded);
+    unchanged without a controller configuration."""
+    controller = params.controller
+    if controller is None:
+        return params
+    return params.replace(
+        controller=dataclasses.replace(
+            controller,
+            linear=axis_with_velocity(controller.linear, limits.linear),
+            angular=axis_with_velocity(controller.angular, limits.angular),
+        )
+    )
+
+
+def axis_with_velocity(axis: AxisLimits, bounds: Range | None) -> AxisLimits:
+    """``axis`` with its velocity limits set to ``bounds`` (lowest, highest), when given."""
+    if bounds is None:
+        return axis
+    return dataclasses.replace(axis, min_velocity=bounds[0], max_velocity=bounds[1])

@@ -14,11 +14,10 @@ from (a robot without a motor limit commanded 1e307 m/s): no command is ever inf
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
-from diffbot.body_limits import BodyLimits, clamp
+from diffbot.body_limits import BodyLimits, axis_with_velocity, clamp
 from diffbot.controller_config import AxisLimits
 from diffbot.kinematics import (
     DiffDriveParams,
@@ -78,8 +77,8 @@ class WheelCommander:
             if linear != AxisLimits() or angular != AxisLimits():
                 # The limiter clamps velocity last: the given limits take the file's place.
                 given = BodyLimits() if body is None else body
-                self._linear = _with_range(linear, given.linear)
-                self._angular = _with_range(angular, given.angular)
+                self._linear = axis_with_velocity(linear, given.linear)
+                self._angular = axis_with_velocity(angular, given.angular)
         preserve = None if controller is None else controller.preserve_turning_radius
         self._preserve = True if preserve is None else preserve
         self._left_count = max(len(params.left_joints), 1)
@@ -128,10 +127,3 @@ class WheelCommander:
             float(body.linear),
             float(body.angular),
         )
-
-
-def _with_range(axis: AxisLimits, bounds: tuple[float, float] | None) -> AxisLimits:
-    """``axis`` with its velocity limits set to ``bounds`` (lowest, highest), when given."""
-    if bounds is None:
-        return axis
-    return dataclasses.replace(axis, min_velocity=bounds[0], max_velocity=bounds[1])

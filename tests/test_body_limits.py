@@ -119,3 +119,19 @@ def test_a_plan_within_the_limits_has_no_violation() -> None:
     limits = BodyLimits((-0.3, 0.3), (-0.5, 0.5))
     p = plan(parse_plan("straight 1 4s; spin 90 4s"), BOT, body=limits)
     assert violations(p, limits) == []
+
+
+def test_given_limits_replace_the_controllers_velocity_limits() -> None:
+    from diffbot.body_limits import with_velocity_limits
+
+    controller = with_controller(
+        AxisLimits(max_velocity=0.3, max_acceleration=1.0), AxisLimits(max_velocity=2.0)
+    )
+    robot = BOT.replace(controller=controller)
+    replaced = with_velocity_limits(robot, BodyLimits((-0.1, 0.4), None))
+    assert replaced.controller is not None
+    assert replaced.controller.linear == AxisLimits(
+        max_velocity=0.4, min_velocity=-0.1, max_acceleration=1.0
+    )
+    assert replaced.controller.angular == AxisLimits(max_velocity=2.0)
+    assert with_velocity_limits(BOT, BodyLimits((-0.1, 0.4), None)) is BOT

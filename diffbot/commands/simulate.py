@@ -239,7 +239,9 @@ def simulate(
     source, params, made = built.source, built.params, built.made
     out_path = out.path([Path(path) for path in (*inputs, *params.description_files)])
     p = made if isinstance(made, Plan) else made.steps
-    motion, executed = _executed(made, params)
+    from diffbot.body_limits import with_velocity_limits
+
+    motion, executed = _executed(made, with_velocity_limits(params, built.body))
     duration, extra = motion.duration, len(boundaries(motion))
     count = sample_count(duration, rate, extra)
     if count > MAX_SAMPLES:

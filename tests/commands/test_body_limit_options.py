@@ -158,3 +158,27 @@ def test_the_help_of_the_fastest_shape_says_it_uses_the_whole_motor_limit(
 ) -> None:
     text = " ".join(run(runner, "plan", "--help").stdout.split())
     assert "fastest: the least time at the whole motor limit" in text
+
+
+def test_simulate_runs_the_controllers_limiter_with_the_given_limits(
+    runner: CliRunner, robot: list[str], tmp_path: Path
+) -> None:
+    # The file says 0.3 m/s; --max-linear 0.4 plans 1 m in 2.5 s and the limiter, given the
+    # same limit, executes it as planned (with the file's 0.3 m/s it would end 0.25 m short).
+    out = tmp_path / "states.csv"
+    result = run(
+        runner,
+        "simulate",
+        *robot,
+        "straight 1",
+        "--fastest",
+        "--max-linear",
+        "0.4",
+        "--out",
+        str(out),
+        "--json",
+    )
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["executed_final_pose"]["x"] == pytest.approx(1.0, abs=1e-9)
+    assert data["offset"] == pytest.approx(0.0, abs=1e-9)
