@@ -182,10 +182,12 @@ class Node:
         :mod:`diffbot.live.types`). Reliable, volatile, keep last 10, as rmw's services
         profile. The subscription returned counts requests (``received``, ``malformed``)."""
         base = check_topic(name).lstrip("/")
+        # rmw_cyclonedds pairs a service's reader and writer by this id in their user data
+        # (a client waits for both before it calls).
+        service_id = ".".join(f"{b:x}" for b in os.urandom(16))
+        qos = SERVICE.qos(f"serviceid={service_id};".encode())
         reply = DataWriter(
-            self.participant,
-            self._topic(response_type, name, f"rr/{base}Reply"),
-            SERVICE.qos(),
+            self.participant, self._topic(response_type, name, f"rr/{base}Reply"), qos
         )
         self.writer_guids.append(reply.guid.bytes)
 
@@ -196,9 +198,7 @@ class Node:
             reply.write(response)
 
         reader: DataReader[M] = DataReader(
-            self.participant,
-            self._topic(request_type, name, f"rq/{base}Request"),
-            SERVICE.qos(),
+            self.participant, self._topic(request_type, name, f"rq/{base}Request"), qos
         )
         service = Subscription(
             reader,

@@ -189,3 +189,46 @@ def test_a_request_of_another_type_is_named_once() -> None:
         "'/server/set_odometry' carries std_srvs/srv/Empty_Request; this node reads "
         "control_msgs/srv/SetOdometry_Request"
     ]
+
+
+def test_a_services_endpoints_carry_one_service_id_as_rmw_cyclonedds_pairs_them() -> None:
+    from typing import Any
+
+    from cyclonedds.builtin import (
+        BuiltinDataReader,
+        BuiltinTopicDcpsPublication,
+        BuiltinTopicDcpsSubscription,
+    )
+    from cyclonedds.qos import Policy
+
+    from diffbot.live import types
+
+    with Node("server") as server, Node("client") as client:
+        server.create_service(
+            types.EmptyRequest,
+            types.EmptyResponse,
+            "/server/reset",
+            lambda r: types.EmptyResponse(),
+        )
+        writers = BuiltinDataReader(client.participant, BuiltinTopicDcpsPublication)
+        readers = BuiltinDataReader(client.participant, BuiltinTopicDcpsSubscription)
+
+        def user_data(reader: Any, topic: str) -> list[bytes]:
+            return [
+                s.qos[Policy.Userdata].data
+                for s in reader.read(N=4096)
+                if getattr(s, "topic_name", None) == topic and Policy.Userdata in s.qos
+            ]
+
+        end = time.monotonic() + PATIENCE
+        found: tuple[list[bytes], list[bytes]] = ([], [])
+        while time.monotonic() < end and not all(found):
+            found = (
+                user_data(writers, "rr/server/resetReply"),
+                user_data(readers, "rq/server/resetRequest"),
+            )
+            time.sleep(0.05)
+    assert found[0] == found[1]
+    assert len(found[0]) == 1
+    assert found[0][0].startswith(b"serviceid=")
+    assert found[0][0].endswith(b";")
