@@ -34,7 +34,7 @@ from diffbot.errors import EXIT_CHECK_FAILED, OutputError
 from diffbot.formats.command_stream import write_stream_csv, write_stream_json
 from diffbot.formats.plan_data import plan_csv, plan_json
 from diffbot.formats.plan_messages import plan_twist, plan_wheels
-from diffbot.formats.plan_table import plan_table
+from diffbot.formats.plan_table import body_limit_line, plan_table
 from diffbot.formats.text import fmt
 from diffbot.io.command_bag import write_command_bag
 from diffbot.io.outputs import atomic_text, check_not_input, input_clash, write_text_atomic
@@ -307,7 +307,8 @@ def plan_command(
             frame_id=frame_id,
         )
     else:
-        text = plan_table(p, source.label, wide=wide) + source.note
+        text = plan_table(p, source.label, wide=wide) + body_limit_line(p, built.body)
+        text += source.note
         if ramped is not None:
             text += RAMP_NOTE
     if output is None:

@@ -209,3 +209,19 @@ def body_violation_lines(p: Plan, limits: BodyLimits) -> list[str]:
             f"{ceil_text(found[0].shortest_duration)} s"
         )
     return lines
+
+
+def body_limit_line(p: Plan, limits: BodyLimits) -> str:
+    """The line under a table that checks the body velocity limits; empty without any."""
+    if limits.unlimited:
+        return ""
+    from diffbot.body_limits import violations
+
+    parts = []
+    if limits.linear is not None:
+        parts.append(f"linear [{fmt(limits.linear[0])}, {fmt(limits.linear[1])}] m/s")
+    if limits.angular is not None:
+        parts.append(f"angular [{fmt(limits.angular[0])}, {fmt(limits.angular[1])}] rad/s")
+    over = sorted({v.index + 1 for v in violations(p, limits)})
+    state = "within" if not over else "OVER in segment" + ("s " if len(over) > 1 else " ")
+    return f"body limits {', '.join(parts)}: {state}{', '.join(map(str, over))}\n"

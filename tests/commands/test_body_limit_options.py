@@ -182,3 +182,16 @@ def test_simulate_runs_the_controllers_limiter_with_the_given_limits(
     data = json.loads(result.stdout)
     assert data["executed_final_pose"]["x"] == pytest.approx(1.0, abs=1e-9)
     assert data["offset"] == pytest.approx(0.0, abs=1e-9)
+
+
+def test_the_table_checks_the_body_limits(runner: CliRunner, robot: list[str]) -> None:
+    within = run(runner, "plan", *robot, "straight 1 10s; spin 90")
+    assert within.exit_code == 0, within.output
+    assert "body limits linear [-0.1, 0.3] m/s, angular [-1, 1] rad/s: within" in within.stdout
+    over = run(runner, "plan", *robot, "straight 1 1s; spin 90 1s; straight 1 1s")
+    assert (
+        "body limits linear [-0.1, 0.3] m/s, angular [-1, 1] rad/s: OVER in segments 1, 2, 3"
+        in (over.stdout)
+    )
+    plain = run(runner, "plan", "straight 1")
+    assert "body limits" not in plain.stdout
