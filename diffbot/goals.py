@@ -2,7 +2,8 @@
 
 - ``fastest``: the time-optimal path of a differential drive whose wheels share one speed bound
   (Balkcom and Mason 2002; :mod:`diffbot.planning.balkcom_mason`): turns in place and straights,
-  backwards too unless ``forward_only``; it runs at the motor limit.
+  backwards too unless ``forward_only``; it runs at the whole motor limit, unless ``cruise``
+  asks for the cruise speeds (and never beyond the body velocity limits ``body``).
 - ``spin-straight-spin``: turn to face the goal, drive to it, turn to the goal heading.
 - ``dubins``: the shortest forward path whose arcs have the radius ``min_radius``
   (:mod:`diffbot.planning.dubins`).
@@ -19,7 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
@@ -38,6 +39,9 @@ from diffbot.trajectory import (
     built,
     plan,
 )
+
+if TYPE_CHECKING:
+    from diffbot.body_limits import BodyLimits
 
 __all__ = [
     "OPTIONS",
@@ -223,6 +227,8 @@ def plan_to(
     spin_rate: float = DEFAULT_SPIN_RATE,
     fastest: bool = False,
     limit: float | None = None,
+    body: BodyLimits | None = None,
+    cruise: bool = False,
 ) -> Plan:
     """The plan that drives from ``start`` to ``goal`` along the path of ``shape``.
 
@@ -234,10 +240,14 @@ def plan_to(
         min_radius: turning radius of the dubins and reeds-shepp arcs (m), > 0.
         forward_only: never drive backwards (fastest; dubins always drives forwards).
         speed, spin_rate: cruise speeds (m/s, rad/s) of the segments, as in
-            :func:`~diffbot.trajectory.plan`; the fastest shape runs at the motor limit when the
-            robot has one.
+            :func:`~diffbot.trajectory.plan`; the fastest shape runs at the whole motor limit
+            when the robot has one, unless ``cruise``.
         fastest: run every segment at the motor limit.
         limit: motor limit (rad/s) instead of ``params.max_wheel_speed``.
+        body: body velocity limits (m/s, rad/s) no segment exceeds: segments timed at the motor
+            limit or the cruise speeds take longer where these ask for it.
+        cruise: time the fastest shape at ``speed`` and ``spin_rate`` too, not at the motor
+            limit (the shape stays the least-time path of the wheels).
 
     Returns:
         The plan; its poses are relative to ``start``, so its final pose is the goal seen from
@@ -252,7 +262,18 @@ def plan_to(
     forward_only = bool(forward_only)
     radius = _check_shape(shape, min_radius, forward_only)
     return _legs(
-        here, [there], params, shape, radius, forward_only, speed, spin_rate, fastest, limit
+        here,
+        [there],
+        params,
+        shape,
+        radius,
+        forward_only,
+        speed,
+        spin_rate,
+        fastest,
+        limit,
+        body,
+        cruise,
     )
 
 
@@ -267,6 +288,8 @@ def _legs(
     spin_rate: float,
     fastest: bool,
     limit: float | None,
+    body: BodyLimits | None = None,
+    cruise: bool = False,
 ) -> Plan:
     """The plan from ``here`` through ``poses`` (checked): one leg of ``shape`` to each."""
     segments: list[Segment] = []
@@ -276,8 +299,16 @@ def _legs(
         here = pose
     if not segments:
         return _empty(params, limit)
-    at_limit = _timing(shape, params, fastest, limit)
-    return plan(segments, params, speed=speed, spin_rate=spin_rate, fastest=at_limit, limit=limit)
+    at_limit = fastest or (not cruise and _timing(shape, params, fastest, limit))
+    return plan(
+        segments,
+        params,
+        speed=speed,
+        spin_rate=spin_rate,
+        fastest=at_limit,
+        limit=limit,
+        body=body,
+    )
 
 
 def waypoint_poses(
@@ -308,7 +339,18 @@ def waypoint_poses(
 
 
 #: The keyword options of :func:`plan_to` that :func:`plan_through` and :func:`shape_times` take.
-OPTIONS = ("start", "shape", "min_radius", "forward_only", "speed", "spin_rate", "fastest", "limit")
+OPTIONS = (
+    "start",
+    "shape",
+    "min_radius",
+    "forward_only",
+    "speed",
+    "spin_rate",
+    "fastest",
+    "limit",
+    "body",
+    "cruise",
+)
 
 
 def _check_options(options: dict[str, Any], function: str) -> None:
@@ -327,7 +369,7 @@ def plan_through(
             the direction of the next leg (see :func:`waypoint_poses`).
         params: the robot.
         **options: ``start``, ``shape``, ``min_radius``, ``forward_only``, ``speed``,
-            ``spin_rate``, ``fastest``, ``limit``: as in :func:`plan_to`.
+            ``spin_rate``, ``fastest``, ``limit``, ``body``, ``cruise``: as in :func:`plan_to`.
 
     Returns:
         One plan of every leg's segments, poses relative to ``start``; without segments when
@@ -353,6 +395,8 @@ def plan_through(
         options.get("spin_rate", DEFAULT_SPIN_RATE),
         options.get("fastest", False),
         options.get("limit"),
+        options.get("body"),
+        bool(options.get("cruise", False)),
     )
 
 
@@ -377,12 +421,11 @@ def shape_times(
 ) -> list[ShapeTime]:
     """Every shape's time through the same waypoints (``options`` as in :func:`plan_through`,
     without ``shape``), timed alike: at the motor limit when the robot has one (or ``fastest``
-    asks for it), else at the cruise speeds."""
+    asks for it) unless ``cruise``, else at the cruise speeds."""
     _check_options(options, "shape_times")
     limit = options.get("limit")
-    at_limit = (
-        options.get("fastest", False) or limit is not None or params.max_wheel_speed is not None
-    )
+    has_limit = limit is not None or params.max_wheel_speed is not None
+    at_limit = options.get("fastest", False) or (has_limit and not options.get("cruise", False))
     out: list[ShapeTime] = []
     for shape in SHAPES:
         arcs = shape in ("dubins", "reeds-shepp")

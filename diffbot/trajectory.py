@@ -52,6 +52,8 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
+    from diffbot.body_limits import BodyLimits
+
 __all__ = [
     "DEFAULT_SPEED",
     "DEFAULT_SPIN_RATE",
@@ -266,6 +268,8 @@ def plan(
     spin_rate: float = DEFAULT_SPIN_RATE,
     fastest: bool = False,
     limit: float | None = None,
+    *,
+    body: BodyLimits | None = None,
 ) -> Plan:
     """Plan the velocity commands of a sequence of segments.
 
@@ -277,6 +281,10 @@ def plan(
         fastest: give every segment the shortest duration that keeps its wheels within the limit
             (its faster wheel then runs exactly at the limit); given durations are ignored.
         limit: motor limit (rad/s) to check against instead of ``params.max_wheel_speed``.
+        body: body velocity limits (:func:`diffbot.body_limits.body_limits`): a segment timed by
+            the plan (``fastest``, or at the cruise speeds) takes at least the time that keeps
+            its linear and angular velocity within them; a given duration is kept (see
+            :func:`diffbot.body_limits.violations`).
 
     Returns:
         The plan. A wheel over the limit is not an error: see :attr:`Plan.within_limit` and
@@ -312,7 +320,7 @@ def plan(
             "(give one with limit=, or a max_wheel_speed in the parameters)"
         )
 
-    return _planned(items, params, speed, spin_rate, fastest, lim)
+    return _planned(items, params, speed, spin_rate, fastest, lim, body)
 
 
 def built(cls: type[_T], **fields: object) -> _T:
@@ -334,6 +342,7 @@ def _planned(
     spin_rate: float,
     fastest: bool,
     lim: float | None,
+    body: BodyLimits | None = None,
 ) -> Plan:
     """The plan of checked arguments: segments, positive finite speeds, a limit above zero or
     None (not None when ``fastest``)."""
@@ -375,6 +384,8 @@ def _planned(
             duration = abs(turn) / spin_rate
         else:
             duration = abs(ds) / speed
+        if body is not None and (fastest or segment.duration is None):
+            duration = max(duration, body.shortest_duration(ds, turn))
         if not (isfinite(duration) and duration > 0.0):
             raise _overflow(segment, index, f"duration ({duration:g} s)")
         linear, angular = ds / duration, turn / duration

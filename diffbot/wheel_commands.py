@@ -17,9 +17,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from diffbot.body_limits import BodyLimits, axis_with_velocity, clamp
 from diffbot.controller_config import AxisLimits
 from diffbot.kinematics import (
     DiffDriveParams,
+    Twist,
     forward,
     inverse,
     joint_from_wheel,
@@ -52,22 +54,31 @@ class WheelCommander:
         params: the robot: radii, separation, joints of each side, signs, motor limit
             (``max_wheel_speed``); its controller configuration's limits apply when it has one.
         use_limits: run the commands through the controller's limiter (when it has limits).
+        body: body velocity limits (:func:`diffbot.body_limits.body_limits`) in place of the
+            controller's ``max_velocity`` / ``min_velocity``: linear and angular commands are
+            clamped into them apart, as diff_drive_controller's two speed limiters do.
 
     Attributes:
         refused: commands refused for a NaN or infinite value, or wheel speeds too large to
             compute.
     """
 
-    def __init__(self, params: DiffDriveParams, *, use_limits: bool = True) -> None:
+    def __init__(
+        self, params: DiffDriveParams, *, use_limits: bool = True, body: BodyLimits | None = None
+    ) -> None:
         self.params = params
         controller = params.controller
         self._linear: AxisLimits | None = None
         self._angular: AxisLimits | None = None
+        self._body = None if body is None or body.unlimited else body
         if use_limits and controller is not None:
             linear = checked(controller.linear, "linear.x")
             angular = checked(controller.angular, "angular.z")
             if linear != AxisLimits() or angular != AxisLimits():
-                self._linear, self._angular = linear, angular
+                # The limiter clamps velocity last: the given limits take the file's place.
+                given = BodyLimits() if body is None else body
+                self._linear = axis_with_velocity(linear, given.linear)
+                self._angular = axis_with_velocity(angular, given.angular)
         preserve = None if controller is None else controller.preserve_turning_radius
         self._preserve = True if preserve is None else preserve
         self._left_count = max(len(params.left_joints), 1)
@@ -96,6 +107,9 @@ class WheelCommander:
             linear = limit(self._linear, linear, v0, v1, dt)
             angular = limit(self._angular, angular, w0, w1, dt)
             self._history = [linear, v0, angular, w0]
+        elif self._body is not None:
+            twist = clamp(Twist(linear, angular), self._body)
+            linear, angular = float(twist.linear), float(twist.angular)
         speeds = inverse(self.params, linear, angular)
         if (speeds.left - speeds.left) + (speeds.right - speeds.right) != 0.0:
             # Finite commands too large to compute wheel speeds from (1e307 m/s): refused as a

@@ -318,3 +318,24 @@ def test_shape_times_are_the_plans_of_each_shape(robot: DiffDriveParams) -> None
     }
     assert with_radius["dubins"].duration is not None
     assert with_radius["reeds-shepp"].duration is None
+
+
+def test_a_goal_plan_at_cruise_speed_drives_at_it_not_at_the_motor_limit() -> None:
+    robot = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, max_wheel_speed=5.0)
+    fast = plan_to((2.0, 0.0, 0.0), robot)
+    slow = plan_to((2.0, 0.0, 0.0), robot, speed=0.1, cruise=True)
+    assert float(fast.segments[0].twist.linear) == pytest.approx(0.175)  # 5 rad/s x 0.035 m
+    assert float(slow.segments[0].twist.linear) == pytest.approx(0.1)
+    assert slow.duration == pytest.approx(20.0)
+
+
+def test_a_fastest_goal_plan_keeps_within_the_body_limits() -> None:
+    from diffbot.body_limits import BodyLimits
+
+    robot = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, max_wheel_speed=5.0)
+    body = BodyLimits((-0.12, 0.12), (-0.4, 0.4))
+    p = plan_to((1.0, 1.0, math.pi / 2), robot, body=body)
+    for s in p.segments:
+        assert abs(float(s.twist.linear)) <= 0.12 * (1 + 1e-12)
+        assert abs(float(s.twist.angular)) <= 0.4 * (1 + 1e-12)
+    assert p.final_pose.x == pytest.approx(1.0, abs=1e-9)

@@ -959,3 +959,38 @@ def test_numbers_of_hundreds_or_thousands_of_digits_in_plan_files_are_named_as_e
         load_plan(path)
     assert str(info.value).startswith(str(path.parent / message))
     assert "\n" not in str(info.value)
+
+
+# --------------------------------------------------------------------------------------------
+# Body velocity limits
+
+
+def test_fastest_segments_take_as_long_as_the_body_limits_ask() -> None:
+    from diffbot.body_limits import BodyLimits
+
+    robot = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, max_wheel_speed=5.0)
+    body = BodyLimits((-0.1, 0.1), (-0.3, 0.3))
+    p = diffbot.plan(
+        diffbot.parse_plan("straight 1; spin 90; ccw 0.25 90"), robot, fastest=True, body=body
+    )
+    # 1 m at 0.1 m/s (the wheels could do 0.175); pi/2 at 0.3 rad/s; the arc at 0.3 rad/s
+    # (0.075 m/s, below 0.1).
+    assert [s.duration for s in p.segments] == pytest.approx(
+        [10.0, math.pi / 2 / 0.3, math.pi / 2 / 0.3], rel=1e-12
+    )
+    assert max(abs(float(s.twist.linear)) for s in p.segments) <= 0.1 * (1 + 1e-12)
+    assert max(abs(float(s.twist.angular)) for s in p.segments) <= 0.3 * (1 + 1e-12)
+
+
+def test_cruise_speed_above_a_body_limit_is_slowed_and_given_durations_kept() -> None:
+    from diffbot.body_limits import BodyLimits
+
+    body = BodyLimits((-0.05, 0.05), None)
+    p = diffbot.plan(
+        diffbot.parse_plan("straight 1; straight 1 4s"),
+        DiffDriveParams(wheel_radius=R, wheel_separation=B),
+        speed=0.2,
+        body=body,
+    )
+    assert p.segments[0].duration == pytest.approx(20.0)  # 0.05 m/s, not 0.2
+    assert p.segments[1].duration == 4.0  # given: kept, and reported over the limit

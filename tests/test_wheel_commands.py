@@ -84,3 +84,35 @@ def test_commands_too_large_to_compute_stop_the_wheels(robot: object, v: float, 
     assert commander.refused == 1
     fine = commander.step(0.07, 0.0, 0.01)
     assert fine.left == pytest.approx((2.0,))
+
+
+def test_body_limits_clamp_each_axis_as_the_controllers_clamped_input_test() -> None:
+    # ros2_controllers' test_open_loop_odometry_with_clamped_input: linear.x.max_velocity 0.5
+    # and angular.z.max_velocity 0.5; a command of 5.0 on either axis runs at 0.5.
+    from diffbot.body_limits import BodyLimits
+
+    commander = WheelCommander(BOT, body=BodyLimits((-0.5, 0.5), (-0.5, 0.5)))
+    out = commander.step(5.0, 0.0, 0.1)
+    assert (out.linear, out.angular) == pytest.approx((0.5, 0.0), abs=1e-12)
+    out = commander.step(0.0, 5.0, 0.1)
+    assert (out.linear, out.angular) == pytest.approx((0.0, 0.5), abs=1e-12)
+    # Both at once: each clamped apart, not scaled together (the radius changes).
+    out = commander.step(1.0, -0.2, 0.1)
+    assert (out.linear, out.angular) == pytest.approx((0.5, -0.2), abs=1e-12)
+
+
+def test_given_body_limits_replace_the_files_velocity_limits_in_the_limiter() -> None:
+    from diffbot.body_limits import BodyLimits
+
+    controller = ControllerConfig(
+        name="diff",
+        source="c.yaml",
+        ros_version=2,
+        linear=AxisLimits(max_velocity=1.0, max_acceleration=10.0),
+    )
+    commander = WheelCommander(
+        BOT.replace(controller=controller), body=BodyLimits((-0.3, 0.3), None)
+    )
+    executed = [commander.step(2.0, 0.0, 0.1).linear for _ in range(3)]
+    # 1 m/s per update of acceleration, then held at the given 0.3 m/s (the file says 1.0).
+    assert executed == pytest.approx([0.3, 0.3, 0.3], abs=1e-12)

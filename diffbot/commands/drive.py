@@ -16,6 +16,7 @@ from diffbot.commands.options import (
     warn,
 )
 from diffbot.commands.plan_options import PlanOptions, frame_id_option, plan_arguments
+from diffbot.commands.topic_options import CMD_VEL_HELP, distro_option, resolve_cmd_vel
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
 
@@ -50,13 +51,8 @@ DRIVE_RATE = 20.0
     is_flag=True,
     help="Per-side Float64MultiArray commands to the velocity controllers instead of cmd_vel.",
 )
-@click.option(
-    "--cmd-vel",
-    default="cmd_vel",
-    show_default=True,
-    metavar="TOPIC",
-    help="The velocity command topic.",
-)
+@click.option("--cmd-vel", metavar="TOPIC", help=CMD_VEL_HELP)
+@distro_option
 @click.option(
     "--left-topic",
     default="left_wheel_velocity_controller/commands",
@@ -89,7 +85,8 @@ def drive(
     stamped: bool,
     frame_id: str,
     wheels: bool,
-    cmd_vel: str,
+    cmd_vel: str | None,
+    distro: str | None,
     left_topic: str,
     right_topic: str,
     wait: float,
@@ -111,7 +108,7 @@ def drive(
           with no robot listening: exit code 2 after the 1 s wait
     """
     for option, name in (
-        ("--cmd-vel", cmd_vel),
+        ("--cmd-vel", cmd_vel or "cmd_vel"),
         ("--left-topic", left_topic),
         ("--right-topic", right_topic),
     ):
@@ -121,11 +118,12 @@ def drive(
         warn("--stamped changes Twist commands only, and --wheels sends none")
     built = plan_options.build(plan_options.request(robot, tokens))
     source, params = built.source, built.params
-    from diffbot.formats.plan_table import violation_lines
+    cmd_vel, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
     from diffbot.ramps import sampled
 
-    if not built.steps.within_limit:
-        for line in violation_lines(built.steps):
+    limit_lines = built.limit_lines()
+    if limit_lines:
+        for line in limit_lines:
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
     ramped = sampled(built.made)

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 import click
 
+from diffbot.commands.limit_options import body_limit_option
 from diffbot.commands.live import (
     PUBLISH_RATE,
     RATE,
@@ -27,6 +28,7 @@ from diffbot.commands.options import (
     warn,
 )
 from diffbot.commands.paths import InputPath
+from diffbot.commands.topic_options import CMD_VEL_HELP, distro_option, resolve_cmd_vel
 from diffbot.kinematics import DiffDriveParams
 
 if TYPE_CHECKING:
@@ -113,6 +115,10 @@ def odom(
     from the options. A joint state without a wheel joint, with a NaN, going back in time or
     with mismatched arrays is skipped and counted in the status line.
 
+    It serves diff_drive_controller's ~/set_odometry (control_msgs/srv/SetOdometry: x, y, yaw)
+    and a ~/reset_odometry (std_srvs/srv/Empty) back to the origin, under the controller's name
+    when the controllers file names one (else /diffbot_odometry/...), for 'ros2 service call'.
+
     \b
     Examples:
       diffbot node odom --duration 1     listen for a second, then say what was counted
@@ -145,13 +151,8 @@ def odom(
 @node.command("ik")
 @click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
 @robot_options
-@click.option(
-    "--cmd-vel",
-    default="cmd_vel",
-    show_default=True,
-    metavar="TOPIC",
-    help="The velocity command topic to read.",
-)
+@click.option("--cmd-vel", metavar="TOPIC", help=CMD_VEL_HELP)
+@distro_option
 @click.option(
     "--stamped",
     is_flag=True,
@@ -184,19 +185,24 @@ def odom(
 @click.option(
     "--no-limits", is_flag=True, help="Ignore the controllers file's acceleration and jerk limits."
 )
+@body_limit_option(0)
+@body_limit_option(1)
 @duration_option
 @announce_option
 @quiet_option
 def ik(
     robot: RobotOptions,
     description: str | None,
-    cmd_vel: str,
+    cmd_vel: str | None,
+    distro: str | None,
     stamped: bool,
     left_topic: str | None,
     right_topic: str | None,
     timeout: float,
     rate: float | None,
     no_limits: bool,
+    max_linear: float | None,
+    max_angular: float | None,
     duration: float | None,
     announce: bool,
     quiet: bool,
@@ -207,28 +213,34 @@ def ik(
 
     Wheel speeds over the motor limit are scaled down together, keeping the turning radius; the
     controllers file's velocity, acceleration and jerk limits go through diff_drive_controller's
-    limiter. A NaN or infinite command is refused and the wheels stop; so they do when CMD_VEL
-    goes quiet for --timeout seconds.
+    limiter. Linear and angular commands beyond --max-linear and --max-angular (else the
+    controllers file's linear.x and angular.z max_velocity) are clamped apart, as the controller
+    does (the turning radius changes). A NaN or infinite command is refused and the wheels
+    stop; so they do when CMD_VEL goes quiet for --timeout seconds.
 
     \b
     Examples:
       diffbot node ik --duration 1       listen for a second, then say what was counted
       ROS_LOCALHOST_ONLY=1 diffbot node ik --stamped
     """
-    checked_topic("--cmd-vel", cmd_vel)
+    if cmd_vel is not None:
+        checked_topic("--cmd-vel", cmd_vel)
+    from diffbot.body_limits import body_limits
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
 
     params = robot.with_path(description, {}).load()
     left, right = command_topics(robot.controllers, params)
+    topic, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
     controller = params.controller
     settings = IkSettings(
-        cmd_vel=cmd_vel,
+        cmd_vel=topic,
         stamped=True if stamped else None,
         left_topic=checked_topic("--left-topic", left_topic or left),
         right_topic=checked_topic("--right-topic", right_topic or right),
         timeout=timeout,
         rate=rate or (controller.update_rate if controller and controller.update_rate else 100.0),
         use_limits=not no_limits,
+        body=body_limits(params, max_linear, max_angular),
     )
     run_node(
         lambda: _warning(InverseKinematicsNode(params, settings)),

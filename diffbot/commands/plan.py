@@ -29,11 +29,12 @@ from diffbot.commands.plan_options import (
     frame_id_option,
     plan_input_options,
 )
+from diffbot.commands.topic_options import distro_option, resolve_cmd_vel
 from diffbot.errors import EXIT_CHECK_FAILED, OutputError
 from diffbot.formats.command_stream import write_stream_csv, write_stream_json
 from diffbot.formats.plan_data import plan_csv, plan_json
 from diffbot.formats.plan_messages import plan_twist, plan_wheels
-from diffbot.formats.plan_table import plan_table, violation_lines
+from diffbot.formats.plan_table import body_limit_line, plan_table
 from diffbot.formats.text import fmt
 from diffbot.io.command_bag import write_command_bag
 from diffbot.io.outputs import atomic_text, check_not_input, input_clash, write_text_atomic
@@ -97,11 +98,12 @@ __all__ = ["plan_command"]
 @frame_id_option
 @click.option(
     "--cmd-vel-topic",
-    default="cmd_vel",
-    show_default=True,
     metavar="TOPIC",
-    help="Twist topic (twist and ros2 formats).",
+    help="Twist topic (twist and ros2 formats, --bag) [the controllers file's diff-drive "
+    "controller's /<name>/cmd_vel, TwistStamped from Jazzy on (cmd_vel_unstamped with "
+    "use_stamped_vel: false on Humble), else cmd_vel].",
 )
+@distro_option
 @click.option(
     "--left-topic",
     default="left_wheel_velocity_controller/commands",
@@ -141,7 +143,8 @@ def plan_command(
     rate: float | None,
     stamped: bool,
     frame_id: str,
-    cmd_vel_topic: str,
+    cmd_vel_topic: str | None,
+    distro: str | None,
     left_topic: str,
     right_topic: str,
     output: str | None,
@@ -175,8 +178,11 @@ def plan_command(
     commands: --rate HZ samples them (csv, json), --out DIR --bag writes them for 'ros2 bag play'.
 
     Segments without a duration run at --speed (spins at --spin-rate). The robot starts at
-    (0, 0) heading along x. Exit code 1 when a wheel exceeds the motor limit (the output is still
-    printed); the message names the segment, the wheel and the shortest duration that fits.
+    (0, 0) heading along x. Exit code 1 when a wheel exceeds the motor limit, or a segment's
+    velocity the body limits (--max-linear, --max-angular, or the controller's linear.x and
+    angular.z max_velocity); the output is still printed, and the message names the segment and
+    the shortest duration that fits. Segments the plan times itself (--speed, --fastest, goal
+    plans) take as long as the body limits ask.
 
     \b
     Examples:
@@ -198,7 +204,8 @@ def plan_command(
         warn("--stamped changes Twist commands only (twist, json, ros2 and --bag)")
     if frame_id != "base_link" and not stamped:
         warn("--frame-id only applies to --stamped commands")
-    check_topic("--cmd-vel-topic", cmd_vel_topic)
+    if cmd_vel_topic is not None:
+        check_topic("--cmd-vel-topic", cmd_vel_topic)
     check_topic("--left-topic", left_topic)
     check_topic("--right-topic", right_topic)
     request = plan_options.request(robot, tokens)
@@ -214,10 +221,11 @@ def plan_command(
         check_not_input(Path(output))
     built = plan_options.build(request)
     source, params, made = built.source, built.params, built.made
+    cmd_vel_topic, stamped = resolve_cmd_vel(params, cmd_vel_topic, stamped, distro)
     ramped: RampedPlan | None = None
-    p = steps = made if isinstance(made, Plan) else made.summary
+    p = made if isinstance(made, Plan) else made.summary
     if not isinstance(made, Plan):
-        ramped, steps = made, made.steps
+        ramped = made
     frame = frame_id if stamped else None
     if as_bag:
         if output is None:
@@ -244,7 +252,7 @@ def plan_command(
             f"({fmt((count - 1) / bag_rate)} s) to {output}: {kind} on {cmd_vel_topic}, "
             f"Float64MultiArray on {left_topic} and {right_topic}"
         )
-        _check_limit(steps)
+        _check_limit(built.limit_lines())
         return
     if rate is not None and output_format in ("csv", "json"):
         commands = _commands(made)
@@ -260,7 +268,7 @@ def plan_command(
 
         read = [source.path, *params.description_files]
         _write_streamed(write, output, force, [Path(x) for x in read if x is not None])
-        _check_limit(steps)
+        _check_limit(built.limit_lines())
         return
     if ramped is not None and output_format in ("csv", "twist", "wheels", "ros2"):
         fail(
@@ -299,7 +307,8 @@ def plan_command(
             frame_id=frame_id,
         )
     else:
-        text = plan_table(p, source.label, wide=wide) + source.note
+        text = plan_table(p, source.label, wide=wide) + body_limit_line(p, built.body)
+        text += source.note
         if ramped is not None:
             text += RAMP_NOTE
     if output is None:
@@ -313,13 +322,13 @@ def plan_command(
             inputs=[Path(path) for path in inputs],
             executable=output_format == "ros2",
         )
-    _check_limit(steps)
+    _check_limit(built.limit_lines())
 
 
-def _check_limit(p: Plan) -> None:
-    """Exit 1, naming every wheel over the motor limit, when there is one."""
-    if not p.within_limit:
-        for line in violation_lines(p):
+def _check_limit(lines: list[str]) -> None:
+    """Exit 1, naming every segment over the motor or a body velocity limit, when there is one."""
+    if lines:
+        for line in lines:
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
 

@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import click
 
+from diffbot.body_limits import UNLIMITED, BodyLimits
+from diffbot.commands.limit_options import body_limit_options
 from diffbot.commands.options import (
     POSITIVE,
     F,
@@ -92,11 +94,22 @@ class MadePlan:
     source: PlanInput
     params: DiffDriveParams
     made: Plan | RampedPlan
+    #: The body velocity limits the plan was made within.
+    body: BodyLimits = UNLIMITED
 
     @property
     def steps(self) -> Plan:
         """The step plan: the cruise speeds, the motor limit check, the exact poses."""
         return self.made if isinstance(self.made, Plan) else self.made.steps
+
+    def limit_lines(self) -> list[str]:
+        """One ``error:`` line per segment over the motor limit, then per segment over a body
+        velocity limit; empty when the plan keeps within every limit."""
+        from diffbot.formats.plan_table import body_violation_lines, violation_lines
+
+        steps = self.steps
+        lines = [] if steps.within_limit else violation_lines(steps)
+        return lines + body_violation_lines(steps, self.body)
 
 
 def plan_input(
@@ -230,6 +243,8 @@ class PlanOptions:
     side: float | None = None
     clockwise: bool = False
     goal: GoalOptions | None = None
+    max_linear: float | None = None
+    max_angular: float | None = None
     #: The cruise options given on the command line (not their defaults), by option name.
     given: tuple[str, ...] = ()
 
@@ -277,18 +292,33 @@ class PlanOptions:
                 "--fastest needs a motor limit, and the robot description has none: "
                 "give one with --max-rpm RPM"
             )
-        source = self.resolve(request.source, params)
-        return MadePlan(source, params, self.make(source.segments, params))
+        body = self.body_limits(params)
+        source = self.resolve(request.source, params, body)
+        return MadePlan(source, params, self.make(source.segments, params, body), body)
+
+    def body_limits(self, params: DiffDriveParams) -> BodyLimits:
+        """The body velocity limits: --max-linear and --max-angular, else the controller's."""
+        from diffbot.body_limits import body_limits
+
+        return body_limits(params, self.max_linear, self.max_angular)
+
+    @property
+    def cruise(self) -> bool:
+        """Whether a goal plan is timed at the cruise speeds: --speed or --spin-rate given."""
+        return any(option in self.given for option in _CRUISE)
 
     def at_limit(self, params: DiffDriveParams) -> bool:
         """Whether segments run at the motor limit: --fastest, or a fastest goal plan for a
-        robot with a limit."""
+        robot with a limit when no cruise speed is given."""
         if self.fastest:
             return True
         has_limit = params.max_wheel_speed is not None
-        return self.goal is not None and self.goal.shape == "fastest" and has_limit
+        fastest_goal = self.goal is not None and self.goal.shape == "fastest"
+        return fastest_goal and has_limit and not self.cruise
 
-    def resolve(self, source: PlanInput, params: DiffDriveParams) -> PlanInput:
+    def resolve(
+        self, source: PlanInput, params: DiffDriveParams, body: BodyLimits | None = None
+    ) -> PlanInput:
         """The plan input with a goal plan's segments and its note; a plan input without a goal
         as it is. A goal at the start is no plan: said so, and the command ends with exit code
         0."""
@@ -305,6 +335,8 @@ class PlanOptions:
             "speed": self.speed,
             "spin_rate": self.spin_rate,
             "fastest": self.fastest,
+            "body": body,
+            "cruise": self.cruise,
         }
         made = plan_through(points, params, shape=goal.shape, **options)
         where = " then ".join(_pose_text(*p) for p in points)
@@ -320,7 +352,9 @@ class PlanOptions:
             for shape, t in times.items()
             if shape != goal.shape
         )
-        at = "at the motor limit" if made.limit is not None else "at the cruise speeds"
+        at = "at the motor limit" if self.at_limit(params) else "at the cruise speeds"
+        if body is not None and not body.unlimited:
+            at += " within the body velocity limits"
         chosen = f"{fmt(times[goal.shape] or 0.0, 4)} s"
         if goal.shape == "fastest":
             note = f"shape fastest (the least time {at}): {chosen}; {others}\n"
@@ -355,7 +389,9 @@ class PlanOptions:
         )
         return from_controller or any(v is not None for v in self.ramp_options.values())
 
-    def make(self, segments: Sequence[Segment], params: DiffDriveParams) -> Plan | RampedPlan:
+    def make(
+        self, segments: Sequence[Segment], params: DiffDriveParams, body: BodyLimits | None = None
+    ) -> Plan | RampedPlan:
         """The plan of ``segments`` for the robot, as these options ask: ramped when
         :meth:`ramped` says so, else a step plan. Warns about cruise options that change
         nothing."""
@@ -366,6 +402,7 @@ class PlanOptions:
             speed=self.speed,
             spin_rate=self.spin_rate,
             fastest=self.at_limit(params),
+            body=body,
         )
         if not self.ramped(params):
             return steps
@@ -431,7 +468,9 @@ _GOAL_OPTIONS = [
         type=click.Choice(["fastest", "spin-straight-spin", "dubins", "reeds-shepp"]),
         default="fastest",
         show_default=True,
-        help="fastest: the least time at the motor limit (turns in place and straights); "
+        help="fastest: the least time at the whole motor limit (turns in place and straights; "
+        "at --speed and --spin-rate when either is given, and within --max-linear and "
+        "--max-angular); "
         "spin-straight-spin; dubins (forwards) and reeds-shepp (both ways): the shortest path "
         "with arcs of --min-radius.",
     ),
@@ -471,7 +510,7 @@ def _goal_options(kw: dict[str, Any]) -> GoalOptions | None:
 def _plan_options(kw: dict[str, Any]) -> PlanOptions:
     names = ("example", "speed", "spin_rate", "fastest")
     ramps = ("max_accel", "max_angular_accel", "max_wheel_accel", "max_jerk", "steps")
-    keywords = (*ramps, "side", "clockwise")
+    keywords = (*ramps, "side", "clockwise", "max_linear", "max_angular")
     ctx = click.get_current_context(silent=True)
     given = tuple(
         option
@@ -517,12 +556,14 @@ plan_input_options = option_group(
             "--fastest",
             is_flag=True,
             help="Give every segment the shortest duration that keeps its wheels within the "
-            "limit (durations given in the plan are ignored).",
+            "whole motor limit and its body within --max-linear and --max-angular (durations "
+            "given in the plan are ignored).",
         ),
         *(
             click.option(name, type=POSITIVE, metavar=unit, help=text)
             for name, (unit, text) in _RAMPS.items()
         ),
+        *body_limit_options,
         click.option(
             "--steps",
             is_flag=True,

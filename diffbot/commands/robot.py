@@ -9,6 +9,8 @@ from typing import Any
 
 import click
 
+from diffbot.body_limits import BodyLimits, body_limits, clamp, over
+from diffbot.commands.limit_options import body_limit_option
 from diffbot.commands.options import (
     NUMBERS,
     RobotOptions,
@@ -34,6 +36,7 @@ from diffbot.formats.text import fmt
 from diffbot.io.outputs import write_text_atomic
 from diffbot.kinematics import (
     DiffDriveParams,
+    Twist,
     WheelSpeeds,
     forward,
     inverse,
@@ -174,16 +177,29 @@ def _speeds_json(params: DiffDriveParams, joints: WheelSpeeds) -> dict[str, Any]
     "--saturate",
     "do_saturate",
     is_flag=True,
-    help="Scale both wheels down to the motor limit, keeping the turning radius.",
+    help="Clamp linear and angular velocity apart into the body limits, as "
+    "diff_drive_controller does, then scale both wheels down to the motor limit, keeping the "
+    "turning radius.",
 )
+@body_limit_option(0)
+@body_limit_option(1)
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
-def ik(robot: RobotOptions, tokens: tuple[str, ...], do_saturate: bool, as_json: bool) -> None:
+def ik(
+    robot: RobotOptions,
+    tokens: tuple[str, ...],
+    do_saturate: bool,
+    max_linear: float | None,
+    max_angular: float | None,
+    as_json: bool,
+) -> None:
     """Wheel speeds for a body velocity (inverse kinematics).
 
     LINEAR is the forward speed (m/s), ANGULAR the yaw rate (rad/s, positive counter-clockwise),
     as in a cmd_vel Twist. Prints the joint velocity commands (rad/s and rpm, with the joints'
-    direction signs applied) and whether they are within the motor limit. Exit code 1 when a wheel
-    is over the limit (unless --saturate). The robot is --robot PATH, or PATH before LINEAR.
+    direction signs applied) and whether they are within the motor limit and the body limits
+    (--max-linear, --max-angular, else the controllers file's linear.x and angular.z
+    max_velocity). Exit code 1 when a wheel or the body velocity is over a limit (unless
+    --saturate). The robot is --robot PATH, or PATH before LINEAR.
 
     \b
     Examples:
@@ -192,21 +208,31 @@ def ik(robot: RobotOptions, tokens: tuple[str, ...], do_saturate: bool, as_json:
     """
     (linear, angular), robot = _robot_and_numbers(robot, tokens, ("LINEAR", "ANGULAR"))
     p = robot.load()
-    wheels = inverse(p, linear, angular)
+    body = body_limits(p, max_linear, max_angular)
+    asked = Twist(linear, angular)
+    beyond = over(asked, body)
+    clamped = do_saturate and bool(beyond)
+    if clamped:
+        asked = clamp(asked, body)
+    wheels = inverse(p, float(asked.linear), float(asked.angular))
     check_finite(
         "wheel speeds", float(wheels.left), float(wheels.right), float(rpm_from_rad_s(wheels.left))
     )
     check_finite("wheel speeds", float(rpm_from_rad_s(wheels.right)))
-    saturated = False
-    if do_saturate and not within_limit(p, wheels):
+    motor_scaled = do_saturate and not within_limit(p, wheels)
+    if motor_scaled:
         wheels = saturate(p, wheels)
-        saturated = True
+    saturated = clamped or motor_scaled
+    body_ok = not over(forward(p, wheels.left, wheels.right), body)
     joints = joint_from_wheel(p, wheels)
     ok = within_limit(p, wheels)
     fraction = limit_fraction(p, wheels)
     if as_json:
         data = _speeds_json(p, joints)
         data["within_limit"] = ok
+        if not body.unlimited:
+            data["body_limits"] = {"linear": body.linear, "angular": body.angular}
+            data["within_body_limits"] = body_ok
         if do_saturate:
             data["saturated"] = saturated
         emit_json(data)
@@ -223,15 +249,43 @@ def ik(robot: RobotOptions, tokens: tuple[str, ...], do_saturate: bool, as_json:
             twist = forward(p, wheels.left, wheels.right)
             click.echo(
                 f"saturated    to linear {fmt(float(twist.linear))} m/s, "
-                f"angular {fmt(float(twist.angular))} rad/s (same turning radius)"
+                f"angular {fmt(float(twist.angular))} rad/s "
+                + _saturation_text(clamped, motor_scaled)
             )
         if fraction is None:
             click.echo("motor limit  none in the description")
         else:
             state = "within" if ok else "OVER"
             click.echo(f"motor limit  {limit_text(p)}: {state}, {100 * float(fraction):.1f}% used")
+        if not body.unlimited:
+            click.echo(f"body limits  {_body_text(body)}: {'within' if body_ok else 'OVER'}")
     if not ok:
         _over_limit(p, wheels, " (try --saturate)")
+    if beyond and not do_saturate:
+        click.echo(
+            f"error: the {' and '.join(beyond)} velocity exceeds the body limits "
+            f"({_body_text(body)}) (try --saturate)",
+            err=True,
+        )
+        sys.exit(EXIT_CHECK_FAILED)
+
+
+def _saturation_text(clamped: bool, motor_scaled: bool) -> str:
+    """What --saturate did, for people."""
+    if not clamped:
+        return "(same turning radius)"
+    text = "(linear and angular clamped apart into the body limits, as diff_drive_controller does"
+    return text + (", then both wheels scaled to the motor limit)" if motor_scaled else ")")
+
+
+def _body_text(body: BodyLimits) -> str:
+    """The body velocity limits for people: ranges in m/s and rad/s."""
+    parts = []
+    if body.linear is not None:
+        parts.append(f"linear [{fmt(body.linear[0])}, {fmt(body.linear[1])}] m/s")
+    if body.angular is not None:
+        parts.append(f"angular [{fmt(body.angular[0])}, {fmt(body.angular[1])}] rad/s")
+    return ", ".join(parts)
 
 
 def _over_limit(p: DiffDriveParams, wheels: WheelSpeeds, hint: str = "") -> None:

@@ -37,7 +37,6 @@ from diffbot.commands.plan_options import (
 from diffbot.commands.progress import progress
 from diffbot.commands.simulate_loop import LoopRequest, run_loop
 from diffbot.errors import EXIT_CHECK_FAILED
-from diffbot.formats.plan_table import violation_lines
 from diffbot.formats.text import fmt
 from diffbot.io.bag import JointStatesBagWriter
 from diffbot.io.csvfile import joint_states_header, joint_states_lines
@@ -279,12 +278,15 @@ def simulate(
 
         sampling = (rate, ticks, noise, seed)
         run_loop(loop, made, params, sampling, real, write, out, source.label, as_json)
-        if not p.within_limit:
-            for line in violation_lines(p):
+        limit_lines = built.limit_lines()
+        if limit_lines:
+            for line in limit_lines:
                 click.echo(line, err=True)
             sys.exit(EXIT_CHECK_FAILED)
         return
-    motion, executed = _executed(made, params)
+    from diffbot.body_limits import with_velocity_limits
+
+    motion, executed = _executed(made, with_velocity_limits(params, built.body))
     duration, extra = motion.duration, len(boundaries(motion))
     count = sample_count(duration, rate, extra)
     if count > MAX_SAMPLES:
@@ -360,8 +362,9 @@ def simulate(
                 ]
             for label, value in rows:
                 click.echo(f"{label:<11} {value}")
-    if not p.within_limit:
-        for line in violation_lines(p):
+    limit_lines = built.limit_lines()
+    if limit_lines:
+        for line in limit_lines:
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
 

@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 from diffbot.formats.text import ceil_text, fixed, fmt
 from diffbot.kinematics import DiffDriveParams, rpm_from_rad_s
 from diffbot.planfile import format_plan
 from diffbot.segments import describe_segment
 from diffbot.trajectory import Plan, Violation
+
+if TYPE_CHECKING:
+    from diffbot.body_limits import BodyLimits, BodyViolation
 
 #: Significant digits of the plan text above the table (machine outputs keep every digit).
 HEADER_DIGITS = 6
@@ -181,3 +185,44 @@ def violation_lines(p: Plan) -> list[str]:
             f"{ceil_text(found[0].shortest_duration)} s"
         )
     return lines
+
+
+def body_violation_lines(p: Plan, limits: BodyLimits) -> list[str]:
+    """One ``error:`` line per segment over a body velocity limit, with the shortest duration
+    that fits (both the linear and the angular limit)."""
+    from diffbot.body_limits import violations
+
+    units = {"linear": "m/s", "angular": "rad/s"}
+    by_segment: dict[int, list[BodyViolation]] = {}
+    for v in violations(p, limits):
+        by_segment.setdefault(v.index, []).append(v)
+    lines = []
+    for index, found in by_segment.items():
+        s = p.segments[index]
+        what = " and ".join(
+            f"{v.axis} velocity {fmt(v.value, 4)} {units[v.axis]} is outside "
+            f"[{fmt(v.bounds[0], 4)}, {fmt(v.bounds[1], 4)}]"
+            for v in found
+        )
+        lines.append(
+            f"error: segment {index + 1} ({describe_segment(s.segment)}, {fmt(s.duration, 6)} s): "
+            f"{what}, the body velocity limits; shortest duration that fits: "
+            f"{ceil_text(found[0].shortest_duration)} s"
+        )
+    return lines
+
+
+def body_limit_line(p: Plan, limits: BodyLimits) -> str:
+    """The line under a table that checks the body velocity limits; empty without any."""
+    if limits.unlimited:
+        return ""
+    from diffbot.body_limits import violations
+
+    parts = []
+    if limits.linear is not None:
+        parts.append(f"linear [{fmt(limits.linear[0])}, {fmt(limits.linear[1])}] m/s")
+    if limits.angular is not None:
+        parts.append(f"angular [{fmt(limits.angular[0])}, {fmt(limits.angular[1])}] rad/s")
+    over = sorted({v.index + 1 for v in violations(p, limits)})
+    state = "within" if not over else "OVER in segment" + ("s " if len(over) > 1 else " ")
+    return f"body limits {', '.join(parts)}: {state}{', '.join(map(str, over))}\n"

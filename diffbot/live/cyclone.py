@@ -29,9 +29,11 @@ try:
         bounded_str,
         float64,
         int32,
+        int64,
         sequence,
         uint8,
         uint32,
+        uint64,
     )
     from cyclonedds.pub import DataWriter
     from cyclonedds.qos import Policy, Qos
@@ -65,7 +67,9 @@ __all__ = [
     "final",
     "float64",
     "int32",
+    "int64",
     "sequence",
     "uint8",
     "uint32",
+    "uint64",
 ]

@@ -15,6 +15,7 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
+from diffbot.body_limits import BodyLimits
 from diffbot.execution import DEFAULT_UPDATE_RATE
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
@@ -46,6 +47,8 @@ class IkSettings:
         timeout: seconds without a command after which the wheels are stopped (0: never).
         rate: controller updates per second (Hz) when the limiter applies.
         use_limits: apply the controller configuration's limiter.
+        body: body velocity limits (m/s, rad/s) that replace the configuration's velocity
+            limits; linear and angular commands are clamped apart, as the controller does.
     """
 
     cmd_vel: str = "cmd_vel"
@@ -55,6 +58,7 @@ class IkSettings:
     timeout: float = 0.5
     rate: float = DEFAULT_UPDATE_RATE
     use_limits: bool = True
+    body: BodyLimits | None = None
 
 
 class InverseKinematicsNode(Node):
@@ -78,7 +82,7 @@ class InverseKinematicsNode(Node):
         finite_in_range(settings.timeout, "timeout", 0.0, MAX_PLAN_DURATION, error=LiveError)
         finite_in_range(settings.rate, "rate", 1.0 / MAX_PLAN_DURATION, error=LiveError)
         self.settings = settings
-        self.commander = WheelCommander(params, use_limits=settings.use_limits)
+        self.commander = WheelCommander(params, use_limits=settings.use_limits, body=settings.body)
         self.commands = 0
         #: Commands refused (:mod:`diffbot.live.wire`), by reason.
         self.refusals = Refusals()

@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from diffbot.controller_config import ControllerConfig
+from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
 from diffbot.live.cdr import decode_joint_state, encode_odometry, encode_tf
@@ -52,6 +53,9 @@ class OdometrySettings:
         pose_covariance: diagonal of the pose covariance (m², rad²).
         twist_covariance: diagonal of the twist covariance ((m/s)², (rad/s)²).
         window: velocity rolling window (steps).
+        services: the name the odometry services are under (``/<services>/set_odometry``,
+            ``/<services>/reset_odometry``): the controller's name when a controllers file
+            names one, else the node's (None).
     """
 
     joint_states: str = "joint_states"
@@ -63,6 +67,7 @@ class OdometrySettings:
     pose_covariance: tuple[float, ...] = DEFAULT_POSE_COVARIANCE
     twist_covariance: tuple[float, ...] = DEFAULT_TWIST_COVARIANCE
     window: int = 1
+    services: str | None = None
 
     def with_controller(
         self, controller: ControllerConfig | None, **given: Any
@@ -79,6 +84,7 @@ class OdometrySettings:
                 "pose_covariance": controller.pose_covariance_diagonal,
                 "twist_covariance": controller.twist_covariance_diagonal,
                 "window": controller.velocity_rolling_window_size,
+                "services": controller.name,
             }
             values = {k: v for k, v in found.items() if v is not None}
         values.update({k: v for k, v in given.items() if v is not None})
@@ -145,6 +151,39 @@ class OdometryNode(Node):
             JOINT_STATES,
             decode_joint_state,
         )
+        base = "/" + (settings.services or self.name).strip("/")
+        #: The services' names: diff_drive_controller's ``~/set_odometry``, and a reset.
+        self.set_service = f"{base}/set_odometry"
+        self.reset_service = f"{base}/reset_odometry"
+        self.create_service(
+            types.SetOdometryRequest, types.SetOdometryResponse, self.set_service, self.on_set
+        )
+        self.create_service(
+            types.EmptyRequest, types.EmptyResponse, self.reset_service, self.on_reset
+        )
+        #: Service calls answered, by service name.
+        self.calls: dict[str, int] = {}
+
+    def on_set(self, request: types.SetOdometryRequest) -> types.SetOdometryResponse:
+        """control_msgs/srv/SetOdometry: put the odometry at (x, y, yaw), keeping the wheels'
+        baseline as diff_drive_controller's ``set_odometry`` does (z, roll and pitch, which a
+        planar odometry has not, are ignored as there). A value that is not finite is
+        refused."""
+        self.calls[self.set_service] = self.calls.get(self.set_service, 0) + 1
+        try:
+            self.odometry.reset(request.x, request.y, request.yaw)
+        except ParameterError:
+            return types.SetOdometryResponse(
+                success=False, message="x, y and yaw must be finite numbers"
+            )
+        return types.SetOdometryResponse(success=True, message="Odometry set request accepted")
+
+    def on_reset(self, request: types.EmptyRequest) -> types.EmptyResponse:
+        """std_srvs/srv/Empty: put the odometry back at the origin (the wheels' baseline
+        kept)."""
+        self.calls[self.reset_service] = self.calls.get(self.reset_service, 0) + 1
+        self.odometry.reset()
+        return types.EmptyResponse()
 
     def on_joint_state(self, message: types.JointState) -> None:
         """Integrate one joint state and publish the odometry it gives (at most at the rate)."""

@@ -4,11 +4,11 @@ every endpoint (a Cyclone endpoint of a ``final`` type would otherwise also offe
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Final
+from typing import Any, Final
 
 from diffbot.live.cyclone import Policy, Qos
 
-__all__ = ["LATCHED", "PUBLISHER", "SUBSCRIPTION", "TF", "QosProfile"]
+__all__ = ["LATCHED", "PUBLISHER", "SERVICE", "SUBSCRIPTION", "TF", "QosProfile"]
 
 
 @dataclass(frozen=True)
@@ -22,8 +22,9 @@ class QosProfile:
     #: reader's :attr:`Subscription.dropped`), instead of silently overwriting the oldest.
     drop_newest: bool = False
 
-    def qos(self) -> Qos:
-        """The cyclonedds QoS, with plain CDR (XCDR1) forced as ROS 2 expects."""
+    def qos(self, user_data: bytes | None = None) -> Qos:
+        """The cyclonedds QoS, with plain CDR (XCDR1) forced as ROS 2 expects, and
+        ``user_data`` when given (how rmw_cyclonedds pairs a service's two endpoints)."""
         reliability = (
             Policy.Reliability.Reliable(max_blocking_time=100_000_000)
             if self.reliable
@@ -32,7 +33,9 @@ class QosProfile:
         durability = (
             Policy.Durability.TransientLocal if self.transient_local else Policy.Durability.Volatile
         )
-        representation = Policy.DataRepresentation(use_cdrv0_representation=True)
+        extra: list[Any] = [Policy.DataRepresentation(use_cdrv0_representation=True)]
+        if user_data is not None:
+            extra.append(Policy.Userdata(user_data))
         if self.drop_newest:
             return Qos(
                 reliability,
@@ -41,15 +44,15 @@ class QosProfile:
                 Policy.ResourceLimits(
                     max_samples=self.depth, max_instances=-1, max_samples_per_instance=self.depth
                 ),
-                representation,
+                *extra,
             )
-        return Qos(
-            reliability, durability, Policy.History.KeepLast(depth=self.depth), representation
-        )
+        return Qos(reliability, durability, Policy.History.KeepLast(depth=self.depth), *extra)
 
 
 #: rclpy's default publisher profile: reliable, volatile, keep last 10.
 PUBLISHER: Final = QosProfile()
+#: rmw's services profile, for both of a service's topics: reliable, volatile, keep last 10.
+SERVICE: Final = QosProfile()
 #: /tf as tf2_ros' TransformBroadcaster publishes it: depth 100.
 TF: Final = QosProfile(depth=100)
 #: /tf_static and /robot_description: late joiners still get the last message.

@@ -50,7 +50,7 @@ from diffbot.live.endpoints import Publisher, Subscription, Timer
 from diffbot.live.errors import INSTALL_HINT, LiveError
 from diffbot.live.names import check_node_name, check_topic
 from diffbot.live.participant import participant
-from diffbot.live.qos import LATCHED, PUBLISHER, SUBSCRIPTION, TF, QosProfile
+from diffbot.live.qos import LATCHED, PUBLISHER, SERVICE, SUBSCRIPTION, TF, QosProfile
 from diffbot.live.signals import caught, deferred
 
 __all__ = [
@@ -77,6 +77,7 @@ __all__ = [
 _WAIT_SLICE: Final = 0.05
 
 M = TypeVar("M", bound=IdlStruct)
+R = TypeVar("R", bound=IdlStruct)
 N = TypeVar("N", bound="Node")
 
 
@@ -100,6 +101,8 @@ class Node:
         self._waitset.attach(self._wake)
         self._topics: dict[tuple[str, str], Topic[Any]] = {}
         self._subscriptions: list[Subscription[Any]] = []
+        self._services: list[Subscription[Any]] = []
+        self._checking = False
         self._timers: list[Timer] = []
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -114,8 +117,8 @@ class Node:
         #: Called with each new warning (the commands print it).
         self.warn: Callable[[str], None] = lambda message: None
 
-    def _topic(self, msg_type: type[M], name: str) -> Topic[M]:
-        dds_name = dds_topic(check_topic(name))
+    def _topic(self, msg_type: type[M], name: str, dds_name: str | None = None) -> Topic[M]:
+        dds_name = dds_topic(check_topic(name)) if dds_name is None else dds_name
         key = (dds_name, msg_type.__idl_typename__)
         topic = self._topics.get(key)
         if topic is None:
@@ -157,14 +160,66 @@ class Node:
             topic,
             type_name=msg_type.__idl_typename__,
         )
-        if not self._subscriptions:
-            self.create_timer(1.0, self.check_types)
+        self._check_types_every_second()
         self.reader_guids.append(reader.guid.bytes)
         if self._announce is not None:
             self._announce()
         self._waitset.attach(ReadCondition(reader, SampleState.Any))
         self._subscriptions.append(subscription)
         return subscription
+
+    def create_service(
+        self,
+        request_type: type[M],
+        response_type: type[R],
+        name: str,
+        handler: Callable[[M], R],
+    ) -> Subscription[M]:
+        """A ROS 2 service ``name`` as rmw_cyclonedds offers one: requests read from the DDS
+        topic ``rq/<name>Request``, each answered by ``handler``'s response on
+        ``rr/<name>Reply`` with the request's client id and sequence number copied in (both
+        types lead with the ``guid`` and ``seq`` of its request header; see
+        :mod:`diffbot.live.types`). Reliable, volatile, keep last 10, as rmw's services
+        profile. The subscription returned counts requests (``received``, ``malformed``)."""
+        base = check_topic(name).lstrip("/")
+        # rmw_cyclonedds pairs a service's reader and writer by this id in their user data
+        # (a client waits for both before it calls).
+        service_id = ".".join(f"{b:x}" for b in os.urandom(16))
+        qos = SERVICE.qos(f"serviceid={service_id};".encode())
+        reply = DataWriter(
+            self.participant, self._topic(response_type, name, f"rr/{base}Reply"), qos
+        )
+        self.writer_guids.append(reply.guid.bytes)
+
+        def answer(request: M) -> None:
+            response = handler(request)
+            response.guid = request.guid  # type: ignore[attr-defined]
+            response.seq = request.seq  # type: ignore[attr-defined]
+            reply.write(response)
+
+        reader: DataReader[M] = DataReader(
+            self.participant, self._topic(request_type, name, f"rq/{base}Request"), qos
+        )
+        service = Subscription(
+            reader,
+            request_type.deserialize,
+            answer,
+            name,
+            type_name=request_type.__idl_typename__,
+        )
+        self._check_types_every_second()
+        self.reader_guids.append(reader.guid.bytes)
+        if self._announce is not None:
+            self._announce()
+        self._waitset.attach(ReadCondition(reader, SampleState.Any))
+        self._services.append(service)
+        return service
+
+    def _check_types_every_second(self) -> None:
+        """Start the timer of :meth:`check_types` with the node's first reader."""
+        if not self._checking:
+            self._checking = True
+            self.create_timer(1.0, self.check_types)
 
     def create_timer(self, period: float, callback: Callable[[], None]) -> Timer:
         """A timer calling ``callback`` every ``period`` seconds (monotonic) while spinning."""
@@ -218,27 +273,38 @@ class Node:
         for subscription in self._subscriptions:
             topic = "/" + subscription.topic.lstrip("/")
             read.setdefault(topic, set()).add(subscription.type_name)
-        for topic, ours in read.items():
-            for found in sorted(self.publisher_types(topic) - ours):
-                message = self.type_mismatch(
-                    topic, ros_type_name(found), sorted(ros_type_name(t) for t in ours)
-                )
-                if message not in self.warnings:
-                    self.warnings.append(message)
-                    self.warn(message)
+        found_types: list[tuple[str, str, set[str]]] = [
+            (topic, found, ours)
+            for topic, ours in read.items()
+            for found in sorted(self.publisher_types(topic) - ours)
+        ]
+        for service in self._services:
+            name = "/" + service.topic.lstrip("/")
+            request = f"rq/{name.lstrip('/')}Request"
+            ours = {service.type_name}
+            for found in sorted(set(self.publications(name, request)) - ours):
+                found_types.append((name, found, ours))
+        for topic, found, ours in found_types:
+            message = self.type_mismatch(
+                topic, ros_type_name(found), sorted(ros_type_name(t) for t in ours)
+            )
+            if message not in self.warnings:
+                self.warnings.append(message)
+                self.warn(message)
 
     def type_mismatch(self, topic: str, found: str, ours: list[str]) -> str:
         """The warning when ``topic`` carries ``found`` (a ROS type name) where this node reads
         ``ours``; nodes with an option that changes what they read say which."""
         return f"{topic!r} carries {found}; this node reads {' or '.join(ours)}"
 
-    def publications(self, topic: str) -> list[str]:
-        """The DDS type name of each publisher on ``topic`` discovered so far, this node's own
-        included (other types than ours too: how a node tells a TwistStamped topic from a Twist
-        one, or sees a second publisher)."""
+    def publications(self, topic: str, dds_name: str | None = None) -> list[str]:
+        """The DDS type name of each publisher on ``topic`` (or on the DDS topic ``dds_name``,
+        such as a service's request topic) discovered so far, this node's own included (other
+        types than ours too: how a node tells a TwistStamped topic from a Twist one, or sees a
+        second publisher)."""
         if self._publications is None:
             self._publications = BuiltinDataReader(self.participant, BuiltinTopicDcpsPublication)
-        dds_name = dds_topic(topic)
+        dds_name = dds_topic(topic) if dds_name is None else dds_name
         alive = InstanceState.Alive
         return [
             sample.type_name
@@ -261,7 +327,7 @@ class Node:
         wait = min(max(deadline - now, 0.0), _WAIT_SLICE)
         if wait > 0.0:
             self._waitset.wait(int(wait * 1e9))
-        for subscription in self._subscriptions:
+        for subscription in (*self._subscriptions, *self._services):
             while subscription.take() >= 256:
                 pass
         now = time.monotonic()
@@ -318,6 +384,7 @@ class Node:
         for subscription in self._subscriptions:
             _ = subscription.dropped  # kept for the status once the reader is gone
         self._subscriptions.clear()
+        self._services.clear()
         self._timers.clear()
         self._publications = None
         self._topics.clear()

@@ -25,13 +25,17 @@ from diffbot.live.cyclone import (
     final,
     float64,
     int32,
+    int64,
     sequence,
     uint8,
     uint32,
+    uint64,
 )
 
 __all__ = [
     "ROS_TYPES",
+    "EmptyRequest",
+    "EmptyResponse",
     "Float64MultiArray",
     "Gid",
     "Header",
@@ -48,6 +52,8 @@ __all__ = [
     "Pose",
     "PoseWithCovariance",
     "Quaternion",
+    "SetOdometryRequest",
+    "SetOdometryResponse",
     "String",
     "TFMessage",
     "Time",
@@ -334,6 +340,62 @@ def discovery_types(
     if distro.strip().lower() in GID_24_DISTROS:
         return HumbleParticipantEntitiesInfo, HumbleNodeEntitiesInfo, HumbleGid
     return ParticipantEntitiesInfo, NodeEntitiesInfo, Gid
+
+
+# --------------------------------------------------------------------------------------------
+# Services. rmw_cyclonedds sends a request and its reply as one sample each, on the DDS topics
+# ``rq/<service>Request`` and ``rr/<service>Reply``, the message behind a 16-byte header
+# (``cdds_request_header_t`` in its serdata.hpp): the client's 64-bit id (``guid``, the last
+# half of its writer's GUID) and the request's sequence number (``seq``). In plain CDR the two
+# leading fields of a struct are those same 16 bytes, so each type below is the header's two
+# fields, then the ``.srv`` file's. A server copies both into its reply; a client keeps the
+# replies carrying its own id.
+
+
+@final
+@dataclass
+class SetOdometryRequest(IdlStruct, typename="control_msgs::srv::dds_::SetOdometry_Request_"):
+    """control_msgs/srv/SetOdometry's request: the pose to put the odometry at (m, rad)."""
+
+    guid: uint64 = 0
+    seq: int64 = 0
+    x: float64 = 0.0
+    y: float64 = 0.0
+    z: float64 = 0.0
+    roll: float64 = 0.0
+    pitch: float64 = 0.0
+    yaw: float64 = 0.0
+
+
+@final
+@dataclass
+class SetOdometryResponse(IdlStruct, typename="control_msgs::srv::dds_::SetOdometry_Response_"):
+    """control_msgs/srv/SetOdometry's response: whether the pose was taken, and why not."""
+
+    guid: uint64 = 0
+    seq: int64 = 0
+    success: bool = False
+    message: str = ""
+
+
+@final
+@dataclass
+class EmptyRequest(IdlStruct, typename="std_srvs::srv::dds_::Empty_Request_"):
+    """std_srvs/srv/Empty's request (an empty struct gets one placeholder byte in ROS 2)."""
+
+    guid: uint64 = 0
+    seq: int64 = 0
+    structure_needs_at_least_one_member: uint8 = 0
+
+
+@final
+@dataclass
+class EmptyResponse(IdlStruct, typename="std_srvs::srv::dds_::Empty_Response_"):
+    """std_srvs/srv/Empty's response."""
+
+    guid: uint64 = 0
+    seq: int64 = 0
+    structure_needs_at_least_one_member: uint8 = 0
 
 
 #: Every message type of the nodes' topics, by its ROS name (the discovery types, whose

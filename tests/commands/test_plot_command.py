@@ -68,7 +68,9 @@ def test_a_recording_is_drawn_over_the_plan_and_its_miss_reported(
     result = run(runner, "ccw 0.5 90 10s", "--odom", str(csv), "-o", str(target))
     assert result.exit_code == 0, result.output
     miss = math.hypot(1.0 - 0.5, 0.0 - 0.5)
-    assert result.stdout == f"robot bundled\n{csv}: odometry ends {miss:.3g} m from the plan's end\n"
+    assert (
+        result.stdout == f"robot bundled\n{csv}: odometry ends {miss:.3g} m from the plan's end\n"
+    )
     image = png_pixels(target)
     drawn = plan(parse_plan("ccw 0.5 90 10s"), params)
     layout = plan_figure(drawn, params, recordings=[(str(csv), [0.0, 1.0], [0.0, 0.0])])
@@ -179,7 +181,9 @@ def test_a_recording_is_read_in_chunks_as_odom_reads_it(
     result = run(runner, "straight 1", "--odom", str(csv), "-o", str(tmp_path / "p.png"))
     assert result.exit_code == 0, result.output
     miss = math.hypot(final["x"] - 1.0, final["y"])
-    assert result.stdout == f"robot bundled\n{csv}: odometry ends {miss:.3g} m from the plan's end\n"
+    assert (
+        result.stdout == f"robot bundled\n{csv}: odometry ends {miss:.3g} m from the plan's end\n"
+    )
 
 
 def test_a_figure_of_many_recordings_prints_no_matplotlib_warning(tmp_path: Path) -> None:

@@ -166,8 +166,8 @@ def test_node_odom_announce_names_the_node(monkeypatch: pytest.MonkeyPatch) -> N
     monkeypatch.setenv("ROS_DISTRO", "humble")
     with live_process("node", "odom", "--announce"), Node("listener") as listener:
         entry = discovered(listener, "humble", lambda e: bool(e.node_entities_info_seq))
-    # joint_states read; odom and /tf written.
-    assert counts(entry) == [("/", "diffbot_odometry", 1, 2)]
+    # joint_states and the two services' requests read; odom, /tf and the two replies written.
+    assert counts(entry) == [("/", "diffbot_odometry", 3, 4)]
     assert len(entry.gid.data) == 24
 
 

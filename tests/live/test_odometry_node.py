@@ -7,7 +7,7 @@ import math
 import time
 
 import pytest
-from live_graph import PATIENCE, deep, until
+from live_graph import PATIENCE, ServiceClient, deep, until
 from robots import BOT
 
 from diffbot.controller_config import ControllerConfig
@@ -231,3 +231,61 @@ def test_a_spin_publishes_a_yaw_rate_and_no_linear_speed() -> None:
     assert list(sent[-1].twist.covariance) == [
         0.001 if k in (0, 7, 14, 21, 28) else 0.01 if k == 35 else 0.0 for k in range(36)
     ]
+
+
+# --------------------------------------------------------------------------------------------
+# The odometry services, called as `ros2 service call` would (rmw_cyclonedds' wire format)
+
+
+def test_set_odometry_reproduces_the_controllers_service_test() -> None:
+    # ros2_controllers' test of ~/set_odometry (control_msgs/srv/SetOdometry): after moving,
+    # set x 5, y -2, yaw 1.57079632679; the odometry is there (1e-6, 1e-5 rad), and moving on
+    # (both wheels forward) increases y from -2.
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    with OdometryNode(BOT).start() as node, Node("probe") as probe_node:
+        probe = Probe(probe_node)
+        assert node.set_service == "/diffbot_odometry/set_odometry"
+        client = ServiceClient(
+            node.set_service, types.SetOdometryRequest, types.SetOdometryResponse, guid=0xD1FFB07
+        )
+        reset = ServiceClient(
+            node.reset_service, types.EmptyRequest, types.EmptyResponse, guid=0xD1FFB08
+        )
+        try:
+            client.wait_for_service()
+            reset.wait_for_service()
+            assert probe.joint_states.wait_for_subscribers(PATIENCE)
+            probe.joint_states.publish(joint_state(names, [0.0, 0.0], T0))
+            probe.joint_states.publish(joint_state(names, [1.0, 1.0], T0 + 10**8))
+            probe.until(lambda: node.odometry.samples == 2)
+            assert node.odometry.pose.x > 0.0
+            reply = client.call(types.SetOdometryRequest(x=5.0, y=-2.0, yaw=1.57079632679))
+            assert reply.success is True  # type: ignore[attr-defined]
+            assert (reply.guid, reply.seq) == (0xD1FFB07, 1)  # type: ignore[attr-defined]
+            pose = node.odometry.pose
+            assert pose.x == pytest.approx(5.0, abs=1e-6)
+            assert pose.y == pytest.approx(-2.0, abs=1e-6)
+            assert pose.theta == pytest.approx(1.57079632679, abs=1e-5)
+            probe.joint_states.publish(joint_state(names, [1.1, 1.1], T0 + 2 * 10**8))
+            probe.until(lambda: node.odometry.samples == 3)
+            # From the set pose by the wheels' motion since (0.1 rad x 0.035 m), heading +y.
+            assert node.odometry.pose.y == pytest.approx(-2.0 + 0.0035, abs=1e-9)
+            assert node.odometry.pose.x == pytest.approx(5.0, abs=1e-9)
+            refused = client.call(types.SetOdometryRequest(x=math.nan))
+            assert refused.success is False  # type: ignore[attr-defined]
+            assert "finite" in refused.message  # type: ignore[attr-defined]
+            assert node.odometry.pose.y == pytest.approx(-2.0 + 0.0035, abs=1e-9)
+            reset.call(types.EmptyRequest())
+            assert tuple(node.odometry.pose) == (0.0, 0.0, 0.0)
+            assert node.calls == {node.set_service: 2, node.reset_service: 1}
+        finally:
+            client.close()
+            reset.close()
+
+
+def test_the_services_are_under_the_controllers_name() -> None:
+    controller = ControllerConfig(name="diffbot_base_controller", source="c.yaml", ros_version=2)
+    settings = OdometrySettings().with_controller(controller)
+    with OdometryNode(BOT, settings) as node:
+        assert node.set_service == "/diffbot_base_controller/set_odometry"
+        assert node.reset_service == "/diffbot_base_controller/reset_odometry"

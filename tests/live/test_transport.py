@@ -127,3 +127,108 @@ def test_a_stalled_timer_skips_the_ticks_it_missed_and_stays_on_its_grid() -> No
     timer.fire_if_due(1.11)
     timer.fire_if_due(1.12)
     assert fired == pytest.approx([1.02, 1.12, 1.14], abs=1e-12)
+
+
+def test_a_service_answers_each_client_under_its_own_id_and_sequence() -> None:
+    from live_graph import ServiceClient
+
+    from diffbot.live import types
+
+    def handler(request: types.SetOdometryRequest) -> types.SetOdometryResponse:
+        return types.SetOdometryResponse(success=request.x > 0.0, message=f"x {request.x:g}")
+
+    with Node("server") as server:
+        server.create_service(
+            types.SetOdometryRequest, types.SetOdometryResponse, "/server/echo", handler
+        )
+        server.start()
+        first = ServiceClient(
+            "/server/echo", types.SetOdometryRequest, types.SetOdometryResponse, 1
+        )
+        second = ServiceClient(
+            "/server/echo", types.SetOdometryRequest, types.SetOdometryResponse, 2
+        )
+        try:
+            first.wait_for_service()
+            second.wait_for_service()
+            a = first.call(types.SetOdometryRequest(x=1.5))
+            b = second.call(types.SetOdometryRequest(x=-1.0))
+            a2 = first.call(types.SetOdometryRequest(x=2.0))
+        finally:
+            first.close()
+            second.close()
+    # Each reply carries its request's client id and sequence number, and its own answer.
+    assert (a.guid, a.seq, a.success, a.message) == (1, 1, True, "x 1.5")  # type: ignore[attr-defined]
+    assert (b.guid, b.seq, b.success, b.message) == (2, 1, False, "x -1")  # type: ignore[attr-defined]
+    assert (a2.guid, a2.seq, a2.message) == (1, 2, "x 2")  # type: ignore[attr-defined]
+
+
+def test_a_request_of_another_type_is_named_once() -> None:
+    from cyclonedds.pub import DataWriter
+    from cyclonedds.topic import Topic
+
+    from diffbot.live import types
+    from diffbot.live.qos import SERVICE
+
+    with Node("server") as server, Node("client") as client:
+        server.create_service(
+            types.SetOdometryRequest,
+            types.SetOdometryResponse,
+            "/server/set_odometry",
+            lambda request: types.SetOdometryResponse(success=True),
+        )
+        # A std_srvs/srv/Empty client of the same service name: it never matches the server.
+        topic = Topic(client.participant, "rq/server/set_odometryRequest", types.EmptyRequest)
+        writer = DataWriter(client.participant, topic, SERVICE.qos())
+        end = time.monotonic() + PATIENCE
+        while not server.warnings and time.monotonic() < end:
+            server.spin_once(0.05)
+            server.check_types()
+        del writer
+    assert server.warnings == [
+        "'/server/set_odometry' carries std_srvs/srv/Empty_Request; this node reads "
+        "control_msgs/srv/SetOdometry_Request"
+    ]
+
+
+def test_a_services_endpoints_carry_one_service_id_as_rmw_cyclonedds_pairs_them() -> None:
+    from typing import Any
+
+    from cyclonedds.builtin import (
+        BuiltinDataReader,
+        BuiltinTopicDcpsPublication,
+        BuiltinTopicDcpsSubscription,
+    )
+    from cyclonedds.qos import Policy
+
+    from diffbot.live import types
+
+    with Node("server") as server, Node("client") as client:
+        server.create_service(
+            types.EmptyRequest,
+            types.EmptyResponse,
+            "/server/reset",
+            lambda r: types.EmptyResponse(),
+        )
+        writers = BuiltinDataReader(client.participant, BuiltinTopicDcpsPublication)
+        readers = BuiltinDataReader(client.participant, BuiltinTopicDcpsSubscription)
+
+        def user_data(reader: Any, topic: str) -> list[bytes]:
+            return [
+                s.qos[Policy.Userdata].data
+                for s in reader.read(N=4096)
+                if getattr(s, "topic_name", None) == topic and Policy.Userdata in s.qos
+            ]
+
+        end = time.monotonic() + PATIENCE
+        found: tuple[list[bytes], list[bytes]] = ([], [])
+        while time.monotonic() < end and not all(found):
+            found = (
+                user_data(writers, "rr/server/resetReply"),
+                user_data(readers, "rq/server/resetRequest"),
+            )
+            time.sleep(0.05)
+    assert found[0] == found[1]
+    assert len(found[0]) == 1
+    assert found[0][0].startswith(b"serviceid=")
+    assert found[0][0].endswith(b";")

@@ -128,3 +128,28 @@ def test_a_truncated_payload_is_refused() -> None:
     for cut in (3, 9, 20):
         with pytest.raises(struct.error, match="requires a buffer"):
             types.JointState.deserialize(payload[:-cut])
+
+
+def test_a_service_request_leads_with_rmw_cyclonedds_request_header() -> None:
+    import struct
+
+    from diffbot.live import types
+
+    request = types.SetOdometryRequest(
+        guid=0x0102030405060708, seq=7, x=5.0, y=-2.0, yaw=1.57079632679
+    )
+    # CDR little endian: the encapsulation header, then cdds_request_header_t (uint64 client
+    # id, int64 sequence number), then the request's six float64 fields.
+    header = b"\x00\x01\x00\x00" + struct.pack("<Qq", 0x0102030405060708, 7)
+    assert request.serialize() == header + struct.pack(
+        "<6d", 5.0, -2.0, 0.0, 0.0, 0.0, 1.57079632679
+    )
+    response = types.SetOdometryResponse(guid=1, seq=2, success=True, message="ok")
+    body = response.serialize()[4:]
+    # bool, padding to the string's 4-byte length, the string with its terminating NUL.
+    assert body == struct.pack("<Qq", 1, 2) + b"\x01\x00\x00\x00" + struct.pack("<I", 3) + b"ok\x00"
+    assert types.EmptyRequest(guid=3, seq=4).serialize()[4:] == struct.pack("<QqB", 3, 4, 0)
+    assert (
+        types.SetOdometryRequest.__idl_typename__ == "control_msgs::srv::dds_::SetOdometry_Request_"
+    )
+    assert types.EmptyResponse.__idl_typename__ == "std_srvs::srv::dds_::Empty_Response_"

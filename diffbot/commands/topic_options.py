@@ -1,0 +1,43 @@
+"""Which velocity command topic a command publishes or reads: ``--cmd-vel`` when given, else the
+controllers file's diff-drive controller's own topic for the ROS release (``--distro``, else
+``ROS_DISTRO``), else plain ``cmd_vel``."""
+
+from __future__ import annotations
+
+import click
+
+from diffbot.kinematics import DiffDriveParams
+
+__all__ = ["DEFAULT_CMD_VEL", "distro_option", "resolve_cmd_vel"]
+
+#: The velocity command topic without a controllers file.
+DEFAULT_CMD_VEL = "cmd_vel"
+#: Help of the --cmd-vel options: where the default comes from.
+CMD_VEL_HELP = (
+    "The velocity command topic [the controllers file's diff-drive controller's "
+    "/<name>/cmd_vel (cmd_vel_unstamped with use_stamped_vel: false on Humble), else cmd_vel]."
+)
+
+#: --distro: the ROS release whose controller topics and types apply.
+distro_option = click.option(
+    "--distro",
+    type=click.Choice(["humble", "jazzy", "kilted", "rolling"], case_sensitive=False),
+    metavar="humble|jazzy|kilted|rolling",
+    help="The ROS 2 release of the controller: its command topic and type (TwistStamped from "
+    "Jazzy on) [ROS_DISTRO, else Jazzy's].",
+)
+
+
+def resolve_cmd_vel(
+    params: DiffDriveParams, cmd_vel: str | None, stamped: bool, distro: str | None
+) -> tuple[str, bool]:
+    """The command topic and whether its messages are TwistStamped: ``cmd_vel`` and
+    ``stamped`` as given when ``cmd_vel`` is; the controller's topic and type when the robot has
+    a diff-drive controller configuration (``stamped`` can only add a stamp); else
+    ``cmd_vel`` and ``stamped``."""
+    if cmd_vel is not None or params.controller is None:
+        return (DEFAULT_CMD_VEL if cmd_vel is None else cmd_vel), stamped
+    from diffbot.controller_topics import command_topic, distro_of
+
+    found = command_topic(params.controller, distro_of(distro))
+    return found.topic, stamped or found.stamped

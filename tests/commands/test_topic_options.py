@@ -1,0 +1,132 @@
+"""--cmd-vel defaults to the controllers file's diff-drive controller's own topic, by release
+(--distro, ROS_DISTRO), in plan's message lines and ros2 script, drive and node ik."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from cli_results import assert_one_error_line
+from click.testing import CliRunner, Result
+
+from diffbot.cli import main
+from diffbot.commands.topic_options import resolve_cmd_vel
+from diffbot.controller_config import ControllerConfig
+from diffbot.kinematics import DiffDriveParams
+
+#: A ros2_control_demos-style controllers file for the bundled robot's joints, written for Humble.
+HUMBLE_CONTROLLERS = """\
+controller_manager:
+  ros__parameters:
+    update_rate: 10
+    diffbot_base_controller:
+      type: diff_drive_controller/DiffDriveController
+diffbot_base_controller:
+  ros__parameters:
+    left_wheel_names: ["front_left_wheel_joint"]
+    right_wheel_names: ["front_right_wheel_joint"]
+    wheel_separation: 0.135
+    wheel_radius: 0.035
+    use_stamped_vel: false
+"""
+
+
+@pytest.fixture
+def controllers(tmp_path: Path) -> str:
+    path = tmp_path / "controllers.yaml"
+    path.write_text(HUMBLE_CONTROLLERS)
+    return str(path)
+
+
+def run(runner: CliRunner, *args: str, env: dict[str, str] | None = None) -> Result:
+    return runner.invoke(main, list(args), env={"ROS_DISTRO": "", **(env or {})})
+
+
+def test_twist_lines_go_to_the_controllers_unstamped_topic_on_humble(
+    runner: CliRunner, controllers: str
+) -> None:
+    result = run(runner, "plan", "--controllers", controllers, "--format", "twist", "straight 1")
+    assert result.exit_code == 0, result.output
+    first = result.stdout.splitlines()[0]
+    assert (
+        "geometry_msgs/msg/Twist commands for /diffbot_base_controller/cmd_vel_unstamped" in first
+    )
+
+
+def test_jazzy_takes_twiststamped_on_cmd_vel(runner: CliRunner, controllers: str) -> None:
+    for args, env in (
+        (["--distro", "jazzy"], None),
+        ([], {"ROS_DISTRO": "jazzy"}),
+    ):
+        result = run(
+            runner,
+            "plan",
+            "--controllers",
+            controllers,
+            "--format",
+            "ros2",
+            "straight 1",
+            *args,
+            env=env,
+        )
+        assert result.exit_code == 0, result.output
+        assert (
+            "ros2 topic pub -r 10 /diffbot_base_controller/cmd_vel "
+            "geometry_msgs/msg/TwistStamped" in result.stdout
+        )
+
+
+def test_cmd_vel_given_overrides_the_controllers_topic(runner: CliRunner, controllers: str) -> None:
+    result = run(
+        runner,
+        "plan",
+        "--controllers",
+        controllers,
+        "--format",
+        "twist",
+        "--cmd-vel-topic",
+        "my_cmd",
+        "--distro",
+        "jazzy",
+        "straight 1",
+    )
+    assert result.exit_code == 0, result.output
+    assert "geometry_msgs/msg/Twist commands for my_cmd" in result.stdout.splitlines()[0]
+
+
+def test_without_a_controllers_file_the_topic_stays_cmd_vel(runner: CliRunner) -> None:
+    result = run(runner, "plan", "--format", "twist", "straight 1", "--distro", "jazzy")
+    assert result.exit_code == 0, result.output
+    assert "geometry_msgs/msg/Twist commands for cmd_vel," in result.stdout.splitlines()[0]
+
+
+def test_drive_waits_on_the_controllers_topic(runner: CliRunner, controllers: str) -> None:
+    # Nothing subscribes: the message names the topic the commands would go to.
+    result = run(
+        runner,
+        "drive",
+        "--controllers",
+        controllers,
+        "straight 0.1",
+        "--wait",
+        "0.2",
+        env={"ROS_DOMAIN_ID": "187"},
+    )
+    assert_one_error_line(result, "/diffbot_base_controller/cmd_vel_unstamped")
+
+
+def test_resolving_the_topic_of_node_ik() -> None:
+    robot = DiffDriveParams(
+        wheel_radius=0.035,
+        wheel_separation=0.135,
+        controller=ControllerConfig(name="base", source="c.yaml", ros_version=2),
+    )
+    assert resolve_cmd_vel(robot, None, False, "jazzy") == ("/base/cmd_vel", True)
+    assert resolve_cmd_vel(robot, "x", False, "jazzy") == ("x", False)
+    plain = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
+    assert resolve_cmd_vel(plain, None, True, "jazzy") == ("cmd_vel", True)
+
+
+@pytest.mark.parametrize("command", ["plan", "drive", "node ik"])
+def test_an_unknown_distro_is_one_error_line(runner: CliRunner, command: str) -> None:
+    assert_one_error_line(run(runner, *command.split(), "--distro", "foxy"), "--distro")
