@@ -266,6 +266,21 @@ def odom(
     layout = recording.layout()
     out.require_out_for_bag()
     robot = robot.with_path(None, xacro_args)
+
+    def task(source: str, output: str | None) -> OdometryTask:
+        return OdometryTask(
+            source,
+            p,
+            topic,
+            output,
+            out.as_bag,
+            out.force,
+            conditioning,
+            layout,
+            reference,
+            _feedback_of(feedback, p),
+            open_loop,
+        )
     if open_loop and feedback is not None:
         opt.fail("--open-loop integrates the commands, not the wheels' --feedback: choose one")
     if open_loop and (recording.counts_per_rev is not None or recording.wrap is not None):
@@ -277,22 +292,7 @@ def odom(
         if not open_loop:  # commanded twists do not depend on the wheels' geometry
             recording.check_robot(robot, p)
         outputs = _outputs(sources, out)
-        tasks = [
-            OdometryTask(
-                source,
-                p,
-                topic,
-                output,
-                out.as_bag,
-                out.force,
-                conditioning,
-                layout,
-                reference,
-                _feedback_of(feedback, p),
-                open_loop,
-            )
-            for source, output in zip(sources, outputs, strict=True)
-        ]
+        tasks = [task(source, output) for source, output in zip(sources, outputs, strict=True)]
         _many(
             tasks,
             jobs,
@@ -313,20 +313,7 @@ def odom(
         recording.check_robot(robot, p)
     out_path = out.path([*inputs, *(Path(path) for path in p.description_files)])
     output = None if out_path is None else str(out_path)
-    task = OdometryTask(
-        source,
-        p,
-        topic,
-        output,
-        out.as_bag,
-        out.force,
-        conditioning,
-        layout,
-        reference,
-        _feedback_of(feedback, p),
-        open_loop,
-    )
-    _one(task, quiet, as_json, out, robot_label(robot))
+    _one(task(source, output), quiet, as_json, out, robot_label(robot))
 
 
 def _feedback_of(feedback: str | None, params: DiffDriveParams) -> str:
