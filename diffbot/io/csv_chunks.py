@@ -26,13 +26,13 @@ import math
 import os
 import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final, NamedTuple, TextIO
 
 import numpy as np
 
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
+from diffbot.io.csv_layout import CsvLayout
 from diffbot.io.csv_stamps import (
     TIME_UNITS,
     UNIT_NAMES,
@@ -199,42 +199,6 @@ def _rows_exactly(rows: Iterable[list[str]], indexes: Sequence[int], decimals: i
         np.array(present, dtype=np.bool_).reshape(-1, joints),
         skipped,
     )
-
-
-@dataclass(frozen=True)
-class CsvLayout:
-    """How to read a CSV written by another tool: which columns, which delimiter, which unit.
-
-    Attributes:
-        time_column: the time column's name (default: the first of :data:`TIME_COLUMNS`).
-        left_columns: the left wheels' position columns (default: named by the joints).
-        right_columns: the right wheels' position columns.
-        delimiter: the delimiter (default: a comma, or the one the header is split by: ``;``,
-            a tab or ``|``).
-        time_unit: ``s``, ``ms``, ``us`` or ``ns`` (default: seconds, unless the first stamp is
-            too large for seconds since 1970: its magnitude says which).
-        field: ``position`` or ``velocity``: the JointState field whose columns are found by
-            the joints' names (``/<joint>/velocity``; a column named by the joint alone is a
-            position).
-    """
-
-    time_column: str | None = None
-    left_columns: tuple[str, ...] | None = None
-    right_columns: tuple[str, ...] | None = None
-    delimiter: str | None = None
-    time_unit: str | None = None
-    field: str = "position"
-
-    def __post_init__(self) -> None:
-        if self.delimiter is not None and len(self.delimiter) != 1:
-            raise RecordingError(
-                f"the delimiter must be one character, got {self.delimiter!r} ({{delimiter}})"
-            )
-        if self.time_unit is not None and self.time_unit not in TIME_UNITS:
-            raise RecordingError(
-                f"unknown time unit {self.time_unit!r}: give one of {', '.join(TIME_UNITS)} "
-                "({time_unit})"
-            )
 
 
 def _is_number(text: str) -> bool:

@@ -262,3 +262,22 @@ def test_an_empty_column_option_is_one_error_line(tmp_path: Path) -> None:
     result = CliRunner().invoke(main, ["odom", str(path), "--right-column", "b,"])
     assert result.exit_code == 2
     assert result.stderr == "error: --right-column 'b,': a column name is empty\n"
+
+
+@pytest.mark.parametrize(
+    ("options", "pattern"),
+    [
+        ({"delimiter": ";;"}, r"the delimiter must be one character, got ';;' \(delimiter=\)"),
+        ({"delimiter": ""}, r"the delimiter must be one character"),
+        ({"time_unit": "min"}, r"unknown time unit 'min': give one of s, ms, us, ns"),
+    ],
+)
+def test_a_layout_refuses_what_no_csv_reader_could_use(
+    options: dict[str, str], pattern: str
+) -> None:
+    from diffbot.errors import RecordingError
+    from diffbot.io.csv_layout import CsvLayout
+
+    with pytest.raises(RecordingError, match=pattern):
+        CsvLayout(**options)  # type: ignore[arg-type]
+    assert CsvLayout(delimiter="\t", time_unit="ms").delimiter == "\t"
