@@ -19,13 +19,22 @@ from collections.abc import Sequence
 from diffbot.live import types
 from diffbot.live.messages import time_of
 
-__all__ = ["HEADER", "decode_joint_state", "encode_odometry", "encode_tf"]
+__all__ = [
+    "HEADER",
+    "JointStateReader",
+    "OdometryWriter",
+    "decode_joint_state",
+    "encode_odometry",
+    "encode_tf",
+    "encode_twist",
+]
 
 #: The encapsulation header of little-endian plain CDR.
 HEADER = b"\x00\x01\x00\x00"
 _U32 = struct.Struct("<I")
 _STAMP = struct.Struct("<iI")
 _TRANSFORM = struct.Struct("<7d")
+_TWIST = struct.Struct("<6d")
 #: Pose (7), pose covariance (36), twist (6), twist covariance (36).
 _ODOMETRY = struct.Struct("<85d")
 
@@ -64,6 +73,11 @@ def encode_odometry(
     _align(buffer, 8)
     buffer += _ODOMETRY.pack(*pose, *pose_covariance, *twist, *twist_covariance)
     return bytes(buffer)
+
+
+def encode_twist(linear: float, angular: float) -> bytes:
+    """geometry_msgs/Twist as CDR: linear.x (m/s) and angular.z (rad/s), the rest zero."""
+    return HEADER + _TWIST.pack(linear, 0.0, 0.0, 0.0, 0.0, angular)
 
 
 def encode_tf(
@@ -168,3 +182,92 @@ def decode_joint_state(data: bytes) -> types.JointState:
     effort = reader.doubles()
     header = types.Header(time_of(sec * 1_000_000_000 + nanosec), frame_id)
     return types.JointState(header, names, position, velocity, effort)
+
+
+class JointStateReader:
+    """Reads sensor_msgs/JointState payloads as (sec, nanosec, names, positions), fast for a
+    stream whose frame and joint names repeat (as a driver's do): when a payload's bytes from
+    the frame through the last name equal the previous payload's, its names are that payload's
+    (the same tuple), and only the stamp and the positions are read. Velocities and efforts
+    are checked to lie within the payload, not read.
+    """
+
+    def __init__(self) -> None:
+        self._prefix = b""
+        self._names: tuple[str, ...] = ()
+
+    def read(self, data: bytes) -> tuple[int, int, tuple[str, ...], tuple[float, ...]]:
+        """The stamp (sec, nanosec), the joint names and positions (rad) of a payload.
+
+        Raises:
+            ValueError, struct.error, UnicodeDecodeError: a malformed or truncated payload.
+        """
+        prefix = self._prefix
+        if prefix and data.startswith(prefix, 12) and data.startswith(HEADER):
+            reader = _Reader.__new__(_Reader)
+            reader.data = data
+            reader.at = 12 + len(prefix)
+            names = self._names
+        else:
+            reader = _Reader(data)
+            reader.at = 12
+            reader.string()
+            count = reader.u32()
+            if count * 5 > len(data):  # each name takes at least a length and a NUL
+                raise ValueError("more names than the payload holds")
+            names = tuple(reader.string() for _ in range(count))
+            self._prefix = data[12 : reader.at]
+            self._names = names
+        sec, nanosec = _STAMP.unpack_from(data, 4)
+        position = reader.doubles()
+        for _ in range(2):  # velocity, effort: within the payload
+            count = reader.u32()
+            if count:
+                reader.align(8)
+                reader.at += 8 * count
+                if reader.at > len(data):
+                    raise ValueError("sequence longer than the payload")
+        return sec, nanosec, names, tuple(position)
+
+
+class OdometryWriter:
+    """nav_msgs/Odometry payloads of fixed frames and covariances, and the odom -> base_link
+    TFMessage beside them: the bytes are laid out once, each message only packs its stamp,
+    pose and twist into them (the same bytes as :func:`encode_odometry` and
+    :func:`encode_tf`)."""
+
+    def __init__(
+        self,
+        frame_id: str,
+        child_frame_id: str,
+        pose_covariance: Sequence[float],
+        twist_covariance: Sequence[float],
+    ) -> None:
+        zeros7 = (0.0,) * 7
+        self._odometry = bytearray(
+            encode_odometry(
+                0, frame_id, child_frame_id, zeros7, pose_covariance, (0.0,) * 6, twist_covariance
+            )
+        )
+        self._pose_at = len(self._odometry) - _ODOMETRY.size
+        self._twist_at = self._pose_at + 43 * 8
+        self._tf = bytearray(encode_tf([(0, frame_id, child_frame_id, zeros7)]))
+        self._transform_at = len(self._tf) - _TRANSFORM.size
+
+    def odometry(
+        self, stamp_ns: int, pose: Sequence[float], linear: float, angular: float
+    ) -> bytes:
+        """The Odometry stamped ``stamp_ns`` at ``pose`` (x, y, z, qx, qy, qz, qw) moving at
+        ``linear`` (m/s) and ``angular`` (rad/s)."""
+        buffer = self._odometry
+        _STAMP.pack_into(buffer, 4, *divmod(stamp_ns, 1_000_000_000))
+        _TRANSFORM.pack_into(buffer, self._pose_at, *pose)
+        _TWIST.pack_into(buffer, self._twist_at, linear, 0.0, 0.0, 0.0, 0.0, angular)
+        return bytes(buffer)
+
+    def tf(self, stamp_ns: int, pose: Sequence[float]) -> bytes:
+        """The TFMessage of the one transform stamped ``stamp_ns`` to ``pose``."""
+        buffer = self._tf
+        _STAMP.pack_into(buffer, 8, *divmod(stamp_ns, 1_000_000_000))
+        _TRANSFORM.pack_into(buffer, self._transform_at, *pose)
+        return bytes(buffer)
