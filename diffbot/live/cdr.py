@@ -24,6 +24,9 @@ __all__ = [
     "JointStateReader",
     "OdometryWriter",
     "decode_joint_state",
+    "decode_twist",
+    "decode_twist_stamped",
+    "encode_float64_array",
     "encode_odometry",
     "encode_tf",
     "encode_twist",
@@ -35,6 +38,8 @@ _U32 = struct.Struct("<I")
 _STAMP = struct.Struct("<iI")
 _TRANSFORM = struct.Struct("<7d")
 _TWIST = struct.Struct("<6d")
+#: A MultiArrayLayout without dimensions: no ``dim``, ``data_offset`` 0.
+_EMPTY_LAYOUT = struct.pack("<II", 0, 0)
 #: Pose (7), pose covariance (36), twist (6), twist covariance (36).
 _ODOMETRY = struct.Struct("<85d")
 
@@ -78,6 +83,40 @@ def encode_odometry(
 def encode_twist(linear: float, angular: float) -> bytes:
     """geometry_msgs/Twist as CDR: linear.x (m/s) and angular.z (rad/s), the rest zero."""
     return HEADER + _TWIST.pack(linear, 0.0, 0.0, 0.0, 0.0, angular)
+
+
+def encode_float64_array(values: Sequence[float]) -> bytes:
+    """std_msgs/Float64MultiArray as CDR, with an empty layout (no dimensions, offset 0)."""
+    buffer = bytearray(HEADER)
+    buffer += _EMPTY_LAYOUT
+    _doubles(buffer, values)
+    return bytes(buffer)
+
+
+def decode_twist(data: bytes) -> tuple[float, float]:
+    """linear.x (m/s) and angular.z (rad/s) of a geometry_msgs/Twist payload.
+
+    Raises:
+        ValueError, struct.error: not little-endian plain CDR, or truncated.
+    """
+    if data[:4] != HEADER:
+        raise ValueError("not little-endian plain CDR")
+    linear, _, _, _, _, angular = _TWIST.unpack_from(data, 4)
+    return linear, angular
+
+
+def decode_twist_stamped(data: bytes) -> tuple[float, float]:
+    """linear.x (m/s) and angular.z (rad/s) of a geometry_msgs/TwistStamped payload.
+
+    Raises:
+        ValueError, struct.error, UnicodeDecodeError: malformed or truncated.
+    """
+    reader = _Reader(data)
+    reader.at = 12
+    reader.string()
+    reader.align(8)
+    linear, _, _, _, _, angular = _TWIST.unpack_from(data, reader.at)
+    return linear, angular
 
 
 def encode_tf(

@@ -14,6 +14,9 @@ from diffbot.live.cdr import (
     JointStateReader,
     OdometryWriter,
     decode_joint_state,
+    decode_twist,
+    decode_twist_stamped,
+    encode_float64_array,
     encode_joint_state,
     encode_odometry,
     encode_tf,
@@ -176,3 +179,32 @@ def test_odometry_writer_bytes_equal_the_encoders(
         )
         assert writer.odometry(stamp, pose, linear, angular) == expected
         assert writer.tf(stamp, pose) == encode_tf([(stamp, frame, child, pose)])
+
+
+@given(values=st.lists(FLOAT, min_size=6, max_size=6), stamp=STAMP, frame=TEXT)
+def test_twists_read_as_the_types_serializer_writes_them(
+    values: list[float], stamp: int, frame: str
+) -> None:
+    twist = types.Twist(types.Vector3(*values[:3]), types.Vector3(*values[3:]))
+    stamped = types.TwistStamped(types.Header(time_of(stamp), frame), twist)
+    assert decode_twist(twist.serialize()) == (values[0], values[5])
+    assert decode_twist_stamped(stamped.serialize()) == (values[0], values[5])
+
+
+def test_truncated_twists_are_refused() -> None:
+    twist = types.Twist(types.Vector3(1.0, 0.0, 0.0), types.Vector3(0.0, 0.0, 2.0)).serialize()
+    stamped = types.TwistStamped(
+        types.Header(time_of(5), "base_link"), types.Twist(types.Vector3(), types.Vector3())
+    ).serialize()
+    for payload, decode in ((twist, decode_twist), (stamped, decode_twist_stamped)):
+        for cut in range(1, len(payload)):
+            with pytest.raises((ValueError, struct.error)):
+                decode(payload[:-cut])
+        with pytest.raises(ValueError, match="not little-endian plain CDR"):
+            decode(b"\x00\x00\x00\x00" + payload[4:])
+
+
+@given(st.lists(FLOAT, max_size=5))
+def test_float64_arrays_equal_the_types_serializer(values: list[float]) -> None:
+    message = types.Float64MultiArray(types.MultiArrayLayout(), values)
+    assert encode_float64_array(values) == message.serialize()
