@@ -225,15 +225,20 @@ def decode_joint_state(data: bytes) -> types.JointState:
 
 class JointStateReader:
     """Reads sensor_msgs/JointState payloads as (sec, nanosec, names, positions), fast for a
-    stream whose frame and joint names repeat (as a driver's do): when a payload's bytes from
-    the frame through the last name equal the previous payload's, its names are that payload's
-    (the same tuple), and only the stamp and the positions are read. Velocities and efforts
+    stream whose layout repeats (as a driver's does): the same frame and joint names and the
+    same lengths of ``position``, ``velocity`` and ``effort``. A payload of the previous one's
+    length whose bytes from the frame through the position count equal that payload's, and
+    whose velocity and effort counts are that payload's too, is read with one ``struct`` call
+    (its names are the same tuple); any other is parsed field by field. Velocities and efforts
     are checked to lie within the payload, not read.
     """
 
     def __init__(self) -> None:
+        self._size = -1
         self._prefix = b""
         self._names: tuple[str, ...] = ()
+        self._fast: struct.Struct | None = None
+        self._counts: tuple[int, int] = (0, 0)
 
     def read(self, data: bytes) -> tuple[int, int, tuple[str, ...], tuple[float, ...]]:
         """The stamp (sec, nanosec), the joint names and positions (rad) of a payload.
@@ -241,32 +246,49 @@ class JointStateReader:
         Raises:
             ValueError, struct.error, UnicodeDecodeError: a malformed or truncated payload.
         """
-        prefix = self._prefix
-        if prefix and data.startswith(prefix, 12) and data.startswith(HEADER):
-            reader = _Reader.__new__(_Reader)
-            reader.data = data
-            reader.at = 12 + len(prefix)
-            names = self._names
-        else:
-            reader = _Reader(data)
-            reader.at = 12
-            reader.string()
-            count = reader.u32()
-            if count * 5 > len(data):  # each name takes at least a length and a NUL
-                raise ValueError("more names than the payload holds")
-            names = tuple(reader.string() for _ in range(count))
-            self._prefix = data[12 : reader.at]
-            self._names = names
-        sec, nanosec = _STAMP.unpack_from(data, 4)
-        position = reader.doubles()
+        fast = self._fast
+        if (
+            fast is not None
+            and len(data) == self._size
+            and data.startswith(self._prefix, 12)
+            and data.startswith(HEADER)
+        ):
+            values = fast.unpack_from(data, 4)
+            if values[-2:] == self._counts:
+                return values[0], values[1], self._names, values[2:-2]
+        return self._parse(data)
+
+    def _parse(self, data: bytes) -> tuple[int, int, tuple[str, ...], tuple[float, ...]]:
+        reader = _Reader(data)
+        reader.at = 12
+        reader.string()
+        count = reader.u32()
+        if count * 5 > len(data):  # each name takes at least a length and a NUL
+            raise ValueError("more names than the payload holds")
+        names = tuple(reader.string() for _ in range(count))
+        position = tuple(reader.doubles())
+        first = reader.at - 8 * len(position)  # where position[0] is (or would be)
+        at: list[int] = []
+        counts: list[int] = []
         for _ in range(2):  # velocity, effort: within the payload
-            count = reader.u32()
-            if count:
+            reader.align(4)
+            at.append(reader.at)
+            counts.append(reader.u32())
+            if counts[-1]:
                 reader.align(8)
-                reader.at += 8 * count
+                reader.at += 8 * counts[-1]
                 if reader.at > len(data):
                     raise ValueError("sequence longer than the payload")
-        return sec, nanosec, names, tuple(position)
+        sec, nanosec = _STAMP.unpack_from(data, 4)
+        end = first + 8 * len(position)
+        self._fast = struct.Struct(
+            f"<iI{first - 12}x{len(position)}d{at[0] - end}xI{at[1] - at[0] - 4}xI"
+        )
+        self._size = len(data)
+        self._prefix = data[12:first]
+        self._names = names
+        self._counts = (counts[0], counts[1])
+        return sec, nanosec, names, position
 
 
 class OdometryWriter:
@@ -295,18 +317,20 @@ class OdometryWriter:
 
     def odometry(
         self, stamp_ns: int, pose: Sequence[float], linear: float, angular: float
-    ) -> bytes:
+    ) -> bytearray:
         """The Odometry stamped ``stamp_ns`` at ``pose`` (x, y, z, qx, qy, qz, qw) moving at
-        ``linear`` (m/s) and ``angular`` (rad/s)."""
+        ``linear`` (m/s) and ``angular`` (rad/s): the writer's own buffer, valid until the
+        next call (a write copies it)."""
         buffer = self._odometry
         _STAMP.pack_into(buffer, 4, *divmod(stamp_ns, 1_000_000_000))
         _TRANSFORM.pack_into(buffer, self._pose_at, *pose)
         _TWIST.pack_into(buffer, self._twist_at, linear, 0.0, 0.0, 0.0, 0.0, angular)
-        return bytes(buffer)
+        return buffer
 
-    def tf(self, stamp_ns: int, pose: Sequence[float]) -> bytes:
-        """The TFMessage of the one transform stamped ``stamp_ns`` to ``pose``."""
+    def tf(self, stamp_ns: int, pose: Sequence[float]) -> bytearray:
+        """The TFMessage of the one transform stamped ``stamp_ns`` to ``pose``: the writer's
+        own buffer, valid until the next call."""
         buffer = self._tf
         _STAMP.pack_into(buffer, 8, *divmod(stamp_ns, 1_000_000_000))
         _TRANSFORM.pack_into(buffer, self._transform_at, *pose)
-        return bytes(buffer)
+        return buffer
