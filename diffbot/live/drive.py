@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from diffbot.live import types
-from diffbot.live.cdr import encode_twist
+from diffbot.live.cdr import encode_float64_array, encode_twist
 from diffbot.live.messages import commands, now_ns, time_of, twist_command
 from diffbot.live.names import check_frame_id
 from diffbot.live.signals import caught, deferred
@@ -217,8 +217,10 @@ class Driver(Node):
         """Publish command ``k`` of ``stream``."""
         if self._sides:
             left, right = self.settings.joints
-            self._sides[0].publish(commands([float(stream.left[k])] * left))
-            self._sides[1].publish(commands([float(stream.right[k])] * right))
+            self._sides[0].publish_serialized(encode_float64_array([float(stream.left[k])] * left))
+            self._sides[1].publish_serialized(
+                encode_float64_array([float(stream.right[k])] * right)
+            )
         else:
             self._send_twist(float(stream.linear[k]), float(stream.angular[k]))
 

@@ -21,12 +21,18 @@ import math
 import random
 import time
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 from diffbot.calibration.truth import true_robot
 from diffbot.kinematics import DiffDriveParams, WheelSpeeds, forward, wheel_from_joint
 from diffbot.live import types
-from diffbot.live.cdr import OdometryWriter, encode_joint_state, encode_tf
+from diffbot.live.cdr import (
+    OdometryWriter,
+    decode_twist,
+    decode_twist_stamped,
+    encode_joint_state,
+    encode_tf,
+)
 from diffbot.live.messages import now_ns, transform, twist_mismatch, yaw_quaternion
 from diffbot.live.transport import LATCHED, TF, LiveError, Node, Subscription
 from diffbot.live.wire import Refusals, twist_problem, wheel_problem
@@ -141,16 +147,17 @@ class RobotNode(Node):
         self.tf = self.create_publisher(types.TFMessage, "/tf", TF)
         self.subscriptions: list[Subscription[Any]] = []
         if settings.cmd_vel is not None:
-            if settings.stamped:
-                self.subscriptions.append(
-                    self.create_subscription(
-                        types.TwistStamped, settings.cmd_vel, lambda m: self.on_twist(m.twist)
-                    )
+            # Commands are read straight into (linear, angular), not into message objects.
+            kind, decode = (
+                (types.TwistStamped, decode_twist_stamped)
+                if settings.stamped
+                else (types.Twist, decode_twist)
+            )
+            self.subscriptions.append(
+                self.create_subscription(
+                    kind, settings.cmd_vel, cast(Any, self.on_command), decode=cast(Any, decode)
                 )
-            else:
-                self.subscriptions.append(
-                    self.create_subscription(types.Twist, settings.cmd_vel, self.on_twist)
-                )
+            )
         else:
             for topic, side in ((settings.left_topic, 0), (settings.right_topic, 1)):
                 self.subscriptions.append(
@@ -189,8 +196,13 @@ class RobotNode(Node):
     def on_twist(self, twist: types.Twist) -> None:
         """Take a velocity command, turned into wheel commands as ``node ik`` does; a refused
         one (:func:`~diffbot.live.wire.twist_problem`) stops the wheels."""
+        self.on_command((twist.linear.x, twist.angular.z))
+
+    def on_command(self, command: tuple[float, float]) -> None:
+        """Take a velocity command as (linear.x (m/s), angular.z (rad/s)), as :meth:`on_twist`
+        does."""
         assert self.commander is not None
-        linear, angular = twist.linear.x, twist.angular.z
+        linear, angular = command
         if not self.refusals.check(twist_problem(linear, angular)):
             linear = angular = 0.0
             self.commander.reset()
