@@ -4,9 +4,9 @@ Run by hand: ``python benchmarks/bench_big_recordings.py [--samples N] [--sizes 
 
 1. Goals, at ``--samples`` joint states (Trajectory A written by ``diffbot simulate`` as a
    sqlite3 rosbag2 and as CSV), interleaved round by round, each run a fresh process timed
-   from launch to exit: ``sqlite`` (every message blob read with :mod:`sqlite3`, the bag's
-   floor), ``odom bag``, ``loadtxt`` (:func:`numpy.loadtxt` of the whole CSV, the CSV's floor)
-   and ``odom csv``. The ratios are medians of the per-round ratios.
+   from launch to exit: ``sqlite`` (every message blob read with :mod:`sqlite3` in stamp
+   order, the bag's floor), ``odom bag``, ``loadtxt`` (:func:`numpy.loadtxt` of the whole CSV,
+   the CSV's floor) and ``odom csv``. The ratios are medians of the per-round ratios.
 2. Growth: for each of ``--sizes``, wall time and peak resident memory of ``simulate`` (CSV
    and bag) and ``odom`` (bag and CSV), for the baseline revision (before) and this checkout
    (after), one run each; the final poses of both ``odom`` runs must be equal bit for bit.
@@ -42,7 +42,7 @@ from pathlib import Path
 start = time.perf_counter()
 db = next(Path(sys.argv[1]).glob("*.db3"))
 connection = sqlite3.connect(db.resolve().as_uri() + "?mode=ro&immutable=1", uri=True)
-cursor = connection.execute("SELECT data FROM messages")
+cursor = connection.execute("SELECT data FROM messages ORDER BY timestamp")
 count = 0
 while rows := cursor.fetchmany(65536):
     count += sum(len(r[0]) for r in rows)

@@ -19,13 +19,27 @@ from collections.abc import Sequence
 from diffbot.live import types
 from diffbot.live.messages import time_of
 
-__all__ = ["HEADER", "decode_joint_state", "encode_odometry", "encode_tf"]
+__all__ = [
+    "HEADER",
+    "JointStateReader",
+    "OdometryWriter",
+    "decode_joint_state",
+    "decode_twist",
+    "decode_twist_stamped",
+    "encode_float64_array",
+    "encode_odometry",
+    "encode_tf",
+    "encode_twist",
+]
 
 #: The encapsulation header of little-endian plain CDR.
 HEADER = b"\x00\x01\x00\x00"
 _U32 = struct.Struct("<I")
 _STAMP = struct.Struct("<iI")
 _TRANSFORM = struct.Struct("<7d")
+_TWIST = struct.Struct("<6d")
+#: A MultiArrayLayout without dimensions: no ``dim``, ``data_offset`` 0.
+_EMPTY_LAYOUT = struct.pack("<II", 0, 0)
 #: Pose (7), pose covariance (36), twist (6), twist covariance (36).
 _ODOMETRY = struct.Struct("<85d")
 
@@ -64,6 +78,45 @@ def encode_odometry(
     _align(buffer, 8)
     buffer += _ODOMETRY.pack(*pose, *pose_covariance, *twist, *twist_covariance)
     return bytes(buffer)
+
+
+def encode_twist(linear: float, angular: float) -> bytes:
+    """geometry_msgs/Twist as CDR: linear.x (m/s) and angular.z (rad/s), the rest zero."""
+    return HEADER + _TWIST.pack(linear, 0.0, 0.0, 0.0, 0.0, angular)
+
+
+def encode_float64_array(values: Sequence[float]) -> bytes:
+    """std_msgs/Float64MultiArray as CDR, with an empty layout (no dimensions, offset 0)."""
+    buffer = bytearray(HEADER)
+    buffer += _EMPTY_LAYOUT
+    _doubles(buffer, values)
+    return bytes(buffer)
+
+
+def decode_twist(data: bytes) -> tuple[float, float]:
+    """linear.x (m/s) and angular.z (rad/s) of a geometry_msgs/Twist payload.
+
+    Raises:
+        ValueError, struct.error: not little-endian plain CDR, or truncated.
+    """
+    if data[:4] != HEADER:
+        raise ValueError("not little-endian plain CDR")
+    linear, _, _, _, _, angular = _TWIST.unpack_from(data, 4)
+    return linear, angular
+
+
+def decode_twist_stamped(data: bytes) -> tuple[float, float]:
+    """linear.x (m/s) and angular.z (rad/s) of a geometry_msgs/TwistStamped payload.
+
+    Raises:
+        ValueError, struct.error, UnicodeDecodeError: malformed or truncated.
+    """
+    reader = _Reader(data)
+    reader.at = 12
+    reader.string()
+    reader.align(8)
+    linear, _, _, _, _, angular = _TWIST.unpack_from(data, reader.at)
+    return linear, angular
 
 
 def encode_tf(
@@ -168,3 +221,116 @@ def decode_joint_state(data: bytes) -> types.JointState:
     effort = reader.doubles()
     header = types.Header(time_of(sec * 1_000_000_000 + nanosec), frame_id)
     return types.JointState(header, names, position, velocity, effort)
+
+
+class JointStateReader:
+    """Reads sensor_msgs/JointState payloads as (sec, nanosec, names, positions), fast for a
+    stream whose layout repeats (as a driver's does): the same frame and joint names and the
+    same lengths of ``position``, ``velocity`` and ``effort``. A payload of the previous one's
+    length whose bytes from the frame through the position count equal that payload's, and
+    whose velocity and effort counts are that payload's too, is read with one ``struct`` call
+    (its names are the same tuple); any other is parsed field by field. Velocities and efforts
+    are checked to lie within the payload, not read.
+    """
+
+    def __init__(self) -> None:
+        self._size = -1
+        self._prefix = b""
+        self._names: tuple[str, ...] = ()
+        self._fast: struct.Struct | None = None
+        self._counts: tuple[int, int] = (0, 0)
+
+    def read(self, data: bytes) -> tuple[int, int, tuple[str, ...], tuple[float, ...]]:
+        """The stamp (sec, nanosec), the joint names and positions (rad) of a payload.
+
+        Raises:
+            ValueError, struct.error, UnicodeDecodeError: a malformed or truncated payload.
+        """
+        fast = self._fast
+        if (
+            fast is not None
+            and len(data) == self._size
+            and data.startswith(self._prefix, 12)
+            and data.startswith(HEADER)
+        ):
+            values = fast.unpack_from(data, 4)
+            if values[-2:] == self._counts:
+                return values[0], values[1], self._names, values[2:-2]
+        return self._parse(data)
+
+    def _parse(self, data: bytes) -> tuple[int, int, tuple[str, ...], tuple[float, ...]]:
+        reader = _Reader(data)
+        reader.at = 12
+        reader.string()
+        count = reader.u32()
+        if count * 5 > len(data):  # each name takes at least a length and a NUL
+            raise ValueError("more names than the payload holds")
+        names = tuple(reader.string() for _ in range(count))
+        position = tuple(reader.doubles())
+        first = reader.at - 8 * len(position)  # where position[0] is (or would be)
+        at: list[int] = []
+        counts: list[int] = []
+        for _ in range(2):  # velocity, effort: within the payload
+            reader.align(4)
+            at.append(reader.at)
+            counts.append(reader.u32())
+            if counts[-1]:
+                reader.align(8)
+                reader.at += 8 * counts[-1]
+                if reader.at > len(data):
+                    raise ValueError("sequence longer than the payload")
+        sec, nanosec = _STAMP.unpack_from(data, 4)
+        end = first + 8 * len(position)
+        self._fast = struct.Struct(
+            f"<iI{first - 12}x{len(position)}d{at[0] - end}xI{at[1] - at[0] - 4}xI"
+        )
+        self._size = len(data)
+        self._prefix = data[12:first]
+        self._names = names
+        self._counts = (counts[0], counts[1])
+        return sec, nanosec, names, position
+
+
+class OdometryWriter:
+    """nav_msgs/Odometry payloads of fixed frames and covariances, and the odom -> base_link
+    TFMessage beside them: the bytes are laid out once, each message only packs its stamp,
+    pose and twist into them (the same bytes as :func:`encode_odometry` and
+    :func:`encode_tf`)."""
+
+    def __init__(
+        self,
+        frame_id: str,
+        child_frame_id: str,
+        pose_covariance: Sequence[float],
+        twist_covariance: Sequence[float],
+    ) -> None:
+        zeros7 = (0.0,) * 7
+        self._odometry = bytearray(
+            encode_odometry(
+                0, frame_id, child_frame_id, zeros7, pose_covariance, (0.0,) * 6, twist_covariance
+            )
+        )
+        self._pose_at = len(self._odometry) - _ODOMETRY.size
+        self._twist_at = self._pose_at + 43 * 8
+        self._tf = bytearray(encode_tf([(0, frame_id, child_frame_id, zeros7)]))
+        self._transform_at = len(self._tf) - _TRANSFORM.size
+
+    def odometry(
+        self, stamp_ns: int, pose: Sequence[float], linear: float, angular: float
+    ) -> bytearray:
+        """The Odometry stamped ``stamp_ns`` at ``pose`` (x, y, z, qx, qy, qz, qw) moving at
+        ``linear`` (m/s) and ``angular`` (rad/s): the writer's own buffer, valid until the
+        next call (a write copies it)."""
+        buffer = self._odometry
+        _STAMP.pack_into(buffer, 4, *divmod(stamp_ns, 1_000_000_000))
+        _TRANSFORM.pack_into(buffer, self._pose_at, *pose)
+        _TWIST.pack_into(buffer, self._twist_at, linear, 0.0, 0.0, 0.0, 0.0, angular)
+        return buffer
+
+    def tf(self, stamp_ns: int, pose: Sequence[float]) -> bytearray:
+        """The TFMessage of the one transform stamped ``stamp_ns`` to ``pose``: the writer's
+        own buffer, valid until the next call."""
+        buffer = self._tf
+        _STAMP.pack_into(buffer, 8, *divmod(stamp_ns, 1_000_000_000))
+        _TRANSFORM.pack_into(buffer, self._transform_at, *pose)
+        return buffer

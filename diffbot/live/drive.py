@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from diffbot.live import types
+from diffbot.live.cdr import encode_float64_array, encode_twist
 from diffbot.live.messages import commands, now_ns, time_of, twist_command
 from diffbot.live.names import check_frame_id
 from diffbot.live.signals import caught, deferred
@@ -31,9 +32,12 @@ if TYPE_CHECKING:
 
 __all__ = ["DriveReport", "DriveSettings", "Driver", "Lateness"]
 
-#: How long before a command's time the schedule stops sleeping and polls the clock (s): sleep
-#: wakes up late by up to a scheduler tick; the last stretch is waited out exactly.
-_SPIN_AHEAD = 0.002
+#: How long before a command's time the schedule stops sleeping and polls the clock (s): a wait
+#: on the wait set usually ends within a few tens of µs of its time, and this last stretch is
+#: waited out exactly. Kept short: on a busy machine a process that polls for longer uses up its
+#: share of the processor and is put back in the queue, which makes it later, not earlier (a
+#: margin of 2 ms doubled the median lateness and did not lower the 99th percentile).
+_SPIN_AHEAD = 0.0003
 #: The longest a wait between commands blocks before it looks for a signal again (s).
 _WAIT_SLICE = 0.05
 #: The edges of the lateness histogram (s): 1 µs wide up to 10 ms, then 1 % wider each, up to
@@ -213,18 +217,20 @@ class Driver(Node):
         """Publish command ``k`` of ``stream``."""
         if self._sides:
             left, right = self.settings.joints
-            self._sides[0].publish(commands([float(stream.left[k])] * left))
-            self._sides[1].publish(commands([float(stream.right[k])] * right))
+            self._sides[0].publish_serialized(encode_float64_array([float(stream.left[k])] * left))
+            self._sides[1].publish_serialized(
+                encode_float64_array([float(stream.right[k])] * right)
+            )
         else:
             self._send_twist(float(stream.linear[k]), float(stream.angular[k]))
 
     def _send_twist(self, linear: float, angular: float) -> None:
-        twist = twist_command(linear, angular)
         if self._stamped is not None:
             header = types.Header(time_of(now_ns()), self.settings.frame_id)
-            self._stamped.publish(types.TwistStamped(header, twist))
+            self._stamped.publish(types.TwistStamped(header, twist_command(linear, angular)))
         elif self._twist is not None:
-            self._twist.publish(twist)
+            # Serialized here in one struct call, not field by field by the type's serializer.
+            self._twist.publish_serialized(encode_twist(linear, angular))
 
     def stop(self) -> None:
         """Command zero on every topic."""

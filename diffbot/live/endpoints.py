@@ -42,7 +42,7 @@ class Publisher(Generic[M]):
         """Send ``message`` to every matched subscription."""
         self._writer.write(message)
 
-    def publish_serialized(self, data: bytes) -> None:
+    def publish_serialized(self, data: bytes | bytearray) -> None:
         """Send a message already serialized (encapsulation header and CDR body), as
         :mod:`diffbot.live.cdr` writes the ones a node sends per sample."""
         padding = -len(data) % 4  # as cyclonedds pads its own payloads

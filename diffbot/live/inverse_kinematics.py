@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 from diffbot.body_limits import BodyLimits
 from diffbot.execution import DEFAULT_UPDATE_RATE
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
+from diffbot.live.cdr import decode_twist, decode_twist_stamped, encode_float64_array
 from diffbot.live.messages import commands, twist_mismatch
 from diffbot.live.transport import LiveError, Node, Subscription
 from diffbot.live.wire import NOT_FINITE, Refusals, twist_problem
@@ -94,15 +95,22 @@ class InverseKinematicsNode(Node):
         self.left = self.create_publisher(types.Float64MultiArray, settings.left_topic)
         self.right = self.create_publisher(types.Float64MultiArray, settings.right_topic)
         self.subscriptions: list[Subscription[Any]] = []
+        # Commands are read straight into (linear, angular), not into message objects.
+        take = cast(Any, self.on_command)
         if settings.stamped is not False:
             self.subscriptions.append(
                 self.create_subscription(
-                    types.TwistStamped, settings.cmd_vel, lambda m: self.on_twist(m.twist)
+                    types.TwistStamped,
+                    settings.cmd_vel,
+                    take,
+                    decode=cast(Any, decode_twist_stamped),
                 )
             )
         if settings.stamped is not True:
             self.subscriptions.append(
-                self.create_subscription(types.Twist, settings.cmd_vel, self.on_twist)
+                self.create_subscription(
+                    types.Twist, settings.cmd_vel, take, decode=cast(Any, decode_twist)
+                )
             )
         period = 1.0 / settings.rate
         if self.commander.limited:
@@ -118,9 +126,14 @@ class InverseKinematicsNode(Node):
     def on_twist(self, twist: types.Twist) -> None:
         """Take one velocity command (linear.x, angular.z); one that fails the wire checks
         (:func:`~diffbot.live.wire.twist_problem`) is refused and stops the wheels at once."""
+        self.on_command((twist.linear.x, twist.angular.z))
+
+    def on_command(self, command: tuple[float, float]) -> None:
+        """Take one velocity command as (linear.x (m/s), angular.z (rad/s)), as
+        :meth:`on_twist` does."""
         self.commands += 1
         self._last = time.monotonic()
-        linear, angular = twist.linear.x, twist.angular.z
+        linear, angular = command
         if not self.refusals.check(twist_problem(linear, angular)):
             # Refused: the wheels stop now, without the limiter's ramp down.
             self._command = (0.0, 0.0)
@@ -158,8 +171,8 @@ class InverseKinematicsNode(Node):
 
     def _send(self, linear: float, angular: float, dt: float) -> None:
         joints = self.commander.step(linear, angular, dt)
-        self.left.publish(commands(joints.left))
-        self.right.publish(commands(joints.right))
+        self.left.publish_serialized(encode_float64_array(joints.left))
+        self.right.publish_serialized(encode_float64_array(joints.right))
         self._moving = joints.linear != 0.0 or joints.angular != 0.0
 
     def destroy_node(self) -> None:

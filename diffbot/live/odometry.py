@@ -10,16 +10,16 @@ time is skipped and counted (:attr:`OdometryNode.counts`), never read as zero.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, cast
 
 from diffbot.controller_config import ControllerConfig
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
-from diffbot.live.cdr import decode_joint_state, encode_odometry, encode_tf
-from diffbot.live.messages import stamp_ns, yaw_quaternion
+from diffbot.live.cdr import JointStateReader, OdometryWriter
 from diffbot.live.names import check_frame_id
 from diffbot.live.transport import SUBSCRIPTION, TF, LiveError, Node
 from diffbot.live.wire import Refusals, joint_state_problem
@@ -130,8 +130,12 @@ class OdometryNode(Node):
             twist_covariance=settings.twist_covariance,
             velocity_rolling_window_size=settings.window,
         )
-        self._pose_covariance = covariance_matrix(settings.pose_covariance)
-        self._twist_covariance = covariance_matrix(settings.twist_covariance)
+        self._writer = OdometryWriter(
+            settings.frame_id,
+            settings.child_frame_id,
+            covariance_matrix(settings.pose_covariance),
+            covariance_matrix(settings.twist_covariance),
+        )
         self._period_ns = 0 if settings.publish_rate is None else round(1e9 / settings.publish_rate)
         self._last_published: int | None = None
         self.mismatched = 0
@@ -144,12 +148,14 @@ class OdometryNode(Node):
         self.tf_publisher = (
             self.create_publisher(types.TFMessage, "/tf", TF) if settings.publish_tf else None
         )
+        # Payloads are read into plain tuples (:class:`JointStateReader`), not messages: no
+        # message object is made per sample.
         self.subscription = self.create_subscription(
             types.JointState,
             settings.joint_states,
-            self.on_joint_state,
+            cast(Any, self._on_sample),
             JOINT_STATES,
-            decode_joint_state,
+            cast(Any, JointStateReader().read),
         )
         base = "/" + (settings.services or self.name).strip("/")
         #: The services' names: diff_drive_controller's ``~/set_odometry``, and a reset.
@@ -187,15 +193,20 @@ class OdometryNode(Node):
 
     def on_joint_state(self, message: types.JointState) -> None:
         """Integrate one joint state and publish the odometry it gives (at most at the rate)."""
-        names: Sequence[str] = message.name
-        if len(message.position) != len(names):
+        when = message.header.stamp
+        self._use(when.sec, when.nanosec, message.name, message.position)
+
+    def _on_sample(self, sample: tuple[int, int, Sequence[str], Sequence[float]]) -> None:
+        self._use(*sample)
+
+    def _use(self, sec: int, nanosec: int, names: Sequence[str], position: Sequence[float]) -> None:
+        if len(position) != len(names):
             self.mismatched += 1
             return
-        when = message.header.stamp
-        if not self.refusals.check(joint_state_problem(when.sec, when.nanosec, message.position)):
+        if not self.refusals.check(joint_state_problem(sec, nanosec, position)):
             return
-        stamp = stamp_ns(when)
-        if not self.odometry.update_joint_state(names, message.position, stamp_ns=stamp):
+        stamp = sec * 1_000_000_000 + nanosec
+        if not self.odometry.update_joint_state(names, position, stamp_ns=stamp):
             return
         last = self._last_published
         if last is not None and stamp - last < self._period_ns:
@@ -205,26 +216,14 @@ class OdometryNode(Node):
 
     def publish(self, stamp: int) -> None:
         """Publish the current odometry (and transform) stamped ``stamp`` (ns)."""
-        settings = self.settings
         x, y, heading, linear, angular = self.odometry.state
-        q = yaw_quaternion(heading)
-        pose = (x, y, 0.0, q.x, q.y, q.z, q.w)
-        self.odom_publisher.publish_serialized(
-            encode_odometry(
-                stamp,
-                settings.frame_id,
-                settings.child_frame_id,
-                pose,
-                self._pose_covariance,
-                (linear, 0.0, 0.0, 0.0, 0.0, angular),
-                self._twist_covariance,
-            )
-        )
+        # The heading wrapped first so that w >= 0, as messages.yaw_quaternion does.
+        half = 0.5 * math.remainder(heading, 2.0 * math.pi)
+        pose = (x, y, 0.0, 0.0, 0.0, math.sin(half), math.cos(half))
+        self.odom_publisher.publish_serialized(self._writer.odometry(stamp, pose, linear, angular))
         self.published += 1
         if self.tf_publisher is not None:
-            self.tf_publisher.publish_serialized(
-                encode_tf([(stamp, settings.frame_id, settings.child_frame_id, pose)])
-            )
+            self.tf_publisher.publish_serialized(self._writer.tf(stamp, pose))
 
     @property
     def counts(self) -> dict[str, int]:

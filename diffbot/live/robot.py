@@ -21,12 +21,19 @@ import math
 import random
 import time
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 from diffbot.calibration.truth import true_robot
 from diffbot.kinematics import DiffDriveParams, WheelSpeeds, forward, wheel_from_joint
 from diffbot.live import types
-from diffbot.live.messages import now_ns, odometry, time_of, transform, twist_mismatch
+from diffbot.live.cdr import (
+    OdometryWriter,
+    decode_twist,
+    decode_twist_stamped,
+    encode_joint_state,
+    encode_tf,
+)
+from diffbot.live.messages import now_ns, transform, twist_mismatch, yaw_quaternion
 from diffbot.live.transport import LATCHED, TF, LiveError, Node, Subscription
 from diffbot.live.wire import Refusals, twist_problem, wheel_problem
 from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
@@ -115,6 +122,7 @@ class RobotNode(Node):
             covariance_matrix(DEFAULT_POSE_COVARIANCE),
             covariance_matrix(DEFAULT_TWIST_COVARIANCE),
         )
+        self._ground_truth = OdometryWriter("odom", "base_link", *self._covariances)
         self._random = random.Random(settings.seed)
         self._last_command: float | None = None
         self._last_update: float | None = None
@@ -139,16 +147,17 @@ class RobotNode(Node):
         self.tf = self.create_publisher(types.TFMessage, "/tf", TF)
         self.subscriptions: list[Subscription[Any]] = []
         if settings.cmd_vel is not None:
-            if settings.stamped:
-                self.subscriptions.append(
-                    self.create_subscription(
-                        types.TwistStamped, settings.cmd_vel, lambda m: self.on_twist(m.twist)
-                    )
+            # Commands are read straight into (linear, angular), not into message objects.
+            kind, decode = (
+                (types.TwistStamped, decode_twist_stamped)
+                if settings.stamped
+                else (types.Twist, decode_twist)
+            )
+            self.subscriptions.append(
+                self.create_subscription(
+                    kind, settings.cmd_vel, cast(Any, self.on_command), decode=cast(Any, decode)
                 )
-            else:
-                self.subscriptions.append(
-                    self.create_subscription(types.Twist, settings.cmd_vel, self.on_twist)
-                )
+            )
         else:
             for topic, side in ((settings.left_topic, 0), (settings.right_topic, 1)):
                 self.subscriptions.append(
@@ -187,8 +196,13 @@ class RobotNode(Node):
     def on_twist(self, twist: types.Twist) -> None:
         """Take a velocity command, turned into wheel commands as ``node ik`` does; a refused
         one (:func:`~diffbot.live.wire.twist_problem`) stops the wheels."""
+        self.on_command((twist.linear.x, twist.angular.z))
+
+    def on_command(self, command: tuple[float, float]) -> None:
+        """Take a velocity command as (linear.x (m/s), angular.z (rad/s)), as :meth:`on_twist`
+        does."""
         assert self.commander is not None
-        linear, angular = twist.linear.x, twist.angular.z
+        linear, angular = command
         if not self.refusals.check(twist_problem(linear, angular)):
             linear = angular = 0.0
             self.commander.reset()
@@ -231,17 +245,20 @@ class RobotNode(Node):
         self.updates += 1
         reported = [self._encoder(self.positions[name]) for name in self.names]
         velocities = [self.velocities.get(name, 0.0) for name in self.names]
-        self.joint_states.publish(
-            types.JointState(
-                types.Header(time_of(stamp), ""), list(self.names), reported, velocities, []
-            )
+        # Serialized here (diffbot.live.cdr), not field by field by the types' serializer.
+        self.joint_states.publish_serialized(
+            encode_joint_state(stamp, "", self.names, reported, velocities)
         )
-        self.ground_truth.publish(
-            odometry(self.truth.state, stamp, "odom", "base_link", *self._covariances)
+        x, y, heading, linear, angular = self.truth.state
+        q = yaw_quaternion(heading)
+        pose = (x, y, 0.0, q.x, q.y, q.z, q.w)
+        self.ground_truth.publish_serialized(
+            self._ground_truth.odometry(stamp, pose, linear, angular)
         )
         if self._moving:
             moved = [link_transform(j, self.positions.get(j.name, 0.0)) for j in self._moving]
-            self.tf.publish(types.TFMessage([_message(t, stamp) for t in moved]))
+            transforms = [(stamp, t.parent, t.child, (*t.translation, *t.rotation)) for t in moved]
+            self.tf.publish_serialized(encode_tf(transforms))
 
     def _limit_wheels(self, targets: dict[str, float]) -> None:
         """One limiter update of the wheel commands: each side's mean joint velocity as the

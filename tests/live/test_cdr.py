@@ -11,10 +11,16 @@ from hypothesis import strategies as st
 
 from diffbot.live import types
 from diffbot.live.cdr import (
+    JointStateReader,
+    OdometryWriter,
     decode_joint_state,
+    decode_twist,
+    decode_twist_stamped,
+    encode_float64_array,
     encode_joint_state,
     encode_odometry,
     encode_tf,
+    encode_twist,
 )
 from diffbot.live.messages import time_of
 
@@ -51,6 +57,12 @@ def test_odometry_bytes_equal_the_types_serializer(
     )
     ours = encode_odometry(stamp, frame, child, pose, covariances[:36], twist, covariances[36:])
     assert ours == message.serialize()
+
+
+@given(linear=FLOAT, angular=FLOAT)
+def test_twist_bytes_equal_the_types_serializer(linear: float, angular: float) -> None:
+    message = types.Twist(types.Vector3(linear, 0.0, 0.0), types.Vector3(0.0, 0.0, angular))
+    assert encode_twist(linear, angular) == message.serialize()
 
 
 @given(st.lists(st.tuples(STAMP, TEXT, TEXT, st.lists(FLOAT, min_size=7, max_size=7)), max_size=3))
@@ -95,3 +107,104 @@ def test_malformed_joint_states_are_refused() -> None:
         decode_joint_state(bytes(huge))
     with pytest.raises(ValueError, match="not little-endian plain CDR"):
         decode_joint_state(b"\x00\x00\x00\x00" + payload[4:])
+
+
+@given(
+    st.lists(
+        st.tuples(
+            STAMP,
+            st.sampled_from(["", "base_link"]),
+            st.sampled_from([["left", "right"], ["left", "right", "arm"], ["right", "left"], []]),
+            st.lists(FLOAT, max_size=3),
+            st.lists(FLOAT, max_size=3),
+        ),
+        min_size=1,
+        max_size=6,
+    )
+)
+def test_a_stream_of_joint_states_reads_as_each_decoded_alone(
+    stream: list[tuple[int, str, list[str], list[float], list[float]]],
+) -> None:
+    # Names repeat and change along the stream: the reader's shortcut must never hand on the
+    # names of the payload before.
+    reader = JointStateReader()
+    for stamp, frame, names, position, velocity in stream:
+        payload = encode_joint_state(stamp, frame, names, position, velocity)
+        message = decode_joint_state(payload)
+        sec, nanosec, read_names, read_position = reader.read(payload)
+        assert (sec, nanosec) == (message.header.stamp.sec, message.header.stamp.nanosec)
+        assert list(read_names) == message.name
+        assert list(read_position) == message.position
+
+
+def test_malformed_joint_states_are_refused_after_good_ones() -> None:
+    payload = types.JointState(
+        name=["left", "right"], position=[1.0, 2.0], velocity=[0.5, 0.5]
+    ).serialize()
+    reader = JointStateReader()
+    assert reader.read(payload)[3] == (1.0, 2.0)
+    for cut in range(1, len(payload) - 4):
+        with pytest.raises((ValueError, struct.error)):
+            reader.read(payload[:-cut])
+    with pytest.raises(ValueError, match="not little-endian plain CDR"):
+        reader.read(b"\x00\x00\x00\x00" + payload[4:])
+    longer = bytearray(payload)
+    longer[-4:] = struct.pack("<I", 1)  # an effort past the end
+    with pytest.raises(ValueError, match="longer than the payload"):
+        reader.read(bytes(longer))
+    assert reader.read(payload)[2] == ("left", "right")
+
+
+@given(
+    frame=TEXT,
+    child=TEXT,
+    covariances=st.lists(FLOAT, min_size=72, max_size=72),
+    steps=st.lists(
+        st.tuples(STAMP, st.lists(FLOAT, min_size=7, max_size=7), FLOAT, FLOAT),
+        min_size=1,
+        max_size=3,
+    ),
+)
+def test_odometry_writer_bytes_equal_the_encoders(
+    frame: str,
+    child: str,
+    covariances: list[float],
+    steps: list[tuple[int, list[float], float, float]],
+) -> None:
+    writer = OdometryWriter(frame, child, covariances[:36], covariances[36:])
+    for stamp, pose, linear, angular in steps:
+        twist = (linear, 0.0, 0.0, 0.0, 0.0, angular)
+        expected = encode_odometry(
+            stamp, frame, child, pose, covariances[:36], twist, covariances[36:]
+        )
+        assert writer.odometry(stamp, pose, linear, angular) == expected
+        assert writer.tf(stamp, pose) == encode_tf([(stamp, frame, child, pose)])
+
+
+@given(values=st.lists(FLOAT, min_size=6, max_size=6), stamp=STAMP, frame=TEXT)
+def test_twists_read_as_the_types_serializer_writes_them(
+    values: list[float], stamp: int, frame: str
+) -> None:
+    twist = types.Twist(types.Vector3(*values[:3]), types.Vector3(*values[3:]))
+    stamped = types.TwistStamped(types.Header(time_of(stamp), frame), twist)
+    assert decode_twist(twist.serialize()) == (values[0], values[5])
+    assert decode_twist_stamped(stamped.serialize()) == (values[0], values[5])
+
+
+def test_truncated_twists_are_refused() -> None:
+    twist = types.Twist(types.Vector3(1.0, 0.0, 0.0), types.Vector3(0.0, 0.0, 2.0)).serialize()
+    stamped = types.TwistStamped(
+        types.Header(time_of(5), "base_link"), types.Twist(types.Vector3(), types.Vector3())
+    ).serialize()
+    for payload, decode in ((twist, decode_twist), (stamped, decode_twist_stamped)):
+        for cut in range(1, len(payload)):
+            with pytest.raises((ValueError, struct.error)):
+                decode(payload[:-cut])
+        with pytest.raises(ValueError, match="not little-endian plain CDR"):
+            decode(b"\x00\x00\x00\x00" + payload[4:])
+
+
+@given(st.lists(FLOAT, max_size=5))
+def test_float64_arrays_equal_the_types_serializer(values: list[float]) -> None:
+    message = types.Float64MultiArray(types.MultiArrayLayout(), values)
+    assert encode_float64_array(values) == message.serialize()

@@ -17,7 +17,7 @@ from diffbot.live import types
 from diffbot.live.messages import commands, yaw_of
 from diffbot.live.robot import RobotNode, RobotSettings
 from diffbot.live.transport import LATCHED, Node, QosProfile
-from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
+from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
 
 TWO = DiffDriveParams(
     wheel_radius=0.05,
@@ -130,6 +130,20 @@ def test_a_bad_wheel_command_is_refused_as_zero() -> None:
         robot.on_wheels(1, [math.nan])
         assert robot.refused == 2
         assert robot.velocities == {"left_wheel_joint": 0.0, "right_wheel_joint": 0.0}
+
+
+@pytest.mark.parametrize("stamped", [False, True])
+def test_velocity_commands_read_from_the_wire_turn_the_wheels_as_ik_does(stamped: bool) -> None:
+    settings = RobotSettings(rate=50.0, cmd_vel="cmd_vel", stamped=stamped)
+    twist = types.Twist(types.Vector3(0.2, 0.0, 0.0), types.Vector3(0.0, 0.0, 1.5))
+    message = types.TwistStamped(types.Header(), twist) if stamped else twist
+    with RobotNode(TWO, None, settings) as robot:
+        robot.subscriptions[0].deliver([message.serialize(), b"\x00\x01\x00\x00"])
+        assert robot.subscriptions[0].malformed == 1
+        expected = WheelCommander(TWO).step(0.2, 1.5, 1.0 / 50.0)
+        assert robot.velocities["left_wheel_joint"] == pytest.approx(expected.left[0], abs=1e-12)
+        assert robot.velocities["right_wheel_joint"] == pytest.approx(expected.right[0], abs=1e-12)
+        assert robot.velocities["left_wheel_joint"] < robot.velocities["right_wheel_joint"]
 
 
 def test_a_twist_topic_of_the_other_kind_is_named() -> None:
