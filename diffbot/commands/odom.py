@@ -281,6 +281,7 @@ def odom(
             _feedback_of(feedback, p),
             open_loop,
         )
+
     if open_loop and feedback is not None:
         opt.fail("--open-loop integrates the commands, not the wheels' --feedback: choose one")
     if open_loop and (recording.counts_per_rev is not None or recording.wrap is not None):
