@@ -70,6 +70,8 @@ class FollowSettings:
         cmd_vel: the velocity command topic.
         stamped: send geometry_msgs/TwistStamped (stamped now, in ``frame_id``).
         frame_id: the frame of stamped commands.
+        overtime: how long past the plan's end the run waits to arrive, at least (s; the
+            plan's duration when longer).
     """
 
     rate: float = 20.0
@@ -79,6 +81,7 @@ class FollowSettings:
     cmd_vel: str = "cmd_vel"
     stamped: bool = False
     frame_id: str = "base_link"
+    overtime: float = MIN_OVERTIME
 
     def __post_init__(self) -> None:
         finite_in_range(self.rate, "rate", 1.0 / MAX_PLAN_DURATION, 1e4, unit="Hz", error=LiveError)
@@ -96,6 +99,9 @@ class FollowSettings:
                 f"pose_kind must be odometry, pose or pose-covariance, got {self.pose_kind!r}"
             )
         check_frame_id(self.frame_id, "frame_id")
+        finite_in_range(
+            self.overtime, "overtime", 0.0, MAX_PLAN_DURATION, unit="s", error=LiveError
+        )
 
 
 @dataclass(frozen=True)
@@ -151,7 +157,7 @@ class FollowDriver(Node):
         self.settings = settings
         duration = follower.duration
         #: When the run gives up arriving (s after its start).
-        self.cap = duration + max(MIN_OVERTIME, duration)
+        self.cap = duration + max(settings.overtime, duration)
         #: The latest pose relative to the first (None before one came) and when it came
         #: (monotonic s).
         self.pose: Pose | None = None
