@@ -120,8 +120,10 @@ def drive(
       ROS_LOCALHOST_ONLY=1 diffbot drive --example A --stamped
       diffbot drive "straight 1; spin 90" --max-accel 0.2 --wheels --wait 1
           with no robot listening: exit code 2 after the 1 s wait
-      diffbot drive "straight 0.5; spin 90" --follow --odom-topic odom --pose-timeout 0.3
-      diffbot drive --example A --follow pure-pursuit --pose-topic amcl_pose
+      diffbot drive "straight 0.5; spin 90" --follow --pose-timeout 0.3 --wait 1
+          with no odometry on odom: exit code 2 after the 1 s wait, nothing commanded
+      diffbot drive --example A --follow pure-pursuit --pose-topic amcl_pose --wait 1
+          from localization's pose; exit code 2 likewise when none comes
     """
     for option, name in (
         ("--cmd-vel", cmd_vel),

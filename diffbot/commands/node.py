@@ -361,7 +361,8 @@ def robot_command(
     Examples:
       diffbot node robot --duration 1    a robot for a second, standing still without commands
       ROS_LOCALHOST_ONLY=1 diffbot node robot --rate 100 --ticks 4096
-      diffbot node robot --cmd-vel cmd_vel --motor-lag 0.15 --latency 0.04 --drop 0.05 --seed 1
+      diffbot node robot --cmd-vel cmd_vel --motor-lag 0.15 --latency 0.04 --drop 0.05 \\
+          --seed 1 --duration 1    a robot that lags, delays and drops its commands
     """
     from diffbot.urdf.xacro import expand
 
