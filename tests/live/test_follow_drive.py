@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -32,7 +33,7 @@ from diffbot.closed_loop import LoopSettings, run
 from diffbot.follow import DEFAULT_XY_TOLERANCE, DEFAULT_YAW_TOLERANCE, Follower
 from diffbot.live import types
 from diffbot.live.follow_drive import FollowDriver, FollowSettings
-from diffbot.live.messages import stamp_ns, time_of, yaw_of, yaw_quaternion
+from diffbot.live.messages import odometry, stamp_ns, time_of, yaw_of, yaw_quaternion
 from diffbot.live.odometry import OdometryNode
 from diffbot.live.robot import RobotNode, RobotSettings
 from diffbot.live.transport import Node
@@ -45,6 +46,7 @@ PLAN = "straight 0.2 2s; spin 90 2s"
 RATE = 20.0
 ROBOT_RATE = 50.0
 DISTURBANCES = {"motor_lag": 0.15, "latency": 0.04, "drop": 0.2}
+ZERO = [0.0] * 36
 #: A seed whose drops take both final zeros of the open-loop plan at 20 Hz.
 SEED = 7
 
@@ -228,3 +230,52 @@ def test_followed_live_the_robot_arrives_and_open_loop_it_does_not() -> None:
     distance, heading, said = drive_on_a_disturbed_robot()
     assert said.startswith("drove plan: 81 commands"), said
     assert heading > yaw_bound, (math.degrees(heading), distance)
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
+def test_a_signal_stops_a_followed_drive_with_zero(signum: int) -> None:
+    last: list[tuple[float, float]] = []
+    with Node("odometry") as probe:
+        poses = probe.create_publisher(types.Odometry, "odom")
+        probe.create_subscription(
+            types.Twist, "cmd_vel", lambda m: last.append((m.linear.x, m.angular.z)), deep()
+        )
+        probe.create_timer(
+            0.05,
+            lambda: poses.publish(
+                odometry((0.0, 0.0, 0.0, 0.0, 0.0), time.time_ns(), "odom", "base_link", ZERO, ZERO)
+            ),
+        )
+        probe.start()
+        process = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "diffbot",
+                "drive",
+                "straight 1 20s",
+                "--follow",
+                "--wait",
+                str(PATIENCE),
+            ],
+            stderr=subprocess.PIPE,
+            text=True,
+            env=os.environ.copy(),
+        )
+        try:
+            end = time.monotonic() + 3 * PATIENCE
+            while not any(v > 0.0 for v, _ in last) and time.monotonic() < end:
+                time.sleep(0.01)
+            assert any(v > 0.0 for v, _ in last), "no command came"
+            process.send_signal(signum)
+            _, err = process.communicate(timeout=PATIENCE)
+        finally:
+            process.kill()
+        end = time.monotonic() + PATIENCE
+        while last[-1] != (0.0, 0.0) and time.monotonic() < end:
+            time.sleep(0.01)
+    assert process.returncode == 128 + signum, err
+    assert "stopped after" in err, err
+    assert "commanded zero" in err, err
+    assert "Traceback" not in err
+    assert last[-1] == (0.0, 0.0)
