@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from diffbot.live.drive import Driver, DriveReport, DriveSettings
     from diffbot.live.errors import LiveError
+    from diffbot.live.follow_drive import FollowDriver, FollowReport, FollowSettings
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
     from diffbot.live.odometry import OdometryNode, OdometrySettings
     from diffbot.live.robot import RobotNode, RobotSettings
@@ -23,6 +24,9 @@ __all__ = [
     "DriveReport",
     "DriveSettings",
     "Driver",
+    "FollowDriver",
+    "FollowReport",
+    "FollowSettings",
     "IkSettings",
     "InverseKinematicsNode",
     "LiveError",
@@ -38,6 +42,9 @@ _HOMES = {
     "DriveReport": "drive",
     "DriveSettings": "drive",
     "Driver": "drive",
+    "FollowDriver": "follow_drive",
+    "FollowReport": "follow_drive",
+    "FollowSettings": "follow_drive",
     "IkSettings": "inverse_kinematics",
     "InverseKinematicsNode": "inverse_kinematics",
     "LiveError": "errors",
