@@ -466,6 +466,13 @@ class DisturbedRobot:
             return
         self._pending.append((self.time + self.disturbances.latency, left, right))
 
+    def halt(self) -> None:
+        """Stop the motors' own way, as a base's command watchdog does: what is still to
+        arrive is forgotten and the wheels slow to rest with the motor lag (no latency, never
+        dropped)."""
+        self._pending.clear()
+        self._target = (0.0, 0.0)
+
     @property
     def stopped(self) -> bool:
         """Whether nothing moves or is still to arrive (speeds under 1e-6 rad/s)."""

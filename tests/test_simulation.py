@@ -593,3 +593,20 @@ def test_slip_loses_ground_travel_the_encoders_still_count() -> None:
 def test_disturbances_outside_their_physical_ranges_are_refused(kwargs: dict[str, float]) -> None:
     with pytest.raises(ParameterError):
         Disturbances(**kwargs)  # type: ignore[arg-type]
+
+
+def test_a_halted_robot_forgets_what_was_still_to_arrive_and_slows_with_its_lag() -> None:
+    from diffbot.simulation import Disturbances, DisturbedRobot
+
+    robot = DisturbedRobot(BOT_50_RPM, Disturbances(motor_lag=0.1, latency=0.2))
+    robot.command(2.0, 2.0)
+    robot.advance(1.0)
+    robot.command(4.0, 4.0)  # due at 1.2 s, never arrives
+    robot.halt()
+    robot.advance(1.1)
+    # Eight time constants after the command arrived at 0.2 s, then one after the halt: the
+    # wheels kept e^-1 of their speed, they slow, not snap.
+    speed = 2.0 * (1.0 - math.exp(-8.0)) * math.exp(-1.0)
+    assert robot.speeds == pytest.approx([speed] * 2, rel=1e-6)
+    robot.advance(3.0)
+    assert robot.stopped

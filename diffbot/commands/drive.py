@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from diffbot.commands.follow_options import live_follow_options
 from diffbot.commands.live import RATE, WAIT, announce_option, checked_frame, checked_topic
 from diffbot.commands.options import (
     RobotOptions,
@@ -75,6 +76,7 @@ DRIVE_RATE = 20.0
     metavar="S",
     help="How long to wait for a subscriber before giving up.",
 )
+@live_follow_options
 @announce_option
 @quiet_option
 def drive(
@@ -90,6 +92,10 @@ def drive(
     left_topic: str,
     right_topic: str,
     wait: float,
+    follow: str | None,
+    odom_topic: str,
+    pose_topic: str | None,
+    pose_timeout: float,
     announce: bool,
     quiet: bool,
 ) -> None:
@@ -101,11 +107,20 @@ def drive(
     by commanding zero: after the last command, and on Ctrl-C, SIGTERM or SIGHUP too. Exit code
     1, before anything moves, when the plan exceeds the motor limit.
 
+    With --follow the loop is closed: the commands come from a follower of the plan fed by the
+    robot's pose (--odom-topic, or --pose-topic), at --rate; zero while the pose is stale
+    (--pose-timeout), at the end and on a signal. Exit code 2, nothing commanded, when no pose
+    came within --wait; 1 when the robot did not arrive in time.
+
     \b
     Examples:
       ROS_LOCALHOST_ONLY=1 diffbot drive --example A --stamped
       diffbot drive "straight 1; spin 90" --max-accel 0.2 --wheels --wait 1
           with no robot listening: exit code 2 after the 1 s wait
+      diffbot drive "straight 0.5; spin 90" --follow --pose-timeout 0.3 --wait 1
+          with no odometry on odom: exit code 2 after the 1 s wait, nothing commanded
+      diffbot drive --example A --follow pure-pursuit --pose-topic amcl_pose --wait 1
+          from localization's pose; exit code 2 likewise when none comes
     """
     for option, name in (
         ("--cmd-vel", cmd_vel or "cmd_vel"),
@@ -116,6 +131,8 @@ def drive(
     checked_frame("--frame-id", frame_id)
     if stamped and wheels:
         warn("--stamped changes Twist commands only, and --wheels sends none")
+    if follow is not None and wheels:
+        fail("--follow commands velocities on --cmd-vel; leave out --wheels")
     built = plan_options.build(plan_options.request(robot, tokens))
     source, params = built.source, built.params
     cmd_vel, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
@@ -126,6 +143,23 @@ def drive(
         for line in limit_lines:
             click.echo(line, err=True)
         sys.exit(EXIT_CHECK_FAILED)
+    if follow is not None:
+        from diffbot.commands.drive_follow import LiveFollow, drive_follow
+
+        pose = odom_topic if pose_topic is None else pose_topic
+        request = LiveFollow(
+            law="pure-pursuit" if follow == "pure-pursuit" else "tracking",
+            rate=rate,
+            pose_topic=checked_topic("--pose-topic" if pose_topic else "--odom-topic", pose),
+            from_odometry=pose_topic is None,
+            pose_timeout=pose_timeout,
+            cmd_vel=cmd_vel,
+            stamped=stamped,
+            frame_id=frame_id,
+            wait=wait,
+        )
+        drive_follow(request, built.made, params, source.label, announce=announce, quiet=quiet)
+        return
     ramped = sampled(built.made)
     total = ramped.command_count(rate)
     planned = (total - 1) / rate  # the final zero's time

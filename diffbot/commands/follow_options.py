@@ -13,7 +13,7 @@ from diffbot.simulation import MAX_DELAY
 
 F = TypeVar("F", bound=Callable[..., Any])
 
-__all__ = ["Fraction", "disturbance_options", "follow_options"]
+__all__ = ["Fraction", "disturbance_options", "follow_options", "live_follow_options"]
 
 
 class Fraction(FiniteFloat):
@@ -97,13 +97,51 @@ def follow_options(command: F) -> F:
         help="Commands per second of the follower or of the open-loop commands on a disturbed "
         "robot (Hz), at most --rate.",
     )(command)
+    return _follow_option(
+        "Close the loop: follow the plan from the pose (tracking: the timed plan, the default, "
+        "its feed-forward taken --motor-lag plus --latency ahead; pure-pursuit: its path, "
+        "untimed)."
+    )(command)
+
+
+def _follow_option(text: str) -> Callable[[F], F]:
     return click.option(
         "--follow",
         type=click.Choice(["tracking", "pure-pursuit"]),
         is_flag=False,
         flag_value="tracking",
         default=None,
-        help="Close the loop: follow the plan from the pose (tracking: the timed plan, the "
-        "default, its feed-forward taken --motor-lag plus --latency ahead; pure-pursuit: its "
-        "path, untimed).",
+        help=text,
+    )
+
+
+def live_follow_options(command: F) -> F:
+    """``--follow [tracking|pure-pursuit]``, ``--odom-topic``, ``--pose-topic``,
+    ``--pose-timeout S``: a live drive closed by a follower on the robot's pose."""
+    command = click.option(
+        "--pose-timeout",
+        type=FiniteFloat(0.0, open_min=True, maximum=MAX_DELAY),
+        default=0.5,
+        show_default=True,
+        metavar="S",
+        help="With --follow: command zero while no pose came for this long (s).",
+    )(command)
+    command = click.option(
+        "--pose-topic",
+        default=None,
+        metavar="TOPIC",
+        help="With --follow: take the pose from this geometry_msgs/PoseStamped or "
+        "PoseWithCovarianceStamped topic (localization, motion capture) instead of --odom-topic.",
+    )(command)
+    command = click.option(
+        "--odom-topic",
+        default="odom",
+        show_default=True,
+        metavar="TOPIC",
+        help="With --follow: the nav_msgs/Odometry topic of the robot's pose.",
+    )(command)
+    return _follow_option(
+        "Close the loop: follow the plan from the robot's pose, published on --cmd-vel at --rate "
+        "(tracking: the timed plan, the default; pure-pursuit: its path, untimed). The plan "
+        "starts at the first pose received."
     )(command)

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 import click
 
+from diffbot.commands.follow_options import disturbance_options
 from diffbot.commands.limit_options import body_limit_option
 from diffbot.commands.live import (
     PUBLISH_RATE,
@@ -332,6 +333,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
     help="Run the wheel commands through the controllers file's acceleration and jerk limits, "
     "as velocity commands (--cmd-vel) always are.",
 )
+@disturbance_options
 @duration_option
 @announce_option
 @quiet_option
@@ -350,6 +352,10 @@ def robot_command(
     true_radii: tuple[float, float] | None,
     true_separation: float | None,
     limit_wheels: bool,
+    motor_lag: float,
+    latency: float,
+    drop: float,
+    slip: float,
     duration: float | None,
     announce: bool,
     quiet: bool,
@@ -360,12 +366,17 @@ def robot_command(
 
     The wheel commands are the velocity controllers' (one Float64MultiArray per side, as 'node
     ik' and 'drive --wheels' publish) unless --cmd-vel is given. The wheels stop when commands go
-    quiet for --timeout seconds.
+    quiet for --timeout seconds. --motor-lag, --latency, --drop and --slip make it a robot that
+    does not do what it is told, as 'simulate' does (seeded by --seed): each command message
+    reaches the motors late or never, the wheels lag and saturate at the motor limit, the ground
+    slips; ground_truth/odom says where it really went.
 
     \b
     Examples:
       diffbot node robot --duration 1    a robot for a second, standing still without commands
       ROS_LOCALHOST_ONLY=1 diffbot node robot --rate 100 --ticks 4096
+      diffbot node robot --cmd-vel cmd_vel --motor-lag 0.15 --latency 0.04 --drop 0.05 \\
+          --seed 1 --duration 1    a robot that lags, delays and drops its commands
     """
     from diffbot.urdf.xacro import expand
 
@@ -383,6 +394,7 @@ def robot_command(
     left, right = command_topics(options.controllers, params)
     expansion = expand(options.robot, options.xacro_args, options.packages, trust=options.trust)
     from diffbot.live.robot import RobotNode, RobotSettings
+    from diffbot.simulation import Disturbances
 
     settings = RobotSettings(
         rate=rate,
@@ -397,6 +409,7 @@ def robot_command(
         true_radii=true_radii,
         true_separation=true_separation,
         limit_wheels=limit_wheels,
+        disturbances=Disturbances(motor_lag, latency, drop, slip, seed=seed),
     )
     run_node(
         lambda: _warning(RobotNode(params, expansion.urdf, settings)),

@@ -15,6 +15,7 @@ from diffbot.lazy import lazy_names
 if TYPE_CHECKING:
     from diffbot.live.drive import Driver, DriveReport, DriveSettings
     from diffbot.live.errors import LiveError
+    from diffbot.live.follow_drive import FollowDriver, FollowReport, FollowSettings
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
     from diffbot.live.odometry import OdometryNode, OdometrySettings
     from diffbot.live.robot import RobotNode, RobotSettings
@@ -24,6 +25,9 @@ __all__ = [
     "DriveReport",
     "DriveSettings",
     "Driver",
+    "FollowDriver",
+    "FollowReport",
+    "FollowSettings",
     "IkSettings",
     "InverseKinematicsNode",
     "LiveError",
@@ -39,6 +43,9 @@ _HOMES = {
     "DriveReport": "drive",
     "DriveSettings": "drive",
     "Driver": "drive",
+    "FollowDriver": "follow_drive",
+    "FollowReport": "follow_drive",
+    "FollowSettings": "follow_drive",
     "IkSettings": "inverse_kinematics",
     "InverseKinematicsNode": "inverse_kinematics",
     "LiveError": "errors",

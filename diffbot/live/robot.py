@@ -13,6 +13,13 @@ At start it publishes, transient local, ``/robot_description`` and the fixed joi
 on ``/tf_static``. Commands are the velocity controllers' Float64MultiArray (one value per joint
 of a side), or ``cmd_vel`` through the same inverse kinematics as ``node ik``. When commands go
 quiet for ``timeout`` seconds the wheels stop.
+
+Given :class:`~diffbot.simulation.Disturbances`, the wheels are those of a
+:class:`~diffbot.simulation.DisturbedRobot` stepped on the monotonic clock, the same model
+``simulate`` runs: each command message reaches the motors ``latency`` s late, or never (a
+``drop`` share), the wheels follow with the first-order ``motor_lag`` and the motor limit, and the
+ground moves by the real geometry less the ``slip``; joint states report the angles the wheels
+turned.
 """
 
 from __future__ import annotations
@@ -20,7 +27,7 @@ from __future__ import annotations
 import math
 import random
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, cast
 
 from diffbot.calibration.truth import true_robot
@@ -39,6 +46,7 @@ from diffbot.live.wire import Refusals, twist_problem, wheel_problem
 from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
+from diffbot.simulation import Disturbances, DisturbedRobot
 from diffbot.urdf.link_frames import MOVING, LinkTransform, description_joints, link_transform
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
 
@@ -64,6 +72,7 @@ class RobotSettings:
         true_separation: the real wheel separation (m) (None: the described one).
         limit_wheels: run per-side wheel commands through the controller's limiter too, as
             the velocity commands of ``cmd_vel`` always are (when it has limits).
+        disturbances: motor lag, latency, drops and slip (seeded by their own ``seed``).
     """
 
     rate: float = 50.0
@@ -78,6 +87,7 @@ class RobotSettings:
     true_radii: tuple[float, float] | None = None
     true_separation: float | None = None
     limit_wheels: bool = False
+    disturbances: Disturbances = field(default_factory=Disturbances)
 
 
 class RobotNode(Node):
@@ -117,7 +127,16 @@ class RobotNode(Node):
         self.positions = dict.fromkeys(self.names, 0.0)
         self.velocities = dict.fromkeys(wheels, 0.0)
         # The pose moves by the real geometry; the wheels turn as commanded.
-        self.truth = Odometry(true_robot(params, settings.true_radii, settings.true_separation))
+        real = true_robot(params, settings.true_radii, settings.true_separation)
+        self.truth = Odometry(real)
+        self._real = real
+        #: The disturbed wheels and ground (None: the wheels turn exactly as commanded).
+        self.motors = (
+            DisturbedRobot(params, settings.disturbances, real)
+            if settings.disturbances.any
+            else None
+        )
+        self._start = time.monotonic()
         self._covariances = (
             covariance_matrix(DEFAULT_POSE_COVARIANCE),
             covariance_matrix(DEFAULT_TWIST_COVARIANCE),
@@ -192,6 +211,8 @@ class RobotNode(Node):
         for joint, value in zip(joints, values, strict=True):
             held[joint] = value
         self._last_command = time.monotonic()
+        if self.targets is None:
+            self._command_motors()
 
     def on_twist(self, twist: types.Twist) -> None:
         """Take a velocity command, turned into wheel commands as ``node ik`` does; a refused
@@ -211,6 +232,22 @@ class RobotNode(Node):
             for joint, value in zip(joints, values, strict=True):
                 self.velocities[joint] = value
         self._last_command = time.monotonic()
+        self._command_motors()
+
+    def _command_motors(self) -> None:
+        """Hand the commanded joint velocities, one message's worth, to the disturbed motors
+        (each side's mean, as wheel-ground speeds)."""
+        motors = self.motors
+        if motors is None:
+            return
+        motors.advance(time.monotonic() - self._start)
+        wheels = wheel_from_joint(self.params, WheelSpeeds(*self._side_means(self.velocities)))
+        motors.command(float(wheels.left), float(wheels.right))
+
+    def _side_means(self, by_joint: dict[str, float]) -> tuple[float, float]:
+        left = sum(by_joint[j] for j in self.left_joints) / len(self.left_joints)
+        right = sum(by_joint[j] for j in self.right_joints) / len(self.right_joints)
+        return left, right
 
     @property
     def refused(self) -> int:
@@ -221,7 +258,7 @@ class RobotNode(Node):
         """Move the wheels by their velocities over the time since the last update; publish."""
         now = time.monotonic()
         last, self._last_update = self._last_update, now
-        if last is not None:
+        if last is not None and self.motors is None:
             dt = now - last
             for joint, velocity in self.velocities.items():
                 self.positions[joint] += velocity * dt
@@ -232,6 +269,8 @@ class RobotNode(Node):
             if any(self.velocities.values()):
                 self.timeouts += 1
             self.velocities = dict.fromkeys(self.velocities, 0.0)
+            if self.motors is not None:
+                self.motors.halt()
             if self.targets is not None:
                 self.targets = dict.fromkeys(self.targets, 0.0)
                 assert self.commander is not None
@@ -239,17 +278,20 @@ class RobotNode(Node):
         if self.targets is not None:
             self._limit_wheels(self.targets)
         stamp = now_ns()
-        left = sum(self.positions[j] for j in self.left_joints) / len(self.left_joints)
-        right = sum(self.positions[j] for j in self.right_joints) / len(self.right_joints)
-        self.truth.update(left, right, stamp_ns=stamp)
+        if self.motors is None:
+            left, right = self._side_means(self.positions)
+            self.truth.update(left, right, stamp_ns=stamp)
+            state = self.truth.state
+            velocities = [self.velocities.get(name, 0.0) for name in self.names]
+        else:
+            state, velocities = self._move_motors(now)
         self.updates += 1
         reported = [self._encoder(self.positions[name]) for name in self.names]
-        velocities = [self.velocities.get(name, 0.0) for name in self.names]
         # Serialized here (diffbot.live.cdr), not field by field by the types' serializer.
         self.joint_states.publish_serialized(
             encode_joint_state(stamp, "", self.names, reported, velocities)
         )
-        x, y, heading, linear, angular = self.truth.state
+        x, y, heading, linear, angular = state
         q = yaw_quaternion(heading)
         pose = (x, y, 0.0, q.x, q.y, q.z, q.w)
         self.ground_truth.publish_serialized(
@@ -260,18 +302,39 @@ class RobotNode(Node):
             transforms = [(stamp, t.parent, t.child, (*t.translation, *t.rotation)) for t in moved]
             self.tf.publish_serialized(encode_tf(transforms))
 
+    def _move_motors(
+        self, now: float
+    ) -> tuple[tuple[float, float, float, float, float], list[float]]:
+        """Step the disturbed motors to ``now`` (monotonic s): the wheel joints at their angles;
+        the true pose and twist (m, rad, m/s, rad/s) and every joint's velocity (rad/s)."""
+        motors = self.motors
+        assert motors is not None
+        motors.advance(now - self._start)
+        p = self.params
+        turned = {}
+        for joints, sign, side in (
+            (self.left_joints, p.left_sign, 0),
+            (self.right_joints, p.right_sign, 1),
+        ):
+            for joint in joints:
+                self.positions[joint] = sign * motors.angles[side]
+                turned[joint] = sign * motors.speeds[side]
+        body = forward(self._real, motors.speeds[0], motors.speeds[1])
+        x, y, heading = motors.pose
+        state = (x, y, heading, float(body.linear), float(body.angular))
+        return state, [turned.get(name, 0.0) for name in self.names]
+
     def _limit_wheels(self, targets: dict[str, float]) -> None:
         """One limiter update of the wheel commands: each side's mean joint velocity as the
         body velocity it asks for, limited, and back to every joint of the side."""
         assert self.commander is not None
-        left = sum(targets[j] for j in self.left_joints) / len(self.left_joints)
-        right = sum(targets[j] for j in self.right_joints) / len(self.right_joints)
-        wheels = wheel_from_joint(self.params, WheelSpeeds(left, right))
+        wheels = wheel_from_joint(self.params, WheelSpeeds(*self._side_means(targets)))
         body = forward(self.params, wheels.left, wheels.right)
         out = self.commander.step(float(body.linear), float(body.angular), 1.0 / self.settings.rate)
         for joints, values in ((self.left_joints, out.left), (self.right_joints, out.right)):
             for joint, value in zip(joints, values, strict=True):
                 self.velocities[joint] = value
+        self._command_motors()
 
     def _encoder(self, angle: float) -> float:
         """An angle as the encoder reports it: with noise, then quantised to ticks."""

@@ -50,7 +50,9 @@ __all__ = [
     "ParticipantEntitiesInfo",
     "Point",
     "Pose",
+    "PoseStamped",
     "PoseWithCovariance",
+    "PoseWithCovarianceStamped",
     "Quaternion",
     "SetOdometryRequest",
     "SetOdometryResponse",
@@ -186,6 +188,27 @@ class PoseWithCovariance(IdlStruct, typename="geometry_msgs::msg::dds_::PoseWith
 
     pose: Pose = field(default_factory=Pose)
     covariance: array[float64, 36] = field(default_factory=lambda: [0.0] * 36)
+
+
+@final
+@dataclass
+class PoseStamped(IdlStruct, typename="geometry_msgs::msg::dds_::PoseStamped_"):
+    """geometry_msgs/PoseStamped: a pose in ``header.frame_id`` (what motion capture sends)."""
+
+    header: Header = field(default_factory=Header)
+    pose: Pose = field(default_factory=Pose)
+
+
+@final
+@dataclass
+class PoseWithCovarianceStamped(
+    IdlStruct, typename="geometry_msgs::msg::dds_::PoseWithCovarianceStamped_"
+):
+    """geometry_msgs/PoseWithCovarianceStamped: what localization (AMCL, robot_localization)
+    publishes."""
+
+    header: Header = field(default_factory=Header)
+    pose: PoseWithCovariance = field(default_factory=PoseWithCovariance)
 
 
 @final
@@ -414,6 +437,8 @@ ROS_TYPES: dict[str, type[IdlStruct]] = {
         Transform,
         TransformStamped,
         PoseWithCovariance,
+        PoseStamped,
+        PoseWithCovarianceStamped,
         TwistWithCovariance,
         Odometry,
         JointState,

@@ -23,6 +23,7 @@ __all__ = [
     "MAX_JOINT_ANGLE",
     "MAX_JOINT_SPEED",
     "MAX_LINEAR_SPEED",
+    "MAX_POSITION",
     "MAX_STAMP_AHEAD_NS",
     "NOT_FINITE",
     "OUT_OF_RANGE",
@@ -30,6 +31,7 @@ __all__ = [
     "WRONG_LENGTH",
     "Refusals",
     "joint_state_problem",
+    "pose_problem",
     "twist_problem",
     "wheel_problem",
 ]
@@ -56,6 +58,11 @@ MAX_JOINT_ANGLE: Final = 1e9
 #: Furthest a stamp may lie ahead of this machine's clock (ns): clocks on one network agree
 #: far better; a stamp beyond it would hold up every later message as "going back in time".
 MAX_STAMP_AHEAD_NS: Final = 60 * 1_000_000_000
+#: Furthest a pose may lie from its frame's origin (m): a thousand kilometres.
+MAX_POSITION: Final = 1e6
+#: How far a pose's quaternion may be from unit length (squared norm within 1 +- this): a
+#: rounding error passes, a zero or a scaled quaternion is no rotation.
+QUATERNION_SLACK: Final = 0.1
 
 
 def _number_problem(value: float, bound: float) -> str | None:
@@ -100,6 +107,34 @@ def joint_state_problem(
     if sec * 1_000_000_000 + nanosec - now > MAX_STAMP_AHEAD_NS:
         return STAMPED_AHEAD
     return _values_problem(positions, MAX_JOINT_ANGLE)
+
+
+def pose_problem(
+    sec: int,
+    nanosec: int,
+    position: Sequence[float],
+    orientation: Sequence[float],
+    now_ns: int | None = None,
+) -> str | None:
+    """Why a pose stamped ``sec``/``nanosec`` at ``position`` (x, y, z in m) with the quaternion
+    ``orientation`` (x, y, z, w) is refused, or None. ``now_ns``: this machine's clock (ns;
+    read when None)."""
+    if not 0 <= nanosec < 1_000_000_000:
+        return BAD_STAMP
+    now = time.time_ns() if now_ns is None else now_ns
+    if sec * 1_000_000_000 + nanosec - now > MAX_STAMP_AHEAD_NS:
+        return STAMPED_AHEAD
+    for value in position:
+        problem = _number_problem(value, MAX_POSITION)
+        if problem is not None:
+            return problem
+    for value in orientation:
+        problem = _number_problem(value, 1.0 + QUATERNION_SLACK)
+        if problem is not None:
+            return problem
+    if abs(sum(q * q for q in orientation) - 1.0) > QUATERNION_SLACK:
+        return OUT_OF_RANGE
+    return None
 
 
 class Refusals:

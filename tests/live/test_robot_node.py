@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import itertools
 import math
+import subprocess
+import sys
 import time
 
 import pytest
@@ -17,6 +19,7 @@ from diffbot.live import types
 from diffbot.live.messages import commands, yaw_of
 from diffbot.live.robot import RobotNode, RobotSettings
 from diffbot.live.transport import LATCHED, Node, QosProfile
+from diffbot.simulation import Disturbances
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
 
 TWO = DiffDriveParams(
@@ -251,3 +254,83 @@ def test_wheel_commands_go_through_the_limiter_when_asked() -> None:
     # Without --limit-wheels the command applies at once.
     direct = left_velocities(limited, limit_wheels=False)
     assert max(b - a for a, b in itertools.pairwise(direct)) == pytest.approx(2.0)
+
+
+LIMITED = DiffDriveParams(
+    wheel_radius=0.05,
+    wheel_separation=0.2,
+    left_joint="left_wheel_joint",
+    right_joint="right_wheel_joint",
+    right_sign=-1,
+    max_wheel_speed=10.0,
+)
+
+
+def disturbed(params: DiffDriveParams, **given: float | int) -> RobotNode:
+    settings = RobotSettings(
+        rate=50.0,
+        cmd_vel="cmd_vel",
+        timeout=0.0,
+        disturbances=Disturbances(**given),  # type: ignore[arg-type]
+    )
+    return RobotNode(params, None, settings)
+
+
+def test_a_disturbed_robot_takes_commands_late_lags_and_saturates() -> None:
+    # 2 m/s asks 40 rad/s of each wheel, four times the motor limit of 10 rad/s.
+    with disturbed(LIMITED, latency=0.5, motor_lag=0.05) as robot:
+        robot.on_twist(types.Twist(types.Vector3(2.0, 0.0, 0.0)))
+        sent = time.monotonic()
+        robot.update()
+        if time.monotonic() - sent < 0.5:  # the command has not reached the motors yet
+            assert robot.positions == {"left_wheel_joint": 0.0, "right_wheel_joint": 0.0}
+        # Past the latency and twenty motor time constants: the wheels turn at the limit.
+        time.sleep(0.5 + 20 * 0.05 - (time.monotonic() - sent))
+        robot.update()
+        assert robot.motors is not None
+        assert robot.motors.speeds == pytest.approx([10.0, 10.0], abs=1e-6)
+        # joint_states' signs: the right joint turns backwards to roll forwards.
+        left, right = robot.positions["left_wheel_joint"], robot.positions["right_wheel_joint"]
+        assert left > 0.0
+        assert right == -left
+        x, y, heading = robot.motors.pose
+        # The ground moves by the wheel's turn (a straight line: no slip, equal radii).
+        assert x == pytest.approx(0.05 * left, rel=1e-9)
+        assert y == heading == 0.0
+
+
+def arrivals(seed: int) -> list[bool]:
+    """Which of 100 distinct commands reached the motors of a robot that drops half of them."""
+    reached = []
+    with disturbed(TWO, drop=0.5, seed=seed) as robot:
+        assert robot.motors is not None
+        for k in range(1, 101):
+            robot.on_twist(types.Twist(types.Vector3(0.001 * k, 0.0, 0.0)))
+            time.sleep(0.002)
+            robot.update()  # without a lag the wheels take an arrived command at once
+            wheel = 0.001 * k / 0.05
+            reached.append(robot.motors.speeds[0] == pytest.approx(wheel, rel=1e-9))
+    return reached
+
+
+def test_a_disturbed_robot_drops_a_seeded_share_of_commands() -> None:
+    first = arrivals(seed=7)
+    # Binomial(100, 0.5): outside 25..75 once in about a million runs.
+    assert 25 <= sum(first) <= 75
+    assert arrivals(seed=7) == first
+    assert arrivals(seed=8) != first
+
+
+def test_disturbance_flags_out_of_range_are_one_error_line() -> None:
+    for flag, value in (("--drop", "1"), ("--motor-lag", "-0.1"), ("--slip", "nan")):
+        done = subprocess.run(
+            [sys.executable, "-m", "diffbot", "node", "robot", flag, value, "--duration", "0"],
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=False,
+        )
+        assert done.returncode == 2, flag
+        assert done.stderr.startswith("error: "), done.stderr
+        assert done.stderr.count("\n") == 1, done.stderr
+        assert flag in done.stderr

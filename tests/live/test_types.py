@@ -115,7 +115,7 @@ def test_the_types_carry_ros_dds_names() -> None:
         "geometry_msgs/msg/TwistStamped"
     )
     assert ros_type_name("Chatter") == "Chatter"
-    assert len(ROS_TYPES) == 19
+    assert len(ROS_TYPES) == 21
     for ros_name, cls in ROS_TYPES.items():
         assert cls.__idl_typename__ == dds_type_name(ros_name)
         cls().serialize()  # builds the type's serializer, which finds its keys

@@ -23,6 +23,7 @@ from diffbot.live.wire import (
     BAD_STAMP,
     MAX_JOINT_ANGLE,
     MAX_LINEAR_SPEED,
+    MAX_POSITION,
     MAX_STAMP_AHEAD_NS,
     NOT_FINITE,
     OUT_OF_RANGE,
@@ -30,6 +31,7 @@ from diffbot.live.wire import (
     WRONG_LENGTH,
     Refusals,
     joint_state_problem,
+    pose_problem,
     twist_problem,
     wheel_problem,
 )
@@ -66,6 +68,21 @@ def test_the_checks_name_their_reason() -> None:
     assert not refusals.check(OUT_OF_RANGE)
     assert refusals.counts == {OUT_OF_RANGE: 2, NOT_FINITE: 1}
     assert refusals.total == 3
+
+
+def test_a_pose_is_finite_in_range_and_a_rotation() -> None:
+    sec = NOW // 10**9
+    turned = (0.0, 0.0, math.sin(0.3), math.cos(0.3))
+    assert pose_problem(sec, 0, (1.0, -MAX_POSITION, 0.0), turned, NOW) is None
+    assert pose_problem(sec, 0, (2e6, 0.0, 0.0), turned, NOW) == OUT_OF_RANGE
+    assert pose_problem(sec, 0, (math.nan, 0.0, 0.0), turned, NOW) == NOT_FINITE
+    assert pose_problem(sec, 0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, math.inf), NOW) == NOT_FINITE
+    # A zero quaternion is no rotation; a scaled one is not a unit rotation.
+    assert pose_problem(sec, 0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0), NOW) == OUT_OF_RANGE
+    assert pose_problem(sec, 0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.08), NOW) == OUT_OF_RANGE
+    assert pose_problem(sec, 0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.04), NOW) is None
+    assert pose_problem(sec, -1, (0.0, 0.0, 0.0), turned, NOW) == BAD_STAMP
+    assert pose_problem(sec + 61, 0, (0.0, 0.0, 0.0), turned, NOW) == STAMPED_AHEAD
 
 
 def joint_state(positions: list[float], ns: int) -> types.JointState:
