@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from cli_results import assert_one_error_line
 from click.testing import CliRunner
+from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 import diffbot
@@ -365,6 +366,14 @@ WHEEL_JOINT = (0.02, -0.03, 0.04, 0.3, 0.4, -0.5)
 TYRE = (0.01, 0.0, -0.02, 0.0, 1.0, 0.2)
 
 
+def base_frame() -> NDArray[np.float64]:
+    """The URDF frame of the base: a link no joint moves keeps its place but takes the model's
+    orientation, so that the model frame is the drive plane."""
+    frame = np.eye(4)
+    frame[:3, 3] = BASE[:3]
+    return frame
+
+
 def posed_model(joint_pose: str, axis: str = "<xyz>0 0 1</xyz>") -> str:
     def words(pose: tuple[float, ...]) -> str:
         return " ".join(repr(v) for v in pose)
@@ -395,8 +404,8 @@ def test_rotated_link_and_joint_poses_compose(tmp_path: Path) -> None:
     joint = robot.find("joint")
     assert joint is not None
     # The joint's frame is its pose in its child link's frame; URDF wants it in the parent's.
-    base, wheel, at_joint = pose_matrix(*BASE), pose_matrix(*WHEEL_LINK), pose_matrix(*WHEEL_JOINT)
-    want = np.linalg.inv(base) @ wheel @ at_joint
+    wheel, at_joint = pose_matrix(*WHEEL_LINK), pose_matrix(*WHEEL_JOINT)
+    want = np.linalg.inv(base_frame()) @ wheel @ at_joint
     np.testing.assert_allclose(origin_matrix(joint), want, rtol=0, atol=1e-12)
     # The tyre stays where the SDF put it: in the URDF link frame (the joint's) it is moved
     # back by the joint's pose.
@@ -416,8 +425,9 @@ def test_a_joint_pose_relative_to_the_parent_link_and_an_axis_in_the_model_frame
     robot = expanded(tmp_path, text)
     joint = robot.find("joint")
     assert joint is not None
-    at_joint = pose_matrix(*WHEEL_JOINT)  # in base's frame: the URDF origin itself
-    np.testing.assert_allclose(origin_matrix(joint), at_joint, rtol=0, atol=1e-12)
+    at_joint = pose_matrix(*WHEEL_JOINT)  # in the SDF base link's frame
+    want = np.linalg.inv(base_frame()) @ pose_matrix(*BASE) @ at_joint
+    np.testing.assert_allclose(origin_matrix(joint), want, rtol=0, atol=1e-12)
     # The model's +y, seen from the joint's frame.
     frame = pose_matrix(*BASE) @ at_joint
     axis = joint.find("axis")
@@ -442,8 +452,9 @@ def test_poses_in_degrees_and_quaternions_and_links_relative_to_links(tmp_path: 
     robot = expanded(tmp_path, text)
     joint = robot.find("joint")
     assert joint is not None
-    # The wheel is at base * link in the model: in base's frame, the link pose itself.
-    want = pose_matrix(*WHEEL_LINK) @ pose_matrix(*WHEEL_JOINT)
+    # The wheel is at base * link in the model, seen from the base's URDF frame.
+    link_pose = pose_matrix(*BASE) @ pose_matrix(*WHEEL_LINK)
+    want = np.linalg.inv(base_frame()) @ link_pose @ pose_matrix(*WHEEL_JOINT)
     np.testing.assert_allclose(origin_matrix(joint), want, rtol=0, atol=1e-12)
 
 
