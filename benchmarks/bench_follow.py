@@ -32,7 +32,8 @@ from typing import Any
 
 import diffbot
 from diffbot.calibration.truth import true_robot
-from diffbot.closed_loop import LoopSettings, path_distance, run
+from diffbot.closed_loop import LoopSettings, run
+from diffbot.commands.simulate_loop import summary
 from diffbot.follow import DWELL, Follower, Gains
 from diffbot.kinematics import DiffDriveParams, Pose, Twist
 from diffbot.planfile import parse_plan
@@ -181,17 +182,15 @@ def scenarios(params: DiffDriveParams) -> dict[str, Callable[[int], LoopSettings
 def figures(
     made: Plan, settings: LoopSettings, controller: Any, params: DiffDriveParams
 ) -> dict[str, float]:
-    result = run(made, params, settings, controller)
-    goal = made.final_pose
-    x, y, theta = (float(v) for v in result.truth[:, -1])
-    cross = path_distance(made, result.truth[0], result.truth[1])
+    """The figures ``simulate --follow --json`` reports for the run, under short names."""
+    data = summary(made, run(made, params, settings, controller))
     return {
-        "position": math.hypot(x - goal.x, y - goal.y),
-        "heading": abs(math.remainder(theta - goal.theta, 2.0 * math.pi)),
-        "max_cross": float(cross.max()),
-        "rms_cross": float(math.sqrt(float((cross * cross).mean()))),
-        "peak": result.peak_limit_fraction or 0.0,
-        "arrived": float(result.arrived),
+        "position": data["final_position_error"],
+        "heading": data["final_heading_error"],
+        "max_cross": data["max_cross_track_error"],
+        "rms_cross": data["rms_cross_track_error"],
+        "peak": data["peak_limit_fraction"] or 0.0,
+        "arrived": float(data["arrived"]),
     }
 
 
