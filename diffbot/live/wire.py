@@ -17,6 +17,8 @@ import time
 from collections.abc import Sequence
 from typing import Final
 
+from diffbot.samples import SKIP_NOT_FINITE
+
 __all__ = [
     "BAD_STAMP",
     "MAX_ANGULAR_SPEED",
@@ -36,8 +38,8 @@ __all__ = [
     "wheel_problem",
 ]
 
-#: Why a message was refused: a NaN or an infinity.
-NOT_FINITE: Final = "not finite"
+#: Why a message was refused: a NaN or an infinity (the reason a recorded sample is skipped for).
+NOT_FINITE: Final = SKIP_NOT_FINITE
 #: A number beyond its physical range.
 OUT_OF_RANGE: Final = "out of range"
 #: A stamp's nanoseconds not within 0..999999999.
