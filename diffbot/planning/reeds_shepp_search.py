@@ -128,8 +128,10 @@ def _lrsr(xi: float, eta: float, phi: float) -> tuple[float, ...] | None:
 def _turns_back(xi: float, eta: float) -> int:
     """Where the direction ``atan2(eta, xi)`` lies, clear of rounding: 2 beyond pi/2 (8.3/8.4
     and 8.9 then start with a turn that wraps below zero), 1 below -3 pi/4 (8.9's first turn,
-    theta plus at most 3 pi/4, is below zero), else 0 (either may hold)."""
-    if xi >= 0.0:
+    theta plus at most 3 pi/4, is below zero), else 0 (either may hold). Circles a rounding
+    apart (xi near zero) give 0: 8.3's first turn, pi plus half its tiny middle arc, wraps to
+    within :data:`ZERO` of zero and holds."""
+    if xi > -1e-9:
         return 0
     if eta >= 0.0:
         return 2 if -xi > 1e-6 * eta else 0

@@ -80,3 +80,18 @@ def test_singular_goals() -> None:
     assert lengths == pytest.approx((third, -third, third), abs=1e-12)
     # No word reaches a NaN goal.
     assert shortest(math.nan, 0.0, 0.0) == (-1, ())
+
+
+#: Offsets from the start down to rounding, where the turning circles of start and goal all but
+#: coincide and words of arcs of a few ulps tie.
+TINY = [0.0, -0.0, 1e-16, -1e-16, 1e-15, -1e-15, 1e-14, -1e-14, 1e-12, -1e-12, 1e-8, -1e-8]
+TINY_HEADINGS = [0.0, math.pi, -math.pi, 0.5 * math.pi, 2.0 * math.pi, -2.0 * math.pi, 1e-15]
+
+
+@pytest.mark.parametrize("phi", TINY_HEADINGS)
+def test_goals_a_rounding_from_the_start_tie_break_as_the_full_search(phi: float) -> None:
+    # A full turn 1e-14 ahead: a word of three arcs of a few ulps, which a bound on the
+    # direction between the circles (pi, from atan2(0, -1e-14)) once skipped.
+    for x in TINY:
+        for y in TINY:
+            assert searched(x, y, phi) == exhaustive(x, y, phi), (x, y, phi)
