@@ -18,7 +18,8 @@ from pathlib import Path
 from typing import Final
 from xml.etree.ElementTree import Element
 
-from diffbot.errors import DescriptionError, OutsideRootsError
+from diffbot.errors import DescriptionError, DiffbotError, OutsideRootsError
+from diffbot.io.pathnames import resolved
 
 __all__ = [
     "MAX_MESH_BYTES",
@@ -144,8 +145,8 @@ def _resolve(
 
 def _shown(path: Path) -> str:
     try:
-        return str(path.resolve().relative_to(Path.cwd().resolve()))
-    except (ValueError, OSError):
+        return str(resolved(path).relative_to(resolved(Path.cwd())))
+    except (ValueError, DiffbotError):
         return str(path)
 
 

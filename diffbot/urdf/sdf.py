@@ -33,6 +33,7 @@ from typing import Final
 from xml.etree import ElementTree as ET
 
 from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsError
+from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular
 from diffbot.numbers import as_number, shown
 from diffbot.urdf.packages import PackageFinder, folder_below
@@ -226,7 +227,7 @@ class _Reader:
     def __init__(self, source: Path, finder: PackageFinder, roots: Sequence[Path], trust: bool):
         self.source = source
         self.finder = finder
-        self.roots = [root.resolve() for root in roots]
+        self.roots = [resolved(root, DescriptionError) for root in roots]
         self.trust = trust
         self.model = _Model()
 
@@ -253,7 +254,7 @@ class _Reader:
                         f"{self.source}: model {name!r} of {uri!r} not found: give its folder "
                         f"with {{packages}} {name}=DIR"
                     )
-                self.roots.append(found.resolve())
+                self.roots.append(resolved(found, DescriptionError))
                 return found / rest if rest else found
         if "://" in uri and not uri.startswith("file://"):
             raise DescriptionError(
@@ -264,7 +265,7 @@ class _Reader:
 
     def _resource(self, name: str) -> Path | None:
         # models/<this>, models/<name>: a sibling, but never one linked from elsewhere
-        sibling = folder_below(self.source.resolve().parent.parent, name)
+        sibling = folder_below(resolved(self.source, DescriptionError).parent.parent, name)
         if sibling is not None and (sibling / "model.config").is_file():
             return sibling
         for variable in _RESOURCE_PATHS:

@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 
 import diffbot
 from diffbot.cli import main
-from diffbot.errors import ExpansionLimitError, OutsideRootsError
+from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsError
 from diffbot.urdf import sdf
 from diffbot.urdf.packages import PackageFinder
 
@@ -638,3 +638,11 @@ def test_the_drive_plane_is_the_models_frame_when_the_main_link_is_rotated(
     assert 'rpy="0 -0 1.5707963267948966"' in chassis or 'rpy="0 0 1.5707963267948966"' in chassis
     joint = urdf[urdf.index('<joint name="wheel_l_joint"') :]
     assert '<origin xyz="0.02 0.14999999999999999 -0.050000000000000003"' in joint
+
+
+def test_a_folder_to_read_that_is_a_loop_of_links_is_one_description_error(tmp_path: Path) -> None:
+    folder = model_folder(tmp_path / "models", "bot", '<sdf version="1.7"><model name="m"/></sdf>')
+    (tmp_path / "a").symlink_to(tmp_path / "b")
+    (tmp_path / "b").symlink_to(tmp_path / "a")
+    with pytest.raises(DescriptionError, match=r"a loop of symbolic links"):
+        sdf.expand_sdf(folder, PackageFinder(None, {}), [tmp_path / "a"])
