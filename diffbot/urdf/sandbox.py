@@ -20,7 +20,7 @@ import contextlib
 import os
 import re
 import threading
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -86,6 +86,30 @@ def inside_folders(path: str | os.PathLike[str], folders: Iterable[Path]) -> boo
     return any(real == f or f in real.parents for f in real_folders)
 
 
+def check_inside(
+    path: str | os.PathLike[str], folders: Sequence[Path], what: str, reader: str
+) -> None:
+    """Refuse ``path`` unless it lies inside one of ``folders`` (links resolved).
+
+    Args:
+        path: the file about to be read.
+        folders: the description's folders.
+        what: the refused action, for the message ("reading", "the include").
+        reader: what would read it, for the message ("xacro").
+
+    Raises:
+        OutsideRootsError: ``path`` is outside every folder.
+    """
+    if inside_folders(path, folders):
+        return
+    shown = ", ".join(str(f) for f in folders)
+    raise OutsideRootsError(
+        f"{os.fspath(path)}: {what} refused in an untrusted description: it is outside the "
+        f"description's folders ({shown}); trust the description ({{trust}}) to let {reader} "
+        "read any file"
+    )
+
+
 class _Roots:
     """The folders files may be read from; ``$(find PKG)`` adds the folders it resolves."""
 
@@ -100,14 +124,7 @@ class _Roots:
             self.folders.append(folder)
 
     def check(self, filename: str, what: str) -> None:
-        if inside_folders(filename, self.folders):
-            return
-        folders = ", ".join(str(f) for f in self.folders)
-        raise OutsideRootsError(
-            f"{filename}: {what} refused in an untrusted description: it is outside the "
-            f"description's folders ({folders}); trust the description ({{trust}}) to let "
-            "xacro read any file"
-        )
+        check_inside(filename, self.folders, what, "xacro")
 
 
 def _yaml_weight(data: Any, memo: dict[int, int], limit: int) -> int:

@@ -32,12 +32,12 @@ from pathlib import Path
 from typing import Final
 from xml.etree import ElementTree as ET
 
-from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsError
+from diffbot.errors import DescriptionError, ExpansionLimitError
 from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular
 from diffbot.numbers import as_number, shown
 from diffbot.urdf.packages import PackageFinder, folder_below
-from diffbot.urdf.sandbox import inside_folders
+from diffbot.urdf.sandbox import check_inside
 
 __all__ = ["MAX_DEPTH", "MAX_FILE_BYTES", "MAX_INCLUDES", "expand_sdf", "model_file"]
 
@@ -232,14 +232,8 @@ class _Reader:
         self.model = _Model()
 
     def check(self, path: Path) -> None:
-        if self.trust or inside_folders(path, self.roots):
-            return
-        folders = ", ".join(str(r) for r in self.roots)
-        raise OutsideRootsError(
-            f"{path}: reading refused in an untrusted description: it is outside the "
-            f"description's folders ({folders}); trust the description ({{trust}}) to let it "
-            "read any file"
-        )
+        if not self.trust:
+            check_inside(path, self.roots, "reading", "it")
 
     def locate(self, uri: str, here: Path) -> Path:
         """The model folder or file an include's URI names."""
