@@ -17,7 +17,12 @@ from diffbot.commands.options import (
     warn,
 )
 from diffbot.commands.plan_options import PlanOptions, frame_id_option, plan_arguments
-from diffbot.commands.topic_options import CMD_VEL_HELP, distro_option, resolve_cmd_vel
+from diffbot.commands.topic_options import (
+    CMD_VEL_HELP,
+    distro_option,
+    resolve_cmd_vel,
+    wheel_topic_options,
+)
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
 
@@ -54,20 +59,7 @@ DRIVE_RATE = 20.0
 )
 @click.option("--cmd-vel", metavar="TOPIC", help=CMD_VEL_HELP)
 @distro_option
-@click.option(
-    "--left-topic",
-    default="left_wheel_velocity_controller/commands",
-    show_default=True,
-    metavar="TOPIC",
-    help="The left side's topic (--wheels).",
-)
-@click.option(
-    "--right-topic",
-    default="right_wheel_velocity_controller/commands",
-    show_default=True,
-    metavar="TOPIC",
-    help="The right side's topic (--wheels).",
-)
+@wheel_topic_options("The left side's topic (--wheels).", "The right side's topic (--wheels).")
 @click.option(
     "--wait",
     type=WAIT,

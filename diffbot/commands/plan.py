@@ -29,7 +29,7 @@ from diffbot.commands.plan_options import (
     frame_id_option,
     plan_input_options,
 )
-from diffbot.commands.topic_options import distro_option, resolve_cmd_vel
+from diffbot.commands.topic_options import distro_option, resolve_cmd_vel, wheel_topic_options
 from diffbot.errors import EXIT_CHECK_FAILED, OutputError
 from diffbot.formats.command_stream import write_stream_csv, write_stream_json
 from diffbot.formats.plan_data import plan_csv, plan_json
@@ -104,19 +104,9 @@ __all__ = ["plan_command"]
     "use_stamped_vel: false on Humble), else cmd_vel].",
 )
 @distro_option
-@click.option(
-    "--left-topic",
-    default="left_wheel_velocity_controller/commands",
-    show_default=True,
-    metavar="TOPIC",
-    help="Left wheel Float64MultiArray topic (wheels format, ros2 --wheels).",
-)
-@click.option(
-    "--right-topic",
-    default="right_wheel_velocity_controller/commands",
-    show_default=True,
-    metavar="TOPIC",
-    help="Right wheel topic, likewise.",
+@wheel_topic_options(
+    "Left wheel Float64MultiArray topic (wheels format, ros2 --wheels).",
+    "Right wheel topic, likewise.",
 )
 @output_option(
     "Write to this file (with --bag: this rosbag2 directory) instead of stdout, whole or "

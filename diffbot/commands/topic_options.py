@@ -4,11 +4,16 @@ controllers file's diff-drive controller's own topic for the ROS release (``--di
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import TypeVar
+
 import click
 
 from diffbot.kinematics import DiffDriveParams
 
-__all__ = ["DEFAULT_CMD_VEL", "distro_option", "resolve_cmd_vel"]
+__all__ = ["DEFAULT_CMD_VEL", "distro_option", "resolve_cmd_vel", "wheel_topic_options"]
+
+_F = TypeVar("_F", bound=Callable[..., object])
 
 #: The velocity command topic without a controllers file.
 DEFAULT_CMD_VEL = "cmd_vel"
@@ -26,6 +31,24 @@ distro_option = click.option(
     help="The ROS 2 release of the controller: its command topic and type (TwistStamped from "
     "Jazzy on) [ROS_DISTRO, else Jazzy's].",
 )
+
+
+def wheel_topic_options(left_help: str, right_help: str) -> Callable[[_F], _F]:
+    """``--left-topic`` and ``--right-topic``: the per-side Float64MultiArray command topics,
+    by default the course's velocity controllers' (``diffbot.wheel_commands.LEFT_TOPIC``)."""
+
+    def add(command: _F) -> _F:
+        for side, text in (("right", right_help), ("left", left_help)):
+            command = click.option(
+                f"--{side}-topic",
+                default=f"{side}_wheel_velocity_controller/commands",
+                show_default=True,
+                metavar="TOPIC",
+                help=text,
+            )(command)
+        return command
+
+    return add
 
 
 def resolve_cmd_vel(
