@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
 
@@ -36,6 +37,21 @@ if TYPE_CHECKING:
     from diffbot.live.transport import Node
 
 __all__ = ["node"]
+
+
+F = TypeVar("F", bound=Callable[..., object])
+
+
+def _stale_timeout_option(why: str) -> Callable[[F], F]:
+    """``--timeout``: how long without a command before the wheels are stopped."""
+    return click.option(
+        "--timeout",
+        type=WAIT,
+        default=0.5,
+        show_default=True,
+        metavar="S",
+        help=f"Stop the wheels when no command came for this long (0: never){why}.",
+    )
 
 
 @click.group("node")
@@ -167,15 +183,7 @@ def odom(
     "of the left wheels + /commands, else left_wheel_velocity_controller/commands].",
 )
 @click.option("--right-topic", metavar="TOPIC", help="The right side's, likewise.")
-@click.option(
-    "--timeout",
-    type=WAIT,
-    default=0.5,
-    show_default=True,
-    metavar="S",
-    help="Stop the wheels when no command came for this long (0: never), as "
-    "diff_drive_controller's cmd_vel_timeout.",
-)
+@_stale_timeout_option(", as diff_drive_controller's cmd_vel_timeout")
 @click.option(
     "--rate",
     type=RATE,
@@ -307,14 +315,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
     help="The left side's Float64MultiArray command topic [as 'node ik' publishes].",
 )
 @click.option("--right-topic", metavar="TOPIC", help="The right side's, likewise.")
-@click.option(
-    "--timeout",
-    type=WAIT,
-    default=0.5,
-    show_default=True,
-    metavar="S",
-    help="Stop the wheels when no command came for this long (0: never).",
-)
+@_stale_timeout_option("")
 @click.option(
     "--ticks",
     type=Count(1, 2**32),
