@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import signal
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -16,6 +17,25 @@ import diffbot
 # a busy machine overruns.
 settings.register_profile("diffbot", deadline=None)
 settings.load_profile("diffbot")
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _signals_as_in_a_terminal() -> Iterator[None]:
+    """SIGINT, SIGTERM and SIGHUP act as they do for a command typed at a terminal, also when
+    the tests run in the background (`pytest &` ignores SIGINT, `nohup` SIGHUP): the live tests
+    stop nodes, theirs and those they start (which inherit the dispositions), with signals."""
+    saved = {}
+    for name, action in (
+        ("SIGINT", signal.default_int_handler),
+        ("SIGTERM", signal.SIG_DFL),
+        ("SIGHUP", signal.SIG_DFL),
+    ):
+        signum = getattr(signal, name, None)
+        if signum is not None and signal.getsignal(signum) is signal.SIG_IGN:
+            saved[signum] = signal.signal(signum, action)
+    yield
+    for signum, previous in saved.items():
+        signal.signal(signum, previous)
 
 
 @pytest.fixture(autouse=True, scope="session")
