@@ -41,9 +41,10 @@ from diffbot.live.cdr import (
     encode_tf,
 )
 from diffbot.live.messages import now_ns, transform, twist_mismatch, yaw_quaternion
+from diffbot.live.names import check_frame_id
 from diffbot.live.transport import LATCHED, TF, LiveError, Node, Subscription
 from diffbot.live.wire import Refusals, twist_problem, wheel_problem
-from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
+from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range, shown
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
 from diffbot.simulation import Disturbances, DisturbedRobot
@@ -123,6 +124,12 @@ class RobotNode(Node):
         self._fixed = [link_transform(j) for j in joints if j.type not in MOVING]
         others = [j.name for j in self._moving if j.name not in wheels]
         self.names = [*wheels, *others]
+        # The description's names go into every JointState and /tf message.
+        for joint_name in self.names:
+            check_frame_id(joint_name, "joint name")
+        for joint in joints:
+            check_frame_id(joint.parent, f"link of joint {shown(joint.name)}")
+            check_frame_id(joint.child, f"link of joint {shown(joint.name)}")
         #: Each wheel joint's true angle (rad) and commanded velocity (rad/s).
         self.positions = dict.fromkeys(self.names, 0.0)
         self.velocities = dict.fromkeys(wheels, 0.0)

@@ -18,7 +18,7 @@ from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
 from diffbot.live.messages import commands, yaw_of
 from diffbot.live.robot import RobotNode, RobotSettings
-from diffbot.live.transport import LATCHED, Node, QosProfile
+from diffbot.live.transport import LATCHED, LiveError, Node, QosProfile
 from diffbot.simulation import Disturbances
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
 
@@ -334,3 +334,35 @@ def test_disturbance_flags_out_of_range_are_one_error_line() -> None:
         assert done.stderr.startswith("error: "), done.stderr
         assert done.stderr.count("\n") == 1, done.stderr
         assert flag in done.stderr
+
+
+CASTER = (
+    '<link name="caster"/><joint name="{name}" type="continuous"><parent link="base_link"/>'
+    '<child link="caster"/></joint></robot>'
+)
+
+
+@pytest.mark.parametrize(
+    ("urdf", "named"),
+    [
+        # A character reference keeps a tab or newline in an attribute; a name may be any
+        # length: /tf and JointState carry neither.
+        (two_wheel_urdf().replace("base_link", "base&#9;link"), "link of joint"),
+        (two_wheel_urdf().replace("base_link", "b" * 300), "link of joint"),
+        (
+            two_wheel_urdf().replace("</robot>", CASTER.format(name="caster&#10;joint")),
+            "joint name",
+        ),
+    ],
+)
+def test_names_of_the_description_that_no_message_may_carry_are_refused(
+    urdf: str, named: str
+) -> None:
+    with pytest.raises(LiveError, match=named):
+        RobotNode(TWO, urdf, RobotSettings(rate=10.0))
+
+
+def test_a_description_with_plain_names_and_a_caster_is_taken() -> None:
+    urdf = two_wheel_urdf().replace("</robot>", CASTER.format(name="caster_joint"))
+    with RobotNode(TWO, urdf, RobotSettings(rate=10.0)) as robot:
+        assert robot.names[-1] == "caster_joint"
