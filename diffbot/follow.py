@@ -362,8 +362,9 @@ class Follower:
         self._wheel = (left, right, 0.5 * params.wheel_separation)
         self._axes = _axis_limits(plan, params)
         self._last: tuple[float, float, float, float, float] | None = None  # t, v0, w0, v1, w1
-        #: The commands sent within the last ``lead`` s and the one before: (t, v, w).
-        self._sent: deque[tuple[float, float, float]] = deque()
+        #: The commands sent within the last ``lead`` s and the one before: the time (s),
+        #: (v, w) and the pose the commands before reach in the command frame (m, m, rad).
+        self._sent: deque[tuple[float, float, float, float, float, float]] = deque()
         self._approach = False
         self._within_since: float | None = None
         self._done: bool | None = None
@@ -458,26 +459,31 @@ class Follower:
 
     def _predicted(self, t: float, x: float, y: float, theta: float) -> tuple[float, float, float]:
         """The pose ``lead`` s after ``t``: ``(x, y, theta)`` moved by the commands sent from
-        ``t - lead`` on, each held until the next (the last until ``t``), along its arc."""
+        ``t - lead`` on, each held until the next (the last until ``t``), along its arc.
+
+        Each command sent carries the pose the commands so far reach from a fixed origin (the
+        command frame); the motion over the window is the change of that pose from
+        ``t - lead`` to ``t``, seen from its start: two arcs and a rotation whatever the
+        number of commands in the window."""
         sent = self._sent
+        if not sent:
+            return x, y, theta
         start = t - self.lead
         while len(sent) > 1 and sent[1][0] <= start:
             sent.popleft()
-        count = len(sent)
-        for k in range(count):
-            begin, v, w = sent[k]
-            end = sent[k + 1][0] if k + 1 < count else t
-            dt = end - (begin if begin > start else start)
-            if dt <= 0.0 or (v == 0.0 and w == 0.0):
-                continue
-            ds, turn = v * dt, w * dt
-            half = 0.5 * turn
-            chord = ds * (math.sin(half) / half) if half != 0.0 else ds
-            mean = theta + half
-            x += chord * math.cos(mean)
-            y += chord * math.sin(mean)
-            theta += turn
-        return x, y, theta
+        first, last = sent[0], sent[-1]
+        sx, sy, sh = (
+            _advanced(first, start - first[0])
+            if start > first[0]
+            else (first[3], first[4], first[5])
+        )
+        ex, ey, eh = _advanced(last, t - last[0]) if t > last[0] else (last[3], last[4], last[5])
+        dx, dy = ex - sx, ey - sy
+        cos_s, sin_s = math.cos(sh), math.sin(sh)
+        ahead = cos_s * dx + sin_s * dy
+        left = cos_s * dy - sin_s * dx
+        cos_t, sin_t = math.cos(theta), math.sin(theta)
+        return x + cos_t * ahead - sin_t * left, y + sin_t * ahead + cos_t * left, theta + eh - sh
 
     def stopped_at(self, t: float) -> None:
         """Say that the robot was commanded zero at ``t`` (s) other than through
@@ -487,10 +493,12 @@ class Follower:
             self._record(t, 0.0, 0.0)
 
     def _record(self, t: float, v: float, w: float) -> None:
+        """Keep the command sent at ``t`` with the command frame's pose it starts from."""
         sent = self._sent
         while sent and sent[-1][0] >= t:
             sent.pop()
-        sent.append((t, v, w))
+        pose = _advanced(sent[-1], t - sent[-1][0]) if sent else (0.0, 0.0, 0.0)
+        sent.append((t, v, w, *pose))
 
     def _arrive(self, t: float, x: float, y: float, theta: float) -> tuple[float, float]:
         """The pose-stabilising command past the plan's end (see the module's notes)."""
@@ -545,6 +553,18 @@ class Follower:
             self._record(t, v, w)
         # The named tuple's own __new__ is a Python function: tuple.__new__ builds the same.
         return tuple.__new__(Twist, (v + 0.0, w + 0.0))
+
+
+def _advanced(
+    sent: tuple[float, float, float, float, float, float], dt: float
+) -> tuple[float, float, float]:
+    """The command frame's pose a command ``(t, v, w, x, y, theta)`` reaches after ``dt`` s."""
+    _, v, w, x, y, theta = sent
+    ds, turn = v * dt, w * dt
+    half = 0.5 * turn
+    chord = ds * (math.sin(half) / half) if half != 0.0 else ds
+    mean = theta + half
+    return x + chord * math.cos(mean), y + chord * math.sin(mean), theta + turn
 
 
 def _share(limited: float, last: float, command: float) -> float:

@@ -474,19 +474,20 @@ def test_bad_leads_are_refused(kwargs):
         Follower(ROBOT, made("straight 1"), **kwargs)
 
 
-def test_a_command_with_a_lead_costs_under_20_microseconds():
+def test_a_command_with_a_lead_costs_under_20_microseconds_however_many_are_pending():
     import time
 
+    # Every 2 ms: a 0.215 s lead holds about a hundred commands not yet carried out.
     p = made(EXAMPLES["A"])
     follower = Follower(ROBOT, p, lead=0.215)
-    poses = [Pose(*follower.reference(0.05 * k)[:3]) for k in range(800)]
+    poses = [Pose(*follower.reference(0.002 * k)[:3]) for k in range(4000)]
     poses = [Pose(pose.x + 0.003, pose.y - 0.002, pose.theta + 0.01) for pose in poses]
     best = math.inf
     for _ in range(3):
         follower = Follower(ROBOT, p, lead=0.215)
         start = time.process_time()
         for k, pose in enumerate(poses):
-            follower.command(0.05 * k, pose)
+            follower.command(0.002 * k, pose)
         best = min(best, (time.process_time() - start) / len(poses))
     assert best < 20e-6
 

@@ -145,9 +145,11 @@ def run_loop(
         # By default the tracking law leads by the delay the simulated robot has, as one
         # measured on a real base would be given.
         if request.follow == "tracking":
-            lead = request.lead
-            if lead is None:
-                lead = delay_lead(request.latency, request.motor_lag, request.control_rate)
+            lead = (
+                delay_lead(request.latency, request.motor_lag, request.control_rate)
+                if request.lead is None
+                else request.lead
+            )
         follower = Follower(params, made, law=request.follow, lead=lead)
     result = run(made, params, settings, follower)
     states = JointStateChunks(
