@@ -15,13 +15,14 @@ Controllers: open loop (the plan's commands), diffbot's ``tracking`` (with ``--l
 default the robot's latency plus motor lag plus half a control period, 0.215 s, and without
 one) and ``pure-pursuit``, wpimath's ``LTVUnicycleController`` and ``RamseteController``
 (robotpy-wpimath, when it is installed; their commands saturated to the motor limit as
-diffbot's are), and a textbook pure
-pursuit (fixed lookahead and the plan's speed, no regulation, stopping at the path's end).
-wpimath's trackers are given the same knowledge of the delay: their feed-forward velocity is
-taken ``--lead`` ahead of their reference pose.
+diffbot's are, and given the same knowledge of the delay: their feed-forward velocity taken
+``--lead`` ahead of their reference pose), and a textbook pure pursuit (fixed lookahead and
+the plan's speed, no regulation, stopping at the path's end).
+
 Figures: per scenario and controller, the median and worst final position error, the worst
 final heading error, the worst and median RMS cross-track error, the peak share of the motor
-limit commanded, and the runs that arrived; then the cost of one ``Follower.command`` call.
+limit commanded, and the runs that arrived; then the cost of one ``Follower.command`` call,
+without and with the lead.
 """
 
 from __future__ import annotations

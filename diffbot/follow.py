@@ -31,6 +31,19 @@ speed grows (a heading gain above ``2 v_r sqrt(k_y)`` over-damps the lateral err
 No division by ``v_r`` appears anywhere. On the reference the errors are zero and the command
 is the feed-forward ``(v_r, w_r)`` exactly.
 
+Lead (tracking): a robot acts on a command late, ``L`` s after it is sent and through wheels
+that follow a changing command a first-order lag ``tau`` behind, so the law above corrects an
+error the robot has already moved on from. With ``lead`` > 0 the law is a Smith predictor: the
+commands sent in the last ``lead`` s, not yet carried out, each held until the next, move the
+pose by their arcs, and the law acts on that predicted pose against the reference pose and
+velocity at ``t + lead``. ``v_r(t + L) + tau dv_r/dt`` (the feed-forward a lagged wheel needs)
+is ``v_r(t + L + tau)`` to first order, its bounded form where the plan's speed steps; a command
+held for a control period ``T`` acts on average ``T/2`` after it is sent: :func:`delay_lead` gives
+``L + tau + T/2``. Past the plan's end the prediction is used until the commands sent while the
+plan ran are carried out (``t < end + lead``); the arrival's millimetre corrections then act on
+the pose as given, where a prediction misled by a lost command is worse than none. With
+``lead = 0`` the law is the one above, exactly.
+
 ``pure-pursuit``: untimed path following, the regulated pure pursuit of Macenski, Singh,
 Martin and Gines, "Regulated pure pursuit for robot path tracking", Autonomous Robots 47,
 2023 (the Nav2 controller). The plan's straights and arcs are cut into legs driven in one
