@@ -114,7 +114,7 @@ def run_loop(
     """Run the plan on the disturbed robot, write the samples through ``write(states,
     truth)``, and say how it went."""
     from diffbot.closed_loop import LoopSettings, run
-    from diffbot.follow import Follower, delay_lead
+    from diffbot.follow import MAX_LEAD, Follower, delay_lead
     from diffbot.simulation import Disturbances, JointStateChunks
     from diffbot.trajectory import Plan
 
@@ -145,11 +145,15 @@ def run_loop(
         # By default the tracking law leads by the delay the simulated robot has, as one
         # measured on a real base would be given.
         if request.follow == "tracking":
-            lead = (
-                delay_lead(request.latency, request.motor_lag, request.control_rate)
-                if request.lead is None
-                else request.lead
-            )
+            lead = request.lead
+            if lead is None:
+                lead = delay_lead(request.latency, request.motor_lag, request.control_rate)
+                if lead > MAX_LEAD:
+                    fail(
+                        f"the simulated robot's delay (--latency plus --motor-lag plus half a "
+                        f"control period, {fmt(lead)} s) is more than the longest --lead, "
+                        f"{fmt(MAX_LEAD)} s: give --lead"
+                    )
         follower = Follower(params, made, law=request.follow, lead=lead)
     result = run(made, params, settings, follower)
     states = JointStateChunks(

@@ -101,6 +101,7 @@ def test_the_table_says_how_far_the_run_ended(runner: CliRunner, tmp_path: Path)
         (["--follow", "--lead", "2.5"], "--lead"),
         (["--lead", "0.2"], "--follow"),
         (["--follow", "pure-pursuit", "--lead", "0.2"], "--lead"),
+        (["--follow", "--latency", "1.5", "--motor-lag", "1"], "--lead"),
     ],
 )
 def test_bad_options_are_one_error_line(
