@@ -145,8 +145,9 @@ def run_loop(
         # By default the tracking law leads by the delay the simulated robot has, as one
         # measured on a real base would be given.
         if request.follow == "tracking":
-            lead = request.lead
-            if lead is None:
+            if request.lead is not None:
+                lead = request.lead
+            else:
                 lead = delay_lead(request.latency, request.motor_lag, request.control_rate)
                 if lead > MAX_LEAD:
                     fail(
