@@ -512,6 +512,9 @@ class Follower:
             sent.pop()
         pose = _advanced(sent[-1], t - sent[-1][0]) if sent else (0.0, 0.0, 0.0)
         sent.append((t, v, w, *pose))
+        start = t - self.lead
+        while len(sent) > 1 and sent[1][0] <= start:
+            sent.popleft()
 
     def _arrive(self, t: float, x: float, y: float, theta: float) -> tuple[float, float]:
         """The pose-stabilising command past the plan's end (see the module's notes)."""

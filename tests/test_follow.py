@@ -505,3 +505,12 @@ def test_a_stop_sent_by_someone_else_ends_the_commands_prediction():
     without = Follower(ROBOT, p, lead=0.2)
     without.command(3.0, pose)
     assert without.command(3.1, pose) != pytest.approx(expected, rel=1e-6, abs=1e-9)
+
+
+def test_a_follower_keeps_only_the_commands_its_lead_still_needs():
+    # Through a long arrival the prediction is not asked for; what is kept stays bounded.
+    p = made("straight 0.1 1s")
+    follower = Follower(ROBOT, p, lead=0.2)
+    for k in range(2000):
+        follower.command(0.05 * k, Pose(0.09, 0.004, 0.0))
+    assert len(follower._sent) <= 0.2 / 0.05 + 2
