@@ -11,13 +11,18 @@ on the same seeded disturbances:
 2. ``truth``: the same, and the real wheels 0.0357 and 0.0343 m, separation 0.139 m, slip
    0.02; the follower fed by the true pose with 1 mm and 0.2 degree noise at 50 Hz.
 
-Controllers: open loop (the plan's commands), diffbot's ``tracking`` and ``pure-pursuit``,
-wpimath's ``LTVUnicycleController`` and ``RamseteController`` (robotpy-wpimath, when it is
-installed; their commands saturated to the motor limit as diffbot's are), and a textbook pure
-pursuit (fixed lookahead and the plan's speed, no regulation, stopping at the path's end).
+Controllers: open loop (the plan's commands), diffbot's ``tracking`` (with ``--lead``, by
+default the robot's latency plus motor lag plus half a control period, 0.215 s, and without
+one) and ``pure-pursuit``, wpimath's ``LTVUnicycleController`` and ``RamseteController``
+(robotpy-wpimath, when it is installed; their commands saturated to the motor limit as
+diffbot's are, and given the same knowledge of the delay: their feed-forward velocity taken
+``--lead`` ahead of their reference pose), and a textbook pure pursuit (fixed lookahead and
+the plan's speed, no regulation, stopping at the path's end).
+
 Figures: per scenario and controller, the median and worst final position error, the worst
 final heading error, the worst and median RMS cross-track error, the peak share of the motor
-limit commanded, and the runs that arrived; then the cost of one ``Follower.command`` call.
+limit commanded, and the runs that arrived; then the cost of one ``Follower.command`` call,
+without and with the lead.
 """
 
 from __future__ import annotations
@@ -34,7 +39,7 @@ import diffbot
 from diffbot.calibration.truth import true_robot
 from diffbot.closed_loop import LoopSettings, run
 from diffbot.commands.simulate_loop import summary
-from diffbot.follow import DWELL, Follower, Gains
+from diffbot.follow import DWELL, Follower, Gains, delay_lead
 from diffbot.kinematics import DiffDriveParams, Pose, Twist
 from diffbot.planfile import parse_plan
 from diffbot.pursuit import Pursuit
@@ -42,6 +47,7 @@ from diffbot.simulation import Disturbances
 from diffbot.trajectory import EXAMPLES, Arc, Plan, Segment, Spin, Straight, plan
 
 LAG, LATENCY, DROP = 0.15, 0.04, 0.05
+CONTROL_RATE = 20.0
 
 
 def random_plan(rng: random.Random, params: DiffDriveParams) -> Plan:
@@ -129,10 +135,11 @@ class _Textbook:
 
 
 def controllers(params: DiffDriveParams, lead: float) -> dict[str, Callable[[Plan], Any]]:
-    """The controllers compared; the timed trackers take the feed-forward ``lead`` s ahead."""
+    """The controllers compared: diffbot's tracking law predicts ``lead`` s ahead, wpimath's
+    take their feed-forward that far ahead."""
     made: dict[str, Callable[[Plan], Any]] = {
         "open loop": lambda p: None,
-        "diffbot tracking": lambda p: Follower(params, p, lookahead=lead),
+        "diffbot tracking": lambda p: Follower(params, p, lead=lead),
         "diffbot tracking, no lead": lambda p: Follower(params, p),
         "diffbot pure-pursuit": lambda p: Follower(params, p, law="pure-pursuit"),
         "textbook pure pursuit": lambda p: _Textbook(params, p, 0.15),
@@ -194,10 +201,12 @@ def figures(
     }
 
 
-def command_cost(params: DiffDriveParams, law: str, calls: int = 20_000) -> float:
+def command_cost(
+    params: DiffDriveParams, law: str, lead: float = 0.0, calls: int = 20_000
+) -> float:
     """Seconds per Follower.command call on Trajectory A, poses a few mm off the reference."""
     made = plan(parse_plan(EXAMPLES["A"]), params)
-    follower = Follower(params, made, law=law)
+    follower = Follower(params, made, law=law, lead=lead)
     period = made.duration / calls
     poses = []
     for k in range(calls):
@@ -205,7 +214,7 @@ def command_cost(params: DiffDriveParams, law: str, calls: int = 20_000) -> floa
         poses.append(Pose(x + 0.003, y - 0.002, heading + 0.01))
     best = math.inf
     for _ in range(5):
-        follower = Follower(params, made, law=law)
+        follower = Follower(params, made, law=law, lead=lead)
         start = time.process_time()
         for k, pose in enumerate(poses):
             follower.command(k * period, pose)
@@ -217,11 +226,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--plans", type=int, default=20, help="random plans (default 20)")
     parser.add_argument("--seed", type=int, default=2026, help="seed of the plans and runs")
+    default_lead = delay_lead(LATENCY, LAG, CONTROL_RATE)
     parser.add_argument(
         "--lead",
         type=float,
-        default=LAG + LATENCY,
-        help="feed-forward lead of the timed trackers (s; default the lag plus the latency)",
+        default=default_lead,
+        help="lead of the timed trackers (s; default the latency plus the motor lag plus half "
+        f"a control period, {default_lead:g})",
     )
     args = parser.parse_args()
     params = diffbot.load_params()
@@ -232,7 +243,7 @@ def main() -> None:
     laws = controllers(params, args.lead)
     print(
         f"{len(plans)} plans; lag {LAG} s, latency {LATENCY} s, drop {DROP}, 4096 ticks, 20 Hz; "
-        f"feed-forward lead {args.lead:g} s"
+        f"lead {args.lead:g} s"
     )
     for scenario, settings_of in scenarios(params).items():
         print(f"\nscenario {scenario}")
@@ -258,8 +269,9 @@ def main() -> None:
                 f"{int(sum(r['arrived'] for r in rows)):>5}/{len(rows):<2} "
                 f"{good:>7}/{len(rows):<2}"
             )
-    for law in ("tracking", "pure-pursuit"):
-        print(f"\nFollower.command ({law}): {command_cost(params, law) * 1e6:.1f} us a call")
+    for law, lead in (("tracking", 0.0), ("tracking", args.lead), ("pure-pursuit", 0.0)):
+        cost = command_cost(params, law, lead) * 1e6
+        print(f"\nFollower.command ({law}, lead {lead:g} s): {cost:.1f} us a call")
 
 
 if __name__ == "__main__":

@@ -71,6 +71,7 @@ FLAGS = {
     "wrap": "--wrap",
     "feedback": "--feedback",
     "open_loop": "--open-loop",
+    "lead": "--lead",
 }
 
 

@@ -31,6 +31,19 @@ speed grows (a heading gain above ``2 v_r sqrt(k_y)`` over-damps the lateral err
 No division by ``v_r`` appears anywhere. On the reference the errors are zero and the command
 is the feed-forward ``(v_r, w_r)`` exactly.
 
+Lead (tracking): a robot acts on a command late, ``L`` s after it is sent and through wheels
+that follow a changing command a first-order lag ``tau`` behind, so the law above corrects an
+error the robot has already moved on from. With ``lead`` > 0 the law is a Smith predictor: the
+commands sent in the last ``lead`` s, not yet carried out, each held until the next, move the
+pose by their arcs, and the law acts on that predicted pose against the reference pose and
+velocity at ``t + lead``. ``v_r(t + L) + tau dv_r/dt`` (the feed-forward a lagged wheel needs)
+is ``v_r(t + L + tau)`` to first order, its bounded form where the plan's speed steps; a command
+held for a control period ``T`` acts on average ``T/2`` after it is sent: :func:`delay_lead` gives
+``L + tau + T/2``. Past the plan's end the prediction is used until the commands sent while the
+plan ran are carried out (``t < end + lead``); the arrival's millimetre corrections then act on
+the pose as given, where a prediction misled by a lost command is worse than none. With
+``lead = 0`` the law is the one above, exactly.
+
 ``pure-pursuit``: untimed path following, the regulated pure pursuit of Macenski, Singh,
 Martin and Gines, "Regulated pure pursuit for robot path tracking", Autonomous Robots 47,
 2023 (the Nav2 controller). The plan's straights and arcs are cut into legs driven in one
@@ -66,6 +79,7 @@ from __future__ import annotations
 
 import bisect
 import math
+from collections import deque
 from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
 from typing import TYPE_CHECKING, Final
@@ -84,15 +98,20 @@ __all__ = [
     "DEFAULT_YAW_TOLERANCE",
     "DWELL",
     "LAWS",
+    "MAX_LEAD",
     "Follower",
     "Gains",
     "default_gains",
+    "delay_lead",
 ]
 
 #: The control laws :class:`Follower` offers.
 LAWS: Final = ("tracking", "pure-pursuit")
 #: How long (s) the pose must stay within the tolerances before a follower is done.
 DWELL: Final = 1.0
+#: The longest lead time (s) a tracking follower takes: a robot slower than this to act on its
+#: commands is not one a prediction from its commands can steer.
+MAX_LEAD: Final = 2.0
 #: Distance from the final pose within which a follower is done (m).
 DEFAULT_XY_TOLERANCE: Final = 0.005
 #: Heading error within which a follower is done (rad): 0.5 degrees.
@@ -167,6 +186,22 @@ def default_gains(params: DiffDriveParams, limit: float | None = None) -> Gains:
         approach=1.5 * scale,
         creep=min(0.05, 0.2 * v_max),
     )
+
+
+def delay_lead(latency: float, motor_lag: float, control_rate: float) -> float:
+    """The tracking law's lead (s) for a robot that acts on a command ``latency`` s after it is
+    sent, through wheels of first-order time constant ``motor_lag`` (s), commanded at
+    ``control_rate`` (Hz): ``latency + motor_lag + 1 / (2 control_rate)``. A first-order lag
+    follows a ramp ``motor_lag`` behind; a command held for one control period acts, on
+    average, half a period after it is sent. (A follower takes at most :data:`MAX_LEAD`.)
+
+    Raises:
+        ParameterError: a delay that is not finite and >= 0, a rate that is not > 0.
+    """
+    latency = finite_in_range(latency, "latency", 0.0, 1e6, unit="s")
+    motor_lag = finite_in_range(motor_lag, "motor_lag", 0.0, 1e6, unit="s")
+    rate = finite_in_range(control_rate, "control_rate", 0.0, 1e6, open_low=True, unit="Hz")
+    return latency + motor_lag + 0.5 / rate
 
 
 def _checked_gains(gains: Gains | Mapping[str, float] | None, base: Gains) -> Gains:
@@ -272,10 +307,13 @@ class Follower:
             pure pursuit).
         gains: the gains, or a mapping of the ones to change (see :class:`Gains`); by default
             :func:`default_gains` of the robot and the plan's motor limit.
-        lookahead: pure pursuit's lookahead distance (m), by default ``2 · 0.75 ·
-            wheel_separation`` (0.2 m for the bundled robot); for tracking, a lead time (s) by
-            which the feed-forward velocity is taken ahead of the reference pose, to make up
-            for a known actuation delay (default 0).
+        lookahead: pure pursuit's lookahead distance (m), by default ``1.5 · 0.75 ·
+            wheel_separation`` (0.15 m for the bundled robot); the tracking law has none.
+        lead: the tracking law's lead time (s), from 0 (the default: the law acts on the
+            pose as given) to :data:`MAX_LEAD`: about the robot's command latency plus its
+            motor lag. The law then acts on the pose predicted ``lead`` s ahead from the
+            commands it sent in the last ``lead`` s, which the robot has not yet carried out,
+            against the reference at ``t + lead`` (see the module's notes).
         xy_tolerance: distance from the final pose within which it is done (m), > 0.
         yaw_tolerance: heading error within which it is done (rad), > 0.
 
@@ -292,6 +330,7 @@ class Follower:
         law: str = "tracking",
         gains: Gains | Mapping[str, float] | None = None,
         lookahead: float | None = None,
+        lead: float = 0.0,
         xy_tolerance: float = DEFAULT_XY_TOLERANCE,
         yaw_tolerance: float = DEFAULT_YAW_TOLERANCE,
     ) -> None:
@@ -311,19 +350,21 @@ class Follower:
         self.yaw_tolerance = finite_in_range(
             yaw_tolerance, "yaw_tolerance", 0.0, math.pi, open_low=True, unit="rad"
         )
-        default_lookahead = 1.5 * 0.75 * params.wheel_separation if law != "tracking" else 0.0
-        self.lookahead = (
-            default_lookahead
-            if lookahead is None
-            else finite_in_range(
-                lookahead,
-                "lookahead",
-                0.0,
-                1e3,
-                open_low=law != "tracking",
-                unit="m" if law != "tracking" else "s",
+        if law == "tracking":
+            if lookahead is not None:
+                raise ParameterError(
+                    "lookahead is pure pursuit's distance; the tracking law takes a lead (s)"
+                )
+            self.lookahead = 0.0
+        else:
+            self.lookahead = (
+                1.5 * 0.75 * params.wheel_separation
+                if lookahead is None
+                else finite_in_range(lookahead, "lookahead", 0.0, 1e3, open_low=True, unit="m")
             )
-        )
+        self.lead = finite_in_range(lead, "lead", 0.0, MAX_LEAD, unit="s")
+        if self.lead and law != "tracking":
+            raise ParameterError("lead is the tracking law's; pure pursuit takes none")
         self.duration = plan.duration
         self.goal = steps.final_pose
         self.goal_heading = steps.segments[-1].end_heading
@@ -334,6 +375,9 @@ class Follower:
         self._wheel = (left, right, 0.5 * params.wheel_separation)
         self._axes = _axis_limits(plan, params)
         self._last: tuple[float, float, float, float, float] | None = None  # t, v0, w0, v1, w1
+        #: The commands sent within the last ``lead`` s and the one before: the time (s),
+        #: (v, w) and the pose the commands before reach in the command frame (m, m, rad).
+        self._sent: deque[tuple[float, float, float, float, float, float]] = deque()
         self._approach = False
         self._within_since: float | None = None
         self._done: bool | None = None
@@ -402,23 +446,75 @@ class Follower:
             if not arriving:
                 v, w = pursuit.command(x, y, theta)
                 return self._limited(t, v, w)
-        elif t < self.duration:
-            xr, yr, hr, vr, wr = self.reference(t)
-            if self.lookahead:
-                vr, wr = self.reference(t + self.lookahead)[3:]
-            cos_t, sin_t = math.cos(theta), math.sin(theta)
-            dx, dy = xr - x, yr - y
-            ex = cos_t * dx + sin_t * dy
-            ey = cos_t * dy - sin_t * dx
-            eh = math.remainder(hr - theta, _TWO_PI)
-            g = self.gains
-            v = vr * math.cos(eh) + g.kx * ex
-            speed = abs(vr) * g.ktheta
-            fade = 1.0 - speed / g.kspin if speed < g.kspin else 0.0
-            w = wr + vr * g.ky * ey + (speed + g.kspin * fade * fade) * math.sin(eh)
-            return self._limited(t, v, w)
+        else:
+            lead = self.lead
+            # Predicted while the plan's own commands are in flight; past them, the arrival
+            # regulates at millimetres, where a prediction misled by a lost command is worse
+            # than the pose as given.
+            if lead and t < self.duration + lead:
+                x, y, theta = self._predicted(t, x, y, theta)
+            ahead = t + lead
+            if ahead < self.duration:
+                xr, yr, hr, vr, wr = self.reference(ahead)
+                cos_t, sin_t = math.cos(theta), math.sin(theta)
+                dx, dy = xr - x, yr - y
+                ex = cos_t * dx + sin_t * dy
+                ey = cos_t * dy - sin_t * dx
+                eh = math.remainder(hr - theta, _TWO_PI)
+                g = self.gains
+                v = vr * math.cos(eh) + g.kx * ex
+                speed = abs(vr) * g.ktheta
+                fade = 1.0 - speed / g.kspin if speed < g.kspin else 0.0
+                w = wr + vr * g.ky * ey + (speed + g.kspin * fade * fade) * math.sin(eh)
+                return self._limited(t, v, w)
         v, w = self._arrive(t, x, y, theta)
         return self._limited(t, v, w)
+
+    def _predicted(self, t: float, x: float, y: float, theta: float) -> tuple[float, float, float]:
+        """The pose ``lead`` s after ``t``: ``(x, y, theta)`` moved by the commands sent from
+        ``t - lead`` on, each held until the next (the last until ``t``), along its arc.
+
+        Each command sent carries the pose the commands so far reach from a fixed origin (the
+        command frame); the motion over the window is the change of that pose from
+        ``t - lead`` to ``t``, seen from its start: two arcs and a rotation whatever the
+        number of commands in the window."""
+        sent = self._sent
+        if not sent:
+            return x, y, theta
+        start = t - self.lead
+        while len(sent) > 1 and sent[1][0] <= start:
+            sent.popleft()
+        first, last = sent[0], sent[-1]
+        sx, sy, sh = (
+            _advanced(first, start - first[0])
+            if start > first[0]
+            else (first[3], first[4], first[5])
+        )
+        ex, ey, eh = _advanced(last, t - last[0]) if t > last[0] else (last[3], last[4], last[5])
+        dx, dy = ex - sx, ey - sy
+        cos_s, sin_s = math.cos(sh), math.sin(sh)
+        ahead = cos_s * dx + sin_s * dy
+        left = cos_s * dy - sin_s * dx
+        cos_t, sin_t = math.cos(theta), math.sin(theta)
+        return x + cos_t * ahead - sin_t * left, y + sin_t * ahead + cos_t * left, theta + eh - sh
+
+    def stopped_at(self, t: float) -> None:
+        """Say that the robot was commanded zero at ``t`` (s) other than through
+        :meth:`command` (a live driver's stop on a stale pose): the prediction of a follower
+        with a lead counts it as sent."""
+        if self.lead:
+            self._record(t, 0.0, 0.0)
+
+    def _record(self, t: float, v: float, w: float) -> None:
+        """Keep the command sent at ``t`` with the command frame's pose it starts from."""
+        sent = self._sent
+        while sent and sent[-1][0] >= t:
+            sent.pop()
+        pose = _advanced(sent[-1], t - sent[-1][0]) if sent else (0.0, 0.0, 0.0)
+        sent.append((t, v, w, *pose))
+        start = t - self.lead
+        while len(sent) > 1 and sent[1][0] <= start:
+            sent.popleft()
 
     def _arrive(self, t: float, x: float, y: float, theta: float) -> tuple[float, float]:
         """The pose-stabilising command past the plan's end (see the module's notes)."""
@@ -469,8 +565,22 @@ class Follower:
         if last is None or t > last[0]:
             previous = (0.0, 0.0) if last is None else (last[1], last[2])
             self._last = (t, v, w, *previous)
+        if self.lead:
+            self._record(t, v, w)
         # The named tuple's own __new__ is a Python function: tuple.__new__ builds the same.
         return tuple.__new__(Twist, (v + 0.0, w + 0.0))
+
+
+def _advanced(
+    sent: tuple[float, float, float, float, float, float], dt: float
+) -> tuple[float, float, float]:
+    """The command frame's pose a command ``(t, v, w, x, y, theta)`` reaches after ``dt`` s."""
+    _, v, w, x, y, theta = sent
+    ds, turn = v * dt, w * dt
+    half = 0.5 * turn
+    chord = ds * (math.sin(half) / half) if half != 0.0 else ds
+    mean = theta + half
+    return x + chord * math.cos(mean), y + chord * math.sin(mean), theta + turn
 
 
 def _share(limited: float, last: float, command: float) -> float:

@@ -88,6 +88,7 @@ def drive(
     odom_topic: str,
     pose_topic: str | None,
     pose_timeout: float,
+    lead: float,
     announce: bool,
     quiet: bool,
 ) -> None:
@@ -100,7 +101,9 @@ def drive(
     1, before anything moves, when the plan exceeds the motor limit.
 
     With --follow the loop is closed: the commands come from a follower of the plan fed by the
-    robot's pose (--odom-topic, or --pose-topic), at --rate; zero while the pose is stale
+    robot's pose (--odom-topic, or --pose-topic), at --rate, the tracking law acting on the pose
+    predicted --lead s ahead from the commands the robot has not yet carried out (give about
+    its latency plus motor lag plus half a command period); zero while the pose is stale
     (--pose-timeout), at the end and on a signal. Exit code 2, nothing commanded, when no pose
     came within --wait; 1 when the robot did not arrive in time.
 
@@ -125,6 +128,8 @@ def drive(
         warn("--stamped changes Twist commands only, and --wheels sends none")
     if follow is not None and wheels:
         fail("--follow commands velocities on --cmd-vel; leave out --wheels")
+    if lead and follow != "tracking":
+        fail("--lead is the tracking follower's: add --follow (tracking)")
     built = plan_options.build(plan_options.request(robot, tokens))
     source, params = built.source, built.params
     cmd_vel, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
@@ -149,6 +154,7 @@ def drive(
             stamped=stamped,
             frame_id=frame_id,
             wait=wait,
+            lead=lead,
         )
         drive_follow(request, built.made, params, source.label, announce=announce, quiet=quiet)
         return

@@ -41,6 +41,7 @@ class LiveFollow:
     stamped: bool
     frame_id: str
     wait: float
+    lead: float = 0.0
 
 
 def drive_follow(
@@ -58,7 +59,7 @@ def drive_follow(
     from diffbot.live.follow_drive import FollowDriver, FollowSettings
     from diffbot.live.signals import caught, deferred
 
-    follower = Follower(params, made, law=request.law)
+    follower = Follower(params, made, law=request.law, lead=request.lead)
     settings = FollowSettings(
         rate=request.rate,
         pose_topic=request.pose_topic,

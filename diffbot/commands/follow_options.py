@@ -9,6 +9,7 @@ from typing import Any, TypeVar
 import click
 
 from diffbot.commands.options import FiniteFloat, NumberPair
+from diffbot.follow import MAX_LEAD
 from diffbot.simulation import MAX_DELAY
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -69,9 +70,21 @@ def disturbance_options(command: F) -> F:
     return command
 
 
+def _lead_option(default: float | None, text: str) -> Callable[[F], F]:
+    return click.option(
+        "--lead",
+        type=FiniteFloat(0.0, maximum=MAX_LEAD),
+        default=default,
+        show_default=default is not None,
+        metavar="S",
+        help=text,
+    )
+
+
 def follow_options(command: F) -> F:
-    """``--follow [tracking|pure-pursuit]``, ``--control-rate HZ``, ``--pose-source
-    odom|truth``, ``--pose-noise M,DEG``: a simulated run closed by a follower."""
+    """``--follow [tracking|pure-pursuit]``, ``--lead S``, ``--control-rate HZ``,
+    ``--pose-source odom|truth``, ``--pose-noise M,DEG``: a simulated run closed by a
+    follower."""
     command = click.option(
         "--pose-noise",
         type=NumberPair("M,DEG", "m, degrees", bounds=(0.0, 1e3)),
@@ -97,10 +110,15 @@ def follow_options(command: F) -> F:
         help="Commands per second of the follower or of the open-loop commands on a disturbed "
         "robot (Hz), at most --rate.",
     )(command)
+    command = _lead_option(
+        None,
+        "With --follow tracking: act on the pose predicted this far ahead (s) from the commands "
+        f"not yet carried out, against the plan this far ahead; 0 to {MAX_LEAD:g}. Default: "
+        "the simulated robot's delay, --latency plus --motor-lag plus half a control period.",
+    )(command)
     return _follow_option(
         "Close the loop: follow the plan from the pose (tracking: the timed plan, the default, "
-        "its feed-forward taken --motor-lag plus --latency ahead; pure-pursuit: its path, "
-        "untimed)."
+        "predicted --lead ahead; pure-pursuit: its path, untimed)."
     )(command)
 
 
@@ -116,8 +134,14 @@ def _follow_option(text: str) -> Callable[[F], F]:
 
 
 def live_follow_options(command: F) -> F:
-    """``--follow [tracking|pure-pursuit]``, ``--odom-topic``, ``--pose-topic``,
+    """``--follow [tracking|pure-pursuit]``, ``--lead S``, ``--odom-topic``, ``--pose-topic``,
     ``--pose-timeout S``: a live drive closed by a follower on the robot's pose."""
+    command = _lead_option(
+        0.0,
+        "With --follow tracking: act on the pose predicted this far ahead (s) from the commands "
+        f"not yet carried out, against the plan this far ahead; 0 to {MAX_LEAD:g}. Give about "
+        "the robot's command latency plus its motor lag plus half a control period.",
+    )(command)
     command = click.option(
         "--pose-timeout",
         type=FiniteFloat(0.0, open_min=True, maximum=MAX_DELAY),

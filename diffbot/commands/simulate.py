@@ -205,6 +205,7 @@ def simulate(
     control_rate: float,
     pose_source: str,
     pose_noise: tuple[float, float] | None,
+    lead: float | None,
 ) -> None:
     """Wheel joint states that executing a plan would produce.
 
@@ -238,10 +239,11 @@ def simulate(
     wheels also never exceed the motor limit); the plan's commands are then sent open loop at
     --control-rate, or, with --follow, a follower (`diffbot.follow`) closes the loop from the
     robot's wheel odometry (--pose-source odom) or its true pose with noise (--pose-source
-    truth --pose-noise M,DEG). Such runs add the true pose columns x, y, theta and their
-    --json summary gives final_position_error, final_heading_error (m, rad),
-    max_cross_track_error, rms_cross_track_error (m), peak_limit_fraction, duration (s) and
-    arrived.
+    truth --pose-noise M,DEG); the tracking law acts on the pose predicted --lead s ahead
+    (by default the robot's --latency plus --motor-lag plus half a control period). Such runs
+    add the true pose columns x, y, theta and their --json summary gives final_position_error,
+    final_heading_error (m, rad), max_cross_track_error, rms_cross_track_error (m),
+    peak_limit_fraction, duration (s), arrived and, followed, the lead (s).
 
     \b
     Examples:
@@ -259,7 +261,7 @@ def simulate(
     if as_json and out.out is None:
         fail("--json prints a summary, so the samples need --out")
     loop = LoopRequest(
-        follow, control_rate, pose_source, pose_noise, motor_lag, latency, drop, slip
+        follow, control_rate, pose_source, pose_noise, motor_lag, latency, drop, slip, lead
     )
     loop.check(rate)
     inputs = [path for path in (source.path, robot.robot) if path is not None]

@@ -40,6 +40,7 @@ class LoopRequest:
     latency: float
     drop: float
     slip: float
+    lead: float | None = None
 
     @property
     def wanted(self) -> bool:
@@ -50,6 +51,10 @@ class LoopRequest:
         """Refuse options that do not go together."""
         if self.follow is None and (self.pose_source != "odom" or self.pose_noise is not None):
             fail("--pose-source and --pose-noise choose what --follow is given: add --follow")
+        if self.lead is not None and self.follow is None:
+            fail("--lead is the tracking follower's: add --follow")
+        if self.lead and self.follow == "pure-pursuit":
+            fail("--lead is the tracking law's; pure-pursuit takes none")
         if self.pose_noise is not None and self.pose_source != "truth":
             fail("--pose-noise is noise on the true pose: add --pose-source truth")
         if self.wanted and self.control_rate > rate:
@@ -109,7 +114,7 @@ def run_loop(
     """Run the plan on the disturbed robot, write the samples through ``write(states,
     truth)``, and say how it went."""
     from diffbot.closed_loop import LoopSettings, run
-    from diffbot.follow import Follower
+    from diffbot.follow import MAX_LEAD, Follower, delay_lead
     from diffbot.simulation import Disturbances, JointStateChunks
     from diffbot.trajectory import Plan
 
@@ -135,11 +140,22 @@ def run_loop(
         pose_noise=(metres, math.radians(degrees)),
     )
     follower = None
+    lead = 0.0
     if request.follow is not None:
-        # The tracking law takes its feed-forward ahead by the delay the simulated robot has
-        # (its motor lag and latency), as one measured on a real base would be given.
-        lead = request.motor_lag + request.latency if request.follow == "tracking" else None
-        follower = Follower(params, made, law=request.follow, lookahead=lead)
+        # By default the tracking law leads by the delay the simulated robot has, as one
+        # measured on a real base would be given.
+        if request.follow == "tracking":
+            if request.lead is not None:
+                lead = request.lead
+            else:
+                lead = delay_lead(request.latency, request.motor_lag, request.control_rate)
+                if lead > MAX_LEAD:
+                    fail(
+                        f"the simulated robot's delay (--latency plus --motor-lag plus half a "
+                        f"control period, {fmt(lead)} s) is more than the longest --lead, "
+                        f"{fmt(MAX_LEAD)} s: give --lead"
+                    )
+        follower = Follower(params, made, law=request.follow, lead=lead)
     result = run(made, params, settings, follower)
     states = JointStateChunks(
         result.names, result.times.size, iter([(result.times, result.positions)])
@@ -155,6 +171,7 @@ def run_loop(
             {
                 "plan": label,
                 "control": request.follow or "open-loop",
+                **({"lead": lead} if request.follow is not None else {}),
                 "samples": int(result.times.size),
                 "rate": rate,
                 "joints": list(result.names),

@@ -280,6 +280,7 @@ class FollowDriver(Node):
                     pose = self.pose
                     if pose is None or now - self.received_at > self.settings.pose_timeout:
                         self.stop()
+                        self.follower.stopped_at(t)
                         stale += 1
                     else:
                         if self.follower.done(t, pose):

@@ -100,9 +100,19 @@ def test_no_pose_means_nothing_commanded() -> None:
     assert seen == []
 
 
+class StopsCounted(Follower):
+    """A follower with a lead that counts the stops it is told of."""
+
+    stops = 0
+
+    def stopped_at(self, t: float) -> None:
+        self.stops += 1
+        super().stopped_at(t)
+
+
 def test_a_stale_pose_commands_zero_until_the_end() -> None:
     params = load_params()
-    follower = Follower(params, plan(parse_plan("straight 0.1 0.5s"), params))
+    follower = StopsCounted(params, plan(parse_plan("straight 0.1 0.5s"), params), lead=0.2)
     settings = FollowSettings(pose_kind="pose", pose_timeout=0.1, overtime=0.5)
     with (
         Node("probe") as probe,
@@ -123,6 +133,7 @@ def test_a_stale_pose_commands_zero_until_the_end() -> None:
     assert report.sent == report.stale >= 15  # 0.5 s plan + 0.5 s overtime at 20 Hz
     assert len(seen) == report.sent + 1
     assert all(t.linear.x == 0.0 and t.angular.z == 0.0 for t in seen)
+    assert follower.stops == report.stale  # its prediction counts every zero sent
 
 
 class Truth:
