@@ -124,7 +124,12 @@ class DiffbotGroup(SuggestingGroup):
         if sys.stdout is None:  # started with stdout closed (``>&-``)
             _error("standard output is closed: nowhere to write the results", 2)
         ending = _ENDING_SIGNALS if threading.current_thread() is threading.main_thread() else ()
-        saved = {signum: signal.signal(signum, _end_run) for signum in ending}
+        # A signal ignored when the run starts (SIGHUP under nohup) stays ignored.
+        saved = {
+            signum: signal.signal(signum, _end_run)
+            for signum in ending
+            if signal.getsignal(signum) is not signal.SIG_IGN
+        }
         try:
             # The inputs are noted as click converts the arguments of path types, and as the
             # readers open files: all within the guarded run.

@@ -145,7 +145,7 @@ chmod = os.chmod
 def slow_chmod(path, mode):
     chmod(path, mode)
     print("written", flush=True)
-    time.sleep(60)
+    time.sleep(float(os.environ.get("PAUSE", "60")))
 os.chmod = slow_chmod
 from diffbot.cli import main
 main(sys.argv[1:], prog_name="diffbot")
@@ -170,6 +170,30 @@ def test_a_signal_while_an_output_is_written_leaves_no_temporary_file(
     assert run.wait(timeout=30) == 128 + signum
     assert debris(tmp_path) == []
     assert not out.exists()
+
+
+def test_a_signal_ignored_as_under_nohup_does_not_end_the_run(tmp_path: Path) -> None:
+    # nohup ignores SIGHUP, and a shell's background job SIGINT: the run goes on and writes.
+    out = tmp_path / "o.csv"
+
+    def ignored() -> None:
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+
+    run = subprocess.Popen(
+        [sys.executable, "-c", SLOW_WRITER, "simulate", "straight 1", "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PAUSE": "1"},
+        preexec_fn=ignored,
+    )
+    assert run.stdout is not None
+    assert run.stdout.readline() == "written\n"
+    run.send_signal(signal.SIGHUP)
+    run.send_signal(signal.SIGTERM)
+    assert run.wait(timeout=30) == 0
+    assert out.read_text(encoding="utf-8").startswith("time,")
 
 
 def test_a_full_disk_under_an_output_file_is_one_error_line(
