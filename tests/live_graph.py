@@ -13,8 +13,20 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from diffbot.live.transport import Node, QosProfile
 
-#: This test process's domain (1..232); another process's tests take another one.
-DOMAIN = 1 + os.getpid() % 232
+
+def _domain() -> int:
+    """1..232: from this process's id, or, for the workers of a run split over processes
+    (pytest-xdist), from the run's controller and the worker's number, so that no two workers
+    of one run share a domain."""
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "")
+    if not worker.startswith("gw"):
+        return 1 + os.getpid() % 232
+    count = max(int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")), 1)
+    return 1 + (os.getppid() * count + int(worker[2:])) % 232
+
+
+#: This test process's domain; another process's tests take another one.
+DOMAIN = _domain()
 #: How long a test waits for discovery or a message before it fails (s).
 PATIENCE = 20.0
 
