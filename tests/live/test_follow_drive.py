@@ -25,6 +25,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Callable
+from dataclasses import replace
 
 import pytest
 from live_graph import PATIENCE, deep
@@ -49,6 +50,10 @@ DISTURBANCES = {"motor_lag": 0.15, "latency": 0.04, "drop": 0.2}
 ZERO = [0.0] * 36
 #: A seed whose drops take both final zeros of the open-loop plan at 20 Hz.
 SEED = 7
+#: The motors of the robot the live loop drives: weaker than its description says (20 of 50
+#: rpm, rad/s), so the plan's straight (27 rpm) saturates them whatever the drops: open loop
+#: ends a fixed distance short, whichever commands a busy machine's timing lets the seed drop.
+WEAK_MOTORS = 20.0 * math.tau / 60.0
 
 
 def pose_stamped(x: float, y: float, heading: float) -> types.PoseStamped:
@@ -186,9 +191,10 @@ def drive_on_a_disturbed_robot(*extra: str) -> tuple[float, float, str]:
         cmd_vel="cmd_vel",
         disturbances=Disturbances(**DISTURBANCES, seed=SEED),
     )
+    weak = replace(params, max_wheel_speed=WEAK_MOTORS)
     with (
         Node("truth") as node,
-        RobotNode(params, None, settings).start() as robot,
+        RobotNode(weak, None, settings).start() as robot,
         OdometryNode(params).start(),
     ):
         truth = Truth(node)
@@ -240,7 +246,8 @@ def test_followed_live_the_robot_arrives_and_open_loop_it_does_not() -> None:
     assert heading <= yaw_bound, (math.degrees(heading), said)
     distance, heading, said = drive_on_a_disturbed_robot()
     assert said.startswith("drove plan: 81 commands"), said
-    assert heading > yaw_bound, (math.degrees(heading), distance)
+    # The straight at 20 of 27 rpm: about 5 cm short.
+    assert distance > 3.0 * xy_bound, (distance, math.degrees(heading))
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
