@@ -38,7 +38,7 @@ for entry in "${modules[@]}"; do
   mkdir -p "$work"
   cp -r "$root/diffbot" "$root/tests" "$root/pyproject.toml" "$work/"
   find "$work" -name __pycache__ -prune -exec rm -rf {} +
-  # The module's own tests only.
+  # The module's own tests only, in mutmut's own process (-n 0: no test workers).
   # Under the trampolines every call is slower, the more so on a busy machine: no deadlines;
   # examples drawn the same on every run and no example database, so that runs repeat.
   cat >>"$work/tests/conftest.py" <<'PY'
@@ -55,7 +55,7 @@ PY
 [tool.mutmut]
 source_paths = ["diffbot"]
 only_mutate = ["$glob"]
-pytest_add_cli_args = ["-p", "no:cacheprovider", "-p", "no:randomly", "-x", "-q"]
+pytest_add_cli_args = ["-p", "no:cacheprovider", "-p", "no:randomly", "-n", "0", "-x", "-q"]
 pytest_add_cli_args_test_selection = $selection
 use_git_change_detection = false
 TOML
