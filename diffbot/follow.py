@@ -41,7 +41,8 @@ over the distance ``s`` then obeys ``e''' + k_theta e'' + k_y e' + k_i k_y e = 0
 With the default gains its roots are ``-1.42/l`` and ``(-0.29 ± 0.30j)/l`` (damping 0.69).
 Anti-windup: ``|xi| <= MAX_MISMATCH / b``, and ``xi`` is held while the command is cut by the
 motor limit and while ``|k_y e_y|`` exceeds that bound (an error no mismatch it may learn
-explains is a transient); bounded, it is a bounded disturbance of the law above.
+explains is a transient); bounded, it is a bounded disturbance of the law above. The lead's
+prediction (below) moves the pose by what the robot is then expected to do, ``w - xi v``.
 
 Lead (tracking): a robot acts on a command late, ``L`` s after it is sent and through wheels
 that follow a changing command a first-order lag ``tau`` behind, so the law above corrects an
@@ -527,7 +528,7 @@ class Follower:
             previous = (0.0, 0.0) if last is None else (last[1], last[2])
             self._last = (t, v, w, *previous)
         if self.lead:
-            self._record(t, v, w)
+            self._record(t, v, w - self.bias * v)
         # The named tuple's own __new__ is a Python function: tuple.__new__ builds the same.
         return tuple.__new__(Twist, (v + 0.0, w + 0.0))
 
