@@ -41,8 +41,10 @@ over the distance ``s`` then obeys ``e''' + k_theta e'' + k_y e' + k_i k_y e = 0
 With the default gains its roots are ``-1.42/l`` and ``(-0.29 ± 0.30j)/l`` (damping 0.69).
 Anti-windup: ``|xi| <= MAX_MISMATCH / b``, and ``xi`` is held while the command is cut by the
 motor limit and while ``|k_y e_y|`` exceeds that bound (an error no mismatch it may learn
-explains is a transient); bounded, it is a bounded disturbance of the law above. The lead's
-prediction (below) moves the pose by what the robot is then expected to do, ``w - xi v``.
+explains is a transient); bounded, it is a bounded disturbance of the law above. The same
+mismatch moves a turning robot, ``v - beta b²/4 w`` for ``v``: the law adds ``xi b²/4 w`` to
+``v``, so a spin stays in place. The lead's prediction (below) moves the pose by what the robot
+is then expected to do, ``w - xi v``.
 
 Lead (tracking): a robot acts on a command late, ``L`` s after it is sent and through wheels
 that follow a changing command a first-order lag ``tau`` behind, so the law above corrects an
@@ -337,6 +339,7 @@ class Follower:
         #: held within the largest bias a wheel mismatch gives.
         self.bias = 0.0
         self._bias_cap = MAX_MISMATCH / params.wheel_separation
+        self._quarter = 0.25 * params.wheel_separation**2
         self._saturated = False
         self._last: tuple[float, float, float, float, float] | None = None  # t, v0, w0, v1, w1
         #: The commands sent within the last ``lead`` s and the one before: the time (s),
@@ -433,7 +436,9 @@ class Follower:
                 fade = 1.0 - speed / g.kspin if speed < g.kspin else 0.0
                 w = wr + vr * g.ky * ey + (speed + g.kspin * fade * fade) * math.sin(eh)
                 if g.ki:
-                    w += vr * self._integrated(t, abs(vr) * g.ki * g.ky * ey, g.ky * ey)
+                    bias = self._integrated(t, abs(vr) * g.ki * g.ky * ey, g.ky * ey)
+                    w += vr * bias
+                    v += bias * self._quarter * w
                 return self._limited(t, v, w)
         if self._done:
             return self._limited(t, 0.0, 0.0)

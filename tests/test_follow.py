@@ -585,3 +585,15 @@ def test_a_lead_predicts_the_turn_less_the_learnt_curvature():
     fresh.bias = 0.3
     expected = fresh.command(3.3, advanced(pose, float(v), float(w) - 0.3 * float(v), 0.1))
     assert follower.command(3.1, pose) == pytest.approx(expected, rel=1e-9, abs=1e-12)
+
+
+def test_the_learnt_curvature_keeps_a_spin_in_place():
+    # Radii delta apart turn a straight by delta / b per metre and move a spin by delta b / 4
+    # per radian: the follower drives that much forward as it turns.
+    p = made("spin 90 3s")
+    follower = Follower(ROBOT, p, gains={"ki": 1e-12})
+    follower.bias = 0.3
+    command = follower.command(1.0, Pose(*follower.reference(1.0)[:3]))
+    assert command.angular == pytest.approx(math.radians(90.0) / 3.0, rel=1e-9)
+    quarter = ROBOT.wheel_separation**2 / 4.0
+    assert command.linear == pytest.approx(0.3 * quarter * command.angular, rel=1e-9)
