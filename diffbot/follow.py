@@ -29,7 +29,22 @@ and ``k_spin`` corrects the heading where ``v_r`` is 0 (spins in place), fading 
 speed grows (a heading gain above ``2 v_r sqrt(k_y)`` over-damps the lateral error: at speed
 ``k_theta = 2/l`` with ``k_y = 1/l²`` is critical damping).
 No division by ``v_r`` appears anywhere. On the reference the errors are zero and the command
-is the feed-forward ``(v_r, w_r)`` exactly.
+is the feed-forward ``(v_r, w_r)`` exactly (while the integral below is zero).
+
+Integral (tracking): wheels of unequal radii turn the robot on every straight, a curvature
+``beta`` (1/m) times the speed (``beta = delta / b`` for radii ``delta`` apart as a share of
+the radius); the law above holds that turn off at a lateral offset ``beta / k_y``. The law
+adds ``v_r xi`` to ``w``, a curvature learnt from the lateral error over the distance
+travelled, ``d xi/dt = k_i k_y |v_r| e_y``. Linearised about the reference, the lateral error
+over the distance ``s`` then obeys ``e''' + k_theta e'' + k_y e' + k_i k_y e = 0``, stable
+(Routh-Hurwitz) for ``0 <= k_i < k_theta``, with no offset left: ``xi`` tends to ``beta``.
+With the default gains its roots are ``-1.42/l`` and ``(-0.29 ± 0.30j)/l`` (damping 0.69).
+Anti-windup: ``|xi| <= MAX_MISMATCH / b``, and ``xi`` is held while the command is cut by the
+motor limit and while ``|k_y e_y|`` exceeds that bound (an error no mismatch it may learn
+explains is a transient); bounded, it is a bounded disturbance of the law above. The same
+mismatch moves a turning robot, ``v - beta b²/4 w`` for ``v``: the law adds ``xi b²/4 w`` to
+``v``, so a spin stays in place. The lead's prediction (below) moves the pose by what the robot
+is then expected to do, ``w - xi v``.
 
 Lead (tracking): a robot acts on a command late, ``L`` s after it is sent and through wheels
 that follow a changing command a first-order lag ``tau`` behind, so the law above corrects an
@@ -84,12 +99,13 @@ from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
 from typing import TYPE_CHECKING, Final
 
+from diffbot.arrival import Arrival
 from diffbot.errors import ParameterError
+from diffbot.follow_plan import axis_limits, pieces
 from diffbot.kinematics import DiffDriveParams, Pose, Twist
 from diffbot.numbers import finite_in_range, shown
 
 if TYPE_CHECKING:
-    from diffbot.controller_config import AxisLimits
     from diffbot.ramps import RampedPlan
     from diffbot.trajectory import Plan
 
@@ -99,6 +115,7 @@ __all__ = [
     "DWELL",
     "LAWS",
     "MAX_LEAD",
+    "MAX_MISMATCH",
     "Follower",
     "Gains",
     "default_gains",
@@ -116,10 +133,13 @@ MAX_LEAD: Final = 2.0
 DEFAULT_XY_TOLERANCE: Final = 0.005
 #: Heading error within which a follower is done (rad): 0.5 degrees.
 DEFAULT_YAW_TOLERANCE: Final = math.radians(0.5)
+#: The largest difference between the wheels' radii, as a share of the radius, whose turn the
+#: tracking law's integral learns: its curvature bias is held within ``MAX_MISMATCH / b``.
+MAX_MISMATCH: Final = 0.1
 
 _TWO_PI = 2.0 * math.pi
-#: Bearing error (rad) under which the arrival phase drives toward the goal point.
-_DRIVE_BEARING = 0.3
+#: The longest time between two commands (s) the integral counts: a longer gap is a pause.
+_LONGEST_STEP = 0.5
 
 
 @dataclass(frozen=True)
@@ -134,6 +154,9 @@ class Gains:
         min_radius: pure pursuit's curvature regulation radius (m): slower on tighter curves.
         approach: pure pursuit's slow-down distance before a leg's end (m).
         creep: the slowest pure-pursuit speed while approaching (m/s).
+        ki: the tracking law's integral gain (1/m): curvature (1/m) learnt per (m of lateral
+            error · m travelled) times ``ky``; 0 turns the integral off, and it must stay below
+            ``ktheta`` (the stability bound).
     """
 
     kx: float
@@ -143,6 +166,7 @@ class Gains:
     min_radius: float
     approach: float
     creep: float
+    ki: float = 0.0
 
 
 def _wrap(angle: float) -> float:
@@ -161,13 +185,15 @@ def _top_speeds(params: DiffDriveParams, limit: float | None) -> tuple[float, fl
 def default_gains(params: DiffDriveParams, limit: float | None = None) -> Gains:
     """Gains scaled to the robot: its size sets the lengths, its motor limit the rates.
 
-    With ``l = 0.75 · wheel_separation`` (0.10 m for the bundled robot): ``ky = 1/l²``,
-    ``ktheta = 2/l`` (a critically damped lateral response over about ``l`` of travel),
-    ``min_radius = 4 l``, ``approach = 3 l``. The rates: ``kspin = min(3, w_max / (pi/4))``
-    (1/s; a 45-degree error asks at most the top spin rate ``w_max``), ``kx = 2 kspin / 3``,
-    ``creep = 0.1 v_max`` (at most 0.02 m/s). The bundled robot (r = 0.035 m, b = 0.135 m,
-    50 rpm): kx 2 1/s, ky 97.5 1/m², ktheta 19.8 1/m, kspin 3 1/s, min_radius 0.41 m,
-    approach 0.30 m, creep 0.018 m/s.
+    The rates: ``kspin = min(3, w_max / (pi/4))`` (1/s; a 45-degree error asks at most the top
+    spin rate ``w_max``), ``kx = 2 kspin / 3``. The lengths: with ``L = 0.75 ·
+    wheel_separation``, the lateral length ``l = min(L, v_max / kspin)`` (at the top speed
+    ``v_max`` the lateral error is corrected no faster than the heading at rest), ``ky =
+    1/l²``, ``ktheta = 2/l`` (a critically damped lateral response over about ``l`` of
+    travel), ``ki = ktheta / 8``; pure pursuit's ``min_radius = 4 L``, ``approach = 1.5 L``,
+    ``creep = 0.2 v_max`` (at most 0.05 m/s). The bundled robot (r = 0.035 m, b = 0.135 m,
+    50 rpm; l = 0.061 m): kx 2 1/s, ky 268 1/m², ktheta 32.7 1/m, kspin 3 1/s, ki 4.09 1/m,
+    min_radius 0.41 m, approach 0.15 m, creep 0.037 m/s.
 
     Args:
         params: the robot.
@@ -177,14 +203,16 @@ def default_gains(params: DiffDriveParams, limit: float | None = None) -> Gains:
     v_max, w_max = _top_speeds(params, lim)
     scale = 0.75 * params.wheel_separation
     kspin = min(3.0, w_max / (math.pi / 4.0))
+    lateral = min(scale, v_max / kspin)
     return Gains(
         kx=2.0 * kspin / 3.0,
-        ky=1.0 / (scale * scale),
-        ktheta=2.0 / scale,
+        ky=1.0 / (lateral * lateral),
+        ktheta=2.0 / lateral,
         kspin=kspin,
         min_radius=4.0 * scale,
         approach=1.5 * scale,
         creep=min(0.05, 0.2 * v_max),
+        ki=0.25 / lateral,
     )
 
 
@@ -218,82 +246,15 @@ def _checked_gains(gains: Gains | Mapping[str, float] | None, base: Gains) -> Ga
         raise ParameterError(f"gains must be a Gains or a mapping of names, got {shown(gains)}")
     checked: dict[str, float] = {}
     for name, value in given.items():
-        low_open = name != "kspin"
+        low_open = name not in ("kspin", "ki")
         checked[name] = finite_in_range(value, f"gains {name}", 0.0, 1e9, open_low=low_open)
-    return replace(base, **checked)
-
-
-# --------------------------------------------------------------------------------------------
-# The reference: pieces of constant gains along a polynomial path coordinate
-
-
-def _pieces(plan: Plan | RampedPlan) -> list[tuple[float, ...]]:
-    """The plan as pieces ``(t0, x0, y0, h0, linear_gain, angular_gain, p, v, a, j)``: from
-    time ``t0`` (s) the path coordinate is ``s = p + v tau + a tau²/2 + j tau³/6`` (tau = t -
-    t0) and the pose is ``advance(x0, y0, h0, linear_gain s, angular_gain s)``."""
-    from diffbot.trajectory import Plan
-
-    pieces: list[tuple[float, ...]] = []
-    if isinstance(plan, Plan):
-        elapsed, heading = 0.0, 0.0
-        for planned in plan.segments:
-            start = planned.start_pose
-            v, w = float(planned.twist.linear), float(planned.twist.angular)
-            pieces.append((elapsed, start.x, start.y, heading, v, w, 0.0, 1.0, 0.0, 0.0))
-            elapsed += planned.duration
-            heading = planned.end_heading
-        return pieces
-    for run in plan.runs:
-        x0, y0, h0 = run.start_pose
-        for phase in run.profile.phases:
-            pieces.append(
-                (
-                    run.start + phase.start,
-                    x0,
-                    y0,
-                    h0,
-                    run.linear_gain,
-                    run.angular_gain,
-                    phase.position,
-                    phase.velocity,
-                    phase.acceleration,
-                    phase.jerk,
-                )
-            )
-    return pieces
-
-
-def _axis_limits(plan: Plan | RampedPlan, params: DiffDriveParams) -> tuple[AxisLimits, ...]:
-    """The (linear, angular) limits the commands keep besides the motor limit: the ramped
-    plan's, else the controller's, else none (an empty tuple)."""
-    from diffbot.controller_config import AxisLimits
-    from diffbot.trajectory import Plan
-
-    if not isinstance(plan, Plan):
-        axes = []
-        for path in (plan.limits.linear, plan.limits.angular):
-            jerk = path.jerk
-            axes.append(
-                AxisLimits(
-                    max_velocity=path.velocity,
-                    max_acceleration=path.acceleration,
-                    max_jerk=jerk,
-                )
-            )
-        if any(a.max_acceleration is not None or a.max_jerk is not None for a in axes):
-            return tuple(axes)
-    controller = params.controller
-    if controller is None:
-        return ()
-    from diffbot.limiter import checked
-
-    linear, angular = checked(controller.linear, "linear"), checked(controller.angular, "angular")
-    if any(
-        a.max_acceleration is not None or a.max_jerk is not None or a.max_velocity is not None
-        for a in (linear, angular)
-    ):
-        return linear, angular
-    return ()
+    made = replace(base, **checked)
+    if made.ki >= made.ktheta:
+        raise ParameterError(
+            f"gains ki ({made.ki:g} 1/m) must be below ktheta ({made.ktheta:g} 1/m): a larger "
+            "integral gain makes the lateral error grow"
+        )
+    return made
 
 
 class Follower:
@@ -368,17 +329,25 @@ class Follower:
         self.duration = plan.duration
         self.goal = steps.final_pose
         self.goal_heading = steps.segments[-1].end_heading
-        self._pieces = _pieces(plan)
+        self._pieces = pieces(plan)
         self._starts = [piece[0] for piece in self._pieces]
         self._index = 0
         left, right = params.radii
         self._wheel = (left, right, 0.5 * params.wheel_separation)
-        self._axes = _axis_limits(plan, params)
+        self._axes = axis_limits(plan, params)
+        #: The tracking law's integral: the curvature (1/m) added per m/s of reference speed,
+        #: held within the largest bias a wheel mismatch gives.
+        self.bias = 0.0
+        self._bias_cap = MAX_MISMATCH / params.wheel_separation
+        self._quarter = 0.25 * params.wheel_separation**2
+        self._saturated = False
         self._last: tuple[float, float, float, float, float] | None = None  # t, v0, w0, v1, w1
         #: The commands sent within the last ``lead`` s and the one before: the time (s),
         #: (v, w) and the pose the commands before reach in the command frame (m, m, rad).
         self._sent: deque[tuple[float, float, float, float, float, float]] = deque()
-        self._approach = False
+        self._arrival = Arrival(
+            self.goal.x, self.goal.y, self.goal_heading, self.gains, self.xy_tolerance
+        )
         self._within_since: float | None = None
         self._done: bool | None = None
         self._pursuit = None
@@ -466,9 +435,28 @@ class Follower:
                 speed = abs(vr) * g.ktheta
                 fade = 1.0 - speed / g.kspin if speed < g.kspin else 0.0
                 w = wr + vr * g.ky * ey + (speed + g.kspin * fade * fade) * math.sin(eh)
+                if g.ki:
+                    bias = self._integrated(t, abs(vr) * g.ki * g.ky * ey, g.ky * ey)
+                    w += vr * bias
+                    v += bias * self._quarter * w
                 return self._limited(t, v, w)
-        v, w = self._arrive(t, x, y, theta)
+        if self._done:
+            return self._limited(t, 0.0, 0.0)
+        v, w = self._arrival.command(x, y, theta)
         return self._limited(t, v, w)
+
+    def _integrated(self, t: float, rate: float, offset: float) -> float:
+        """The curvature bias after the step from the last command to ``t`` at ``rate``
+        (1/m/s). Held (anti-windup) while the last command was cut by the motor limit, and
+        while the lateral error is larger than the largest bias could hold it (``offset`` =
+        ``ky e_y`` beyond the cap, 1/m): that error is a transient, not a bias."""
+        last = self._last
+        cap = self._bias_cap
+        if last is not None and not self._saturated and -cap <= offset <= cap:
+            dt = t - last[0]
+            if 0.0 < dt <= _LONGEST_STEP:
+                self.bias = min(max(self.bias + rate * dt, -cap), cap)
+        return self.bias
 
     def _predicted(self, t: float, x: float, y: float, theta: float) -> tuple[float, float, float]:
         """The pose ``lead`` s after ``t``: ``(x, y, theta)`` moved by the commands sent from
@@ -516,39 +504,18 @@ class Follower:
         while len(sent) > 1 and sent[1][0] <= start:
             sent.popleft()
 
-    def _arrive(self, t: float, x: float, y: float, theta: float) -> tuple[float, float]:
-        """The pose-stabilising command past the plan's end (see the module's notes)."""
-        goal, g, tol = self.goal, self.gains, self.xy_tolerance
-        dx, dy = goal.x - x, goal.y - y
-        cos_t, sin_t = math.cos(theta), math.sin(theta)
-        ex = cos_t * dx + sin_t * dy
-        ey = cos_t * dy - sin_t * dx
-        eh = math.remainder(self.goal_heading - theta, _TWO_PI)
-        distance = math.hypot(dx, dy)
-        if self._done:
-            return 0.0, 0.0
-        # Wide hysteresis: a noisy pose source (a millimetre) must not toggle the phases.
-        if self._approach:
-            self._approach = distance > 0.4 * tol
-        else:
-            self._approach = abs(ey) > 0.6 * tol and distance > tol
-        if not self._approach:
-            return g.kx * ex, g.kspin * math.sin(eh)
-        way = 1.0 if ex >= 0.0 else -1.0
-        bearing = math.atan2(way * ey, way * ex)
-        v = way * g.kx * distance * math.cos(bearing) if abs(bearing) < _DRIVE_BEARING else 0.0
-        return v, g.kspin * bearing
-
     def _limited(self, t: float, v: float, w: float) -> Twist:
         """``(v, w)`` within the motor limit (curvature kept), then the acceleration limits."""
         lim = self.limit
         left_radius, right_radius, half = self._wheel
+        self._saturated = False
         if lim is not None:
             track = half * w
             peak = max(abs((v - track) / left_radius), abs((v + track) / right_radius))
             if peak > lim:
                 scale = lim / peak
                 v, w = v * scale, w * scale
+                self._saturated = True
         last = self._last
         if self._axes:
             from diffbot.limiter import limit
@@ -566,7 +533,7 @@ class Follower:
             previous = (0.0, 0.0) if last is None else (last[1], last[2])
             self._last = (t, v, w, *previous)
         if self.lead:
-            self._record(t, v, w)
+            self._record(t, v, w - self.bias * v)
         # The named tuple's own __new__ is a Python function: tuple.__new__ builds the same.
         return tuple.__new__(Twist, (v + 0.0, w + 0.0))
 

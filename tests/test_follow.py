@@ -11,11 +11,17 @@ from hypothesis import strategies as st
 from robots import BOT_50_RPM
 
 from diffbot.errors import ParameterError
-from diffbot.follow import DWELL, MAX_LEAD, Follower, Gains, default_gains, delay_lead
+from diffbot.follow import (
+    DWELL,
+    MAX_LEAD,
+    MAX_MISMATCH,
+    Follower,
+    Gains,
+    default_gains,
+    delay_lead,
+)
 from diffbot.kinematics import DiffDriveParams, Pose, inverse
 from diffbot.planfile import parse_plan
-from diffbot.profiles import Limits, PathLimits
-from diffbot.ramps import ramp
 from diffbot.trajectory import EXAMPLES, Arc, Plan, Spin, Straight, plan, pose_at
 
 ROBOT = BOT_50_RPM
@@ -90,22 +96,6 @@ def test_on_the_reference_the_command_is_the_feed_forward_exactly(items, share):
     assert command.angular == pytest.approx(w, rel=1e-12, abs=1e-15)
 
 
-def test_a_ramped_reference_is_its_plans_pose_and_speed():
-    steps = made(EXAMPLES["A"])
-    ramped = ramp(
-        steps, Limits(linear=PathLimits(acceleration=0.2), angular=PathLimits(acceleration=1.0))
-    )
-    follower = Follower(ROBOT, ramped)
-    for t in (0.0, 0.3, 5.0, 10.2, 17.0, 33.3, ramped.duration - 1e-3):
-        x, y, heading, v, w = follower.reference(t)
-        expected = ramped.pose_at(t)
-        assert math.hypot(x - expected.x, y - expected.y) < 1e-9
-        assert abs(wrap(heading - expected.theta)) < 1e-9
-        linear, angular = ramped.twist_at(t)
-        assert v == pytest.approx(float(linear), abs=1e-9)
-        assert w == pytest.approx(float(angular), abs=1e-9)
-
-
 def test_known_values_of_kanayamas_law():
     # 1 m in 10 s; the robot 1 cm to the right of the reference and 2 cm behind, heading 0.
     p = made("straight 1 10s")
@@ -117,15 +107,21 @@ def test_known_values_of_kanayamas_law():
     # Heading 0.1 rad to the left of the reference, on it: v_r cos, and the heading terms.
     command = follower.command(5.0, Pose(0.5, 0.0, 0.1))
     assert command.linear == pytest.approx(0.1 * math.cos(-0.1))
-    fade = (1.0 - 0.1 * g.ktheta / g.kspin) ** 2
+    fade = max(0.0, 1.0 - 0.1 * g.ktheta / g.kspin) ** 2
     assert command.angular == pytest.approx((0.1 * g.ktheta + g.kspin * fade) * math.sin(-0.1))
 
 
 def test_default_gains_of_the_bundled_robot_and_their_scaling():
     g = default_gains(ROBOT)
     assert (g.kx, g.kspin) == pytest.approx((2.0, 3.0))
-    assert g.ky == pytest.approx(1.0 / (0.75 * 0.135) ** 2)
-    assert g.ktheta == pytest.approx(2.0 / (0.75 * 0.135))
+    # The lateral length: the top speed over kspin (0.061 m), below 0.75 b (0.10 m).
+    lateral = LIMIT * 0.035 / 3.0
+    assert g.ky == pytest.approx(1.0 / lateral**2)
+    assert g.ktheta == pytest.approx(2.0 / lateral)
+    assert g.ki == pytest.approx(g.ktheta / 8.0)
+    assert default_gains(ROBOT.replace(max_wheel_speed=None)).ky == pytest.approx(
+        1.0 / (0.75 * 0.135) ** 2
+    )
     big = default_gains(ROBOT.replace(wheel_separation=1.35, wheel_radius=0.35))
     assert big.ky == pytest.approx(g.ky / 100.0)
     slow = default_gains(ROBOT.replace(max_wheel_speed=0.5))
@@ -190,24 +186,6 @@ def test_a_spin_in_place_corrects_its_heading_with_no_speed_reference():
     assert math.hypot(final.x, final.y) <= follower.xy_tolerance
 
 
-def test_arrival_corrects_a_lateral_error_kanayamas_law_leaves():
-    p = made("straight 0.5 5s")
-    follower = Follower(ROBOT, p)
-    # Past the end, 3 cm to the side of the goal and heading along the path.
-    start = Pose(0.5, 0.03, 0.0)
-    x, y, heading = start
-    t, dt = p.duration, 0.01
-    while not follower.done(t, Pose(x, y, heading)) and t < p.duration + 30.0:
-        v, w = follower.command(t, Pose(x, y, heading))
-        x += v * dt * math.cos(heading + 0.5 * w * dt)
-        y += v * dt * math.sin(heading + 0.5 * w * dt)
-        heading += w * dt
-        t += dt
-    assert follower.done(t, Pose(x, y, heading))
-    assert math.hypot(x - 0.5, y) <= follower.xy_tolerance
-    assert abs(wrap(heading)) <= follower.yaw_tolerance
-
-
 def test_a_tiny_plan_is_followed_without_dividing_by_its_length():
     for law in ("tracking", "pure-pursuit"):
         p = made("straight 1e-6 1s")
@@ -237,21 +215,6 @@ def test_every_command_is_within_the_motor_limit_and_keeps_its_curvature(x, y, h
     fv, fw = free.command(t, Pose(x, y, heading))
     # Saturation scales both velocities alike: the same curvature.
     assert v * fw == pytest.approx(w * fv, abs=1e-9)
-
-
-def test_commands_keep_a_ramped_plans_acceleration_limits():
-    steps = made("straight 1 10s")
-    ramped = ramp(
-        steps, Limits(linear=PathLimits(acceleration=0.1), angular=PathLimits(acceleration=0.5))
-    )
-    follower = Follower(ROBOT, ramped)
-    last_v, dt = 0.0, 0.05
-    # Far behind: the feedback asks for a jump the limiter spreads out.
-    for k in range(1, 40):
-        v, _ = follower.command(k * dt, Pose(-0.5, 0.0, 0.0))
-        assert abs(v - last_v) <= 0.1 * dt * (1 + 1e-9) + 1e-12
-        last_v = v
-    assert last_v > 0.0
 
 
 def test_pure_pursuit_steers_by_the_lookahead_points_curvature():
@@ -307,6 +270,8 @@ def test_done_only_past_the_end_within_the_tolerances_for_the_dwell():
         {"gains": {"ky": math.nan}},
         {"gains": {"gain": 1.0}},
         {"gains": Gains(1, 1, 1, 1, 1, 1, 0)},
+        {"gains": {"ki": -0.1}},
+        {"gains": {"ki": 19.8, "ktheta": 19.8}},
         {"xy_tolerance": 0.0},
         {"yaw_tolerance": math.inf},
         {"lookahead": -0.1},
@@ -359,7 +324,7 @@ def kanayama(follower: Follower, t: float, pose: Pose) -> tuple[float, float]:
 def test_with_no_lead_the_law_is_kanayamas_on_the_pose_as_given(offsets):
     # Whatever came before, a zero lead acts on the pose given against the reference at t.
     p = made(EXAMPLES["A"])
-    follower = Follower(ROBOT, p, lead=0.0)
+    follower = Follower(ROBOT, p, lead=0.0, gains={"ki": 0.0})
     assert follower.lead == 0.0
     for k, (ox, oy, oh) in enumerate(offsets):
         t = 1.0 + 0.05 * k
@@ -369,7 +334,7 @@ def test_with_no_lead_the_law_is_kanayamas_on_the_pose_as_given(offsets):
         command = follower.command(t, pose)
         assert command.linear == pytest.approx(v, rel=1e-12, abs=1e-15)
         assert command.angular == pytest.approx(w, rel=1e-12, abs=1e-15)
-        assert Follower(ROBOT, p).command(t, pose) == command
+        assert Follower(ROBOT, p, gains={"ki": 0.0}).command(t, pose) == command
 
 
 def advanced(pose: Pose, v: float, w: float, dt: float) -> Pose:
@@ -396,7 +361,7 @@ def test_a_lead_acts_on_the_pose_its_unexecuted_commands_predict(lead, offsets):
     # The law with a lead is the law without, applied at t + lead to the pose moved by the
     # commands sent in the last lead seconds (each held until the next, the last until now).
     p = made(EXAMPLES["A"])
-    follower = Follower(ROBOT, p, lead=lead)
+    follower = Follower(ROBOT, p, lead=lead, gains={"ki": 0.0})
     sent: list[tuple[float, float, float]] = []
     for k, (ox, oy, oh) in enumerate(offsets):
         t = 3.0 + 0.05 * k
@@ -409,7 +374,7 @@ def test_a_lead_acts_on_the_pose_its_unexecuted_commands_predict(lead, offsets):
             if pending > 0.0:
                 predicted = advanced(predicted, v, w, pending)
         command = follower.command(t, pose)
-        expected = Follower(ROBOT, p).command(t + lead, predicted)
+        expected = Follower(ROBOT, p, gains={"ki": 0.0}).command(t + lead, predicted)
         assert command.linear == pytest.approx(expected.linear, rel=1e-9, abs=1e-12)
         assert command.angular == pytest.approx(expected.angular, rel=1e-9, abs=1e-12)
         sent.append((t, float(command.linear), float(command.angular)))
@@ -496,13 +461,16 @@ def test_a_stop_sent_by_someone_else_ends_the_commands_prediction():
     # Sent at 3.0 s, the first command is replaced by a zero at 3.05 s: at 3.1 s only its
     # 0.05 s are pending, not the 0.1 s it would have been held without the stop.
     p = made(EXAMPLES["A"])
-    follower = Follower(ROBOT, p, lead=0.2)
+    plain = {"ki": 0.0}
+    follower = Follower(ROBOT, p, lead=0.2, gains=plain)
     pose = Pose(*follower.reference(3.0)[:3])
     v, w = follower.command(3.0, pose)
     follower.stopped_at(3.05)
-    expected = Follower(ROBOT, p).command(3.3, advanced(pose, float(v), float(w), 0.05))
+    expected = Follower(ROBOT, p, gains=plain).command(
+        3.3, advanced(pose, float(v), float(w), 0.05)
+    )
     assert follower.command(3.1, pose) == pytest.approx(expected, rel=1e-9, abs=1e-12)
-    without = Follower(ROBOT, p, lead=0.2)
+    without = Follower(ROBOT, p, lead=0.2, gains=plain)
     without.command(3.0, pose)
     assert without.command(3.1, pose) != pytest.approx(expected, rel=1e-6, abs=1e-9)
 
@@ -514,3 +482,118 @@ def test_a_follower_keeps_only_the_commands_its_lead_still_needs():
     for k in range(2000):
         follower.command(0.05 * k, Pose(0.09, 0.004, 0.0))
     assert len(follower._sent) <= 0.2 / 0.05 + 2
+
+
+def _biased_run(ki: float | None, bias: float) -> tuple[Follower, list[float]]:
+    """A straight of 2 m at 0.1 m/s on a unicycle that turns ``bias`` rad/s per m/s it is
+    told to drive (right wheel the smaller); the follower and the lateral error (m) at each
+    command."""
+    p = made("straight 2 20s")
+    follower = Follower(ROBOT, p, gains=None if ki is None else {"ki": ki})
+    x = y = heading = 0.0
+    lateral, t, dt = [], 0.0, 0.01
+    while t < p.duration:
+        v, w = follower.command(t, Pose(x, y, heading))
+        lateral.append(y)
+        x, y, heading = advanced(Pose(x, y, heading), v, w - bias * v, dt)
+        t += dt
+    return follower, lateral
+
+
+def test_the_integral_learns_the_turn_of_unequal_wheels_and_removes_its_offset():
+    # A 4 % difference of the radii on b = 0.139 m turns the robot 0.288 rad per metre.
+    bias = 0.04 / 0.139
+    plain, without = _biased_run(0.0, bias)
+    follower, lateral = _biased_run(None, bias)
+    # Without the integral Kanayama's law holds the offset where v_r ky e_y cancels the turn.
+    offset = bias / plain.gains.ky
+    assert abs(without[-1]) == pytest.approx(offset, rel=0.05)
+    # With it the curvature is learnt and the offset gone within the 2 m.
+    assert follower.bias == pytest.approx(bias, rel=0.05)
+    assert abs(lateral[-1]) < 0.05 * offset
+    assert max(map(abs, lateral)) < max(map(abs, without))
+    # The same plan driven backwards learns the same curvature (the bias turns with v).
+    back = made("straight -2 20s")
+    reverse = Follower(ROBOT, back)
+    x = y = heading = 0.0
+    for k in range(2000):
+        v, w = reverse.command(0.01 * k, Pose(x, y, heading))
+        x, y, heading = advanced(Pose(x, y, heading), v, w - bias * v, 0.01)
+    assert reverse.bias == pytest.approx(bias, rel=0.05)
+
+
+def test_the_integral_is_held_within_the_largest_mismatch_and_while_saturated():
+    # A mismatch a fifth over the largest it learns: it learns the largest and holds it there.
+    cap = MAX_MISMATCH / ROBOT.wheel_separation
+    follower, _ = _biased_run(None, 1.2 * cap)
+    assert follower.bias == pytest.approx(cap, rel=1e-12)
+    # A metre behind, a millimetre to the side: every command is cut by the motor limit, and
+    # the integral does not wind up on the error it cannot act on.
+    p = made("straight 2 20s")
+    held = Follower(ROBOT, p, gains={"kx": 50.0})
+    for k in range(100):
+        held.command(0.05 * k, Pose(-1.0, -0.001, 0.0))
+    assert held.bias == 0.0
+    # From 3 cm beside the path, with wheels alike: the transient is not taken for a mismatch
+    # (measured: at most 0.24 of the cap on the way, learning over the whole way reaches it).
+    follower = Follower(ROBOT, p)
+    pose, peak = Pose(0.0, 0.03, 0.0), 0.0
+    for k in range(2000):
+        v, w = follower.command(0.01 * k, pose)
+        pose = advanced(pose, v, w, 0.01)
+        peak = max(peak, abs(follower.bias))
+    assert peak < 0.5 * cap
+    assert abs(follower.bias) < 0.01 * cap
+
+
+def test_on_unequal_wheels_the_path_keeps_to_the_plan_and_ends_on_its_goal():
+    # Real radii 4 % apart turn the robot beta = 0.04 / b per metre; without the integral the
+    # law holds that off beta / ky to the side and ends there (measured 1.10 of 1.11 mm).
+    from diffbot.calibration.truth import true_robot
+    from diffbot.closed_loop import LoopSettings, path_distance, run
+
+    p = made("straight 1 10s; spin 90 2s; straight 0.5 5s")
+    settings = LoopSettings(true_params=true_robot(ROBOT, (0.0357, 0.0343)), pose_source="truth")
+    bias = 0.04 / ROBOT.wheel_separation
+    goal = p.final_pose
+    ends, crosses = [], []
+    for gains in ({"ki": 0.0}, None):
+        follower = Follower(ROBOT, p, gains=gains)
+        result = run(p, ROBOT, settings, follower)
+        assert result.arrived
+        xs, ys = result.truth[0], result.truth[1]
+        crosses.append(float(path_distance(p, xs, ys).max()))
+        ends.append(math.hypot(float(xs[-1]) - goal.x, float(ys[-1]) - goal.y))
+    offset = bias / follower.gains.ky
+    assert ends[0] > 0.8 * offset
+    # With it the curvature is learnt on the first straight (measured 0.82 and 0.12 offsets).
+    assert follower.bias == pytest.approx(bias, rel=0.1)
+    assert crosses[1] < offset
+    assert ends[1] < 0.2 * offset
+
+
+def test_a_lead_predicts_the_turn_less_the_learnt_curvature():
+    # The robot turns less than it is told by the curvature the integral has learnt: the
+    # prediction moves the pose by what it will do, w - bias v.
+    p = made(EXAMPLES["A"])
+    tiny = {"ki": 1e-12}  # the integral on, learning nothing more here
+    follower = Follower(ROBOT, p, lead=0.2, gains=tiny)
+    follower.bias = 0.3
+    pose = Pose(*follower.reference(3.0)[:3])
+    v, w = follower.command(3.0, pose)
+    fresh = Follower(ROBOT, p, gains=tiny)
+    fresh.bias = 0.3
+    expected = fresh.command(3.3, advanced(pose, float(v), float(w) - 0.3 * float(v), 0.1))
+    assert follower.command(3.1, pose) == pytest.approx(expected, rel=1e-9, abs=1e-12)
+
+
+def test_the_learnt_curvature_keeps_a_spin_in_place():
+    # Radii delta apart turn a straight by delta / b per metre and move a spin by delta b / 4
+    # per radian: the follower drives that much forward as it turns.
+    p = made("spin 90 3s")
+    follower = Follower(ROBOT, p, gains={"ki": 1e-12})
+    follower.bias = 0.3
+    command = follower.command(1.0, Pose(*follower.reference(1.0)[:3]))
+    assert command.angular == pytest.approx(math.radians(90.0) / 3.0, rel=1e-9)
+    quarter = ROBOT.wheel_separation**2 / 4.0
+    assert command.linear == pytest.approx(0.3 * quarter * command.angular, rel=1e-9)

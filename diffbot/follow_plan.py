@@ -1,0 +1,83 @@
+"""What a :class:`diffbot.follow.Follower` takes from its plan: the timed reference as pieces
+of a polynomial path coordinate, and the acceleration and jerk limits its commands keep."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from diffbot.controller_config import AxisLimits
+    from diffbot.kinematics import DiffDriveParams
+    from diffbot.ramps import RampedPlan
+    from diffbot.trajectory import Plan
+
+__all__ = ["axis_limits", "pieces"]
+
+
+def pieces(plan: Plan | RampedPlan) -> list[tuple[float, ...]]:
+    """The plan as pieces ``(t0, x0, y0, h0, linear_gain, angular_gain, p, v, a, j)``: from
+    time ``t0`` (s) the path coordinate is ``s = p + v tau + a tau²/2 + j tau³/6`` (tau = t -
+    t0) and the pose is ``advance(x0, y0, h0, linear_gain s, angular_gain s)``."""
+    from diffbot.trajectory import Plan
+
+    pieces: list[tuple[float, ...]] = []
+    if isinstance(plan, Plan):
+        elapsed, heading = 0.0, 0.0
+        for planned in plan.segments:
+            start = planned.start_pose
+            v, w = float(planned.twist.linear), float(planned.twist.angular)
+            pieces.append((elapsed, start.x, start.y, heading, v, w, 0.0, 1.0, 0.0, 0.0))
+            elapsed += planned.duration
+            heading = planned.end_heading
+        return pieces
+    for run in plan.runs:
+        x0, y0, h0 = run.start_pose
+        for phase in run.profile.phases:
+            pieces.append(
+                (
+                    run.start + phase.start,
+                    x0,
+                    y0,
+                    h0,
+                    run.linear_gain,
+                    run.angular_gain,
+                    phase.position,
+                    phase.velocity,
+                    phase.acceleration,
+                    phase.jerk,
+                )
+            )
+    return pieces
+
+
+def axis_limits(plan: Plan | RampedPlan, params: DiffDriveParams) -> tuple[AxisLimits, ...]:
+    """The (linear, angular) limits the commands keep besides the motor limit: the ramped
+    plan's, else the controller's, else none (an empty tuple)."""
+    from diffbot.controller_config import AxisLimits
+    from diffbot.trajectory import Plan
+
+    if not isinstance(plan, Plan):
+        axes = []
+        for path in (plan.limits.linear, plan.limits.angular):
+            jerk = path.jerk
+            axes.append(
+                AxisLimits(
+                    max_velocity=path.velocity,
+                    max_acceleration=path.acceleration,
+                    max_jerk=jerk,
+                )
+            )
+        if any(a.max_acceleration is not None or a.max_jerk is not None for a in axes):
+            return tuple(axes)
+    controller = params.controller
+    if controller is None:
+        return ()
+    from diffbot.limiter import checked
+
+    linear, angular = checked(controller.linear, "linear"), checked(controller.angular, "angular")
+    if any(
+        a.max_acceleration is not None or a.max_jerk is not None or a.max_velocity is not None
+        for a in (linear, angular)
+    ):
+        return linear, angular
+    return ()
