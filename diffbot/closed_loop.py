@@ -1,24 +1,32 @@
 """A plan run on a disturbed simulated robot, open loop or closed by a follower, and how far it
 strayed.
 
-:func:`run` steps a :class:`diffbot.simulation.DisturbedRobot`: at the control rate a
+:func:`run_chunks` steps a :class:`diffbot.simulation.DisturbedRobot`: at the control rate a
 controller (a :class:`diffbot.follow.Follower`, or anything with its ``command`` and ``done``)
 gets the pose estimate (the robot's wheel odometry, or its true pose with noise) and commands
 the wheels; without a controller the plan's own commands at the control rate are sent open
 loop. The joint states are sampled at the simulation rate with their encoder resolution and
-noise, beside the true pose. :func:`path_distance` measures the true path against the plan's.
+noise, beside the true pose, a chunk at a time (:func:`run` gives them all at once).
+:func:`path_distance` measures the true path against the plan's.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Final, Literal, Protocol
 
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams, Pose, Twist
 from diffbot.numbers import finite_in_range
-from diffbot.simulation import MAX_RATE, MAX_SAMPLES, Disturbances, DisturbedRobot
+from diffbot.simulation import (
+    CHUNK_SAMPLES,
+    MAX_RATE,
+    MAX_SAMPLES,
+    Disturbances,
+    DisturbedRobot,
+)
 
 if TYPE_CHECKING:
     import numpy as np
@@ -27,7 +35,16 @@ if TYPE_CHECKING:
     from diffbot.ramps import RampedPlan
     from diffbot.trajectory import Plan
 
-__all__ = ["Controller", "LoopResult", "LoopSettings", "path_distance", "run"]
+__all__ = [
+    "Controller",
+    "LoopChunk",
+    "LoopOutcome",
+    "LoopResult",
+    "LoopSettings",
+    "path_distance",
+    "run",
+    "run_chunks",
+]
 
 #: Longest a run goes on past the plan's end waiting to arrive (s), at least.
 MIN_OVERTIME: Final = 10.0
@@ -122,38 +139,132 @@ def _open_loop(made: Plan | RampedPlan, rate: float) -> tuple[list[float], list[
     ]
 
 
+@dataclass
+class LoopOutcome:
+    """What a run of :func:`run_chunks` came to, filled in as its chunks are taken.
+
+    Attributes:
+        names: the joint names of the chunks' positions.
+        most_samples: the most samples the run can take (the run gives up by then).
+        samples: the samples made so far.
+        peak_limit_fraction: the largest commanded wheel speed over the motor limit so far (or
+            None without one).
+        arrived: whether the controller said done (open loop: whether the plan ran out).
+        duration: the time until arrival, or the run's last sample without it (s).
+        final_truth: the last sample's true pose x, y (m), theta (rad).
+    """
+
+    names: tuple[str, ...]
+    most_samples: int
+    samples: int = 0
+    peak_limit_fraction: float | None = None
+    arrived: bool = False
+    duration: float = 0.0
+    final_truth: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+#: One chunk of a run: times (s), shape (n,); joint positions (rad), shape (joints, n); true
+#: poses and odometry poses (x, y, theta), shape (3, n) each.
+LoopChunk = tuple[
+    "NDArray[np.float64]", "NDArray[np.float64]", "NDArray[np.float64]", "NDArray[np.float64]"
+]
+
+
 def run(
     made: Plan | RampedPlan,
     params: DiffDriveParams,
     settings: LoopSettings,
     controller: Controller | None = None,
 ) -> LoopResult:
-    """Run ``made`` on the disturbed robot, closed by ``controller`` or open loop.
+    """Run ``made`` on the disturbed robot, closed by ``controller`` or open loop: all of
+    :func:`run_chunks` at once.
+
+    Raises:
+        ParameterError: a run of more than :data:`diffbot.simulation.MAX_SAMPLES` samples.
+    """
+    import numpy as np
+
+    outcome, chunks = run_chunks(made, params, settings, controller)
+    parts = list(chunks)
+    times, positions, truth, odometry = (
+        np.concatenate([part[k] for part in parts], axis=-1) for k in range(4)
+    )
+    return LoopResult(
+        times=times,
+        positions=positions,
+        names=outcome.names,
+        truth=truth,
+        odometry=odometry,
+        peak_limit_fraction=outcome.peak_limit_fraction,
+        arrived=outcome.arrived,
+        duration=outcome.duration,
+    )
+
+
+def run_chunks(
+    made: Plan | RampedPlan,
+    params: DiffDriveParams,
+    settings: LoopSettings,
+    controller: Controller | None = None,
+    *,
+    chunk: int = CHUNK_SAMPLES,
+) -> tuple[LoopOutcome, Iterator[LoopChunk]]:
+    """Run ``made`` on the disturbed robot, closed by ``controller`` or open loop, ``chunk``
+    samples at a time, so that memory does not grow with the run.
 
     A closed loop runs until the controller is done, then until the wheels stop; it gives up
     ``max(10 s, half the plan's duration)`` past the plan's end (then ``arrived`` is False).
     An open loop runs its commands, then until the wheels stop.
 
-    Raises:
-        ParameterError: a run of more than :data:`diffbot.simulation.MAX_SAMPLES` samples.
-    """
-    import random
+    Returns:
+        The outcome, complete once the chunks are all taken, and the chunks.
 
+    Raises:
+        ParameterError: a run of more than :data:`diffbot.simulation.MAX_SAMPLES` samples
+            (at once, before any chunk).
+    """
+    lag = settings.disturbances.motor_lag + settings.disturbances.latency
+    give_up = made.duration + max(MIN_OVERTIME, made.duration)
+    most = (give_up + 10.0 * lag) * settings.rate
+    if most > MAX_SAMPLES:
+        raise ParameterError(f"the run would take more than {MAX_SAMPLES} samples")
+    names = (*params.left_joints, *params.right_joints, *params.passive_joints)
+    outcome = LoopOutcome(names, math.ceil(most) + 2)
+    return outcome, _chunks(made, params, settings, controller, outcome, give_up, chunk)
+
+
+def _table(rows: list[tuple[float, ...]], params: DiffDriveParams) -> LoopChunk:
     import numpy as np
+
+    table = np.array(rows, dtype=np.float64).T
+    times = table[0]
+    positions = np.repeat(table[1:3], (len(params.left_joints), len(params.right_joints)), axis=0)
+    extra = len(params.passive_joints)
+    positions = np.vstack((positions, np.zeros((extra, times.size))))
+    truth = table[3:6].copy()
+    truth[2] = np.remainder(truth[2] + math.pi, 2.0 * math.pi) - math.pi
+    return times, positions, truth, table[6:9]
+
+
+def _chunks(
+    made: Plan | RampedPlan,
+    params: DiffDriveParams,
+    s: LoopSettings,
+    controller: Controller | None,
+    outcome: LoopOutcome,
+    give_up: float,
+    chunk: int,
+) -> Iterator[LoopChunk]:
+    import random
 
     from diffbot.kinematics import inverse
     from diffbot.odometry import Odometry
 
-    s = settings
     robot = DisturbedRobot(params, s.disturbances, s.true_params)
     odometry = Odometry(params)
     noise_random = random.Random(s.seed)
     sample_period = 1.0 / s.rate
     period = 1.0 / s.control_rate
-    lag = s.disturbances.motor_lag + s.disturbances.latency
-    give_up = made.duration + max(MIN_OVERTIME, made.duration)
-    if (give_up + 10.0 * lag) * s.rate > MAX_SAMPLES:
-        raise ParameterError(f"the run would take more than {MAX_SAMPLES} samples")
     open_times, open_commands = (
         ([], []) if controller is not None else _open_loop(made, s.control_rate)
     )
@@ -165,6 +276,7 @@ def run(
     estimate = Pose(0.0, 0.0, 0.0)
     arrived, finish, stop = False, None, None
     sample, tick, k = 0, 0, 0
+    t = 0.0
     while True:
         t_sample, t_control = sample * sample_period, tick * period
         t = min(t_sample, t_control)
@@ -192,6 +304,10 @@ def run(
             sample += 1
             if stop is not None and t >= stop:
                 break
+            if len(rows) >= chunk:
+                outcome.samples = sample
+                yield _table(rows, params)
+                rows = []
         if t_control <= t:
             tick += 1
             if controller is not None:
@@ -211,29 +327,18 @@ def run(
             wheels = inverse(params, float(twist.linear), float(twist.angular))
             if limit:
                 peak = max(peak, abs(float(wheels.left)) / limit, abs(float(wheels.right)) / limit)
+                outcome.peak_limit_fraction = peak
             if finish is None or t == finish:
                 robot.command(float(wheels.left), float(wheels.right))
             if finish is not None and stop is None:
                 stop = t + 5.0 * s.disturbances.motor_lag + s.disturbances.latency + 2 * period
-    table = np.array(rows, dtype=np.float64).T
-    times = table[0]
-    angles = table[1:3]
-    positions = np.repeat(angles, (len(params.left_joints), len(params.right_joints)), axis=0)
-    extra = params.passive_joints
-    positions = np.vstack((positions, np.zeros((len(extra), times.size))))
-    names = (*params.left_joints, *params.right_joints, *extra)
-    truth = table[3:6].copy()
-    truth[2] = np.remainder(truth[2] + math.pi, 2.0 * math.pi) - math.pi
-    return LoopResult(
-        times=times,
-        positions=positions,
-        names=names,
-        truth=truth,
-        odometry=table[6:9],
-        peak_limit_fraction=peak if limit else None,
-        arrived=arrived,
-        duration=float(finish if finish is not None else times[-1]),
-    )
+    last = _table(rows, params)
+    outcome.samples = sample
+    outcome.arrived = arrived
+    outcome.duration = float(finish if finish is not None else t)
+    truth = last[2]
+    outcome.final_truth = (float(truth[0, -1]), float(truth[1, -1]), float(truth[2, -1]))
+    yield last
 
 
 def path_distance(

@@ -10,7 +10,7 @@ import pytest
 from robots import BOT_50_RPM
 
 from diffbot.calibration.truth import true_robot
-from diffbot.closed_loop import LoopSettings, path_distance, run
+from diffbot.closed_loop import LoopSettings, path_distance, run, run_chunks
 from diffbot.errors import ParameterError
 from diffbot.follow import Follower
 from diffbot.kinematics import Twist
@@ -127,3 +127,31 @@ def test_the_distance_from_a_reversing_path(text: str) -> None:
         np.array([mid.y + 0.1 * math.cos(mid.theta)]),
     )
     assert beside == pytest.approx([0.1], abs=1e-12)
+
+
+@pytest.mark.parametrize("follow", [False, True])
+def test_a_run_in_chunks_is_the_whole_run_bit_for_bit_in_bounded_pieces(follow: bool) -> None:
+    made = plan(parse_plan(EXAMPLES["A"]), BOT_50_RPM)
+    settings = LoopSettings(
+        rate=200.0,
+        ticks=4096,
+        noise=1e-4,
+        seed=3,
+        disturbances=Disturbances(motor_lag=0.1, latency=0.03, drop=0.1, slip=0.01, seed=3),
+    )
+
+    def controller() -> Follower | None:
+        return Follower(BOT_50_RPM, made) if follow else None
+
+    whole = run(made, BOT_50_RPM, settings, controller())
+    outcome, chunks = run_chunks(made, BOT_50_RPM, settings, controller(), chunk=97)
+    parts = list(chunks)
+    assert all(part[0].size <= 97 for part in parts)
+    assert len(parts) == math.ceil(whole.times.size / 97)
+    for k, array in enumerate((whole.times, whole.positions, whole.truth, whole.odometry)):
+        assert np.array_equal(np.concatenate([part[k] for part in parts], axis=-1), array)
+    assert outcome.samples == whole.times.size <= outcome.most_samples
+    assert (outcome.arrived, outcome.duration) == (whole.arrived, whole.duration)
+    assert outcome.peak_limit_fraction == whole.peak_limit_fraction
+    assert outcome.final_truth == tuple(float(v) for v in whole.truth[:, -1])
+    assert outcome.names == whole.names

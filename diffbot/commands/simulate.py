@@ -275,11 +275,11 @@ def simulate(
         if true_radii is not None or true_separation is not None:
             real = true_robot(params, true_radii, true_separation)
 
-        def write(states: JointStateChunks, truth: Any) -> None:
-            _write(states, start_ns, out_path, out, topic, lambda _: None, truth)
+        def write(states: JointStateChunks, truth: Any, advance: Callable[[int], None]) -> None:
+            _write(states, start_ns, out_path, out, topic, advance, truth)
 
         sampling = (rate, ticks, noise, seed)
-        run_loop(loop, made, params, sampling, real, write, out, source.label, as_json)
+        run_loop(loop, made, params, sampling, real, write, out, source.label, as_json, quiet)
         limit_lines = built.limit_lines()
         if limit_lines:
             for line in limit_lines:

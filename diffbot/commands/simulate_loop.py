@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from diffbot.commands.options import OutOptions, emit_json, fail
+from diffbot.commands.progress import progress
 from diffbot.errors import EXIT_BAD_INPUT
 from diffbot.formats.plan_table import violation_lines
 from diffbot.formats.text import fmt
@@ -67,37 +68,70 @@ class LoopRequest:
 
 
 class _Truth:
-    """The run's true poses, as the writer asks for them (one chunk)."""
+    """The true poses of the chunk the writer has just taken (x, y, theta rows)."""
 
-    def __init__(self, rows: NDArray[np.float64]) -> None:
-        self._rows = rows
+    def __init__(self) -> None:
+        self.current: NDArray[np.float64] | None = None
 
     def rows(self, times: ArrayLike) -> NDArray[np.float64]:
-        return self._rows
+        assert self.current is not None
+        return self.current
+
+
+class _Figures:
+    """The run's figures, gathered chunk by chunk of true poses: the cross-track error of each
+    against the plan's path (m)."""
+
+    def __init__(self, made: Plan | RampedPlan) -> None:
+        from diffbot.trajectory import Plan
+
+        self.steps = made if isinstance(made, Plan) else made.steps
+        self.worst = 0.0
+        self.squares = 0.0
+        self.count = 0
+
+    def add(self, truth: NDArray[np.float64]) -> None:
+        from diffbot.closed_loop import path_distance
+
+        cross = path_distance(self.steps, truth[0], truth[1])
+        if cross.size:
+            self.worst = max(self.worst, float(cross.max()))
+            self.squares += float((cross * cross).sum())
+            self.count += int(cross.size)
+
+    def figures(
+        self,
+        final: tuple[float, float, float],
+        peak: float | None,
+        duration: float,
+        arrived: bool,
+    ) -> dict[str, Any]:
+        """Final errors (m, rad) of the true pose ``final`` against the plan's end, the
+        cross-track errors (m), the peak share of the motor limit commanded, the duration (s),
+        whether it arrived."""
+        goal = self.steps.final_pose
+        x, y, theta = final
+        return {
+            "final_position_error": math.hypot(x - goal.x, y - goal.y),
+            "final_heading_error": abs(math.remainder(theta - goal.theta, 2.0 * math.pi)),
+            "max_cross_track_error": self.worst,
+            "rms_cross_track_error": math.sqrt(self.squares / self.count) if self.count else 0.0,
+            "peak_limit_fraction": peak,
+            "duration": duration,
+            "arrived": arrived,
+        }
 
 
 def summary(made: Plan | RampedPlan, result: LoopResult) -> dict[str, Any]:
-    """The run's figures: final errors (m, rad) of the true pose against the plan's end, the
-    true path's cross-track error against the plan's path (m), the peak share of the motor
-    limit commanded, the duration (s), whether it arrived."""
-    import numpy as np
-
-    from diffbot.closed_loop import path_distance
-    from diffbot.trajectory import Plan
-
-    steps = made if isinstance(made, Plan) else made.steps
-    goal = steps.final_pose
+    """The figures of a whole run: final errors (m, rad) of the true pose against the plan's
+    end, the true path's cross-track error against the plan's path (m), the peak share of the
+    motor limit commanded, the duration (s), whether it arrived."""
+    gathered = _Figures(made)
+    gathered.add(result.truth)
     x, y, theta = (float(v) for v in result.truth[:, -1])
-    cross = path_distance(steps, result.truth[0], result.truth[1])
-    return {
-        "final_position_error": math.hypot(x - goal.x, y - goal.y),
-        "final_heading_error": abs(math.remainder(theta - goal.theta, 2.0 * math.pi)),
-        "max_cross_track_error": float(cross.max()),
-        "rms_cross_track_error": float(np.sqrt(np.mean(cross * cross))),
-        "peak_limit_fraction": result.peak_limit_fraction,
-        "duration": result.duration,
-        "arrived": result.arrived,
-    }
+    return gathered.figures(
+        (x, y, theta), result.peak_limit_fraction, result.duration, result.arrived
+    )
 
 
 def run_loop(
@@ -106,14 +140,16 @@ def run_loop(
     params: DiffDriveParams,
     sampling: tuple[float, int | None, float, int | None],
     true_params: DiffDriveParams | None,
-    write: Callable[[Any, Any], None],
+    write: Callable[[Any, Any, Callable[[int], None]], None],
     out: OutOptions,
     label: str,
     as_json: bool,
+    quiet: bool = False,
 ) -> None:
-    """Run the plan on the disturbed robot, write the samples through ``write(states,
-    truth)``, and say how it went."""
-    from diffbot.closed_loop import LoopSettings, run
+    """Run the plan on the disturbed robot a chunk at a time, write the samples through
+    ``write(states, truth, advance)`` as they come (a progress bar on a terminal unless
+    ``quiet``), and say how it went."""
+    from diffbot.closed_loop import LoopSettings, run_chunks
     from diffbot.follow import MAX_LEAD, Follower, delay_lead
     from diffbot.simulation import Disturbances, JointStateChunks
     from diffbot.trajectory import Plan
@@ -156,12 +192,22 @@ def run_loop(
                         f"{fmt(MAX_LEAD)} s: give --lead"
                     )
         follower = Follower(params, made, law=request.follow, lead=lead)
-    result = run(made, params, settings, follower)
-    states = JointStateChunks(
-        result.names, result.times.size, iter([(result.times, result.positions)])
+    outcome, chunks = run_chunks(made, params, settings, follower)
+    truth = _Truth()
+    gathered = _Figures(made)
+
+    def samples() -> Iterator[tuple[NDArray[np.float64], NDArray[np.float64]]]:
+        for times, positions, true_poses, _ in chunks:
+            truth.current = true_poses
+            gathered.add(true_poses)
+            yield times, positions
+
+    # The run ends when it arrives: the bar's length is the most it may take.
+    with progress(outcome.most_samples, "simulate", "samples", quiet=quiet) as advance:
+        write(JointStateChunks(outcome.names, outcome.most_samples, samples()), truth, advance)
+    figures = gathered.figures(
+        outcome.final_truth, outcome.peak_limit_fraction, outcome.duration, outcome.arrived
     )
-    write(states, _Truth(result.truth))
-    figures = summary(made, result)
     if out.out is None:
         return
     how = f"followed ({request.follow})" if request.follow else "open loop"
@@ -172,13 +218,11 @@ def run_loop(
                 "plan": label,
                 "control": request.follow or "open-loop",
                 **({"lead": lead} if request.follow is not None else {}),
-                "samples": int(result.times.size),
+                "samples": outcome.samples,
                 "rate": rate,
-                "joints": list(result.names),
+                "joints": list(outcome.names),
                 "final_pose": {"x": goal.x, "y": goal.y, "theta": goal.theta},
-                "true_final_pose": dict(
-                    zip(("x", "y", "theta"), (float(v) for v in result.truth[:, -1]), strict=True)
-                ),
+                "true_final_pose": dict(zip(("x", "y", "theta"), outcome.final_truth, strict=True)),
                 "within_limit": steps.within_limit,
                 "output": out.out,
                 **figures,
@@ -187,7 +231,7 @@ def run_loop(
         return
     rows = [
         ("plan", f"{label}, {how} at {fmt(request.control_rate)} Hz"),
-        ("samples", f"{result.times.size} at {fmt(rate)} Hz, {len(result.names)} joints"),
+        ("samples", f"{outcome.samples} at {fmt(rate)} Hz, {len(outcome.names)} joints"),
         (
             "final",
             f"{fmt(figures['final_position_error'] * 1000.0, 4)} mm, "
@@ -200,7 +244,7 @@ def run_loop(
         ),
         (
             "duration",
-            f"{fmt(result.duration, 6)} s, {'arrived' if result.arrived else 'not arrived'}",
+            f"{fmt(outcome.duration, 6)} s, {'arrived' if outcome.arrived else 'not arrived'}",
         ),
         ("output", str(Path(out.out))),
     ]

@@ -65,3 +65,17 @@ def test_odom_shows_progress_on_a_terminal_and_never_in_a_pipe(tmp_path: Path) -
 def test_quiet_silences_the_bar_on_a_terminal(tmp_path: Path) -> None:
     code, err = stderr_of([*SIMULATE, "--out", "a.csv", "--quiet"], tmp_path, terminal=True)
     assert (code, err) == (0, "")
+
+
+def test_a_followed_simulation_shows_progress_on_a_terminal(tmp_path: Path) -> None:
+    # The run streams chunk by chunk; the bar's length is the most samples it may take.
+    args = ["simulate", "straight 1 20s", "--rate", "2000", "--follow", "--motor-lag", "0.1"]
+    code, err = stderr_of([*args, "--out", "a.csv"], tmp_path, terminal=True)
+    assert code == 0, err
+    assert "simulate" in err
+    assert "samples/s" in err
+    rows = (tmp_path / "a.csv").read_text(encoding="utf-8").count("\n") - 1
+    assert rows > 40_000  # 20 s at 2 kHz, and the arrival
+    code, err = stderr_of([*args, "--out", "b.csv", "--quiet"], tmp_path, terminal=True)
+    assert code == 0
+    assert "samples/s" not in err
