@@ -23,7 +23,7 @@ modules=(
   "conditioning|diffbot/conditioning.py|tests/test_conditioning.py"
   "reference|diffbot/reference.py|tests/test_reference.py"
   "sdf|diffbot/urdf/sdf.py|tests/urdf/test_sdf.py"
-  "controllers|diffbot/urdf/controllers.py|tests/urdf/test_controllers.py"
+  "controllers|diffbot/urdf/controllers.py|tests/urdf/test_controllers.py tests/urdf/test_controllers_sections.py"
 )
 
 wanted=("$@")
