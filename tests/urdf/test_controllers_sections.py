@@ -220,6 +220,7 @@ def test_a_drive_is_named_by_its_class_not_by_any_namespace_of_its_type() -> Non
 controller_manager:
   ros__parameters:
     grip.type: "base::drive_tools::GripperController"
+    arm.type: base/drive_tools/JointTrajectoryController
     wheels.type: "base::tools::MecanumController"
 """
     assert other_drive_controllers(text, "c.yaml") == [("wheels", "base::tools::MecanumController")]
@@ -260,6 +261,12 @@ def test_every_reader_names_the_file_of_a_malformed_section(tmp_path: Path) -> N
         with pytest.raises(ControllerConfigError) as caught:
             read(path)
         assert str(caught.value) == expected
+
+
+def test_other_drives_name_the_file_of_malformed_yaml() -> None:
+    with pytest.raises(ControllerConfigError) as caught:
+        other_drive_controllers("a: [1\n", "bad.yaml")
+    assert str(caught.value).startswith("bad.yaml: malformed YAML: ")
 
 
 def test_aliases_are_refused_as_not_allowed_in_a_controllers_file() -> None:
