@@ -344,13 +344,14 @@ def test_a_wrap_at_the_edges_of_its_rule(
 def test_integer_counts_become_fractional_radians_and_the_input_is_untouched() -> None:
     stamps, left, right = counts()
     positions = np.stack([left, right], axis=1).astype(np.int64)
-    before = positions.copy()
+    floats = positions.astype(np.float64)
     options = Conditioning(counts_per_rev=COUNTS_PER_REV, wrap=WRAP)
     angles = pioneer_conditioner(options).feed(stamps, positions)
-    expected = pioneer_conditioner(options).feed(stamps, positions.astype(np.float64))
+    expected = pioneer_conditioner(options).feed(stamps, floats)
     np.testing.assert_array_equal(angles, expected)
     assert angles.dtype == np.float64
-    np.testing.assert_array_equal(positions, before)
+    np.testing.assert_array_equal(positions, np.stack([left, right], axis=1))
+    np.testing.assert_array_equal(floats, np.stack([left, right], axis=1))
 
 
 def test_a_sample_without_a_joint_is_neither_changed_nor_taken_for_a_wrap() -> None:

@@ -88,7 +88,8 @@ def test_offsets_up_to_a_second_either_way_are_tried_by_default() -> None:
 
 
 def test_an_offset_beyond_either_edge_is_refused() -> None:
-    for late in (0.7, -0.7):
+    # Half a grid step beyond the last offset tried is beyond it, not rounded into it.
+    for late in (0.7, -0.7, 0.5005, -0.5005):
         with pytest.raises(ParameterError, match=r"at the edge of the offsets tried \(0.5 s"):
             estimate_time_offset(*turning_wheels(late, BOT), BOT, max_offset=0.5)
 
