@@ -247,3 +247,218 @@ def test_an_include_of_another_scheme_is_refused_by_name(tmp_path: Path) -> None
         f"{path}: include 'https://example.com/wheel': only model://, package:// and file URIs "
         "are read"
     )
+
+
+# --- model files, names and bounds ------------------------------------------------------------
+
+
+def test_a_model_in_a_world_is_read_and_names_the_robot(tmp_path: Path) -> None:
+    text = (
+        two_links()
+        .replace("<model", '<world name="w"><model')
+        .replace("</model>", "</model></world>")
+    )
+    robot = expand(tmp_path / "world.sdf", text)
+    assert robot.get("name") == "two"
+    assert links(robot) == ["base", "wheel"]
+
+
+def test_a_model_without_a_name_is_named_for_its_file(tmp_path: Path) -> None:
+    robot = expand(tmp_path / "nameless.sdf", two_links().replace(' name="two"', ""))
+    assert robot.get("name") == "nameless"
+    assert expand(tmp_path / "named.sdf", two_links()).get("name") == "two"
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("<robot name='r'/>", "not SDF: the root element is <robot>"),
+        ("<sdf version='1.9'/>", "expected one <model>, found 0: give the robot's model file"),
+        (
+            "<sdf version='1.9'><model name='a'/><model name='b'/></sdf>",
+            "expected one <model>, found 2: give the robot's model file",
+        ),
+        ("<sdf version='1.9'><model", "malformed XML: unclosed token: line 1, column 19"),
+    ],
+)
+def test_a_file_that_is_no_single_sdf_model_is_named_with_the_reason(
+    tmp_path: Path, text: str, message: str
+) -> None:
+    path = tmp_path / "bad.sdf"
+    with pytest.raises(DescriptionError) as caught:
+        expand(path, text)
+    assert str(caught.value) == f"{path}: {message}"
+
+
+def test_a_fifo_is_refused_as_no_sdf_file(tmp_path: Path) -> None:
+    fifo = tmp_path / "pipe.sdf"
+    os.mkfifo(fifo)
+    with pytest.raises(DescriptionError) as caught:
+        expand(fifo)
+    assert str(caught.value) == (
+        f"{fifo}: not a regular file (a FIFO, socket or device), not an SDF file"
+    )
+
+
+def test_a_file_of_the_largest_size_is_read_and_one_byte_more_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    text = two_links()
+    monkeypatch.setattr(sdf, "MAX_FILE_BYTES", len(text.encode()))
+    assert links(expand(tmp_path / "exact.sdf", text)) == ["base", "wheel"]
+    path = tmp_path / "over.sdf"
+    with pytest.raises(sdf.ExpansionLimitError) as caught:
+        expand(path, text + " ")
+    assert str(caught.value) == f"{path}: larger than {len(text.encode())} bytes, refused"
+
+
+def nested(depth: int) -> str:
+    """A model holding models ``depth`` deep, the innermost with a link."""
+    inner = '<link name="l"/>'
+    for level in range(depth):
+        inner = f'<model name="n{level}">{inner}</model>'
+    return f'<sdf version="1.9"><model name="top"><link name="base"/>{inner}</model></sdf>'
+
+
+def test_models_nested_as_deep_as_allowed_are_read_and_one_deeper_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(sdf, "MAX_DEPTH", 2)
+    assert links(expand(tmp_path / "two.sdf", nested(2))) == ["base", "n1::n0::l"]
+    path = tmp_path / "three.sdf"
+    with pytest.raises(sdf.ExpansionLimitError) as caught:
+        expand(path, nested(3))
+    assert str(caught.value) == f"{path}: models nested more than 2 deep (max_depth)"
+    # An included model is one level deeper too.
+    (tmp_path / "inner.sdf").write_text(nested(1), encoding="utf-8")
+    include = '<include><uri>inner.sdf</uri><name>i</name></include><link name="base"/>'
+    top = f'<sdf version="1.9"><model name="t">{include}</model></sdf>'
+    assert links(expand(tmp_path / "top.sdf", top)) == ["base", "i::base", "i::n0::l"]
+    deeper = f'<sdf version="1.9"><model name="t"><model name="m">{include}</model></model></sdf>'
+    with pytest.raises(sdf.ExpansionLimitError):
+        expand(tmp_path / "deeper.sdf", deeper)
+
+
+def test_as_many_includes_as_allowed_are_read_and_one_more_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(sdf, "MAX_INCLUDES", 2)
+    wheel_model(tmp_path / "parts" / "wheel")
+
+    def includes(count: int) -> str:
+        body = "".join(
+            f"<include><uri>parts/wheel</uri><name>w{k}</name></include>" for k in range(count)
+        )
+        return f'<sdf version="1.9"><model name="r"><link name="base"/>{body}</model></sdf>'
+
+    assert links(expand(tmp_path / "two.sdf", includes(2))) == ["base", "w0::tyre", "w1::tyre"]
+    path = tmp_path / "three.sdf"
+    with pytest.raises(sdf.ExpansionLimitError) as caught:
+        expand(path, includes(3))
+    assert str(caught.value) == f"{path}: more than 2 included models, refused"
+
+
+def test_an_include_without_a_name_takes_its_models_folder_name(tmp_path: Path) -> None:
+    wheel_model(tmp_path / "parts" / "wheel")
+    text = including("parts/wheel").replace("<name>left</name>", "")
+    assert links(expand(tmp_path / "robot.sdf", text)) == ["base", "wheel::tyre"]
+
+
+def test_a_nested_model_is_placed_by_its_pose_and_reads_includes_beside_its_file(
+    tmp_path: Path,
+) -> None:
+    wheel_model(tmp_path / "parts" / "wheel")
+    text = (
+        '<sdf version="1.9"><model name="r"><link name="base"/>'
+        '<model name="arm"><pose>1 2 3 0 0 0</pose><link name="hand"/>'
+        "<include><uri>parts/wheel</uri><name>w</name></include>"
+        '<joint name="j" type="fixed"><parent>hand</parent><child>w::tyre</child></joint>'
+        "</model>"
+        '<joint name="k" type="fixed"><parent>base</parent><child>arm::hand</child></joint>'
+        "</model></sdf>"
+    )
+    robot = expand(tmp_path / "robot.sdf", text)
+    assert links(robot) == ["base", "arm::hand", "arm::w::tyre"]
+    hand = robot.find("joint[@name='k']")
+    np.testing.assert_allclose(origin(hand), matrix(1, 2, 3, 0, 0, 0), rtol=0, atol=1e-12)
+
+
+def test_an_sdf_1_4_nested_model_has_its_axes_in_the_model_frame(tmp_path: Path) -> None:
+    inner = two_links(f"<pose>{words(LINK)}</pose>", version="1.4", axis="0 1 0")
+    inner = inner.replace('<sdf version="1.4"><model name="two">', "").replace("</model></sdf>", "")
+    text = f'<sdf version="1.4"><model name="top"><model name="two">{inner}</model></model></sdf>'
+    axis = expand(tmp_path / "legacy.sdf", text).find("joint/axis")
+    assert axis is not None
+    got = [float(v) for v in axis.get("xyz", "").split()]
+    want = matrix(*LINK)[:3, :3].T @ [0.0, 1.0, 0.0]
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize(("version", "legacy"), [("1.4.1", True), ("1.10.0", False)])
+def test_a_version_with_a_patch_number_is_read_by_its_major_and_minor(
+    tmp_path: Path, version: str, legacy: bool
+) -> None:
+    text = two_links(f"<pose>{words(LINK)}</pose>", version=version, axis="0 1 0")
+    axis = expand(tmp_path / "version.sdf", text).find("joint/axis")
+    assert axis is not None
+    got = [float(v) for v in axis.get("xyz", "").split()]
+    want = matrix(*LINK)[:3, :3].T @ [0.0, 1.0, 0.0] if legacy else [0.0, 1.0, 0.0]
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)
+
+
+def test_a_visual_is_a_shape_of_the_urdf_too(tmp_path: Path) -> None:
+    text = two_links().replace("<collision", "<visual").replace("</collision>", "</visual>")
+    robot = expand(tmp_path / "visual.sdf", text)
+    assert robot.find("link[@name='wheel']/visual/geometry/sphere") is not None
+    assert robot.find("link[@name='wheel']/collision") is None
+
+
+def test_a_quaternion_pose_must_have_seven_numbers(tmp_path: Path) -> None:
+    path = tmp_path / "quat.sdf"
+    for pose, count in (("1 2 3 0 0 0", 7), ("1 2 3 0 0 0 x", 7)):
+        text = two_links(f'<pose rotation_format="quat_xyzw">{pose}</pose>')
+        with pytest.raises(DescriptionError) as caught:
+            expand(path, text)
+        assert str(caught.value) == (
+            f"{path}: model 'two' link 'wheel' <pose>: expected {count} finite numbers, "
+            f"got '{pose}'"
+        )
+
+
+def test_a_malformed_include_pose_is_named_with_its_uri(tmp_path: Path) -> None:
+    wheel_model(tmp_path / "parts" / "wheel")
+    path = tmp_path / "robot.sdf"
+    text = including("parts/wheel").replace("<name>", "<pose>1</pose><name>")
+    with pytest.raises(DescriptionError) as caught:
+        expand(path, text)
+    assert str(caught.value) == (
+        f"{path}: model 'robot' include 'parts/wheel' <pose>: expected 6 finite numbers, got '1'"
+    )
+
+
+def test_trust_reads_beyond_the_folders_and_without_it_the_refusal_names_them(
+    tmp_path: Path,
+) -> None:
+    wheel_model(tmp_path / "outside" / "wheel")
+    path = tmp_path / "robot" / "robot.sdf"
+    path.parent.mkdir()
+    path.write_text(including("../outside/wheel"), encoding="utf-8")
+    finder = PackageFinder(None, {})
+    with pytest.raises(sdf.OutsideRootsError) as caught:
+        sdf.expand_sdf(path, finder, [])
+    assert str(caught.value) == (
+        f"{path.parent / '..' / 'outside' / 'wheel'}: reading refused in an untrusted "
+        f"description: it is outside the description's folders ({path.parent}); trust the "
+        "description (trust=True) to let it read any file"
+    )
+    urdf, files = sdf.expand_sdf(path, finder, [], trust=True)
+    assert 'name="left::tyre"' in urdf
+    assert files == (path, path.parent / ".." / "outside" / "wheel" / "model.sdf")
+
+
+def test_a_file_without_folders_given_may_read_beside_itself(tmp_path: Path) -> None:
+    wheel_model(tmp_path / "parts" / "wheel")
+    path = tmp_path / "robot.sdf"
+    path.write_text(including("parts/wheel"), encoding="utf-8")
+    urdf, _ = sdf.expand_sdf(path, PackageFinder(None, {}), [])
+    assert 'name="left::tyre"' in urdf
