@@ -74,12 +74,13 @@ def expand(
 def test_a_quaternion_that_is_not_normalised_poses_a_link_in_a_turned_frame(
     tmp_path: Path,
 ) -> None:
-    # The wheel is placed relative to a base that is moved and turned, once by roll, pitch and
-    # yaw and once by the same rotation as a quaternion three times too long.
+    # The wheel is placed relative to a moved and turned link, "frame", once by roll, pitch and
+    # yaw and once by the same rotation as a quaternion three times too long; its joint's
+    # parent is the base at the origin.
     q = 3.0 * Rotation.from_euler("xyz", LINK[3:]).as_quat()  # x, y, z, w
-    base = "<pose>0.1 -0.2 0.05 0.1 -0.2 0.3</pose>"
-    text = two_links(f'<pose relative_to="base">{words(LINK)}</pose>').replace(
-        '<link name="base"/>', f'<link name="base">{base}</link>'
+    frame = "<pose>0.1 -0.2 0.05 0.1 -0.2 0.3</pose>"
+    text = two_links(f'<pose relative_to="frame">{words(LINK)}</pose>').replace(
+        '<link name="base"/>', f'<link name="base"/><link name="frame">{frame}</link>'
     )
     as_rpy = expand(tmp_path / "rpy.sdf", text)
     as_quaternion = expand(
@@ -88,11 +89,18 @@ def test_a_quaternion_that_is_not_normalised_poses_a_link_in_a_turned_frame(
     np.testing.assert_allclose(
         origin(as_quaternion.find("joint")), origin(as_rpy.find("joint")), rtol=0, atol=1e-12
     )
-    # Known value: the base's URDF frame keeps its place, not its rotation.
-    frame = np.eye(4)
-    frame[:3, 3] = (0.1, -0.2, 0.05)
-    want = np.linalg.inv(frame) @ matrix(0.1, -0.2, 0.05, 0.1, -0.2, 0.3) @ matrix(*LINK)
+    want = matrix(0.1, -0.2, 0.05, 0.1, -0.2, 0.3) @ matrix(*LINK)
     np.testing.assert_allclose(origin(as_quaternion.find("joint")), want, rtol=0, atol=1e-12)
+
+
+def test_a_quaternion_of_halves_is_a_quarter_pitch_and_a_quarter_roll(tmp_path: Path) -> None:
+    # (0.5, 0.5, -0.5, 0.5), common in CAD exports: the matrix holds exact zeros where roll and
+    # yaw are read, and the rotation must be kept whole all the same.
+    collision = "<pose>0 0 0 0.5 0.5 -0.5 0.5</pose>"
+    text = two_links().replace('<collision name="c">', f'<collision name="c">{collision}')
+    got = origin(expand(tmp_path / "halves.sdf", text).find("link[@name='wheel']/collision"))
+    want = Rotation.from_quat([0.5, 0.5, -0.5, 0.5]).as_matrix()
+    np.testing.assert_allclose(got[:3, :3], want, rtol=0, atol=1e-12)
 
 
 @pytest.mark.parametrize("sign", [1.0, -1.0])
@@ -152,19 +160,27 @@ def test_a_joint_posed_in_the_model_frame_is_not_moved_by_its_child_link(tmp_pat
 
 
 def test_a_joint_to_the_world_is_left_out_and_the_joints_after_it_kept(tmp_path: Path) -> None:
+    # The world joint's child is no link of this model: it is left out all the same, and the
+    # joints after it keep their frames.
     world = (
-        '<joint name="fix" type="fixed"><parent>world</parent><child>base</child></joint>\n'
+        '<joint name="fix" type="fixed"><parent>world</parent><child>ground</child></joint>\n'
         '  <plugin filename="gz-sim-diff-drive-system" name="gz::sim::systems::DiffDrive">'
-        "<left_joint>spin</left_joint></plugin>\n"
+        "<left_joint>\n    spin\n  </left_joint></plugin>\n"
     )
-    text = two_links().replace('<link name="base"/>', f'<link name="base"/>\n  {world}')
+    text = two_links(f"<pose>{words(LINK)}</pose>").replace(
+        '<link name="base"/>', f'<link name="base"/>\n  {world}'
+    )
     robot = expand(tmp_path / "world.sdf", text)
     assert [j.get("name") for j in robot.iter("joint")] == ["spin"]
-    plugin = robot.find("gazebo/plugin")
+    np.testing.assert_allclose(origin(robot.find("joint")), matrix(*LINK), rtol=0, atol=1e-12)
+    gazebo = robot.find("gazebo")
+    assert gazebo is not None
+    assert (gazebo.text or "").strip() == ""
+    plugin = gazebo.find("plugin")
     assert plugin is not None
     assert (plugin.get("name"), plugin.findtext("left_joint")) == (
         "gz::sim::systems::DiffDrive",
-        "spin",
+        "\n    spin\n  ",
     )
 
 
@@ -231,6 +247,12 @@ def test_a_model_is_found_in_any_folder_of_the_resource_path_even_through_a_link
     monkeypatch.setenv("GZ_SIM_RESOURCE_PATH", paths)
     robot = expand(tmp_path / "robot" / "model.sdf", including("model://wheel"))
     assert links(robot) == ["base", "left::tyre"]
+    # An empty entry is no folder, not even the current one.
+    wheel_model(tmp_path / "here" / "wheel")
+    monkeypatch.chdir(tmp_path / "here")
+    monkeypatch.setenv("GZ_SIM_RESOURCE_PATH", os.pathsep.join(["", str(tmp_path / "empty")]))
+    with pytest.raises(DescriptionError, match="model 'wheel' of 'model://wheel' not found"):
+        expand(tmp_path / "robot" / "model.sdf")
 
 
 def test_a_relative_include_is_read_beside_the_file_that_includes_it(tmp_path: Path) -> None:

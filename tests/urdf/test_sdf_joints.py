@@ -135,7 +135,8 @@ def test_joints_of_an_included_model_keep_their_links_frames_and_the_world(
         '<joint name="j" type="continuous"><parent>base</parent><child>w</child>'
         '<pose relative_to="base">0 0.1 0 0 0 0</pose><axis><xyz>0 0 1</xyz></axis></joint>'
         '<joint name="k" type="fixed"><parent>base</parent><child>w2</child>'
-        '<pose relative_to="__model__">0.5 0 0 0 0 0</pose></joint><link name="w2"/>'
+        '<pose relative_to="__model__">0.5 0 0 0 0 0</pose></joint>'
+        '<link name="w2"><pose>0 0 1 0 0 0</pose></link>'
     )
     (tmp_path / "parts").mkdir()
     (tmp_path / "parts" / "wheel.sdf").write_text(wheel, encoding="utf-8")
@@ -277,3 +278,23 @@ def test_a_folder_that_is_no_model_is_named_as_such(tmp_path: Path) -> None:
         f"{tmp_path}: is a directory, but no model folder (no model.config naming an SDF file, "
         "no model.sdf)"
     )
+
+
+def test_a_limit_that_is_no_number_is_a_description_error(tmp_path: Path) -> None:
+    path = tmp_path / "limit.sdf"
+    with pytest.raises(DescriptionError) as caught:
+        expand(path, model(joint("j", "revolute", "<lower>low</lower><upper>1</upper>")))
+    assert str(caught.value) == f"{path}: model 'm' joint 'j': a limit must be a number, got 'low'"
+
+
+def test_malformed_joint_and_nested_model_poses_are_named(tmp_path: Path) -> None:
+    path = tmp_path / "poses.sdf"
+    body = joint("j", "fixed").replace("<parent>", "<pose>1</pose><parent>")
+    with pytest.raises(DescriptionError) as caught:
+        expand(path, model(body))
+    assert str(caught.value) == (
+        f"{path}: model 'm' joint 'j' <pose>: expected 6 finite numbers, got '1'"
+    )
+    with pytest.raises(DescriptionError) as caught:
+        expand(path, model('<model name="n"><pose>2</pose></model>'))
+    assert str(caught.value) == f"{path}: model 'n' <pose>: expected 6 finite numbers, got '2'"
