@@ -466,12 +466,13 @@ def test_trust_reads_beyond_the_folders_and_without_it_the_refusal_names_them(
     path.parent.mkdir()
     path.write_text(including("../outside/wheel"), encoding="utf-8")
     finder = PackageFinder(None, {})
+    (tmp_path / "shared").mkdir()
     with pytest.raises(sdf.OutsideRootsError) as caught:
-        sdf.expand_sdf(path, finder, [])
+        sdf.expand_sdf(path, finder, [tmp_path / "shared"])
     assert str(caught.value) == (
         f"{path.parent / '..' / 'outside' / 'wheel'}: reading refused in an untrusted "
-        f"description: it is outside the description's folders ({path.parent}); trust the "
-        "description (trust=True) to let it read any file"
+        f"description: it is outside the description's folders ({tmp_path / 'shared'}, "
+        f"{path.parent}); trust the description (trust=True) to let it read any file"
     )
     urdf, files = sdf.expand_sdf(path, finder, [], trust=True)
     assert 'name="left::tyre"' in urdf
