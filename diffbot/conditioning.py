@@ -294,8 +294,7 @@ class Conditioner:
         first_joint = np.full(n, -1, dtype=np.int64)
         speeds = np.zeros(n)
         for c, column in enumerate(self._columns):
-            with np.errstate(invalid="ignore"):
-                rows = np.flatnonzero(have[:, c] & np.isfinite(values[:, c]))
+            rows = np.flatnonzero(have[:, c] & np.isfinite(values[:, c]))
             if rows.size == 0:
                 continue
             raw = values[rows, c]

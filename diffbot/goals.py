@@ -288,8 +288,8 @@ def _legs(
     spin_rate: float,
     fastest: bool,
     limit: float | None,
-    body: BodyLimits | None = None,
-    cruise: bool = False,
+    body: BodyLimits | None,
+    cruise: bool,
 ) -> Plan:
     """The plan from ``here`` through ``poses`` (checked): one leg of ``shape`` to each."""
     segments: list[Segment] = []

@@ -19,10 +19,8 @@ from diffbot.conditioning import (
     Conditioning,
     counter_range,
     detect_wrap,
-    estimate_time_offset,
 )
 from diffbot.errors import ParameterError
-from diffbot.kinematics import DiffDriveParams
 
 JOINTS = (PIONEER.left_joint, PIONEER.right_joint)
 
@@ -297,39 +295,186 @@ def test_a_step_just_within_its_sides_bound_and_slack_passes() -> None:
     assert (report.first_implausible.sample, report.first_implausible.joint) == (2, "l")
 
 
-def turning_wheels(
-    offset: float, robot: DiffDriveParams
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Wheel angles of a robot driving and turning, stamped ``offset`` s late, and the pose
-    track's heading on its own clock (50 Hz and 25 Hz, 10 s)."""
-    t = np.arange(0.0, 10.0, 0.02)
-    heading = 0.5 * np.sin(1.3 * t) + 0.2 * np.sin(3.1 * t)
-    travel = 0.3 * t + 0.1 * np.sin(0.7 * t)  # forward along the way (m)
-    half = robot.wheel_separation / 2
-    left_radius, right_radius = robot.radii
-    left = (travel - half * heading) / left_radius
-    right = (travel + half * heading) / right_radius
-    truth_t = np.arange(0.0, 10.0, 0.04)
-    truth = 0.5 * np.sin(1.3 * truth_t) + 0.2 * np.sin(3.1 * truth_t)
-    return t + offset, left, right, truth_t, np.angle(np.exp(1j * truth))
+def test_meaningless_settings_are_refused_naming_the_setting() -> None:
+    with pytest.raises(ParameterError) as caught:
+        Conditioning(counts_per_rev=0)
+    assert str(caught.value) == (
+        "counts per revolution must be a finite number >= 1e-09 and <= 1e+15, got 0"
+    )
+    with pytest.raises(ParameterError) as caught:
+        Conditioning(wrap=-1)
+    assert str(caught.value) == (
+        "wrap (0 for none) must be a finite number >= 1e-09 and <= 1e+15, got -1"
+    )
 
 
-@pytest.mark.parametrize("offset", [0.1, -0.25])
-def test_the_time_offset_of_wheels_of_unequal_radii(offset: float) -> None:
-    robot = BOT.replace(left_wheel_radius=0.03, right_wheel_radius=0.05)
-    found = estimate_time_offset(*turning_wheels(offset, robot), robot, max_offset=0.5)
-    assert found == pytest.approx(offset, abs=1e-3)
+@pytest.mark.parametrize(
+    ("lowest", "highest", "expected"),
+    [
+        (-32768, 0, 65536.0),  # signed 16-bit, never positive
+        (-1, 127, 256.0),  # signed 8-bit
+        (-1, 128, 512.0),  # 128 does not fit a signed 8-bit counter
+        (0, 2**32 - 1, 2.0**32),  # unsigned 32-bit, the widest recognised
+        (-(2**31), 2**31 - 1, 2.0**32),  # signed 32-bit
+        (0, math.inf, None),  # no counter holds it
+        (-math.inf, 0, None),
+    ],
+)
+def test_the_counter_range_at_its_edges(lowest: float, highest: float, expected: float) -> None:
+    assert counter_range(lowest, highest, True) == expected
 
 
-def test_the_time_offset_needs_samples_overlap_and_turning() -> None:
-    t, left, right, truth_t, truth = turning_wheels(0.0, BOT)
-    with pytest.raises(ParameterError, match="at least three samples on each side"):
-        estimate_time_offset(t[:2], left[:2], right[:2], truth_t, truth, BOT)
-    with pytest.raises(ParameterError, match="at least three samples on each side"):
-        estimate_time_offset(t, left, right, truth_t[:2], truth[:2], BOT)
-    with pytest.raises(ParameterError, match="overlap too little"):
-        estimate_time_offset(t, left, right, truth_t + 30.0, truth, BOT)
-    with pytest.raises(ParameterError, match="does not turn"):
-        estimate_time_offset(t, left, right, truth_t, np.zeros_like(truth), BOT)
-    with pytest.raises(ParameterError, match=r"at the edge of the offsets tried \(0.5 s"):
-        estimate_time_offset(t + 0.7, left, right, truth_t, truth, BOT, max_offset=0.5)
+@pytest.mark.parametrize(
+    ("width", "steps", "typical", "expected"),
+    [
+        (None, [3200.0, -62336.0], 3200.0, False),  # no counter: no wrap
+        (256.0, [256.0], 0.0, False),  # nothing moved: no evidence, even for a whole range
+        (256.0, [1.0, -255.0, 1.0], 1.0, True),  # steps of one count
+        (256.0, [16.0, -192.0], 16.0, True),  # a jump of exactly three quarters is one
+        (256.0, [4.0, -240.0], 4.0, True),  # undone, exactly four ordinary steps long
+        (256.0, [4.0, -239.0], 4.0, False),  # undone, longer than four
+    ],
+)
+def test_a_wrap_at_the_edges_of_its_rule(
+    width: float | None, steps: list[float], typical: float, expected: bool
+) -> None:
+    assert detect_wrap(width, np.array(steps), typical) == expected
+
+
+def test_integer_counts_become_fractional_radians_and_the_input_is_untouched() -> None:
+    stamps, left, right = counts()
+    positions = np.stack([left, right], axis=1).astype(np.int64)
+    floats = positions.astype(np.float64)
+    options = Conditioning(counts_per_rev=COUNTS_PER_REV, wrap=WRAP)
+    angles = pioneer_conditioner(options).feed(stamps, positions)
+    expected = pioneer_conditioner(options).feed(stamps, floats)
+    np.testing.assert_array_equal(angles, expected)
+    assert angles.dtype == np.float64
+    np.testing.assert_array_equal(positions, np.stack([left, right], axis=1))
+    np.testing.assert_array_equal(floats, np.stack([left, right], axis=1))
+
+
+def test_a_sample_without_a_joint_is_neither_changed_nor_taken_for_a_wrap() -> None:
+    stamps = np.arange(3, dtype=np.int64) * 100_000_000
+    positions = np.array([[65000.0, 1.0], [0.0, 2.0], [65100.0, 3.0]])
+    present = np.array([[True, True], [False, True], [True, True]])
+    conditioner = Conditioner.for_robot(BOT, ("l", "r"), 1, Conditioning(wrap=WRAP))
+    out = conditioner.feed(stamps, positions, present)
+    assert out[:, 0].tolist() == [65000.0, 0.0, 65100.0]
+    assert conditioner.report().wraps == 0
+
+
+def test_a_joint_without_samples_in_a_chunk_leaves_the_next_joint_conditioned() -> None:
+    stamps = np.arange(2, dtype=np.int64) * 100_000_000
+    positions = np.array([[math.nan, 0.0], [math.nan, 100.0]])
+    conditioner = Conditioner.for_robot(BOT, ("l", "r"), 1, Conditioning(counts_per_rev=400))
+    out = conditioner.feed(stamps, positions)
+    assert out[1, 1] == pytest.approx(math.pi / 2, abs=1e-15)
+    assert math.isnan(out[1, 0])
+
+
+def test_no_wrap_means_no_detection_either() -> None:
+    stamps, left, right = counts()
+    positions = np.stack([left, right], axis=1)
+    conditioner = pioneer_conditioner(Conditioning(wrap=0))
+    assert conditioner.feed(stamps, positions) is positions
+    report = conditioner.report()
+    assert (report.wrap, report.wrap_detected, report.wraps) == (None, False, 0)
+
+
+def test_positions_that_are_not_whole_numbers_are_never_taken_for_a_counter() -> None:
+    stamps = np.arange(6, dtype=np.int64) * 10**9
+    positions = np.array([[0.5], [60.5], [120.5], [180.5], [240.5], [44.5]])
+    conditioner = Conditioner.for_robot(BOT, ("l",), 1)
+    assert conditioner.feed(stamps, positions) is positions
+    assert conditioner.report().wrap is None
+
+
+def test_a_counter_stepping_nearly_a_quarter_of_its_range_is_unwrapped() -> None:
+    # Steps of 60 counts on an 8-bit counter (a quarter is 64), then a wrap.
+    stamps = np.arange(6, dtype=np.int64) * 10**9
+    positions = np.array([[0.0], [60.0], [120.0], [180.0], [240.0], [44.0]])
+    conditioner = Conditioner.for_robot(BOT, ("l",), 1)
+    assert conditioner.feed(stamps, positions)[:, 0].tolist() == [0, 60, 120, 180, 240, 300]
+    report = conditioner.report()
+    assert (report.wrap, report.wrap_detected, report.wraps) == (256.0, True, 1)
+
+
+def test_steps_of_a_quarter_of_the_range_are_no_ordinary_steps_to_judge_a_wrap_by() -> None:
+    stamps = np.arange(5, dtype=np.int64) * 10**9
+    positions = np.array([[0.0], [64.0], [128.0], [192.0], [0.0]])
+    conditioner = Conditioner.for_robot(BOT, ("l",), 1)
+    assert conditioner.feed(stamps, positions) is positions
+
+
+def test_a_given_wrap_at_the_edge_of_rounding_is_accepted_and_beyond_it_refused() -> None:
+    edge = 300.0 * (1.0 + 1e-9)
+    stamps = np.arange(2, dtype=np.int64) * 100_000_000
+    conditioner = Conditioner.for_robot(BOT, ("l",), 1, Conditioning(wrap=300))
+    conditioner.feed(stamps, np.array([[0.0], [edge]]))
+    conditioner = Conditioner.for_robot(BOT, ("l",), 1, Conditioning(wrap=300))
+    with pytest.raises(ParameterError) as caught:
+        conditioner.feed(stamps, np.array([[0.0], [301.0]]))
+    assert str(caught.value) == (
+        "the counter's modulus (wrap=) of 300 is smaller than the range the positions of 'l' "
+        "cover (0 to 301, 301 apart): a counter that wraps at 300 cannot hold them, and its "
+        "steps would be taken for wraps; give the counter's real modulus, or 0 for none"
+    )
+
+
+def test_a_recording_that_starts_with_turned_wheels_has_no_step_at_its_first_sample() -> None:
+    # The wheels are at 500 rad when the recording starts, 1 ms after the clock's zero.
+    stamps = np.array([1, 101, 201, 301]) * 1_000_000
+    positions = np.array([[500.0, 500.0], [501.0, 501.0], [502.0, 502.0], [603.0, 503.0]])
+    conditioner = Conditioner.for_robot(BOT, ("l", "r"), 1)
+    conditioner.feed(stamps[:3], positions[:3])
+    assert conditioner.report().implausible_steps == 0
+    # The next chunk's first sample does end a step: 101 rad in 0.1 s on the left.
+    conditioner.feed(stamps[3:], positions[3:])
+    report = conditioner.report()
+    assert report.implausible_steps == 1
+    assert report.first_implausible is not None
+    assert (report.first_implausible.sample, report.first_implausible.joint) == (3, "l")
+    assert report.first_implausible.seconds == pytest.approx(0.3, abs=1e-12)
+    assert report.first_implausible.speed == pytest.approx(1010.0, rel=1e-12)
+
+
+def test_chunks_give_the_report_of_the_whole_recording() -> None:
+    stamps = np.arange(30, dtype=np.int64) * 100_000_000
+    left = np.arange(30) * 0.5
+    left[17:] += 200.0  # one step no wheel makes, in the third chunk of seven
+    left[24:] += 200.0  # and another in the fourth
+    positions = np.stack([left, np.zeros(30)], axis=1)
+    whole = Conditioner.for_robot(BOT, ("l", "r"), 1)
+    whole.feed(stamps, positions)
+    chunked = Conditioner.for_robot(BOT, ("l", "r"), 1)
+    for k in range(0, 30, 7):
+        chunked.feed(stamps[k : k + 7], positions[k : k + 7])
+    assert chunked.report() == whole.report()
+    report = whole.report()
+    assert report.implausible_steps == 2
+    assert report.first_implausible is not None
+    assert report.first_implausible.sample == 17
+    assert report.first_implausible.seconds == pytest.approx(1.7, abs=1e-12)
+
+
+def test_a_step_exactly_at_its_bound_is_plausible() -> None:
+    # 10 rad/s and 0.5 rad of slack: 10.5 rad in a second is the most a step may turn.
+    conditioner = Conditioner(("l",), Conditioning(), [(10.0, 0.5)], "given")
+    conditioner.feed(np.array([0, 10**9, 2 * 10**9]), np.array([[0.0], [10.5], [21.5]]))
+    report = conditioner.report()
+    assert report.implausible_steps == 1
+    assert report.first_implausible is not None
+    assert report.first_implausible.sample == 2
+    assert report.limit_source == "given"
+
+
+def test_the_report_gives_each_side_its_limit_and_the_counts_asked() -> None:
+    robot = BOT.replace(left_wheel_radius=0.05, right_wheel_radius=0.1)
+    options = Conditioning(counts_per_rev=4096, wrap=0)
+    report = Conditioner.for_robot(robot, ("l", "r"), 1, options).report()
+    assert report.speed_limit == (
+        pytest.approx(600.0, rel=1e-15),
+        pytest.approx(300.0, rel=1e-15),
+    )
+    assert report.counts_per_rev == 4096

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -19,6 +20,7 @@ from diffbot.goals import (
     waypoint_poses,
 )
 from diffbot.kinematics import Pose
+from diffbot.planning import Piece
 
 #: The bundled robot's size (m) and limit (rad/s): r = 0.035, b = 0.135, 50 rpm.
 ROBOT = DiffDriveParams(0.035, 0.135, max_wheel_speed=50 * 2 * math.pi / 60)
@@ -339,3 +341,169 @@ def test_a_fastest_goal_plan_keeps_within_the_body_limits() -> None:
         assert abs(float(s.twist.linear)) <= 0.12 * (1 + 1e-12)
         assert abs(float(s.twist.angular)) <= 0.4 * (1 + 1e-12)
     assert p.final_pose.x == pytest.approx(1.0, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("goal", "facing", "drive"),
+    [
+        # At the robot's own scale (b = 0.135 m): face the goal, drive, turn to its heading...
+        ((0.04, 0.12, 0.7), math.atan2(0.12, 0.04), math.hypot(0.04, 0.12)),
+        # ... or face away from it and back up, when the last turn is shorter that way.
+        ((0.0, 0.15, -0.7), -math.pi / 2, -0.15),
+    ],
+)
+def test_fastest_at_the_robots_own_scale_known_values(
+    goal: tuple[float, float, float], facing: float, drive: float
+) -> None:
+    p = plan_to(goal, ROBOT)
+    first, straight, last = (s.segment for s in p.segments)
+    assert isinstance(first, Spin)
+    assert isinstance(straight, Straight)
+    assert isinstance(last, Spin)
+    assert [first.angle, straight.length, last.angle] == pytest.approx(
+        [facing, drive, goal[2] - facing], abs=1e-12
+    )
+    turns = abs(facing) + abs(goal[2] - facing)
+    assert p.duration == pytest.approx(turns / W_MAX + abs(drive) / V_MAX, rel=1e-12)
+
+
+@pytest.mark.parametrize("shape", ["fastest", "spin-straight-spin", "dubins", "reeds-shepp"])
+def test_a_goal_on_the_start_turned_by_a_radian_turns_by_it(shape: str) -> None:
+    p = plan_to((0.0, 0.0, 1.0), ROBOT, shape=shape, min_radius=0.25)  # type: ignore[arg-type]
+    assert p.segments
+    assert_reaches(p.final_pose, Pose(0.0, 0.0, 1.0))
+    if shape in ("fastest", "spin-straight-spin"):
+        assert [s.segment for s in p.segments] == [Spin(1.0)]
+
+
+def test_numbers_of_any_kind_are_coordinates_and_flags_or_text_are_not() -> None:
+    as_floats = plan_to((2.0, 1.0, 0.0), ROBOT, start=(0.0, 0.0, 0.5))
+    assert plan_to((2, 1, 0), ROBOT, start=(0, 0, 0.5)) == as_floats
+    assert plan_to((2, 1, 0), ROBOT, start=(0, 0, np.float64(0.5))) == as_floats
+    # The edge of the range, given as an integer, is within it.
+    assert plan_to((10**9, 0, 0), ROBOT).final_pose.x == 1e9
+    for goal, shown in (((True, 0.0, 0.0), "True"), (("one", 0.0, 0.0), "'one'")):
+        with pytest.raises(PlanError) as caught:
+            plan_to(goal, ROBOT)  # type: ignore[arg-type]
+        assert str(caught.value) == f"the goal must be a finite number within ±1e+09, got {shown}"
+
+
+def test_messages_show_what_was_given() -> None:
+    with pytest.raises(PlanError) as caught:
+        plan_to((1.0, 0.0), ROBOT)
+    assert str(caught.value) == "the goal must be x, y and a heading, got (1.0, 0.0)"
+    with pytest.raises(PlanError) as caught:
+        plan_through([(1.0, 0.0, 0.5, 2.0)], ROBOT)
+    assert str(caught.value) == (
+        "waypoint 1 must be x, y and an optional heading, got (1.0, 0.0, 0.5, 2.0)"
+    )
+    with pytest.raises(PlanError) as caught:
+        plan_through([(1.0, 0.0), (2.0, 0.0, math.inf)], ROBOT)
+    assert str(caught.value) == "waypoint 2 must be a finite number within ±1e+09, got inf"
+    with pytest.raises(PlanError) as caught:
+        plan_to((1.0, 0.0, 0.0), ROBOT, shape="zigzag")  # type: ignore[arg-type]
+    assert str(caught.value) == (
+        "unknown shape 'zigzag': give one of fastest, spin-straight-spin, dubins, reeds-shepp"
+    )
+    with pytest.raises(PlanError) as caught:
+        plan_to((1.0, 0.0, 0.0), ROBOT, shape="dubins", min_radius=-2.0)
+    assert str(caught.value) == (
+        "the minimum radius must be a positive finite number from 0.0001 to 1e+09 (m), got -2.0"
+    )
+    for plan_it in (plan_to, plan_through):
+        goal = (1.0, 0.0, 0.0) if plan_it is plan_to else [(1.0, 0.0, 0.0)]
+        with pytest.raises(PlanError) as caught:
+            plan_it(goal, ROBOT, shape="reeds-shepp", min_radius=1.0, forward_only=True)  # type: ignore[operator]
+        assert str(caught.value) == (
+            "reeds-shepp drives both ways: with forward_only=True, the shape is dubins"
+        )
+    with pytest.raises(PlanError) as caught:
+        plan_through([], ROBOT)
+    assert str(caught.value) == "no waypoints: give at least one"
+
+
+def test_minimum_radii_at_the_edges_of_their_range_are_accepted() -> None:
+    for radius in (1e-4, 1e9):
+        p = plan_to((1.0, 1.0, 0.0), ROBOT, shape="dubins", min_radius=radius)
+        # Arcs of 1e9 m turn by about 1e-9 rad: their ends keep about 1e-7 m of rounding.
+        assert p.final_pose == pytest.approx(Pose(1.0, 1.0, 0.0), abs=1e-6)
+
+
+def test_as_many_waypoints_as_a_plan_may_go_through_and_not_one_more() -> None:
+    from diffbot.numbers import MAX_WAYPOINTS
+
+    route = [(float(k), 0.0) for k in range(1, MAX_WAYPOINTS + 1)]
+    assert len(waypoint_poses(route)) == MAX_WAYPOINTS
+    with pytest.raises(PlanError) as caught:
+        waypoint_poses([*route, (0.0, 0.0)])
+    assert str(caught.value) == (
+        f"{MAX_WAYPOINTS + 1} waypoints, more than the {MAX_WAYPOINTS} a plan may go through: "
+        "split the route into several plans"
+    )
+
+
+@pytest.mark.parametrize(
+    ("pieces", "radius", "expected"),
+    [
+        # A piece of exactly the rounding (1e-15) is left out, in metres for straights.
+        ([Piece("L", 1e-15), Piece("R", -1e-15), Piece("S", 1e-15)], 1.0, []),
+        # A straight of 5e-12 radii of 0.0001 m is 5e-16 m: left out.
+        ([Piece("S", 5e-12)], 1e-4, []),
+    ],
+)
+def test_arcs_of_rounding_size_are_left_out(
+    pieces: list[Piece], radius: float, expected: list[object]
+) -> None:
+    from diffbot.goals import _arcs
+
+    assert _arcs(pieces, radius) == expected
+
+
+def test_turns_of_rounding_size_are_left_out() -> None:
+    from diffbot.goals import _turns
+
+    assert _turns([Piece("T", 1e-15), Piece("S", 1e-15), Piece("T", -1e-15)], 1.0) == []
+
+
+def test_an_empty_plan_is_of_the_robot() -> None:
+    p = plan_to((0.0, 0.0, 0.0), ROBOT)
+    assert p.params == ROBOT
+    assert p.segments == ()
+
+
+def test_a_limit_given_for_a_robot_without_one_times_the_fastest_shape_at_it() -> None:
+    p = plan_to((1.0, 0.0, 0.0), FREE, limit=4.0)
+    assert float(p.segments[0].twist.linear) == pytest.approx(4.0 * 0.035, rel=1e-12)
+    assert p.duration == pytest.approx(1.0 / (4.0 * 0.035), rel=1e-12)
+
+
+def test_cruise_speeds_time_every_segment() -> None:
+    p = plan_to((0.0, 1.0, 0.0), FREE, shape="spin-straight-spin", speed=0.05, spin_rate=0.25)
+    # Two quarter turns at 0.25 rad/s and 1 m at 0.05 m/s.
+    assert p.duration == pytest.approx(math.pi / 0.25 + 20.0, rel=1e-12)
+
+
+def test_through_waypoints_every_option_is_used() -> None:
+    from diffbot.body_limits import BodyLimits
+
+    route = [(1.0, 1.0, math.pi / 2)]
+    robot = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, max_wheel_speed=5.0)
+    body = BodyLimits((-0.12, 0.12), (-0.4, 0.4))
+    limited = plan_through(route, robot, body=body)
+    assert limited == plan_to(route[0], robot, body=body)
+    assert max(abs(float(s.twist.angular)) for s in limited.segments) <= 0.4 * (1 + 1e-12)
+    slow = plan_through(route, robot, speed=0.05, cruise=True)
+    assert slow == plan_to(route[0], robot, speed=0.05, cruise=True)
+    assert slow.duration > limited.duration
+    # A lone waypoint without a heading faces along the leg from the start.
+    p = plan_through([(2.0, 3.0)], ROBOT, start=(1.0, 2.0, 0.0))
+    assert_reaches(p.final_pose, Pose(1.0, 1.0, math.pi / 4))
+
+
+def test_shape_times_take_fastest_and_cruise_as_plan_through_does() -> None:
+    route = [(0.5, 0.5), (1.0, 0.0, 0.0)]
+    for options in ({"fastest": True, "cruise": True}, {"cruise": True, "speed": 0.2}):
+        times = {t.shape: t for t in shape_times(route, ROBOT, min_radius=0.25, **options)}
+        for shape in SHAPES:
+            p = plan_through(route, ROBOT, shape=shape, min_radius=0.25, **options)
+            assert times[shape].duration == p.duration

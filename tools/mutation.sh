@@ -20,10 +20,10 @@ modules=(
   "live|diffbot/live/*|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
   "planning|diffbot/planning/*|tests/planning"
   "goals|diffbot/goals.py|tests/test_goals.py"
-  "conditioning|diffbot/conditioning.py|tests/test_conditioning.py"
+  "conditioning|diffbot/conditioning.py|tests/test_conditioning.py tests/test_conditioning_time_offset.py"
   "reference|diffbot/reference.py|tests/test_reference.py"
-  "sdf|diffbot/urdf/sdf.py|tests/urdf/test_sdf.py"
-  "controllers|diffbot/urdf/controllers.py|tests/urdf/test_controllers.py"
+  "sdf|diffbot/urdf/sdf.py|tests/urdf/test_sdf.py tests/urdf/test_sdf_frames.py tests/urdf/test_sdf_joints.py"
+  "controllers|diffbot/urdf/controllers.py|tests/urdf/test_controllers.py tests/urdf/test_controllers_sections.py"
 )
 
 wanted=("$@")

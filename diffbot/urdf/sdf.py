@@ -139,9 +139,9 @@ def _axes_in_model(root: ET.Element) -> bool:
         return False
 
 
-def _pose(element: ET.Element | None, where: str) -> tuple[Matrix, str | None]:
+def _pose(element: ET.Element, where: str) -> tuple[Matrix, str | None]:
     """An element's ``<pose>`` as a matrix, and the frame it is relative to (None: default)."""
-    pose = None if element is None else element.find("pose")
+    pose = element.find("pose")
     if pose is None or not (pose.text or "").strip():
         return _identity(), None if pose is None else pose.get("relative_to")
     words = (pose.text or "").split()
@@ -294,7 +294,7 @@ class _Reader:
         here: Path,
         depth: int,
         top: bool,
-        legacy: bool = False,
+        legacy: bool,
     ) -> None:
         """Read one model's links, joints, plugins, nested and included models (``legacy``: an
         SDF 1.4 or older file, whose axes are in the model's frame)."""
@@ -402,8 +402,8 @@ class _Reader:
                 parts.append(f'velocity="{velocity!r}"')
             if parts:
                 limit = f'<limit effort="0" {" ".join(parts)}/>'
-        if kind not in ("continuous", "revolute", "prismatic", "fixed"):
-            kind = "fixed" if kind in ("ball", "universal", "gearbox", "screw") else kind
+        if kind in ("ball", "universal", "gearbox", "screw"):
+            kind = "fixed"
         if relative == "__model__":
             pose, relative = _mul(frame, pose), "__model__"
         return _Joint(name, kind, parent, prefix + child, axis, in_model, limit, pose, relative)
