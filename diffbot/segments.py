@@ -27,7 +27,8 @@ __all__ = [
 
 
 def as_float(value: object) -> float:
-    """``float(value)``, or NaN for what is not a number (a string, None, an int too large)."""
+    """``float(value)`` (numeric text too, as ``float`` reads it), or NaN for a boolean and for
+    what ``float`` cannot read (other text, None, an int too large)."""
     if isinstance(value, bool):
         return math.nan
     try:

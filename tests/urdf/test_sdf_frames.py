@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from diffbot.errors import DescriptionError
+from diffbot.errors import DescriptionError, OutsideRootsError
 from diffbot.urdf import sdf
 from diffbot.urdf.packages import PackageFinder
 
@@ -467,7 +467,7 @@ def test_trust_reads_beyond_the_folders_and_without_it_the_refusal_names_them(
     path.write_text(including("../outside/wheel"), encoding="utf-8")
     finder = PackageFinder(None, {})
     (tmp_path / "shared").mkdir()
-    with pytest.raises(sdf.OutsideRootsError) as caught:
+    with pytest.raises(OutsideRootsError) as caught:
         sdf.expand_sdf(path, finder, [tmp_path / "shared"])
     assert str(caught.value) == (
         f"{path.parent / '..' / 'outside' / 'wheel'}: reading refused in an untrusted "
