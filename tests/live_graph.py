@@ -14,21 +14,37 @@ if TYPE_CHECKING:
     from diffbot.live.transport import Node, QosProfile
 
 
-def _domain() -> int:
-    """1..232: from this process's id, or, for the workers of a run split over processes
+#: Domains 1..101 only: their ports (7400 + 250 x domain and up) stay below Linux's ephemeral
+#: range (32768 on), and a domain near 232 has room for few participants before its ports pass
+#: 65535. Each test process takes a block of :data:`BLOCK` of them: its own, then spares for
+#: the graphs it keeps apart (:func:`spare_domain`).
+DOMAINS = 101
+BLOCK = 5
+
+
+def _slot() -> int:
+    """This process's block: from its id, or, for the workers of a run split over processes
     (pytest-xdist), from the run's controller and the worker's number, so that no two workers
-    of one run share a domain."""
+    of one run share a block."""
+    blocks = DOMAINS // BLOCK
     worker = os.environ.get("PYTEST_XDIST_WORKER", "")
     if not worker.startswith("gw"):
-        return 1 + os.getpid() % 232
+        return os.getpid() % blocks
     count = max(int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")), 1)
-    return 1 + (os.getppid() * count + int(worker[2:])) % 232
+    return (os.getppid() * count + int(worker[2:])) % blocks
 
 
 #: This test process's domain; another process's tests take another one.
-DOMAIN = _domain()
+DOMAIN = 1 + BLOCK * _slot()
 #: How long a test waits for discovery or a message before it fails (s).
 PATIENCE = 20.0
+
+
+def spare_domain(k: int) -> int:
+    """The ``k``-th spare domain of this process's block (k from 1 to ``BLOCK - 1``)."""
+    if not 1 <= k < BLOCK:
+        raise ValueError(f"a block has {BLOCK - 1} spare domains, not {k}")
+    return DOMAIN + k
 
 
 def deep() -> QosProfile:

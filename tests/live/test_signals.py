@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from live_graph import DOMAIN, PATIENCE
+from live_graph import PATIENCE, spare_domain
 
 from diffbot.live import signals
 
@@ -43,7 +43,7 @@ Kind = str
 
 def _harness_env(kind_index: int) -> dict[str, str]:
     env = os.environ.copy()
-    env["ROS_DOMAIN_ID"] = str((DOMAIN + 1 + kind_index) % 233)
+    env["ROS_DOMAIN_ID"] = str(spare_domain(1 + kind_index))
     env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "OFF"
     env["PYTHONPATH"] = os.pathsep.join([str(Path(__file__).parents[1]), env.get("PYTHONPATH", "")])
     return env
