@@ -306,6 +306,7 @@ def _chunks(
                 break
             if len(rows) >= chunk:
                 outcome.samples = sample
+                outcome.peak_limit_fraction = peak if limit else None
                 yield _table(rows, params)
                 rows = []
         if t_control <= t:
@@ -327,13 +328,13 @@ def _chunks(
             wheels = inverse(params, float(twist.linear), float(twist.angular))
             if limit:
                 peak = max(peak, abs(float(wheels.left)) / limit, abs(float(wheels.right)) / limit)
-                outcome.peak_limit_fraction = peak
             if finish is None or t == finish:
                 robot.command(float(wheels.left), float(wheels.right))
             if finish is not None and stop is None:
                 stop = t + 5.0 * s.disturbances.motor_lag + s.disturbances.latency + 2 * period
     last = _table(rows, params)
     outcome.samples = sample
+    outcome.peak_limit_fraction = peak if limit else None
     outcome.arrived = arrived
     outcome.duration = float(finish if finish is not None else t)
     truth = last[2]
