@@ -8,7 +8,9 @@ The same goals (default 10,000: x, y uniform in [-2, 2] m, heading uniform, from
 through every side in each round, the sides taking turns round by round (the order reversed every
 other round), so a busy spell of the machine hits them alike. Each goal's result is dropped
 as soon as it is made, on every side: the time is planning, not keeping 10,000 plans alive for
-the garbage collector to walk. What each side does, per goal unless said otherwise:
+the garbage collector to walk. ``--profile`` adds, after the figures, where ``plan_to``'s
+time goes for each shape under cProfile: its path search, the planned segments
+(``trajectory.plan``) and the rest. What each side does, per goal unless said otherwise:
 
 - ``ompl reeds-shepp``, ``ompl dubins``: ``ReedsSheppStateSpace.distance`` and
   ``DubinsStateSpace.distance`` (OMPL's C++, radius 0.25 m) through its Python bindings, on
@@ -23,6 +25,12 @@ the garbage collector to walk. What each side does, per goal unless said otherwi
   :mod:`diffbot.planning` alone (the words and lengths as pieces, no plan).
 - ``reeds-shepp distances``: :func:`diffbot.planning.reeds_shepp.distances`, all goals in one
   NumPy call (lengths only).
+- ``python floor: one dubins word``: the yardstick of what Python costs here: one call that
+  solves one Dubins word (LSL, the operations :func:`diffbot.planning.dubins.path` spends on
+  it: a sine and cosine of the heading, an ``atan2``, a ``hypot``, two angle wraps) and returns
+  its three lengths, nothing else. Every path solves at least two words (LSL and RSR always
+  exist, and one is needed to rule the other out), so its ratio to OMPL's Dubins call bounds
+  from below what a Python path can reach.
 - ``reeds-shepp paths, batched``: :func:`diffbot.planning.reeds_shepp.paths`, all goals in one
   NumPy call: for every goal the word chosen (the one :func:`~diffbot.planning.reeds_shepp.path`
   chooses) and all its piece lengths, as arrays; its time per goal is the call's time divided
@@ -55,6 +63,8 @@ from diffbot.planning import balkcom_mason, dubins, reeds_shepp
 
 PARAMS = DiffDriveParams(0.035, 0.135, max_wheel_speed=50 * 2 * math.pi / 60)
 RADIUS = 0.25  # m
+TWO_PI = 2.0 * math.pi
+FLOOR = "python floor: one dubins word"
 OMPL = "ompl reeds-shepp"
 OMPL_DUBINS = "ompl dubins"
 BATCHED = "reeds-shepp paths, batched"
@@ -67,6 +77,39 @@ GOALS = (
     ("plan_to reeds-shepp", OMPL, 10.0),
     ("plan_to dubins", OMPL_DUBINS, 10.0),
 )
+
+
+def one_word(x: float, y: float, phi: float) -> tuple[float, float, float]:
+    """The LSL word's three lengths (radii) to ``(x, y, phi)``, as :mod:`dubins` solves it."""
+    sp, cp = math.sin(phi), math.cos(phi)
+    lx, vy = x - sp, y + cp - 1.0
+    h = math.atan2(vy, lx)
+    return h % TWO_PI, math.hypot(lx, vy), (phi - h) % TWO_PI
+
+
+def profile(points: np.ndarray, shape: str) -> dict[str, float]:
+    """The shares (0-1) of ``plan_to``'s time under cProfile by part, for one shape: the path
+    search (the cumulative time of the planning modules' ``path``), the planned segments (of
+    ``trajectory.plan``, the calls it makes included) and the rest (checks, legs, the Plan)."""
+    import cProfile
+    import pstats
+
+    parts = {"path search": ("/planning/", "path"), "planned segments": ("/trajectory.py", "plan")}
+    rows = points.tolist()
+    profiler = cProfile.Profile()
+    profiler.enable()
+    for x, y, h in rows:
+        plan_to((x, y, h), PARAMS, shape=shape, min_radius=RADIUS)
+    profiler.disable()
+    stats = pstats.Stats(profiler).stats  # type: ignore[attr-defined]
+    total = next(entry[3] for key, entry in stats.items() if key[2] == "plan_to")
+    shares = dict.fromkeys([*parts, "the rest"], 0.0)
+    for (filename, _, function), entry in stats.items():
+        for part, (tail, name) in parts.items():
+            if tail in filename and function == name:
+                shares[part] += entry[3] / total
+    shares["the rest"] = 1.0 - shares["path search"] - shares["planned segments"]
+    return shares
 
 
 def goals(count: int) -> np.ndarray:
@@ -128,6 +171,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--goals", type=int, default=10_000, help="goals, default 10000")
     parser.add_argument("--rounds", type=int, default=7, help="timed rounds, default 7")
     parser.add_argument("--cpu", action="store_true", help=CPU_HELP)
+    parser.add_argument(
+        "--profile", action="store_true", help="also print where plan_to's time goes (cProfile)"
+    )
     args = parser.parse_args(argv)
     points = goals(args.goals)
     scaled = points / np.array([RADIUS, RADIUS, 1.0])
@@ -147,6 +193,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         )
     sides["reeds-shepp path"] = each(scaled, reeds_shepp.path, args.cpu)
     sides["dubins path"] = each(scaled, dubins.path, args.cpu)
+    sides[FLOOR] = each(scaled, one_word, args.cpu)
     sides["fastest path"] = each(points / np.array([half, half, 1.0]), balkcom_mason.path, args.cpu)
     xs, ys, hs = scaled[:, 0].copy(), scaled[:, 1].copy(), scaled[:, 2].copy()
     sides["reeds-shepp distances"] = timed(lambda: reeds_shepp.distances(xs, ys, hs), cpu=args.cpu)
@@ -179,6 +226,21 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"goal: {name} <= {most:g}x {reference} per goal: {kept} ({ratio.describe(2)})")
     else:
         print("goals against OMPL: not measured (pip install ompl)")
+    if args.profile:
+        print(
+            "where plan_to's time goes (share of its own time under cProfile, times that share"
+            " of its median above, and that part alone against OMPL's side):"
+        )
+        for shape in SHAPES:
+            whole = timings.median(f"plan_to {shape}")
+            reference = OMPL_DUBINS if shape == "dubins" else OMPL
+            parts = []
+            for part, share in profile(points, shape).items():
+                text = f"{part} {100 * share:.0f} % ({share * whole / args.goals * 1e6:.1f} us"
+                if reference in sides:
+                    text += f", {share * whole / timings.median(reference):.1f}x"
+                parts.append(text + ")")
+            print(f"  plan_to {shape}: {'; '.join(parts)}")
     return 0
 
 
