@@ -4,6 +4,9 @@
 #   tools/mutation.sh                 # every module below
 #   tools/mutation.sh reference sdf   # some of them
 #
+# "live" mutates the whole live package against every live test that runs without other
+# processes (hours); "live-codecs" its message codecs, names and checks against their own tests.
+#
 # Each module is mutated by mutmut (the `test` extra installs it) in a scratch copy of the
 # checkout under .mutation/<module>/, so that a run never touches the working tree; a summary
 # line per module (killed / all, and the kill rate) is printed at the end and the surviving
@@ -15,8 +18,9 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 python=${PYTHON:-$root/.venv/bin/python}
 children=${MUTATION_CHILDREN:-1}
 
-# module name | files mutated (globs) | its own tests
+# module name | files mutated (globs, space-separated) | its own tests
 modules=(
+  "live-codecs|diffbot/live/cdr.py diffbot/live/wire.py diffbot/live/names.py diffbot/live/messages.py diffbot/live/qos.py|tests/live/test_cdr.py tests/live/test_wire.py tests/live/test_names.py tests/live/test_messages.py tests/live/test_types.py"
   "live|diffbot/live/*|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
   "planning|diffbot/planning/*|tests/planning"
   "goals|diffbot/goals.py|tests/test_goals.py"
@@ -50,11 +54,12 @@ _settings.register_profile("mutation", deadline=None, derandomize=True, database
 _settings.load_profile("mutation")
 PY
   selection=$("$python" -c 'import json, shlex, sys; print(json.dumps(shlex.split(sys.argv[1])))' "$tests")
+  mutated=$("$python" -c 'import json, sys; print(json.dumps(sys.argv[1].split()))' "$glob")
   cat >>"$work/pyproject.toml" <<TOML
 
 [tool.mutmut]
 source_paths = ["diffbot"]
-only_mutate = ["$glob"]
+only_mutate = $mutated
 pytest_add_cli_args = ["-p", "no:cacheprovider", "-p", "no:randomly", "-n", "0", "-x", "-q"]
 pytest_add_cli_args_test_selection = $selection
 use_git_change_detection = false

@@ -292,6 +292,7 @@ def odom(
         p = robot.load()
         if not open_loop:  # commanded twists do not depend on the wheels' geometry
             recording.check_robot(robot, p)
+            _tell_open_loop(p)
         outputs = _outputs(sources, out)
         tasks = [task(source, output) for source, output in zip(sources, outputs, strict=True)]
         _many(
@@ -312,9 +313,22 @@ def odom(
     p = robot.load()
     if not open_loop:
         recording.check_robot(robot, p)
+        _tell_open_loop(p)
     out_path = out.path([*inputs, *(Path(path) for path in p.description_files)])
     output = None if out_path is None else str(out_path)
     _one(task(source, output), quiet, as_json, out, robot_label(robot))
+
+
+def _tell_open_loop(params: DiffDriveParams) -> None:
+    """Say that the controller's own odometry comes from its commands (``open_loop: true``) when
+    the wheels' odometry is computed instead."""
+    controller = params.controller
+    if controller is not None and controller.open_loop:
+        opt.warn(
+            f"{controller.source}: {controller.name} computes its odometry from its commands "
+            "(open_loop: true); this is the wheels' odometry: --open-loop integrates the "
+            "commands as the controller does"
+        )
 
 
 def _feedback_of(feedback: str | None, params: DiffDriveParams) -> str:

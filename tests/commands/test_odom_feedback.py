@@ -149,6 +149,31 @@ def test_the_controllers_position_feedback_false_chooses_velocity_feedback(
     )
 
 
+def test_a_controller_with_open_loop_odometry_is_named_when_the_wheels_are_read(
+    runner: CliRunner, tmp_path: Path, robot: Path
+) -> None:
+    bag = str(velocity_bag(tmp_path, odom=True))
+    yaml = tmp_path / "open_controllers.yaml"
+    yaml.write_text(CONTROLLERS.replace("FEEDBACK", "false") + "    open_loop: true\n")
+    args = ["odom", bag, "--robot", str(robot), "--controllers", str(yaml)]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 0, result.output
+    warnings = [line for line in result.stderr.splitlines() if "open_loop: true" in line]
+    assert len(warnings) == 1
+    assert warnings[0].startswith(f"warning: {yaml}: diff_cont computes its odometry from")
+    assert "--open-loop" in warnings[0]
+    # Asked for, the commands are integrated and nothing is said; -q silences the notice.
+    for extra in (["--open-loop"], ["-q"]):
+        quiet = runner.invoke(main, [*args, *extra])
+        assert quiet.exit_code == 0, quiet.output
+        assert "open_loop: true" not in quiet.stderr
+    plain = tmp_path / "closed_controllers.yaml"
+    plain.write_text(CONTROLLERS.replace("FEEDBACK", "false") + "    open_loop: false\n")
+    closed = runner.invoke(main, ["odom", bag, "--robot", str(robot), "--controllers", str(plain)])
+    assert closed.exit_code == 0, closed.output
+    assert "open_loop" not in closed.stderr
+
+
 def test_velocity_columns_of_a_csv_by_joint_and_by_option(
     runner: CliRunner, tmp_path: Path, robot: Path
 ) -> None:
