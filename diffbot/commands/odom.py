@@ -21,6 +21,8 @@ from diffbot.commands.progress import progress
 from diffbot.commands.recording_options import (
     RecordingOptions,
     conditioning_lines,
+    feedback_of,
+    feedback_option,
     recording_options,
     robot_label,
     warn_conditioning,
@@ -138,13 +140,7 @@ def _error_text(result: OdometryResult) -> str:
     reading=True,
 )
 @recording_options
-@click.option(
-    "--feedback",
-    type=click.Choice(["position", "velocity"]),
-    help="Integrate the wheel joints' positions or their velocities (as diff_drive_controller "
-    "does with position_feedback: false). Default: the controllers file's position_feedback "
-    "when one is given or found, else position.",
-)
+@feedback_option
 @click.option(
     "--open-loop",
     is_flag=True,
@@ -278,7 +274,7 @@ def odom(
             conditioning,
             layout,
             reference,
-            _feedback_of(feedback, p),
+            feedback_of(feedback, p),
             open_loop,
         )
 
@@ -329,16 +325,6 @@ def _tell_open_loop(params: DiffDriveParams) -> None:
             "(open_loop: true); this is the wheels' odometry: --open-loop integrates the "
             "commands as the controller does"
         )
-
-
-def _feedback_of(feedback: str | None, params: DiffDriveParams) -> str:
-    """--feedback, else the controller's position_feedback, else position."""
-    if feedback is not None:
-        return feedback
-    controller = params.controller
-    if controller is not None and controller.position_feedback is False:
-        return "velocity"
-    return "position"
 
 
 def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot: str) -> None:

@@ -23,6 +23,8 @@ from diffbot.commands.paths import InputPath
 from diffbot.commands.plan_options import PlanOptions, plan_arguments
 from diffbot.commands.recording_options import (
     RecordingOptions,
+    feedback_of,
+    feedback_option,
     recording_options,
     robot_label,
 )
@@ -61,6 +63,7 @@ def _recordings_only(
     odom_inputs: tuple[str, ...],
     topic: str | None,
     options: RecordingOptions,
+    feedback: str | None,
     reference: str | None,
     output: str | None,
     force: bool,
@@ -74,7 +77,9 @@ def _recordings_only(
     differences: list[tuple[str, list[float], list[float]]] = []
     params = robot.load()
     options.check_robot(robot, params)
-    recordings = _odometry(odom_inputs, params, topic, options, reference, differences)
+    recordings = _odometry(
+        odom_inputs, params, topic, options, feedback_of(feedback, params), reference, differences
+    )
     figure = plotting.recordings_figure(recordings, differences=differences, window=show)
     references = {label for label, _, _ in differences}
     click.echo(f"robot {robot_label(robot)}")
@@ -124,6 +129,7 @@ def _odometry(
     params: DiffDriveParams,
     topic: str | None,
     options: RecordingOptions,
+    feedback: str,
     reference: str | None = None,
     differences: list[tuple[str, list[float], list[float]]] | None = None,
 ) -> list[_Path]:
@@ -146,6 +152,7 @@ def _odometry(
             sink=sink,
             conditioning=options.conditioning(),
             layout=options.layout(),
+            feedback=feedback,
         )
         warn_notes(run.notes, source)
         warn_conditioning(run.conditioning, source)
@@ -259,6 +266,7 @@ def _reference(
 )
 @topic_option("The sensor_msgs/JointState topic of --odom bags.", reading=True)
 @recording_options
+@feedback_option
 @click.option(
     "--reference",
     metavar="TOPIC",
@@ -278,6 +286,7 @@ def plot(
     odom_inputs: tuple[str, ...],
     topic: str | None,
     recording: RecordingOptions,
+    feedback: str | None,
     reference: str | None,
     output: str | None,
     force: bool,
@@ -311,9 +320,20 @@ def plot(
         fail("nothing to do: give -o FILE (.png, .svg or .pdf) to write the figure, or --show")
     if output is not None and not output.strip():
         fail("-o needs a file name, got ''")
+    if feedback is not None and not odom_inputs:
+        fail("--feedback says how --odom recordings are read: give one with --odom")
     if odom_inputs and not rest and plan_options.example is None and plan_options.goal is None:
         _recordings_only(
-            robot, xacro_args, odom_inputs, topic, recording, reference, output, force, show
+            robot,
+            xacro_args,
+            odom_inputs,
+            topic,
+            recording,
+            feedback,
+            reference,
+            output,
+            force,
+            show,
         )
         return
     request = plan_options.request(robot, tokens)
@@ -330,7 +350,9 @@ def plot(
     if odom_inputs:
         recording.check_robot(robot, params)
         click.echo(f"robot {robot_label(robot)}")
-    recordings = _odometry(odom_inputs, params, topic, recording, reference)
+    recordings = _odometry(
+        odom_inputs, params, topic, recording, feedback_of(feedback, params), reference
+    )
     figure = plotting.plan_figure(p, params, recordings=recordings, window=show)
     for label, xs, ys in recordings:
         miss = plotting.end_distance(p, xs[-1], ys[-1])

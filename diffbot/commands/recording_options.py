@@ -22,6 +22,8 @@ if TYPE_CHECKING:
 __all__ = [
     "RecordingOptions",
     "conditioning_lines",
+    "feedback_of",
+    "feedback_option",
     "recording_options",
     "robot_label",
     "warn_conditioning",
@@ -187,6 +189,28 @@ def recording_options(command: F) -> F:
     """Add the recording options; the command receives ``recording: RecordingOptions``."""
     decorate: Callable[[F], F] = option_group(_OPTIONS, "recording", _from)
     return decorate(command)
+
+
+def feedback_option(command: F) -> F:
+    """Add ``--feedback position|velocity``; the command receives ``feedback: str | None``
+    (None: see :func:`feedback_of`)."""
+    return click.option(
+        "--feedback",
+        type=click.Choice(["position", "velocity"]),
+        help="Integrate the wheel joints' positions or their velocities (as "
+        "diff_drive_controller does with position_feedback: false). Default: the controllers "
+        "file's position_feedback when one is given or found, else position.",
+    )(command)
+
+
+def feedback_of(feedback: str | None, params: DiffDriveParams) -> str:
+    """--feedback, else the controller's position_feedback, else position."""
+    if feedback is not None:
+        return feedback
+    controller = params.controller
+    if controller is not None and controller.position_feedback is False:
+        return "velocity"
+    return "position"
 
 
 def _number(value: float) -> str:

@@ -115,3 +115,53 @@ def test_a_reference_named_without_its_leading_slash_is_drawn_as_the_reference(
         f"{bag}: odometry ends at x 1 m, y 0.5 m",
         f"{bag} /odom: ends at x 1.2 m, y 0.5 m",
     ]
+
+
+VELOCITIES = Path(__file__).parents[2] / "docs" / "examples" / "wheel_velocities.csv"
+
+
+def test_odom_recordings_are_read_for_their_velocities_with_feedback_velocity(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A recording of wheel velocities only (positions stuck at 0): 0.2 m straight, then a
+    quarter turn in place, as ``diffbot odom --feedback velocity`` reads it."""
+    target = tmp_path / "velocities.png"
+    result = run(runner, "--odom", str(VELOCITIES), "--feedback", "velocity", "-o", str(target))
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines()[-1] == f"{VELOCITIES}: odometry ends at x 0.2 m, y 0 m"
+    # Read for positions, the same file is refused, naming the option.
+    refused = run(runner, "--odom", str(VELOCITIES), "-o", str(tmp_path / "other.png"))
+    assert refused.exit_code == 2
+    assert refused.stderr.count("\n") == 1
+    assert "--feedback velocity" in refused.stderr
+    assert not (tmp_path / "other.png").exists()
+
+
+def test_a_controllers_position_feedback_false_reads_the_velocities(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    controllers = tmp_path / "controllers.yaml"
+    controllers.write_text(
+        "controller_manager:\n  ros__parameters:\n    diff_drive_base_controller:\n"
+        "      type: diff_drive_controller/DiffDriveController\n"
+        "diff_drive_base_controller:\n  ros__parameters:\n"
+        "    left_wheel_names: [front_left_wheel_joint]\n"
+        "    right_wheel_names: [front_right_wheel_joint]\n"
+        "    position_feedback: false\n"
+    )
+    args = ["--odom", str(VELOCITIES), "--controllers", str(controllers)]
+    result = run(runner, *args, "-o", str(tmp_path / "a.png"))
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines()[-1] == f"{VELOCITIES}: odometry ends at x 0.2 m, y 0 m"
+    # --feedback overrides the file.
+    overridden = run(runner, *args, "--feedback", "position", "-o", str(tmp_path / "b.png"))
+    assert overridden.exit_code == 2
+    assert "--feedback velocity" in overridden.stderr
+
+
+def test_feedback_without_a_recording_is_one_error(runner: CliRunner, tmp_path: Path) -> None:
+    result = run(runner, "--feedback", "velocity", "-o", str(tmp_path / "a.png"))
+    assert result.exit_code == 2
+    assert result.stderr == (
+        "error: --feedback says how --odom recordings are read: give one with --odom\n"
+    )
