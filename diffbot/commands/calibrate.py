@@ -29,6 +29,8 @@ from diffbot.commands.paths import InputPath, input_path
 from diffbot.commands.plan_options import check_topic
 from diffbot.commands.recording_options import (
     RecordingOptions,
+    feedback_of,
+    feedback_option,
     recording_options,
     robot_label,
 )
@@ -320,6 +322,7 @@ def umbmark(
 @_output_options
 @topic_option("The sensor_msgs/JointState topic of a bag.", reading=True)
 @recording_options
+@feedback_option
 @click.option(
     "--truth",
     type=InputPath(),
@@ -361,6 +364,7 @@ def fit(
     tokens: tuple[str, ...],
     topic: str | None,
     recording: RecordingOptions,
+    feedback: str | None,
     truth: tuple[str, ...],
     truth_topic: str | None,
     window: int | None,
@@ -372,7 +376,8 @@ def fit(
     """Left and right wheel radii and separation by least squares against a ground truth.
 
     INPUT holds the wheel joint positions, as for `diffbot odom` (CSV, or a rosbag2 recording
-    with sensor_msgs/JointState on --topic); several INPUTs are fitted at once, each against
+    with sensor_msgs/JointState on --topic), or their velocities with --feedback velocity
+    (integrated as `diffbot odom` integrates them); several INPUTs are fitted at once, each against
     its own ground truth (in it, or a --truth each). Wheel stamps late against the truth are
     moved back by --time-offset. The ground truth is a pose track: CSV columns x, y, theta
     (m, m, rad) beside a time column, or a bag's geometry_msgs/PoseStamped or
@@ -416,9 +421,10 @@ def fit(
     if window is not None and window_duration is not None:
         fail("give --window or --window-duration, not both")
     # Read one recording at a time, as the fit takes them: each is let go once reduced.
+    read_as = feedback_of(feedback, params)
     pairs = (
         (
-            recording.read(source, params, topic),
+            recording.read(source, params, topic, read_as),
             read_pose_track(truth[k] if truth else source, truth_topic),
         )
         for k, source in enumerate(rest)

@@ -63,15 +63,22 @@ class RecordingOptions:
             "time_unit": self.time_unit,
         }
 
-    def read(self, source: str, params: DiffDriveParams, topic: str | None) -> Recording:
+    def read(
+        self,
+        source: str,
+        params: DiffDriveParams,
+        topic: str | None,
+        feedback: str = "position",
+    ) -> Recording:
         """A recording read whole with these options, what was judged or found said on
-        stderr."""
+        stderr; ``feedback`` as :func:`~diffbot.recordings.read_recording` takes it."""
         from diffbot.recordings import read_recording
 
         recording = read_recording(
             source,
             params,
             topic,
+            feedback=feedback,
             conditioning=self.conditioning(),
             time_column=self.time_column,
             left_column=self.left_column,

@@ -105,6 +105,38 @@ def test_fit_recovers_the_simulated_truth(runner: CliRunner, run_csv: Path) -> N
     assert data["robot"] == "bundled"
 
 
+def velocities_only(run_csv: Path, target: Path) -> Path:
+    """The run with its wheel positions replaced by velocities: each the angle advanced over the
+    interval that ends at its sample, over that interval (what a controller with
+    ``position_feedback: false`` reads), the positions themselves gone."""
+    lines = run_csv.read_text().splitlines()
+    header = lines[0].split(",")
+    left, right = header.index("front_left_wheel_joint"), header.index("front_right_wheel_joint")
+    rows = [[float(cell) for cell in line.split(",")] for line in lines[1:]]
+    out = ["time,/j/front_left_wheel_joint/velocity,/j/front_right_wheel_joint/velocity,x,y,theta"]
+    before = rows[0]
+    for row in rows:
+        dt = row[0] - before[0]
+        speeds = [(row[k] - before[k]) / dt if dt > 0 else 0.0 for k in (left, right)]
+        out.append(",".join(repr(v) for v in [row[0], *speeds, *row[-3:]]))
+        before = row
+    target.write_text("\n".join(out) + "\n")
+    return target
+
+
+def test_fit_of_wheel_velocities_recovers_the_simulated_truth(
+    runner: CliRunner, run_csv: Path, tmp_path: Path
+) -> None:
+    csv = str(velocities_only(run_csv, tmp_path / "velocities.csv"))
+    data = json.loads(
+        run(runner, "calibrate", "fit", csv, "--feedback", "velocity", "--json").stdout
+    )
+    for key, value in TRUE.items():
+        assert data[key] == pytest.approx(value, rel=1e-9)
+    # Read for positions, the file has none: one error line naming what is missing.
+    assert "front_left_wheel_joint" in bad_input(runner, "calibrate", "fit", csv)
+
+
 def test_fit_recovers_the_truth_through_noisy_encoders(runner: CliRunner, tmp_path: Path) -> None:
     path = tmp_path / "noisy.csv"
     noise = ["--ticks", "4096", "--noise", "0.001", "--seed", "3"]
