@@ -17,6 +17,7 @@ from diffbot.errors import DescriptionError, DriveWheelError, ParameterError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.numbers import WHEEL_SIZE_RANGE
 from diffbot.urdf.tree import Joint, Tree, check_not_steered, joints_of, parse_urdf
+from diffbot.urdf.urdf_model import RobotModel, Shape
 
 if TYPE_CHECKING:
     import numpy as np
@@ -56,7 +57,7 @@ class _Wheel:
     radius_from: str
 
 
-def _wheel_radius(tree: Tree, joint: Joint, source: str) -> tuple[float | None, str, Any]:
+def _wheel_radius(tree: Tree, joint: Joint, source: str) -> tuple[float | None, str, Shape | None]:
     """Radius of the wheel link's cylinder (collision first, then visual), and its element.
 
     A link with several cylinders (a hub and a tyre) rolls on the largest: that one is taken.
@@ -314,12 +315,12 @@ class Derived:
 
 
 def derive(
-    robot: Any,
+    robot: RobotModel,
     source: str,
     left_joint: JointChoice,
     right_joint: JointChoice,
 ) -> Derived:
-    """Everything derivable from a parsed URDF (yourdfpy's Robot record)."""
+    """Everything derivable from a parsed URDF (:func:`diffbot.urdf.tree.parse_urdf`)."""
 
     joints = joints_of(robot, source)
     tree = Tree(robot, joints, source)
