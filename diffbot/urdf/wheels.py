@@ -67,10 +67,8 @@ def _wheel_radius(tree: Tree, joint: Joint, source: str) -> tuple[float | None, 
         shapes = []
         for element in elements:
             geometry = element.geometry
-            if geometry is None:
-                continue
             shape = geometry.cylinder or geometry.sphere
-            if shape is not None and shape.radius is not None:
+            if shape is not None:
                 shape_name = "cylinder" if geometry.cylinder is not None else "sphere"
                 shapes.append((float(shape.radius), f"{kind} {shape_name}", element))
         if shapes:
@@ -84,9 +82,8 @@ def _other_radii(tree: Tree, wheel: _Wheel) -> list[float]:
     elements = link.collisions if wheel.radius_from.startswith("collision") else link.visuals
     radii = []
     for element in elements:
-        geometry = element.geometry
-        shape = None if geometry is None else geometry.cylinder or geometry.sphere
-        if shape is not None and shape.radius is not None:
+        shape = element.geometry.cylinder or element.geometry.sphere
+        if shape is not None:
             radii.append(float(shape.radius))
     radii.remove(max(radii))
     return radii
@@ -114,7 +111,7 @@ def _shape_axis_warning(tree: Tree, wheel: _Wheel) -> str | None:
 
     link = tree.links[wheel.joint.child]
     for element in [*link.collisions, *link.visuals]:
-        if element.geometry is not None and element.geometry.cylinder is not None:
+        if element.geometry.cylinder is not None:
             origin = (
                 np.eye(4) if element.origin is None else np.asarray(element.origin, dtype=float)
             )
