@@ -126,6 +126,10 @@ class RobotModel:
     joints: tuple[JointModel, ...]
 
 
+#: A ``<limit>``'s attributes, in the order of :class:`Limit`'s fields.
+_LIMIT_KEYS = ("effort", "velocity", "lower", "upper")
+
+
 class _Reader:
     """Reads the elements of one description, naming it in its errors."""
 
@@ -248,9 +252,6 @@ class _Reader:
                 self.number(mimic.get("offset", "0"), f"{where} <mimic> offset"),
             ),
         )
-
-
-_LIMIT_KEYS = ("effort", "velocity", "lower", "upper")
 
 
 def rpy_matrix(roll: float, pitch: float, yaw: float) -> list[list[float]]:
