@@ -45,9 +45,9 @@ def _isolated_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
     mp.setenv("DIFFBOT_CACHE_DIR", str(tmp_path_factory.mktemp("cache")))
     mp.delenv("DIFFBOT_NO_CACHE", raising=False)
     mp.delenv("AMENT_PREFIX_PATH", raising=False)
-    # A process that has loaded yourdfpy derives parameters itself: the tests' thousands of
+    # A process that has loaded NumPy derives parameters itself: the tests' thousands of
     # descriptions would each start a child otherwise (tests/urdf/test_cache.py runs the child).
-    import yourdfpy  # noqa: F401
+    import numpy  # noqa: F401
 
     yield
     mp.undo()

@@ -1,14 +1,14 @@
 """Robot parameters from a URDF, xacro or SDF description, without a ROS install.
 
-The pipeline is: expand xacro (:func:`expand`), check and parse the URDF with yourdfpy, find the
-drive wheels from the structure of the kinematic tree, and derive :class:`DiffDriveParams`
-(:func:`load_params`).
+The pipeline is: expand xacro (:func:`expand`), check and read the URDF
+(:mod:`diffbot.urdf.urdf_model`), find the drive wheels from the structure of the kinematic tree,
+and derive :class:`DiffDriveParams` (:func:`load_params`).
 
 Drive wheels are the continuous joints whose axis is lateral (along y) in the base frame and that
 hang from the base through fixed joints only (so a caster wheel under a swivel is never taken for
 one). Left is the +y side (REP-103).
 
-Deriving needs yourdfpy, whose import costs about half a second (it pulls in trimesh), so the
+Deriving needs NumPy, and trimesh only for a wheel whose radius must come from its mesh. The
 result is cached on disk keyed by the expanded URDF text: a second run on the same description
 only pays for the xacro expansion. ``DIFFBOT_CACHE_DIR`` moves the cache; ``DIFFBOT_NO_CACHE=1``
 turns it off.

@@ -1,16 +1,17 @@
 """A disk cache of derived parameters, keyed by the expanded URDF and the derivation's code.
 
-Deriving needs yourdfpy, whose import costs about half a second (it pulls in trimesh), so the
-result is cached on disk keyed by the expanded URDF text: a second run on the same description
-only pays for the xacro expansion. ``DIFFBOT_CACHE_DIR`` moves the cache; ``DIFFBOT_NO_CACHE=1``
-turns it off.
+Deriving reads the URDF with diffbot's own reader (:mod:`diffbot.urdf.urdf_model`) and NumPy, a
+few tens of milliseconds after NumPy's import; the result is still cached on disk keyed by the
+expanded URDF text, so a second run on the same description only pays for the xacro expansion
+and loads no NumPy at all. ``DIFFBOT_CACHE_DIR`` moves the cache; ``DIFFBOT_NO_CACHE=1`` turns it
+off.
 
-When an entry is missing, the parameters are derived in a short-lived child process: yourdfpy
-and trimesh (with SciPy and networkx behind it) weigh about 90 MB once imported, and that memory
-would otherwise stay with a command that then reads or writes a million samples. Any failure of
-the child (an error in the description above all) derives again in this process, so errors are
-raised here as they always were. The child is isolated (:mod:`diffbot.processes`): the current
-folder, often the description's own repository, is never on its path.
+When an entry is missing and this process has not loaded NumPy, the parameters are derived in a
+short-lived child process, so that a command that needs no NumPy otherwise (``params``,
+``check``) stays free of it. Any failure of the child (an error in the description above all)
+derives again in this process, so errors are raised here as they always were. The child is
+isolated (:mod:`diffbot.processes`): the current folder, often the description's own
+repository, is never on its path.
 
 An entry holds only JSON data, written atomically (a temporary file renamed into place). It is
 validated on read: its key, a digest of its fields and each field's type and domain must be
@@ -34,7 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from diffbot.processes import python_command
-from diffbot.urdf import tree, wheels
+from diffbot.urdf import tree, urdf_model, wheels
 from diffbot.urdf.wheels import Derived, JointChoice, derive_text
 
 __all__ = ["cache_dir", "cached_fields", "fields_json", "from_entry"]
@@ -112,7 +113,7 @@ def _code_fingerprint() -> str:
     # Entries are keyed by the derivation's own code, so a change to it is never hidden behind
     # results the old code cached.
     digest = hashlib.sha256(_CACHE_VERSION.encode())
-    for module in (tree, wheels):
+    for module in (urdf_model, tree, wheels):
         with contextlib.suppress(OSError, TypeError):
             digest.update(Path(str(module.__file__)).read_bytes())
     return digest.hexdigest()
@@ -190,10 +191,11 @@ def cached_fields(
             cached = from_entry(_unwrap(_read_entry(path), key))
             if cached is not None:
                 return cached
-    # Apart only while this process is still free of yourdfpy: once loaded, nothing is saved.
+    # Apart only while this process is still free of NumPy: once it is loaded, deriving here
+    # takes milliseconds and a child would only add its start.
     apart = (
         _derived_apart(urdf, source, left_joint, right_joint)
-        if path is not None and "yourdfpy" not in sys.modules
+        if path is not None and "numpy" not in sys.modules
         else None
     )
     fields = apart or derive_text(urdf, source, left_joint, right_joint)

@@ -1,13 +1,12 @@
 """The bundled robot's derived parameters, shipped with the package.
 
-Deriving needs yourdfpy (with trimesh, SciPy and networkx behind it: about a second to import and
-90 MB), so the bundled robot's fields are derived once, when the package is made, and stored in
-``description/derived.json``, keyed by a digest of the expanded URDF (less the folder it is
-installed in) and the label it is derived under. A first command after install reads them
-instead of deriving; any other URDF (the bundled description with other xacro arguments
+Deriving needs NumPy (and a child process to keep it out of a command that needs it for
+nothing else), so the bundled robot's fields are derived once, when the package is made, and
+stored in ``description/derived.json``, keyed by a digest of the expanded URDF (less the folder
+it is installed in) and the label it is derived under. A first command after install reads
+them instead of deriving; any other URDF (the bundled description with other xacro arguments
 included) is derived as usual. :func:`write_shipped` writes the file again; a test holds it
-equal to a fresh derivation.
-"""
+equal to a fresh derivation."""
 
 from __future__ import annotations
 

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import io
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from diffbot.errors import DescriptionError, NotDifferentialError
-from diffbot.formats.text import one_line
+from diffbot.urdf.urdf_model import LinkModel, RobotModel, read_robot
 from diffbot.urdf.xacro import check_xml
 
 if TYPE_CHECKING:
@@ -64,40 +63,32 @@ class Joint:
         return motion
 
 
-def parse_urdf(text: str, source: str) -> Any:
-    """Parse URDF text with yourdfpy (no meshes, no scene graph) into its Robot record."""
-    if check_xml(text, source).find("link") is None:
+def parse_urdf(text: str, source: str) -> RobotModel:
+    """Check URDF text and read its links and joints (:mod:`diffbot.urdf.urdf_model`)."""
+    root = check_xml(text, source)
+    if root.find("link") is None:
         raise DescriptionError(
             f"{source}: the description defines no links: is it a file of macros, meant to "
             "be included by the robot's top-level description?"
         )
-    import logging
-
-    logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
-    import yourdfpy
-
-    try:
-        model = yourdfpy.URDF.load(
-            io.BytesIO(text.encode("utf-8")), build_scene_graph=False, load_meshes=False
-        )
-    except Exception as err:  # yourdfpy raises bare KeyError/AttributeError/ValueError on bad URDF
-        raise DescriptionError(f"{source}: invalid URDF: {one_line(repr(err))}") from None
-    return model.robot
+    return read_robot(root, source)
 
 
-def joints_of(robot: Any, source: str) -> dict[str, Joint]:
+def joints_of(robot: RobotModel, source: str) -> dict[str, Joint]:
     import numpy as np
 
     link_names = {link.name for link in robot.links}
     joints: dict[str, Joint] = {}
     for j in robot.joints:
+        ends: list[str] = []
         for role, link in (("parent", j.parent), ("child", j.child)):
-            if link not in link_names:
+            if link is None or link not in link_names:
                 raise DescriptionError(
                     f"{source}: joint {j.name!r} has unknown {role} link {link!r}"
                 )
+            ends.append(link)
         origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
-        axis = np.asarray(j.axis if j.axis is not None else (1.0, 0.0, 0.0), dtype=float)
+        axis = np.asarray(j.axis, dtype=float)
         if axis.shape != (3,):
             raise DescriptionError(
                 f"{source}: joint {j.name!r} has an axis of {axis.size} numbers, not 3 (x y z)"
@@ -127,8 +118,8 @@ def joints_of(robot: Any, source: str) -> dict[str, Joint]:
         joints[j.name] = Joint(
             j.name,
             str(j.type),
-            j.parent,
-            j.child,
+            ends[0],
+            ends[1],
             origin,
             axis / (norm or 1.0),
             velocity,
@@ -142,7 +133,7 @@ def joints_of(robot: Any, source: str) -> dict[str, Joint]:
 class Tree:
     """Link frames at the zero configuration, relative to the base link."""
 
-    def __init__(self, robot: Any, joints: dict[str, Joint], source: str) -> None:
+    def __init__(self, robot: RobotModel, joints: dict[str, Joint], source: str) -> None:
         import numpy as np
 
         self.joints = joints
@@ -173,7 +164,7 @@ class Tree:
                         f"{source}: the links do not form one tree: a cycle through {node!r}"
                     )
                 seen.add(node)
-        self.links = {link.name: link for link in robot.links}
+        self.links: dict[str, LinkModel] = {link.name: link for link in robot.links}
         self.base = "base_link" if "base_link" in self.links else roots[0]
         self._from_root: dict[str, NDArray[np.float64]] = {roots[0]: np.eye(4)}
         self._base_inv = np.linalg.inv(self._root_frame(self.base))

@@ -17,6 +17,7 @@ from diffbot.errors import DescriptionError, DriveWheelError, ParameterError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.numbers import WHEEL_SIZE_RANGE
 from diffbot.urdf.tree import Joint, Tree, check_not_steered, joints_of, parse_urdf
+from diffbot.urdf.urdf_model import RobotModel, Shape
 
 if TYPE_CHECKING:
     import numpy as np
@@ -56,7 +57,7 @@ class _Wheel:
     radius_from: str
 
 
-def _wheel_radius(tree: Tree, joint: Joint, source: str) -> tuple[float | None, str, Any]:
+def _wheel_radius(tree: Tree, joint: Joint, source: str) -> tuple[float | None, str, Shape | None]:
     """Radius of the wheel link's cylinder (collision first, then visual), and its element.
 
     A link with several cylinders (a hub and a tyre) rolls on the largest: that one is taken.
@@ -66,10 +67,8 @@ def _wheel_radius(tree: Tree, joint: Joint, source: str) -> tuple[float | None, 
         shapes = []
         for element in elements:
             geometry = element.geometry
-            if geometry is None:
-                continue
             shape = geometry.cylinder or geometry.sphere
-            if shape is not None and shape.radius is not None:
+            if shape is not None:
                 shape_name = "cylinder" if geometry.cylinder is not None else "sphere"
                 shapes.append((float(shape.radius), f"{kind} {shape_name}", element))
         if shapes:
@@ -83,9 +82,8 @@ def _other_radii(tree: Tree, wheel: _Wheel) -> list[float]:
     elements = link.collisions if wheel.radius_from.startswith("collision") else link.visuals
     radii = []
     for element in elements:
-        geometry = element.geometry
-        shape = None if geometry is None else geometry.cylinder or geometry.sphere
-        if shape is not None and shape.radius is not None:
+        shape = element.geometry.cylinder or element.geometry.sphere
+        if shape is not None:
             radii.append(float(shape.radius))
     radii.remove(max(radii))
     return radii
@@ -113,7 +111,7 @@ def _shape_axis_warning(tree: Tree, wheel: _Wheel) -> str | None:
 
     link = tree.links[wheel.joint.child]
     for element in [*link.collisions, *link.visuals]:
-        if element.geometry is not None and element.geometry.cylinder is not None:
+        if element.geometry.cylinder is not None:
             origin = (
                 np.eye(4) if element.origin is None else np.asarray(element.origin, dtype=float)
             )
@@ -314,12 +312,12 @@ class Derived:
 
 
 def derive(
-    robot: Any,
+    robot: RobotModel,
     source: str,
     left_joint: JointChoice,
     right_joint: JointChoice,
 ) -> Derived:
-    """Everything derivable from a parsed URDF (yourdfpy's Robot record)."""
+    """Everything derivable from a parsed URDF (:func:`diffbot.urdf.tree.parse_urdf`)."""
 
     joints = joints_of(robot, source)
     tree = Tree(robot, joints, source)

@@ -240,8 +240,9 @@ def _run_xacro(
 
 
 def check_xml(text: str, source: str) -> ET.Element:
-    """The root of URDF text; rejects text that is not well-formed XML (yourdfpy would silently
-    'recover' it) or whose root is not ``<robot>``."""
+    """The root of URDF text (the tree :func:`diffbot.urdf.urdf_model.read_robot` reads);
+    rejects text that is not well-formed XML (never 'recovered', as some URDF parsers do) or
+    whose root is not ``<robot>``."""
     try:
         root = ET.fromstring(text)
     except ET.ParseError as err:
