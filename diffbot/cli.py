@@ -19,6 +19,7 @@ from typing import Any, NoReturn
 
 import click
 
+from diffbot import signal_handlers
 from diffbot.commands.groups import SuggestingGroup
 from diffbot.commands.said_once import with_quiet
 from diffbot.errors import DiffbotError
@@ -124,20 +125,14 @@ class DiffbotGroup(SuggestingGroup):
         if sys.stdout is None:  # started with stdout closed (``>&-``)
             _error("standard output is closed: nowhere to write the results", 2)
         ending = _ENDING_SIGNALS if threading.current_thread() is threading.main_thread() else ()
-        # A signal ignored when the run starts (SIGHUP under nohup) stays ignored.
-        saved = {
-            signum: signal.signal(signum, _end_run)
-            for signum in ending
-            if signal.getsignal(signum) is not signal.SIG_IGN
-        }
+        saved = signal_handlers.install(ending, _end_run)
         try:
             # The inputs are noted as click converts the arguments of path types, and as the
             # readers open files: all within the guarded run.
             with guarded_run():
                 code = self._run(args, prog_name, complete_var, **extra)
         finally:
-            for signum, handler in saved.items():
-                signal.signal(signum, handler)
+            signal_handlers.restore(saved)
         if not standalone_mode:
             return code
         sys.exit(code if isinstance(code, int) else 0)

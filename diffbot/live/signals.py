@@ -25,6 +25,8 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any
 
+from diffbot import signal_handlers
+
 __all__ = ["ENDING_SIGNALS", "caught", "deferred"]
 
 #: The signals that ask a node to end.
@@ -80,11 +82,7 @@ def deferred(wake: Callable[[], None] | None = None, *, deliver: bool = True) ->
     outermost = _STATE.depth == 0
     if outermost:
         _STATE.signum = None
-        for signum in ENDING_SIGNALS:
-            previous = signal.getsignal(signum)
-            if previous is signal.SIG_IGN or previous is None:
-                continue
-            _STATE.saved[signum] = signal.signal(signum, _handler)
+        _STATE.saved = signal_handlers.install(ENDING_SIGNALS, _handler)
     _STATE.depth += 1
     if wake is not None:
         _STATE.wakers.append(wake)
@@ -96,8 +94,7 @@ def deferred(wake: Callable[[], None] | None = None, *, deliver: bool = True) ->
             _STATE.wakers.remove(wake)
         if outermost:
             saved, _STATE.saved = _STATE.saved, {}
-            for signum, previous in saved.items():
-                signal.signal(signum, previous)
+            signal_handlers.restore(saved)
             received, _STATE.signum = _STATE.signum, None
     if outermost and deliver and received is not None:
         _hand_on(received, saved.get(received, signal.SIG_DFL))
