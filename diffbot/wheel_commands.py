@@ -28,12 +28,9 @@ from diffbot.kinematics import (
     saturate,
 )
 from diffbot.limiter import checked, limit
+from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
 
 __all__ = ["LEFT_TOPIC", "RIGHT_TOPIC", "JointCommands", "WheelCommander"]
-
-#: The course's velocity controllers' command topics (std_msgs/Float64MultiArray).
-LEFT_TOPIC = "left_wheel_velocity_controller/commands"
-RIGHT_TOPIC = "right_wheel_velocity_controller/commands"
 
 
 @dataclass(frozen=True)

@@ -273,7 +273,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
     """The command topics of the velocity controllers of each side's wheels in the controllers
     file (given, else the one the robot's diff-drive controller came from), else the course's."""
     from diffbot.urdf.controllers import load_command_controllers
-    from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
+    from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
 
     topics = [LEFT_TOPIC, RIGHT_TOPIC]
     if controllers is None and params.controller is not None:

@@ -10,6 +10,7 @@ from typing import TypeVar
 import click
 
 from diffbot.kinematics import DiffDriveParams
+from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
 
 __all__ = ["DEFAULT_CMD_VEL", "distro_option", "resolve_cmd_vel", "wheel_topic_options"]
 
@@ -35,13 +36,14 @@ distro_option = click.option(
 
 def wheel_topic_options(left_help: str, right_help: str) -> Callable[[_F], _F]:
     """``--left-topic`` and ``--right-topic``: the per-side Float64MultiArray command topics,
-    by default the course's velocity controllers' (``diffbot.wheel_commands.LEFT_TOPIC``)."""
+    by default the course's velocity controllers' (:mod:`diffbot.wheel_topics`)."""
 
     def add(command: _F) -> _F:
-        for side, text in (("right", right_help), ("left", left_help)):
+        sides = (("right", right_help, RIGHT_TOPIC), ("left", left_help, LEFT_TOPIC))
+        for side, text, topic in sides:
             command = click.option(
                 f"--{side}-topic",
-                default=f"{side}_wheel_velocity_controller/commands",
+                default=topic,
                 show_default=True,
                 metavar="TOPIC",
                 help=text,

@@ -26,6 +26,7 @@ from diffbot.live.messages import commands, now_ns, time_of, twist_command
 from diffbot.live.names import check_frame_id
 from diffbot.live.signals import caught, deferred
 from diffbot.live.transport import Node, Publisher
+from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
 
 if TYPE_CHECKING:
     from diffbot.ramps import CommandStream
@@ -108,8 +109,8 @@ class DriveSettings:
     stamped: bool = False
     frame_id: str = "base_link"
     wheels: bool = False
-    left_topic: str = "left_wheel_velocity_controller/commands"
-    right_topic: str = "right_wheel_velocity_controller/commands"
+    left_topic: str = LEFT_TOPIC
+    right_topic: str = RIGHT_TOPIC
     joints: tuple[int, int] = (1, 1)
 
 

@@ -24,7 +24,8 @@ from diffbot.live.messages import commands, twist_mismatch
 from diffbot.live.transport import LiveError, Node, Subscription
 from diffbot.live.wire import NOT_FINITE, Refusals, twist_problem
 from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
-from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
+from diffbot.wheel_commands import WheelCommander
+from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
 
 __all__ = ["IkSettings", "InverseKinematicsNode"]
 

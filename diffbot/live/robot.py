@@ -49,7 +49,8 @@ from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, 
 from diffbot.ros.messages import covariance_matrix
 from diffbot.simulation import Disturbances, DisturbedRobot
 from diffbot.urdf.link_frames import MOVING, LinkTransform, description_joints, link_transform
-from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC, WheelCommander
+from diffbot.wheel_commands import WheelCommander
+from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
 
 __all__ = ["RobotNode", "RobotSettings"]
 
