@@ -29,8 +29,6 @@ from diffbot.commands.paths import InputPath, input_path
 from diffbot.commands.plan_options import check_topic
 from diffbot.commands.recording_options import (
     RecordingOptions,
-    feedback_of,
-    feedback_option,
     recording_options,
     robot_label,
 )
@@ -322,7 +320,6 @@ def umbmark(
 @_output_options
 @topic_option("The sensor_msgs/JointState topic of a bag.", reading=True)
 @recording_options
-@feedback_option
 @click.option(
     "--truth",
     type=InputPath(),
@@ -364,7 +361,6 @@ def fit(
     tokens: tuple[str, ...],
     topic: str | None,
     recording: RecordingOptions,
-    feedback: str | None,
     truth: tuple[str, ...],
     truth_topic: str | None,
     window: int | None,
@@ -421,10 +417,9 @@ def fit(
     if window is not None and window_duration is not None:
         fail("give --window or --window-duration, not both")
     # Read one recording at a time, as the fit takes them: each is let go once reduced.
-    read_as = feedback_of(feedback, params)
     pairs = (
         (
-            recording.read(source, params, topic, read_as),
+            recording.read(source, params, topic),
             read_pose_track(truth[k] if truth else source, truth_topic),
         )
         for k, source in enumerate(rest)

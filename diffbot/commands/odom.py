@@ -21,8 +21,6 @@ from diffbot.commands.progress import progress
 from diffbot.commands.recording_options import (
     RecordingOptions,
     conditioning_lines,
-    feedback_of,
-    feedback_option,
     recording_options,
     robot_label,
     warn_conditioning,
@@ -140,7 +138,6 @@ def _error_text(result: OdometryResult) -> str:
     reading=True,
 )
 @recording_options
-@feedback_option
 @click.option(
     "--open-loop",
     is_flag=True,
@@ -191,7 +188,6 @@ def odom(
     tokens: tuple[str, ...],
     topic: str | None,
     recording: RecordingOptions,
-    feedback: str | None,
     open_loop: bool,
     reference: str | None,
     out: OutOptions,
@@ -274,11 +270,11 @@ def odom(
             conditioning,
             layout,
             reference,
-            feedback_of(feedback, p),
+            recording.feedback_for(p),
             open_loop,
         )
 
-    if open_loop and feedback is not None:
+    if open_loop and recording.feedback is not None:
         opt.fail("--open-loop integrates the commands, not the wheels' --feedback: choose one")
     if open_loop and (recording.counts_per_rev is not None or recording.wrap is not None):
         opt.fail("--open-loop reads commands: --counts-per-rev and --wrap apply to the wheels")

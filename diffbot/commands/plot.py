@@ -23,8 +23,6 @@ from diffbot.commands.paths import InputPath
 from diffbot.commands.plan_options import PlanOptions, plan_arguments
 from diffbot.commands.recording_options import (
     RecordingOptions,
-    feedback_of,
-    feedback_option,
     recording_options,
     robot_label,
 )
@@ -63,7 +61,6 @@ def _recordings_only(
     odom_inputs: tuple[str, ...],
     topic: str | None,
     options: RecordingOptions,
-    feedback: str | None,
     reference: str | None,
     output: str | None,
     force: bool,
@@ -77,9 +74,7 @@ def _recordings_only(
     differences: list[tuple[str, list[float], list[float]]] = []
     params = robot.load()
     options.check_robot(robot, params)
-    recordings = _odometry(
-        odom_inputs, params, topic, options, feedback_of(feedback, params), reference, differences
-    )
+    recordings = _odometry(odom_inputs, params, topic, options, reference, differences)
     figure = plotting.recordings_figure(recordings, differences=differences, window=show)
     references = {label for label, _, _ in differences}
     click.echo(f"robot {robot_label(robot)}")
@@ -129,7 +124,6 @@ def _odometry(
     params: DiffDriveParams,
     topic: str | None,
     options: RecordingOptions,
-    feedback: str,
     reference: str | None = None,
     differences: list[tuple[str, list[float], list[float]]] | None = None,
 ) -> list[_Path]:
@@ -152,7 +146,7 @@ def _odometry(
             sink=sink,
             conditioning=options.conditioning(),
             layout=options.layout(),
-            feedback=feedback,
+            feedback=options.feedback_for(params),
         )
         warn_notes(run.notes, source)
         warn_conditioning(run.conditioning, source)
@@ -266,7 +260,6 @@ def _reference(
 )
 @topic_option("The sensor_msgs/JointState topic of --odom bags.", reading=True)
 @recording_options
-@feedback_option
 @click.option(
     "--reference",
     metavar="TOPIC",
@@ -286,7 +279,6 @@ def plot(
     odom_inputs: tuple[str, ...],
     topic: str | None,
     recording: RecordingOptions,
-    feedback: str | None,
     reference: str | None,
     output: str | None,
     force: bool,
@@ -320,7 +312,7 @@ def plot(
         fail("nothing to do: give -o FILE (.png, .svg or .pdf) to write the figure, or --show")
     if output is not None and not output.strip():
         fail("-o needs a file name, got ''")
-    if feedback is not None and not odom_inputs:
+    if recording.feedback is not None and not odom_inputs:
         fail("--feedback says how --odom recordings are read: give one with --odom")
     if odom_inputs and not rest and plan_options.example is None and plan_options.goal is None:
         _recordings_only(
@@ -329,7 +321,6 @@ def plot(
             odom_inputs,
             topic,
             recording,
-            feedback,
             reference,
             output,
             force,
@@ -350,9 +341,7 @@ def plot(
     if odom_inputs:
         recording.check_robot(robot, params)
         click.echo(f"robot {robot_label(robot)}")
-    recordings = _odometry(
-        odom_inputs, params, topic, recording, feedback_of(feedback, params), reference
-    )
+    recordings = _odometry(odom_inputs, params, topic, recording, reference)
     figure = plotting.plan_figure(p, params, recordings=recordings, window=show)
     for label, xs, ys in recordings:
         miss = plotting.end_distance(p, xs[-1], ys[-1])

@@ -22,8 +22,6 @@ if TYPE_CHECKING:
 __all__ = [
     "RecordingOptions",
     "conditioning_lines",
-    "feedback_of",
-    "feedback_option",
     "recording_options",
     "robot_label",
     "warn_conditioning",
@@ -43,6 +41,7 @@ class RecordingOptions:
         right_column: a CSV's right wheel column(s).
         delimiter: a CSV's delimiter.
         time_unit: a CSV's time unit.
+        feedback: ``position`` or ``velocity`` (None: see :meth:`feedback_for`).
     """
 
     counts_per_rev: float | None = None
@@ -52,6 +51,16 @@ class RecordingOptions:
     right_column: str | None = None
     delimiter: str | None = None
     time_unit: str | None = None
+    feedback: str | None = None
+
+    def feedback_for(self, params: DiffDriveParams) -> str:
+        """``--feedback``, else the controller's ``position_feedback``, else ``position``."""
+        if self.feedback is not None:
+            return self.feedback
+        controller = params.controller
+        if controller is not None and controller.position_feedback is False:
+            return "velocity"
+        return "position"
 
     def csv(self) -> dict[str, str | None]:
         """The CSV options as :func:`~diffbot.recordings.read_recording` takes them."""
@@ -63,22 +72,16 @@ class RecordingOptions:
             "time_unit": self.time_unit,
         }
 
-    def read(
-        self,
-        source: str,
-        params: DiffDriveParams,
-        topic: str | None,
-        feedback: str = "position",
-    ) -> Recording:
+    def read(self, source: str, params: DiffDriveParams, topic: str | None) -> Recording:
         """A recording read whole with these options, what was judged or found said on
-        stderr; ``feedback`` as :func:`~diffbot.recordings.read_recording` takes it."""
+        stderr."""
         from diffbot.recordings import read_recording
 
         recording = read_recording(
             source,
             params,
             topic,
-            feedback=feedback,
+            feedback=self.feedback_for(params),
             conditioning=self.conditioning(),
             time_column=self.time_column,
             left_column=self.left_column,
@@ -175,6 +178,13 @@ _OPTIONS = [
         help="A CSV's time unit (default: seconds, or as the first stamp's size says, and "
         "said so).",
     ),
+    click.option(
+        "--feedback",
+        type=click.Choice(["position", "velocity"]),
+        help="Integrate the wheel joints' positions or their velocities (as "
+        "diff_drive_controller does with position_feedback: false). Default: the controllers "
+        "file's position_feedback when one is given or found, else position.",
+    ),
 ]
 
 _FIELDS = (
@@ -185,6 +195,7 @@ _FIELDS = (
     "right_column",
     "delimiter",
     "time_unit",
+    "feedback",
 )
 
 
@@ -196,28 +207,6 @@ def recording_options(command: F) -> F:
     """Add the recording options; the command receives ``recording: RecordingOptions``."""
     decorate: Callable[[F], F] = option_group(_OPTIONS, "recording", _from)
     return decorate(command)
-
-
-def feedback_option(command: F) -> F:
-    """Add ``--feedback position|velocity``; the command receives ``feedback: str | None``
-    (None: see :func:`feedback_of`)."""
-    return click.option(
-        "--feedback",
-        type=click.Choice(["position", "velocity"]),
-        help="Integrate the wheel joints' positions or their velocities (as "
-        "diff_drive_controller does with position_feedback: false). Default: the controllers "
-        "file's position_feedback when one is given or found, else position.",
-    )(command)
-
-
-def feedback_of(feedback: str | None, params: DiffDriveParams) -> str:
-    """--feedback, else the controller's position_feedback, else position."""
-    if feedback is not None:
-        return feedback
-    controller = params.controller
-    if controller is not None and controller.position_feedback is False:
-        return "velocity"
-    return "position"
 
 
 def _number(value: float) -> str:
