@@ -74,8 +74,13 @@ class BodyLimits:
                 continue
             bound = bounds[1] if value > 0.0 else -bounds[0]
             if bound <= 0.0:
-                way = "forward (counter-clockwise)" if value > 0.0 else "backward (clockwise)"
-                raise PlanError(f"the {what} velocity limits allow no {way} motion: {bounds}")
+                ways = ("forward", "backward") if what == "linear" else ("left", "right")
+                way = ways[0] if value > 0.0 else ways[1]
+                unit = "m/s" if what == "linear" else "rad/s"
+                raise PlanError(
+                    f"the {what} velocity limits ({bounds[0]:g} to {bounds[1]:g} {unit}) allow "
+                    f"no {way} motion"
+                )
             least = max(least, abs(value) / bound)
         return least
 
@@ -85,8 +90,9 @@ UNLIMITED = BodyLimits()
 
 
 def _axis(axis: AxisLimits, override: float | None, name: str) -> Range | None:
-    """The velocity range of ``axis`` (NaN is unset), its highest replaced by ``override``,
-    after the controller's sign checks (highest >= 0, lowest <= 0)."""
+    """The velocity range of ``axis`` (NaN is unset), its highest replaced by ``override`` and
+    its lowest then no lower than ``-override``, after the controller's sign checks (highest
+    >= 0, lowest <= 0)."""
     high = axis.max_velocity if override is None else override
     if override is not None:
         high = positive_finite(override, name, ParameterError)
@@ -102,6 +108,8 @@ def _axis(axis: AxisLimits, override: float | None, name: str) -> Range | None:
         raise ParameterError(f"{name}: max_velocity must be >= 0 or unset, got {high!r}")
     if low is not None and low > 0.0:
         raise ParameterError(f"{name}: min_velocity must be <= 0 or unset, got {low!r}")
+    if override is not None and low is not None and high is not None:
+        low = max(low, -high)
     return dataclasses.replace(AxisLimits(), max_velocity=high, min_velocity=low).velocity_range
 
 
@@ -112,8 +120,10 @@ def body_limits(
 ) -> BodyLimits:
     """The body velocity limits of a robot: the controller's ``linear.x`` and ``angular.z``
     velocity limits (when its configuration has them), each ``max_velocity`` replaced by
-    ``max_linear`` (m/s) or ``max_angular`` (rad/s) when given; a ``min_velocity`` of the file
-    stays, and is ``-max_velocity`` without one, as in the controller.
+    ``max_linear`` (m/s) or ``max_angular`` (rad/s) when given. An override bounds the speed
+    both ways: the lowest velocity is then ``-max_linear`` (or ``-max_angular``), or the file's
+    ``min_velocity`` where that is closer to 0 (a controller that never reverses stays so).
+    Without an override, a ``min_velocity`` left out is ``-max_velocity``, as in the controller.
 
     Raises:
         ParameterError: an override that is not a positive finite number, or a file's limits

@@ -291,7 +291,15 @@ def _legs(
     body: BodyLimits | None,
     cruise: bool,
 ) -> Plan:
-    """The plan from ``here`` through ``poses`` (checked): one leg of ``shape`` to each."""
+    """The plan from ``here`` through ``poses`` (checked): one leg of ``shape`` to each; forward
+    only when the body limits allow no backward motion."""
+    if body is not None and body.linear is not None and body.linear[0] >= 0.0:
+        if shape == "reeds-shepp":
+            raise PlanError(
+                f"the linear velocity limits ({body.linear[0]:g} to {body.linear[1]:g} m/s) "
+                "allow no backward motion, and reeds-shepp drives both ways: the shape is dubins"
+            )
+        forward_only = True
     segments: list[Segment] = []
     half = 0.5 * params.wheel_separation
     for pose in poses:

@@ -38,10 +38,30 @@ def test_the_controllers_velocity_limits_are_the_body_limits() -> None:
     assert limits == BodyLimits((-0.5, 1.0), (-2.0, 2.0))
 
 
-def test_a_given_limit_replaces_the_controllers_max_and_keeps_its_min() -> None:
-    controller = with_controller(AxisLimits(max_velocity=1.0, min_velocity=-0.5))
-    limits = body_limits(BOT.replace(controller=controller), max_linear=0.2, max_angular=0.7)
-    assert limits == BodyLimits((-0.5, 0.2), (-0.7, 0.7))
+def test_a_given_limit_bounds_the_speed_both_ways_within_the_controllers_min() -> None:
+    controller = with_controller(
+        AxisLimits(max_velocity=1.0, min_velocity=-0.5), AxisLimits(max_velocity=2.0)
+    )
+    robot = BOT.replace(controller=controller)
+    # Asked for 0.2 m/s and 0.7 rad/s: no faster either way.
+    assert body_limits(robot, max_linear=0.2, max_angular=0.7) == BodyLimits(
+        (-0.2, 0.2), (-0.7, 0.7)
+    )
+    # A reverse limit of the file closer to 0 stays: the controller clamps to it anyway.
+    assert body_limits(robot, max_linear=0.8).linear == (-0.5, 0.8)
+    never_back = with_controller(AxisLimits(max_velocity=1.0, min_velocity=0.0))
+    assert body_limits(BOT.replace(controller=never_back), max_linear=0.3).linear == (0.0, 0.3)
+
+
+def test_a_direction_the_limits_forbid_is_named_with_the_limits() -> None:
+    forward = BodyLimits((0.0, 1.0), (-0.5, 0.0))
+    with pytest.raises(PlanError, match=r"linear velocity limits \(0 to 1 m/s\) allow no backward"):
+        forward.shortest_duration(-1.0, 0.0)
+    with pytest.raises(
+        PlanError, match=r"angular velocity limits \(-0.5 to 0 rad/s\) allow no left"
+    ):
+        forward.shortest_duration(1.0, 0.5)
+    assert forward.shortest_duration(2.0, -1.0) == pytest.approx(2.0, rel=1e-15)
 
 
 def test_a_nan_limit_of_the_file_is_no_limit() -> None:

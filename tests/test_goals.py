@@ -343,6 +343,28 @@ def test_a_fastest_goal_plan_keeps_within_the_body_limits() -> None:
     assert p.final_pose.x == pytest.approx(1.0, abs=1e-9)
 
 
+def test_limits_that_never_reverse_give_forward_only_goal_plans() -> None:
+    """A controller whose linear.x.min_velocity is 0 never backs up: a goal behind the robot is
+    reached by turning round, not refused."""
+    from diffbot.body_limits import BodyLimits
+
+    robot = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, max_wheel_speed=5.0)
+    body = BodyLimits((0.0, 0.15), (-1.0, 1.0))
+    goal = (-0.5, 0.0, 0.0)
+    p = plan_to(goal, robot, body=body)
+    assert all(float(s.twist.linear) >= 0.0 for s in p.segments)
+    assert any(float(s.twist.linear) > 0.0 for s in p.segments)
+    assert p.final_pose.x == pytest.approx(-0.5, abs=1e-9)
+    assert p.final_pose.y == pytest.approx(0.0, abs=1e-9)
+    assert math.remainder(p.final_pose.theta, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+    # The same as asking for it; with reverse allowed, the plan backs straight up instead.
+    assert p.segments == plan_to(goal, robot, body=body, forward_only=True).segments
+    back = plan_to(goal, robot, body=BodyLimits((-0.15, 0.15), (-1.0, 1.0)))
+    assert [float(s.twist.linear) < 0.0 for s in back.segments] == [True]
+    with pytest.raises(PlanError, match="allow no backward motion, and reeds-shepp drives both"):
+        plan_to(goal, robot, body=body, shape="reeds-shepp", min_radius=0.2)
+
+
 @pytest.mark.parametrize(
     ("goal", "facing", "drive"),
     [
