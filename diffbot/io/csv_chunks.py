@@ -146,10 +146,18 @@ def _columns(
         found.extend((joint, i) for i in matches)
     if not found:
         names = " or ".join(repr(j) for j in joints)
+        positions = field == "velocity" and any(
+            h == joint or h.endswith(f"/{joint}/position") for h in headers for joint in joints
+        )
         raise RecordingError(
             f"{source}: no column for the {side} wheel joint {names} ("
             + ("named by the joint or " if bare else "")
             + f"ending with '/<joint>/{field}'); columns found: {listing(headers)}"
+            + (
+                "; the file holds the wheels' positions: read them with {feedback} position"
+                if positions
+                else ""
+            )
         )
     return found
 

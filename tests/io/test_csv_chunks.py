@@ -239,8 +239,27 @@ def test_velocity_columns_are_found_by_their_suffix_only(tmp_path: Path) -> None
         (chunk,) = list(chunks)
     assert chunk.positions.tolist() == [[0.5, -0.5]]
     path.write_text("t,left,right\n1,2,3\n", "utf-8")
-    with pytest.raises(RecordingError, match=r"\(ending with '/<joint>/velocity'\)"):
+    with pytest.raises(RecordingError, match=r"\(ending with '/<joint>/velocity'\)") as caught:
         open_csv_chunks(path, (["left"], ["right"]), layout=CsvLayout(field="velocity")).__enter__()
+    assert "positions" in str(caught.value)
+    path.write_text("t,a,b\n1,2,3\n", "utf-8")  # neither velocities nor positions
+    with pytest.raises(RecordingError) as caught:
+        open_csv_chunks(path, (["left"], ["right"]), layout=CsvLayout(field="velocity")).__enter__()
+    assert "positions" not in str(caught.value)
+
+
+@pytest.mark.parametrize("header", ["t,left,right", "t,/js/left/position,/js/right/position"])
+def test_velocities_asked_of_a_file_of_positions_name_the_feedback_to_read_them(
+    tmp_path: Path, header: str
+) -> None:
+    path = tmp_path / "positions.csv"
+    path.write_text(f"{header}\n1,2,3\n", "utf-8")
+    layout = CsvLayout(field="velocity")
+    with pytest.raises(RecordingError) as caught:
+        open_csv_chunks(path, (["left"], ["right"]), layout=layout).__enter__()
+    assert caught.value.template.endswith(
+        "; the file holds the wheels' positions: read them with {feedback} position"
+    )
 
 
 def test_a_file_without_a_time_column_names_the_columns_found(tmp_path: Path) -> None:
