@@ -95,7 +95,8 @@ class RecordingOptions:
         return recording
 
     def check_robot(self, robot: RobotOptions, params: DiffDriveParams) -> None:
-        """Refuse wheel columns that name none of the robot's joints when no robot is given.
+        """Refuse wheel columns that name none of the robot's joints when no robot is given (any
+        one of them: one wheel of another robot is enough to put its path out).
 
         Columns chosen by option are read with the robot's geometry whatever they are called:
         with the bundled robot taken by default, another robot's wheels would give a path of
@@ -113,16 +114,21 @@ class RecordingOptions:
             for name in option.split(",")
         ]
         joints = (*params.left_joints, *params.right_joints)
-        if not named or any(
-            name == joint or name.endswith((f"/{joint}/position", f"/{joint}/velocity"))
+        foreign = [
+            name
             for name in named
-            for joint in joints
-        ):
+            if not any(
+                name == joint or name.endswith((f"/{joint}/position", f"/{joint}/velocity"))
+                for joint in joints
+            )
+        ]
+        if not foreign:
             return
         fail(
-            f"the wheel columns {', '.join(repr(n) for n in named)} name none of the bundled "
-            f"robot's wheel joints ({', '.join(joints)}): give the robot that recorded them "
-            "(--robot PATH), or its --wheel-radius and --wheel-separation"
+            f"the wheel column{'s' if len(foreign) > 1 else ''} "
+            f"{', '.join(repr(n) for n in foreign)} name{'' if len(foreign) > 1 else 's'} none "
+            f"of the bundled robot's wheel joints ({', '.join(joints)}): give the robot that "
+            "recorded them (--robot PATH), or its --wheel-radius and --wheel-separation"
         )
 
     def layout(self) -> CsvLayout:

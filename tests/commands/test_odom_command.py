@@ -421,3 +421,9 @@ def test_wheel_columns_of_another_robot_read_with_the_bundled_one_are_refused(
     exported = renamed_wheels(trajectory_a, f"/joint_states/{LEFT}/position", RIGHT)
     own = ["--left-column", f"/joint_states/{LEFT}/position", "--right-column", RIGHT]
     assert odom_json(runner, str(exported), *own)["robot"] == "bundled"
+    # One column of the bundled robot's is not enough: the other wheel is another robot's.
+    mixed = renamed_wheels(trajectory_a, LEFT, "wheel_right_joint")
+    half = ["--left-column", LEFT, "--right-column", "wheel_right_joint"]
+    result = runner.invoke(main, ["odom", str(mixed), *half])
+    assert_one_error_line(result, "the wheel column 'wheel_right_joint' names none", "--robot")
+    assert LEFT + "'" not in result.stderr.split("names none")[0]
