@@ -35,8 +35,9 @@ LAUNCH_SUFFIXES: Final = (".launch.py", ".launch.xml", ".launch.yaml", ".launch"
 _DESCRIPTION_SUFFIXES: Final = (".urdf", ".urdf.xacro", ".sdf")
 #: Most entries of a folder's tree looked at when listing its descriptions.
 MAX_ENTRIES: Final = 5000
-#: Deepest folder below a package searched for descriptions (``urdf/`` is 1, ``models/x/`` 2).
-MAX_DEPTH: Final = 3
+#: Deepest folder below a package searched for descriptions (``urdf/`` is 1, ``models/x/`` 2,
+#: ``description/batch/<robot>/urdf/`` 4); the walk is bounded by :data:`MAX_ENTRIES` too.
+MAX_DEPTH: Final = 8
 #: Most descriptions named in a message; the rest are counted.
 MAX_LISTED: Final = 12
 #: Most bytes of a YAML file read to tell a controllers file.
@@ -61,7 +62,9 @@ def is_launch_file(path: Path) -> bool:
 
 def descriptions_in(folder: Path) -> tuple[list[Path], int]:
     """The robot descriptions below ``folder`` (``.urdf``, ``.urdf.xacro``, ``.sdf``), those in
-    ``urdf/`` first then by path, at most :data:`MAX_LISTED`, and how many there are in all.
+    a ``urdf`` folder first (a robot's top-level description lives there, its pieces often
+    beside it in other folders), then the shallower, then by path; at most
+    :data:`MAX_LISTED`, and how many there are in all.
 
     The walk skips hidden, build and install folders and follows no symbolic link.
     """
@@ -87,7 +90,7 @@ def descriptions_in(folder: Path) -> tuple[list[Path], int]:
                         pending.append((Path(entry.path), depth + 1))
                 elif stat.S_ISREG(mode) and name.lower().endswith(_DESCRIPTION_SUFFIXES):
                     found.append(Path(entry.path).relative_to(folder))
-    found.sort(key=lambda p: (p.parts[0] != "urdf", len(p.parts), p.as_posix()))
+    found.sort(key=lambda p: ("urdf" not in p.parts[:-1], len(p.parts), p.as_posix()))
     return found[:MAX_LISTED], len(found)
 
 

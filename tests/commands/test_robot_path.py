@@ -61,6 +61,29 @@ def test_a_package_folder_lists_its_descriptions_urdf_first(tmp_path: Path) -> N
     assert total == 4
 
 
+def test_a_batch_layout_lists_the_robots_own_urdf_folder_before_the_parts(
+    tmp_path: Path,
+) -> None:
+    """Shaped like a description package of several robots: each top-level description four
+    folders down (``description/batch/<robot>/urdf/``), its parts shallower elsewhere."""
+    for name in (
+        "description/batch/rosbot_xl/urdf/rosbot_xl.urdf.xacro",
+        "description/batch/rosbot/urdf/rosbot.urdf.xacro",
+        "description/components/bumper.urdf.xacro",
+        "wheel.urdf.xacro",
+    ):
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text("<robot/>", encoding="utf-8")
+    listed, total = descriptions_in(tmp_path)
+    assert [p.as_posix() for p in listed] == [
+        "description/batch/rosbot/urdf/rosbot.urdf.xacro",
+        "description/batch/rosbot_xl/urdf/rosbot_xl.urdf.xacro",
+        "wheel.urdf.xacro",
+        "description/components/bumper.urdf.xacro",
+    ]
+    assert total == 4
+
+
 def test_the_list_is_bounded(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     (tmp_path / "urdf").mkdir()
     for k in range(20):
