@@ -314,13 +314,18 @@ def odom(
 def _tell_open_loop(params: DiffDriveParams) -> None:
     """Say that the controller's own odometry comes from its commands (``open_loop: true``) when
     the wheels' odometry is computed instead."""
+    from diffbot.commands.said_once import quieted, shown_before
+
     controller = params.controller
-    if controller is not None and controller.open_loop:
-        opt.warn(
-            f"{controller.source}: {controller.name} computes its odometry from its commands "
-            "(open_loop: true); this is the wheels' odometry: --open-loop integrates the "
-            "commands as the controller does"
-        )
+    if controller is None or not controller.open_loop or quieted():
+        return
+    message = (
+        f"{controller.source}: {controller.name} computes its odometry from its commands "
+        "(open_loop: true); this is the wheels' odometry: --open-loop integrates the "
+        "commands as the controller does"
+    )
+    if not shown_before(controller.source, [message]):  # said once for a controllers file
+        opt.warn(message)
 
 
 def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot: str) -> None:

@@ -162,11 +162,19 @@ def test_a_controller_with_open_loop_odometry_is_named_when_the_wheels_are_read(
     assert len(warnings) == 1
     assert warnings[0].startswith(f"warning: {yaml}: diff_cont computes its odometry from")
     assert "--open-loop" in warnings[0]
-    # Asked for, the commands are integrated and nothing is said; -q silences the notice.
-    for extra in (["--open-loop"], ["-q"]):
-        quiet = runner.invoke(main, [*args, *extra])
-        assert quiet.exit_code == 0, quiet.output
-        assert "open_loop: true" not in quiet.stderr
+    # Said once for the file; asked for, the commands are integrated and nothing is said.
+    for extra in ([], ["--open-loop"]):
+        again = runner.invoke(main, [*args, *extra])
+        assert again.exit_code == 0, again.output
+        assert "open_loop: true" not in again.stderr
+    # -q silences it, and a quieted run does not count as shown.
+    other = tmp_path / "other_controllers.yaml"
+    other.write_bytes(yaml.read_bytes())
+    args[-1] = str(other)
+    quiet = runner.invoke(main, [*args, "-q"])
+    assert quiet.exit_code == 0, quiet.output
+    assert "open_loop: true" not in quiet.stderr
+    assert "open_loop: true" in runner.invoke(main, args).stderr
     plain = tmp_path / "closed_controllers.yaml"
     plain.write_text(CONTROLLERS.replace("FEEDBACK", "false") + "    open_loop: false\n")
     closed = runner.invoke(main, ["odom", bag, "--robot", str(robot), "--controllers", str(plain)])
