@@ -30,7 +30,9 @@ distro_option = click.option(
     type=click.Choice(["humble", "jazzy", "kilted", "rolling"], case_sensitive=False),
     metavar="humble|jazzy|kilted|rolling",
     help="The ROS 2 release of the controller: its command topic and type (TwistStamped from "
-    "Jazzy on) [ROS_DISTRO, else Jazzy's].",
+    "Jazzy on, and on Humble unless use_stamped_vel: false), the type kept when a topic is "
+    "given [ROS_DISTRO; with neither, Jazzy's, or Humble's when the controllers file sets "
+    "use_stamped_vel: false].",
 )
 
 
@@ -56,13 +58,17 @@ def wheel_topic_options(left_help: str, right_help: str) -> Callable[[_F], _F]:
 def resolve_cmd_vel(
     params: DiffDriveParams, cmd_vel: str | None, stamped: bool, distro: str | None
 ) -> tuple[str, bool]:
-    """The command topic and whether its messages are TwistStamped: ``cmd_vel`` and
-    ``stamped`` as given when ``cmd_vel`` is; the controller's topic and type when the robot has
-    a diff-drive controller configuration (``stamped`` can only add a stamp); else
-    ``cmd_vel`` and ``stamped``."""
-    if cmd_vel is not None or params.controller is None:
-        return (DEFAULT_CMD_VEL if cmd_vel is None else cmd_vel), stamped
+    """The command topic and whether its messages are TwistStamped (``stamped`` can only add a
+    stamp): the controller's topic and type when the robot has a diff-drive controller
+    configuration, else ``cmd_vel`` (the course's nodes, Twist). A ``cmd_vel`` given replaces the
+    topic; with a controller configuration and ``distro`` given, the type stays the
+    controller's on that release, else it is Twist unless ``stamped``."""
     from diffbot.controller_topics import command_topic, distro_of
 
-    found = command_topic(params.controller, distro_of(distro))
-    return found.topic, stamped or found.stamped
+    if cmd_vel is None and params.controller is not None:
+        found = command_topic(params.controller, distro_of(distro))
+        return found.topic, stamped or found.stamped
+    topic = DEFAULT_CMD_VEL if cmd_vel is None else cmd_vel
+    if distro is not None and params.controller is not None:  # its release named: its type
+        stamped = stamped or command_topic(params.controller, distro_of(distro)).stamped
+    return topic, stamped

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import pytest
@@ -91,7 +92,8 @@ def test_cmd_vel_given_overrides_the_controllers_topic(runner: CliRunner, contro
         "straight 1",
     )
     assert result.exit_code == 0, result.output
-    assert "geometry_msgs/msg/Twist commands for my_cmd" in result.stdout.splitlines()[0]
+    # The controller remapped to my_cmd still takes Jazzy's TwistStamped.
+    assert "geometry_msgs/msg/TwistStamped commands for my_cmd" in result.stdout.splitlines()[0]
 
 
 def test_without_a_controllers_file_the_topic_stays_cmd_vel(runner: CliRunner) -> None:
@@ -122,9 +124,21 @@ def test_resolving_the_topic_of_node_ik() -> None:
         controller=ControllerConfig(name="base", source="c.yaml", ros_version=2),
     )
     assert resolve_cmd_vel(robot, None, False, "jazzy") == ("/base/cmd_vel", True)
-    assert resolve_cmd_vel(robot, "x", False, "jazzy") == ("x", False)
+    # A topic given (the controller's remapped) keeps the type of the release named...
+    assert resolve_cmd_vel(robot, "x", False, "jazzy") == ("x", True)
+    assert robot.controller is not None
+    controller = dataclasses.replace(robot.controller, use_stamped_vel=False)
+    unstamped = robot.replace(controller=controller)
+    assert resolve_cmd_vel(unstamped, "x", False, "humble") == ("x", False)
+    assert resolve_cmd_vel(unstamped, None, False, "humble") == ("/base/cmd_vel_unstamped", False)
+    # ... and without a release named, it is Twist unless asked for stamps.
+    assert resolve_cmd_vel(robot, "x", False, None) == ("x", False)
+    assert resolve_cmd_vel(robot, "x", True, None) == ("x", True)
     plain = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
     assert resolve_cmd_vel(plain, None, True, "jazzy") == ("cmd_vel", True)
+    assert resolve_cmd_vel(plain, None, False, None) == ("cmd_vel", False)
+    # Without a configuration there is no controller: the course's nodes take Twist.
+    assert resolve_cmd_vel(plain, "/cmd_vel", False, "jazzy") == ("/cmd_vel", False)
 
 
 @pytest.mark.parametrize("command", ["plan", "drive", "node ik"])
