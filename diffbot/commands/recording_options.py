@@ -166,12 +166,14 @@ _OPTIONS = [
     click.option(
         "--left-column",
         metavar="NAME[,NAME]",
-        help="A CSV's left wheel position column(s) (default: named by the joints).",
+        help="A CSV's left wheel column(s), positions or with --feedback velocity velocities "
+        "(default: named by the joints).",
     ),
     click.option(
         "--right-column",
         metavar="NAME[,NAME]",
-        help="A CSV's right wheel position column(s) (default: named by the joints).",
+        help="A CSV's right wheel column(s), positions or with --feedback velocity velocities "
+        "(default: named by the joints).",
     ),
     click.option(
         "--delimiter",
