@@ -248,12 +248,15 @@ class PlanOptions:
     #: The cruise options given on the command line (not their defaults), by option name.
     given: tuple[str, ...] = ()
 
-    def warn_unused(self, segments: Sequence[Segment]) -> None:
+    def warn_unused(self, segments: Sequence[Segment]) -> set[str]:
         """Warn about a cruise option given for a plan whose segments all carry durations (or,
-        with --fastest, that replaces them): it would change nothing, silently."""
+        with --fastest, that replaces them): it would change nothing, silently. Returns the
+        options warned about."""
+        unused: set[str] = set()
         for option, kinds in (("--speed", (Straight, Arc)), ("--spin-rate", (Spin,))):
             if option not in self.given:
                 continue
+            unused.add(option)
             if self.fastest:
                 warn(f"{option} changes nothing with --fastest (every segment runs at the limit)")
                 continue
@@ -265,6 +268,36 @@ class PlanOptions:
                     if used
                     else f"{option} changes nothing: the plan has no {what}"
                 )
+            else:
+                unused.discard(option)
+        return unused
+
+    def warn_over_body(self, body: BodyLimits, unused: set[str]) -> None:
+        """Warn about a cruise speed given over the body velocity limits (and not among the
+        ``unused`` options): the segments it times are slowed to the limit, which the plan
+        would not say otherwise."""
+        pairs = (
+            ("--speed", self.speed, body.linear, "--max-linear", self.max_linear, "m/s"),
+            (
+                "--spin-rate",
+                self.spin_rate,
+                body.angular,
+                "--max-angular",
+                self.max_angular,
+                "rad/s",
+            ),
+        )
+        for option, value, bounds, limit_option, given, unit in pairs:
+            if option not in self.given or option in unused or bounds is None:
+                continue
+            if value <= bounds[1]:
+                continue
+            axis = "linear.x" if option == "--speed" else "angular.z"
+            where = limit_option if given is not None else f"the controllers file's {axis}"
+            warn(
+                f"{option} {value:g} {unit} is over the body velocity limit of {bounds[1]:g} "
+                f"{unit} ({where}): the segments it times run at {bounds[1]:g} {unit}"
+            )
 
     def source(self, tokens: Sequence[str]) -> PlanInput:
         """The plan that positional ``tokens`` or these options name (see :func:`plan_input`);
@@ -394,8 +427,10 @@ class PlanOptions:
     ) -> Plan | RampedPlan:
         """The plan of ``segments`` for the robot, as these options ask: ramped when
         :meth:`ramped` says so, else a step plan. Warns about cruise options that change
-        nothing."""
-        self.warn_unused(segments)
+        nothing, and cruise speeds over the body limits."""
+        unused = self.warn_unused(segments)
+        if body is not None:
+            self.warn_over_body(body, unused)
         steps = make_plan(
             segments,
             params,

@@ -100,6 +100,31 @@ def test_a_given_limit_overrides_the_files(runner: CliRunner, robot: list[str]) 
     assert twists(data) == [pytest.approx((0.2, 0.0))]
 
 
+def test_a_cruise_speed_over_a_body_limit_is_said_and_slowed(
+    runner: CliRunner, robot: list[str]
+) -> None:
+    result = run(runner, "plan", *robot, "straight 1; spin 90", "--speed", "0.4", "--json")
+    assert result.exit_code == 0, result.output
+    assert twists(json.loads(result.stdout))[0] == pytest.approx((0.3, 0.0))
+    assert result.stderr == (
+        "warning: --speed 0.4 m/s is over the body velocity limit of 0.3 m/s (the controllers "
+        "file's linear.x): the segments it times run at 0.3 m/s\n"
+    )
+    given = run(runner, "plan", *robot, "spin 90", "--spin-rate", "2", "--max-angular", "0.5")
+    assert given.exit_code == 0, given.output
+    assert given.stderr == (
+        "warning: --spin-rate 2 rad/s is over the body velocity limit of 0.5 rad/s "
+        "(--max-angular): the segments it times run at 0.5 rad/s\n"
+    )
+    # Within the limits, or changing nothing (said so instead), there is no such warning.
+    within = run(runner, "plan", *robot, "straight 1", "--speed", "0.3")
+    assert within.exit_code == 0
+    assert within.stderr == ""
+    timed = run(runner, "plan", *robot, "straight 1 10s", "--speed", "0.4")
+    assert timed.stderr.count("warning:") == 1
+    assert "changes nothing" in timed.stderr
+
+
 def test_a_segment_over_a_body_limit_fails_naming_it(runner: CliRunner, robot: list[str]) -> None:
     result = run(runner, "plan", *robot, "straight 1 10s; straight 1 2s")
     assert result.exit_code == 1
