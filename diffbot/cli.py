@@ -73,6 +73,7 @@ FLAGS = {
     "feedback": "--feedback",
     "open_loop": "--open-loop",
     "lead": "--lead",
+    "robot": "--robot PATH",
 }
 
 

@@ -49,6 +49,7 @@ PARAMETERS: Mapping[str, str] = {
     "wrap": "wrap=",
     "feedback": "feedback=",
     "open_loop": "open_loop=True",
+    "robot": "params=load_params(PATH)",
 }
 
 __all__ = [

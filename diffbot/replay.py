@@ -420,16 +420,24 @@ def _joints_hint(chunks: TopicChunks, params: DiffDriveParams) -> str:
 
 def _joints_text(params: DiffDriveParams, lists: list[tuple[str, ...]]) -> str:
     """The wheel joints wanted and the joint lists found: one, or one per kind of message."""
-    wanted = listing([*params.left_joints, *params.right_joints])
+    joints = [*params.left_joints, *params.right_joints]
+    wanted = listing(joints)
     if not lists:
         return f"; wheel joints wanted: {wanted}"
+    if not set(joints) & {name for names in lists for name in names}:
+        other = (
+            "; none is a wheel joint of this robot: another robot's recording? give its "
+            "description ({robot})"
+        )
+    else:
+        other = ""
     if len(lists) == 1:
-        return f"; wheel joints wanted: {wanted}; joints found: {listing(lists[0])}"
+        return f"; wheel joints wanted: {wanted}; joints found: {listing(lists[0])}{other}"
     found = " / ".join(listing(names) for names in lists[:_HINT_LISTS])
     more = " / ..." if len(lists) > _HINT_LISTS else ""
     return (
         f"; wheel joints wanted: {wanted}; joints found, by message: {found}{more} (each "
-        "message must hold a joint of each side)"
+        f"message must hold a joint of each side){other}"
     )
 
 

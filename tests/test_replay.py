@@ -61,3 +61,15 @@ def test_velocity_feedback_of_a_bag_and_a_csv_ends_where_trajectory_a_does(
     csv = recording_odometry(path, BOT, feedback="velocity")
     assert_pose_close(csv.summary.final_pose, diffbot.Pose(0.0, 1.0, 0.0), 1e-9)
     assert (bag.summary.samples, csv.summary.samples) == (401, 401)
+
+
+def test_joints_found_that_are_none_of_the_robots_ask_for_its_description() -> None:
+    from diffbot.replay import _joints_text
+
+    params = diffbot.DiffDriveParams(0.05, 0.3, left_joints=("l",), right_joints=("r",))
+    other = _joints_text(params, [("wheel_left_joint", "wheel_right_joint")])
+    assert other.endswith("another robot's recording? give its description ({robot})")
+    # One of its wheels there (the other side published apart, say): its own recording.
+    own = _joints_text(params, [("l",), ("wheel_right_joint",)])
+    assert "another robot" not in own
+    assert own.endswith("(each message must hold a joint of each side)")

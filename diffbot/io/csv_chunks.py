@@ -156,7 +156,8 @@ def _columns(
             + (
                 "; the file holds the wheels' positions: read them with {feedback} position"
                 if positions
-                else ""
+                else "; another robot's recording? give its description ({robot}), or name "
+                "the columns ({left_column}, {right_column})"
             )
         )
     return found

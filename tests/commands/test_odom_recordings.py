@@ -189,7 +189,8 @@ def test_missing_joints_are_named_beside_the_joints_found(
     assert result.stderr.startswith(f"error: {bag}: no usable sample (skipped: missing joint: 101)")
     assert result.stderr.endswith(
         "; wheel joints wanted: 'front_left_wheel_joint', 'front_right_wheel_joint'; "
-        "joints found: 'left_wheel_joint', 'right_wheel_joint'\n"
+        "joints found: 'left_wheel_joint', 'right_wheel_joint'; none is a wheel joint of this "
+        "robot: another robot's recording? give its description (--robot PATH)\n"
     )
 
 
