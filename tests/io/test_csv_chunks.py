@@ -246,6 +246,10 @@ def test_velocity_columns_are_found_by_their_suffix_only(tmp_path: Path) -> None
     with pytest.raises(RecordingError) as caught:
         open_csv_chunks(path, (["left"], ["right"]), layout=CsvLayout(field="velocity")).__enter__()
     assert "positions" not in str(caught.value)
+    assert caught.value.template.endswith(
+        "; another robot's recording? give its description ({robot}), or name the columns "
+        "({left_column}, {right_column})"
+    )
 
 
 @pytest.mark.parametrize("header", ["t,left,right", "t,/js/left/position,/js/right/position"])
