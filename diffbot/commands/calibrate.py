@@ -435,6 +435,10 @@ def fit(
     if offset == "auto" and not output.as_json:
         for source, found in zip(rest, offsets, strict=True):
             click.echo(f"time offset {fmt(found, 4)} s ({source}: heading rates aligned)")
+    feedback = recording.feedback_for(params)
     if not output.as_json:
         click.echo(f"{'robot':<13} {robot_label(robot)}")
-    _report(result, params, output, robot, {"time_offsets": offsets, "robot": robot_label(robot)})
+        if feedback == "velocity":
+            click.echo(f"{'feedback':<13} wheel velocities, integrated")
+    extra = {"time_offsets": offsets, "robot": robot_label(robot), "feedback": feedback}
+    _report(result, params, output, robot, extra)

@@ -54,13 +54,19 @@ class RecordingOptions:
     feedback: str | None = None
 
     def feedback_for(self, params: DiffDriveParams) -> str:
-        """``--feedback``, else the controller's ``position_feedback``, else ``position``."""
-        if self.feedback is not None:
-            return self.feedback
-        controller = params.controller
-        if controller is not None and controller.position_feedback is False:
-            return "velocity"
-        return "position"
+        """``--feedback``, else the controller's ``position_feedback``, else ``position``; a
+        ``--wrap`` with velocities is refused (a counter wraps its positions, not its rates)."""
+        feedback = self.feedback
+        if feedback is None:
+            controller = params.controller
+            velocity = controller is not None and controller.position_feedback is False
+            feedback = "velocity" if velocity else "position"
+        if feedback == "velocity" and self.wrap is not None:
+            fail(
+                "--wrap is the modulus of a counter's positions: wheel velocities (--feedback "
+                "velocity) do not wrap"
+            )
+        return feedback
 
     def csv(self) -> dict[str, str | None]:
         """The CSV options as :func:`~diffbot.recordings.read_recording` takes them."""

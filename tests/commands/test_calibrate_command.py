@@ -133,6 +133,9 @@ def test_fit_of_wheel_velocities_recovers_the_simulated_truth(
     )
     for key, value in TRUE.items():
         assert data[key] == pytest.approx(value, rel=1e-9)
+    assert data["feedback"] == "velocity"
+    text = run(runner, "calibrate", "fit", csv, "--feedback", "velocity").stdout.splitlines()
+    assert "feedback      wheel velocities, integrated" in text
     # Read for positions, the file has none: one error line naming what is missing.
     assert "front_left_wheel_joint" in bad_input(runner, "calibrate", "fit", csv)
 

@@ -182,6 +182,13 @@ def test_a_controller_with_open_loop_odometry_is_named_when_the_wheels_are_read(
     assert "open_loop" not in closed.stderr
 
 
+def test_a_wrap_is_refused_with_velocities(runner: CliRunner, tmp_path: Path, robot: Path) -> None:
+    args = ["--robot", str(robot), "--feedback", "velocity", "--wrap", "65536"]
+    result = runner.invoke(main, ["odom", str(velocity_bag(tmp_path)), *args])
+    assert_one_error_line(result, "--wrap", "do not wrap")
+    assert not list(tmp_path.glob("*.csv"))
+
+
 def test_velocity_columns_of_a_csv_by_joint_and_by_option(
     runner: CliRunner, tmp_path: Path, robot: Path
 ) -> None:
