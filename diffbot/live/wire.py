@@ -103,12 +103,18 @@ def joint_state_problem(
 ) -> str | None:
     """Why a joint state stamped ``sec``/``nanosec`` with joint angles ``positions`` (rad) is
     refused, or None. ``now_ns``: this machine's clock (ns; read when None)."""
+    return _stamp_problem(sec, nanosec, now_ns) or _values_problem(positions, MAX_JOINT_ANGLE)
+
+
+def _stamp_problem(sec: int, nanosec: int, now_ns: int | None) -> str | None:
+    """Why a stamp is refused (nanoseconds out of their range, or further ahead of this
+    machine's clock ``now_ns`` than :data:`MAX_STAMP_AHEAD_NS`; read when None), or None."""
     if not 0 <= nanosec < 1_000_000_000:
         return BAD_STAMP
     now = time.time_ns() if now_ns is None else now_ns
     if sec * 1_000_000_000 + nanosec - now > MAX_STAMP_AHEAD_NS:
         return STAMPED_AHEAD
-    return _values_problem(positions, MAX_JOINT_ANGLE)
+    return None
 
 
 def pose_problem(
@@ -121,11 +127,9 @@ def pose_problem(
     """Why a pose stamped ``sec``/``nanosec`` at ``position`` (x, y, z in m) with the quaternion
     ``orientation`` (x, y, z, w) is refused, or None. ``now_ns``: this machine's clock (ns;
     read when None)."""
-    if not 0 <= nanosec < 1_000_000_000:
-        return BAD_STAMP
-    now = time.time_ns() if now_ns is None else now_ns
-    if sec * 1_000_000_000 + nanosec - now > MAX_STAMP_AHEAD_NS:
-        return STAMPED_AHEAD
+    stamp = _stamp_problem(sec, nanosec, now_ns)
+    if stamp is not None:
+        return stamp
     for value in position:
         problem = _number_problem(value, MAX_POSITION)
         if problem is not None:

@@ -103,12 +103,12 @@ def test_malformed_joint_states_are_refused() -> None:
             decode_joint_state(payload[:-cut])
     huge = bytearray(payload)
     huge[20:24] = struct.pack("<I", 2**31)  # two billion names in a few bytes
-    with pytest.raises(ValueError, match="^more names than the payload holds$"):
+    with pytest.raises(ValueError, match=r"^more names than the payload holds$"):
         decode_joint_state(bytes(huge))
     # Refused before any name is read: a name takes at least 5 bytes (a length and a NUL).
     for count in (len(payload) // 5 + 1, len(payload)):
         huge[20:24] = struct.pack("<I", count)
-        with pytest.raises(ValueError, match="^more names than the payload holds$"):
+        with pytest.raises(ValueError, match=r"^more names than the payload holds$"):
             decode_joint_state(bytes(huge))
     with pytest.raises(ValueError, match="not little-endian plain CDR"):
         decode_joint_state(b"\x00\x00\x00\x00" + payload[4:])

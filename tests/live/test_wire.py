@@ -83,6 +83,32 @@ def test_a_pose_is_finite_in_range_and_a_rotation() -> None:
     assert pose_problem(sec, 0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.04), NOW) is None
     assert pose_problem(sec, -1, (0.0, 0.0, 0.0), turned, NOW) == BAD_STAMP
     assert pose_problem(sec + 61, 0, (0.0, 0.0, 0.0), turned, NOW) == STAMPED_AHEAD
+    # A component beyond 1 + slack is out of range before the norm is looked at.
+    assert pose_problem(sec, 0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.5), NOW) == OUT_OF_RANGE
+    assert pose_problem(sec, 0, (0.0, 0.0, 0.0), (1.5, 0.0, 0.0, math.nan), NOW) == OUT_OF_RANGE
+
+
+@pytest.mark.parametrize("check", ["joint state", "pose"])
+def test_stamps_are_refused_at_the_edges_of_their_ranges(check: str) -> None:
+    def problem(sec: int, nanosec: int, now: int | None = NOW) -> str | None:
+        if check == "pose":
+            return pose_problem(sec, nanosec, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), now)
+        return joint_state_problem(sec, nanosec, [0.0], now)
+
+    sec = NOW // 10**9
+    assert problem(sec, 999_999_999) is None
+    assert problem(sec, 1_000_000_000) == BAD_STAMP
+    # Ahead by exactly the most allowed is taken; a nanosecond more is not.
+    edge = NOW + MAX_STAMP_AHEAD_NS - 7
+    assert problem(edge // 10**9, edge % 10**9, NOW - 7) is None
+    assert problem(edge // 10**9, edge % 10**9 + 1, NOW - 7) == STAMPED_AHEAD
+    odd = NOW + MAX_STAMP_AHEAD_NS + 123_456_789
+    assert problem(odd // 10**9, odd % 10**9, NOW + 123_456_789) is None
+    assert problem(odd // 10**9, odd % 10**9, NOW + 123_456_788) == STAMPED_AHEAD
+    # Without a clock given, this machine's is read: now is taken, two minutes ahead is not.
+    now_s = time.time_ns() // 10**9
+    assert problem(now_s, 0, None) is None
+    assert problem(now_s + 120, 0, None) == STAMPED_AHEAD
 
 
 def joint_state(positions: list[float], ns: int) -> types.JointState:
