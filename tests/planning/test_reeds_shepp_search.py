@@ -95,3 +95,23 @@ def test_goals_a_rounding_from_the_start_tie_break_as_the_full_search(phi: float
     for x in TINY:
         for y in TINY:
             assert searched(x, y, phi) == exhaustive(x, y, phi), (x, y, phi)
+
+
+#: The tolerance of the formulas' sign conditions.
+ZERO = 10.0 * 2.220446049250313e-16
+
+
+def test_the_search_finds_the_first_shortest_on_a_grid_and_near_the_axes() -> None:
+    # Half radii and eighth turns (and headings beyond a half turn), goals a rounding off the
+    # axes, where the conditions hold with nothing to spare and words tie.
+    halves = [0.5 * i for i in range(-8, 9)]
+    turns = [0.25 * math.pi * k for k in range(-8, 9)] + [1.25 * math.pi, -2.75 * math.pi]
+    goals = [(x, y, phi) for x in halves for y in halves for phi in turns]
+    goals += [
+        (x, y, phi)
+        for x in (1.0, -1.0, 0.5, 2.0, 0.0, 3.0, -3.0)
+        for y in (ZERO, -ZERO, 1e-15, -1e-15, 0.0, 2.0, -2.0)
+        for phi in (0.0, ZERO, -ZERO, 1e-15, math.pi, -math.pi, 0.5 * math.pi, -0.5 * math.pi)
+    ]
+    for x, y, phi in goals:
+        assert searched(x, y, phi) == exhaustive(x, y, phi), (x, y, phi)
