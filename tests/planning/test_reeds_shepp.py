@@ -218,3 +218,32 @@ def test_many_goals_at_once_warn_of_nothing() -> None:
         lengths = reeds_shepp.distances(goals[:, 0], goals[:, 1], goals[:, 2])
     assert words[0] == -1
     assert lengths[2] == pytest.approx(math.pi, abs=1e-12)
+
+
+#: Goals where conditions hold with nothing to spare (a first turn of exactly -ZERO, circles
+#: exactly two or four radii apart, a cusp word's middle arcs of exactly a quarter turn) and the
+#: words candidates() lists there: a condition is met up to its tolerance, inclusive.
+EDGES = {
+    (0.0, 0.0, 0.0): "LSL LSL RSR LSR LSR RSL RSL LRL LRL RLR RLR LRL LRL RLR RLR LRLR LRLR RLRL "
+    "RLRL LRLR LRLR RLRL RLRL",
+    (0.0, 0.0, math.pi): "LRL LRL RLR RLR LRL LRL RLR RLR LRLR RLRL",
+    (0.0, 0.0, -math.pi): "LRL LRL RLR RLR LRL LRL RLR RLR LRLR RLRL",
+    (0.0, 2.0, 0.0): "RLR RLR LRL LRL LRLR LRLR RLRL RLRL",
+    (0.0, 2.0, math.pi): "LSL LSR LSR RSL LRL LRL RLR RLR LRL LRL RLR RLR LRLR RLRL LRLR RLRL RLSL "
+    "RLSL LSLR LSLR",
+    (0.5, 1e-15, 0.0): "LSL RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, ZERO, 0.0): "LSL RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, 0.0, ZERO): "LSL LSL RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, 0.0, -ZERO): "LSL RSR RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, ZERO, ZERO): "LSL RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, -ZERO, -ZERO): "LSL RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, 3.0, -0.5 * math.pi): "LSR LRL RLR RLR LRL LRL RLR LRLR LRLR RLRL LRSL RLSR LRSR LSRL "
+    "LSRL LSLR RLSRL",
+    (2.0, ZERO, math.pi): "LRL LRL RLR RLR LRL LRL RLR RLR LRLR RLRL LRSL RLSR LRSR LSRL RSLR LSLR",
+    (2.0, 2.0, 0.0): "LSR LRL RLR RLR LRL LRL RLR LRLR RLRL RLRL RLSR RLSR LSRL LSRL RLSRL RLSRL",
+}
+
+
+@pytest.mark.parametrize("goal", list(EDGES))
+def test_conditions_met_with_nothing_to_spare_hold(goal: tuple[float, float, float]) -> None:
+    assert " ".join(word for word, _ in reeds_shepp.candidates(*goal)) == EDGES[goal]
