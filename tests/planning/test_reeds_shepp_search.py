@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -112,6 +113,22 @@ def test_the_search_finds_the_first_shortest_on_a_grid_and_near_the_axes() -> No
         for x in (1.0, -1.0, 0.5, 2.0, 0.0, 3.0, -3.0)
         for y in (ZERO, -ZERO, 1e-15, -1e-15, 0.0, 2.0, -2.0)
         for phi in (0.0, ZERO, -ZERO, 1e-15, math.pi, -math.pi, 0.5 * math.pi, -0.5 * math.pi)
+    ]
+    for x, y, phi in goals:
+        assert searched(x, y, phi) == exhaustive(x, y, phi), (x, y, phi)
+
+
+def test_the_search_finds_the_first_shortest_for_headings_beyond_a_turn() -> None:
+    # A heading is any angle, not only one in [-pi, pi]: the arcs wrap it as the full search
+    # does (8.9's last arc and 8.7/8.8's from beyond a half turn the other way).
+    rng = np.random.default_rng(1990)
+    goals = np.column_stack(
+        (rng.uniform(-5.0, 5.0, (1500, 2)), rng.uniform(-4.0 * math.pi, 4.0 * math.pi, 1500))
+    ).tolist()
+    goals += [
+        [-3.0, -1.0, -3.5 * math.pi],
+        [1.0149835762335746, -4.713109916280555, 8.032311394145186],
+        [-0.31431539435440925, -0.38340078070993844, -7.441067709414719],
     ]
     for x, y, phi in goals:
         assert searched(x, y, phi) == exhaustive(x, y, phi), (x, y, phi)
