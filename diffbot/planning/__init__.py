@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-__all__ = ["ROUNDING", "Piece", "mod2pi", "wrap"]
+__all__ = ["ROUNDING", "Piece", "mod2pi"]
 
 TWO_PI = 2.0 * math.pi
 #: Turns smaller than this (rad) and straights shorter (m) are rounding, not motion (a few ulps
@@ -33,13 +33,3 @@ def mod2pi(angle: float) -> float:
     if wrapped < 0.0:
         wrapped += TWO_PI
     return 0.0 if wrapped >= TWO_PI else wrapped
-
-
-def wrap(angle: float) -> float:
-    """``angle`` wrapped to [-pi, pi] (rad), as OMPL's Reeds-Shepp code wraps it."""
-    wrapped = math.fmod(angle, TWO_PI)
-    if wrapped < -math.pi:
-        wrapped += TWO_PI
-    elif wrapped > math.pi:
-        wrapped -= TWO_PI
-    return wrapped

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -10,7 +11,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from path_pieces import end, same_pose
 
-from diffbot.planning import balkcom_mason
+from diffbot.planning import ROUNDING, balkcom_mason
 
 #: Goals of the numerical search.
 GOALS = 1000
@@ -102,3 +103,101 @@ def test_no_four_action_path_found_by_search_is_faster(forward_only: bool) -> No
         ours = balkcom_mason.distance(x, y, theta, forward_only)
         assert ours <= _search(x, y, theta, forward_only, rng) + 1e-9, (x, y, theta)
         assert ours <= float(_tgt(np.array(x), np.array(y), np.array(theta), (1,))) + 1e-12
+
+
+#: Goals on a grid of half tracks and eighth turns: the axes, the start itself, turns in
+#: place, goals straight ahead or behind, where candidates tie or lose pieces, and goals four
+#: half tracks across the goal heading, where the stationary four-action paths degenerate.
+SPOTS = [0.0, 0.5, -0.5, 1.0, -1.0, 2.0, -2.0, 3.0, -3.0, 4.0, -4.0]
+GRID = [(x, y, 0.25 * math.pi * k) for x in SPOTS for y in SPOTS for k in range(-8, 9)]
+
+
+@pytest.mark.parametrize("forward_only", [False, True])
+def test_every_candidate_ends_at_the_goal_and_the_path_is_the_fastest(forward_only: bool) -> None:
+    for x, y, theta in GRID:
+        found = balkcom_mason.candidates(x, y, theta, forward_only)
+        assert found, (x, y, theta)
+        for pieces in found:
+            assert same_pose(end(pieces), (x, y, theta), 1e-9), (x, y, theta, pieces)
+            # Without empty pieces, neighbours of one kind joined.
+            assert all(p.length != 0.0 for p in pieces)
+            assert all(a.kind != b.kind for a, b in itertools.pairwise(pieces))
+            if forward_only:
+                assert all(p.length > 0.0 for p in pieces if p.kind == "S"), pieces
+        pieces = balkcom_mason.path(x, y, theta, forward_only)
+        fastest = min(balkcom_mason.time(c) for c in found)
+        assert balkcom_mason.time(pieces) == pytest.approx(fastest, rel=1e-9, abs=1e-12)
+        assert balkcom_mason.distance(x, y, theta, forward_only) == balkcom_mason.time(pieces)
+        if forward_only:
+            assert all(p.length > 0.0 for p in pieces if p.kind == "S"), pieces
+
+
+def test_candidates_of_a_known_goal() -> None:
+    # Half a track to the left: turn, drive, turn back either way round (forwards or
+    # backwards), and the stationary four-action paths; forwards only, the backwards ones go.
+    both = balkcom_mason.candidates(0.0, 0.5, 0.0)
+    forward = balkcom_mason.candidates(0.0, 0.5, 0.0, forward_only=True)
+    assert [p.kind for p in both[0]] == ["T", "S", "T"]
+    assert both[0] == [("T", pytest.approx(0.5 * math.pi)), ("S", 0.5), ("T", -0.5 * math.pi)]
+    assert both[1] == [("T", pytest.approx(-0.5 * math.pi)), ("S", -0.5), ("T", 0.5 * math.pi)]
+    assert forward[0] == both[0]
+    assert len(forward) < len(both)
+    assert all(p.length > 0.0 for c in forward for p in c if p.kind == "S")
+    assert any(p.length < 0.0 for c in both for p in c if p.kind == "S")
+
+
+def test_forward_only_is_never_faster_and_sometimes_slower() -> None:
+    # Two half tracks behind: backing up takes 2; forwards only, more.
+    assert balkcom_mason.distance(-2.0, 0.0, 0.0) == pytest.approx(2.0, abs=1e-15)
+    assert balkcom_mason.distance(-2.0, 0.0, 0.0, forward_only=True) > 2.0 + 1.0
+    assert balkcom_mason.distance(-2.0, 0.0, 0.0, True) == balkcom_mason.time(
+        balkcom_mason.path(-2.0, 0.0, 0.0, True)
+    )
+    for x, y, theta in GRID[::7]:
+        assert balkcom_mason.distance(x, y, theta, True) >= balkcom_mason.distance(
+            x, y, theta
+        ) - 1e-12 * (1.0 + abs(x) + abs(y))
+
+
+def test_turns_of_rounding_size_are_left_out_and_ties_resolved() -> None:
+    # A turn in place of a rounding (at most ROUNDING rad) is no motion.
+    assert balkcom_mason.path(0.0, 0.0, 1e-17) == []
+    assert balkcom_mason.path(0.0, 0.0, -1e-17) == []
+    assert balkcom_mason.path(0.0, 0.0, ROUNDING) == []
+    assert balkcom_mason.distance(0.0, 0.0, ROUNDING) == 0.0
+    assert balkcom_mason.candidates(0.0, 0.0, ROUNDING) == [[]]
+    # ... but one just above it is.
+    assert balkcom_mason.path(0.0, 0.0, 4e-15) == [("T", 4e-15)]
+    # Among equally fast paths the one of fewest actions wins: a quarter turn left then half a
+    # track ahead, two actions, rather than an empty straight first.
+    assert balkcom_mason.path(0.0, 0.5, 0.5 * math.pi) == [
+        ("T", pytest.approx(0.5 * math.pi)),
+        ("S", 0.5),
+    ]
+    # Then the one that does not back up: half a track to the right, facing back, is a
+    # quarter turn right, half a track forwards and a quarter turn right, not the same turns
+    # left around a straight backwards.
+    pieces = balkcom_mason.path(0.0, -0.5, math.pi)
+    assert [p.kind for p in pieces] == ["T", "S", "T"]
+    assert pieces[1].length == pytest.approx(0.5)
+    assert all(p.length == pytest.approx(-0.5 * math.pi) for p in (pieces[0], pieces[2]))
+    # Then the first tried: half a track to the left, same heading, is turn, back up, turn,
+    # drive (TGTG) rather than the GTGT path as fast.
+    assert [p.kind for p in balkcom_mason.path(0.0, 0.5, 0.0)] == ["T", "S", "T", "S"]
+
+
+def test_candidates_of_mirror_images_are_mirror_images() -> None:
+    # Left for right: (x, y, theta) -> (x, -y, -theta) turns every turn the other way and keeps
+    # every straight, candidate for candidate (a half turn either way is the same turn).
+    for x, y, theta in GRID[::3]:
+        for forward_only in (False, True):
+            found = balkcom_mason.candidates(x, y, theta, forward_only)
+            mirrored = balkcom_mason.candidates(x, -y, -theta, forward_only)
+            assert len(found) == len(mirrored), (x, y, theta, forward_only)
+            for a, b in zip(found, mirrored, strict=True):
+                assert [p.kind for p in a] == [p.kind for p in b]
+                for p, q in zip(a, b, strict=True):
+                    if p.kind == "S":
+                        assert p.length == pytest.approx(q.length, rel=1e-9, abs=1e-12)
+                    else:
+                        assert abs(math.remainder(p.length + q.length, 2 * math.pi)) < 1e-9

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from extras import need
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from path_pieces import COORDINATES, HEADINGS, PAIRS, assert_agrees_with_ompl, assert_ends_at
 
-from diffbot.planning import dubins
+from diffbot.planning import Piece, dubins
 
 
 @given(COORDINATES, COORDINATES, HEADINGS)
@@ -100,3 +101,56 @@ def test_singular_goals() -> None:
     assert dubins.path(1.0, 2.0, math.nan) == []
     assert dubins.path(math.inf, 0.0, 0.0) == []
     assert dubins.distance(1.0, 2.0, math.nan) == 0.0
+
+
+#: Goals on a grid of half radii and eighth turns (headings beyond a full turn too): goals on
+#: the turning circles, on their tangents and four radii apart, where words tie.
+HALVES = [0.5 * i for i in range(-8, 9)] + [-0.0, 1e-15, -1e-15]
+TURNS = [0.25 * math.pi * k for k in range(-8, 9)] + [1e-15, -1e-15, 2.5 * math.pi]
+
+
+def test_path_is_the_first_shortest_of_every_word_on_a_grid() -> None:
+    for x in HALVES:
+        for y in HALVES:
+            for phi in TURNS:
+                assert [(p.kind, p.length) for p in dubins.path(x, y, phi)] == first_shortest(
+                    x, y, phi
+                ), (x, y, phi)
+
+
+def test_path_is_the_first_shortest_of_every_word_on_random_goals() -> None:
+    rng = np.random.default_rng(1957)
+    goals = np.column_stack(
+        (rng.uniform(-6.0, 6.0, (4000, 2)), rng.uniform(-math.pi, math.pi, 4000))
+    ).tolist()
+    # RLR by a margin its bound must not rule out: its outer arcs turn the heading by the
+    # middle arc less phi, not plus.
+    goals.append([1.3635258577067209, 1.631609659321521, 2.709111957525808])
+    for x, y, phi in goals:
+        assert [(p.kind, p.length) for p in dubins.path(x, y, phi)] == first_shortest(x, y, phi), (
+            x,
+            y,
+            phi,
+        )
+
+
+def test_every_candidate_ends_at_the_goal() -> None:
+    for x in HALVES[::2]:
+        for y in HALVES[::2]:
+            for phi in TURNS[::2]:
+                for word, lengths in dubins.candidates(x, y, phi):
+                    pieces = [Piece(k, v) for k, v in zip(word, lengths, strict=True)]
+                    assert all(v >= 0.0 for v in lengths)
+                    assert_ends_at(pieces, (x, y, phi), 3)
+
+
+def test_candidates_four_radii_apart() -> None:
+    # Two radii left facing back: the goal's right circle is four radii from the start's, so
+    # RLR has one middle circle touching both (its two solutions coincide: a half turn left
+    # between empty arcs); at the start itself the circles of one side coincide and no CCC
+    # word is listed.
+    found = dubins.candidates(0.0, 2.0, math.pi)
+    assert [word for word, _ in found] == ["LSL", "RSR", "RSL", "LSR", "RLR", "RLR", "LRL", "LRL"]
+    for _, lengths in found[4:6]:
+        assert lengths == pytest.approx((0.0, math.pi, 0.0), abs=1e-15)
+    assert [word for word, _ in dubins.candidates(0.0, 0.0, 0.0)] == ["LSL", "RSR", "RSL", "LSR"]

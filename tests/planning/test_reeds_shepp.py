@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -18,7 +19,7 @@ from path_pieces import (
     random_pairs,
 )
 
-from diffbot.planning import reeds_shepp
+from diffbot.planning import Piece, reeds_shepp
 
 
 @given(COORDINATES, COORDINATES, HEADINGS)
@@ -120,3 +121,129 @@ def test_paths_broadcast_and_unreachable_goals() -> None:
     assert reeds_shepp.path(-3.0, 0.0, math.nan) == []
     assert words[0, 1] == -1
     assert np.isnan(lengths[0, 1]).all()
+
+
+#: The tolerance of the formulas' sign conditions (OMPL's).
+ZERO = 10.0 * 2.220446049250313e-16
+#: Each word's signs, by where its straight is (none: "CCC", "CCCC"), before a timeflip negates
+#: them all: "+" forwards, "-" backwards, "*" either (Reeds and Shepp, section 8).
+SIGNS = {
+    "CSC": ["+++"],
+    "CCC": ["+-*", "*-+"],
+    "CCCC": ["++--", "+--+"],
+    "CCSC": ["+---"],
+    "CSCC": ["---+"],
+    "CCSCC": ["+---+"],
+}
+
+
+def signs_hold(pattern: str, lengths: tuple[float, ...], flip: float) -> bool:
+    return all(
+        p == "*" or (flip * v >= -ZERO if p == "+" else flip * v <= ZERO)
+        for p, v in zip(pattern, lengths, strict=True)
+    )
+
+
+#: Goals on a grid of half radii and eighth turns, and goals a rounding off the axes.
+HALVES = [0.5 * i for i in range(-8, 9)]
+TURNS = [0.25 * math.pi * k for k in range(-8, 9)]
+GRID = [(x, y, phi) for x in HALVES for y in HALVES for phi in TURNS]
+NEAR_AXES = [
+    (x, y, phi)
+    for x in (1.0, -1.0, 0.5, 2.0, 0.0)
+    for y in (ZERO, -ZERO, 1e-15, -1e-15, 0.0)
+    for phi in (0.0, ZERO, -ZERO, 1e-15, math.pi, -math.pi, 0.5 * math.pi)
+]
+
+
+def test_every_candidate_reaches_the_goal_with_its_words_signs() -> None:
+    goals = GRID[::5] + NEAR_AXES + random_pairs(300).tolist()
+    for x, y, phi in goals:
+        for word, lengths in reeds_shepp.candidates(x, y, phi):
+            pieces = [Piece(k, v) for k, v in zip(word, lengths, strict=True)]
+            assert_ends_at(pieces, (x, y, phi), 5)
+            shape = "".join("S" if k == "S" else "C" for k in word)
+            assert any(signs_hold(p, lengths, f) for p in SIGNS[shape] for f in (1.0, -1.0)), (
+                x,
+                y,
+                phi,
+                word,
+                lengths,
+            )
+            # The quarter turns of 8.9 to 8.11 beside their straight.
+            if len(word) > 3 and "S" in word:
+                s = word.index("S")
+                quarters = [s - 1] if shape == "CCSC" else [s + 1] if shape == "CSCC" else [1, 3]
+                assert all(abs(lengths[q]) == 0.5 * math.pi for q in quarters), (word, lengths)
+
+
+def first_shortest(x: float, y: float, phi: float) -> list[tuple[str, float]]:
+    best: tuple[str, tuple[float, ...]] = ("", ())
+    best_length = math.inf
+    for word, lengths in reeds_shepp.candidates(x, y, phi):
+        length = sum(abs(v) for v in lengths)
+        if length < best_length:
+            best, best_length = (word, lengths), length
+    return list(zip(*best, strict=True))
+
+
+def test_one_goal_is_the_first_shortest_candidate_on_a_grid_and_near_the_axes() -> None:
+    # Whole and half radii, eighth turns and goals a rounding off the axes are full of equally
+    # short words and of conditions met with nothing to spare.
+    for x, y, phi in GRID[::2] + NEAR_AXES:
+        assert [(p.kind, p.length) for p in reeds_shepp.path(x, y, phi)] == first_shortest(
+            x, y, phi
+        ), (x, y, phi)
+
+
+def test_words_of_the_symmetries() -> None:
+    # Reflect swaps left and right, reading backwards reverses the word.
+    assert reeds_shepp._word("LRSL", False, False) == "LRSL"
+    assert reeds_shepp._word("LRSL", True, False) == "RLSR"
+    assert reeds_shepp._word("LRSL", False, True) == "LSRL"
+    assert reeds_shepp._word("LRSL", True, True) == "RSLR"
+    # Eleven formulas under four symmetries each.
+    assert len(reeds_shepp.WORDS) == 44
+    assert reeds_shepp.WORDS[:4] == ("LSL", "LSL", "RSR", "RSR")
+    assert reeds_shepp.WORDS[32:40] == ("LSRL",) * 2 + ("RSLR",) * 2 + ("RSRL",) * 2 + ("LSLR",) * 2
+
+
+def test_many_goals_at_once_warn_of_nothing() -> None:
+    # Formulas that do not hold compute NaN and infinities on the way (acos beyond 1, a goal
+    # that is not finite): the caller sees no warning.
+    goals = np.array([[math.nan, 0.0, 0.0], [math.inf, 1.0, 0.0], [0.0, 0.0, math.pi]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        words, _ = reeds_shepp.paths(goals[:, 0], goals[:, 1], goals[:, 2])
+        lengths = reeds_shepp.distances(goals[:, 0], goals[:, 1], goals[:, 2])
+    assert words[0] == -1
+    assert lengths[2] == pytest.approx(math.pi, abs=1e-12)
+
+
+#: Goals where conditions hold with nothing to spare (a first turn of exactly -ZERO, circles
+#: exactly two or four radii apart, a cusp word's middle arcs of exactly a quarter turn) and the
+#: words candidates() lists there: a condition is met up to its tolerance, inclusive.
+EDGES = {
+    (0.0, 0.0, 0.0): "LSL LSL RSR LSR LSR RSL RSL LRL LRL RLR RLR LRL LRL RLR RLR LRLR LRLR RLRL "
+    "RLRL LRLR LRLR RLRL RLRL",
+    (0.0, 0.0, math.pi): "LRL LRL RLR RLR LRL LRL RLR RLR LRLR RLRL",
+    (0.0, 0.0, -math.pi): "LRL LRL RLR RLR LRL LRL RLR RLR LRLR RLRL",
+    (0.0, 2.0, 0.0): "RLR RLR LRL LRL LRLR LRLR RLRL RLRL",
+    (0.0, 2.0, math.pi): "LSL LSR LSR RSL LRL LRL RLR RLR LRL LRL RLR RLR LRLR RLRL LRLR RLRL RLSL "
+    "RLSL LSLR LSLR",
+    (0.5, 1e-15, 0.0): "LSL RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, ZERO, 0.0): "LSL RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, 0.0, ZERO): "LSL LSL RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, 0.0, -ZERO): "LSL RSR RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, ZERO, ZERO): "LSL RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, -ZERO, -ZERO): "LSL RSR LSR RSL LRL RLR LRL RLR LRLR RLRL",
+    (1.0, 3.0, -0.5 * math.pi): "LSR LRL RLR RLR LRL LRL RLR LRLR LRLR RLRL LRSL RLSR LRSR LSRL "
+    "LSRL LSLR RLSRL",
+    (2.0, ZERO, math.pi): "LRL LRL RLR RLR LRL LRL RLR RLR LRLR RLRL LRSL RLSR LRSR LSRL RSLR LSLR",
+    (2.0, 2.0, 0.0): "LSR LRL RLR RLR LRL LRL RLR LRLR RLRL RLRL RLSR RLSR LSRL LSRL RLSRL RLSRL",
+}
+
+
+@pytest.mark.parametrize("goal", list(EDGES))
+def test_conditions_met_with_nothing_to_spare_hold(goal: tuple[float, float, float]) -> None:
+    assert " ".join(word for word, _ in reeds_shepp.candidates(*goal)) == EDGES[goal]

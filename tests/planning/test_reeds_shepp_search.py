@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -95,3 +96,39 @@ def test_goals_a_rounding_from_the_start_tie_break_as_the_full_search(phi: float
     for x in TINY:
         for y in TINY:
             assert searched(x, y, phi) == exhaustive(x, y, phi), (x, y, phi)
+
+
+#: The tolerance of the formulas' sign conditions.
+ZERO = 10.0 * 2.220446049250313e-16
+
+
+def test_the_search_finds_the_first_shortest_on_a_grid_and_near_the_axes() -> None:
+    # Half radii and eighth turns (and headings beyond a half turn), goals a rounding off the
+    # axes, where the conditions hold with nothing to spare and words tie.
+    halves = [0.5 * i for i in range(-8, 9)]
+    turns = [0.25 * math.pi * k for k in range(-8, 9)] + [1.25 * math.pi, -2.75 * math.pi]
+    goals = [(x, y, phi) for x in halves for y in halves for phi in turns]
+    goals += [
+        (x, y, phi)
+        for x in (1.0, -1.0, 0.5, 2.0, 0.0, 3.0, -3.0)
+        for y in (ZERO, -ZERO, 1e-15, -1e-15, 0.0, 2.0, -2.0)
+        for phi in (0.0, ZERO, -ZERO, 1e-15, math.pi, -math.pi, 0.5 * math.pi, -0.5 * math.pi)
+    ]
+    for x, y, phi in goals:
+        assert searched(x, y, phi) == exhaustive(x, y, phi), (x, y, phi)
+
+
+def test_the_search_finds_the_first_shortest_for_headings_beyond_a_turn() -> None:
+    # A heading is any angle, not only one in [-pi, pi]: the arcs wrap it as the full search
+    # does (8.9's last arc and 8.7/8.8's from beyond a half turn the other way).
+    rng = np.random.default_rng(1990)
+    goals = np.column_stack(
+        (rng.uniform(-5.0, 5.0, (1500, 2)), rng.uniform(-4.0 * math.pi, 4.0 * math.pi, 1500))
+    ).tolist()
+    goals += [
+        [-3.0, -1.0, -3.5 * math.pi],
+        [1.0149835762335746, -4.713109916280555, 8.032311394145186],
+        [-0.31431539435440925, -0.38340078070993844, -7.441067709414719],
+    ]
+    for x, y, phi in goals:
+        assert searched(x, y, phi) == exhaustive(x, y, phi), (x, y, phi)
