@@ -76,10 +76,13 @@ except OSError:
     print(f"{name}: no result (see .mutation/{name}/run.log)")
     raise SystemExit
 killed = s["killed"] + s.get("timeout", 0) + s.get("segfault", 0)
-total = s["total"] - s.get("skipped", 0) - s.get("not_checked", 0)
-rate = 100.0 * killed / total if total else 100.0
-print(f"{name}: {killed}/{total} killed ({rate:.1f} %), {s['survived']} survived, "
-      f"{s.get('no_tests', 0)} without tests, {s.get('suspicious', 0)} suspicious")
+# The stats count every mutant in "total", run or not: a stopped run has fewer results.
+checked = killed + s["survived"] + s.get("no_tests", 0) + s.get("suspicious", 0)
+unrun = s["total"] - s.get("skipped", 0) - checked
+rate = 100.0 * killed / checked if checked else 100.0
+print(f"{name}: {killed}/{checked} killed ({rate:.1f} %), {s['survived']} survived, "
+      f"{s.get('no_tests', 0)} without tests, {s.get('suspicious', 0)} suspicious"
+      + (f", {unrun} not run (the run was stopped)" if unrun else ""))
 PY
 )")
 done
