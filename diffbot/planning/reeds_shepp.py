@@ -296,7 +296,7 @@ def paths(
     """The shortest Reeds-Shepp paths to many goals at once: the words and lengths :func:`path`
     gives, goal by goal, found with NumPy.
 
-    All 48 words are measured for all goals at once and each goal takes the first shortest. The
+    Every word of :data:`WORDS` is measured for all goals at once and each goal takes the first shortest. The
     NumPy functions may round differently from :mod:`math` in the last bit, so a goal whose
     runner-up word is within 1e-9 relative of its shortest (equally short words, as on the axes
     or at a heading of pi) is planned again with :func:`path`: the word chosen is always

@@ -13,7 +13,7 @@ its length does not already exceed the shortest so far:
   8.11). A word's straight is at least what that distance fixes: rho (8.1), sqrt(rho^2 - 4)
   (8.2), sqrt(rho^2 - 4) - 2 (8.9), rho - 2 (8.10), sqrt(rho^2 - 4) - 4 (8.11). The symmetries
   only change signs, and a word read backwards joins the same two circles, so four distances
-  serve all 48 words.
+  serve every word.
 - Its arcs turn the heading by phi modulo 2 pi with the signs the formula's conditions fix: at
   least phi mod 2 pi (8.1), |phi| wrapped (8.2, 8.8, and any word), pi/2 + |phi - pi/2| wrapped
   (8.9), pi/2 + (phi - pi/2) mod 2 pi (8.10), pi + |phi| wrapped (8.11).

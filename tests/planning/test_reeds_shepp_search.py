@@ -1,5 +1,5 @@
 """One goal's shortest Reeds-Shepp word: the search that skips words by their bounds finds the
-word and lengths that solving all 48 finds, bit for bit, singular goals included."""
+word and lengths that solving every word finds, bit for bit, singular goals included."""
 
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ GOALS = st.one_of(
 
 
 def exhaustive(x: float, y: float, phi: float) -> tuple[str, tuple[float, ...]]:
-    """The first shortest of every word that holds, all 48 solved (no bound skips one)."""
+    """The first shortest of every word that holds, all of WORDS solved (no bound skips one)."""
     best: tuple[str, tuple[float, ...]] = ("", ())
     best_length = math.inf
     for word, lengths in reeds_shepp.candidates(x, y, phi):
