@@ -296,11 +296,11 @@ def paths(
     """The shortest Reeds-Shepp paths to many goals at once: the words and lengths :func:`path`
     gives, goal by goal, found with NumPy.
 
-    Every word of :data:`WORDS` is measured for all goals at once and each goal takes the first shortest. The
-    NumPy functions may round differently from :mod:`math` in the last bit, so a goal whose
-    runner-up word is within 1e-9 relative of its shortest (equally short words, as on the axes
-    or at a heading of pi) is planned again with :func:`path`: the word chosen is always
-    :func:`path`'s, and the lengths equal its lengths to rounding.
+    Every word of :data:`WORDS` is measured for all goals at once and each goal takes the first
+    shortest. The NumPy functions may round differently from :mod:`math` in the last bit, so a
+    goal whose runner-up word is within 1e-9 relative of its shortest (equally short words, as
+    on the axes or at a heading of pi) is planned again with :func:`path`: the word chosen is
+    always :func:`path`'s, and the lengths equal its lengths to rounding.
 
     Args:
         x, y: the goals' positions in turning radii (start frame), broadcast with ``phi``.
