@@ -33,7 +33,10 @@ def main() -> int:
             "--memory-minutes", "0.5" if args.quick else "1",
         ],
         ["bench_bag_floor.py", "--rounds", rounds],
-        ["bench_goals.py", "--goals", "2000", "--rounds", "5" if args.quick else "7", "--cpu", "--profile"],
+        [
+            "bench_goals.py", "--goals", "2000", "--rounds", "5" if args.quick else "7",
+            "--cpu", "--profile",
+        ],
         ["bench_first_run.py", "--rounds", rounds],
     ]  # fmt: skip
     failed = 0
