@@ -440,5 +440,9 @@ def fit(
         click.echo(f"{'robot':<13} {robot_label(robot)}")
         if feedback == "velocity":
             click.echo(f"{'feedback':<13} wheel velocities, integrated")
-    extra = {"time_offsets": offsets, "robot": robot_label(robot), "feedback": feedback}
+    extra: dict[str, object] = {
+        "time_offsets": offsets,
+        "robot": robot_label(robot),
+        "feedback": feedback,
+    }
     _report(result, params, output, robot, extra)
