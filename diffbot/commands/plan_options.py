@@ -26,13 +26,12 @@ from diffbot.commands.options import (
     option_group,
     robot_options,
     split_xacro_args,
-    warn,
 )
 from diffbot.commands.paths import InputPath, input_path
 from diffbot.formats.text import fmt
 from diffbot.kinematics import DiffDriveParams
 from diffbot.planfile import load_plan, parse_plan
-from diffbot.trajectory import EXAMPLES, Arc, Plan, Segment, Spin, Straight
+from diffbot.trajectory import EXAMPLES, Plan, Segment
 from diffbot.trajectory import plan as make_plan
 
 if TYPE_CHECKING:
@@ -248,57 +247,6 @@ class PlanOptions:
     #: The cruise options given on the command line (not their defaults), by option name.
     given: tuple[str, ...] = ()
 
-    def warn_unused(self, segments: Sequence[Segment]) -> set[str]:
-        """Warn about a cruise option given for a plan whose segments all carry durations (or,
-        with --fastest, that replaces them): it would change nothing, silently. Returns the
-        options warned about."""
-        unused: set[str] = set()
-        for option, kinds in (("--speed", (Straight, Arc)), ("--spin-rate", (Spin,))):
-            if option not in self.given:
-                continue
-            unused.add(option)
-            if self.fastest:
-                warn(f"{option} changes nothing with --fastest (every segment runs at the limit)")
-                continue
-            used = [s for s in segments if isinstance(s, kinds)]
-            if all(s.duration is not None for s in used):
-                what = "straight or arc" if option == "--speed" else "spin"
-                warn(
-                    f"{option} changes nothing: every {what} of the plan has its own duration"
-                    if used
-                    else f"{option} changes nothing: the plan has no {what}"
-                )
-            else:
-                unused.discard(option)
-        return unused
-
-    def warn_over_body(self, body: BodyLimits, unused: set[str]) -> None:
-        """Warn about a cruise speed given over the body velocity limits (and not among the
-        ``unused`` options): the segments it times are slowed to the limit, which the plan
-        would not say otherwise."""
-        pairs = (
-            ("--speed", self.speed, body.linear, "--max-linear", self.max_linear, "m/s"),
-            (
-                "--spin-rate",
-                self.spin_rate,
-                body.angular,
-                "--max-angular",
-                self.max_angular,
-                "rad/s",
-            ),
-        )
-        for option, value, bounds, limit_option, given, unit in pairs:
-            if option not in self.given or option in unused or bounds is None:
-                continue
-            if value <= bounds[1]:
-                continue
-            axis = "linear.x" if option == "--speed" else "angular.z"
-            where = limit_option if given is not None else f"the controllers file's {axis}"
-            warn(
-                f"{option} {value:g} {unit} is over the body velocity limit of {bounds[1]:g} "
-                f"{unit} ({where}): the segments it times run at {bounds[1]:g} {unit}"
-            )
-
     def source(self, tokens: Sequence[str]) -> PlanInput:
         """The plan that positional ``tokens`` or these options name (see :func:`plan_input`);
         with --to or --waypoints, a goal plan whose segments :meth:`resolve` fills in."""
@@ -428,9 +376,11 @@ class PlanOptions:
         """The plan of ``segments`` for the robot, as these options ask: ramped when
         :meth:`ramped` says so, else a step plan. Warns about cruise options that change
         nothing, and cruise speeds over the body limits."""
-        unused = self.warn_unused(segments)
+        from diffbot.commands.cruise_warnings import warn_over_body, warn_unused
+
+        unused = warn_unused(self, segments)
         if body is not None:
-            self.warn_over_body(body, unused)
+            warn_over_body(self, body, unused)
         steps = make_plan(
             segments,
             params,
