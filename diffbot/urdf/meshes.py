@@ -20,6 +20,7 @@ from xml.etree.ElementTree import Element
 
 from diffbot.errors import DescriptionError, DiffbotError, OutsideRootsError
 from diffbot.io.pathnames import resolved
+from diffbot.urdf.poses import Matrix, pose_matrix
 
 __all__ = [
     "MAX_MESH_BYTES",
@@ -34,8 +35,6 @@ __all__ = [
 MAX_MESH_BYTES: Final = 64 * 1024 * 1024
 #: Mesh formats read (by file extension), each read from the file alone.
 MESH_FORMATS: Final = ("stl", "obj", "ply", "off", "glb", "dae")
-
-Matrix = list[list[float]]
 
 
 def _numbers(text: str | None, default: str, count: int, where: str) -> list[float]:
@@ -56,14 +55,7 @@ def origin_matrix(element: Element | None, where: str) -> Matrix:
     """
     x, y, z = _numbers(None if element is None else element.get("xyz"), "0 0 0", 3, where)
     roll, pitch, yaw = _numbers(None if element is None else element.get("rpy"), "0 0 0", 3, where)
-    cr, sr, cp, sp = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch)
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    return [
-        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr, x],
-        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr, y],
-        [-sp, cp * sr, cp * cr, z],
-        [0.0, 0.0, 0.0, 1.0],
-    ]
+    return pose_matrix(x, y, z, roll, pitch, yaw)
 
 
 def mesh_radius(

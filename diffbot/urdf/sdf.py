@@ -37,6 +37,7 @@ from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular
 from diffbot.numbers import as_number, shown
 from diffbot.urdf.packages import PackageFinder, folder_below
+from diffbot.urdf.poses import Matrix, pose_matrix
 from diffbot.urdf.sandbox import check_inside
 
 __all__ = ["MAX_DEPTH", "MAX_FILE_BYTES", "MAX_INCLUDES", "expand_sdf", "model_file"]
@@ -49,8 +50,6 @@ MAX_DEPTH: Final = 16
 MAX_INCLUDES: Final = 256
 
 _RESOURCE_PATHS = ("GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_MODEL_PATH")
-
-Matrix = list[list[float]]
 
 
 def _identity() -> Matrix:
@@ -65,24 +64,6 @@ def _inverse(m: Matrix) -> Matrix:
     rotation = [[m[j][i] for j in range(3)] for i in range(3)]  # transposed
     position = [-sum(rotation[i][k] * m[k][3] for k in range(3)) for i in range(3)]
     return [[*rotation[i], position[i]] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
-
-
-def _from_pose(x: float, y: float, z: float, roll: float, pitch: float, yaw: float) -> Matrix:
-    # Fixed-axis roll, pitch, yaw (R = Rz Ry Rx): SDF's convention, the same as URDF's rpy.
-    cr, sr, cp, sp, cy, sy = (
-        math.cos(roll),
-        math.sin(roll),
-        math.cos(pitch),
-        math.sin(pitch),
-        math.cos(yaw),
-        math.sin(yaw),
-    )
-    return [
-        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr, x],
-        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr, y],
-        [-sp, cp * sr, cp * cr, z],
-        [0.0, 0.0, 0.0, 1.0],
-    ]
 
 
 def _rpy(m: Matrix) -> tuple[float, float, float]:
@@ -153,7 +134,7 @@ def _pose(element: ET.Element, where: str) -> tuple[Matrix, str | None]:
     x, y, z, roll, pitch, yaw = _numbers(pose.text, 6, f"{where} <pose>")
     if pose.get("degrees") == "true":
         roll, pitch, yaw = (math.radians(a) for a in (roll, pitch, yaw))
-    return _from_pose(x, y, z, roll, pitch, yaw), pose.get("relative_to")
+    return pose_matrix(x, y, z, roll, pitch, yaw), pose.get("relative_to")
 
 
 def _origin(m: Matrix) -> str:

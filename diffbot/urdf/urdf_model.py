@@ -257,7 +257,10 @@ class _Reader:
 def rpy_matrix(roll: float, pitch: float, yaw: float) -> list[list[float]]:
     """The rotation of fixed-axis roll, pitch and yaw (rad): R = Rz(yaw) Ry(pitch) Rx(roll).
 
-    A non-finite angle gives a matrix of NaN, as NumPy's sine and cosine would.
+    The same rotation as :func:`diffbot.urdf.poses.pose_matrix`, its products taken in the order
+    trimesh's ``euler_matrix`` (yourdfpy's) takes them, so that derived parameters stay the same
+    to the last bit as when the URDF was read through yourdfpy. A non-finite angle gives a
+    matrix of NaN, as NumPy's sine and cosine would.
     """
     if not all(math.isfinite(a) for a in (roll, pitch, yaw)):
         return [[math.nan] * 3 for _ in range(3)]
