@@ -119,13 +119,16 @@ class RecordingOptions:
             if option
             for name in option.split(",")
         ]
+        from diffbot.io.csv_layout import names_joint
+
         joints = (*params.left_joints, *params.right_joints)
         foreign = [
             name
             for name in named
             if not any(
-                name == joint or name.endswith((f"/{joint}/position", f"/{joint}/velocity"))
+                names_joint(name, joint, field)
                 for joint in joints
+                for field in ("position", "velocity")
             )
         ]
         if not foreign:

@@ -32,7 +32,7 @@ import numpy as np
 
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
-from diffbot.io.csv_layout import CsvLayout
+from diffbot.io.csv_layout import CsvLayout, names_joint
 from diffbot.io.csv_stamps import (
     TIME_UNITS,
     UNIT_NAMES,
@@ -135,9 +135,7 @@ def _columns(
     """The columns of a side's joints that the file has, as (joint, index); at least one."""
     found: list[tuple[str, int]] = []
     for joint in joints:
-        suffix = f"/{joint}/{field}"
-        bare = joint if field == "position" else None
-        matches = [i for i, h in enumerate(headers) if h == bare or h.endswith(suffix)]
+        matches = [i for i, h in enumerate(headers) if names_joint(h, joint, field)]
         if len(matches) > 1:
             raise RecordingError(
                 f"{source}: several columns for the {side} wheel joint {joint!r}: "
@@ -147,11 +145,11 @@ def _columns(
     if not found:
         names = " or ".join(repr(j) for j in joints)
         positions = field == "velocity" and any(
-            h == joint or h.endswith(f"/{joint}/position") for h in headers for joint in joints
+            names_joint(h, joint) for h in headers for joint in joints
         )
         raise RecordingError(
             f"{source}: no column for the {side} wheel joint {names} ("
-            + ("named by the joint or " if bare else "")
+            + ("named by the joint or " if field == "position" else "")
             + f"ending with '/<joint>/{field}'); columns found: {listing(headers)}"
             + (
                 "; the file holds the wheels' positions: read them with {feedback} position"

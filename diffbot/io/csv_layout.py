@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from diffbot.errors import RecordingError
 from diffbot.io.csv_stamps import TIME_UNITS
 
-__all__ = ["CsvLayout"]
+__all__ = ["CsvLayout", "names_joint"]
 
 
 @dataclass(frozen=True)
@@ -44,3 +44,10 @@ class CsvLayout:
                 f"unknown time unit {self.time_unit!r}: give one of {', '.join(TIME_UNITS)} "
                 "({time_unit})"
             )
+
+
+def names_joint(header: str, joint: str, field: str = "position") -> bool:
+    """Whether a CSV column named ``header`` holds ``field`` (``position`` or ``velocity``) of
+    ``joint``: ``.../<joint>/<field>``, as bag export tools name a JointState's fields, or the
+    joint's name alone for its position."""
+    return header.endswith(f"/{joint}/{field}") or (field == "position" and header == joint)

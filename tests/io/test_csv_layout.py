@@ -281,3 +281,22 @@ def test_a_layout_refuses_what_no_csv_reader_could_use(
     with pytest.raises(RecordingError, match=pattern):
         CsvLayout(**options)  # type: ignore[arg-type]
     assert CsvLayout(delimiter="\t", time_unit="ms").delimiter == "\t"
+
+
+@pytest.mark.parametrize(
+    ("header", "field", "named"),
+    [
+        ("left_wheel_joint", "position", True),  # the joint alone is its position
+        ("left_wheel_joint", "velocity", False),
+        ("/joint_states/left_wheel_joint/position", "position", True),
+        ("/joint_states/left_wheel_joint/velocity", "velocity", True),
+        ("/joint_states/left_wheel_joint/velocity", "position", False),
+        ("/joint_states/left_wheel_joint/effort", "position", False),
+        ("/joint_states/front_left_wheel_joint/position", "position", False),  # another joint
+        ("left_wheel_joint/position", "position", False),  # not a field of a topic's message
+    ],
+)
+def test_a_column_names_a_joints_field_by_its_suffix(header: str, field: str, named: bool) -> None:
+    from diffbot.io.csv_layout import names_joint
+
+    assert names_joint(header, "left_wheel_joint", field) is named
