@@ -316,15 +316,7 @@ def plot(
         fail("--feedback says how --odom recordings are read: give one with --odom")
     if odom_inputs and not rest and plan_options.example is None and plan_options.goal is None:
         _recordings_only(
-            robot,
-            xacro_args,
-            odom_inputs,
-            topic,
-            recording,
-            reference,
-            output,
-            force,
-            show,
+            robot, xacro_args, odom_inputs, topic, recording, reference, output, force, show
         )
         return
     request = plan_options.request(robot, tokens)
