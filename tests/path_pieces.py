@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
 from hypothesis import strategies as st
@@ -130,3 +130,17 @@ def assert_agrees_with_ompl(module: Any, space: Any, count: int) -> None:
             done += abs(piece.length)
             assert same_pose(ompl.pose_at(x, y, phi, min(done / ours, 1.0)), pose, 1e-7)
     assert unique > count * 0.9
+
+
+def first_shortest(
+    candidates: Iterable[tuple[str, Sequence[float]]],
+) -> tuple[str, Sequence[float]]:
+    """The first of the shortest candidates ``(word, lengths)``, the length of one the sum of
+    its pieces' magnitudes: ties go to the first listed; ``("", ())`` with none."""
+    best: tuple[str, Sequence[float]] = ("", ())
+    best_length = math.inf
+    for word, lengths in candidates:
+        length = sum(abs(v) for v in lengths)
+        if length < best_length:
+            best, best_length = (word, lengths), length
+    return best

@@ -9,7 +9,14 @@ import pytest
 from extras import need
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from path_pieces import COORDINATES, HEADINGS, PAIRS, assert_agrees_with_ompl, assert_ends_at
+from path_pieces import (
+    COORDINATES,
+    HEADINGS,
+    PAIRS,
+    assert_agrees_with_ompl,
+    assert_ends_at,
+)
+from path_pieces import first_shortest as shortest_candidate
 
 from diffbot.planning import Piece, dubins
 
@@ -61,13 +68,8 @@ GOALS = st.one_of(
 
 def first_shortest(x: float, y: float, phi: float) -> list[tuple[str, float]]:
     """The first shortest of all feasible words, every one solved (no bound skips any)."""
-    best: list[tuple[str, float]] = []
-    best_length = math.inf
-    for word, lengths in dubins.candidates(x, y, phi):
-        length = lengths[0] + lengths[1] + lengths[2]
-        if length < best_length:
-            best, best_length = list(zip(word, lengths, strict=True)), length
-    return best
+    word, lengths = shortest_candidate(dubins.candidates(x, y, phi))
+    return list(zip(word, lengths, strict=True))
 
 
 @settings(max_examples=1000, deadline=None)

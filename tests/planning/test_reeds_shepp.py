@@ -18,6 +18,7 @@ from path_pieces import (
     assert_ends_at,
     random_pairs,
 )
+from path_pieces import first_shortest as shortest_candidate
 
 from diffbot.planning import Piece, reeds_shepp
 
@@ -64,15 +65,7 @@ def test_distances_of_many_goals_at_once_equal_one_by_one() -> None:
 def test_one_goal_is_the_first_shortest_candidate_exactly(x: float, y: float, phi: float) -> None:
     # path() evaluates the formulas on floats with early outs; candidates() evaluates them all
     # through the backend shared with distances(): both must pick the same word, bit for bit.
-    best: tuple[str, tuple[float, ...]] = ("", ())
-    best_length = math.inf
-    for word, lengths in reeds_shepp.candidates(x, y, phi):
-        length = sum(abs(v) for v in lengths)
-        if length < best_length:
-            best, best_length = (word, lengths), length
-    assert [(p.kind, p.length) for p in reeds_shepp.path(x, y, phi)] == list(
-        zip(*best, strict=True)
-    )
+    assert [(p.kind, p.length) for p in reeds_shepp.path(x, y, phi)] == first_shortest(x, y, phi)
 
 
 SPECIAL_HEADINGS = st.sampled_from([0.0, math.pi, -math.pi, 0.5 * math.pi, -0.5 * math.pi, 1e-17])
@@ -178,13 +171,9 @@ def test_every_candidate_reaches_the_goal_with_its_words_signs() -> None:
 
 
 def first_shortest(x: float, y: float, phi: float) -> list[tuple[str, float]]:
-    best: tuple[str, tuple[float, ...]] = ("", ())
-    best_length = math.inf
-    for word, lengths in reeds_shepp.candidates(x, y, phi):
-        length = sum(abs(v) for v in lengths)
-        if length < best_length:
-            best, best_length = (word, lengths), length
-    return list(zip(*best, strict=True))
+    """The first shortest word of every candidate, as pieces (kind, length)."""
+    word, lengths = shortest_candidate(reeds_shepp.candidates(x, y, phi))
+    return list(zip(word, lengths, strict=True))
 
 
 def test_one_goal_is_the_first_shortest_candidate_on_a_grid_and_near_the_axes() -> None:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from path_pieces import COORDINATES, HEADINGS
+from path_pieces import COORDINATES, HEADINGS, first_shortest
 
 from diffbot.planning import reeds_shepp
 from diffbot.planning.reeds_shepp_search import shortest
@@ -35,13 +35,8 @@ GOALS = st.one_of(
 
 def exhaustive(x: float, y: float, phi: float) -> tuple[str, tuple[float, ...]]:
     """The first shortest of every word that holds, all of WORDS solved (no bound skips one)."""
-    best: tuple[str, tuple[float, ...]] = ("", ())
-    best_length = math.inf
-    for word, lengths in reeds_shepp.candidates(x, y, phi):
-        length = sum(abs(v) for v in lengths)
-        if length < best_length:
-            best, best_length = (word, lengths), length
-    return best
+    word, lengths = first_shortest(reeds_shepp.candidates(x, y, phi))
+    return word, tuple(lengths)
 
 
 def searched(x: float, y: float, phi: float) -> tuple[str, tuple[float, ...]]:
