@@ -18,6 +18,7 @@ __all__ = [
     "MAX_NOISE",
     "MAX_PLAN_DURATION",
     "MAX_PLAN_SAMPLES",
+    "MAX_PLAN_TIME",
     "MAX_TURN",
     "MAX_WAYPOINTS",
     "WHEEL_SIZE_RANGE",
@@ -27,8 +28,13 @@ __all__ = [
     "shown",
 ]
 
-#: Longest a plan may run (s): about 11.6 days; limits that need longer are unit mistakes.
+#: Longest a ramped or sampled plan may run (s): about 11.6 days; limits that need longer are
+#: unit mistakes.
 MAX_PLAN_DURATION = 1e6
+#: Longest any plan may last (s): its commands are stamped in ROS time, int64 nanoseconds, which
+#: runs out after about 292 years. A plan that lasts longer comes of a speed or limit too small
+#: (``1e-300``), and its velocities print as zeros.
+MAX_PLAN_TIME = 2**63 / 1e9
 #: Most samples a plan may be cut into.
 MAX_PLAN_SAMPLES = 10_000_000
 #: Most waypoints a goal plan may go through: 10,000 plan in seconds, 300,000 took minutes and

@@ -35,7 +35,7 @@ from diffbot.kinematics import (
     rpm_from_rad_s,
     sinc,
 )
-from diffbot.numbers import MAX_COORDINATE, MAX_TURN
+from diffbot.numbers import MAX_COORDINATE, MAX_PLAN_TIME, MAX_TURN
 from diffbot.segments import (
     Arc,
     Segment,
@@ -237,11 +237,12 @@ def _check_segment(
         raise _overflow(segment, index, "share of the motor limit")
 
 
-def _check_extent(planned: list[PlannedSegment]) -> None:
-    """Refuse a plan no robot drives: one reaching beyond :data:`MAX_COORDINATE` from its start
-    or turning more than :data:`MAX_TURN` in all. Such numbers are unit mistakes or hostile
-    input, and the poses printed for them are rounding noise (a heading of 1e18 rad has no digit
-    left below a turn)."""
+def _check_extent(planned: list[PlannedSegment], total: float) -> None:
+    """Refuse a plan no robot drives: one reaching beyond :data:`MAX_COORDINATE` from its start,
+    turning more than :data:`MAX_TURN` in all or lasting ``total`` (s) more than
+    :data:`MAX_PLAN_TIME`. Such numbers are unit mistakes or hostile input, and the poses
+    printed for them are rounding noise (a heading of 1e18 rad has no digit left below a turn;
+    a speed of 1e-300 m/s prints as 0)."""
     for entry in planned:
         end = entry.end_pose
         if max(abs(end.x), abs(end.y)) > MAX_COORDINATE:
@@ -253,6 +254,12 @@ def _check_extent(planned: list[PlannedSegment]) -> None:
         raise PlanError(
             f"segment {entry.index + 1} ({describe_segment(entry.segment)}): the plan {where}, "
             "beyond any drive: a unit mistake?"
+        )
+    if total > MAX_PLAN_TIME:
+        raise PlanError(
+            f"the plan takes {total:.6g} s, more than the {MAX_PLAN_TIME:.6g} s (about 292 "
+            "years) a ROS time stamp holds: a speed or limit too small, or a duration too long "
+            "(a unit mistake?)"
         )
 
 
@@ -444,7 +451,7 @@ def _planned(
         total = math.inf
     if not isfinite(total):
         raise _overflow(items[-1], len(items) - 1, "end time")
-    _check_extent(planned)
+    _check_extent(planned, total)
     return built(
         Plan,
         segments=tuple(planned),

@@ -446,9 +446,14 @@ def test_messages_show_what_was_given() -> None:
 
 def test_minimum_radii_at_the_edges_of_their_range_are_accepted() -> None:
     for radius in (1e-4, 1e9):
-        p = plan_to((1.0, 1.0, 0.0), ROBOT, shape="dubins", min_radius=radius)
-        # Arcs of 1e9 m turn by about 1e-9 rad: their ends keep about 1e-7 m of rounding.
-        assert p.final_pose == pytest.approx(Pose(1.0, 1.0, 0.0), abs=1e-6)
+        p = plan_to((1.0, 0.0, 0.0), ROBOT, shape="dubins", min_radius=radius)
+        assert p.final_pose == pytest.approx(Pose(1.0, 0.0, 0.0), abs=1e-12)
+    p = plan_to((1.0, 1.0, 0.0), ROBOT, shape="dubins", min_radius=1e4)
+    # Arcs of 1e4 m turn by about 1e-4 rad: their ends keep about 1e-12 m of rounding.
+    assert p.final_pose == pytest.approx(Pose(1.0, 1.0, 0.0), abs=1e-9)
+    # Sideways by 1 m on turns of 1e9 m is a loop of about 2·pi·1e9 m: longer than time stamps.
+    with pytest.raises(PlanError, match=r"^the plan takes 6\.28\d*e\+10 s, more than "):
+        plan_to((1.0, 1.0, 0.0), ROBOT, shape="dubins", min_radius=1e9)
 
 
 def test_as_many_waypoints_as_a_plan_may_go_through_and_not_one_more() -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import itertools
 import json
 import math
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, Literal
@@ -33,6 +34,7 @@ from diffbot import (
     wheel_positions,
 )
 from diffbot.kinematics import rpm_from_rad_s
+from diffbot.numbers import MAX_PLAN_TIME
 from diffbot.planfile import format_segment, segments_from_data
 from diffbot.trajectory import DEFAULT_SPIN_RATE
 
@@ -571,9 +573,10 @@ def test_any_plan_is_finite_or_a_plan_error(
     else:
         message = ""
     if message:
-        assert message.startswith("segment ")
+        assert message.startswith(("segment ", "the plan takes "))
         return
     assert math.isfinite(p.duration)
+    assert p.duration <= MAX_PLAN_TIME
     for s in p.segments:
         values = [s.duration, *s.twist, *s.wheels, *s.joints, *s.end_pose, s.end_heading]
         assert all(math.isfinite(v) for v in values)
@@ -994,3 +997,30 @@ def test_cruise_speed_above_a_body_limit_is_slowed_and_given_durations_kept() ->
     )
     assert p.segments[0].duration == pytest.approx(20.0)  # 0.05 m/s, not 0.2
     assert p.segments[1].duration == 4.0  # given: kept, and reported over the limit
+
+
+@pytest.mark.parametrize(
+    ("text", "options", "seconds"),
+    [
+        ("straight 1", {"speed": 1e-300}, "1e+300"),
+        ("spin 90deg", {"spin_rate": 1e-12}, "1.5708e+12"),
+        ("straight 1e9", {"speed": 0.1}, "1e+10"),
+        ("straight 1", {"fastest": True, "limit": 1e-300}, "2.85714e+301"),
+        ("straight 1 1e300s", {}, "1e+300"),
+        ("straight 1 5e9s; straight 1 4.3e9s", {}, "9.3e+09"),
+    ],
+)
+def test_a_plan_longer_than_any_drive_is_refused_naming_its_time(
+    params: DiffDriveParams, text: str, options: dict[str, Any], seconds: str
+) -> None:
+    with pytest.raises(PlanError, match=rf"^the plan takes {re.escape(seconds)} s, more than "):
+        plan(parse_plan(text), params, **options)
+
+
+def test_a_plan_of_exactly_the_longest_time_a_stamp_holds_is_planned(
+    params: DiffDriveParams,
+) -> None:
+    first = MAX_PLAN_TIME / 2.0
+    p = plan([Straight(1.0, first), Straight(1.0, MAX_PLAN_TIME - first)], params)
+    assert p.duration == MAX_PLAN_TIME
+    assert p.segments[1].twist.linear == pytest.approx(1.0 / first, rel=1e-15)

@@ -5,7 +5,9 @@
 #   tools/mutation.sh reference sdf   # some of them
 #
 # "live" mutates the whole live package against every live test that runs without other
-# processes (hours); "live-codecs" its message codecs, names and checks against their own tests.
+# processes (hours); "live-codecs" its message codecs, names and checks against their own tests;
+# "live-nodes" the nodes, drive and discovery, "live-transport" the DDS plumbing and message
+# types, each against the same live tests.
 #
 # Each module is mutated by mutmut (the `test` extra installs it) in a scratch copy of the
 # checkout under .mutation/<module>/, so that a run never touches the working tree; a summary
@@ -22,6 +24,8 @@ children=${MUTATION_CHILDREN:-1}
 modules=(
   "live-codecs|diffbot/live/cdr.py diffbot/live/wire.py diffbot/live/names.py diffbot/live/messages.py diffbot/live/qos.py|tests/live/test_cdr.py tests/live/test_wire.py tests/live/test_names.py tests/live/test_messages.py tests/live/test_types.py"
   "live|diffbot/live/*|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
+  "live-nodes|diffbot/live/odometry.py diffbot/live/inverse_kinematics.py diffbot/live/robot.py diffbot/live/drive.py diffbot/live/follow_drive.py diffbot/live/signals.py diffbot/live/endpoints.py diffbot/live/discovery.py|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
+  "live-transport|diffbot/live/transport.py diffbot/live/participant.py diffbot/live/cyclone.py diffbot/live/types.py|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
   "planning|diffbot/planning/*|tests/planning"
   "goals|diffbot/goals.py|tests/test_goals.py"
   "conditioning|diffbot/conditioning.py|tests/test_conditioning.py tests/test_conditioning_time_offset.py"

@@ -77,7 +77,7 @@ def plan_table(p: Plan, label: str, *, wide: bool = False) -> str:
                 fixed(rpm_from_rad_s(left), 2),
                 fixed(right, 3),
                 fixed(rpm_from_rad_s(right), 2),
-                "-" if s.fraction is None else f"{100 * s.fraction:.1f}",
+                "-" if s.fraction is None else fixed(100 * s.fraction, 1),
                 fmt(s.duration, 6),
                 fixed(s.end_pose.x, 4),
                 fixed(s.end_pose.y, 4),
@@ -119,7 +119,7 @@ def _narrow_table(p: Plan, label: str) -> str:
                 fixed(float(s.twist.angular), 4),
                 fixed(rpm_from_rad_s(float(s.joints.left)), 2),
                 fixed(rpm_from_rad_s(float(s.joints.right)), 2),
-                "-" if s.fraction is None else f"{100 * s.fraction:.1f}",
+                "-" if s.fraction is None else fixed(100 * s.fraction, 1),
                 fmt(s.duration, 4),
                 fixed(s.end_pose.x, 4),
                 fixed(s.end_pose.y, 4),
@@ -151,7 +151,7 @@ def _summary(p: Plan) -> str:
         if p.within_limit:
             lines.append(
                 f"motor limit {plan_limit_text(p)}: within, peak "
-                f"{100 * (peak.fraction or 0.0):.1f}% in segment {peak.index + 1}"
+                f"{fixed(100 * (peak.fraction or 0.0), 1)}% in segment {peak.index + 1}"
             )
         else:
             over = sorted({v.index + 1 for v in p.violations()})

@@ -500,6 +500,18 @@ def test_wheels_flag_outside_ros2_format_warns(runner: CliRunner) -> None:
 # Limit check
 
 
+@pytest.mark.parametrize("fmt_option", [[], ["--wheels"]])
+def test_a_limit_far_below_the_wheels_shows_its_share_in_a_short_cell(
+    runner: CliRunner, fmt_option: list[str]
+) -> None:
+    result = run(runner, "straight 1", "--max-rpm", "1e-300", *fmt_option)
+    assert result.exit_code == 1
+    row = next(line for line in result.stdout.splitlines() if line.startswith("1 "))
+    # 27.28 rpm against 1e-300 rpm: 2.72837e+303 %, not the 304 digits of a fixed-point float.
+    assert "2.72837e+303" in row.split()
+    assert max(len(cell) for cell in row.split()) <= 12
+
+
 def test_plan_over_the_limit_prints_the_results_then_fails_with_exit_1(
     runner: CliRunner,
 ) -> None:
