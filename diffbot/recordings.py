@@ -17,11 +17,11 @@ from diffbot.io.csv_chunks import open_csv_chunks
 from diffbot.io.recordings import csv_layout, existing_recording
 from diffbot.kinematics import DiffDriveParams
 from diffbot.samples import (
-    SKIP_POSITION_RANGE,
     ColumnSamples,
     JointSample,
     Recording,
     beyond_range,
+    range_reason,
 )
 from diffbot.velocity_feedback import VelocityAngles, check_feedback
 
@@ -76,7 +76,7 @@ def read_recording(
     p = existing_recording(path)
     if is_bag(p):
         wheels = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
-        recording = _within_range(read_bag(p, topic, feedback), wheels)
+        recording = _within_range(read_bag(p, topic, feedback), wheels, feedback)
         return _conditioned(recording, params, conditioning, velocity)
 
     layout = csv_layout(time_column, left_column, right_column, delimiter, time_unit)
@@ -140,9 +140,9 @@ def _conditioned(
     return dataclasses.replace(recording, samples=kept, conditioning=report)
 
 
-def _within_range(recording: Recording, wheels: set[str]) -> Recording:
-    """The recording without the samples whose wheel positions are too large to compute with
-    (counted as skipped, as a CSV reader counts them)."""
+def _within_range(recording: Recording, wheels: set[str], field: str) -> Recording:
+    """The recording without the samples whose wheel positions (or velocities: ``field``) are
+    too large to compute with (counted as skipped, as a CSV reader counts them)."""
     kept = [
         sample
         for sample in recording.samples
@@ -155,5 +155,6 @@ def _within_range(recording: Recording, wheels: set[str]) -> Recording:
     if not dropped:
         return recording
     skipped = dict(recording.skipped)
-    skipped[SKIP_POSITION_RANGE] = skipped.get(SKIP_POSITION_RANGE, 0) + dropped
+    reason = range_reason(field)
+    skipped[reason] = skipped.get(reason, 0) + dropped
     return dataclasses.replace(recording, samples=kept, skipped=skipped)

@@ -34,12 +34,12 @@ from diffbot.samples import (
     CLOCK_RECEIVE,
     MAX_POSITION,
     NS_PER_S,
-    SKIP_POSITION_RANGE,
     SKIP_UNREADABLE,
     ColumnSamples,
     OdometryRow,
     OdometryRows,
     Recording,
+    range_reason,
 )
 
 if TYPE_CHECKING:
@@ -308,7 +308,7 @@ def _bag_pass(
         if unreadable:
             positions, present = positions[readable], present[readable]
         if out_of_range.any():
-            odom.skip(SKIP_POSITION_RANGE, int(np.count_nonzero(out_of_range)))
+            odom.skip(range_reason(feedback), int(np.count_nonzero(out_of_range)))
             keep = ~out_of_range
             positions, present, stamps = positions[keep], present[keep], stamps[keep]
         if angles is not None:

@@ -34,6 +34,7 @@ __all__ = [
     "SKIP_POSITION_RANGE",
     "SKIP_STAMP_RANGE",
     "SKIP_UNREADABLE",
+    "SKIP_VELOCITY_RANGE",
     "ColumnSamples",
     "ColumnView",
     "JointSample",
@@ -42,6 +43,7 @@ __all__ = [
     "Recording",
     "beyond_range",
     "ns_from_seconds",
+    "range_reason",
     "seconds_text",
     "side_means",
 ]
@@ -60,6 +62,9 @@ SKIP_UNREADABLE: Final = "unreadable value"
 SKIP_STAMP_RANGE: Final = "stamp out of range"
 #: Why a CSV row was skipped: a wheel position beyond :data:`MAX_POSITION`.
 SKIP_POSITION_RANGE: Final = "position out of range"
+#: Why a sample of wheel velocities was skipped: one beyond :data:`MAX_POSITION` (here rad/s,
+#: far past any wheel).
+SKIP_VELOCITY_RANGE: Final = "velocity out of range"
 #: Largest wheel position read (rad): a wheel at 100 rad/s turns this far in 300 years, and the
 #: differences of larger positions overflow the odometry's arithmetic.
 MAX_POSITION: Final = 1e12
@@ -105,6 +110,12 @@ class Recording:
     conditioning: ConditioningReport | None = None
     topic: str | None = None
     notes: tuple[str, ...] = ()
+
+
+def range_reason(field: str) -> str:
+    """Why a sample of ``field`` (``"position"`` or ``"velocity"``) beyond
+    :data:`MAX_POSITION` was skipped."""
+    return SKIP_VELOCITY_RANGE if field == "velocity" else SKIP_POSITION_RANGE
 
 
 def beyond_range(position: float) -> bool:

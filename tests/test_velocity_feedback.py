@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -131,3 +132,50 @@ def test_the_bundled_robots_square_from_velocities_closes() -> None:
         odom.update(left, right, t)
     assert_pose_close(odom.pose, diffbot.Pose(0.0, 0.0, 0.0), 1e-9)
     assert odom.distance == pytest.approx(4.0, abs=1e-9)
+
+
+# --- velocities too large to compute with are skipped as velocities ---------------------------
+
+HUGE = [[0.0, 0.0], [1e300, -1e300], [-1e308, 2.0], [0.1, 0.1]]
+
+
+def _velocity_csv(tmp_path: Path, quoted: bool) -> Path:
+    """A CSV of wheel velocities with two rows beyond range; ``quoted`` sends it through the
+    reader's row-by-row path (a quoted cell) rather than its bulk one."""
+    header = "time,/left_wheel_joint/velocity,/right_wheel_joint/velocity"
+    rows = [f"{k},{left!r},{right!r}" for k, (left, right) in enumerate(HUGE)]
+    if quoted:
+        rows[0] = '"0",0.0,0.0'
+    path = tmp_path / "velocities.csv"
+    path.write_text("\n".join([header, *rows]) + "\n")
+    return path
+
+
+def _velocity_bag(tmp_path: Path) -> Path:
+    from bags import joint_state, write_bag
+
+    names = ["left_wheel_joint", "right_wheel_joint"]
+    second = 1_000_000_000
+    messages = [
+        (k * second, joint_state(k * second, names, [0.0, 0.0], velocities=v))
+        for k, v in enumerate(HUGE, start=1)
+    ]
+    return write_bag(tmp_path / "velocities", messages)
+
+
+@pytest.mark.parametrize("source", ["csv", "quoted csv", "bag"])
+def test_velocities_beyond_range_are_skipped_as_velocities(tmp_path: Path, source: str) -> None:
+    path = (
+        _velocity_bag(tmp_path) if source == "bag" else _velocity_csv(tmp_path, "quoted" in source)
+    )
+    params = BOT.replace(left_joints=("left_wheel_joint",), right_joints=("right_wheel_joint",))
+    want = {"velocity out of range": 2}
+    whole = diffbot.read_recording(path, params, feedback="velocity")
+    assert dict(whole.skipped) == want
+    assert len(whole.samples) == 2
+    from diffbot.replay import recording_odometry
+
+    streamed = recording_odometry(path, params, feedback="velocity")
+    assert dict(streamed.summary.skipped) == want
+    # The two usable samples at 0 s and 3 s: 0.1 rad/s held over the gap on both wheels.
+    assert streamed.summary.final_pose.x == pytest.approx(0.1 * 3.0 * 0.035, rel=1e-12)

@@ -52,6 +52,7 @@ from diffbot.samples import (
     ColumnSamples,
     Recording,
     beyond_range,
+    range_reason,
 )
 
 if TYPE_CHECKING:
@@ -161,7 +162,12 @@ def _columns(
     return found
 
 
-def _rows_exactly(rows: Iterable[list[str]], indexes: Sequence[int], decimals: int = 9) -> CsvChunk:
+def _rows_exactly(
+    rows: Iterable[list[str]],
+    indexes: Sequence[int],
+    decimals: int = 9,
+    out_of_range: str = SKIP_POSITION_RANGE,
+) -> CsvChunk:
     """Rows parsed by :mod:`csv` into one chunk, cell by cell."""
     time_index, *joint_indexes = indexes
     width = max(indexes) + 1
@@ -194,7 +200,7 @@ def _rows_exactly(rows: Iterable[list[str]], indexes: Sequence[int], decimals: i
             skipped[SKIP_UNREADABLE] = skipped.get(SKIP_UNREADABLE, 0) + 1
             continue
         if any(beyond_range(value) for value in values):
-            skipped[SKIP_POSITION_RANGE] = skipped.get(SKIP_POSITION_RANGE, 0) + 1
+            skipped[out_of_range] = skipped.get(out_of_range, 0) + 1
             continue
         stamps.append(stamp)
         positions.extend(values)
@@ -274,6 +280,7 @@ class CsvChunks:
         layout = layout or CsvLayout()
         self.chunk_bytes = chunk_bytes
         self.source = source
+        self._out_of_range = range_reason(layout.field)
         self._stream = stream
         self.delimiter = layout.delimiter or ","
         self.delimiter_detected = False
@@ -455,14 +462,14 @@ class CsvChunks:
                 batch = list(itertools.islice(rows, _EXACT_ROWS))
             if not batch:
                 return
-            yield _rows_exactly(batch, self.indexes, self._decimals)
+            yield _rows_exactly(batch, self.indexes, self._decimals, self._out_of_range)
 
     def _fast(self, text: str, dtype: np.dtype[np.void]) -> CsvChunk:
         """Complete lines without quotes: loadtxt when it can, else csv row by row."""
         if len(set(self.indexes)) != len(self.indexes):
             return self._exact(text)
         if text.isspace():
-            return _rows_exactly([], self.indexes, self._decimals)  # blank lines: no samples
+            return _rows_exactly([], self.indexes)  # blank lines: no samples
         try:
             table = np.loadtxt(
                 io.StringIO(text),
@@ -496,7 +503,7 @@ class CsvChunks:
         with np.errstate(invalid="ignore"):
             large = ((np.abs(positions) > MAX_POSITION) & np.isfinite(positions)).any(axis=1)
         if large.any():
-            skipped[SKIP_POSITION_RANGE] = int(np.count_nonzero(large))
+            skipped[self._out_of_range] = int(np.count_nonzero(large))
             positions, stamps = positions[~large], stamps[~large]
         present = np.ones(positions.shape, dtype=np.bool_)
         return CsvChunk(stamps, positions, present, skipped)
@@ -504,7 +511,7 @@ class CsvChunks:
     def _exact(self, text: str) -> CsvChunk:
         with self._errors():
             rows = csv.reader(io.StringIO(text, newline=""), delimiter=self.delimiter)
-            return _rows_exactly(rows, self.indexes, self._decimals)
+            return _rows_exactly(rows, self.indexes, self._decimals, self._out_of_range)
 
 
 @contextlib.contextmanager

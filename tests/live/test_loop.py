@@ -163,4 +163,4 @@ def test_the_loop_in_one_process() -> None:
         assert report.completed
         watcher.settled_after(time.time_ns())
         check_final_pose(watcher)
-        assert odom.counts["used"] == odom.counts["received"]
+        assert odom.counts["used"] == odom.counts["received"], odom.counts
