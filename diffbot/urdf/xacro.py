@@ -10,6 +10,7 @@ import contextlib
 import io
 import os
 import re
+import sys
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -88,9 +89,24 @@ def _asked_by(source: Path) -> str:
 
 
 def _package_resolver(source: Path, finder: PackageFinder) -> Any:
+    from diffbot.urdf.packages import package_name
+
+    checked: set[str] = set()
+
     def find(pkg: str) -> str:
         found = finder.locate(pkg)
         if found is not None:
+            if pkg in finder.given and pkg not in checked:
+                checked.add(pkg)
+                held = package_name(found)
+                if held != pkg and (found / "package.xml").is_file():
+                    # stderr is the expansion's warnings (see _run_xacro)
+                    print(
+                        f"warning: the folder given for package {pkg!r} "
+                        f"({finder.shown(found)}) holds package {held!r}: $(find {pkg}) "
+                        "reads it all the same",
+                        file=sys.stderr,
+                    )
             return str(found)
         raise PackageNotFoundError(
             f"package {pkg!r} not found (needed by {_asked_by(source)}): give its directory "

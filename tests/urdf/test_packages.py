@@ -414,3 +414,24 @@ def test_the_climb_to_the_own_package_is_bounded(
     assert own_package(description) == tmp_path / "pkg"
     monkeypatch.setattr(packages, "PACKAGE_LEVELS", 2)  # b, a: not pkg
     assert own_package(description) is None
+
+
+def test_a_given_folder_that_holds_another_package_is_read_with_a_warning(
+    tmp_path: Path,
+) -> None:
+    robot = clone(tmp_path)
+    elsewhere = tmp_path / "elsewhere"
+    manifest(elsewhere, "j100_bringup")
+    (elsewhere / "urdf").mkdir()
+    (elsewhere / "urdf" / "control.urdf.xacro").write_text(f"<robot {XACRO_NS}/>", encoding="utf-8")
+    expansion = diffbot.expand(robot, packages={"j100_control": elsewhere})
+    said = [w for w in expansion.warnings if "j100_control" in w]
+    assert said == [
+        f"the folder given for package 'j100_control' ({elsewhere}) holds package "
+        "'j100_bringup': $(find j100_control) reads it all the same"
+    ]
+    # A folder holding the package asked for, or no manifest at all, is taken without a word.
+    manifest(elsewhere, "j100_control")
+    assert diffbot.expand(robot, packages={"j100_control": elsewhere}).warnings == ()
+    (elsewhere / "package.xml").unlink()
+    assert diffbot.expand(robot, packages={"j100_control": elsewhere}).warnings == ()
