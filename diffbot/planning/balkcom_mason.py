@@ -158,8 +158,12 @@ def path(x: float, y: float, theta: float, forward_only: bool = False) -> list[P
 
     Returns:
         Turns in place (``"T"``, rad, positive counter-clockwise) and straights (``"S"``, in half
-        wheel separations, negative backwards); empty for the start itself.
+        wheel separations, negative backwards); empty for the start itself and for a goal that
+        is not finite.
     """
+    isfinite = math.isfinite
+    if not (isfinite(x) and isfinite(y) and isfinite(theta)):
+        return []
     found, driven_back = _candidates(x, y, theta, forward_only)
     fastest = min(c[0] for c in (*found, *driven_back))
     bound = fastest * (1.0 + TIE)

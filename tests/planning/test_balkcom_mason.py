@@ -201,3 +201,21 @@ def test_candidates_of_mirror_images_are_mirror_images() -> None:
                         assert p.length == pytest.approx(q.length, rel=1e-9, abs=1e-12)
                     else:
                         assert abs(math.remainder(p.length + q.length, 2 * math.pi)) < 1e-9
+
+
+@pytest.mark.parametrize(
+    "goal",
+    [(math.nan, 0.0, 0.0), (math.inf, 0.0, 0.0), (0.0, -math.inf, 1.0), (1.0, 1.0, math.nan)],
+)
+@pytest.mark.parametrize("forward_only", [False, True])
+def test_a_goal_that_is_not_finite_has_no_path(
+    goal: tuple[float, float, float], forward_only: bool
+) -> None:
+    assert balkcom_mason.path(*goal, forward_only=forward_only) == []
+
+
+def test_goals_at_the_edge_of_floating_point_still_have_paths() -> None:
+    # Coordinates whose sum overflows are still finite goals: a straight of 1e308.
+    (piece,) = balkcom_mason.path(1e308, 0.0, 0.0)
+    assert piece == ("S", 1e308)
+    assert len(balkcom_mason.path(1e308, 1e308, 0.0)) == 3

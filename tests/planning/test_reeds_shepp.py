@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import Any
 
 import numpy as np
 import pytest
@@ -100,6 +101,38 @@ def test_paths_agree_with_path_on_random_goals_and_on_the_grid() -> None:
         axis=-1,
     ).reshape(-1, 3)
     assert_paths_agree(np.concatenate((random_pairs(PAIRS), grid)))
+
+
+def test_paths_keeps_path_s_word_where_numpy_rounds_otherwise(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # NumPy's functions may differ from math's in the last bit on other machines; here a backend
+    # one ulp off in every hypot and atan2 stands for that. On the grid's equally short words
+    # the rounding alone then picks other words (47 goals): the goals within 1e-9 of a tie are
+    # planned again with path(), so every word is still path()'s.
+    exact = reeds_shepp._numpy_backend
+
+    def one_ulp_off() -> Any:
+        class OneUlpOff(exact()):  # type: ignore[misc]
+            @staticmethod
+            def hypot(a: Any, b: Any) -> Any:
+                return np.nextafter(np.hypot(a, b), np.inf)
+
+            @staticmethod
+            def atan2(a: Any, b: Any) -> Any:
+                return np.nextafter(np.arctan2(a, b), -np.inf)
+
+        return OneUlpOff
+
+    monkeypatch.setattr(reeds_shepp, "_numpy_backend", one_ulp_off)
+    grid = np.stack(
+        np.meshgrid(np.arange(-4.0, 5.0), np.arange(-4.0, 5.0), np.arange(-4, 5) * 0.25 * math.pi),
+        axis=-1,
+    ).reshape(-1, 3)
+    words, _ = reeds_shepp.paths(grid[:, 0], grid[:, 1], grid[:, 2])
+    for goal, index in zip(grid.tolist(), words.tolist(), strict=True):
+        kinds = "".join(p.kind for p in reeds_shepp.path(*goal))
+        assert reeds_shepp.WORDS[index] == kinds, goal
 
 
 def test_paths_broadcast_and_unreachable_goals() -> None:
