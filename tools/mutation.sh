@@ -6,8 +6,10 @@
 #
 # "live" mutates the whole live package against every live test that runs without other
 # processes (hours); "live-codecs" its message codecs, names and checks against their own tests;
-# "live-nodes" the nodes, drive and discovery, "live-transport" the DDS plumbing and message
-# types, each against the same live tests.
+# "live-nodes" the odometry and wheel-command nodes and the signal handling against their tests,
+# "live-graph" the simulated robot, drive, follow and discovery, "live-transport" the DDS
+# plumbing and message types. A live selection waits DIFFBOT_TEST_PATIENCE (5 s) for discovery
+# or a message: a mutant that breaks a node makes every wait run out.
 #
 # Each module is mutated by mutmut (the `test` extra installs it) in a scratch copy of the
 # checkout under .mutation/<module>/, so that a run never touches the working tree; a summary
@@ -24,7 +26,8 @@ children=${MUTATION_CHILDREN:-1}
 modules=(
   "live-codecs|diffbot/live/cdr.py diffbot/live/wire.py diffbot/live/names.py diffbot/live/messages.py diffbot/live/qos.py|tests/live/test_cdr.py tests/live/test_wire.py tests/live/test_names.py tests/live/test_messages.py tests/live/test_types.py"
   "live|diffbot/live/*|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
-  "live-nodes|diffbot/live/odometry.py diffbot/live/inverse_kinematics.py diffbot/live/robot.py diffbot/live/drive.py diffbot/live/follow_drive.py diffbot/live/signals.py diffbot/live/endpoints.py diffbot/live/discovery.py|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
+  "live-nodes|diffbot/live/odometry.py diffbot/live/inverse_kinematics.py diffbot/live/signals.py|tests/live/test_odometry_node.py tests/live/test_ik_node.py tests/live/test_signals.py tests/live/test_loop.py"
+  "live-graph|diffbot/live/robot.py diffbot/live/drive.py diffbot/live/follow_drive.py diffbot/live/endpoints.py diffbot/live/discovery.py|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
   "live-transport|diffbot/live/transport.py diffbot/live/participant.py diffbot/live/cyclone.py diffbot/live/types.py|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
   "planning|diffbot/planning/*|tests/planning"
   "goals|diffbot/goals.py|tests/test_goals.py"
@@ -68,7 +71,9 @@ pytest_add_cli_args = ["-p", "no:cacheprovider", "-p", "no:randomly", "-n", "0",
 pytest_add_cli_args_test_selection = $selection
 use_git_change_detection = false
 TOML
-  (cd "$work" && "$python" -m mutmut run --max-children "$children" >run.log 2>&1) || true
+  patience=20
+  [[ $name == live* ]] && patience=5
+  (cd "$work" && DIFFBOT_TEST_PATIENCE=$patience "$python" -m mutmut run --max-children "$children" >run.log 2>&1) || true
   (cd "$work" && "$python" -m mutmut export-cicd-stats >/dev/null 2>&1 || true)
   (cd "$work" && "$python" -m mutmut results >survivors.txt 2>&1 || true)
   summary+=("$("$python" - "$name" "$work/mutants/mutmut-cicd-stats.json" <<'PY'
