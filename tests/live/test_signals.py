@@ -121,6 +121,26 @@ def test_a_deferred_signal_goes_to_the_handler_before_or_ends_the_run() -> None:
         signal.signal(signal.SIGTERM, before)
 
 
+def test_a_deferred_signal_under_the_default_action_is_raised_again_after_the_block(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # Under SIG_DFL the signal must end the process as it would have: raised again once the
+    # block has restored the default action (recorded here instead of ending the test run).
+    raised: list[tuple[int, object]] = []
+    monkeypatch.setattr(
+        signal, "raise_signal", lambda signum: raised.append((signum, signal.getsignal(signum)))
+    )
+    before = signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    try:
+        with signals.deferred():
+            os.kill(os.getpid(), signal.SIGTERM)
+            assert signals.caught() == signal.SIGTERM
+            assert raised == []
+        assert raised == [(signal.SIGTERM, signal.SIG_DFL)]
+    finally:
+        signal.signal(signal.SIGTERM, before)
+
+
 def test_an_ignored_signal_stays_ignored() -> None:
     before = signal.signal(signal.SIGHUP, signal.SIG_IGN)
     try:
