@@ -56,7 +56,9 @@ def _wheel_series(
     left: list[float] = []
     right: list[float] = []
     for stamp_ns, names, positions in samples:
-        index = {name: k for k, name in enumerate(names)}
+        # A joint named without a value (an empty velocity field) is absent, as the odometry
+        # counts it.
+        index = {name: k for k, name in enumerate(names[: len(positions)])}
         if params.left_joint in index and params.right_joint in index:
             stamps.append(stamp_ns)
             left.append(positions[index[params.left_joint]])
