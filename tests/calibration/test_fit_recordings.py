@@ -64,6 +64,25 @@ def test_joints_named_without_a_value_are_absent() -> None:
         fit_recording(Recording("b", "rosbag2", samples), track, BOT)
 
 
+def test_wheel_stamps_that_repeat_are_refused_naming_the_recording() -> None:
+    # A recording's own stamps: the message names it, not the library's stamps= parameter.
+    stamps, left, right, (x, y, theta) = recording()
+    stamps_ns = np.round(stamps * 1e9).astype(np.int64)
+    samples = [
+        JointSample(
+            int(stamps_ns[3 if k == 4 else k]),  # the fifth repeats the fourth
+            [BOT.left_joint, BOT.right_joint],
+            [a, b],
+        )
+        for k, (a, b) in enumerate(zip(left.tolist(), right.tolist(), strict=True))
+    ]
+    track = PoseTrack("truth", stamps_ns, x, y, theta)
+    with pytest.raises(
+        CalibrationError, match=r"^bag: the wheel samples' stamps repeat or go back"
+    ):
+        fit_recording(Recording("bag", "rosbag2", samples), track, BOT)
+
+
 def column_pair(
     stamps: NDArray[np.float64],
     left: NDArray[np.float64],
