@@ -459,13 +459,11 @@ def estimate_time_offset(
     truth_rate -= truth_rate.mean()
     if not np.any(truth_rate):
         raise ParameterError("the pose track does not turn: no heading rate to align by")
-    lags = np.arange(-round(max_offset / step), round(max_offset / step) + 1) * step
-    scores = np.empty(lags.size)
-    for k, lag in enumerate(lags):
-        rate = np.gradient(np.interp(grid + lag, t, heading), step)
-        rate -= rate.mean()
-        norm = math.sqrt(float(np.dot(rate, rate)) * float(np.dot(truth_rate, truth_rate)))
-        scores[k] = float(np.dot(rate, truth_rate)) / norm if norm else -math.inf
+    reach = round(max_offset / step)
+    lags = np.arange(-reach, reach + 1) * step
+    scores = _lag_scores(
+        np.interp(start + np.arange(-reach, grid.size + reach) * step, t, heading), truth_rate, step
+    )
     best = int(np.argmax(scores))
     if best in (0, lags.size - 1):
         raise ParameterError(
@@ -480,3 +478,38 @@ def estimate_time_offset(
         if curve < 0:
             offset += 0.5 * step * (below - above) / curve
     return offset
+
+
+def _lag_scores(
+    heading: NDArray[np.float64], truth_rate: NDArray[np.float64], step: float
+) -> NDArray[np.float64]:
+    """The correlation of ``truth_rate`` (mean 0, n values) with the rate of each window of n
+    values of ``heading`` (sampled every ``step`` s, n + 2 K values), window j starting at
+    value j: as ``np.gradient`` of the window, its mean taken away, would give it, for all
+    2 K + 1 windows at once (one FFT correlation and running sums: a loop over the windows
+    would take time in proportion to the samples times the lags, that is to the square of the
+    sample rate)."""
+    n = truth_rate.size
+    count = heading.size - n + 1
+    rate = np.gradient(heading, step)  # central differences: a window's inner values
+    # A window's first and last values are its own one-sided differences.
+    first = (heading[1 : count + 1] - heading[:count]) / step
+    last = (heading[n - 1 :] - heading[n - 2 : n - 2 + count]) / step
+    size = 1 << (heading.size + n).bit_length()
+    dot = np.fft.irfft(np.fft.rfft(rate, size) * np.conj(np.fft.rfft(truth_rate, size)), size)
+    dot = dot[:count]
+    dot += (first - rate[:count]) * truth_rate[0] + (last - rate[n - 1 :]) * truth_rate[-1]
+    sums = np.concatenate(([0.0], np.cumsum(rate)))
+    squares = np.concatenate(([0.0], np.cumsum(rate * rate)))
+    total = sums[n:] - sums[:count] + (first - rate[:count]) + (last - rate[n - 1 :])
+    square = (
+        squares[n:]
+        - squares[:count]
+        + (first**2 - rate[:count] ** 2)
+        + (last**2 - rate[n - 1 :] ** 2)
+    )
+    spread = np.maximum(square - total * total / n, 0.0)
+    norm = np.sqrt(spread * float(np.dot(truth_rate, truth_rate)))
+    scores = np.full(count, -math.inf)
+    np.divide(dot, norm, out=scores, where=norm > 0.0)
+    return scores

@@ -9,6 +9,7 @@ infinity, a NaN, an integer too large for a float, or a value outside its physic
 from __future__ import annotations
 
 import math
+import sys
 
 from diffbot.errors import DiffbotError, ParameterError
 
@@ -133,9 +134,16 @@ def finite_in_range(
 
 
 def positive_finite(value: object, what: str, error: type[DiffbotError] = ParameterError) -> float:
-    """``value`` as a float when it is finite and > 0, else ``error`` naming ``what``."""
+    """``value`` as a float when it is finite and > 0, else ``error`` naming ``what``.
+
+    A subnormal float (below about 2.2e-308, such as 5e-324) is refused as too small to compute
+    with: its half rounds to 0 and its reciprocal overflows, so a size or rate of it would
+    divide by zero further on.
+    """
     expected = "a positive finite number"
     number = as_number(value, what, error, expected)
     if not math.isfinite(number) or number <= 0.0:
         raise error(f"{what} must be {expected}, got {shown(value)}")
+    if number < sys.float_info.min:
+        raise error(f"{what} must be {expected}, got {shown(value)}: too small to compute with")
     return number

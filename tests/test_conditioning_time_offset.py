@@ -139,3 +139,39 @@ def test_an_overlap_of_exactly_ten_grid_steps_beyond_the_offsets_is_enough() -> 
     assert abs(found) <= 0.3125
     with pytest.raises(ParameterError, match="overlap too little"):
         estimate_time_offset(t, -wheels, wheels, truth_t[:-1], heading(truth_t[:-1]), BOT, 0.3125)
+
+
+def test_every_lag_is_scored_as_its_own_window_would_be() -> None:
+    # Each window's rate as np.gradient gives it (one-sided at its two ends), its mean taken
+    # away, correlated with the truth's rate: the scores of one FFT correlation and running
+    # sums are those of the loop over the windows.
+    from diffbot.conditioning import _lag_scores
+
+    rng = np.random.default_rng(7)
+    step, n, reach = 0.01, 300, 40
+    heading = np.cumsum(rng.normal(size=n + 2 * reach)) * 0.05
+    truth_rate = rng.normal(size=n)
+    truth_rate -= truth_rate.mean()
+    expected = []
+    for j in range(2 * reach + 1):
+        rate = np.gradient(heading[j : j + n], step)
+        rate -= rate.mean()
+        norm = np.sqrt(np.dot(rate, rate) * np.dot(truth_rate, truth_rate))
+        expected.append(np.dot(rate, truth_rate) / norm)
+    assert _lag_scores(heading, truth_rate, step) == pytest.approx(expected, abs=1e-12)
+
+
+def test_the_work_does_not_grow_with_the_lags_tried(monkeypatch: pytest.MonkeyPatch) -> None:
+    # The wheels' heading is interpolated once for all lags (not once per lag, which made the
+    # time grow with the square of the sample rate: minutes for a 200 Hz recording of 40 s).
+    calls = []
+    interp = np.interp
+
+    def counted(*args: object, **kwargs: object) -> object:
+        calls.append(1)
+        return interp(*args, **kwargs)  # type: ignore[call-overload]
+
+    monkeypatch.setattr(np, "interp", counted)
+    found = estimate_time_offset(*turning_wheels(0.1, BOT), BOT)  # 1001 lags
+    assert found == pytest.approx(0.1, abs=1e-3)
+    assert len(calls) == 2  # the truth's heading and the wheels'

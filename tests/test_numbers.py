@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 
 import pytest
 from hypothesis import given
@@ -57,3 +58,13 @@ def test_integers_too_long_to_print_are_described_not_shown() -> None:
         as_number(10**5000, "x")
     with pytest.raises(ParameterError, match="about 5001 digits"):
         positive_finite(-(10**5000), "x")
+
+
+@pytest.mark.parametrize("value", [5e-324, 1e-310, sys.float_info.min / 2])
+def test_a_positive_number_too_small_to_compute_with_is_refused(value: float) -> None:
+    # Half of it rounds to 0 (or its reciprocal overflows): a wheel separation of 5e-324 made
+    # a goal plan divide by zero.
+    with pytest.raises(ParameterError, match=r"^x must be a positive finite number, got .*small"):
+        positive_finite(value, "x")
+    assert positive_finite(sys.float_info.min, "x") == sys.float_info.min
+    assert positive_finite(1e-300, "x") == 1e-300

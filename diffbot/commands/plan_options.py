@@ -325,15 +325,19 @@ class PlanOptions:
             click.echo(f"the goal {where} is the start: an empty plan, nothing to drive")
             sys.exit(0)
         segments = [s.segment for s in made.segments]
+        # Every shape timed as this plan is (at the motor limit or at the cruise speeds), so
+        # that the time said for the shape asked is the plan's.
+        at_limit = self.at_limit(params)
+        timing = {"fastest": at_limit, "cruise": not at_limit}
         times: dict[str, float | None] = {
-            t.shape: t.duration for t in shape_times(points, params, **options)
+            t.shape: t.duration for t in shape_times(points, params, **(options | timing))
         }
         others = ", ".join(
             f"{shape} {fmt(t, 4)} s" if t is not None else f"{shape} (needs --min-radius)"
             for shape, t in times.items()
             if shape != goal.shape
         )
-        at = "at the motor limit" if self.at_limit(params) else "at the cruise speeds"
+        at = "at the motor limit" if at_limit else "at the cruise speeds"
         if body is not None and not body.unlimited:
             at += " within the body velocity limits"
         chosen = f"{fmt(times[goal.shape] or 0.0, 4)} s"

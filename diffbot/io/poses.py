@@ -53,8 +53,17 @@ class PoseTrack:
 
 
 def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
-    """The heading (rad, about z) of a rotation given as a quaternion (any norm but 0)."""
-    return math.atan2(2.0 * (w * z + x * y), w * w + x * x - y * y - z * z)
+    """The heading (rad, about z) of a rotation given as a quaternion (any norm but 0).
+
+    NaN when the quaternion gives none: a component not finite, all of them 0 (a message whose
+    orientation was never set), or too large to square; a pose read with it is then refused
+    as not finite, where atan2 would have made up a heading (0 for the zero quaternion).
+    """
+    sine = 2.0 * (w * z + x * y)
+    cosine = w * w + x * x - y * y - z * z
+    if not (math.isfinite(sine) and math.isfinite(cosine)) or sine == cosine == 0.0:
+        return math.nan
+    return math.atan2(sine, cosine)
 
 
 def read_pose_track(path: str | os.PathLike[str], topic: str | None = None) -> PoseTrack:

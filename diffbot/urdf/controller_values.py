@@ -129,10 +129,17 @@ class _Reader:
         )
 
     def limit(self, key: str, sign: int) -> float | None:
-        """A limit: None when absent or NaN; ``sign`` +1 for limits >= 0, -1 for <= 0."""
+        """A limit: None when absent or NaN; ``sign`` +1 for limits >= 0, -1 for <= 0.
+
+        An infinite limit is refused rather than kept: it would reach the velocity ranges and
+        outputs (which hold finite numbers only); .nan is the controller's "no limit".
+        """
         value = self.number(key)
         if value is None or math.isnan(value):
             return None
+        if math.isinf(value):
+            side = ">= 0" if sign > 0 else "<= 0"
+            raise self.fail(key, f"a finite number {side}, or .nan for no limit", value)
         if value * sign < 0.0:
             raise self.fail(
                 key, "a number >= 0 or .nan" if sign > 0 else "a number <= 0 or .nan", value

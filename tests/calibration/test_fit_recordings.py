@@ -51,6 +51,38 @@ def test_fit_recording_needs_two_samples_with_both_wheels() -> None:
         fit_recording(Recording("r.csv", "csv", samples), track, BOT)
 
 
+def test_joints_named_without_a_value_are_absent() -> None:
+    # JointStates whose velocity (or position) field is empty or shorter than their names, as
+    # a bag read for velocities without them gives: no sample holds both wheels, and the fit
+    # says so instead of failing on the missing values.
+    samples = [
+        JointSample(k, [BOT.left_joint, BOT.right_joint], [] if k % 2 else [0.1 * k])
+        for k in range(6)
+    ]
+    track = PoseTrack("truth", np.arange(6), np.zeros(6), np.zeros(6), np.zeros(6))
+    with pytest.raises(CalibrationError, match="0 samples hold both wheel joints"):
+        fit_recording(Recording("b", "rosbag2", samples), track, BOT)
+
+
+def test_wheel_stamps_that_repeat_are_refused_naming_the_recording() -> None:
+    # A recording's own stamps: the message names it, not the library's stamps= parameter.
+    stamps, left, right, (x, y, theta) = recording()
+    stamps_ns = np.round(stamps * 1e9).astype(np.int64)
+    samples = [
+        JointSample(
+            int(stamps_ns[3 if k == 4 else k]),  # the fifth repeats the fourth
+            [BOT.left_joint, BOT.right_joint],
+            [a, b],
+        )
+        for k, (a, b) in enumerate(zip(left.tolist(), right.tolist(), strict=True))
+    ]
+    track = PoseTrack("truth", stamps_ns, x, y, theta)
+    with pytest.raises(
+        CalibrationError, match=r"^bag: the wheel samples' stamps repeat or go back"
+    ):
+        fit_recording(Recording("bag", "rosbag2", samples), track, BOT)
+
+
 def column_pair(
     stamps: NDArray[np.float64],
     left: NDArray[np.float64],

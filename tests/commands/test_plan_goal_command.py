@@ -43,6 +43,44 @@ def test_table_names_the_shape_and_the_others_times(runner: CliRunner) -> None:
     )
 
 
+@pytest.mark.parametrize(
+    ("args", "note"),
+    [
+        # 1 m at the cruise speed of 0.1 m/s: 10 s, whatever the shape; not the 5.457 s it
+        # takes at the motor limit.
+        (
+            ("--to", "1,0,0", "--shape", "spin-straight-spin"),
+            "shape spin-straight-spin (as asked); at the cruise speeds it takes 10 s, fastest "
+            "10 s, dubins (needs --min-radius), reeds-shepp (needs --min-radius)",
+        ),
+        # Arcs of 1 m through 60 + 300 + 60 deg at 0.1 m/s: 73.3 s (42.7 s at the motor limit).
+        (
+            ("--to", "0,0,180", "--shape", "dubins", "--min-radius", "1"),
+            "shape dubins (as asked); at the cruise speeds it takes 73.3 s, fastest 6.283 s, "
+            "spin-straight-spin 6.283 s, reeds-shepp 31.42 s",
+        ),
+        # --fastest: every shape at the motor limit, the one asked included.
+        (
+            ("--to", "1,0,0", "--shape", "spin-straight-spin", "--fastest"),
+            "shape spin-straight-spin (as asked); at the motor limit it takes 5.457 s, fastest "
+            "5.457 s, dubins (needs --min-radius), reeds-shepp (needs --min-radius)",
+        ),
+    ],
+)
+def test_the_time_said_for_the_shape_asked_is_the_plans(
+    runner: CliRunner, args: tuple[str, ...], note: str
+) -> None:
+    result = run(runner, "plan", *args)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert lines[-1] == note
+    total = next(line for line in lines if line.startswith("total "))
+    data = run(runner, "plan", *args, "--json")
+    duration = json.loads(data.stdout)["duration"]
+    said = float(note.split(" it takes ")[1].split(" s,")[0])
+    assert said == pytest.approx(duration, rel=1e-3), total
+
+
 def test_the_table_header_rounds_the_plan_and_json_keeps_every_digit(runner: CliRunner) -> None:
     # 0.1 m sideways: a turn of atan2(...) = -74.97388624088052 deg (not a round number).
     table = run(runner, "plan", "--to", "0,0.1,0")

@@ -73,6 +73,31 @@ def test_yaw_from_quaternion_inverts_quaternion_from_yaw(theta: float) -> None:
     )
 
 
+@pytest.mark.parametrize(
+    "q",
+    [(0.0, 0.0, 0.0, 0.0), (0.0, 0.0, math.inf, 1.0), (math.nan, 0.0, 0.0, 1.0), (0, 0, 1e200, 1)],
+)
+def test_a_quaternion_that_is_no_rotation_gives_no_heading(q: tuple[float, ...]) -> None:
+    assert math.isnan(yaw_from_quaternion(*q))
+
+
+def test_a_bag_pose_whose_orientation_was_never_set_is_refused(tmp_path: Path) -> None:
+    # The zero quaternion of an orientation never set: atan2(0, 0) made it heading 0.
+    with Writer(tmp_path / "bag", version=9) as writer:
+        conn = writer.add_connection("/mocap", POSE_STAMPED, typestore=TYPESTORE)
+        for k in range(3):
+            msg = m.geometry_msgs__msg__PoseStamped(
+                header((k + 1) * 10**9),
+                m.geometry_msgs__msg__Pose(
+                    position=m.geometry_msgs__msg__Point(x=k, y=0.0, z=0.0),
+                    orientation=m.geometry_msgs__msg__Quaternion(x=0.0, y=0.0, z=0.0, w=0.0),
+                ),
+            )
+            writer.write(conn, (k + 1) * 10**9, TYPESTORE.serialize_cdr(msg, POSE_STAMPED))
+    with pytest.raises(RecordingError, match=r"/mocap message 1: theta must be a finite number"):
+        read_pose_track(tmp_path / "bag")
+
+
 def test_a_csv_track_reads_time_x_y_theta_and_skips_rows_without_a_pose(tmp_path: Path) -> None:
     path = tmp_path / "truth.csv"
     path.write_text("stamp,X,y,yaw,other\n1.5,1,2,0.5,a\n2,,,,b\n2.25,3,4,-1,c\n", "utf-8")

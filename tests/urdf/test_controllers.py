@@ -542,6 +542,17 @@ def test_acceleration_bounds_always_contain_zero(up: float, down: float, previou
         ("wheel_separation_multiplier: 0", r"wheel_separation_multiplier must be a positive"),
         ("linear.x.max_velocity: -1.0", r"linear\.x\.max_velocity must be a number >= 0 or \.nan"),
         ("angular.z.max_deceleration: 2.0", r"angular\.z\.max_deceleration must be a number <= 0"),
+        # An infinite limit would reach the velocity ranges and the JSON outputs: .nan says none.
+        (
+            "linear.x.max_velocity: .inf",
+            r"linear\.x\.max_velocity must be a finite number >= 0, or \.nan for no limit, got inf",
+        ),
+        (
+            "angular.z.min_velocity: -.inf",
+            r"angular\.z\.min_velocity must be a finite number <= 0, or \.nan for no limit, "
+            r"got -inf",
+        ),
+        ("linear.x.max_acceleration: 1e400", r"max_acceleration must be a finite number >= 0, or"),
         ("linear.x.max_jerk: fast", r"linear\.x\.max_jerk must be a number, got 'fast'"),
         ("open_loop: 'yes'", r"open_loop must be true or false, got 'yes'"),
         (
