@@ -26,8 +26,15 @@ from typing import TYPE_CHECKING, Any, Final, NamedTuple
 import numpy as np
 
 from diffbot.errors import RecordingError
+from diffbot.live.wire import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
 from diffbot.odometry import SKIP_NOT_FINITE, SKIP_STAMP_NOT_AFTER
-from diffbot.samples import CLOCK_HEADER, CLOCK_RECEIVE, NS_PER_S, SKIP_UNREADABLE
+from diffbot.samples import (
+    CLOCK_HEADER,
+    CLOCK_RECEIVE,
+    NS_PER_S,
+    SKIP_POSITION_RANGE,
+    SKIP_UNREADABLE,
+)
 
 if TYPE_CHECKING:
     from numpy.typing import NDArray
@@ -39,6 +46,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "COMMAND_TOPIC",
+    "SKIP_COMMAND_RANGE",
     "TWIST",
     "TWIST_STAMPED",
     "Commands",
@@ -53,6 +61,9 @@ TWIST: Final = "geometry_msgs/msg/Twist"
 TWIST_STAMPED: Final = "geometry_msgs/msg/TwistStamped"
 #: The columns of an open-loop CSV besides its time column: linear (m/s), angular (rad/s).
 _CSV_COLUMNS: Final = ("v", "w")
+#: Why a command was skipped: faster than any robot drives, as the live nodes refuse it
+#: (:data:`~diffbot.live.wire.MAX_LINEAR_SPEED`, :data:`~diffbot.live.wire.MAX_ANGULAR_SPEED`).
+SKIP_COMMAND_RANGE: Final = "command out of range"
 
 
 class Commands(NamedTuple):
@@ -170,13 +181,16 @@ def open_loop_odometry(
 def _usable(
     commands: Commands, odom: ChunkOdometry
 ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
-    """The commands that are finite and later than every one before them; the rest counted."""
+    """The commands that are finite, within the speeds any robot drives at and later than every
+    one before them; the rest counted."""
     for reason, count in commands.skipped.items():
         odom.skip(reason, count)
     stamps, linear, angular = commands.stamp_ns, commands.linear, commands.angular
     finite = np.isfinite(linear) & np.isfinite(angular)
     odom.skip(SKIP_NOT_FINITE, int(finite.size - np.count_nonzero(finite)))
-    index = np.flatnonzero(finite)
+    within = finite & (np.abs(linear) <= MAX_LINEAR_SPEED) & (np.abs(angular) <= MAX_ANGULAR_SPEED)
+    odom.skip(SKIP_COMMAND_RANGE, int(np.count_nonzero(finite) - np.count_nonzero(within)))
+    index = np.flatnonzero(within)
     t = stamps[index]
     used = np.ones(t.size, dtype=np.bool_)
     if t.size > 1:
@@ -317,6 +331,9 @@ def _chunks(chunks: Any) -> Iterator[tuple[NDArray[np.int64], NDArray[np.float64
         whole = chunk.present.all(axis=1)
         missing = int(whole.size - np.count_nonzero(whole))
         skipped = dict(chunk.skipped)
+        # the CSV reader's bound for wheel positions (1e12), far past the commands' own
+        if SKIP_POSITION_RANGE in skipped:
+            skipped[SKIP_COMMAND_RANGE] = skipped.pop(SKIP_POSITION_RANGE)
         if missing:
             skipped["missing value"] = skipped.get("missing value", 0) + missing
         yield chunk.stamp_ns[whole], chunk.positions[whole], skipped

@@ -17,7 +17,12 @@ import diffbot
 from diffbot.chunk_odometry import ChunkOdometry
 from diffbot.errors import RecordingError
 from diffbot.odometry import SKIP_NOT_FINITE, SKIP_STAMP_NOT_AFTER
-from diffbot.open_loop import command_angles, open_loop_odometry, read_commands
+from diffbot.open_loop import (
+    SKIP_COMMAND_RANGE,
+    command_angles,
+    open_loop_odometry,
+    read_commands,
+)
 from diffbot.trajectory import Arc, Spin, Straight
 
 S = 1_000_000_000
@@ -161,3 +166,34 @@ def test_without_a_topic_the_bags_only_command_topic_is_read(tmp_path: Path) -> 
     )
     with pytest.raises(RecordingError, match=r"several command topics: '/a/cmd_vel', '/b/cmd"):
         open_loop_odometry(two, BOT)
+
+
+@pytest.mark.parametrize(
+    ("rows", "skipped"),
+    [
+        # beyond the CSV reader's bound for any cell, and beyond the command bound alone
+        (["1,1e300,0", "1.5,0,-1e13"], 2),
+        (["1,1001,0", "1.5,0,-1000.5"], 2),
+        (["1,1000,0", "1.5,0,-1000"], 0),
+    ],
+)
+def test_commands_faster_than_any_robot_are_skipped_as_out_of_range(
+    tmp_path: Path, rows: list[str], skipped: int
+) -> None:
+    text = "\n".join(["t,v,w", "0,1,0", *rows, "2,0,0", ""])
+    run = open_loop_odometry(csv(tmp_path / "c.csv", text), BOT)
+    if skipped:
+        assert run.summary.skipped == {SKIP_COMMAND_RANGE: skipped}
+        # the command before holds over the skipped ones: 1 m/s for 2 s
+        assert run.summary.final_pose.x == pytest.approx(2.0, abs=1e-12)
+    else:
+        assert run.summary.skipped == {}
+
+
+def test_bag_commands_faster_than_any_robot_are_skipped_as_out_of_range(tmp_path: Path) -> None:
+    twist = "geometry_msgs/msg/Twist"
+    commands = [(k * S, twist_message(v, 0.0)) for k, v in enumerate([1.0, 1e300, 2e3, 0.0])]
+    bag = write_topics(tmp_path / "bag", {"/cmd_vel": (twist, commands)})
+    run = open_loop_odometry(bag, BOT)
+    assert run.summary.skipped == {SKIP_COMMAND_RANGE: 2}
+    assert run.summary.final_pose.x == pytest.approx(3.0, abs=1e-12)
