@@ -70,6 +70,7 @@ FLAGS = {
     "dask_address": "--dask",
     "dask_timeout": "--dask-timeout",
     "wrap": "--wrap",
+    "counts_per_rev": "--counts-per-rev",
     "feedback": "--feedback",
     "open_loop": "--open-loop",
     "lead": "--lead",

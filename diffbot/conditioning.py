@@ -90,9 +90,11 @@ class Conditioning:
         # Sizes no encoder has are refused: 2*pi / 1e-320 is inf, and the positions NaN.
         low, high = ENCODER_SIZE_RANGE
         if self.counts_per_rev is not None:
-            finite_in_range(self.counts_per_rev, "counts per revolution", low, high)
+            finite_in_range(
+                self.counts_per_rev, "{counts_per_rev} (encoder counts per revolution)", low, high
+            )
         if self.wrap is not None and self.wrap != 0:
-            finite_in_range(self.wrap, "wrap (0 for none)", low, high)
+            finite_in_range(self.wrap, "{wrap} (0 for none)", low, high)
 
 
 @dataclass(frozen=True)

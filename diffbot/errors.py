@@ -47,6 +47,7 @@ PARAMETERS: Mapping[str, str] = {
     "dask_address": "dask_address=",
     "dask_timeout": "dask_timeout=",
     "wrap": "wrap=",
+    "counts_per_rev": "counts_per_rev=",
     "feedback": "feedback=",
     "open_loop": "open_loop=True",
     "robot": "params=load_params(PATH)",

@@ -114,7 +114,8 @@ def _check_shape(shape: str, min_radius: float | None, forward_only: bool) -> fl
         low = WHEEL_SIZE_RANGE[0]
         if not (math.isfinite(radius) and low <= radius <= MAX_COORDINATE):
             raise PlanError(
-                f"the minimum radius must be a positive finite number from {low:g} to "
+                f"{{min_radius}} (the minimum turning radius) must be a positive finite number "
+                f"from {low:g} to "
                 f"{MAX_COORDINATE:g} (m), got {brief(min_radius)}"
             )
         min_radius = radius

@@ -299,12 +299,13 @@ def test_meaningless_settings_are_refused_naming_the_setting() -> None:
     with pytest.raises(ParameterError) as caught:
         Conditioning(counts_per_rev=0)
     assert str(caught.value) == (
-        "counts per revolution must be a finite number >= 1e-09 and <= 1e+15, got 0"
+        "counts_per_rev= (encoder counts per revolution) must be a finite number >= 1e-09 and "
+        "<= 1e+15, got 0"
     )
     with pytest.raises(ParameterError) as caught:
         Conditioning(wrap=-1)
     assert str(caught.value) == (
-        "wrap (0 for none) must be a finite number >= 1e-09 and <= 1e+15, got -1"
+        "wrap= (0 for none) must be a finite number >= 1e-09 and <= 1e+15, got -1"
     )
 
 

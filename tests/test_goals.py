@@ -430,7 +430,8 @@ def test_messages_show_what_was_given() -> None:
     with pytest.raises(PlanError) as caught:
         plan_to((1.0, 0.0, 0.0), ROBOT, shape="dubins", min_radius=-2.0)
     assert str(caught.value) == (
-        "the minimum radius must be a positive finite number from 0.0001 to 1e+09 (m), got -2.0"
+        "min_radius= (the minimum turning radius) must be a positive finite number from 0.0001 "
+        "to 1e+09 (m), got -2.0"
     )
     for plan_it in (plan_to, plan_through):
         goal = (1.0, 0.0, 0.0) if plan_it is plan_to else [(1.0, 0.0, 0.0)]

@@ -357,3 +357,23 @@ def test_umbmark_square_beyond_any_drive_is_refused(side: str) -> None:
     # A side of 1e308 m gave the nominal robot back, its errors lost below rounding, exit 0.
     result = run("calibrate", "umbmark", "--side", side, "--cw", "-0.3,-0.4", "--ccw", "0.1,-0.1")
     assert_clean_error(result, "side must be a finite number > 0 and <= 1e+09 m")
+
+
+@pytest.mark.parametrize(
+    ("args", "flag"),
+    [
+        (["odom", "RECORDING", "--wrap", "1e300"], "--wrap (0 for none) must be"),
+        (["odom", "RECORDING", "--counts-per-rev", "1e300"], "--counts-per-rev (encoder counts"),
+        (
+            ["plan", "--to", "1,1,0", "--shape", "dubins", "--min-radius", "1e-300"],
+            "--min-radius (the minimum turning radius) must be",
+        ),
+    ],
+)
+def test_values_refused_past_the_options_own_checks_name_the_option(
+    tmp_path: Path, args: list[str], flag: str
+) -> None:
+    recording = tmp_path / "r.csv"
+    recording.write_text("t,front_left_wheel_joint,front_right_wheel_joint\n0,0,0\n1,1,1\n")
+    result = run(*[str(recording) if a == "RECORDING" else a for a in args])
+    assert_clean_error(result, flag)
