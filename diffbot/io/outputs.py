@@ -176,6 +176,8 @@ def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Pa
             directory, is (or is inside) one of the ``inputs``, or is a loop of symbolic links.
     """
     target = resolved(path, OutputError) if path.is_symlink() else path
+    # An input is never written, force or not: say so rather than offer force.
+    check_not_input(path, target, inputs)
     if path.exists() or path.is_symlink():
         if not force:
             raise OutputExistsError(f"{path} exists: use {{force}} to overwrite it", path=str(path))
@@ -186,7 +188,6 @@ def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Pa
             )
     if not target.parent.is_dir():
         raise OutputError(f"{path}: directory {target.parent} does not exist", path=str(path))
-    check_not_input(path, target, inputs)
     return target
 
 

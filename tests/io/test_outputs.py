@@ -279,6 +279,10 @@ def test_an_output_checked_in_a_guarded_run_avoids_every_noted_input(tmp_path: P
         note_input(folder)
         with pytest.raises(OutputError, match="is an input"):
             output_target(plan, force=True)
+        # Without force too: an input is never written, so force is not offered.
+        with pytest.raises(OutputError, match="is an input") as caught:
+            output_target(plan, force=False)
+        assert "force" not in str(caught.value)
         with pytest.raises(OutputError, match="lies inside the input"):
             output_target(folder / "poses.csv", force=False)
         with pytest.raises(OutputError, match="contains"):
