@@ -14,8 +14,10 @@ import sys
 from diffbot.errors import DiffbotError, ParameterError
 
 __all__ = [
+    "MAX_ANGULAR_SPEED",
     "MAX_COORDINATE",
     "MAX_COUNT",
+    "MAX_LINEAR_SPEED",
     "MAX_NOISE",
     "MAX_PLAN_DURATION",
     "MAX_PLAN_SAMPLES",
@@ -45,6 +47,12 @@ MAX_WAYPOINTS = 10_000
 #: Wheel radius and separation a robot may have (m). Outside, a value is taken for a unit mistake
 #: or a hostile file (a subnormal 1e-320, a 1e308) and refused.
 WHEEL_SIZE_RANGE = (1e-4, 1e3)
+
+#: Fastest linear velocity command taken (m/s), from the wire or a recording: no wheeled robot
+#: drives at 1 km/s.
+MAX_LINEAR_SPEED = 1e3
+#: Fastest angular velocity command taken (rad/s): about 160 turns a second.
+MAX_ANGULAR_SPEED = 1e3
 
 #: Farthest a pose may lie from its origin (m): a million km, beyond any robot's drive.
 MAX_COORDINATE = 1e9

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any, Final, NamedTuple
 import numpy as np
 
 from diffbot.errors import RecordingError
-from diffbot.live.wire import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
+from diffbot.numbers import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
 from diffbot.odometry import SKIP_NOT_FINITE, SKIP_STAMP_NOT_AFTER
 from diffbot.samples import (
     CLOCK_HEADER,
@@ -62,7 +62,7 @@ TWIST_STAMPED: Final = "geometry_msgs/msg/TwistStamped"
 #: The columns of an open-loop CSV besides its time column: linear (m/s), angular (rad/s).
 _CSV_COLUMNS: Final = ("v", "w")
 #: Why a command was skipped: faster than any robot drives, as the live nodes refuse it
-#: (:data:`~diffbot.live.wire.MAX_LINEAR_SPEED`, :data:`~diffbot.live.wire.MAX_ANGULAR_SPEED`).
+#: (:data:`~diffbot.numbers.MAX_LINEAR_SPEED`, :data:`~diffbot.numbers.MAX_ANGULAR_SPEED`).
 SKIP_COMMAND_RANGE: Final = "command out of range"
 
 

@@ -17,6 +17,7 @@ import time
 from collections.abc import Sequence
 from typing import Final
 
+from diffbot.numbers import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
 from diffbot.samples import SKIP_NOT_FINITE
 
 __all__ = [
@@ -49,10 +50,6 @@ STAMPED_AHEAD: Final = "stamped in the future"
 #: Not one value per joint.
 WRONG_LENGTH: Final = "wrong length"
 
-#: Fastest linear velocity command taken (m/s): no wheeled robot drives at 1 km/s.
-MAX_LINEAR_SPEED: Final = 1e3
-#: Fastest angular velocity command taken (rad/s): about 160 turns a second.
-MAX_ANGULAR_SPEED: Final = 1e3
 #: Fastest joint velocity command taken (rad/s): about 95,000 rpm.
 MAX_JOINT_SPEED: Final = 1e4
 #: Largest joint angle taken (rad): 160 million turns, years of driving at any motor's speed.
