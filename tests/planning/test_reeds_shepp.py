@@ -74,6 +74,13 @@ SPECIAL_HEADINGS = st.sampled_from([0.0, math.pi, -math.pi, 0.5 * math.pi, -0.5 
 SPREAD = st.one_of(COORDINATES, st.floats(-1e-6, 1e-6), st.floats(-1e6, 1e6))
 
 
+#: Goals on whole radii with headings in quarter turns: full of equally short words.
+WHOLE_RADII = np.stack(
+    np.meshgrid(np.arange(-4.0, 5.0), np.arange(-4.0, 5.0), np.arange(-4, 5) * 0.25 * math.pi),
+    axis=-1,
+).reshape(-1, 3)
+
+
 def assert_paths_agree(goals: np.ndarray) -> None:
     """:func:`reeds_shepp.paths` gives each goal the word of :func:`reeds_shepp.path` and its
     lengths to 1e-12 of the goal's size, NaN after the word's last piece."""
@@ -96,11 +103,7 @@ def test_paths_of_many_goals_at_once_are_path_goal_by_goal(goals: list[tuple[flo
 def test_paths_agree_with_path_on_random_goals_and_on_the_grid() -> None:
     # The grid (whole radii, headings in quarter turns) is full of equally short words, where
     # the first in OMPL's order must win however the last bit rounds.
-    grid = np.stack(
-        np.meshgrid(np.arange(-4.0, 5.0), np.arange(-4.0, 5.0), np.arange(-4, 5) * 0.25 * math.pi),
-        axis=-1,
-    ).reshape(-1, 3)
-    assert_paths_agree(np.concatenate((random_pairs(PAIRS), grid)))
+    assert_paths_agree(np.concatenate((random_pairs(PAIRS), WHOLE_RADII)))
 
 
 def test_paths_keeps_path_s_word_where_numpy_rounds_otherwise(
@@ -125,12 +128,8 @@ def test_paths_keeps_path_s_word_where_numpy_rounds_otherwise(
         return OneUlpOff
 
     monkeypatch.setattr(reeds_shepp, "_numpy_backend", one_ulp_off)
-    grid = np.stack(
-        np.meshgrid(np.arange(-4.0, 5.0), np.arange(-4.0, 5.0), np.arange(-4, 5) * 0.25 * math.pi),
-        axis=-1,
-    ).reshape(-1, 3)
-    words, _ = reeds_shepp.paths(grid[:, 0], grid[:, 1], grid[:, 2])
-    for goal, index in zip(grid.tolist(), words.tolist(), strict=True):
+    words, _ = reeds_shepp.paths(*WHOLE_RADII.T)
+    for goal, index in zip(WHOLE_RADII.tolist(), words.tolist(), strict=True):
         kinds = "".join(p.kind for p in reeds_shepp.path(*goal))
         assert reeds_shepp.WORDS[index] == kinds, goal
 
