@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator, Sequence
+import sys
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import Any
 
 from hypothesis import strategies as st
@@ -144,3 +145,41 @@ def first_shortest(
         if length < best_length:
             best, best_length = (word, lengths), length
     return best
+
+
+#: The math module's functions: the formulas' work is counted in their calls.
+_MATH = frozenset(f for f in vars(math).values() if callable(f))
+
+
+def math_calls(solve: Callable[..., object], goals: Iterable[Sequence[float]]) -> int:
+    """How many calls of ``math`` functions solving each goal takes: the work a planner's
+    bounds leave it (a bound that prunes less solves more formulas, and each costs calls).
+
+    Counted by a profile hook on C calls, so wrappers around the planner (a tracer, a
+    decorator) do not change the count."""
+    calls = 0
+
+    def hook(_frame: object, event: str, arg: object) -> None:
+        nonlocal calls
+        if event == "c_call" and arg in _MATH:
+            calls += 1
+
+    previous = sys.getprofile()
+    sys.setprofile(hook)
+    try:
+        for goal in goals:
+            solve(*goal)
+    finally:
+        sys.setprofile(previous)
+    return calls
+
+
+def seeded_goals(count: int, seed: int, reach: float = 6.0) -> list[list[float]]:
+    """``count`` goals drawn with ``seed``: x and y in [-reach, reach], headings in [-pi, pi]."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    xy = rng.uniform(-reach, reach, (count, 2))
+    phi = rng.uniform(-math.pi, math.pi, count)
+    goals: list[list[float]] = np.column_stack((xy, phi)).tolist()
+    return goals

@@ -148,6 +148,24 @@ def test_paths_broadcast_and_unreachable_goals() -> None:
     assert np.isnan(lengths[0, 1]).all()
 
 
+def test_goals_of_any_number_type_are_solved_in_double_precision() -> None:
+    # Goals in single precision (as a float32 point cloud or a sensor gives them), integers or
+    # lists are read as the float64 values they hold: the same answer, to the bit.
+    rng = np.random.default_rng(32)
+    goals = rng.uniform(-6.0, 6.0, (3, 200)).astype(np.float32)
+    exact = goals.astype(np.float64)
+    assert np.array_equal(reeds_shepp.distances(*goals), reeds_shepp.distances(*exact))
+    words, lengths = reeds_shepp.paths(*goals)
+    words64, lengths64 = reeds_shepp.paths(*exact)
+    assert np.array_equal(words, words64)
+    assert np.array_equal(lengths, lengths64, equal_nan=True)
+    assert lengths.dtype == np.float64
+    whole = [[3, -2, 0], [1, 4, -1], [0, 1, 3]]
+    assert np.array_equal(
+        reeds_shepp.distances(*np.array(whole)), reeds_shepp.distances(*np.array(whole, float))
+    )
+
+
 #: The tolerance of the formulas' sign conditions (OMPL's).
 ZERO = 10.0 * 2.220446049250313e-16
 #: Each word's signs, by where its straight is (none: "CCC", "CCCC"), before a timeflip negates
