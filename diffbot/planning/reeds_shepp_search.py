@@ -44,21 +44,23 @@ _PI = math.pi
 
 
 def _tau_omega(u: float, v: float, xi: float, eta: float, phi: float) -> tuple[float, float]:
+    """The first and last arcs of 8.7 (``v = -u``, u in [0, pi/3]) and 8.8 (``v = u``).
+
+    The full search wraps ``u - v`` and ``tau`` to [-pi, pi] after an fmod; here ``u - v`` lies
+    in [0, 2 pi/3] and ``t1`` (an atan2) in [-pi, pi], where both leave a value as it is, so
+    they are skipped with the same numbers as the result. Only ``t1 + pi`` can need a wrap.
+    """
     fmod, pi, two_pi = math.fmod, _PI, TWO_PI
-    delta = fmod(u - v, two_pi)
-    if delta < -pi:
-        delta += two_pi
-    elif delta > pi:
-        delta -= two_pi
+    delta = u - v
     a1 = math.sin(u) - math.sin(delta)
     b1 = math.cos(u) - math.cos(delta) - 1.0
     t1 = math.atan2(eta * a1 - xi * b1, xi * a1 + eta * b1)
     t2 = 2.0 * (math.cos(delta) - math.cos(v) - math.cos(u)) + 3.0
-    tau = fmod(t1 + pi if t2 < 0.0 else t1, two_pi)
-    if tau < -pi:
-        tau += two_pi
-    elif tau > pi:
-        tau -= two_pi
+    tau = t1
+    if t2 < 0.0:
+        tau = fmod(t1 + pi, two_pi)
+        if tau > pi:
+            tau -= two_pi
     omega = fmod(tau - u + v - phi, two_pi)
     if omega < -pi:
         omega += two_pi
@@ -71,10 +73,9 @@ def _lrl(xi: float, eta: float, rho: float, phi: float) -> tuple[float, float, f
     """8.3/8.4 L+ R- L from (xi, eta) of norm ``rho`` <= 4."""
     fmod, pi, two_pi = math.fmod, _PI, TWO_PI
     u = -2.0 * math.asin(0.25 * rho)
+    # atan2 + u/2 + pi lies in [-pi/2, 2 pi]: only the upper wrap can apply.
     t = fmod(math.atan2(eta, xi) + 0.5 * u + pi, two_pi)
-    if t < -pi:
-        t += two_pi
-    elif t > pi:
+    if t > pi:
         t -= two_pi
     if not (t >= -ZERO and u <= ZERO):
         return None
@@ -93,10 +94,9 @@ def _lrsl(xi: float, eta: float, rho: float, phi: float) -> tuple[float, ...] | 
     u = 2.0 - r
     if not u <= ZERO:
         return None
+    # atan2(r, -2) lies in [pi/2, pi] (r >= 0): the sum in [-pi/2, 2 pi] only wraps down.
     t = fmod(math.atan2(eta, xi) + math.atan2(r, -2.0), two_pi)
-    if t < -pi:
-        t += two_pi
-    elif t > pi:
+    if t > pi:
         t -= two_pi
     if not t >= -ZERO:
         return None
