@@ -198,3 +198,41 @@ def _peak_memory(pid: int) -> int:
             if line.startswith("VmHWM:"):
                 return int(line.split()[1]) * 1024
     raise AssertionError("no VmHWM")
+
+
+#: A publisher in a process of its own (in one process, nodes see only one writer a topic),
+#: until its stdin closes.
+PUBLISHER = """
+import sys
+from diffbot.live import types
+from diffbot.live.transport import Node
+with Node("teleop") as node:
+    publishers = [node.create_publisher(types.Twist, topic) for topic in sys.argv[1:]]
+    sys.stdin.read()
+"""
+
+
+def test_another_publisher_on_the_command_topic_is_counted() -> None:
+    # A teleop (or a second drive) on cmd_vel would mix its commands with the plan's: the
+    # driver counts the publishers besides its own on the topics it commands.
+    stream = ramp(plan(parse_plan("straight 0.1 0.2s"), BOT), Limits()).commands(20.0)
+    for settings, topics in (
+        (DriveSettings(), ["cmd_vel"]),
+        (DriveSettings(wheels=True), [DriveSettings().left_topic, DriveSettings().right_topic]),
+    ):
+        with Driver(stream, settings) as driver:
+            assert driver.other_publishers() == 0
+            other = subprocess.Popen(
+                [sys.executable, "-c", PUBLISHER, *topics],
+                stdin=subprocess.PIPE,
+                env=os.environ.copy(),
+            )
+            try:
+                end = time.monotonic() + PATIENCE
+                while driver.other_publishers() < len(topics) and time.monotonic() < end:
+                    driver.spin_once(0.05)
+                assert driver.other_publishers() == len(topics)
+            finally:
+                assert other.stdin is not None
+                other.stdin.close()
+                other.wait(timeout=60)

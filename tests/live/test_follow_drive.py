@@ -297,3 +297,75 @@ def test_a_signal_stops_a_followed_drive_with_zero(signum: int) -> None:
     assert "commanded zero" in err, err
     assert "Traceback" not in err
     assert last[-1] == (0.0, 0.0)
+
+
+@pytest.mark.parametrize(
+    ("kind", "message"),
+    [
+        ("pose", lambda: pose_stamped(0.3, 0.0, 0.0)),
+        (
+            "pose-covariance",
+            lambda: types.PoseWithCovarianceStamped(
+                pose_stamped(0.3, 0.0, 0.0).header,
+                types.PoseWithCovariance(pose_stamped(0.3, 0.0, 0.0).pose, ZERO),
+            ),
+        ),
+        (
+            "odometry",
+            lambda: odometry(
+                (0.3, 0.0, 0.0, 0.0, 0.0), time.time_ns(), "odom", "base_link", ZERO, ZERO
+            ),
+        ),
+    ],
+)
+def test_the_pose_s_type_is_the_one_its_publisher_sends(
+    kind: str, message: Callable[[], object]
+) -> None:
+    # No type given: the driver subscribes by what the pose topic's publisher sends.
+    params = load_params()
+    follower = Follower(params, plan(parse_plan("straight 0.1 1s"), params))
+    with (
+        Node("localization") as node,
+        FollowDriver(follower, FollowSettings(pose_kind=None)) as driver,
+    ):
+        sample = message()
+        poses = node.create_publisher(type(sample), "odom")
+        assert driver.pose_kind is None
+        end = time.monotonic() + PATIENCE
+        while driver.pose is None and time.monotonic() < end:
+            poses.publish(message())
+            driver.wait_until_ready(0.05)
+        assert driver.pose_kind == kind
+        assert driver.pose is not None
+        assert (driver.pose.x, driver.pose.y) == (0.0, 0.0)  # the first pose is the origin
+
+
+@pytest.mark.parametrize("law", ["tracking", "pure-pursuit"])
+def test_progress_is_the_distance_from_the_reference_or_the_goal(law: str) -> None:
+    # The robot stays where the first pose put it, 0.1 m left of the plan's start: the error
+    # shown is its distance from the timed reference (tracking), or from the goal (pure
+    # pursuit, 0.2 m ahead), at each command.
+    params = load_params()
+    follower = Follower(params, plan(parse_plan("straight 0.2 0.5s"), params), law=law)
+    settings = FollowSettings(pose_kind="pose", pose_timeout=30.0, overtime=0.0)
+    seen: list[tuple[float, float]] = []
+    with Node("localization") as node, FollowDriver(follower, settings) as driver:
+        poses = node.create_publisher(types.PoseStamped, "odom")
+        assert poses.wait_for_subscribers(PATIENCE)
+        poses.publish(pose_stamped(0.0, 0.0, 0.0))  # the origin
+        end = time.monotonic() + PATIENCE
+        while driver.pose is None and time.monotonic() < end:
+            driver.spin_once(0.02)
+        poses.publish(pose_stamped(0.0, 0.1, 0.0))
+        while (driver.pose is None or driver.pose.y == 0.0) and time.monotonic() < end:
+            driver.spin_once(0.02)
+        driver.follow(lambda t, error: seen.append((t, error)))
+    assert len(seen) >= 5
+    for t, error in seen:
+        if law == "tracking":
+            x, y = follower.reference(t)[:2]
+        else:
+            x, y = 0.2, 0.0
+        assert error == pytest.approx(math.hypot(x, y - 0.1), abs=1e-12)
+    if law == "tracking":
+        assert seen[-1][1] > seen[0][1] + 0.05  # the reference drives on, away from it
