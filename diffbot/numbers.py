@@ -22,8 +22,10 @@ __all__ = [
     "MAX_PLAN_DURATION",
     "MAX_PLAN_SAMPLES",
     "MAX_PLAN_TIME",
+    "MAX_RECORDED_ANGLE",
     "MAX_TURN",
     "MAX_WAYPOINTS",
+    "MAX_WHEEL_SPEED",
     "WHEEL_SIZE_RANGE",
     "as_number",
     "finite_in_range",
@@ -54,8 +56,15 @@ MAX_LINEAR_SPEED = 1e3
 #: Fastest angular velocity command taken (rad/s): about 160 turns a second.
 MAX_ANGULAR_SPEED = 1e3
 
-#: Farthest a pose may lie from its origin (m): a million km, beyond any robot's drive.
+#: Farthest a pose may lie from its origin (m): a million km, beyond any robot's drive. The
+#: bound of positions from options, files and messages alike.
 MAX_COORDINATE = 1e9
+#: Largest angle taken from a recording or a message (rad): a wheel's position, a heading. A
+#: wheel at 100 rad/s turns this far in 300 years, and the differences of larger angles
+#: overflow the odometry's arithmetic.
+MAX_RECORDED_ANGLE = 1e12
+#: Fastest wheel velocity taken from a recording or a message (rad/s): about 95,000 rpm.
+MAX_WHEEL_SPEED = 1e4
 
 #: Largest standard deviation of simulated encoder noise (rad): a revolution. Beyond it a
 #: reading says nothing of the angle.

@@ -22,6 +22,7 @@ from diffbot.samples import (
     Recording,
     beyond_range,
     range_reason,
+    wheel_limit,
 )
 from diffbot.velocity_feedback import VelocityAngles, check_feedback
 
@@ -143,11 +144,12 @@ def _conditioned(
 def _within_range(recording: Recording, wheels: set[str], field: str) -> Recording:
     """The recording without the samples whose wheel positions (or velocities: ``field``) are
     too large to compute with (counted as skipped, as a CSV reader counts them)."""
+    limit = wheel_limit(field)
     kept = [
         sample
         for sample in recording.samples
         if not any(
-            name in wheels and beyond_range(value)
+            name in wheels and beyond_range(value, limit)
             for name, value in zip(sample.names, sample.positions, strict=False)
         )
     ]

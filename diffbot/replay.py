@@ -32,7 +32,6 @@ from diffbot.odometry import SKIP_MISSING_JOINT, Odometry
 from diffbot.samples import (
     CLOCK_HEADER,
     CLOCK_RECEIVE,
-    MAX_POSITION,
     NS_PER_S,
     SKIP_UNREADABLE,
     ColumnSamples,
@@ -40,6 +39,7 @@ from diffbot.samples import (
     OdometryRows,
     Recording,
     range_reason,
+    wheel_limit,
 )
 
 if TYPE_CHECKING:
@@ -303,7 +303,8 @@ def _bag_pass(
         # Readable messages with a finite wheel position too large to compute with are
         # skipped, as read_recording skips them.
         with np.errstate(invalid="ignore"):
-            large = (np.abs(positions) > MAX_POSITION) & np.isfinite(positions) & present
+            limit = wheel_limit(feedback)
+            large = (np.abs(positions) > limit) & np.isfinite(positions) & present
         out_of_range: NDArray[np.bool_] = np.any(large, axis=1)[readable]
         if unreadable:
             positions, present = positions[readable], present[readable]

@@ -15,6 +15,7 @@ from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
 from typing import TYPE_CHECKING, Any, Final, Generic, NamedTuple, TypeVar, overload
 
 from diffbot.kinematics import Pose, Twist, norm_angle
+from diffbot.numbers import MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED
 
 if TYPE_CHECKING:
     import numpy as np
@@ -27,7 +28,6 @@ __all__ = [
     "CLOCK_HEADER",
     "CLOCK_RECEIVE",
     "INT64",
-    "MAX_POSITION",
     "NS_PER_S",
     "SKIP_MISSING_STAMP",
     "SKIP_NOT_FINITE",
@@ -46,6 +46,7 @@ __all__ = [
     "range_reason",
     "seconds_text",
     "side_means",
+    "wheel_limit",
 ]
 
 #: :attr:`Recording.clock` of a bag stamped by the messages' header stamps.
@@ -60,14 +61,11 @@ SKIP_MISSING_STAMP: Final = "missing stamp"
 SKIP_UNREADABLE: Final = "unreadable value"
 #: Why a CSV row was skipped: its time is outside ROS time in int64 ns (about ±292 years).
 SKIP_STAMP_RANGE: Final = "stamp out of range"
-#: Why a CSV row was skipped: a wheel position beyond :data:`MAX_POSITION`.
+#: Why a CSV row was skipped: a wheel position beyond :data:`~diffbot.numbers.MAX_RECORDED_ANGLE`.
 SKIP_POSITION_RANGE: Final = "position out of range"
-#: Why a sample of wheel velocities was skipped: one beyond :data:`MAX_POSITION` (here rad/s,
-#: far past any wheel).
+#: Why a sample of wheel velocities was skipped: one beyond
+#: :data:`~diffbot.numbers.MAX_WHEEL_SPEED` (rad/s).
 SKIP_VELOCITY_RANGE: Final = "velocity out of range"
-#: Largest wheel position read (rad): a wheel at 100 rad/s turns this far in 300 years, and the
-#: differences of larger positions overflow the odometry's arithmetic.
-MAX_POSITION: Final = 1e12
 
 
 #: Nanoseconds per second.
@@ -113,15 +111,21 @@ class Recording:
 
 
 def range_reason(field: str) -> str:
-    """Why a sample of ``field`` (``"position"`` or ``"velocity"``) beyond
-    :data:`MAX_POSITION` was skipped."""
+    """Why a sample of ``field`` (``"position"`` or ``"velocity"``) beyond its
+    :func:`wheel_limit` was skipped."""
     return SKIP_VELOCITY_RANGE if field == "velocity" else SKIP_POSITION_RANGE
 
 
-def beyond_range(position: float) -> bool:
-    """A finite wheel position beyond :data:`MAX_POSITION` (infinities and NaN are the replay's
-    to skip)."""
-    return (position > MAX_POSITION or position < -MAX_POSITION) and math.isfinite(position)
+def wheel_limit(field: str) -> float:
+    """The largest magnitude a wheel's ``field`` (``"position"``, rad, or ``"velocity"``, rad/s)
+    is taken with, from a file or a message alike."""
+    return MAX_WHEEL_SPEED if field == "velocity" else MAX_RECORDED_ANGLE
+
+
+def beyond_range(value: float, limit: float) -> bool:
+    """A finite wheel value beyond ``limit`` (a :func:`wheel_limit`; infinities and NaN are the
+    replay's to skip)."""
+    return (value > limit or value < -limit) and math.isfinite(value)
 
 
 def seconds_text(stamp_ns: int) -> str:

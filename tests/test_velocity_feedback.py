@@ -14,6 +14,7 @@ from wheel_motion import assert_pose_close
 
 import diffbot
 from diffbot.errors import ParameterError
+from diffbot.numbers import MAX_WHEEL_SPEED
 from diffbot.odometry import Odometry
 from diffbot.simulation import simulate
 from diffbot.trajectory import Arc, Plan, Spin, Straight
@@ -136,7 +137,8 @@ def test_the_bundled_robots_square_from_velocities_closes() -> None:
 
 # --- velocities too large to compute with are skipped as velocities ---------------------------
 
-HUGE = [[0.0, 0.0], [1e300, -1e300], [-1e308, 2.0], [0.1, 0.1]]
+#: Two rows beyond the wheel velocity bound that messages have too (1 % past it, and far).
+HUGE = [[0.0, 0.0], [1.01 * MAX_WHEEL_SPEED, 0.1], [-1e308, 2.0], [0.1, 0.1]]
 
 
 def _velocity_csv(tmp_path: Path, quoted: bool) -> Path:

@@ -23,9 +23,8 @@ from diffbot.kinematics import (
     limit_fraction,
     rpm_from_rad_s,
 )
-from diffbot.numbers import finite_in_range
+from diffbot.numbers import MAX_RECORDED_ANGLE, finite_in_range
 from diffbot.odometry import Odometry
-from diffbot.samples import MAX_POSITION
 from diffbot.trajectory import Arc, Plan, PlannedSegment, Spin, Straight
 
 __all__ = ["explain_fk", "explain_ik", "explain_odom", "explain_plan"]
@@ -470,12 +469,12 @@ def explain_odom(
 
     Raises:
         ParameterError: a value that is not finite, a wheel angle beyond
-            :data:`~diffbot.samples.MAX_POSITION` (rad), or ``dt`` not > 0.
+            :data:`~diffbot.numbers.MAX_RECORDED_ANGLE` (rad), or ``dt`` not > 0.
     """
-    # Wheel angles as a recording may hold them (:data:`MAX_POSITION`): every arc, heading
+    # Wheel angles as a recording may hold them (up to MAX_RECORDED_ANGLE): every arc, heading
     # change and degree figure derived from them stays finite.
     angles = [
-        finite_in_range(value, name, -MAX_POSITION, MAX_POSITION, unit="rad")
+        finite_in_range(value, name, -MAX_RECORDED_ANGLE, MAX_RECORDED_ANGLE, unit="rad")
         for value, name in (
             (left0, "left0"),
             (right0, "right0"),

@@ -43,16 +43,15 @@ from diffbot.io.csv_stamps import (
 from diffbot.io.textfile import open_text
 from diffbot.samples import (
     INT64,
-    MAX_POSITION,
     SKIP_MISSING_STAMP,
     SKIP_NOT_FINITE,
-    SKIP_POSITION_RANGE,
     SKIP_STAMP_RANGE,
     SKIP_UNREADABLE,
     ColumnSamples,
     Recording,
     beyond_range,
     range_reason,
+    wheel_limit,
 )
 
 if TYPE_CHECKING:
@@ -166,9 +165,11 @@ def _rows_exactly(
     rows: Iterable[list[str]],
     indexes: Sequence[int],
     decimals: int = 9,
-    out_of_range: str = SKIP_POSITION_RANGE,
+    field: str = "position",
 ) -> CsvChunk:
-    """Rows parsed by :mod:`csv` into one chunk, cell by cell."""
+    """Rows parsed by :mod:`csv` into one chunk, cell by cell: wheel ``field`` values beyond
+    its :func:`~diffbot.samples.wheel_limit` skip their row."""
+    out_of_range, limit = range_reason(field), wheel_limit(field)
     time_index, *joint_indexes = indexes
     width = max(indexes) + 1
     stamps: list[int] = []
@@ -199,7 +200,7 @@ def _rows_exactly(
         except ValueError:
             skipped[SKIP_UNREADABLE] = skipped.get(SKIP_UNREADABLE, 0) + 1
             continue
-        if any(beyond_range(value) for value in values):
+        if any(beyond_range(value, limit) for value in values):
             skipped[out_of_range] = skipped.get(out_of_range, 0) + 1
             continue
         stamps.append(stamp)
@@ -280,6 +281,7 @@ class CsvChunks:
         layout = layout or CsvLayout()
         self.chunk_bytes = chunk_bytes
         self.source = source
+        self._field = layout.field
         self._out_of_range = range_reason(layout.field)
         self._stream = stream
         self.delimiter = layout.delimiter or ","
@@ -462,7 +464,7 @@ class CsvChunks:
                 batch = list(itertools.islice(rows, _EXACT_ROWS))
             if not batch:
                 return
-            yield _rows_exactly(batch, self.indexes, self._decimals, self._out_of_range)
+            yield _rows_exactly(batch, self.indexes, self._decimals, self._field)
 
     def _fast(self, text: str, dtype: np.dtype[np.void]) -> CsvChunk:
         """Complete lines without quotes: loadtxt when it can, else csv row by row."""
@@ -501,7 +503,8 @@ class CsvChunks:
             positions[:, j] = rows[f"p{j}"]
         stamps = stamps[keep]
         with np.errstate(invalid="ignore"):
-            large = ((np.abs(positions) > MAX_POSITION) & np.isfinite(positions)).any(axis=1)
+            limit = wheel_limit(self._field)
+            large = ((np.abs(positions) > limit) & np.isfinite(positions)).any(axis=1)
         if large.any():
             skipped[self._out_of_range] = int(np.count_nonzero(large))
             positions, stamps = positions[~large], stamps[~large]
@@ -511,7 +514,7 @@ class CsvChunks:
     def _exact(self, text: str) -> CsvChunk:
         with self._errors():
             rows = csv.reader(io.StringIO(text, newline=""), delimiter=self.delimiter)
-            return _rows_exactly(rows, self.indexes, self._decimals, self._out_of_range)
+            return _rows_exactly(rows, self.indexes, self._decimals, self._field)
 
 
 @contextlib.contextmanager

@@ -16,8 +16,8 @@ from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.csv_chunks import TIME_COLUMNS
 from diffbot.io.textfile import open_text
-from diffbot.numbers import MAX_COORDINATE, finite_in_range
-from diffbot.samples import INT64, MAX_POSITION, NS_PER_S, ns_from_seconds
+from diffbot.numbers import MAX_COORDINATE, MAX_RECORDED_ANGLE, finite_in_range
+from diffbot.samples import INT64, NS_PER_S, ns_from_seconds
 
 if TYPE_CHECKING:
     import numpy as np
@@ -134,7 +134,7 @@ def _track(source: str, poses: _Poses, topic: str | None = None) -> PoseTrack:
 
 def _pose(values: Sequence[float], where: str) -> tuple[float, float, float]:
     """x, y (m) and theta (rad) of a ground-truth pose, each finite and within its range
-    (:data:`~diffbot.numbers.MAX_COORDINATE`, :data:`~diffbot.samples.MAX_POSITION`)."""
+    (:data:`~diffbot.numbers.MAX_COORDINATE`, :data:`~diffbot.numbers.MAX_RECORDED_ANGLE`)."""
     x, y, theta = values
     return (
         finite_in_range(
@@ -144,7 +144,12 @@ def _pose(values: Sequence[float], where: str) -> tuple[float, float, float]:
             y, f"{where}: y", -MAX_COORDINATE, MAX_COORDINATE, error=RecordingError, unit="m"
         ),
         finite_in_range(
-            theta, f"{where}: theta", -MAX_POSITION, MAX_POSITION, error=RecordingError, unit="rad"
+            theta,
+            f"{where}: theta",
+            -MAX_RECORDED_ANGLE,
+            MAX_RECORDED_ANGLE,
+            error=RecordingError,
+            unit="rad",
         ),
     )
 

@@ -17,16 +17,19 @@ import time
 from collections.abc import Sequence
 from typing import Final
 
-from diffbot.numbers import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
+from diffbot.numbers import (
+    MAX_ANGULAR_SPEED,
+    MAX_COORDINATE,
+    MAX_LINEAR_SPEED,
+    MAX_RECORDED_ANGLE,
+    MAX_WHEEL_SPEED,
+)
 from diffbot.samples import SKIP_NOT_FINITE
 
 __all__ = [
     "BAD_STAMP",
     "MAX_ANGULAR_SPEED",
-    "MAX_JOINT_ANGLE",
-    "MAX_JOINT_SPEED",
     "MAX_LINEAR_SPEED",
-    "MAX_POSITION",
     "MAX_STAMP_AHEAD_NS",
     "NOT_FINITE",
     "OUT_OF_RANGE",
@@ -50,15 +53,9 @@ STAMPED_AHEAD: Final = "stamped in the future"
 #: Not one value per joint.
 WRONG_LENGTH: Final = "wrong length"
 
-#: Fastest joint velocity command taken (rad/s): about 95,000 rpm.
-MAX_JOINT_SPEED: Final = 1e4
-#: Largest joint angle taken (rad): 160 million turns, years of driving at any motor's speed.
-MAX_JOINT_ANGLE: Final = 1e9
 #: Furthest a stamp may lie ahead of this machine's clock (ns): clocks on one network agree
 #: far better; a stamp beyond it would hold up every later message as "going back in time".
 MAX_STAMP_AHEAD_NS: Final = 60 * 1_000_000_000
-#: Furthest a pose may lie from its frame's origin (m): a thousand kilometres.
-MAX_POSITION: Final = 1e6
 #: How far a pose's quaternion may be from unit length (squared norm within 1 +- this): a
 #: rounding error passes, a zero or a scaled quaternion is no rotation.
 QUATERNION_SLACK: Final = 0.1
@@ -92,7 +89,7 @@ def wheel_problem(values: Sequence[float], joints: int) -> str | None:
     None."""
     if len(values) != joints:
         return WRONG_LENGTH
-    return _values_problem(values, MAX_JOINT_SPEED)
+    return _values_problem(values, MAX_WHEEL_SPEED)
 
 
 def joint_state_problem(
@@ -100,7 +97,7 @@ def joint_state_problem(
 ) -> str | None:
     """Why a joint state stamped ``sec``/``nanosec`` with joint angles ``positions`` (rad) is
     refused, or None. ``now_ns``: this machine's clock (ns; read when None)."""
-    return _stamp_problem(sec, nanosec, now_ns) or _values_problem(positions, MAX_JOINT_ANGLE)
+    return _stamp_problem(sec, nanosec, now_ns) or _values_problem(positions, MAX_RECORDED_ANGLE)
 
 
 def _stamp_problem(sec: int, nanosec: int, now_ns: int | None) -> str | None:
@@ -128,7 +125,7 @@ def pose_problem(
     if stamp is not None:
         return stamp
     for value in position:
-        problem = _number_problem(value, MAX_POSITION)
+        problem = _number_problem(value, MAX_COORDINATE)
         if problem is not None:
             return problem
     for value in orientation:

@@ -21,9 +21,7 @@ from diffbot.live.robot import RobotNode, RobotSettings
 from diffbot.live.transport import Node
 from diffbot.live.wire import (
     BAD_STAMP,
-    MAX_JOINT_ANGLE,
     MAX_LINEAR_SPEED,
-    MAX_POSITION,
     MAX_STAMP_AHEAD_NS,
     NOT_FINITE,
     OUT_OF_RANGE,
@@ -35,6 +33,7 @@ from diffbot.live.wire import (
     twist_problem,
     wheel_problem,
 )
+from diffbot.numbers import MAX_COORDINATE, MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
 
 DEEP = deep()
@@ -51,9 +50,13 @@ def test_the_checks_name_their_reason() -> None:
     assert wheel_problem([1.0, -2.0], 2) is None
     assert wheel_problem([1.0], 2) == WRONG_LENGTH
     assert wheel_problem([1e300], 1) == OUT_OF_RANGE
+    # The bounds of wheel values in files, the same on the wire.
+    assert wheel_problem([-MAX_WHEEL_SPEED], 1) is None
+    assert wheel_problem([1.01 * MAX_WHEEL_SPEED], 1) == OUT_OF_RANGE
     assert wheel_problem([math.inf], 1) == NOT_FINITE
     sec = NOW // 10**9
-    assert joint_state_problem(sec, 0, [1.0, MAX_JOINT_ANGLE], NOW) is None
+    assert joint_state_problem(sec, 0, [1.0, MAX_RECORDED_ANGLE], NOW) is None
+    assert joint_state_problem(sec, 0, [-1.01 * MAX_RECORDED_ANGLE], NOW) == OUT_OF_RANGE
     assert joint_state_problem(sec, 10**9, [1.0], NOW) == BAD_STAMP
     assert joint_state_problem(sec + 61, 0, [1.0], NOW) == STAMPED_AHEAD
     assert joint_state_problem(sec + 59, 0, [1.0], NOW) is None  # clocks a little apart
@@ -73,8 +76,8 @@ def test_the_checks_name_their_reason() -> None:
 def test_a_pose_is_finite_in_range_and_a_rotation() -> None:
     sec = NOW // 10**9
     turned = (0.0, 0.0, math.sin(0.3), math.cos(0.3))
-    assert pose_problem(sec, 0, (1.0, -MAX_POSITION, 0.0), turned, NOW) is None
-    assert pose_problem(sec, 0, (2e6, 0.0, 0.0), turned, NOW) == OUT_OF_RANGE
+    assert pose_problem(sec, 0, (1.0, -MAX_COORDINATE, 0.0), turned, NOW) is None
+    assert pose_problem(sec, 0, (2.0 * MAX_COORDINATE, 0.0, 0.0), turned, NOW) == OUT_OF_RANGE
     assert pose_problem(sec, 0, (math.nan, 0.0, 0.0), turned, NOW) == NOT_FINITE
     assert pose_problem(sec, 0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, math.inf), NOW) == NOT_FINITE
     # A zero quaternion is no rotation; a scaled one is not a unit rotation.
