@@ -174,6 +174,15 @@ def math_calls(solve: Callable[..., object], goals: Iterable[Sequence[float]]) -
     return calls
 
 
+#: Goals on a grid of half radii and eighth turns: on the turning circles and their tangents,
+#: where words tie and bounds meet lengths exactly.
+GRID_GOALS = [
+    (0.5 * i, 0.5 * j, 0.25 * math.pi * k)
+    for i in range(-8, 9)
+    for j in range(-8, 9)
+    for k in range(-8, 9)
+]
+
 #: Calls a platform's math library may add to a measured figure by rounding a branch the other
 #: way on a goal or two: far below what dropping a bound's term or widening a guard adds.
 WORK_SLACK = 25

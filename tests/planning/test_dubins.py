@@ -11,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from path_pieces import (
     COORDINATES,
+    GRID_GOALS,
     HEADINGS,
     PAIRS,
     WORK_SLACK,
@@ -164,6 +165,8 @@ def test_candidates_four_radii_apart() -> None:
 #: The math calls :func:`dubins.path` makes on the 4,000 goals below, as measured: its bounds
 #: skip RSL, LSR, RLR and LRL where they cannot win. Solving all six takes 129,417.
 DUBINS_WORK = 76_797
+#: And on the grid of half radii and eighth turns, where bounds meet lengths exactly.
+DUBINS_GRID_WORK = 125_498
 
 
 def test_the_bounds_skip_as_many_words_as_they_did() -> None:
@@ -171,4 +174,5 @@ def test_the_bounds_skip_as_many_words_as_they_did() -> None:
     # bound may lower the figure; none may raise it.
     goals = seeded_goals(4000, 26)
     assert math_calls(dubins.path, goals) <= DUBINS_WORK + WORK_SLACK
+    assert math_calls(dubins.path, GRID_GOALS) <= DUBINS_GRID_WORK + WORK_SLACK
     assert math_calls(dubins.candidates, goals) > DUBINS_WORK

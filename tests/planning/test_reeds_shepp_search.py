@@ -9,7 +9,15 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from path_pieces import COORDINATES, HEADINGS, WORK_SLACK, first_shortest, math_calls, seeded_goals
+from path_pieces import (
+    COORDINATES,
+    GRID_GOALS,
+    HEADINGS,
+    WORK_SLACK,
+    first_shortest,
+    math_calls,
+    seeded_goals,
+)
 
 from diffbot.planning import reeds_shepp
 from diffbot.planning.reeds_shepp_search import shortest
@@ -132,6 +140,8 @@ def test_the_search_finds_the_first_shortest_for_headings_beyond_a_turn() -> Non
 #: The math calls the search makes on the 4,000 goals below, as measured: its bounds skip the
 #: rest. Solving every word of the same goals takes about 1.1 million.
 SEARCH_WORK = 240_627
+#: And on the grid of half radii and eighth turns, where bounds meet lengths exactly.
+SEARCH_GRID_WORK = 364_833
 
 
 def test_the_bounds_skip_as_many_words_as_they_did() -> None:
@@ -140,5 +150,6 @@ def test_the_bounds_skip_as_many_words_as_they_did() -> None:
     # bound may lower the figure; none may raise it.
     goals = seeded_goals(4000, 26)
     assert math_calls(shortest, goals) <= SEARCH_WORK + WORK_SLACK
+    assert math_calls(shortest, GRID_GOALS) <= SEARCH_GRID_WORK + WORK_SLACK
     # The figure is the search's own: solving every word costs several times as much.
     assert math_calls(reeds_shepp.candidates, goals[:400]) > 4 * SEARCH_WORK // 10
