@@ -7,6 +7,7 @@ import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import Any
 
+import numpy as np
 from hypothesis import strategies as st
 
 from diffbot.planning import Piece
@@ -87,8 +88,6 @@ def same_pose(a: tuple[float, ...], b: tuple[float, ...], tol: float) -> bool:
 def random_pairs(count: int) -> Any:
     """``count`` random start/goal pairs (positions in [-5, 5], headings in [-pi, pi]), as each
     goal seen from its start: rows of (x, y, phi)."""
-    import numpy as np
-
     rng = np.random.default_rng(20020)
     starts = np.column_stack((rng.uniform(-5, 5, (count, 2)), rng.uniform(-np.pi, np.pi, count)))
     goals = np.column_stack((rng.uniform(-5, 5, (count, 2)), rng.uniform(-np.pi, np.pi, count)))
@@ -190,8 +189,6 @@ WORK_SLACK = 25
 
 def seeded_goals(count: int, seed: int, reach: float = 6.0) -> list[list[float]]:
     """``count`` goals drawn with ``seed``: x and y in [-reach, reach], headings in [-pi, pi]."""
-    import numpy as np
-
     rng = np.random.default_rng(seed)
     xy = rng.uniform(-reach, reach, (count, 2))
     phi = rng.uniform(-math.pi, math.pi, count)

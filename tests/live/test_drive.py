@@ -200,8 +200,8 @@ def _peak_memory(pid: int) -> int:
     raise AssertionError("no VmHWM")
 
 
-#: A publisher in a process of its own (in one process, nodes see only one writer a topic),
-#: until its stdin closes.
+#: Another program's publisher, as a teleop is, until its stdin closes. It keeps its
+#: publishers: one dropped is disposed at once, and no node sees it.
 PUBLISHER = """
 import sys
 from diffbot.live import types

@@ -13,6 +13,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from path_pieces import (
     COORDINATES,
+    GRID_GOALS,
     HEADINGS,
     PAIRS,
     assert_agrees_with_ompl,
@@ -187,10 +188,7 @@ def signs_hold(pattern: str, lengths: tuple[float, ...], flip: float) -> bool:
     )
 
 
-#: Goals on a grid of half radii and eighth turns, and goals a rounding off the axes.
-HALVES = [0.5 * i for i in range(-8, 9)]
-TURNS = [0.25 * math.pi * k for k in range(-8, 9)]
-GRID = [(x, y, phi) for x in HALVES for y in HALVES for phi in TURNS]
+#: Goals a rounding off the axes.
 NEAR_AXES = [
     (x, y, phi)
     for x in (1.0, -1.0, 0.5, 2.0, 0.0)
@@ -200,7 +198,7 @@ NEAR_AXES = [
 
 
 def test_every_candidate_reaches_the_goal_with_its_words_signs() -> None:
-    goals = GRID[::5] + NEAR_AXES + random_pairs(300).tolist()
+    goals = GRID_GOALS[::5] + NEAR_AXES + random_pairs(300).tolist()
     for x, y, phi in goals:
         for word, lengths in reeds_shepp.candidates(x, y, phi):
             pieces = [Piece(k, v) for k, v in zip(word, lengths, strict=True)]
@@ -229,7 +227,7 @@ def first_shortest(x: float, y: float, phi: float) -> list[tuple[str, float]]:
 def test_one_goal_is_the_first_shortest_candidate_on_a_grid_and_near_the_axes() -> None:
     # Whole and half radii, eighth turns and goals a rounding off the axes are full of equally
     # short words and of conditions met with nothing to spare.
-    for x, y, phi in GRID[::2] + NEAR_AXES:
+    for x, y, phi in GRID_GOALS[::2] + NEAR_AXES:
         assert [(p.kind, p.length) for p in reeds_shepp.path(x, y, phi)] == first_shortest(
             x, y, phi
         ), (x, y, phi)
