@@ -282,7 +282,6 @@ class CsvChunks:
         self.chunk_bytes = chunk_bytes
         self.source = source
         self._field = layout.field
-        self._out_of_range = range_reason(layout.field)
         self._stream = stream
         self.delimiter = layout.delimiter or ","
         self.delimiter_detected = False
@@ -506,7 +505,7 @@ class CsvChunks:
             limit = wheel_limit(self._field)
             large = ((np.abs(positions) > limit) & np.isfinite(positions)).any(axis=1)
         if large.any():
-            skipped[self._out_of_range] = int(np.count_nonzero(large))
+            skipped[range_reason(self._field)] = int(np.count_nonzero(large))
             positions, stamps = positions[~large], stamps[~large]
         present = np.ones(positions.shape, dtype=np.bool_)
         return CsvChunk(stamps, positions, present, skipped)
