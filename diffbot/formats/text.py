@@ -28,10 +28,13 @@ def fmt(value: float, digits: int = 6) -> str:
 
 def fixed(value: float, decimals: int) -> str:
     """``value`` with ``decimals`` decimals, no ``-0``; from 1e15 on (where a float has no digit
-    left below the point) 6 significant digits, as :func:`fmt` writes them."""
+    left below the point), or where the text would pass 16 + ``decimals`` characters (a sign,
+    or rounding up to 1e15), 6 significant digits, as :func:`fmt` writes them."""
     if abs(value) >= 1e15:
         return fmt(value)
     text = f"{value:.{decimals}f}"
+    if len(text) > 16 + decimals:
+        return fmt(value)
     return text.lstrip("-") if float(text) == 0.0 else text
 
 
