@@ -42,7 +42,7 @@ HALF_PI = 0.5 * math.pi
 TWO_PI = 2.0 * math.pi
 
 # A value is a float or an array of them, a condition a bool or an array of them: the formulas
-# combine conditions with & and choose with the backend's where.
+# combine conditions with &.
 _Lengths = tuple[Any, ...]
 _Formula = Callable[[Any, Any, Any, Any, Any, Any], tuple[Any, _Lengths]]
 
@@ -52,10 +52,6 @@ class _Math:
 
     sin, cos, atan2, hypot, sqrt = math.sin, math.cos, math.atan2, math.hypot, math.sqrt
     asin, acos, fmod = math.asin, math.acos, math.fmod
-
-    @staticmethod
-    def where(condition: bool, yes: float, no: float) -> float:
-        return yes if condition else no
 
     @staticmethod
     def wrap(angle: float) -> float:
@@ -74,7 +70,7 @@ def _numpy_backend() -> Any:
 
     class _NumPy:
         sin, cos, atan2, hypot, sqrt = np.sin, np.cos, np.arctan2, np.hypot, np.sqrt
-        asin, acos, fmod, where, clip = np.arcsin, np.arccos, np.fmod, np.where, np.clip
+        asin, acos, fmod, clip = np.arcsin, np.arccos, np.fmod, np.clip
 
         @staticmethod
         def wrap(angle: Any) -> Any:
@@ -85,12 +81,16 @@ def _numpy_backend() -> Any:
 
 
 def _tau_omega(b: Any, u: Any, v: Any, xi: Any, eta: Any, phi: Any) -> tuple[Any, Any]:
+    """The first and last arcs of 8.7 (``v = -u``) and 8.8 (``v = u``).
+
+    OMPL's ``tauOmega`` also turns ``tau`` by pi where ``t2 = 2 (cos(u - v) - cos v - cos u) + 3``
+    is negative. Here ``t2`` is ``(2 cos u - 1)^2`` (8.7) or ``5 - 4 cos u`` (8.8), never
+    negative but by rounding, so the turn is left out: a rounding cannot flip the path.
+    """
     delta = b.wrap(u - v)
     a1 = b.sin(u) - b.sin(delta)
     b1 = b.cos(u) - b.cos(delta) - 1.0
-    t1 = b.atan2(eta * a1 - xi * b1, xi * a1 + eta * b1)
-    t2 = 2.0 * (b.cos(delta) - b.cos(v) - b.cos(u)) + 3.0
-    tau = b.where(t2 < 0.0, b.wrap(t1 + math.pi), b.wrap(t1))
+    tau = b.wrap(b.atan2(eta * a1 - xi * b1, xi * a1 + eta * b1))
     return tau, b.wrap(tau - u + v - phi)
 
 

@@ -47,21 +47,15 @@ def _tau_omega(u: float, v: float, xi: float, eta: float, phi: float) -> tuple[f
     """The first and last arcs of 8.7 (``v = -u``, u in [0, pi/3]) and 8.8 (``v = u``).
 
     The full search wraps ``u - v`` and ``tau`` to [-pi, pi] after an fmod; here ``u - v`` lies
-    in [0, 2 pi/3] and ``t1`` (an atan2) in [-pi, pi], where both leave a value as it is, so
-    they are skipped with the same numbers as the result. Only ``t1 + pi`` can need a wrap.
+    in [0, 2 pi/3] and ``tau`` (an atan2) in [-pi, pi], where both leave a value as it is, so
+    they are skipped with the same numbers as the result.
     """
-    fmod, pi, two_pi = math.fmod, _PI, TWO_PI
+    pi, two_pi = _PI, TWO_PI
     delta = u - v
     a1 = math.sin(u) - math.sin(delta)
     b1 = math.cos(u) - math.cos(delta) - 1.0
-    t1 = math.atan2(eta * a1 - xi * b1, xi * a1 + eta * b1)
-    t2 = 2.0 * (math.cos(delta) - math.cos(v) - math.cos(u)) + 3.0
-    tau = t1
-    if t2 < 0.0:
-        tau = fmod(t1 + pi, two_pi)
-        if tau > pi:
-            tau -= two_pi
-    omega = fmod(tau - u + v - phi, two_pi)
+    tau = math.atan2(eta * a1 - xi * b1, xi * a1 + eta * b1)
+    omega = math.fmod(tau - u + v - phi, two_pi)
     if omega < -pi:
         omega += two_pi
     elif omega > pi:
@@ -162,7 +156,15 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
     minus = (_turned(-phi), abs(remainder(-phi - half_pi, two_pi)), _turned(-phi - half_pi))
     best, found = inf, -1
     lengths: tuple[float, ...] = ()
-    cut = inf  # best plus the slack: bounds above it cannot win
+
+    def offer(length: float, index: int, word: tuple[float, ...]) -> float:
+        # Keeps the word if it is shorter, or as short and earlier in WORDS; returns the cut.
+        nonlocal best, found, lengths
+        if length < best or (length == best and index < found):
+            best, found, lengths = length, index, word
+        return best + SLACK * (1.0 + best)
+
+    cut = inf  # the shortest so far plus the slack: bounds above it cannot win
     # Symmetry k: (x, y, phi), timeflip, reflect, both: the formulas' (xi, eta) = (x - s,
     # y - 1 + c) and (x + s, y - 1 - c) with the signs of x, y, s and phi changed, written as
     # the formulas write them (a - b and a + -b round alike, signed zeros included).
@@ -201,9 +203,7 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
                     v -= two_pi
                 if v >= -zero:
                     length = abs(theta) + da + abs(v)
-                    if length < best or (length == best and k < found):
-                        best, found, lengths = length, k, (theta, da, v)
-                        cut = best + slack * (1.0 + best)
+                    cut = offer(length, k, (theta, da, v))
         # 8.2 LSR.
         if u >= 0.0 and u + w <= cut:
             t = fmod(atan2(ej, xj) + atan2(2.0, u), two_pi)
@@ -219,9 +219,7 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
                     v -= two_pi
                 if v >= -zero:
                     length = abs(t) + u + abs(v)
-                    if length < best or (length == best and 4 + k < found):
-                        best, found, lengths = length, 4 + k, (t, u, v)
-                        cut = best + slack * (1.0 + best)
+                    cut = offer(length, 4 + k, (t, u, v))
     # The others, once the shortest of those two gives their bounds something to cut. Whole
     # families drop out at once where no symmetry's circles are near enough.
     near_same = min(left_same, right_same) <= 4.0 + slack and w <= cut
@@ -234,9 +232,7 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
             if lrl is not None:
                 t, u, v = lrl
                 length = abs(t) + abs(u) + abs(v)
-                if length < best or (length == best and 8 + k < found):
-                    best, found, lengths = length, 8 + k, lrl
-                    cut = best + slack * (1.0 + best)
+                cut = offer(length, 8 + k, lrl)
         if near_cross:
             # 8.7 LR+L-R (rho <= 1) and 8.8 L-R+L-R (0 <= rho <= 1): at most one holds.
             if db <= 2.0 + slack and w <= cut:
@@ -246,9 +242,7 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
                     t, v = _tau_omega(u, -u, xj, ej, p)
                     if t >= -zero and v <= zero:
                         length = abs(t) + abs(u) + abs(-u) + abs(v)
-                        if length < best or (length == best and 16 + k < found):
-                            best, found, lengths = length, 16 + k, (t, u, -u, v)
-                            cut = best + slack * (1.0 + best)
+                        cut = offer(length, 16 + k, (t, u, -u, v))
             if 1.9 <= db <= 4.5 and w <= cut:
                 rho = (20.0 - xj * xj - ej * ej) / 16.0
                 if rho >= 0.0 and rho <= 1.0:
@@ -258,27 +252,21 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
                         t, v = _tau_omega(u, u, xj, ej, p)
                         if t >= -zero and v >= -zero:
                             length = abs(t) + abs(u) + abs(u) + abs(v)
-                            if length < best or (length == best and 20 + k < found):
-                                best, found, lengths = length, 20 + k, (t, u, u, v)
-                                cut = best + slack * (1.0 + best)
+                            cut = offer(length, 20 + k, (t, u, u, v))
         # 8.9 LRSL, forwards.
         if lrsl_low + quarter <= cut and _turns_back(xi, eta) == 0:
             lrsl = _lrsl(xi, eta, da, p)
             if lrsl is not None:
                 t, _, u, v = lrsl
                 length = abs(t) + half_pi + abs(u) + abs(v)
-                if length < best or (length == best and 24 + k < found):
-                    best, found, lengths = length, 24 + k, lrsl
-                    cut = best + slack * (1.0 + best)
+                cut = offer(length, 24 + k, lrsl)
         # 8.10 LRSR, forwards.
         if lrsr_low + quarter_turned <= cut and (xj >= 0.0 or (ej < 0.0 and -xj <= 1e-9 * -ej)):
             lrsr = _lrsr(xj, ej, p)
             if lrsr is not None:
                 t, _, u, v = lrsr
                 length = abs(t) + half_pi + abs(u) + abs(v)
-                if length < best or (length == best and 28 + k < found):
-                    best, found, lengths = length, 28 + k, lrsr
-                    cut = best + slack * (1.0 + best)
+                cut = offer(length, 28 + k, lrsr)
         # 8.11 LRSLR: its straight is 4 - 8.2's.
         if db * db >= 20.0 - slack and straight >= 0.0 and pi + w + straight - 4.0 <= cut:
             u = 4.0 - straight
@@ -296,9 +284,7 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
                         v -= two_pi
                     if v >= -zero:
                         length = abs(t) + half_pi + abs(u) + half_pi + abs(v)
-                        if length < best or (length == best and 40 + k < found):
-                            best, found, lengths = length, 40 + k, (t, -half_pi, u, -half_pi, v)
-                            cut = best + slack * (1.0 + best)
+                        cut = offer(length, 40 + k, (t, -half_pi, u, -half_pi, v))
     # The formulas read backwards (8.4, 8.9 and 8.10 from the goal): the same four distances,
     # the cross ones swapped between the symmetries.
     xb, yb = x * c + y * s, x * s - y * c
@@ -319,23 +305,17 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
                 if lrl is not None:
                     t, u, v = lrl
                     length = abs(v) + abs(u) + abs(t)
-                    if length < best or (length == best and 12 + k < found):
-                        best, found, lengths = length, 12 + k, (v, u, t)
-                        cut = best + slack * (1.0 + best)
+                    cut = offer(length, 12 + k, (v, u, t))
             if try_lrsl and back == 0 and rho >= 2.0:
                 lrsl = _lrsl(xi, eta, rho, p)
                 if lrsl is not None:
                     t, _, u, v = lrsl
                     length = abs(v) + abs(u) + half_pi + abs(t)
-                    if length < best or (length == best and 32 + k < found):
-                        best, found, lengths = length, 32 + k, (v, u, -half_pi, t)
-                        cut = best + slack * (1.0 + best)
+                    cut = offer(length, 32 + k, (v, u, -half_pi, t))
         if lrsr_low + headings[2] <= cut and (xj >= 0.0 or (ej < 0.0 and -xj <= 1e-9 * -ej)):
             lrsr = _lrsr(xj, ej, p)
             if lrsr is not None:
                 t, _, u, v = lrsr
                 length = abs(v) + abs(u) + half_pi + abs(t)
-                if length < best or (length == best and 36 + k < found):
-                    best, found, lengths = length, 36 + k, (v, u, -half_pi, t)
-                    cut = best + slack * (1.0 + best)
+                cut = offer(length, 36 + k, (v, u, -half_pi, t))
     return found, lengths
