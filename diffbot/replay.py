@@ -38,6 +38,7 @@ from diffbot.samples import (
     OdometryRow,
     OdometryRows,
     Recording,
+    beyond_ranges,
     range_reason,
     wheel_limit,
 )
@@ -302,9 +303,7 @@ def _bag_pass(
             stamps = chunk.receive_ns[readable]
         # Readable messages with a finite wheel position too large to compute with are
         # skipped, as read_recording skips them.
-        with np.errstate(invalid="ignore"):
-            limit = wheel_limit(feedback)
-            large = (np.abs(positions) > limit) & np.isfinite(positions) & present
+        large = beyond_ranges(positions, wheel_limit(feedback)) & present
         out_of_range: NDArray[np.bool_] = np.any(large, axis=1)[readable]
         if unreadable:
             positions, present = positions[readable], present[readable]

@@ -42,6 +42,7 @@ __all__ = [
     "OdometryRows",
     "Recording",
     "beyond_range",
+    "beyond_ranges",
     "ns_from_seconds",
     "range_reason",
     "seconds_text",
@@ -126,6 +127,12 @@ def beyond_range(value: float, limit: float) -> bool:
     """A finite wheel value beyond ``limit`` (a :func:`wheel_limit`; infinities and NaN are the
     replay's to skip)."""
     return (value > limit or value < -limit) and math.isfinite(value)
+
+
+def beyond_ranges(values: NDArray[np.float64], limit: float) -> NDArray[np.bool_]:
+    """:func:`beyond_range` of each of ``values`` (an array of any shape)."""
+    magnitude = abs(values)
+    return (magnitude > limit) & (magnitude < math.inf)
 
 
 def seconds_text(stamp_ns: int) -> str:

@@ -50,6 +50,7 @@ from diffbot.samples import (
     ColumnSamples,
     Recording,
     beyond_range,
+    beyond_ranges,
     range_reason,
     wheel_limit,
 )
@@ -501,9 +502,7 @@ class CsvChunks:
         for j in range(len(self.joints)):
             positions[:, j] = rows[f"p{j}"]
         stamps = stamps[keep]
-        with np.errstate(invalid="ignore"):
-            limit = wheel_limit(self._field)
-            large = ((np.abs(positions) > limit) & np.isfinite(positions)).any(axis=1)
+        large = beyond_ranges(positions, wheel_limit(self._field)).any(axis=1)
         if large.any():
             skipped[range_reason(self._field)] = int(np.count_nonzero(large))
             positions, stamps = positions[~large], stamps[~large]

@@ -1,0 +1,48 @@
+"""Wheel samples' bounds: one value or a whole array, the same answer."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from diffbot.numbers import MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED
+from diffbot.samples import beyond_range, beyond_ranges, wheel_limit
+
+#: Values about the bounds, their negatives, the infinities and NaN, and anything else.
+values = st.one_of(
+    st.sampled_from([MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED]).flatmap(
+        lambda bound: st.sampled_from(
+            [bound, math.nextafter(bound, math.inf), math.nextafter(bound, 0.0), 1.01 * bound]
+        )
+    ),
+    st.sampled_from([0.0, -0.0, math.inf, -math.inf, math.nan]),
+    st.floats(allow_nan=True, allow_infinity=True),
+).flatmap(lambda v: st.sampled_from([v, -v]))
+
+
+def test_each_field_has_its_bound() -> None:
+    assert wheel_limit("position") == MAX_RECORDED_ANGLE
+    assert wheel_limit("velocity") == MAX_WHEEL_SPEED
+
+
+@pytest.mark.parametrize("limit", [MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED])
+def test_only_finite_values_beyond_the_bound_are_beyond_it(limit: float) -> None:
+    assert beyond_range(math.nextafter(limit, math.inf), limit)
+    assert beyond_range(-math.nextafter(limit, math.inf), limit)
+    for value in (limit, -limit, 0.0, math.inf, -math.inf, math.nan):
+        assert not beyond_range(value, limit)
+
+
+@given(
+    arrays(np.float64, st.tuples(st.integers(0, 4), st.integers(0, 3)), elements=values),
+    st.sampled_from([MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED]),
+)
+def test_an_array_is_judged_as_each_of_its_values(table: np.ndarray, limit: float) -> None:
+    judged = beyond_ranges(table, limit)
+    assert judged.shape == table.shape
+    assert judged.tolist() == [[beyond_range(v, limit) for v in row] for row in table.tolist()]
