@@ -48,7 +48,8 @@ def _tau_omega(u: float, v: float, xi: float, eta: float, phi: float) -> tuple[f
 
     The full search wraps ``u - v`` and ``tau`` to [-pi, pi] after an fmod; here ``u - v`` lies
     in [0, 2 pi/3] and ``tau`` (an atan2) in [-pi, pi], where both leave a value as it is, so
-    they are skipped with the same numbers as the result.
+    they are skipped with the same numbers as the result. OMPL's turn of ``tau`` by pi is left
+    out as in the full search: its condition holds only by rounding.
     """
     pi, two_pi = _PI, TWO_PI
     delta = u - v
