@@ -135,6 +135,32 @@ def test_paths_keeps_path_s_word_where_numpy_rounds_otherwise(
         assert reeds_shepp.WORDS[index] == kinds, goal
 
 
+def test_paths_plans_again_only_the_goals_within_rounding_of_a_tie(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # A goal planned again one by one costs what path() costs: only goals whose two shortest
+    # words are within 1e-9 relative of each other are, as the candidates' lengths tell.
+    again: list[tuple[float, float, float]] = []
+    one_by_one = reeds_shepp.shortest
+
+    def counted(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
+        again.append((x, y, phi))
+        return one_by_one(x, y, phi)
+
+    monkeypatch.setattr(reeds_shepp, "shortest", counted)
+    goals = np.concatenate((random_pairs(PAIRS), WHOLE_RADII))
+    reeds_shepp.paths(*goals.T)
+    tied = []
+    for goal in goals.tolist():
+        totals = sorted(
+            sum(abs(v) for v in lengths) for _, lengths in reeds_shepp.candidates(*goal)
+        )
+        if totals[1] - totals[0] <= 1e-9 * (1.0 + totals[0]):
+            tied.append(tuple(goal))
+    assert again == tied
+    assert 0 < len(tied) < len(goals) // 4  # the grid is full of ties; random goals have few
+
+
 def test_paths_broadcast_and_unreachable_goals() -> None:
     words, lengths = reeds_shepp.paths([[3.0, -3.0]], 0.0, [0.0, math.nan])
     assert words.shape == (1, 2)
