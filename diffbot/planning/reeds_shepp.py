@@ -84,8 +84,8 @@ def _tau_omega(b: Any, u: Any, v: Any, xi: Any, eta: Any, phi: Any) -> tuple[Any
     """The first and last arcs of 8.7 (``v = -u``) and 8.8 (``v = u``).
 
     OMPL's ``tauOmega`` also turns ``tau`` by pi where ``t2 = 2 (cos(u - v) - cos v - cos u) + 3``
-    is negative. Here ``t2`` is ``(2 cos u - 1)^2`` (8.7) or ``5 - 4 cos u`` (8.8), never
-    negative but by rounding, so the turn is left out: a rounding cannot flip the path.
+    is negative. Here ``t2`` is ``(2 cos u - 1)^2`` (8.7), negative only by a rounding, or
+    ``5 - 4 cos u >= 1`` (8.8), so the turn is left out: a rounding cannot flip the path.
     """
     delta = b.wrap(u - v)
     a1 = b.sin(u) - b.sin(delta)

@@ -21,7 +21,8 @@ its length does not already exceed the shortest so far:
 A bound rules a word out only when it exceeds the shortest length by more than :data:`SLACK`
 relative (far above rounding), and equally short words keep the order of the full search: the
 word chosen is the one it chooses. The wraps to [-pi, pi] are written out where they are used:
-a call of a Python function costs more than the arithmetic.
+a call of a Python function costs more than the arithmetic. Keeping the shortest word, a few
+times a goal, is the one call.
 
 Units: lengths in turning radii (a turn's length is the angle it turns, rad); a negative length
 drives backwards.
