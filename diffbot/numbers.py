@@ -92,6 +92,15 @@ def shown(value: object) -> str:
     return text if len(text) <= _SHOWN else f"{text[: _SHOWN - 3]}..."
 
 
+def reads_as_number(text: str) -> bool:
+    """Whether ``float`` reads ``text`` as a number (NaN and infinities included)."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def as_number(
     value: object,
     what: str,

@@ -11,7 +11,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from diffbot.errors import ParameterError, RecordingError
-from diffbot.numbers import as_number, finite_in_range, positive_finite, shown
+from diffbot.numbers import as_number, finite_in_range, positive_finite, reads_as_number, shown
 
 
 @given(st.floats(allow_nan=False, allow_infinity=False), st.floats(0.0, 1e300))
@@ -68,3 +68,18 @@ def test_a_positive_number_too_small_to_compute_with_is_refused(value: float) ->
         positive_finite(value, "x")
     assert positive_finite(sys.float_info.min, "x") == sys.float_info.min
     assert positive_finite(1e-300, "x") == 1e-300
+
+
+@pytest.mark.parametrize("text", ["0", "-1.5", " 2e3 ", "1_000", "inf", "-Infinity", "nan", "+7"])
+def test_text_float_reads_is_a_number(text: str) -> None:
+    assert reads_as_number(text)
+
+
+@pytest.mark.parametrize("text", ["", "x", "1,5", "0x10", "1e", "--1", "left_wheel"])
+def test_text_float_refuses_is_not_a_number(text: str) -> None:
+    assert not reads_as_number(text)
+
+
+@given(st.floats() | st.integers(-(10**30), 10**30))
+def test_every_printed_number_reads_as_one(value: float) -> None:
+    assert reads_as_number(repr(value))

@@ -24,6 +24,7 @@ from diffbot.calibration.checks import WheelGeometry, check_geometry, positive
 from diffbot.calibration.results import controller_yaml_lines, xacro_arguments, yaml_number
 from diffbot.errors import CalibrationError, DiffbotError
 from diffbot.kinematics import DiffDriveParams
+from diffbot.numbers import reads_as_number
 
 __all__ = ["ApplyResult", "apply_to", "calibrated_path"]
 
@@ -233,7 +234,7 @@ def _definitions(data: bytes, source: str) -> dict[str, list[_Definition]]:
             return
         if tag == "xacro:arg" and "default" in attributes:
             found[name].append(_Definition("xacro:arg", "default", parser.CurrentByteIndex))
-        elif tag == "xacro:property" and _is_number(attributes.get("value")):
+        elif tag == "xacro:property" and _finite(attributes.get("value", "")):
             found[name].append(_Definition("xacro:property", "value", parser.CurrentByteIndex))
 
     def refuse_entities(*_: object) -> None:
@@ -248,11 +249,9 @@ def _definitions(data: bytes, source: str) -> dict[str, list[_Definition]]:
     return found
 
 
-def _is_number(text: str | None) -> bool:
-    try:
-        return text is not None and math.isfinite(float(text))
-    except ValueError:
-        return False
+def _finite(text: str) -> bool:
+    """Whether ``text`` reads as a finite number."""
+    return reads_as_number(text) and math.isfinite(float(text))
 
 
 def _set_attribute(data: bytes, definition: _Definition, value: str, source: str) -> bytes:

@@ -48,6 +48,7 @@ from diffbot.kinematics import (
     wheel_from_joint,
     within_limit,
 )
+from diffbot.numbers import reads_as_number
 from diffbot.urdf import expand
 
 __all__ = ["fk", "ik", "params", "urdf"]
@@ -145,20 +146,12 @@ def _robot_and_numbers(
     takes a robot takes it first."""
     rest, xacro_args = split_xacro_args(tokens)
     path = None
-    if len(rest) == 3 and not _is_number(rest[0]):
+    if len(rest) == 3 and not reads_as_number(rest[0]):
         path, rest = rest[0], rest[1:]
     if len(rest) != 2:
         fail(f"expected {names[0]} and {names[1]}, got {len(rest)} value(s) {list(rest)}")
     numbers = parse_number(rest[0], names[0]), parse_number(rest[1], names[1])
     return numbers, robot.with_path(path, xacro_args)
-
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 def _speeds_json(params: DiffDriveParams, joints: WheelSpeeds) -> dict[str, Any]:

@@ -41,6 +41,7 @@ from diffbot.io.csv_stamps import (
     unit_by_magnitude,
 )
 from diffbot.io.textfile import open_text
+from diffbot.numbers import reads_as_number
 from diffbot.samples import (
     INT64,
     SKIP_MISSING_STAMP,
@@ -216,15 +217,6 @@ def _rows_exactly(
     )
 
 
-def _is_number(text: str) -> bool:
-    """Whether a cell reads as a number (a header cell that does is data, not a name)."""
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
-
-
 def _named_columns(
     headers: Sequence[str], names: Sequence[str], option: str, source: str
 ) -> list[tuple[str, int]]:
@@ -307,7 +299,7 @@ class CsvChunks:
                 self.delimiter = other
                 self.delimiter_detected = True
                 headers = [h.strip() for h in next(csv.reader([headers[0]], delimiter=other))]
-        if all(_is_number(h) for h in headers):
+        if all(reads_as_number(h) for h in headers):
             example = self.delimiter.join(["time", *sides[0][:1], *sides[1][:1]])
             raise RecordingError(
                 f"{source}: the first line holds numbers, not column names: a header line "
@@ -375,7 +367,7 @@ class CsvChunks:
             row = next(csv.reader([line], delimiter=self.delimiter), [])
             cells = [row[i].strip() for i in self.indexes if i < len(row)]
             self.decimal_comma = any(_DECIMAL_COMMA.fullmatch(c) for c in cells) and all(
-                _DECIMAL_COMMA.fullmatch(c) or _is_number(c) or not c for c in cells
+                _DECIMAL_COMMA.fullmatch(c) or reads_as_number(c) or not c for c in cells
             )
             return
 
