@@ -160,13 +160,7 @@ class Node:
             topic,
             type_name=msg_type.__idl_typename__,
         )
-        self._check_types_every_second()
-        self.reader_guids.append(reader.guid.bytes)
-        if self._announce is not None:
-            self._announce()
-        self._waitset.attach(ReadCondition(reader, SampleState.Any))
-        self._subscriptions.append(subscription)
-        return subscription
+        return self._read(subscription, self._subscriptions)
 
     def create_service(
         self,
@@ -201,19 +195,21 @@ class Node:
             self.participant, self._topic(request_type, name, f"rq/{base}Request"), qos
         )
         service = Subscription(
-            reader,
-            request_type.deserialize,
-            answer,
-            name,
-            type_name=request_type.__idl_typename__,
+            reader, request_type.deserialize, answer, name, type_name=request_type.__idl_typename__
         )
+        return self._read(service, self._services)
+
+    def _read(
+        self, subscription: Subscription[M], kept: list[Subscription[Any]]
+    ) -> Subscription[M]:
+        """``subscription`` kept in ``kept``, its reader announced and waited on while spinning."""
         self._check_types_every_second()
-        self.reader_guids.append(reader.guid.bytes)
+        self.reader_guids.append(subscription.reader.guid.bytes)
         if self._announce is not None:
             self._announce()
-        self._waitset.attach(ReadCondition(reader, SampleState.Any))
-        self._services.append(service)
-        return service
+        self._waitset.attach(ReadCondition(subscription.reader, SampleState.Any))
+        kept.append(subscription)
+        return subscription
 
     def _check_types_every_second(self) -> None:
         """Start the timer of :meth:`check_types` with the node's first reader."""
