@@ -23,18 +23,8 @@ try:
     )
     from cyclonedds.domain import Domain, DomainParticipant
     from cyclonedds.idl import IdlStruct
+    from cyclonedds.idl import types as idl
     from cyclonedds.idl.annotations import final
-    from cyclonedds.idl.types import (
-        array,
-        bounded_str,
-        float64,
-        int32,
-        int64,
-        sequence,
-        uint8,
-        uint32,
-        uint64,
-    )
     from cyclonedds.pub import DataWriter
     from cyclonedds.qos import Policy, Qos
     from cyclonedds.sub import DataReader
@@ -60,16 +50,8 @@ __all__ = [
     "Topic",
     "ViewState",
     "WaitSet",
-    "array",
-    "bounded_str",
     "ddspy_take",
     "ddspy_write",
     "final",
-    "float64",
-    "int32",
-    "int64",
-    "sequence",
-    "uint8",
-    "uint32",
-    "uint64",
+    "idl",
 ]

@@ -18,19 +18,7 @@ cyclonedds (and says how to install it when it is missing).
 from dataclasses import dataclass, field
 from typing import Any
 
-from diffbot.live.cyclone import (
-    IdlStruct,
-    array,
-    bounded_str,
-    final,
-    float64,
-    int32,
-    int64,
-    sequence,
-    uint8,
-    uint32,
-    uint64,
-)
+from diffbot.live.cyclone import IdlStruct, final, idl
 
 __all__ = [
     "ROS_TYPES",
@@ -91,8 +79,8 @@ def ros_type_name(dds_name: str) -> str:
 class Time(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
     """builtin_interfaces/Time: seconds and nanoseconds (0..999999999) since the epoch."""
 
-    sec: int32 = 0
-    nanosec: uint32 = 0
+    sec: idl.int32 = 0
+    nanosec: idl.uint32 = 0
 
 
 @final
@@ -109,9 +97,9 @@ class Header(IdlStruct, typename="std_msgs::msg::dds_::Header_"):
 class Vector3(IdlStruct, typename="geometry_msgs::msg::dds_::Vector3_"):
     """geometry_msgs/Vector3."""
 
-    x: float64 = 0.0
-    y: float64 = 0.0
-    z: float64 = 0.0
+    x: idl.float64 = 0.0
+    y: idl.float64 = 0.0
+    z: idl.float64 = 0.0
 
 
 @final
@@ -119,9 +107,9 @@ class Vector3(IdlStruct, typename="geometry_msgs::msg::dds_::Vector3_"):
 class Point(IdlStruct, typename="geometry_msgs::msg::dds_::Point_"):
     """geometry_msgs/Point (m)."""
 
-    x: float64 = 0.0
-    y: float64 = 0.0
-    z: float64 = 0.0
+    x: idl.float64 = 0.0
+    y: idl.float64 = 0.0
+    z: idl.float64 = 0.0
 
 
 @final
@@ -129,10 +117,10 @@ class Point(IdlStruct, typename="geometry_msgs::msg::dds_::Point_"):
 class Quaternion(IdlStruct, typename="geometry_msgs::msg::dds_::Quaternion_"):
     """geometry_msgs/Quaternion: the identity unless given."""
 
-    x: float64 = 0.0
-    y: float64 = 0.0
-    z: float64 = 0.0
-    w: float64 = 1.0
+    x: idl.float64 = 0.0
+    y: idl.float64 = 0.0
+    z: idl.float64 = 0.0
+    w: idl.float64 = 1.0
 
 
 @final
@@ -187,7 +175,7 @@ class PoseWithCovariance(IdlStruct, typename="geometry_msgs::msg::dds_::PoseWith
     """geometry_msgs/PoseWithCovariance: a 6x6 row-major covariance."""
 
     pose: Pose = field(default_factory=Pose)
-    covariance: array[float64, 36] = field(default_factory=lambda: [0.0] * 36)
+    covariance: idl.array[idl.float64, 36] = field(default_factory=lambda: [0.0] * 36)
 
 
 @final
@@ -217,7 +205,7 @@ class TwistWithCovariance(IdlStruct, typename="geometry_msgs::msg::dds_::TwistWi
     """geometry_msgs/TwistWithCovariance."""
 
     twist: Twist = field(default_factory=Twist)
-    covariance: array[float64, 36] = field(default_factory=lambda: [0.0] * 36)
+    covariance: idl.array[idl.float64, 36] = field(default_factory=lambda: [0.0] * 36)
 
 
 @final
@@ -237,10 +225,10 @@ class JointState(IdlStruct, typename="sensor_msgs::msg::dds_::JointState_"):
     """sensor_msgs/JointState: positions (rad), velocities (rad/s), efforts (N m) by name."""
 
     header: Header = field(default_factory=Header)
-    name: sequence[str] = field(default_factory=list)
-    position: sequence[float64] = field(default_factory=list)
-    velocity: sequence[float64] = field(default_factory=list)
-    effort: sequence[float64] = field(default_factory=list)
+    name: idl.sequence[str] = field(default_factory=list)
+    position: idl.sequence[idl.float64] = field(default_factory=list)
+    velocity: idl.sequence[idl.float64] = field(default_factory=list)
+    effort: idl.sequence[idl.float64] = field(default_factory=list)
 
 
 @final
@@ -249,8 +237,8 @@ class MultiArrayDimension(IdlStruct, typename="std_msgs::msg::dds_::MultiArrayDi
     """std_msgs/MultiArrayDimension."""
 
     label: str = ""
-    size: uint32 = 0
-    stride: uint32 = 0
+    size: idl.uint32 = 0
+    stride: idl.uint32 = 0
 
 
 @final
@@ -258,8 +246,8 @@ class MultiArrayDimension(IdlStruct, typename="std_msgs::msg::dds_::MultiArrayDi
 class MultiArrayLayout(IdlStruct, typename="std_msgs::msg::dds_::MultiArrayLayout_"):
     """std_msgs/MultiArrayLayout."""
 
-    dim: sequence[MultiArrayDimension] = field(default_factory=list)
-    data_offset: uint32 = 0
+    dim: idl.sequence[MultiArrayDimension] = field(default_factory=list)
+    data_offset: idl.uint32 = 0
 
 
 @final
@@ -268,7 +256,7 @@ class Float64MultiArray(IdlStruct, typename="std_msgs::msg::dds_::Float64MultiAr
     """std_msgs/Float64MultiArray: what a forward_command_controller's ``commands`` takes."""
 
     layout: MultiArrayLayout = field(default_factory=MultiArrayLayout)
-    data: sequence[float64] = field(default_factory=list)
+    data: idl.sequence[idl.float64] = field(default_factory=list)
 
 
 @final
@@ -284,7 +272,7 @@ class String(IdlStruct, typename="std_msgs::msg::dds_::String_"):
 class TFMessage(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
     """tf2_msgs/TFMessage: what /tf and /tf_static carry."""
 
-    transforms: sequence[TransformStamped] = field(default_factory=list)
+    transforms: idl.sequence[TransformStamped] = field(default_factory=list)
 
 
 @final
@@ -292,7 +280,7 @@ class TFMessage(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
 class Gid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
     """rmw_dds_common/Gid as Iron and later declare it: an endpoint's 16-byte DDS GUID."""
 
-    data: array[uint8, 16] = bytes(16)
+    data: idl.array[idl.uint8, 16] = bytes(16)
 
 
 @final
@@ -300,10 +288,10 @@ class Gid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
 class NodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
     """rmw_dds_common/NodeEntitiesInfo: a node's name and the GIDs of its readers and writers."""
 
-    node_namespace: bounded_str[256] = "/"
-    node_name: bounded_str[256] = ""
-    reader_gid_seq: sequence[Gid] = field(default_factory=list)
-    writer_gid_seq: sequence[Gid] = field(default_factory=list)
+    node_namespace: idl.bounded_str[256] = "/"
+    node_name: idl.bounded_str[256] = ""
+    reader_gid_seq: idl.sequence[Gid] = field(default_factory=list)
+    writer_gid_seq: idl.sequence[Gid] = field(default_factory=list)
 
 
 @final
@@ -315,7 +303,7 @@ class ParticipantEntitiesInfo(
     one DDS participant."""
 
     gid: Gid = field(default_factory=Gid)
-    node_entities_info_seq: sequence[NodeEntitiesInfo] = field(default_factory=list)
+    node_entities_info_seq: idl.sequence[NodeEntitiesInfo] = field(default_factory=list)
 
 
 @final
@@ -323,7 +311,7 @@ class ParticipantEntitiesInfo(
 class HumbleGid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
     """rmw_dds_common/Gid up to Humble: 24 bytes, the GUID then zeros."""
 
-    data: array[uint8, 24] = bytes(24)
+    data: idl.array[idl.uint8, 24] = bytes(24)
 
 
 @final
@@ -331,10 +319,10 @@ class HumbleGid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
 class HumbleNodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
     """rmw_dds_common/NodeEntitiesInfo with Humble's GIDs."""
 
-    node_namespace: bounded_str[256] = "/"
-    node_name: bounded_str[256] = ""
-    reader_gid_seq: sequence[HumbleGid] = field(default_factory=list)
-    writer_gid_seq: sequence[HumbleGid] = field(default_factory=list)
+    node_namespace: idl.bounded_str[256] = "/"
+    node_name: idl.bounded_str[256] = ""
+    reader_gid_seq: idl.sequence[HumbleGid] = field(default_factory=list)
+    writer_gid_seq: idl.sequence[HumbleGid] = field(default_factory=list)
 
 
 @final
@@ -345,7 +333,7 @@ class HumbleParticipantEntitiesInfo(
     """rmw_dds_common/ParticipantEntitiesInfo with Humble's GIDs."""
 
     gid: HumbleGid = field(default_factory=HumbleGid)
-    node_entities_info_seq: sequence[HumbleNodeEntitiesInfo] = field(default_factory=list)
+    node_entities_info_seq: idl.sequence[HumbleNodeEntitiesInfo] = field(default_factory=list)
 
 
 #: The ROS distributions whose rmw_dds_common/Gid holds 24 bytes (16 since Iron).
@@ -380,14 +368,14 @@ def discovery_types(
 class SetOdometryRequest(IdlStruct, typename="control_msgs::srv::dds_::SetOdometry_Request_"):
     """control_msgs/srv/SetOdometry's request: the pose to put the odometry at (m, rad)."""
 
-    guid: uint64 = 0
-    seq: int64 = 0
-    x: float64 = 0.0
-    y: float64 = 0.0
-    z: float64 = 0.0
-    roll: float64 = 0.0
-    pitch: float64 = 0.0
-    yaw: float64 = 0.0
+    guid: idl.uint64 = 0
+    seq: idl.int64 = 0
+    x: idl.float64 = 0.0
+    y: idl.float64 = 0.0
+    z: idl.float64 = 0.0
+    roll: idl.float64 = 0.0
+    pitch: idl.float64 = 0.0
+    yaw: idl.float64 = 0.0
 
 
 @final
@@ -395,8 +383,8 @@ class SetOdometryRequest(IdlStruct, typename="control_msgs::srv::dds_::SetOdomet
 class SetOdometryResponse(IdlStruct, typename="control_msgs::srv::dds_::SetOdometry_Response_"):
     """control_msgs/srv/SetOdometry's response: whether the pose was taken, and why not."""
 
-    guid: uint64 = 0
-    seq: int64 = 0
+    guid: idl.uint64 = 0
+    seq: idl.int64 = 0
     success: bool = False
     message: str = ""
 
@@ -406,9 +394,9 @@ class SetOdometryResponse(IdlStruct, typename="control_msgs::srv::dds_::SetOdome
 class EmptyRequest(IdlStruct, typename="std_srvs::srv::dds_::Empty_Request_"):
     """std_srvs/srv/Empty's request (an empty struct gets one placeholder byte in ROS 2)."""
 
-    guid: uint64 = 0
-    seq: int64 = 0
-    structure_needs_at_least_one_member: uint8 = 0
+    guid: idl.uint64 = 0
+    seq: idl.int64 = 0
+    structure_needs_at_least_one_member: idl.uint8 = 0
 
 
 @final
@@ -416,9 +404,9 @@ class EmptyRequest(IdlStruct, typename="std_srvs::srv::dds_::Empty_Request_"):
 class EmptyResponse(IdlStruct, typename="std_srvs::srv::dds_::Empty_Response_"):
     """std_srvs/srv/Empty's response."""
 
-    guid: uint64 = 0
-    seq: int64 = 0
-    structure_needs_at_least_one_member: uint8 = 0
+    guid: idl.uint64 = 0
+    seq: idl.int64 = 0
+    structure_needs_at_least_one_member: idl.uint8 = 0
 
 
 #: Every message type of the nodes' topics, by its ROS name (the discovery types, whose
