@@ -9,6 +9,7 @@ from typing import Any
 
 import click
 
+from diffbot import kinematics
 from diffbot.body_limits import BodyLimits, body_limits, clamp, over
 from diffbot.commands.limit_options import body_limit_option
 from diffbot.commands.options import (
@@ -34,20 +35,7 @@ from diffbot.formats.plan_table import limit_text
 from diffbot.formats.robot import params_json, params_lines
 from diffbot.formats.text import fmt
 from diffbot.io.outputs import write_text_atomic
-from diffbot.kinematics import (
-    DiffDriveParams,
-    Twist,
-    WheelSpeeds,
-    forward,
-    inverse,
-    joint_from_wheel,
-    limit_fraction,
-    rad_s_from_rpm,
-    rpm_from_rad_s,
-    saturate,
-    wheel_from_joint,
-    within_limit,
-)
+from diffbot.kinematics import DiffDriveParams, Twist, WheelSpeeds
 from diffbot.numbers import reads_as_number
 from diffbot.urdf import expand
 
@@ -158,8 +146,8 @@ def _speeds_json(params: DiffDriveParams, joints: WheelSpeeds) -> dict[str, Any]
     return {
         "left": float(joints.left),
         "right": float(joints.right),
-        "left_rpm": float(rpm_from_rad_s(joints.left)),
-        "right_rpm": float(rpm_from_rad_s(joints.right)),
+        "left_rpm": float(kinematics.rpm_from_rad_s(joints.left)),
+        "right_rpm": float(kinematics.rpm_from_rad_s(joints.right)),
     }
 
 
@@ -207,19 +195,22 @@ def ik(
     clamped = do_saturate and bool(beyond)
     if clamped:
         asked = clamp(asked, body)
-    wheels = inverse(p, float(asked.linear), float(asked.angular))
+    wheels = kinematics.inverse(p, float(asked.linear), float(asked.angular))
     check_finite(
-        "wheel speeds", float(wheels.left), float(wheels.right), float(rpm_from_rad_s(wheels.left))
+        "wheel speeds",
+        float(wheels.left),
+        float(wheels.right),
+        float(kinematics.rpm_from_rad_s(wheels.left)),
     )
-    check_finite("wheel speeds", float(rpm_from_rad_s(wheels.right)))
-    motor_scaled = do_saturate and not within_limit(p, wheels)
+    check_finite("wheel speeds", float(kinematics.rpm_from_rad_s(wheels.right)))
+    motor_scaled = do_saturate and not kinematics.within_limit(p, wheels)
     if motor_scaled:
-        wheels = saturate(p, wheels)
+        wheels = kinematics.saturate(p, wheels)
     saturated = clamped or motor_scaled
-    body_ok = not over(forward(p, wheels.left, wheels.right), body)
-    joints = joint_from_wheel(p, wheels)
-    ok = within_limit(p, wheels)
-    fraction = limit_fraction(p, wheels)
+    body_ok = not over(kinematics.forward(p, wheels.left, wheels.right), body)
+    joints = kinematics.joint_from_wheel(p, wheels)
+    ok = kinematics.within_limit(p, wheels)
+    fraction = kinematics.limit_fraction(p, wheels)
     if as_json:
         data = _speeds_json(p, joints)
         data["within_limit"] = ok
@@ -236,10 +227,10 @@ def ik(
             rad_s = float(value)
             click.echo(
                 f"{side + ' wheel':<12} {fmt(rad_s):>10} rad/s "
-                f"{fmt(rpm_from_rad_s(rad_s), 5):>9} rpm   ({joint})"
+                f"{fmt(kinematics.rpm_from_rad_s(rad_s), 5):>9} rpm   ({joint})"
             )
         if saturated:
-            twist = forward(p, wheels.left, wheels.right)
+            twist = kinematics.forward(p, wheels.left, wheels.right)
             click.echo(
                 f"saturated    to linear {fmt(float(twist.linear))} m/s, "
                 f"angular {fmt(float(twist.angular))} rad/s "
@@ -284,7 +275,7 @@ def _body_text(body: BodyLimits) -> str:
 def _over_limit(p: DiffDriveParams, wheels: WheelSpeeds, hint: str = "") -> None:
     """Exit 1, naming the faster wheel, when the wheels exceed the motor limit."""
     faster = "left" if abs(float(wheels.left)) >= abs(float(wheels.right)) else "right"
-    rpm = abs(float(rpm_from_rad_s(wheels.left if faster == "left" else wheels.right)))
+    rpm = abs(float(kinematics.rpm_from_rad_s(wheels.left if faster == "left" else wheels.right)))
     click.echo(
         f"error: {faster} wheel at {fmt(rpm, 4)} rpm exceeds the motor limit of "
         f"{fmt(p.max_wheel_rpm or 0.0, 4)} rpm{hint}",
@@ -312,10 +303,13 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
     """
     (left, right), robot = _robot_and_numbers(robot, tokens, ("LEFT", "RIGHT"))
     if in_rpm:
-        left, right = float(rad_s_from_rpm(left)), float(rad_s_from_rpm(right))
+        left, right = (
+            float(kinematics.rad_s_from_rpm(left)),
+            float(kinematics.rad_s_from_rpm(right)),
+        )
     p = robot.load()
-    wheels = wheel_from_joint(p, WheelSpeeds(left, right))
-    twist = forward(p, wheels.left, wheels.right)
+    wheels = kinematics.wheel_from_joint(p, WheelSpeeds(left, right))
+    twist = kinematics.forward(p, wheels.left, wheels.right)
     linear, angular = float(twist.linear), float(twist.angular)
     check_finite("body velocity", linear, angular)
     if as_json:
@@ -332,5 +326,5 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
             f"{fmt(linear / angular)} m ({'counter-clockwise' if angular > 0 else 'clockwise'})"
         )
     click.echo(f"radius   {radius}")
-    if not within_limit(p, wheels):
+    if not kinematics.within_limit(p, wheels):
         _over_limit(p, wheels)
