@@ -156,13 +156,7 @@ def odom(
         window=window,
         publish_tf=False if no_tf else None,
     )
-    run_node(
-        lambda: _warning(OdometryNode(params, settings)),
-        "odom",
-        quiet=quiet,
-        duration=duration,
-        announce=announce,
-    )
+    _spin(lambda: OdometryNode(params, settings), "odom", duration, announce, quiet)
 
 
 @node.command("ik")
@@ -251,22 +245,21 @@ def ik(
         use_limits=not no_limits,
         body=body_limits(params, max_linear, max_angular),
     )
-    run_node(
-        lambda: _warning(InverseKinematicsNode(params, settings)),
-        "ik",
-        quiet=quiet,
-        duration=duration,
-        announce=announce,
-    )
+    _spin(lambda: InverseKinematicsNode(params, settings), "ik", duration, announce, quiet)
 
 
-L = TypeVar("L", bound="Node")
+def _spin(
+    make: Callable[[], Node], label: str, duration: float | None, announce: bool, quiet: bool
+) -> None:
+    """Spin the node ``make()`` makes as :func:`run_node` does, its warnings printed as every
+    command prints them."""
 
+    def made() -> Node:
+        live = make()
+        live.warn = warn
+        return live
 
-def _warning(live: L) -> L:
-    """``live``, printing its warnings as every command does."""
-    live.warn = warn
-    return live
+    run_node(made, label, quiet=quiet, duration=duration, announce=announce)
 
 
 def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[str, str]:
@@ -412,10 +405,4 @@ def robot_command(
         limit_wheels=limit_wheels,
         disturbances=Disturbances(motor_lag, latency, drop, slip, seed=seed),
     )
-    run_node(
-        lambda: _warning(RobotNode(params, expansion.urdf, settings)),
-        "robot",
-        quiet=quiet,
-        duration=duration,
-        announce=announce,
-    )
+    _spin(lambda: RobotNode(params, expansion.urdf, settings), "robot", duration, announce, quiet)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import random
+import select
 import signal
 import subprocess
 import sys
@@ -174,3 +175,41 @@ def test_every_live_command_ends_cleanly_on_a_signal_under_load(seed: int) -> No
     assert last[LEFT_TOPIC] == zero
     assert last[RIGHT_TOPIC] == zero
     assert last["cmd_vel"] == (0.0, 0.0)
+
+
+@pytest.mark.parametrize(
+    ("command", "topic", "reads"),
+    [
+        ("odom", "joint_states", "sensor_msgs/msg/JointState"),
+        ("ik", "cmd_vel", "a velocity command"),
+        ("robot", LEFT_TOPIC, "std_msgs/msg/Float64MultiArray"),
+    ],
+)
+def test_a_node_command_prints_its_node_warnings(command: str, topic: str, reads: str) -> None:
+    """A publisher of another type on a topic the node reads is one ``warning:`` line on the
+    command's stderr, printed while it runs."""
+    with Node("stranger") as stranger:
+        other = stranger.create_publisher(types.String, topic)
+        process = subprocess.Popen(
+            [sys.executable, "-m", "diffbot", "node", command],
+            stderr=subprocess.PIPE,
+            text=True,
+            env=os.environ.copy(),
+        )
+        other.publish(types.String("not for this node"))
+        try:
+            assert process.stderr is not None
+            first = ""
+            end = time.monotonic() + 2 * PATIENCE
+            while time.monotonic() < end and not first.startswith("warning: "):
+                ready, _, _ = select.select([process.stderr], [], [], 0.1)
+                if ready:
+                    first = process.stderr.readline()
+            process.send_signal(signal.SIGINT)
+            _, rest = process.communicate(timeout=PATIENCE)
+        finally:
+            process.kill()
+    assert process.returncode == 0, first + rest
+    assert first.startswith(f"warning: '/{topic}' carries std_msgs/msg/String"), first + rest
+    assert reads in first
+    assert "warning: " not in rest
