@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-__all__ = ["ROUNDING", "Piece", "mod2pi"]
+__all__ = ["ROUNDING", "Piece", "mod2pi", "wrap_pi"]
 
 TWO_PI = 2.0 * math.pi
 #: Turns smaller than this (rad) and straights shorter (m) are rounding, not motion (a few ulps
@@ -25,6 +25,17 @@ class Piece(NamedTuple):
 
     kind: str
     length: float
+
+
+def wrap_pi(angle: float) -> float:
+    """``angle`` (rad) as OMPL's Reeds-Shepp search wraps it: ``fmod`` by 2 pi, then into
+    [-pi, pi] by one turn."""
+    turned = math.fmod(angle, TWO_PI)
+    if turned < -math.pi:
+        return turned + TWO_PI
+    if turned > math.pi:
+        return turned - TWO_PI
+    return turned
 
 
 def mod2pi(angle: float) -> float:

@@ -29,7 +29,7 @@ import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from diffbot.planning import Piece
+from diffbot.planning import Piece, wrap_pi
 from diffbot.planning.reeds_shepp_search import SLACK, ZERO, shortest
 
 if TYPE_CHECKING:
@@ -53,12 +53,7 @@ class _Math:
     sin, cos, atan2, hypot, sqrt = math.sin, math.cos, math.atan2, math.hypot, math.sqrt
     asin, acos, fmod = math.asin, math.acos, math.fmod
 
-    @staticmethod
-    def wrap(angle: float) -> float:
-        v = math.fmod(angle, TWO_PI)
-        if v < -math.pi:
-            return v + TWO_PI
-        return v - TWO_PI if v > math.pi else v
+    wrap = staticmethod(wrap_pi)
 
     @staticmethod
     def clip(value: float, low: float, high: float) -> float:

@@ -32,6 +32,8 @@ from __future__ import annotations
 
 import math
 
+from diffbot.planning import wrap_pi
+
 __all__ = ["SLACK", "ZERO", "shortest"]
 
 #: Tolerance of the formulas' sign conditions, as in OMPL (10 machine epsilons).
@@ -52,16 +54,11 @@ def _tau_omega(u: float, v: float, xi: float, eta: float, phi: float) -> tuple[f
     they are skipped with the same numbers as the result. OMPL's turn of ``tau`` by pi is left
     out as in the full search: its condition holds only by rounding.
     """
-    pi, two_pi = _PI, TWO_PI
     delta = u - v
     a1 = math.sin(u) - math.sin(delta)
     b1 = math.cos(u) - math.cos(delta) - 1.0
     tau = math.atan2(eta * a1 - xi * b1, xi * a1 + eta * b1)
-    omega = math.fmod(tau - u + v - phi, two_pi)
-    if omega < -pi:
-        omega += two_pi
-    elif omega > pi:
-        omega -= two_pi
+    omega = wrap_pi(tau - u + v - phi)
     return tau, omega
 
 
@@ -75,11 +72,7 @@ def _lrl(xi: float, eta: float, rho: float, phi: float) -> tuple[float, float, f
         t -= two_pi
     if not (t >= -ZERO and u <= ZERO):
         return None
-    v = fmod(phi - t + u, two_pi)
-    if v < -pi:
-        v += two_pi
-    elif v > pi:
-        v -= two_pi
+    v = wrap_pi(phi - t + u)
     return t, u, v
 
 
@@ -96,11 +89,7 @@ def _lrsl(xi: float, eta: float, rho: float, phi: float) -> tuple[float, ...] | 
         t -= two_pi
     if not t >= -ZERO:
         return None
-    v = fmod(phi - HALF_PI - t, two_pi)
-    if v < -pi:
-        v += two_pi
-    elif v > pi:
-        v -= two_pi
+    v = wrap_pi(phi - HALF_PI - t)
     return (t, -HALF_PI, u, v) if v <= ZERO else None
 
 
@@ -113,11 +102,7 @@ def _lrsr(xi: float, eta: float, phi: float) -> tuple[float, ...] | None:
     u = 2.0 - rho
     if not (t >= -ZERO and u <= ZERO):
         return None
-    v = math.fmod(t + HALF_PI - phi, TWO_PI)
-    if v < -_PI:
-        v += TWO_PI
-    elif v > _PI:
-        v -= TWO_PI
+    v = wrap_pi(t + HALF_PI - phi)
     return (t, -HALF_PI, u, v) if v <= ZERO else None
 
 
@@ -148,7 +133,7 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
         :data:`diffbot.planning.reeds_shepp.WORDS`, and its lengths before the symmetry's sign
         (negated by a timeflip); -1 and none when no formula holds (NaN).
     """
-    atan2, hypot, fmod, sqrt = math.atan2, math.hypot, math.fmod, math.sqrt
+    atan2, hypot, sqrt = math.atan2, math.hypot, math.sqrt
     remainder = math.remainder
     pi, two_pi, half_pi, zero, slack, inf = _PI, TWO_PI, HALF_PI, ZERO, SLACK, math.inf
     s, c = math.sin(phi), math.cos(phi)
@@ -198,27 +183,15 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
         if da + turned <= cut:
             theta = atan2(eta, xi)
             if theta >= -zero:
-                v = fmod(p - theta, two_pi)
-                if v < -pi:
-                    v += two_pi
-                elif v > pi:
-                    v -= two_pi
+                v = wrap_pi(p - theta)
                 if v >= -zero:
                     length = abs(theta) + da + abs(v)
                     cut = offer(length, k, (theta, da, v))
         # 8.2 LSR.
         if u >= 0.0 and u + w <= cut:
-            t = fmod(atan2(ej, xj) + atan2(2.0, u), two_pi)
-            if t < -pi:
-                t += two_pi
-            elif t > pi:
-                t -= two_pi
+            t = wrap_pi(atan2(ej, xj) + atan2(2.0, u))
             if t >= -zero:
-                v = fmod(t - p, two_pi)
-                if v < -pi:
-                    v += two_pi
-                elif v > pi:
-                    v -= two_pi
+                v = wrap_pi(t - p)
                 if v >= -zero:
                     length = abs(t) + u + abs(v)
                     cut = offer(length, 4 + k, (t, u, v))
@@ -273,17 +246,9 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
         if db * db >= 20.0 - slack and straight >= 0.0 and pi + w + straight - 4.0 <= cut:
             u = 4.0 - straight
             if u <= zero and db >= 2.0:
-                t = fmod(atan2((4.0 - u) * xj - 2.0 * ej, -2.0 * xj + (u - 4.0) * ej), two_pi)
-                if t < -pi:
-                    t += two_pi
-                elif t > pi:
-                    t -= two_pi
+                t = wrap_pi(atan2((4.0 - u) * xj - 2.0 * ej, -2.0 * xj + (u - 4.0) * ej))
                 if t >= -zero:
-                    v = fmod(t - p, two_pi)
-                    if v < -pi:
-                        v += two_pi
-                    elif v > pi:
-                        v -= two_pi
+                    v = wrap_pi(t - p)
                     if v >= -zero:
                         length = abs(t) + half_pi + abs(u) + half_pi + abs(v)
                         cut = offer(length, 40 + k, (t, -half_pi, u, -half_pi, v))
