@@ -113,63 +113,36 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
     atan2, sqrt, two_pi = math.atan2, math.sqrt, TWO_PI
     sp, cp = math.sin(phi), math.cos(phi)
     lx, ly, rx, ry = x - sp, y + cp, x + sp, y - cp
-    # LSL. a % 2 pi is mod2pi(a) (the same fmod and correction) but for its last step, kept.
+    # LSL. a % 2 pi % 2 pi is mod2pi(a), a zero aside (+0.0): Python's % is fmod with the same
+    # correction, and the second % turns a result rounded up to 2 pi into 0, mod2pi's last step.
     vy = ly - 1.0
     h = atan2(vy, lx)
-    t, q = h % two_pi, (phi - h) % two_pi
-    if t >= two_pi:
-        t = 0.0
-    if q >= two_pi:
-        q = 0.0
+    t, q = h % two_pi % two_pi, (phi - h) % two_pi % two_pi
     same_left = math.hypot(lx, vy)
     best = t + same_left + q
     word, a, b, c = "LSL", t, same_left, q
     # RSR.
     vy = ry + 1.0
     h = atan2(vy, rx)
-    t, q = -h % two_pi, (h - phi) % two_pi
-    if t >= two_pi:
-        t = 0.0
-    if q >= two_pi:
-        q = 0.0
+    t, q = -h % two_pi % two_pi, (h - phi) % two_pi % two_pi
     same_right = math.hypot(rx, vy)
     length = t + same_right + q
     if length < best:
         best, word, a, b, c = length, "RSR", t, same_right, q
     cut = best + _SLACK * (1.0 + best)
     turn = abs(math.remainder(phi, two_pi))
-    # RSL.
-    vy = ly + 1.0
-    d2 = lx * lx + vy * vy
-    if d2 >= 4.0:
-        p = sqrt(d2 - 4.0)
-        if p + turn <= cut:
-            h = atan2(vy, lx) - atan2(2.0, p)
-            t, q = -h % two_pi, (phi - h) % two_pi
-            if t >= two_pi:
-                t = 0.0
-            if q >= two_pi:
-                q = 0.0
-            length = t + p + q
-            if length < best:
-                best, word, a, b, c = length, "RSL", t, p, q
-                cut = best + _SLACK * (1.0 + best)
-    # LSR.
-    vy = ry - 1.0
-    d2 = rx * rx + vy * vy
-    if d2 >= 4.0:
-        p = sqrt(d2 - 4.0)
-        if p + turn <= cut:
-            h = atan2(vy, rx) + atan2(2.0, p)
-            t, q = h % two_pi, (h - phi) % two_pi
-            if t >= two_pi:
-                t = 0.0
-            if q >= two_pi:
-                q = 0.0
-            length = t + p + q
-            if length < best:
-                best, word, a, b, c = length, "LSR", t, p, q
-                cut = best + _SLACK * (1.0 + best)
+    # RSL, then LSR: each the other's mirror (sign -1 for RSL, +1 for LSR; a negation is exact).
+    for ccs, sign, ex, vy in (("RSL", -1.0, lx, ly + 1.0), ("LSR", 1.0, rx, ry - 1.0)):
+        d2 = ex * ex + vy * vy
+        if d2 >= 4.0:
+            p = sqrt(d2 - 4.0)
+            if p + turn <= cut:
+                h = atan2(vy, ex) + sign * atan2(2.0, p)
+                t, q = sign * h % two_pi % two_pi, sign * (h - phi) % two_pi % two_pi
+                length = t + p + q
+                if length < best:
+                    best, word, a, b, c = length, ccs, t, p, q
+                    cut = best + _SLACK * (1.0 + best)
     # RLR and LRL: the middle arc a or 2 pi - a; RLR's outer arcs turn by (middle - phi) mod 2 pi
     # (at least), LRL's by (phi + middle).
     if (same_right <= 4.0 or same_left <= 4.0) and math.hypot(x, y) <= cut:
