@@ -9,6 +9,7 @@ stop the others. Results come back in the order of the tasks.
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import re
 import warnings
@@ -240,20 +241,10 @@ def run_task(
                 )
             if task.input == "-":
                 assert stream is not None
-                return csv_odometry(
-                    stream,
-                    task.params,
-                    source="-",
-                    sink=sink,
-                    progress=progress,
-                    conditioning=task.conditioning,
-                    layout=task.layout,
-                    feedback=task.feedback,
-                )
-            return recording_odometry(
-                task.input,
-                task.params,
-                task.topic,
+                read = functools.partial(csv_odometry, stream, task.params, source="-")
+            else:
+                read = functools.partial(recording_odometry, task.input, task.params, task.topic)
+            return read(
                 sink=sink,
                 progress=progress,
                 conditioning=task.conditioning,
