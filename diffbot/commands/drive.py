@@ -17,6 +17,7 @@ from diffbot.commands.options import (
     warn,
 )
 from diffbot.commands.plan_options import PlanOptions, frame_id_option, plan_arguments
+from diffbot.commands.settings import from_options
 from diffbot.commands.topic_options import (
     CMD_VEL_HELP,
     distro_option,
@@ -144,17 +145,14 @@ def drive(
         from diffbot.commands.drive_follow import LiveFollow, drive_follow
 
         pose = odom_topic if pose_topic is None else pose_topic
-        request = LiveFollow(
+        request = from_options(
+            LiveFollow,
+            "rate pose_timeout frame_id wait lead",
             law="pure-pursuit" if follow == "pure-pursuit" else "tracking",
-            rate=rate,
             pose_topic=checked_topic("--pose-topic" if pose_topic else "--odom-topic", pose),
             from_odometry=pose_topic is None,
-            pose_timeout=pose_timeout,
             cmd_vel=cmd_vel,
             stamped=stamped,
-            frame_id=frame_id,
-            wait=wait,
-            lead=lead,
         )
         drive_follow(request, built.made, params, source.label, announce=announce, quiet=quiet)
         return
@@ -164,13 +162,11 @@ def drive(
     from diffbot.live.drive import DriveSettings
     from diffbot.live.signals import deferred
 
-    settings = DriveSettings(
+    settings = from_options(
+        DriveSettings,
+        "frame_id wheels left_topic right_topic",
         cmd_vel=cmd_vel,
         stamped=stamped,
-        frame_id=frame_id,
-        wheels=wheels,
-        left_topic=left_topic,
-        right_topic=right_topic,
         joints=(max(len(params.left_joints), 1), max(len(params.right_joints), 1)),
     )
     # From the node's making on, a signal only stops the drive between two commands; it is

@@ -30,6 +30,7 @@ from diffbot.commands.options import (
     warn,
 )
 from diffbot.commands.paths import InputPath
+from diffbot.commands.settings import from_options
 from diffbot.commands.topic_options import CMD_VEL_HELP, distro_option, resolve_cmd_vel
 from diffbot.kinematics import DiffDriveParams
 
@@ -390,19 +391,12 @@ def robot_command(
     from diffbot.live.robot import RobotNode, RobotSettings
     from diffbot.simulation import Disturbances
 
-    settings = RobotSettings(
-        rate=rate,
+    settings = from_options(
+        RobotSettings,
+        "rate stamped timeout ticks noise seed true_radii true_separation limit_wheels",
         cmd_vel=None if cmd_vel is None else checked_topic("--cmd-vel", cmd_vel),
-        stamped=stamped,
         left_topic=checked_topic("--left-topic", left_topic or left),
         right_topic=checked_topic("--right-topic", right_topic or right),
-        timeout=timeout,
-        ticks=ticks,
-        noise=noise,
-        seed=seed,
-        true_radii=true_radii,
-        true_separation=true_separation,
-        limit_wheels=limit_wheels,
         disturbances=Disturbances(motor_lag, latency, drop, slip, seed=seed),
     )
     _spin(lambda: RobotNode(params, expansion.urdf, settings), "robot", duration, announce, quiet)
