@@ -58,7 +58,10 @@ def candidates(x: float, y: float, phi: float) -> list[tuple[str, tuple[float, f
     """Every feasible word to ``(x, y, phi)`` and its lengths (t, p, q) in radii, in the order
     they are tried, built from the turning circles' centres: the start's left circle at (0, 1),
     right at (0, -1), the goal's at its sides."""
-    sp, cp = math.sin(phi), math.cos(phi)
+    try:
+        sp, cp = math.sin(phi), math.cos(phi)
+    except ValueError:  # an infinite heading: no goal to reach
+        return []
     left2, right2 = (x - sp, y + cp), (x + sp, y - cp)
     found: list[tuple[str, tuple[float, float, float]]] = []
     # LSL and RSR (eq. 4, 5): the outer tangent joins circles of one side; the straight is
@@ -111,7 +114,10 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
         goal that is not finite.
     """
     atan2, sqrt, two_pi = math.atan2, math.sqrt, TWO_PI
-    sp, cp = math.sin(phi), math.cos(phi)
+    try:
+        sp, cp = math.sin(phi), math.cos(phi)
+    except ValueError:  # an infinite heading: no goal to reach
+        return []
     lx, ly, rx, ry = x - sp, y + cp, x + sp, y - cp
     # LSL. a % 2 pi % 2 pi is mod2pi(a), a zero aside (+0.0): Python's % is fmod with the same
     # correction, and the second % turns a result rounded up to 2 pi into 0, mod2pi's last step.

@@ -213,9 +213,12 @@ _EVALUATIONS = tuple(
 def _evaluations(b: Any, x: Any, y: Any, phi: Any) -> list[tuple[str, Any, _Lengths]]:
     """Every formula under every symmetry: (word, condition, lengths), in the order tried; with
     the scalar backend only those whose condition holds."""
-    s, c = b.sin(phi), b.cos(phi)
-    xb, yb = x * c + y * s, x * s - y * c
     scalar = b is _Math
+    try:
+        s, c = b.sin(phi), b.cos(phi)
+    except ValueError:  # math's, for an infinite heading: no formula holds
+        return []
+    xb, yb = x * c + y * s, x * s - y * c
     found: list[tuple[str, Any, _Lengths]] = []
     for formula, backwards, sx, sy, sphi, word in _EVALUATIONS:
         px, py = (xb, yb) if backwards else (x, y)
@@ -252,7 +255,7 @@ def path(x: float, y: float, phi: float) -> list[Piece]:
 
     Returns:
         Three to five pieces (lengths in radii, negative backwards); the first of equally short
-        words in OMPL's order.
+        words in OMPL's order; none for a goal that is not finite.
     """
     found, lengths = shortest(x, y, phi)
     if found < 0:

@@ -131,12 +131,16 @@ def shortest(x: float, y: float, phi: float) -> tuple[int, tuple[float, ...]]:
     Returns:
         The index of the word among the formulas under the symmetries, in the order of
         :data:`diffbot.planning.reeds_shepp.WORDS`, and its lengths before the symmetry's sign
-        (negated by a timeflip); -1 and none when no formula holds (NaN).
+        (negated by a timeflip); -1 and none when no formula holds (a NaN or infinite
+        goal).
     """
     atan2, hypot, sqrt = math.atan2, math.hypot, math.sqrt
     remainder = math.remainder
     pi, two_pi, half_pi, zero, slack, inf = _PI, TWO_PI, HALF_PI, ZERO, SLACK, math.inf
-    s, c = math.sin(phi), math.cos(phi)
+    try:
+        s, c = math.sin(phi), math.cos(phi)
+    except ValueError:  # an infinite heading: no formula holds
+        return -1, ()
     # Heading bounds for phi and -phi (the symmetries' headings).
     w = abs(remainder(phi, two_pi))
     plus = (_turned(phi), abs(remainder(phi - half_pi, two_pi)), _turned(phi - half_pi))

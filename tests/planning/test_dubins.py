@@ -176,3 +176,25 @@ def test_the_bounds_skip_as_many_words_as_they_did() -> None:
     assert math_calls(dubins.path, goals) <= DUBINS_WORK + WORK_SLACK
     assert math_calls(dubins.path, GRID_GOALS) <= DUBINS_GRID_WORK + WORK_SLACK
     assert math_calls(dubins.candidates, goals) > DUBINS_WORK
+
+
+NOT_FINITE = [
+    (math.inf, 0.0, 0.0),
+    (0.0, -math.inf, 0.0),
+    (0.0, 0.0, math.inf),
+    (0.0, 0.0, -math.inf),
+    (math.nan, 1.0, 0.0),
+    (1.0, 1.0, math.nan),
+]
+
+
+@pytest.mark.parametrize("goal", NOT_FINITE)
+def test_a_goal_that_is_not_finite_has_no_path_and_no_error(
+    goal: tuple[float, float, float],
+) -> None:
+    assert dubins.path(*goal) == []
+
+
+@pytest.mark.parametrize("phi", [math.inf, -math.inf])
+def test_an_infinite_heading_has_no_candidates(phi: float) -> None:
+    assert dubins.candidates(1.0, 2.0, phi) == []

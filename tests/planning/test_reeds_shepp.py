@@ -310,3 +310,25 @@ EDGES = {
 @pytest.mark.parametrize("goal", list(EDGES))
 def test_conditions_met_with_nothing_to_spare_hold(goal: tuple[float, float, float]) -> None:
     assert " ".join(word for word, _ in reeds_shepp.candidates(*goal)) == EDGES[goal]
+
+
+@pytest.mark.parametrize(
+    "goal",
+    [
+        (math.inf, 0.0, 0.0),
+        (0.0, -math.inf, 0.0),
+        (0.0, 0.0, math.inf),
+        (0.0, 0.0, -math.inf),
+        (math.nan, 1.0, 0.0),
+        (1.0, 1.0, math.nan),
+    ],
+)
+def test_a_goal_that_is_not_finite_has_no_path_and_no_error(
+    goal: tuple[float, float, float],
+) -> None:
+    assert reeds_shepp.path(*goal) == []
+
+
+@pytest.mark.parametrize("phi", [math.inf, -math.inf])
+def test_an_infinite_heading_has_no_candidates(phi: float) -> None:
+    assert reeds_shepp.candidates(1.0, 2.0, phi) == []

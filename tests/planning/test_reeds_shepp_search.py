@@ -153,3 +153,11 @@ def test_the_bounds_skip_as_many_words_as_they_did() -> None:
     assert math_calls(shortest, GRID_GOALS) <= SEARCH_GRID_WORK + WORK_SLACK
     # The figure is the search's own: solving every word costs several times as much.
     assert math_calls(reeds_shepp.candidates, goals[:400]) > 4 * SEARCH_WORK // 10
+
+
+@pytest.mark.parametrize(
+    "goal",
+    [(math.inf, 0.0, 0.0), (0.0, 0.0, math.inf), (0.0, 0.0, -math.inf), (0.0, math.nan, 1.0)],
+)
+def test_a_goal_that_is_not_finite_has_no_word(goal: tuple[float, float, float]) -> None:
+    assert shortest(*goal) == (-1, ())
