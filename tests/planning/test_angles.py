@@ -36,6 +36,9 @@ def test_wrap_pi_leaves_an_angle_within_pi_as_it_is(angle: float) -> None:
         (-7.0, -7.0 + 2.0 * math.pi),
         (4.0, 4.0 - 2.0 * math.pi),
         (-4.0, -4.0 + 2.0 * math.pi),
+        (math.pi, math.pi),
+        (-math.pi, -math.pi),
+        (3.0 * math.pi, math.fmod(3.0 * math.pi, 2.0 * math.pi)),
     ],
 )
 def test_wrap_pi_is_fmod_then_one_turn_to_the_bit(angle: float, wrapped: float) -> None:
