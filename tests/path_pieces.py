@@ -173,6 +173,16 @@ def math_calls(solve: Callable[..., object], goals: Iterable[Sequence[float]]) -
     return calls
 
 
+#: Goals that are not finite, one coordinate at a time: no planner has a path to them.
+NOT_FINITE_GOALS = [
+    (math.inf, 0.0, 0.0),
+    (0.0, -math.inf, 0.0),
+    (0.0, 0.0, math.inf),
+    (0.0, 0.0, -math.inf),
+    (math.nan, 1.0, 0.0),
+    (1.0, 1.0, math.nan),
+]
+
 #: Goals on a grid of half radii and eighth turns: on the turning circles and their tangents,
 #: where words tie and bounds meet lengths exactly.
 GRID_GOALS = [

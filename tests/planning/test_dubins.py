@@ -13,6 +13,7 @@ from path_pieces import (
     COORDINATES,
     GRID_GOALS,
     HEADINGS,
+    NOT_FINITE_GOALS,
     PAIRS,
     WORK_SLACK,
     assert_agrees_with_ompl,
@@ -178,17 +179,7 @@ def test_the_bounds_skip_as_many_words_as_they_did() -> None:
     assert math_calls(dubins.candidates, goals) > DUBINS_WORK
 
 
-NOT_FINITE = [
-    (math.inf, 0.0, 0.0),
-    (0.0, -math.inf, 0.0),
-    (0.0, 0.0, math.inf),
-    (0.0, 0.0, -math.inf),
-    (math.nan, 1.0, 0.0),
-    (1.0, 1.0, math.nan),
-]
-
-
-@pytest.mark.parametrize("goal", NOT_FINITE)
+@pytest.mark.parametrize("goal", NOT_FINITE_GOALS)
 def test_a_goal_that_is_not_finite_has_no_path_and_no_error(
     goal: tuple[float, float, float],
 ) -> None:

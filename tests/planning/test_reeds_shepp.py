@@ -15,6 +15,7 @@ from path_pieces import (
     COORDINATES,
     GRID_GOALS,
     HEADINGS,
+    NOT_FINITE_GOALS,
     PAIRS,
     assert_agrees_with_ompl,
     assert_ends_at,
@@ -312,17 +313,7 @@ def test_conditions_met_with_nothing_to_spare_hold(goal: tuple[float, float, flo
     assert " ".join(word for word, _ in reeds_shepp.candidates(*goal)) == EDGES[goal]
 
 
-@pytest.mark.parametrize(
-    "goal",
-    [
-        (math.inf, 0.0, 0.0),
-        (0.0, -math.inf, 0.0),
-        (0.0, 0.0, math.inf),
-        (0.0, 0.0, -math.inf),
-        (math.nan, 1.0, 0.0),
-        (1.0, 1.0, math.nan),
-    ],
-)
+@pytest.mark.parametrize("goal", NOT_FINITE_GOALS)
 def test_a_goal_that_is_not_finite_has_no_path_and_no_error(
     goal: tuple[float, float, float],
 ) -> None:

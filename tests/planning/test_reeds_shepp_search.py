@@ -13,6 +13,7 @@ from path_pieces import (
     COORDINATES,
     GRID_GOALS,
     HEADINGS,
+    NOT_FINITE_GOALS,
     WORK_SLACK,
     first_shortest,
     math_calls,
@@ -155,9 +156,6 @@ def test_the_bounds_skip_as_many_words_as_they_did() -> None:
     assert math_calls(reeds_shepp.candidates, goals[:400]) > 4 * SEARCH_WORK // 10
 
 
-@pytest.mark.parametrize(
-    "goal",
-    [(math.inf, 0.0, 0.0), (0.0, 0.0, math.inf), (0.0, 0.0, -math.inf), (0.0, math.nan, 1.0)],
-)
+@pytest.mark.parametrize("goal", NOT_FINITE_GOALS)
 def test_a_goal_that_is_not_finite_has_no_word(goal: tuple[float, float, float]) -> None:
     assert shortest(*goal) == (-1, ())
