@@ -60,6 +60,16 @@ from hypothesis import settings as _settings
 _settings.register_profile("mutation", deadline=None, derandomize=True, database=None)
 _settings.load_profile("mutation")
 PY
+  # A live mutant that makes a node spin instead of wait burns CPU until mutmut's limit, 15 times
+  # the tests' own time by default: 3 times is ample for a mutant that is merely slower. A test
+  # that hangs for a minute fails then, rather than at the limit. A live test waits
+  # DIFFBOT_TEST_PATIENCE for discovery or a message.
+  hang='' limits='' patience=20
+  if [[ $name == live* ]]; then
+    hang=', "--timeout=60", "--timeout-method=thread"'
+    limits='timeout_multiplier = 3.0'
+    patience=5
+  fi
   selection=$("$python" -c 'import json, shlex, sys; print(json.dumps(shlex.split(sys.argv[1])))' "$tests")
   mutated=$("$python" -c 'import json, sys; print(json.dumps(sys.argv[1].split()))' "$glob")
   cat >>"$work/pyproject.toml" <<TOML
@@ -67,19 +77,11 @@ PY
 [tool.mutmut]
 source_paths = ["diffbot"]
 only_mutate = $mutated
-pytest_add_cli_args = ["-p", "no:cacheprovider", "-p", "no:randomly", "-n", "0", "-x", "-q"]
+pytest_add_cli_args = ["-p", "no:cacheprovider", "-p", "no:randomly", "-n", "0", "-x", "-q"$hang]
 pytest_add_cli_args_test_selection = $selection
 use_git_change_detection = false
+$limits
 TOML
-  # A live mutant that makes a node spin instead of wait burns CPU until mutmut's limit, 15 times
-  # the tests' own time by default: 3 times is ample for a mutant that is merely slower. A test
-  # that hangs for a minute fails then, rather than at the limit.
-  if [[ $name == live* ]]; then
-    sed -i 's/"-x", "-q"\]$/"-x", "-q", "--timeout=60", "--timeout-method=thread"]/' "$work/pyproject.toml"
-    echo "timeout_multiplier = 3.0" >>"$work/pyproject.toml"
-  fi
-  patience=20
-  [[ $name == live* ]] && patience=5
   (cd "$work" && DIFFBOT_TEST_PATIENCE=$patience "$python" -m mutmut run --max-children "$children" >run.log 2>&1) || true
   (cd "$work" && "$python" -m mutmut export-cicd-stats >/dev/null 2>&1 || true)
   (cd "$work" && "$python" -m mutmut results >survivors.txt 2>&1 || true)
