@@ -24,6 +24,7 @@ from diffbot.commands.groups import SuggestingGroup
 from diffbot.commands.said_once import with_quiet
 from diffbot.errors import DiffbotError
 from diffbot.io.outputs import guarded_run
+from diffbot.numbers import shorten_numerals
 
 #: Each command's module and function, in the order ``diffbot --help`` lists them.
 COMMANDS = {
@@ -189,7 +190,7 @@ def _flush_or_drop_stdout() -> None:
 
 
 def _error(message: str, code: int) -> NoReturn:
-    click.echo(f"error: {' '.join(str(message).split())}", err=True)
+    click.echo(f"error: {shorten_numerals(' '.join(str(message).split()))}", err=True)
     sys.exit(code)
 
 

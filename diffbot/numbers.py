@@ -9,6 +9,7 @@ infinity, a NaN, an integer too large for a float, or a value outside its physic
 from __future__ import annotations
 
 import math
+import re
 import sys
 
 from diffbot.errors import DiffbotError, ParameterError
@@ -30,6 +31,7 @@ __all__ = [
     "as_number",
     "finite_in_range",
     "positive_finite",
+    "shorten_numerals",
     "shown",
 ]
 
@@ -90,6 +92,18 @@ def shown(value: object) -> str:
         return f"an integer of about {digits} digits"
     text = repr(value)
     return text if len(text) <= _SHOWN else f"{text[: _SHOWN - 3]}..."
+
+
+#: A run of digits longer than an error message shows whole (a single quantifier over one
+#: character class: linear time on any text).
+_LONG_DIGITS = re.compile("[0-9]{41,}")
+
+
+def shorten_numerals(text: str) -> str:
+    """``text`` with each run of more than 40 digits cut to its first and last 18, joined by
+    ``...``: what an error or warning line shows of a 400-digit number it echoes."""
+    half = 18
+    return _LONG_DIGITS.sub(lambda m: f"{m[0][:half]}...{m[0][-half:]}", text)
 
 
 def reads_as_number(text: str) -> bool:

@@ -11,7 +11,14 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from diffbot.errors import ParameterError, RecordingError
-from diffbot.numbers import as_number, finite_in_range, positive_finite, reads_as_number, shown
+from diffbot.numbers import (
+    as_number,
+    finite_in_range,
+    positive_finite,
+    reads_as_number,
+    shorten_numerals,
+    shown,
+)
 
 
 @given(st.floats(allow_nan=False, allow_infinity=False), st.floats(0.0, 1e300))
@@ -83,3 +90,14 @@ def test_text_float_refuses_is_not_a_number(text: str) -> None:
 @given(st.floats() | st.integers(-(10**30), 10**30))
 def test_every_printed_number_reads_as_one(value: float) -> None:
     assert reads_as_number(repr(value))
+
+
+def test_shorten_numerals_cuts_only_runs_of_more_than_40_digits() -> None:
+    assert shorten_numerals("x " + "1" * 40 + " y") == "x " + "1" * 40 + " y"
+    assert shorten_numerals("1" * 41) == "1" * 18 + "..." + "1" * 18
+    digits = "".join(str(i % 10) for i in range(400))
+    cut = f"'{digits[:18]}...{digits[-18:]}' and 1e400"
+    assert shorten_numerals(f"'{digits}' and 1e400") == cut
+    # Every long run is cut, each keeping its own ends; a short run between stays whole.
+    text = shorten_numerals("2" * 50 + "-7-" + "3" * 60)
+    assert text == "2" * 18 + "..." + "2" * 18 + "-7-" + "3" * 18 + "..." + "3" * 18

@@ -12,7 +12,6 @@ import click
 from diffbot.commands.options import (
     MAX_PUBLISH_RATE,
     MIN_COMMAND_RATE,
-    POSITIVE,
     F,
     FiniteFloat,
     fail,
@@ -28,6 +27,8 @@ RATE = FiniteFloat(MIN_COMMAND_RATE, maximum=MAX_PUBLISH_RATE)
 PUBLISH_RATE = FiniteFloat(MIN_COMMAND_RATE)
 #: A time a live command waits (s): up to the longest plan.
 WAIT = FiniteFloat(0.0, maximum=MAX_PLAN_DURATION)
+#: How long a live command runs before it stops by itself (s): up to the longest plan.
+DURATION = FiniteFloat(0.0, open_min=True, maximum=MAX_PLAN_DURATION)
 
 __all__ = [
     "PUBLISH_RATE",
@@ -66,7 +67,7 @@ def duration_option(command: F) -> F:
     """``--duration S``: stop by itself after S seconds (default: run until Ctrl-C)."""
     return click.option(
         "--duration",
-        type=POSITIVE,
+        type=DURATION,
         metavar="S",
         help="Stop after this many seconds (default: run until Ctrl-C, SIGTERM or SIGHUP).",
     )(command)

@@ -10,6 +10,7 @@ import click
 
 from diffbot.commands.said_once import quieted
 from diffbot.errors import EXIT_BAD_INPUT
+from diffbot.numbers import shorten_numerals
 
 __all__ = ["InputError", "emit_json", "fail", "no_such_option", "warn"]
 
@@ -40,7 +41,7 @@ def warn(message: str) -> None:
     """Tell the user something on stderr, on one line; nothing when ``-q/--quiet`` is given."""
     if quieted():
         return
-    click.echo(f"warning: {' '.join(message.split())}", err=True)
+    click.echo(f"warning: {shorten_numerals(' '.join(message.split()))}", err=True)
 
 
 def emit_json(data: Any) -> None:

@@ -11,12 +11,14 @@ import sqlite3
 from collections.abc import Callable
 from pathlib import Path
 
+import click
 import pytest
 from cli_results import assert_one_error_line
 from click.testing import CliRunner, Result
 from extras import need
 
 from diffbot.cli import main
+from diffbot.commands.messages import warn
 from diffbot.commands.options import InputError, emit_json
 
 Write = Callable[[str, str], Path]
@@ -377,3 +379,37 @@ def test_values_refused_past_the_options_own_checks_name_the_option(
     recording.write_text("t,front_left_wheel_joint,front_right_wheel_joint\n0,0,0\n1,1,1\n")
     result = run(*[str(recording) if a == "RECORDING" else a for a in args])
     assert_clean_error(result, flag)
+
+
+# --- what the error line shows of a long number ------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("fk", "9" * 400, "1"),
+        ("ik", "1", "7" * 400),
+        ("plan", "--max-linear", "3" * 400, "straight 1"),
+        ("odom", "--wrap", "5" * 400, "-"),
+    ],
+    ids=["fk", "ik", "plan-option", "odom-wrap"],
+)
+def test_an_error_line_shows_a_400_digit_number_cut_short(args: tuple[str, ...]) -> None:
+    result = run(*args)
+    assert result.exit_code == 2
+    line = result.stderr.strip()
+    assert line.startswith("error: ")
+    assert "\n" not in line
+    assert "..." in line
+    # The number's ends stay, its middle goes: the line is about as long as for a short number.
+    assert len(line) < 200
+    assert max(len(run_) for run_ in line.replace(".", " ").replace("'", " ").split()) <= 40
+
+
+def test_a_warning_line_shows_a_400_digit_number_cut_short() -> None:
+    @click.command()
+    def speak() -> None:
+        warn(f"odd value {'8' * 400} kept")
+
+    result = CliRunner().invoke(speak, [])
+    assert result.stderr == f"warning: odd value {'8' * 18}...{'8' * 18} kept\n"

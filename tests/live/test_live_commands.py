@@ -14,8 +14,10 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from click.testing import CliRunner
 from live_graph import PATIENCE
 
+from diffbot.cli import main
 from diffbot.live import types
 from diffbot.live.transport import Node, QosProfile
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
@@ -32,6 +34,19 @@ def test_a_bad_domain_is_one_error_line() -> None:
     )
     assert done.returncode == 2
     assert done.stderr == "error: ROS_DOMAIN_ID must be a whole number from 0 to 232, got '300'\n"
+
+
+@pytest.mark.parametrize("command", [("node", "odom"), ("node", "ik"), ("node", "robot")])
+@pytest.mark.parametrize("duration", ["1e300", "0", "-1", "nan"])
+@pytest.mark.timeout(30)  # an accepted 1e300 would run the node for good
+def test_a_duration_past_the_longest_plan_or_not_positive_is_refused(
+    command: tuple[str, str], duration: str
+) -> None:
+    # Refused while the options are read, before anything joins the graph.
+    result = CliRunner().invoke(main, [*command, "--duration", duration], prog_name="diffbot")
+    assert result.exit_code == 2
+    assert result.stderr.count("\n") == 1, result.stderr
+    assert "--duration" in result.stderr
 
 
 def test_without_cyclonedds_the_live_commands_say_how_to_install_it() -> None:
