@@ -142,6 +142,21 @@ def test_a_stream_of_joint_states_reads_as_each_decoded_alone(
         assert list(read_position) == message.position
 
 
+@pytest.mark.parametrize("last", [0.0, -0.0, 5e-324, 1.0])
+@pytest.mark.parametrize("velocity", [[], [0.0, 0.0]])
+def test_a_repeated_layout_reads_each_payloads_own_positions(
+    last: float, velocity: list[float]
+) -> None:
+    # The second payload takes the one-call shortcut; a layout read a byte off would still find
+    # zero counts after a position whose top byte is zero, and return shifted bytes as angles.
+    reader = JointStateReader()
+    first = encode_joint_state(1, "base_link", ["left", "right"], [1.0, 2.0], velocity)
+    second = encode_joint_state(2, "base_link", ["left", "right"], [3.0, last], velocity)
+    assert reader.read(first)[3] == (1.0, 2.0)
+    for _ in range(2):
+        assert reader.read(second) == (0, 2, ("left", "right"), (3.0, last))
+
+
 def test_malformed_joint_states_are_refused_after_good_ones() -> None:
     payload = types.JointState(
         name=["left", "right"], position=[1.0, 2.0], velocity=[0.5, 0.5]

@@ -44,6 +44,10 @@ def test_ros_topic_names_pass(name: str) -> None:
         ("a/", "has an empty part (a doubled or trailing '/')"),
         ("1odom", "has a part starting with a digit"),
         ("a/2b", "has a part starting with a digit"),
+        # A private name's first part is checked as any other.
+        ("~/1odom", "has a part starting with a digit"),
+        ("~/ odom", "may hold only letters, digits, '_' and '/'"),
+        ("/1odom", "has a part starting with a digit"),
         ("a b", "may hold only letters, digits, '_' and '/'"),
         ("odöm", "may hold only letters, digits, '_' and '/'"),
         ("a\x00b", "holds a control character"),
