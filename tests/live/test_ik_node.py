@@ -214,6 +214,36 @@ def test_without_limits_a_quiet_command_stops_the_wheels_once(
         assert node.timeouts == 1
 
 
+def test_body_limits_clamp_each_axis_before_the_wheels_and_refusals_are_listed_by_reason(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from diffbot.body_limits import BodyLimits
+    from diffbot.live import inverse_kinematics
+
+    monkeypatch.setattr(inverse_kinematics, "time", Clock())
+    left: list[list[float]] = []
+    right: list[list[float]] = []
+    body = BodyLimits(linear=(-0.05, 0.05), angular=(-0.5, 0.5))
+    with InverseKinematicsNode(BOT, IkSettings(body=body, use_limits=False)) as node:
+        assert node.name == "diffbot_ik"
+        capture(node.left, left)
+        capture(node.right, right)
+        node.on_twist(twist_command(0.07, 0.0))  # 0.05 m/s on 0.035 m wheels
+        node.on_twist(twist_command(-0.01, -2.0))  # -0.5 rad/s over 0.135 m
+        node.on_twist(twist_command(math.inf, 0.0))
+        node.on_twist(twist_command(1e9, 0.0))
+    w = 0.5 * 0.135 / 2
+    lefts = [v for (v,) in left]
+    rights = [v for (v,) in right]
+    assert lefts[:2] == pytest.approx([0.05 / 0.035, (w - 0.01) / 0.035], abs=1e-12)
+    assert rights[:2] == pytest.approx([0.05 / 0.035, -(w + 0.01) / 0.035], abs=1e-12)
+    # Each refusal stops the wheels, as does the node's end.
+    assert lefts[2:] == rights[2:] == [0.0, 0.0, 0.0]
+    assert node.status() == (
+        "4 commands, 2 refused (1 not finite, 1 out of range), 0 timeouts, 0 malformed"
+    )
+
+
 def test_a_negative_timeout_or_a_rate_not_above_zero_is_refused() -> None:
     from diffbot.live.transport import LiveError
 

@@ -278,6 +278,8 @@ def test_set_odometry_reproduces_the_controllers_service_test() -> None:
             reset.call(types.EmptyRequest())
             assert tuple(node.odometry.pose) == (0.0, 0.0, 0.0)
             assert node.calls == {node.set_service: 2, node.reset_service: 1}
+            reset.call(types.EmptyRequest())
+            assert node.calls == {node.set_service: 2, node.reset_service: 2}
         finally:
             client.close()
             reset.close()
