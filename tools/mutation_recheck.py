@@ -95,19 +95,20 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--hang", type=float, default=60.0, help="per-test bound (s)")
     parser.add_argument(
-        "--tests",
+        "--also",
         nargs="+",
-        help="run these tests for every mutant instead of those mutmut's first run picked "
-        "(its map misses tests written since)",
+        default=[],
+        help="tests to run for every mutant besides those mutmut's first run picked (its map "
+        "misses tests written since)",
     )
     args = parser.parse_args()
     mutants: Path = args.mutants.resolve()
     names = timed_out(mutants)
     picked = names if args.sample == 0 else random.Random(args.seed).sample(names, args.sample)
-    chosen = args.tests
 
     def tests(name: str) -> list[str]:
-        return chosen if chosen else tests_of(mutants, name)
+        mapped = tests_of(mutants, name)
+        return [*mapped, *args.also] if mapped else []
 
     clean, seconds = run(mutants, "none", tests(picked[0]), args.hang)
     print(f"unchanged code, first mutant's tests: {clean} in {seconds:.1f} s", flush=True)

@@ -12,11 +12,11 @@ import time
 from collections.abc import Iterator
 
 import pytest
-from live_graph import PATIENCE, deep, until
+from live_graph import PATIENCE, deep, spare_domain, until
 from robots import BOT
 
 from diffbot.live import types
-from diffbot.live.drive import Driver, DriveSettings
+from diffbot.live.drive import Driver, DriveSettings, Lateness
 from diffbot.live.signals import deferred
 from diffbot.live.transport import Node, QosProfile
 from diffbot.planfile import parse_plan
@@ -54,6 +54,33 @@ def test_a_stream_goes_out_on_schedule_and_ends_with_zero() -> None:
     assert report.lateness.earliest >= 0.0
     assert report.lateness.count == stream.times.size
     assert report.percentile(0.5) < 0.01
+
+
+def test_a_percentile_is_the_nearest_ranks_bin() -> None:
+    lateness = Lateness()
+    for ms in (4, 1, 3, 2):
+        lateness.add(ms / 1000)
+    # Nearest rank: ceil(q n) of the sorted values, as its 1 us bin's upper edge.
+    for q, ms in ((0.0, 1), (0.25, 1), (0.26, 2), (0.5, 2), (0.75, 3), (0.76, 4), (1.0, 4)):
+        assert lateness.percentile(q) == pytest.approx(ms / 1000, abs=1e-6), q
+    assert lateness.percentile(1.0) == 0.004  # never past the latest
+    assert (lateness.count, lateness.earliest, lateness.latest, lateness.last) == (
+        4,
+        0.001,
+        0.004,
+        0.002,
+    )
+    assert Lateness().percentile(0.5) == 0.0
+
+
+def test_without_a_subscriber_the_wait_lasts_its_timeout_in_the_drivers_domain() -> None:
+    stream = ramp(plan(parse_plan("straight 0.1 0.5s"), BOT), Limits()).commands(20.0)
+    domain = spare_domain(1)
+    with Driver(stream, DriveSettings(cmd_vel="nobody_reads_this"), domain=domain) as driver:
+        assert driver.participant.domain_id == domain
+        started = time.monotonic()
+        assert not driver.wait_for_subscriber(0.3)
+        assert time.monotonic() - started >= 0.3
 
 
 def run_drive(*args: str) -> subprocess.Popen[str]:

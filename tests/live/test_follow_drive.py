@@ -37,7 +37,7 @@ from diffbot.live.follow_drive import FollowDriver, FollowSettings
 from diffbot.live.messages import odometry, stamp_ns, time_of, yaw_of, yaw_quaternion
 from diffbot.live.odometry import OdometryNode
 from diffbot.live.robot import RobotNode, RobotSettings
-from diffbot.live.transport import Node
+from diffbot.live.transport import LiveError, Node
 from diffbot.planfile import parse_plan
 from diffbot.simulation import Disturbances
 from diffbot.trajectory import plan
@@ -61,6 +61,16 @@ def pose_stamped(x: float, y: float, heading: float) -> types.PoseStamped:
         types.Header(time_of(time.time_ns()), "map"),
         types.Pose(types.Point(x, y, 0.0), yaw_quaternion(heading)),
     )
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [("overtime", -1.0), ("overtime", 2e6), ("overtime", math.nan), ("rate", 0.0)],
+)
+def test_settings_out_of_range_are_refused(field: str, value: float) -> None:
+    with pytest.raises(LiveError, match=rf"^{field} must be a finite number"):
+        FollowSettings(**{field: value})  # type: ignore[arg-type]
+    assert FollowSettings(overtime=1e6).overtime == 1e6
 
 
 def test_poses_are_taken_from_the_first_and_bad_ones_refused() -> None:

@@ -10,10 +10,6 @@ from live_graph import PATIENCE
 
 from diffbot.live import types
 from diffbot.live.transport import (
-    LATCHED,
-    PUBLISHER,
-    SUBSCRIPTION,
-    TF,
     LiveError,
     Node,
     Timer,
@@ -68,16 +64,6 @@ def test_localhost_keeps_discovery_on_loopback() -> None:
     assert "Peer" not in subnet
     # The user's own configuration comes first, so that ours wins where both say something.
     assert cyclone_config("LOCALHOST", "file:///etc/dds.xml").startswith("file:///etc/dds.xml,")
-
-
-def test_qos_profiles_are_rclpys() -> None:
-    assert (PUBLISHER.reliable, PUBLISHER.transient_local, PUBLISHER.depth) == (True, False, 10)
-    assert TF.depth == 100
-    assert LATCHED.transient_local
-    assert not SUBSCRIPTION.reliable
-    policies = {type(p).__name__: p for p in PUBLISHER.qos()}
-    assert policies["DataRepresentation"].use_cdrv0_representation  # XCDR1 forced
-    assert not policies["DataRepresentation"].use_xcdrv2_representation
 
 
 def test_a_message_crosses_between_nodes_and_malformed_payloads_are_counted() -> None:
