@@ -33,12 +33,17 @@ from pathlib import Path
 TIMEOUT_CODES = {-24, 24, 152}
 
 
-def timed_out(mutants: Path) -> list[str]:
-    """The names of the mutants a run marked as timed out, sorted."""
+def marked(mutants: Path, unrun: bool) -> list[str]:
+    """The names of the mutants a run marked as timed out (or, with ``unrun``, did not run
+    before it was stopped), sorted."""
     names: list[str] = []
     for meta in sorted(mutants.rglob("*.meta")):
         codes = json.loads(meta.read_text(encoding="utf-8"))["exit_code_by_key"]
-        names += [name for name, code in codes.items() if code in TIMEOUT_CODES]
+        names += [
+            name
+            for name, code in codes.items()
+            if (code is None if unrun else code in TIMEOUT_CODES)
+        ]
     return sorted(names)
 
 
@@ -92,6 +97,9 @@ def main() -> None:
     parser.add_argument("mutants", type=Path, help="a run's mutants folder")
     parser.add_argument("--sample", type=int, default=40, help="how many (0: all)")
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument(
+        "--unrun", action="store_true", help="the mutants a stopped run left, not the timed out"
+    )
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--hang", type=float, default=60.0, help="per-test bound (s)")
     parser.add_argument(
@@ -103,8 +111,11 @@ def main() -> None:
     )
     args = parser.parse_args()
     mutants: Path = args.mutants.resolve()
-    names = timed_out(mutants)
-    picked = names if args.sample == 0 else random.Random(args.seed).sample(names, args.sample)
+    names = marked(mutants, args.unrun)
+    if args.sample and args.sample < len(names):
+        picked = random.Random(args.seed).sample(names, args.sample)
+    else:
+        picked = names
 
     def tests(name: str) -> list[str]:
         mapped = tests_of(mutants, name)
@@ -122,7 +133,8 @@ def main() -> None:
     with ThreadPoolExecutor(args.jobs) as pool:
         list(pool.map(one, picked))
     counts = {k: list(outcomes.values()).count(k) for k in sorted(set(outcomes.values()))}
-    print(f"{len(picked)} of {len(names)} timed-out mutants run again: {counts}")
+    kind = "unrun" if args.unrun else "timed-out"
+    print(f"{len(picked)} of {len(names)} {kind} mutants run: {counts}")
     for name in sorted(n for n, o in outcomes.items() if o == "survived"):
         print(f"survived: {name}")
 

@@ -58,14 +58,15 @@ def test_a_stream_goes_out_on_schedule_and_ends_with_zero() -> None:
 
 def test_a_percentile_is_the_nearest_ranks_bin() -> None:
     lateness = Lateness()
-    for ms in (4, 1, 3, 2):
+    for ms in (4, 2, 1, 3, 2):
         lateness.add(ms / 1000)
-    # Nearest rank: ceil(q n) of the sorted values, as its 1 us bin's upper edge.
-    for q, ms in ((0.0, 1), (0.25, 1), (0.26, 2), (0.5, 2), (0.75, 3), (0.76, 4), (1.0, 4)):
+    # Nearest rank: ceil(q n) of the sorted values (1, 2, 2, 3, 4 ms), as its 1 us bin's
+    # upper edge.
+    for q, ms in ((0.0, 1), (0.2, 1), (0.21, 2), (0.6, 2), (0.61, 3), (0.8, 3), (0.81, 4)):
         assert lateness.percentile(q) == pytest.approx(ms / 1000, abs=1e-6), q
     assert lateness.percentile(1.0) == 0.004  # never past the latest
     assert (lateness.count, lateness.earliest, lateness.latest, lateness.last) == (
-        4,
+        5,
         0.001,
         0.004,
         0.002,
@@ -78,6 +79,7 @@ def test_without_a_subscriber_the_wait_lasts_its_timeout_in_the_drivers_domain()
     domain = spare_domain(1)
     with Driver(stream, DriveSettings(cmd_vel="nobody_reads_this"), domain=domain) as driver:
         assert driver.participant.domain_id == domain
+        assert (driver.total, driver.sent) == (stream.times.size, 0)
         started = time.monotonic()
         assert not driver.wait_for_subscriber(0.3)
         assert time.monotonic() - started >= 0.3
