@@ -3,12 +3,17 @@ publishers and subscriptions that meet on loopback, malformed payloads counted."
 
 from __future__ import annotations
 
+import os
+import re
+import signal
+import threading
 import time
 
 import pytest
 from live_graph import PATIENCE
 
 from diffbot.live import types
+from diffbot.live.signals import caught, deferred
 from diffbot.live.transport import (
     LiveError,
     Node,
@@ -214,7 +219,29 @@ def test_a_services_endpoints_carry_one_service_id_as_rmw_cyclonedds_pairs_them(
                 user_data(readers, "rq/server/resetRequest"),
             )
             time.sleep(0.05)
+        guids = (
+            [s.key.bytes for s in writers.read(N=4096) if s.topic_name == "rr/server/resetReply"],
+            [s.key.bytes for s in readers.read(N=4096) if s.topic_name == "rq/server/resetRequest"],
+        )
     assert found[0] == found[1]
     assert len(found[0]) == 1
-    assert found[0][0].startswith(b"serviceid=")
-    assert found[0][0].endswith(b";")
+    # rmw_cyclonedds' form: the 16 bytes of an id in hex, dot-separated.
+    assert re.fullmatch(rb"serviceid=(?:[0-9a-f]{1,2}\.){15}[0-9a-f]{1,2};", found[0][0])
+    # The node lists the endpoints under their DDS GUIDs (what an announcement publishes).
+    assert guids == ([server.writer_guids[-1]], [server.reader_guids[-1]])
+
+
+def test_a_signal_ends_a_spin_at_once_and_the_next_spin_waits_idle() -> None:
+    with Node("sleeper") as node:
+        with deferred(deliver=False):
+            threading.Timer(0.1, os.kill, (os.getpid(), signal.SIGINT)).start()
+            started = time.monotonic()
+            node.spin(PATIENCE)
+            assert time.monotonic() - started < PATIENCE / 2
+            assert caught() == signal.SIGINT
+        # The wake the signal set is cleared: the next spin sleeps in its wait set for the
+        # whole time instead of returning at once from every wait.
+        started, cpu = time.monotonic(), time.process_time()
+        node.spin(0.5)
+        assert time.monotonic() - started >= 0.5
+        assert time.process_time() - cpu < 0.2
