@@ -23,6 +23,7 @@ __all__ = [
     "check_topic",
     "frame_problem",
     "node_name_problem",
+    "resolve_topic",
     "topic_problem",
 ]
 
@@ -69,6 +70,14 @@ def topic_problem(name: str) -> str | None:
         if problem is not None:
             return problem
     return None
+
+
+def resolve_topic(name: str, node: str) -> str:
+    """The absolute name of topic ``name`` of node ``node`` in the root namespace, as rcl
+    expands it: ``odom`` and ``/odom`` are ``/odom``, a private ``~/odom`` is ``/<node>/odom``."""
+    if name.startswith("~/"):
+        return f"/{node}/{name[2:]}"
+    return "/" + name.lstrip("/")
 
 
 def node_name_problem(name: str) -> str | None:

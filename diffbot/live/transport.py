@@ -48,7 +48,7 @@ from diffbot.live.discovery import (
 )
 from diffbot.live.endpoints import Publisher, Subscription, Timer
 from diffbot.live.errors import INSTALL_HINT, LiveError
-from diffbot.live.names import check_node_name, check_topic
+from diffbot.live.names import check_node_name, check_topic, resolve_topic
 from diffbot.live.participant import participant
 from diffbot.live.qos import LATCHED, PUBLISHER, SERVICE, SUBSCRIPTION, TF, QosProfile
 from diffbot.live.signals import caught, deferred
@@ -117,8 +117,12 @@ class Node:
         #: Called with each new warning (the commands print it).
         self.warn: Callable[[str], None] = lambda message: None
 
+    def resolve(self, topic: str) -> str:
+        """The absolute name of ``topic`` (checked) for this node: ``~/x`` is ``/<name>/x``."""
+        return resolve_topic(check_topic(topic), self.name)
+
     def _topic(self, msg_type: type[M], name: str, dds_name: str | None = None) -> Topic[M]:
-        dds_name = dds_topic(check_topic(name)) if dds_name is None else dds_name
+        dds_name = dds_topic(self.resolve(name)) if dds_name is None else dds_name
         key = (dds_name, msg_type.__idl_typename__)
         topic = self._topics.get(key)
         if topic is None:
@@ -175,7 +179,7 @@ class Node:
         types lead with the ``guid`` and ``seq`` of its request header; see
         :mod:`diffbot.live.types`). Reliable, volatile, keep last 10, as rmw's services
         profile. The subscription returned counts requests (``received``, ``malformed``)."""
-        base = check_topic(name).lstrip("/")
+        base = self.resolve(name).lstrip("/")
         # rmw_cyclonedds pairs a service's reader and writer by this id in their user data
         # (a client waits for both before it calls).
         service_id = ".".join(f"{b:x}" for b in os.urandom(16))
@@ -267,7 +271,7 @@ class Node:
 
         read: dict[str, set[str]] = {}
         for subscription in self._subscriptions:
-            topic = "/" + subscription.topic.lstrip("/")
+            topic = self.resolve(subscription.topic)
             read.setdefault(topic, set()).add(subscription.type_name)
         found_types: list[tuple[str, str, set[str]]] = [
             (topic, found, ours)
@@ -275,7 +279,7 @@ class Node:
             for found in sorted(self.publisher_types(topic) - ours)
         ]
         for service in self._services:
-            name = "/" + service.topic.lstrip("/")
+            name = self.resolve(service.topic)
             request = f"rq/{name.lstrip('/')}Request"
             ours = {service.type_name}
             for found in sorted(set(self.publications(name, request)) - ours):
@@ -300,7 +304,7 @@ class Node:
         second publisher)."""
         if self._publications is None:
             self._publications = BuiltinDataReader(self.participant, BuiltinTopicDcpsPublication)
-        dds_name = dds_topic(topic) if dds_name is None else dds_name
+        dds_name = dds_topic(self.resolve(topic)) if dds_name is None else dds_name
         alive = InstanceState.Alive
         return [
             sample.type_name

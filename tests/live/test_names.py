@@ -20,6 +20,7 @@ from diffbot.live.names import (
     check_node_name,
     frame_problem,
     node_name_problem,
+    resolve_topic,
     topic_problem,
 )
 from diffbot.live.transport import Node
@@ -57,6 +58,20 @@ def test_ros_topic_names_pass(name: str) -> None:
 )
 def test_bad_topic_names_are_named(name: str, problem: str) -> None:
     assert topic_problem(name) == problem
+
+
+@pytest.mark.parametrize(
+    ("name", "resolved"),
+    [
+        ("odom", "/odom"),
+        ("/odom", "/odom"),
+        ("a/b", "/a/b"),
+        ("~/odom", "/diffbot_odometry/odom"),
+        ("~/a/b", "/diffbot_odometry/a/b"),
+    ],
+)
+def test_a_topic_resolves_as_rcl_expands_it_in_the_root_namespace(name: str, resolved: str) -> None:
+    assert resolve_topic(name, "diffbot_odometry") == resolved
 
 
 def test_the_longest_topic_is_rmws() -> None:

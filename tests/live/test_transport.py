@@ -231,6 +231,24 @@ def test_a_services_endpoints_carry_one_service_id_as_rmw_cyclonedds_pairs_them(
     assert guids == ([server.writer_guids[-1]], [server.reader_guids[-1]])
 
 
+def test_private_names_live_under_the_node() -> None:
+    with Node("private_talker") as talker, Node("listener") as listener:
+        chatter = talker.create_publisher(types.String, "~/chatter")
+        talker.create_service(
+            types.EmptyRequest, types.EmptyResponse, "~/reset", lambda r: types.EmptyResponse()
+        )
+        assert talker.resolve("~/chatter") == "/private_talker/chatter"
+        end = time.monotonic() + PATIENCE
+        while time.monotonic() < end and not listener.publications("/private_talker/chatter"):
+            time.sleep(0.02)
+        assert listener.publications("/private_talker/chatter") == ["std_msgs::msg::dds_::String_"]
+        assert listener.publications("/x", "rr/private_talker/resetReply") == [
+            "std_srvs::srv::dds_::Empty_Response_"
+        ]
+        assert listener.publications("~/chatter") == []  # the listener's own private name
+        assert chatter.topic == "~/chatter"
+
+
 def test_a_signal_ends_a_spin_at_once_and_the_next_spin_waits_idle() -> None:
     with Node("sleeper") as node:
         with deferred(deliver=False):
