@@ -92,9 +92,10 @@ def run_node(
     duration: float | None,
     announce: bool = False,
 ) -> None:
-    """Make a node with ``make()`` and spin it until Ctrl-C, SIGTERM, SIGHUP or ``duration``
-    seconds, then destroy it and print its final status on stderr (refreshed every second on a
-    terminal meanwhile); with ``announce``, list it on ``ros_discovery_info`` first.
+    """Make a node with ``make()``, say on stderr what it reads, publishes and serves, and spin
+    it until Ctrl-C, SIGTERM, SIGHUP or ``duration`` seconds, then destroy it and print its
+    final status on stderr (refreshed every second on a terminal meanwhile); with ``announce``,
+    list it on ``ros_discovery_info`` first. ``quiet``: neither line but the final status.
 
     From the node's making to the status line, an ending signal only asks the node to stop
     (:mod:`diffbot.live.signals`): the node ends cleanly wherever the signal comes, and a
@@ -107,6 +108,8 @@ def run_node(
         try:
             if announce:
                 node.announce()
+            if not quiet:
+                click.echo(f"{label}: {node.describe()}", err=True)
             live = not quiet and sys.stderr.isatty()
             if live:
                 node.create_timer(

@@ -102,6 +102,8 @@ class Node:
         self._topics: dict[tuple[str, str], Topic[Any]] = {}
         self._subscriptions: list[Subscription[Any]] = []
         self._services: list[Subscription[Any]] = []
+        #: The (absolute topic, DDS type name) of each publisher made.
+        self._published: list[tuple[str, str]] = []
         self._checking = False
         self._timers: list[Timer] = []
         self._stop = threading.Event()
@@ -139,6 +141,7 @@ class Node:
         """A publisher of ``msg_type`` on the ROS topic ``topic``."""
         writer = DataWriter(self.participant, self._topic(msg_type, topic), qos.qos())
         self.writer_guids.append(writer.guid.bytes)
+        self._published.append((self.resolve(topic), msg_type.__idl_typename__))
         if self._announce is not None:
             self._announce()
         return Publisher(writer, topic)
@@ -356,6 +359,30 @@ class Node:
     def wake(self) -> None:
         """Wake a wait in :meth:`spin_once` at once (safe from a signal handler)."""
         self._wake.set(True)
+
+    def describe(self) -> str:
+        """The topics this node reads and publishes, with their ROS types, and the services it
+        serves: one line for people, as the commands print it at the start."""
+        from diffbot.live.types import ros_type_name
+
+        def listed(endpoints: list[tuple[str, str]]) -> str:
+            types: dict[str, list[str]] = {}
+            for topic, type_name in endpoints:
+                named = types.setdefault(topic, [])
+                if ros_type_name(type_name) not in named:
+                    named.append(ros_type_name(type_name))
+            return ", ".join(f"{topic} ({' or '.join(named)})" for topic, named in types.items())
+
+        parts = [
+            f"reads {listed([(self.resolve(s.topic), s.type_name) for s in self._subscriptions])}"
+            if self._subscriptions
+            else "",
+            f"publishes {listed(self._published)}" if self._published else "",
+            "serves " + ", ".join(self.resolve(s.topic) for s in self._services)
+            if self._services
+            else "",
+        ]
+        return "; ".join(part for part in parts if part) or "no topics"
 
     def status(self) -> str:
         """One line of what the node counted, for people (nodes that count say more)."""

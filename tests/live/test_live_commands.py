@@ -49,6 +49,35 @@ def test_a_duration_past_the_longest_plan_or_not_positive_is_refused(
     assert "--duration" in result.stderr
 
 
+@pytest.mark.parametrize(
+    ("args", "first"),
+    [
+        (
+            ("node", "odom", "--no-tf"),
+            "odom: reads /joint_states (sensor_msgs/msg/JointState); "
+            "publishes /odom (nav_msgs/msg/Odometry); "
+            "serves /diffbot_odometry/set_odometry, /diffbot_odometry/reset_odometry",
+        ),
+        (
+            ("node", "ik", "--stamped", "--cmd-vel", "~/cmd_vel"),
+            "ik: reads /diffbot_ik/cmd_vel (geometry_msgs/msg/TwistStamped); "
+            "publishes /left_wheel_velocity_controller/commands (std_msgs/msg/Float64MultiArray), "
+            "/right_wheel_velocity_controller/commands (std_msgs/msg/Float64MultiArray)",
+        ),
+    ],
+)
+def test_a_node_command_says_its_topics_first_unless_quiet(
+    args: tuple[str, ...], first: str
+) -> None:
+    result = CliRunner().invoke(main, [*args, "--duration", "0.1"], prog_name="diffbot")
+    assert result.exit_code == 0, result.stderr
+    lines = result.stderr.splitlines()
+    assert lines[0] == first
+    assert len(lines) == 2  # then the status line
+    quiet = CliRunner().invoke(main, [*args, "--duration", "0.1", "-q"], prog_name="diffbot")
+    assert quiet.stderr.splitlines() == lines[1:]
+
+
 def test_without_cyclonedds_the_live_commands_say_how_to_install_it() -> None:
     probe = (
         "import sys; sys.modules['cyclonedds'] = None\n"

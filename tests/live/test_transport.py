@@ -249,6 +249,23 @@ def test_private_names_live_under_the_node() -> None:
         assert chatter.topic == "~/chatter"
 
 
+def test_a_node_describes_what_it_reads_publishes_and_serves() -> None:
+    with Node("describer") as node:
+        assert node.describe() == "no topics"
+        node.create_subscription(types.Twist, "cmd_vel", lambda m: None)
+        node.create_subscription(types.TwistStamped, "/cmd_vel", lambda m: None)
+        node.create_subscription(types.JointState, "~/joints", lambda m: None)
+        node.create_publisher(types.Odometry, "odom")
+        node.create_service(
+            types.EmptyRequest, types.EmptyResponse, "~/reset", lambda r: types.EmptyResponse()
+        )
+        assert node.describe() == (
+            "reads /cmd_vel (geometry_msgs/msg/Twist or geometry_msgs/msg/TwistStamped), "
+            "/describer/joints (sensor_msgs/msg/JointState); "
+            "publishes /odom (nav_msgs/msg/Odometry); serves /describer/reset"
+        )
+
+
 def test_a_signal_ends_a_spin_at_once_and_the_next_spin_waits_idle() -> None:
     with Node("sleeper") as node:
         with deferred(deliver=False):
