@@ -266,6 +266,21 @@ def test_a_node_describes_what_it_reads_publishes_and_serves() -> None:
         )
 
 
+def test_a_type_mismatch_names_every_type_read() -> None:
+    with Node("reader") as node:
+        assert node.type_mismatch("/cmd_vel", "a/msg/B", ["x/msg/T", "x/msg/U"]) == (
+            "'/cmd_vel' carries a/msg/B; this node reads x/msg/T or x/msg/U"
+        )
+
+
+def test_a_started_node_spins_in_a_daemon_thread_named_for_it() -> None:
+    with Node("background").start():
+        (thread,) = [t for t in threading.enumerate() if t.name == "diffbot-background"]
+        assert thread.daemon
+        assert thread.is_alive()
+    assert not thread.is_alive()  # the node's end waits for its spin to end
+
+
 def test_a_signal_ends_a_spin_at_once_and_the_next_spin_waits_idle() -> None:
     with Node("sleeper") as node:
         with deferred(deliver=False):

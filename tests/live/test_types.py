@@ -115,6 +115,9 @@ def test_the_types_carry_ros_dds_names() -> None:
         "geometry_msgs/msg/TwistStamped"
     )
     assert ros_type_name("Chatter") == "Chatter"
+    # Only the four-part form with dds_ and a trailing _ is a ROS type's; others stay as given.
+    for other in ("a::msg::dds_::B", "a::msg::idl::B_", "a::dds_::B_", "a::b::msg::dds_::C_"):
+        assert ros_type_name(other) == other
     assert len(ROS_TYPES) == 21
     for ros_name, cls in ROS_TYPES.items():
         assert cls.__idl_typename__ == dds_type_name(ros_name)
