@@ -3,8 +3,12 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import sys
+import tempfile
 import threading
+from collections.abc import Iterator
 from typing import Any
 
 from diffbot.live.cyclone import DDSException, Domain, DomainParticipant
@@ -14,14 +18,62 @@ from diffbot.live.errors import LiveError
 __all__ = ["participant"]
 
 
+#: The most of what Cyclone writes to stderr while starting that an error repeats (bytes).
+_MOST_SAID = 4096
+
 #: The domains this process created, by id: Cyclone takes one configuration per domain.
 _DOMAINS: dict[int, Any] = {}
 _DOMAINS_LOCK = threading.Lock()
 
 
+@contextlib.contextmanager
+def _cyclone_says() -> Iterator[list[str]]:
+    """Within the block, what Cyclone's C code writes to stderr (file descriptor 2) is held
+    back: on an exception its messages are in the list, for the one error line to say; else it
+    goes on to stderr as it was written. Without a stderr to hold (closed), nothing is held."""
+    said: list[str] = []
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        sys.stderr.flush()
+    try:
+        saved = os.dup(2)
+    except OSError:
+        yield said
+        return
+    with tempfile.TemporaryFile() as held:
+        os.dup2(held.fileno(), 2)
+        try:
+            yield said
+        except BaseException:
+            os.dup2(saved, 2)
+            held.seek(0)
+            text = held.read(_MOST_SAID).decode("utf-8", "replace")
+            # "<time> [<domain>] <thread>: <message>": the message alone.
+            for line in text.splitlines():
+                said.append(line.partition("]")[2].partition(": ")[2].strip())
+            raise
+        else:
+            os.dup2(saved, 2)
+            held.seek(0)
+            while chunk := held.read(1 << 16):
+                os.write(2, chunk)
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+
+
+def _why(err: DDSException, said: list[str]) -> str:
+    """Cyclone's own words when it wrote any, else the exception's."""
+    return "; ".join(message for message in said if message) or str(err)
+
+
 def participant(domain: int | None) -> DomainParticipant:
     """A participant on ``domain`` (``ROS_DOMAIN_ID`` when None), the domain configured from
-    the environment on first use."""
+    the environment on first use.
+
+    Raises:
+        LiveError: a domain id out of range, or Cyclone cannot start (its own messages, such as
+            a ``CYCLONEDDS_URI`` it cannot read, are in the error, not on stderr).
+    """
     env = os.environ
     ident = domain_id() if domain is None else domain
     if not 0 <= ident <= MAX_DOMAIN_ID:
@@ -29,11 +81,15 @@ def participant(domain: int | None) -> DomainParticipant:
     with _DOMAINS_LOCK:
         if ident not in _DOMAINS:
             config = cyclone_config(discovery_range(), env.get("CYCLONEDDS_URI", ""))
+            said: list[str] = []
             try:
-                _DOMAINS[ident] = Domain(ident, config) if config else None
+                with _cyclone_says() as said:
+                    _DOMAINS[ident] = Domain(ident, config) if config else None
             except DDSException as err:
-                raise LiveError(f"cannot start DDS on domain {ident}: {err}") from None
+                raise LiveError(f"cannot start DDS on domain {ident}: {_why(err, said)}") from None
+    said = []
     try:
-        return DomainParticipant(ident)
+        with _cyclone_says() as said:
+            return DomainParticipant(ident)
     except DDSException as err:
-        raise LiveError(f"cannot join DDS domain {ident}: {err}") from None
+        raise LiveError(f"cannot join DDS domain {ident}: {_why(err, said)}") from None

@@ -3,6 +3,7 @@ publishers and subscriptions that meet on loopback, malformed payloads counted."
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import signal
@@ -279,6 +280,25 @@ def test_a_started_node_spins_in_a_daemon_thread_named_for_it() -> None:
         assert thread.daemon
         assert thread.is_alive()
     assert not thread.is_alive()  # the node's end waits for its spin to end
+
+
+def test_stopping_and_destroying_twice_is_harmless_and_timers_need_a_period() -> None:
+    node = Node("twice")
+    # Nothing waiting: spin_once(0) returns at once, not after a wait slice.
+    started = time.monotonic()
+    for _ in range(10):
+        node.spin_once(0.0)
+    assert time.monotonic() - started < 0.3
+    for period in (0.0, -1.0, math.inf, math.nan):
+        with pytest.raises(LiveError, match="a timer period must be positive and finite"):
+            node.create_timer(period, lambda: None)
+    node.start()
+    node.shutdown()
+    # The background spin has ended when shutdown returns.
+    assert "diffbot-twice" not in [t.name for t in threading.enumerate()]
+    node.shutdown()
+    node.destroy_node()
+    node.destroy_node()
 
 
 def test_a_signal_ends_a_spin_at_once_and_the_next_spin_waits_idle() -> None:

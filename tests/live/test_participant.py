@@ -1,0 +1,67 @@
+"""A process's DDS participants: the domain id checked, the user's Cyclone configuration taken,
+and what Cyclone says when it cannot start folded into the one error."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+from live_graph import spare_domain
+
+from diffbot.live.cyclone import DDSException
+from diffbot.live.errors import LiveError
+from diffbot.live.participant import _cyclone_says, participant
+
+
+def test_a_domain_out_of_range_is_refused_before_dds() -> None:
+    for bad in (-1, 233):
+        with pytest.raises(LiveError, match=rf"^the domain id must be from 0 to 232, got {bad}$"):
+            participant(bad)
+
+
+@pytest.mark.parametrize(
+    ("uri", "said"),
+    [
+        (
+            "file:///nonexistent/dds.xml",
+            "can't open configuration file file:///nonexistent/dds.xml",
+        ),
+        (
+            "<CycloneDDS><Domain><General><Bogus/></General></Domain></CycloneDDS>",
+            "config: //CycloneDDS/Domain/General: Bogus: unknown element",
+        ),
+    ],
+)
+def test_the_users_cyclone_configuration_is_taken_and_its_faults_are_the_error(
+    uri: str, said: str, monkeypatch: pytest.MonkeyPatch, capfd: pytest.CaptureFixture[str]
+) -> None:
+    # A domain of its own: Cyclone keeps the first configuration of each domain.
+    domain = spare_domain(4)
+    monkeypatch.setenv("CYCLONEDDS_URI", uri)
+    with pytest.raises(LiveError) as caught:
+        participant(domain)
+    assert str(caught.value).startswith(f"cannot start DDS on domain {domain}: {said}")
+    assert "\n" not in str(caught.value)
+    assert capfd.readouterr().err == ""  # Cyclone's lines are in the error, not on stderr
+
+
+def test_what_cyclone_writes_goes_on_to_stderr_unless_it_fails(
+    capfd: pytest.CaptureFixture[str],
+) -> None:
+    with _cyclone_says() as said:
+        os.write(2, b"1.5 [0] main: a warning\n")
+    assert said == []
+    assert capfd.readouterr().err == "1.5 [0] main: a warning\n"
+
+    held: list[list[str]] = []
+
+    def failing() -> None:
+        with _cyclone_says() as said:
+            held.append(said)
+            os.write(2, b"1.5 [0] main: the reason\n1.6 [0] main: and more\n")
+            raise DDSException(1, "failed")
+
+    with pytest.raises(DDSException):
+        failing()
+    assert held == [["the reason", "and more"]]
+    assert capfd.readouterr().err == ""
