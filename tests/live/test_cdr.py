@@ -157,6 +157,52 @@ def test_a_repeated_layout_reads_each_payloads_own_positions(
         assert reader.read(second) == (0, 2, ("left", "right"), (3.0, last))
 
 
+def test_each_malformed_payload_is_refused_saying_why() -> None:
+    reader = JointStateReader()
+    payload = encode_joint_state(1, "base", ["left", "right"], [1.0, 2.0], [0.5, 0.5])
+    not_cdr = b"\x00\x00\x00\x00" + payload[4:]
+    for decode in (decode_twist, decode_twist_stamped, decode_joint_state, reader.read):
+        with pytest.raises(ValueError, match=r"^not little-endian plain CDR$"):
+            decode(not_cdr)
+    many = bytearray(payload)
+    many[24:28] = struct.pack("<I", len(payload) // 5 + 1)  # names that cannot fit
+    for decode in (decode_joint_state, reader.read):
+        with pytest.raises(ValueError, match=r"^more names than the payload holds$"):
+            decode(bytes(many))
+    unterminated = bytearray(payload)
+    unterminated[16 + 4] = ord("x")  # the NUL after the frame "base"
+    for decode in (decode_joint_state, reader.read):
+        with pytest.raises(ValueError, match=r"^malformed string$"):
+            decode(bytes(unterminated))
+    long_position = bytearray(payload)
+    # The position count: the last 2 before the first position (8-aligned after it).
+    at = payload.rindex(struct.pack("<I", 2), 0, payload.index(struct.pack("<d", 1.0)))
+    long_position[at : at + 4] = struct.pack("<I", 1000)
+    for decode in (decode_joint_state, reader.read):
+        with pytest.raises(ValueError, match=r"^sequence longer than the payload$"):
+            decode(bytes(long_position))
+
+
+@pytest.mark.parametrize("sizes", [(3, 2), (2, 3), (2, 2)])
+def test_payloads_of_other_lengths_read_alike_after_any_other(sizes: tuple[int, int]) -> None:
+    # Efforts end the payload: the last sequence may end exactly at its last byte.
+    reader = JointStateReader()
+    for n in (*sizes, sizes[0]):
+        names = [f"j{i}" for i in range(n)]
+        values = [float(i) + 0.5 for i in range(n)]
+        payload = encode_joint_state(7, "base", names, values, values, values)
+        assert reader.read(payload) == (0, 7, tuple(names), tuple(values))
+
+
+def test_the_same_joints_with_and_without_velocities_read_alike() -> None:
+    # The same frame, names and positions: only the payload's length tells the layouts apart.
+    reader = JointStateReader()
+    full = encode_joint_state(3, "base", ["l", "r"], [1.0, 2.0], [3.0, 4.0], [5.0, 6.0])
+    bare = encode_joint_state(4, "base", ["l", "r"], [1.5, 2.5])
+    for payload, stamp, position in ((full, 3, (1.0, 2.0)), (bare, 4, (1.5, 2.5))) * 2:
+        assert reader.read(payload) == (0, stamp, ("l", "r"), position)
+
+
 def test_malformed_joint_states_are_refused_after_good_ones() -> None:
     payload = types.JointState(
         name=["left", "right"], position=[1.0, 2.0], velocity=[0.5, 0.5]
@@ -170,7 +216,7 @@ def test_malformed_joint_states_are_refused_after_good_ones() -> None:
         reader.read(b"\x00\x00\x00\x00" + payload[4:])
     longer = bytearray(payload)
     longer[-4:] = struct.pack("<I", 1)  # an effort past the end
-    with pytest.raises(ValueError, match="longer than the payload"):
+    with pytest.raises(ValueError, match=r"^sequence longer than the payload$"):
         reader.read(bytes(longer))
     assert reader.read(payload)[2] == ("left", "right")
 

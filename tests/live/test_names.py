@@ -97,11 +97,19 @@ def test_frames_and_node_names() -> None:
     assert frame_problem("") == "is empty"
     assert frame_problem(NOT_UTF8) == "is not valid UTF-8"
     assert frame_problem("x" * 256) == "is longer than 255 characters (256)"
+    assert frame_problem("x" * 255) is None  # the longest taken
+    assert node_name_problem("n" * 255) is None
+    assert node_name_problem("n" * 256) == "is longer than 255 characters (256)"
+    assert frame_problem("base\x7flink") == "holds a control character"  # DEL
+    assert frame_problem("base\x80link") is None  # a C1 code point is UTF-8 text
     assert node_name_problem("diffbot_odometry") is None
     assert node_name_problem("diffbot/odometry") == "may hold only letters, digits, '_' and '/'"
     with pytest.raises(LiveError) as refused:
         check_frame_id(NOT_UTF8, "frame_id")
     assert str(refused.value) == "frame_id 'odom\\udcff' is not valid UTF-8"
+    with pytest.raises(LiveError) as refused:
+        check_frame_id("")
+    assert str(refused.value) == "frame id '' is empty"
     with pytest.raises(LiveError) as refused:
         check_node_name("9lives")
     assert str(refused.value) == "node name '9lives' has a part starting with a digit"
