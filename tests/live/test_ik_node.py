@@ -186,7 +186,9 @@ def test_the_limiter_ramps_on_each_update_and_a_stale_command_ramps_down_to_zero
         clock.now += 0.1
         node.update()
         assert left[-1] == pytest.approx([0.05 / 0.035], abs=1e-12)
-    assert node.status() == "4 commands, 1 refused (not finite), 1 timeouts, 0 malformed"
+        clock.now += 0.35  # quiet again: a second timeout
+        node.update()
+    assert node.status() == "4 commands, 1 refused (not finite), 2 timeouts, 0 malformed"
 
 
 def test_without_limits_a_quiet_command_stops_the_wheels_once(

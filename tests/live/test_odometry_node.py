@@ -7,14 +7,14 @@ import math
 import time
 
 import pytest
-from live_graph import PATIENCE, ServiceClient, deep, until
+from live_graph import PATIENCE, ServiceClient, deep, spare_domain, until
 from robots import BOT
 
 from diffbot.controller_config import ControllerConfig
 from diffbot.live import types
 from diffbot.live.messages import stamp_ns, time_of, yaw_of
 from diffbot.live.odometry import OdometryNode, OdometrySettings
-from diffbot.live.transport import Node
+from diffbot.live.transport import LiveError, Node
 from diffbot.planfile import parse_plan
 from diffbot.simulation import simulate
 from diffbot.trajectory import plan
@@ -129,6 +129,7 @@ def test_the_controller_configuration_sets_frames_rate_and_covariance() -> None:
         publish_rate=20.0,
         enable_odom_tf=False,
         pose_covariance_diagonal=(1, 2, 3, 4, 5, 6),
+        twist_covariance_diagonal=(6, 5, 4, 3, 2, 1),
         velocity_rolling_window_size=4,
     )
     settings = OdometrySettings().with_controller(controller, publish_rate=10.0)
@@ -137,8 +138,29 @@ def test_the_controller_configuration_sets_frames_rate_and_covariance() -> None:
     assert settings.publish_rate == 10.0  # the option wins
     assert not settings.publish_tf
     assert settings.pose_covariance == (1, 2, 3, 4, 5, 6)
+    assert settings.twist_covariance == (6, 5, 4, 3, 2, 1)
     assert settings.window == 4
     assert OdometrySettings().with_controller(None) == OdometrySettings()
+
+
+@pytest.mark.parametrize(
+    ("settings", "message"),
+    [
+        (OdometrySettings(frame_id=""), "^frame_id '' is empty$"),
+        (OdometrySettings(child_frame_id=""), "^child_frame_id '' is empty$"),
+        (OdometrySettings(publish_rate=0.0), "^publish_rate must be a finite number >= 1e-06"),
+    ],
+)
+def test_bad_settings_are_refused_naming_the_setting(
+    settings: OdometrySettings, message: str
+) -> None:
+    with pytest.raises(LiveError, match=message):
+        OdometryNode(BOT, settings)
+
+
+def test_the_node_joins_the_domain_it_is_given() -> None:
+    with OdometryNode(BOT, domain=spare_domain(2)) as node:
+        assert node.participant.domain_id == spare_domain(2)
 
 
 def test_the_publish_rate_thins_by_stamps() -> None:
@@ -214,6 +236,9 @@ def test_the_twist_and_both_covariances_are_published_where_ros_reads_them() -> 
     assert pose.position.x == pytest.approx(v / w * math.sin(w * dt), abs=1e-12)
     assert pose.position.y == pytest.approx(v / w * (1 - math.cos(w * dt)), abs=1e-12)
     assert yaw_of(pose.orientation) == pytest.approx(w * dt, abs=1e-12)
+    assert (pose.orientation.x, pose.orientation.y) == (0.0, 0.0)
+    assert pose.orientation.z == pytest.approx(math.sin(w * dt / 2), abs=1e-12)
+    assert pose.orientation.w == pytest.approx(math.cos(w * dt / 2), abs=1e-12)
     assert stamp_ns(sent[-1].header.stamp) == T0 + 10**8
     assert (sent[-1].header.frame_id, sent[-1].child_frame_id) == ("odom", "base_link")
 
@@ -261,6 +286,7 @@ def test_set_odometry_reproduces_the_controllers_service_test() -> None:
             assert node.odometry.pose.x > 0.0
             reply = client.call(types.SetOdometryRequest(x=5.0, y=-2.0, yaw=1.57079632679))
             assert reply.success is True  # type: ignore[attr-defined]
+            assert reply.message == "Odometry set request accepted"  # type: ignore[attr-defined]
             assert (reply.guid, reply.seq) == (0xD1FFB07, 1)  # type: ignore[attr-defined]
             pose = node.odometry.pose
             assert pose.x == pytest.approx(5.0, abs=1e-6)
