@@ -56,6 +56,28 @@ def test_a_stream_goes_out_on_schedule_and_ends_with_zero() -> None:
     assert report.percentile(0.5) < 0.01
 
 
+def test_wheel_commands_go_to_each_side_once_per_joint() -> None:
+    stream = ramp(plan(parse_plan("spin 90 0.5s"), BOT), Limits()).commands(20.0)
+    left: list[list[float]] = []
+    right: list[list[float]] = []
+    settings = DriveSettings(wheels=True, joints=(2, 1))
+    with Node("probe") as probe, Driver(stream, settings) as driver:
+        assert driver.name == "diffbot_drive"
+        probe.create_subscription(
+            types.Float64MultiArray, settings.left_topic, lambda m: left.append(m.data), DEEP
+        )
+        probe.create_subscription(
+            types.Float64MultiArray, settings.right_topic, lambda m: right.append(m.data), DEEP
+        )
+        assert driver.wait_for_subscriber(PATIENCE)
+        k = stream.times.size // 2  # turning: the sides differ
+        driver.send(stream, k)
+        until(probe, lambda: left and right)
+    assert stream.left[k] != stream.right[k]
+    assert left == [[float(stream.left[k])] * 2]
+    assert right == [[float(stream.right[k])]]
+
+
 def test_a_percentile_is_the_nearest_ranks_bin() -> None:
     lateness = Lateness()
     for ms in (4, 2, 1, 3, 2):
