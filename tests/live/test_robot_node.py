@@ -321,6 +321,20 @@ def test_a_disturbed_robot_drops_a_seeded_share_of_commands() -> None:
     assert arrivals(seed=8) != first
 
 
+@pytest.mark.parametrize(
+    ("settings", "message"),
+    [
+        (RobotSettings(rate=0.0), r"^rate must be a finite number >= 1e-06, got 0\.0"),
+        (RobotSettings(timeout=-1.0), r"^timeout must be a finite number >= 0 and <= 1e\+06"),
+    ],
+)
+def test_a_rate_or_timeout_out_of_range_is_refused_naming_it(
+    settings: RobotSettings, message: str
+) -> None:
+    with pytest.raises(LiveError, match=message):
+        RobotNode(BOT, None, settings)
+
+
 def test_disturbance_flags_out_of_range_are_one_error_line() -> None:
     for flag, value in (("--drop", "1"), ("--motor-lag", "-0.1"), ("--slip", "nan")):
         done = subprocess.run(

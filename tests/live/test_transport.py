@@ -267,6 +267,21 @@ def test_a_node_describes_what_it_reads_publishes_and_serves() -> None:
         )
 
 
+@pytest.mark.parametrize("text", ["", "a", "ab", "abc", "abcd"])
+def test_serialized_payloads_of_any_length_arrive_whole(text: str) -> None:
+    # A payload is padded to whole 4-byte words on the wire, as rmw does.
+    got: list[str] = []
+    with Node("talker") as talker, Node("listener") as listener:
+        chatter = talker.create_publisher(types.String, "chatter")
+        listener.create_subscription(types.String, "chatter", lambda m: got.append(m.data))
+        assert chatter.wait_for_subscribers(PATIENCE)
+        chatter.publish_serialized(types.String(text).serialize())
+        end = time.monotonic() + PATIENCE
+        while not got and time.monotonic() < end:
+            listener.spin_once(0.05)
+    assert got == [text]
+
+
 def test_a_type_mismatch_names_every_type_read() -> None:
     with Node("reader") as node:
         assert node.type_mismatch("/cmd_vel", "a/msg/B", ["x/msg/T", "x/msg/U"]) == (
