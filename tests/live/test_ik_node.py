@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from live_graph import PATIENCE, deep, until
+from live_graph import PATIENCE, deep, spare_domain, until
 from robots import BOT
 
 from diffbot.live import types
@@ -189,6 +189,30 @@ def test_the_limiter_ramps_on_each_update_and_a_stale_command_ramps_down_to_zero
         clock.now += 0.35  # quiet again: a second timeout
         node.update()
     assert node.status() == "4 commands, 1 refused (not finite), 2 timeouts, 0 malformed"
+
+
+def test_limited_before_any_command_the_updates_command_zero(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from diffbot.controller_config import AxisLimits, ControllerConfig
+    from diffbot.live import inverse_kinematics
+
+    clock = Clock()
+    monkeypatch.setattr(inverse_kinematics, "time", clock)
+    controller = ControllerConfig(
+        name="diff", source="c.yaml", ros_version=2, linear=AxisLimits(max_acceleration=0.5)
+    )
+    left: list[list[float]] = []
+    right: list[list[float]] = []
+    with InverseKinematicsNode(BOT.replace(controller=controller), domain=spare_domain(3)) as node:
+        assert node.participant.domain_id == spare_domain(3)
+        capture(node.left, left)
+        capture(node.right, right)
+        for _ in range(3):
+            clock.now += 0.1
+            node.update()
+        assert left == right == [[0.0]] * 3
+        assert node.timeouts == 0
 
 
 def test_without_limits_a_quiet_command_stops_the_wheels_once(
