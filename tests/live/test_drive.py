@@ -18,7 +18,7 @@ from robots import BOT
 from diffbot.live import types
 from diffbot.live.drive import Driver, DriveSettings, Lateness
 from diffbot.live.signals import deferred
-from diffbot.live.transport import Node, QosProfile
+from diffbot.live.transport import LiveError, Node, QosProfile
 from diffbot.planfile import parse_plan
 from diffbot.profiles import Limits, PathLimits
 from diffbot.ramps import CommandStream, ramp
@@ -76,6 +76,12 @@ def test_wheel_commands_go_to_each_side_once_per_joint() -> None:
     assert stream.left[k] != stream.right[k]
     assert left == [[float(stream.left[k])] * 2]
     assert right == [[float(stream.right[k])]]
+
+
+def test_a_bad_frame_id_is_refused_naming_it() -> None:
+    stream = ramp(plan(parse_plan("straight 0.1 0.5s"), BOT), Limits()).commands(20.0)
+    with pytest.raises(LiveError, match=r"^frame_id '' is empty$"):
+        Driver(stream, DriveSettings(stamped=True, frame_id=""))
 
 
 def test_a_percentile_is_the_nearest_ranks_bin() -> None:
