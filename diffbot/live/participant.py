@@ -44,21 +44,18 @@ def _cyclone_says() -> Iterator[list[str]]:
         try:
             yield said
         except BaseException:
-            os.dup2(saved, 2)
             held.seek(0)
             text = held.read(_MOST_SAID).decode("utf-8", "replace")
             # "<time> [<domain>] <thread>: <message>": the message alone.
             for line in text.splitlines():
                 said.append(line.partition("]")[2].partition(": ")[2].strip())
             raise
-        else:
-            os.dup2(saved, 2)
-            held.seek(0)
-            while chunk := held.read(1 << 16):
-                os.write(2, chunk)
         finally:
             os.dup2(saved, 2)
             os.close(saved)
+        held.seek(0)
+        while chunk := held.read(1 << 16):
+            os.write(2, chunk)
 
 
 def _why(err: DDSException, said: list[str]) -> str:
@@ -81,13 +78,11 @@ def participant(domain: int | None) -> DomainParticipant:
     with _DOMAINS_LOCK:
         if ident not in _DOMAINS:
             config = cyclone_config(discovery_range(), env.get("CYCLONEDDS_URI", ""))
-            said: list[str] = []
             try:
                 with _cyclone_says() as said:
                     _DOMAINS[ident] = Domain(ident, config) if config else None
             except DDSException as err:
                 raise LiveError(f"cannot start DDS on domain {ident}: {_why(err, said)}") from None
-    said = []
     try:
         with _cyclone_says() as said:
             return DomainParticipant(ident)

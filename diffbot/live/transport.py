@@ -102,7 +102,7 @@ class Node:
         self._topics: dict[tuple[str, str], Topic[Any]] = {}
         self._subscriptions: list[Subscription[Any]] = []
         self._services: list[Subscription[Any]] = []
-        #: The (absolute topic, DDS type name) of each publisher made.
+        #: The (topic, DDS type name) of each publisher made.
         self._published: list[tuple[str, str]] = []
         self._checking = False
         self._timers: list[Timer] = []
@@ -141,7 +141,7 @@ class Node:
         """A publisher of ``msg_type`` on the ROS topic ``topic``."""
         writer = DataWriter(self.participant, self._topic(msg_type, topic), qos.qos())
         self.writer_guids.append(writer.guid.bytes)
-        self._published.append((self.resolve(topic), msg_type.__idl_typename__))
+        self._published.append((topic, msg_type.__idl_typename__))
         if self._announce is not None:
             self._announce()
         return Publisher(writer, topic)
@@ -368,21 +368,19 @@ class Node:
         def listed(endpoints: list[tuple[str, str]]) -> str:
             types: dict[str, list[str]] = {}
             for topic, type_name in endpoints:
-                named = types.setdefault(topic, [])
+                named = types.setdefault(self.resolve(topic), [])
                 if ros_type_name(type_name) not in named:
                     named.append(ros_type_name(type_name))
             return ", ".join(f"{topic} ({' or '.join(named)})" for topic, named in types.items())
 
-        parts = [
-            f"reads {listed([(self.resolve(s.topic), s.type_name) for s in self._subscriptions])}"
-            if self._subscriptions
-            else "",
-            f"publishes {listed(self._published)}" if self._published else "",
-            "serves " + ", ".join(self.resolve(s.topic) for s in self._services)
-            if self._services
-            else "",
-        ]
-        return "; ".join(part for part in parts if part) or "no topics"
+        parts: list[str] = []
+        if self._subscriptions:
+            parts.append(f"reads {listed([(s.topic, s.type_name) for s in self._subscriptions])}")
+        if self._published:
+            parts.append(f"publishes {listed(self._published)}")
+        if self._services:
+            parts.append("serves " + ", ".join(self.resolve(s.topic) for s in self._services))
+        return "; ".join(parts) or "no topics"
 
     def status(self) -> str:
         """One line of what the node counted, for people (nodes that count say more)."""
