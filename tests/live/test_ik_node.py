@@ -12,7 +12,9 @@ import pytest
 from live_graph import PATIENCE, deep, spare_domain, until
 from robots import BOT
 
-from diffbot.live import types
+from diffbot.body_limits import BodyLimits
+from diffbot.controller_config import AxisLimits, ControllerConfig
+from diffbot.live import inverse_kinematics, types
 from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
 from diffbot.live.messages import twist_command
 from diffbot.live.transport import Node
@@ -123,6 +125,26 @@ class Clock:
         return self.now
 
 
+@pytest.fixture
+def clock(monkeypatch: pytest.MonkeyPatch) -> Clock:
+    """The IK node's clock, moved by hand."""
+    clock = Clock()
+    monkeypatch.setattr(inverse_kinematics, "time", clock)
+    return clock
+
+
+#: The bundled robot behind a controller that ramps: 0.5 m/s² and 2 rad/s².
+LIMITED = BOT.replace(
+    controller=ControllerConfig(
+        name="diff",
+        source="c.yaml",
+        ros_version=2,
+        linear=AxisLimits(max_acceleration=0.5),
+        angular=AxisLimits(max_acceleration=2.0),
+    )
+)
+
+
 def capture(publisher: Any, into: list[list[float]]) -> None:
     """Route a wheel command publisher's messages into a list of their ``data``, decoded,
     whether the node publishes a message or its bytes."""
@@ -133,24 +155,11 @@ def capture(publisher: Any, into: list[list[float]]) -> None:
 
 
 def test_the_limiter_ramps_on_each_update_and_a_stale_command_ramps_down_to_zero(
-    monkeypatch: pytest.MonkeyPatch,
+    clock: Clock,
 ) -> None:
-    from diffbot.controller_config import AxisLimits, ControllerConfig
-    from diffbot.live import inverse_kinematics
-
-    clock = Clock()
-    monkeypatch.setattr(inverse_kinematics, "time", clock)
-    controller = ControllerConfig(
-        name="diff",
-        source="c.yaml",
-        ros_version=2,
-        linear=AxisLimits(max_acceleration=0.5),
-        angular=AxisLimits(max_acceleration=2.0),
-    )
-    robot = BOT.replace(controller=controller)
     left: list[list[float]] = []
     right: list[list[float]] = []
-    with InverseKinematicsNode(robot, IkSettings(timeout=0.3, rate=10.0)) as node:
+    with InverseKinematicsNode(LIMITED, IkSettings(timeout=0.3, rate=10.0)) as node:
         assert node.commander.limited
         capture(node.left, left)
         capture(node.right, right)
@@ -191,20 +200,10 @@ def test_the_limiter_ramps_on_each_update_and_a_stale_command_ramps_down_to_zero
     assert node.status() == "4 commands, 1 refused (not finite), 2 timeouts, 0 malformed"
 
 
-def test_limited_before_any_command_the_updates_command_zero(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    from diffbot.controller_config import AxisLimits, ControllerConfig
-    from diffbot.live import inverse_kinematics
-
-    clock = Clock()
-    monkeypatch.setattr(inverse_kinematics, "time", clock)
-    controller = ControllerConfig(
-        name="diff", source="c.yaml", ros_version=2, linear=AxisLimits(max_acceleration=0.5)
-    )
+def test_limited_before_any_command_the_updates_command_zero(clock: Clock) -> None:
     left: list[list[float]] = []
     right: list[list[float]] = []
-    with InverseKinematicsNode(BOT.replace(controller=controller), domain=spare_domain(3)) as node:
+    with InverseKinematicsNode(LIMITED, domain=spare_domain(3)) as node:
         assert node.participant.domain_id == spare_domain(3)
         capture(node.left, left)
         capture(node.right, right)
@@ -215,13 +214,7 @@ def test_limited_before_any_command_the_updates_command_zero(
         assert node.timeouts == 0
 
 
-def test_without_limits_a_quiet_command_stops_the_wheels_once(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    from diffbot.live import inverse_kinematics
-
-    clock = Clock()
-    monkeypatch.setattr(inverse_kinematics, "time", clock)
+def test_without_limits_a_quiet_command_stops_the_wheels_once(clock: Clock) -> None:
     left: list[list[float]] = []
     with InverseKinematicsNode(BOT, IkSettings(timeout=0.3)) as node:
         assert not node.commander.limited
@@ -240,13 +233,8 @@ def test_without_limits_a_quiet_command_stops_the_wheels_once(
         assert node.timeouts == 1
 
 
-def test_body_limits_clamp_each_axis_before_the_wheels_and_refusals_are_listed_by_reason(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    from diffbot.body_limits import BodyLimits
-    from diffbot.live import inverse_kinematics
-
-    monkeypatch.setattr(inverse_kinematics, "time", Clock())
+@pytest.mark.usefixtures("clock")
+def test_body_limits_clamp_each_axis_before_the_wheels_and_refusals_are_listed_by_reason() -> None:
     left: list[list[float]] = []
     right: list[list[float]] = []
     body = BodyLimits(linear=(-0.05, 0.05), angular=(-0.5, 0.5))
