@@ -1,5 +1,6 @@
-"""Run again, by hand and without mutmut's time limits, a seeded sample of the mutants a
-mutation run (tools/mutation.sh) marked as timed out, and say what each one really does.
+"""Run again, by hand and without mutmut's time limits, the mutants a mutation run
+(tools/mutation.sh) marked as timed out or left unrun (all, or a seeded sample), and say what
+each one really does.
 
 mutmut stops a mutant at a wall time of (the tests' recorded time + timeout_constant) x
 timeout_multiplier. Live tests spend most of their time starting DDS and waiting for discovery,
@@ -26,6 +27,7 @@ import random
 import subprocess
 import sys
 import time
+from collections import Counter
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -47,11 +49,11 @@ def marked(mutants: Path, unrun: bool) -> list[str]:
     return sorted(names)
 
 
-def tests_of(mutants: Path, name: str) -> list[str]:
-    """The tests mutmut picked for a mutant: those that call its function."""
+def tests_by_function(mutants: Path) -> dict[str, list[str]]:
+    """The tests mutmut's first run found calling each (mangled) function."""
     stats = json.loads((mutants / "mutmut-stats.json").read_text(encoding="utf-8"))
-    function = name.rsplit("__mutmut_", 1)[0]
-    return sorted(stats["tests_by_mangled_function_name"].get(function, []))
+    found: dict[str, list[str]] = stats["tests_by_mangled_function_name"]
+    return {function: sorted(tests) for function, tests in found.items()}
 
 
 def run(mutants: Path, name: str, tests: list[str], hang: float) -> tuple[str, float]:
@@ -112,13 +114,18 @@ def main() -> None:
     args = parser.parse_args()
     mutants: Path = args.mutants.resolve()
     names = marked(mutants, args.unrun)
+    kind = "unrun" if args.unrun else "timed-out"
     if args.sample and args.sample < len(names):
         picked = random.Random(args.seed).sample(names, args.sample)
     else:
         picked = names
+    if not picked:
+        print(f"no {kind} mutants in {mutants}")
+        return
+    mapped_tests = tests_by_function(mutants)
 
     def tests(name: str) -> list[str]:
-        mapped = tests_of(mutants, name)
+        mapped = mapped_tests.get(name.rsplit("__mutmut_", 1)[0], [])
         return [*mapped, *args.also] if mapped else []
 
     clean, seconds = run(mutants, "none", tests(picked[0]), args.hang)
@@ -132,8 +139,7 @@ def main() -> None:
 
     with ThreadPoolExecutor(args.jobs) as pool:
         list(pool.map(one, picked))
-    counts = {k: list(outcomes.values()).count(k) for k in sorted(set(outcomes.values()))}
-    kind = "unrun" if args.unrun else "timed-out"
+    counts = dict(sorted(Counter(outcomes.values()).items()))
     print(f"{len(picked)} of {len(names)} {kind} mutants run: {counts}")
     for name in sorted(n for n, o in outcomes.items() if o == "survived"):
         print(f"survived: {name}")
