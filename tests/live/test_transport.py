@@ -11,7 +11,7 @@ import threading
 import time
 
 import pytest
-from live_graph import PATIENCE
+from live_graph import PATIENCE, until
 
 from diffbot.live import types
 from diffbot.live.signals import caught, deferred
@@ -81,9 +81,7 @@ def test_a_message_crosses_between_nodes_and_malformed_payloads_are_counted() ->
         assert subscription.wait_for_publishers(PATIENCE)
         sent = types.JointState(name=["a", "b"], position=[1.0, -2.0])
         publisher.publish(sent)
-        end = time.monotonic() + PATIENCE
-        while not got and time.monotonic() < end:
-            listener.spin_once(0.05)
+        until(listener, lambda: bool(got))
         assert got == [sent]
         assert listener.publisher_types("/joint_states") == {"sensor_msgs::msg::dds_::JointState_"}
         payload = sent.serialize()
@@ -239,9 +237,7 @@ def test_private_names_live_under_the_node() -> None:
             types.EmptyRequest, types.EmptyResponse, "~/reset", lambda r: types.EmptyResponse()
         )
         assert talker.resolve("~/chatter") == "/private_talker/chatter"
-        end = time.monotonic() + PATIENCE
-        while time.monotonic() < end and not listener.publications("/private_talker/chatter"):
-            time.sleep(0.02)
+        until(listener, lambda: bool(listener.publications("/private_talker/chatter")))
         assert listener.publications("/private_talker/chatter") == ["std_msgs::msg::dds_::String_"]
         assert listener.publications("/x", "rr/private_talker/resetReply") == [
             "std_srvs::srv::dds_::Empty_Response_"
@@ -276,9 +272,7 @@ def test_serialized_payloads_of_any_length_arrive_whole(text: str) -> None:
         listener.create_subscription(types.String, "chatter", lambda m: got.append(m.data))
         assert chatter.wait_for_subscribers(PATIENCE)
         chatter.publish_serialized(types.String(text).serialize())
-        end = time.monotonic() + PATIENCE
-        while not got and time.monotonic() < end:
-            listener.spin_once(0.05)
+        until(listener, lambda: bool(got))
     assert got == [text]
 
 
