@@ -96,6 +96,7 @@ def test_bad_samples_are_skipped_and_counted() -> None:
             joint_state(["caster"], [5.0], T0 + 3 * 10**9),  # missing joint
             joint_state(names, [9.0, 9.0], T0),  # back in time
             joint_state(names, [1.0], T0 + 4 * 10**9),  # mismatched lengths
+            joint_state(names, [1.0, 1.0, 1.0], T0 + 4 * 10**9),  # and the other way
             joint_state(names, [2.0, 2.0], T0 + 5 * 10**9),
         ]
         for message in sent:
@@ -103,17 +104,17 @@ def test_bad_samples_are_skipped_and_counted() -> None:
             time.sleep(0.002)
         probe.until(lambda: node.counts["received"] == len(sent))
     assert node.counts == {
-        "received": 7,
+        "received": 8,
         "used": 3,
         "published": 3,
         "not finite": 1,
         "missing joint": 1,
         "stamp not after previous": 1,
-        "mismatched lengths": 1,
+        "mismatched lengths": 2,
     }
     assert node.status() == (
-        "7 joint states, 3 used, 3 published; skipped: 1 not finite, 1 missing joint, "
-        "1 stamp not after previous, 1 mismatched lengths"
+        "8 joint states, 3 used, 3 published; skipped: 1 not finite, 1 missing joint, "
+        "1 stamp not after previous, 2 mismatched lengths"
     )
     # Two radians of each wheel forward: 2 r = 0.07 m, never a jump back to 0 or to 9 rad.
     assert node.odometry.pose.x == pytest.approx(2 * BOT.wheel_radius, abs=1e-12)
