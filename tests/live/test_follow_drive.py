@@ -122,6 +122,44 @@ def test_no_pose_means_nothing_commanded() -> None:
     assert seen == []
 
 
+def test_a_robot_at_the_plan_s_end_arrives_and_stamped_commands_carry_the_frame() -> None:
+    # The second pose puts the robot at the plan's end: past the plan, once it has stayed there
+    # for the follower's dwell, it has arrived, and the run ends long before its time cap.
+    params = load_params()
+    follower = Follower(params, plan(parse_plan("straight 0.1 0.3s"), params))
+    settings = FollowSettings(
+        pose_kind="pose", pose_timeout=30.0, stamped=True, frame_id="base_footprint"
+    )
+    seen: list[types.TwistStamped] = []
+    with Node("localization") as node, FollowDriver(follower, settings) as driver:
+        node.create_subscription(types.TwistStamped, "cmd_vel", seen.append, deep())
+        poses = node.create_publisher(types.PoseStamped, "odom")
+        assert poses.wait_for_subscribers(PATIENCE)
+        poses.publish(pose_stamped(0.0, 0.0, 0.0))  # the origin
+        assert driver.wait_until_ready(PATIENCE)
+        poses.publish(pose_stamped(0.1, 0.0, 0.0))
+        end = time.monotonic() + PATIENCE
+        while (driver.pose is None or driver.pose.x == 0.0) and time.monotonic() < end:
+            driver.spin_once(0.02)
+        before = time.time_ns()
+        report = driver.follow()
+        after = time.time_ns()
+        while len(seen) < report.sent + 1 and time.monotonic() < end:
+            node.spin_once(0.02)
+    assert report.arrived
+    assert report.completed
+    assert report.duration < driver.cap
+    assert report.position_error == pytest.approx(0.0, abs=1e-12)
+    assert report.heading_error == pytest.approx(0.0, abs=1e-12)
+    assert len(seen) == report.sent + 1
+    assert {c.header.frame_id for c in seen} == {"base_footprint"}
+    stamps = [stamp_ns(c.header.stamp) for c in seen]
+    assert stamps == sorted(stamps)
+    assert before <= stamps[0]
+    assert stamps[-1] <= after
+    assert (seen[-1].twist.linear.x, seen[-1].twist.angular.z) == (0.0, 0.0)
+
+
 class StopsCounted(Follower):
     """A follower with a lead that counts the stops it is told of."""
 
@@ -361,9 +399,10 @@ def test_the_pose_s_type_is_the_one_its_publisher_sends(
 def test_progress_is_the_distance_from_the_reference_or_the_goal(law: str) -> None:
     # The robot stays where the first pose put it, 0.1 m left of the plan's start: the error
     # shown is its distance from the timed reference (tracking), or from the goal (pure
-    # pursuit, 0.2 m ahead), at each command.
+    # pursuit, a quarter circle of 0.2 m to the left: 0.2 m ahead and 0.2 m left), at each
+    # command.
     params = load_params()
-    follower = Follower(params, plan(parse_plan("straight 0.2 0.5s"), params), law=law)
+    follower = Follower(params, plan(parse_plan("ccw 0.2 90 0.5s"), params), law=law)
     settings = FollowSettings(pose_kind="pose", pose_timeout=30.0, overtime=0.0)
     seen: list[tuple[float, float]] = []
     with Node("localization") as node, FollowDriver(follower, settings) as driver:
@@ -382,7 +421,7 @@ def test_progress_is_the_distance_from_the_reference_or_the_goal(law: str) -> No
         if law == "tracking":
             x, y = follower.reference(t)[:2]
         else:
-            x, y = 0.2, 0.0
+            x, y = 0.2, 0.2
         assert error == pytest.approx(math.hypot(x, y - 0.1), abs=1e-12)
     if law == "tracking":
         assert seen[-1][1] > seen[0][1] + 0.05  # the reference drives on, away from it

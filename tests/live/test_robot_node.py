@@ -102,7 +102,8 @@ def test_commanded_wheels_turn_and_silence_stops_them() -> None:
 def test_late_joiners_get_the_description_and_the_fixed_links() -> None:
     urdf = two_wheel_urdf(
         body='<link name="lidar"/><joint name="lidar_joint" type="fixed">'
-        '<parent link="base_link"/><child link="lidar"/><origin xyz="0.1 0 0.2"/></joint>'
+        '<parent link="base_link"/><child link="lidar"/>'
+        '<origin xyz="0.1 0 0.2" rpy="0 0 1.5707963267948966"/></joint>'
     )
     described: list[str] = []
     static: list[types.TFMessage] = []
@@ -117,6 +118,11 @@ def test_late_joiners_get_the_description_and_the_fixed_links() -> None:
     (lidar,) = static[0].transforms
     assert (lidar.header.frame_id, lidar.child_frame_id) == ("base_link", "lidar")
     assert lidar.transform.translation == types.Vector3(0.1, 0.0, 0.2)
+    # Turned a quarter turn about z: (0, 0, sin 45 deg, cos 45 deg).
+    rotation = lidar.transform.rotation
+    assert [rotation.x, rotation.y, rotation.z, rotation.w] == pytest.approx(
+        [0.0, 0.0, math.sqrt(0.5), math.sqrt(0.5)], abs=1e-12
+    )
     assert LATCHED.transient_local
 
 
@@ -380,3 +386,34 @@ def test_a_description_with_plain_names_and_a_caster_is_taken() -> None:
     urdf = two_wheel_urdf().replace("</robot>", CASTER.format(name="caster_joint"))
     with RobotNode(TWO, urdf, RobotSettings(rate=10.0)) as robot:
         assert robot.names[-1] == "caster_joint"
+
+
+def test_a_disturbed_robot_moves_by_the_true_geometry_and_holds_other_joints_still() -> None:
+    # Described: r = 0.05 m, b = 0.2 m; really 0.06 m and 0.04 m wheels 0.25 m apart. The
+    # caster is reported, never turned.
+    urdf = two_wheel_urdf().replace("</robot>", CASTER.format(name="caster_joint"))
+    settings = RobotSettings(
+        rate=50.0,
+        timeout=0.0,
+        true_radii=(0.06, 0.04),
+        true_separation=0.25,
+        disturbances=Disturbances(motor_lag=0.01),
+    )
+    with RobotNode(TWO, urdf, settings) as robot:
+        motors = robot.motors
+        assert motors is not None
+        robot.on_wheels(0, [1.0])
+        robot.on_wheels(1, [3.0])
+        time.sleep(0.2)
+        (x, y, heading, linear, angular), velocities = robot._move_motors(time.monotonic())
+    left, right = motors.speeds
+    assert left == pytest.approx(1.0, rel=1e-6)
+    assert right == pytest.approx(3.0, rel=1e-6)
+    assert velocities == [left, right, 0.0]
+    assert robot.positions["caster_joint"] == 0.0
+    # The ground moves by the true radii and separation, not the described ones.
+    turned_left, turned_right = motors.angles
+    assert heading == pytest.approx((0.04 * turned_right - 0.06 * turned_left) / 0.25, rel=1e-9)
+    assert linear == pytest.approx((0.06 * left + 0.04 * right) / 2.0, rel=1e-12)
+    assert angular == pytest.approx((0.04 * right - 0.06 * left) / 0.25, rel=1e-12)
+    assert math.hypot(x, y) > 0.0

@@ -181,7 +181,14 @@ def test_a_request_of_another_type_is_named_once() -> None:
     ]
 
 
-def test_a_services_endpoints_carry_one_service_id_as_rmw_cyclonedds_pairs_them() -> None:
+@pytest.mark.parametrize(
+    ("service", "base"),
+    # Only the leading slash is the root's: a name may begin and end with any letter.
+    [("/server/reset", "server/reset"), ("/Xserver/resetX", "Xserver/resetX")],
+)
+def test_a_services_endpoints_carry_one_service_id_as_rmw_cyclonedds_pairs_them(
+    service: str, base: str
+) -> None:
     from typing import Any
 
     from cyclonedds.builtin import (
@@ -197,7 +204,7 @@ def test_a_services_endpoints_carry_one_service_id_as_rmw_cyclonedds_pairs_them(
         server.create_service(
             types.EmptyRequest,
             types.EmptyResponse,
-            "/server/reset",
+            service,
             lambda r: types.EmptyResponse(),
         )
         writers = BuiltinDataReader(client.participant, BuiltinTopicDcpsPublication)
@@ -214,13 +221,13 @@ def test_a_services_endpoints_carry_one_service_id_as_rmw_cyclonedds_pairs_them(
         found: tuple[list[bytes], list[bytes]] = ([], [])
         while time.monotonic() < end and not all(found):
             found = (
-                user_data(writers, "rr/server/resetReply"),
-                user_data(readers, "rq/server/resetRequest"),
+                user_data(writers, f"rr/{base}Reply"),
+                user_data(readers, f"rq/{base}Request"),
             )
             time.sleep(0.05)
         guids = (
-            [s.key.bytes for s in writers.read(N=4096) if s.topic_name == "rr/server/resetReply"],
-            [s.key.bytes for s in readers.read(N=4096) if s.topic_name == "rq/server/resetRequest"],
+            [s.key.bytes for s in writers.read(N=4096) if s.topic_name == f"rr/{base}Reply"],
+            [s.key.bytes for s in readers.read(N=4096) if s.topic_name == f"rq/{base}Request"],
         )
     assert found[0] == found[1]
     assert len(found[0]) == 1
@@ -281,6 +288,34 @@ def test_a_type_mismatch_names_every_type_read() -> None:
         assert node.type_mismatch("/cmd_vel", "a/msg/B", ["x/msg/T", "x/msg/U"]) == (
             "'/cmd_vel' carries a/msg/B; this node reads x/msg/T or x/msg/U"
         )
+
+
+def test_the_drop_count_outlives_the_reader() -> None:
+    # A reader that keeps 3 waiting samples and refuses the newer ones, never spun: 17 of 20
+    # are refused. The count is never read before the node goes; it is read as it goes.
+    from diffbot.live.transport import QosProfile
+
+    keeps_three = QosProfile(reliable=False, depth=3, drop_newest=True)
+    with Node("talker") as talker:
+        reader = Node("reader")
+        subscription = reader.create_subscription(
+            types.String, "chatter", lambda m: None, keeps_three
+        )
+        chatter = talker.create_publisher(types.String, "chatter")
+        assert chatter.wait_for_subscribers(PATIENCE)
+        for k in range(20):
+            chatter.publish(types.String(str(k)))
+
+        def refused() -> int:
+            status = subscription.reader.get_sample_rejected_status()  # type: ignore[no-untyped-call]
+            return int(status.total_count)
+
+        end = time.monotonic() + PATIENCE
+        while refused() < 17 and time.monotonic() < end:
+            time.sleep(0.01)
+        assert refused() == 17
+        reader.destroy_node()
+    assert subscription.dropped == 17
 
 
 def test_a_started_node_spins_in_a_daemon_thread_named_for_it() -> None:
