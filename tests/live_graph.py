@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import tempfile
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import TYPE_CHECKING
@@ -23,9 +24,9 @@ BLOCK = 5
 
 
 def _slot() -> int:
-    """This process's block: from its id, or, for the workers of a run split over processes
-    (pytest-xdist), from the run's controller and the worker's number, so that no two workers
-    of one run share a block."""
+    """The block this process tries first: from its id, or, for the workers of a run split
+    over processes (pytest-xdist), from the run's controller and the worker's number, so that
+    the workers of one run start apart."""
     blocks = DOMAINS // BLOCK
     worker = os.environ.get("PYTEST_XDIST_WORKER", "")
     if not worker.startswith("gw"):
@@ -34,8 +35,48 @@ def _slot() -> int:
     return (os.getppid() * count + int(worker[2:])) % blocks
 
 
-#: This test process's domain; another process's tests take another one.
-DOMAIN = 1 + BLOCK * _slot()
+#: The block each process holds (by process id), and the lock file that holds it.
+_held: dict[int, tuple[int, int]] = {}
+
+
+def _claim() -> tuple[int, int]:
+    """A block no other process on this machine holds, from :func:`_slot` on: held by an
+    exclusive lock on a file of its own until this process ends. Two test runs at once (a
+    mutation run's forked children, which share what their parent imported; pytest-xdist's
+    workers; two checkouts) never share a domain. Where every block is held, or there are no
+    file locks, the first one tried (-1: no lock)."""
+    first = _slot()
+    try:
+        import fcntl
+    except ImportError:  # no flock (Windows)
+        return first, -1
+    blocks = DOMAINS // BLOCK
+    folder = tempfile.gettempdir()
+    for k in range(blocks):
+        block = (first + k) % blocks
+        path = os.path.join(folder, f"diffbot-test-domains-{block}.lock")
+        try:
+            fd = os.open(path, os.O_RDONLY | os.O_CREAT, 0o644)
+        except OSError:
+            continue
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(fd)
+            continue
+        return block, fd
+    return first, -1
+
+
+def domain() -> int:
+    """This test process's domain; another process's tests take another one. A forked child
+    takes its own, not its parent's."""
+    pid = os.getpid()
+    if pid not in _held:
+        _held[pid] = _claim()
+    return 1 + BLOCK * _held[pid][0]
+
+
 #: How long a test waits for discovery or a message before it fails (s): DIFFBOT_TEST_PATIENCE
 #: where set (a mutation run, where a broken node would make every wait run out).
 PATIENCE = float(os.environ.get("DIFFBOT_TEST_PATIENCE", "20"))
@@ -45,7 +86,7 @@ def spare_domain(k: int) -> int:
     """The ``k``-th spare domain of this process's block (k from 1 to ``BLOCK - 1``)."""
     if not 1 <= k < BLOCK:
         raise ValueError(f"a block has {BLOCK - 1} spare domains, not {k}")
-    return DOMAIN + k
+    return domain() + k
 
 
 def deep() -> QosProfile:

@@ -1,6 +1,7 @@
-"""Every live test runs on loopback in a DDS domain of its own: the domain id comes from this
-process's id, discovery stays on the machine (ROS_LOCALHOST_ONLY=1: interface lo, no multicast,
-the local peers by unicast), and processes the tests start inherit both."""
+"""Every live test runs on loopback in a DDS domain of its own: a domain no other test process
+on the machine holds (:func:`live_graph.domain`); discovery stays on the machine
+(ROS_LOCALHOST_ONLY=1: interface lo, no multicast, the local peers by unicast), and processes
+the tests start inherit both."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import os
 from collections.abc import Iterator
 
 import pytest
-from live_graph import DOMAIN
+from live_graph import domain
 
 
 @pytest.fixture(autouse=True, scope="session")
@@ -23,11 +24,12 @@ def loopback_domain() -> Iterator[int]:
             "CYCLONEDDS_URI",
         )
     }
-    os.environ["ROS_DOMAIN_ID"] = str(DOMAIN)
+    here = domain()
+    os.environ["ROS_DOMAIN_ID"] = str(here)
     os.environ["ROS_LOCALHOST_ONLY"] = "1"
     os.environ.pop("ROS_AUTOMATIC_DISCOVERY_RANGE", None)
     os.environ.pop("CYCLONEDDS_URI", None)
-    yield DOMAIN
+    yield here
     for key, value in saved.items():
         if value is None:
             os.environ.pop(key, None)
