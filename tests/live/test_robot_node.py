@@ -133,6 +133,24 @@ def test_encoder_ticks_quantise_the_reported_angles() -> None:
         assert robot.names == ["front_left_wheel_joint", "front_right_wheel_joint"]
 
 
+def encoder_errors(seed: int) -> list[float]:
+    """200 readings of an angle of 1 rad by an encoder with 0.01 rad of noise, less the angle."""
+    with RobotNode(BOT, None, RobotSettings(noise=0.01, seed=seed)) as robot:
+        return [robot._encoder(1.0) - 1.0 for _ in range(200)]
+
+
+def test_encoder_noise_is_seeded_and_of_its_size() -> None:
+    errors = encoder_errors(seed=3)
+    assert encoder_errors(seed=3) == errors
+    assert encoder_errors(seed=4) != errors
+    # Seeded: these are fixed numbers. Gaussian with sigma 0.01: the mean within four standard
+    # errors of 0, the spread within four of its own standard errors of 0.01.
+    mean = sum(errors) / len(errors)
+    spread = math.sqrt(sum((e - mean) ** 2 for e in errors) / (len(errors) - 1))
+    assert abs(mean) < 4.0 * 0.01 / math.sqrt(200)
+    assert abs(spread - 0.01) < 4.0 * 0.01 / math.sqrt(2 * 200)
+
+
 def test_a_bad_wheel_command_is_refused_as_zero() -> None:
     with RobotNode(TWO) as robot:
         robot.on_wheels(0, [1.0, 2.0])  # two values for one joint
