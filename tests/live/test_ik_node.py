@@ -188,8 +188,12 @@ def test_the_limiter_ramps_on_each_update_and_a_stale_command_ramps_down_to_zero
         w = 0.2 * 0.135 / 2 / 0.035
         assert left[-1] == pytest.approx([-w], abs=1e-12)
         assert right[-1] == pytest.approx([w], abs=1e-12)
-        # A NaN stops the wheels at once, without the ramp, and forgets the ramp's history.
+        # A NaN stops the wheels at once, without the ramp, and forgets the ramp's history;
+        # the updates after it command zero.
         node.on_twist(twist_command(math.nan, 1.0))
+        assert (left[-1], right[-1]) == ([0.0], [0.0])
+        clock.now += 0.1
+        node.update()
         assert (left[-1], right[-1]) == ([0.0], [0.0])
         node.on_twist(twist_command(0.2, 0.0))
         clock.now += 0.1
@@ -231,6 +235,50 @@ def test_without_limits_a_quiet_command_stops_the_wheels_once(clock: Clock) -> N
         node.watch()
         assert left == [[2.0], [0.0]]
         assert node.timeouts == 1
+        node.on_twist(twist_command(0.07, 0.0))
+        clock.now += 0.4
+        node.watch()
+        assert left == [[2.0], [0.0], [2.0], [0.0]]
+        assert node.timeouts == 2
+
+
+def test_a_timeout_of_zero_never_stops_a_limited_command(clock: Clock) -> None:
+    left: list[list[float]] = []
+    with InverseKinematicsNode(LIMITED, IkSettings(timeout=0.0, rate=10.0)) as node:
+        capture(node.left, left)
+        node.on_twist(twist_command(0.05, 0.0))
+        for _ in range(3):
+            clock.now += 100.0
+            node.update()
+        # 0.05 m/s reached in the first update (0.5 m/s² for 0.1 s), then held.
+        assert [v for (v,) in left] == pytest.approx([0.05 / 0.035] * 3, abs=1e-12)
+        assert node.timeouts == 0
+
+
+def periods(node: InverseKinematicsNode, callback: Any) -> list[float]:
+    """The periods (s) of the node's timers that call ``callback``."""
+    return [t.period for t in node._timers if t.callback == callback]
+
+
+def test_updates_run_at_the_rate_and_the_watch_at_a_quarter_timeout_at_most() -> None:
+    with InverseKinematicsNode(LIMITED, IkSettings(rate=25.0)) as node:
+        assert periods(node, node.update) == [pytest.approx(0.04, rel=1e-12)]
+        assert periods(node, node.watch) == []
+    # Without limits no updates, a watch: a quarter of the timeout where shorter than the
+    # rate's period, else the period; none without a timeout.
+    for settings, period in (
+        (IkSettings(rate=25.0, timeout=0.1), 0.025),
+        (IkSettings(rate=10.0, timeout=2.0), 0.1),
+    ):
+        with InverseKinematicsNode(BOT, settings) as node:
+            assert periods(node, node.update) == []
+            assert periods(node, node.watch) == [pytest.approx(period, rel=1e-12)]
+    with InverseKinematicsNode(BOT, IkSettings(timeout=0.0)) as node:
+        assert periods(node, node.watch) == []
+    # A limiting controller, told not to limit.
+    with InverseKinematicsNode(LIMITED, IkSettings(use_limits=False)) as node:
+        assert not node.commander.limited
+        assert periods(node, node.update) == []
 
 
 @pytest.mark.usefixtures("clock")
@@ -264,3 +312,7 @@ def test_a_negative_timeout_or_a_rate_not_above_zero_is_refused() -> None:
     for settings in (IkSettings(timeout=-0.1), IkSettings(rate=0.0), IkSettings(rate=math.nan)):
         with pytest.raises(LiveError, match=r"(timeout|rate) must be a finite number >= "):
             InverseKinematicsNode(BOT, settings)
+    with pytest.raises(LiveError, match=r"^timeout must be a finite number >= 0 and <= 1e\+06"):
+        InverseKinematicsNode(BOT, IkSettings(timeout=2e6))
+    with pytest.raises(LiveError, match=r"^rate must be a finite number >= 1e-06, got 5e-07"):
+        InverseKinematicsNode(BOT, IkSettings(rate=5e-7))

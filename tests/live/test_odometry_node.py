@@ -70,6 +70,7 @@ def test_the_node_reproduces_a_plans_final_pose() -> None:
     assert stamp_ns(last.header.stamp) == T0 + round(states.times[-1] * 1e9)
     assert (last.header.frame_id, last.child_frame_id) == ("odom", "base_link")
     pose = last.pose.pose
+    assert pose.position.z == 0.0
     expected = p.final_pose
     assert pose.position.x == pytest.approx(expected.x, abs=1e-9)
     assert pose.position.y == pytest.approx(expected.y, abs=1e-9)
@@ -97,6 +98,8 @@ def test_bad_samples_are_skipped_and_counted() -> None:
             joint_state(names, [9.0, 9.0], T0),  # back in time
             joint_state(names, [1.0], T0 + 4 * 10**9),  # mismatched lengths
             joint_state(names, [1.0, 1.0, 1.0], T0 + 4 * 10**9),  # and the other way
+            joint_state(names, [1e300, 1.0], T0 + 4 * 10**9),  # past any recorded angle
+            joint_state(names, [3.0, 3.0], time.time_ns() + 3600 * 10**9),  # an hour ahead
             joint_state(names, [2.0, 2.0], T0 + 5 * 10**9),
         ]
         for message in sent:
@@ -104,19 +107,23 @@ def test_bad_samples_are_skipped_and_counted() -> None:
             time.sleep(0.002)
         probe.until(lambda: node.counts["received"] == len(sent))
     assert node.counts == {
-        "received": 8,
+        "received": 10,
         "used": 3,
         "published": 3,
         "not finite": 1,
+        "out of range": 1,
+        "stamped in the future": 1,
         "missing joint": 1,
         "stamp not after previous": 1,
         "mismatched lengths": 2,
     }
     assert node.status() == (
-        "8 joint states, 3 used, 3 published; skipped: 1 not finite, 1 missing joint, "
-        "1 stamp not after previous, 2 mismatched lengths"
+        "10 joint states, 3 used, 3 published; skipped: 1 not finite, 1 out of range, "
+        "1 stamped in the future, 1 missing joint, 1 stamp not after previous, "
+        "2 mismatched lengths"
     )
-    # Two radians of each wheel forward: 2 r = 0.07 m, never a jump back to 0 or to 9 rad.
+    # Two radians of each wheel forward: 2 r = 0.07 m, never a jump back to 0 or to 9 rad, and
+    # the sample an hour ahead did not stop the later one.
     assert node.odometry.pose.x == pytest.approx(2 * BOT.wheel_radius, abs=1e-12)
 
 
@@ -318,3 +325,59 @@ def test_the_services_are_under_the_controllers_name() -> None:
     with OdometryNode(BOT, settings) as node:
         assert node.set_service == "/diffbot_base_controller/set_odometry"
         assert node.reset_service == "/diffbot_base_controller/reset_odometry"
+
+
+def test_odd_service_names_keep_their_letters_and_a_bad_set_is_refused_in_words() -> None:
+    # Only slashes are trimmed from the name the services go under.
+    with OdometryNode(BOT, OdometrySettings(services="/Xodom/")) as node:
+        assert node.set_service == "/Xodom/set_odometry"
+        assert node.reset_service == "/Xodom/reset_odometry"
+        reply = node.on_set(types.SetOdometryRequest(x=math.nan))
+    assert reply.success is False
+    assert reply.message == "x, y and yaw must be finite numbers"
+
+
+def test_the_node_s_odometry_takes_its_frames_covariances_and_window() -> None:
+    from cyclonedds.qos import Policy
+
+    from diffbot.ros.messages import covariance_matrix
+
+    settings = OdometrySettings(
+        frame_id="odom_wheels",
+        child_frame_id="base_footprint",
+        pose_covariance=(1e-3, 2e-3, 3e-3, 4e-3, 5e-3, 6e-3),
+        twist_covariance=(7e-3, 8e-3, 9e-3, 1e-2, 2e-2, 3e-2),
+        window=3,
+    )
+    with OdometryNode(BOT, settings) as node:
+        assert node.settings is settings
+        odometry = node.odometry
+        assert (odometry.frame_id, odometry.child_frame_id) == ("odom_wheels", "base_footprint")
+        assert odometry.pose_covariance == covariance_matrix(settings.pose_covariance)
+        assert odometry.twist_covariance == covariance_matrix(settings.twist_covariance)
+        assert odometry.velocity_rolling_window_size == 3
+        # /tf as tf2_ros' broadcaster keeps it: the last 100.
+        assert node.tf_publisher is not None
+        qos = node.tf_publisher._writer.get_qos()  # type: ignore[no-untyped-call]
+        assert qos[Policy.History] == Policy.History.KeepLast(100)
+
+
+def test_the_published_orientation_keeps_w_positive_past_half_a_turn() -> None:
+    # A spin of 4 rad (past pi): wheels turned -theta and +theta with theta = 4 b / (2 r).
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    theta = 4.0 * BOT.wheel_separation / (2.0 * BOT.wheel_radius)
+    sent: list[types.Odometry] = []
+    with OdometryNode(BOT, OdometrySettings(publish_tf=False)) as node:
+        node.odom_publisher.publish_serialized = (  # type: ignore[method-assign]
+            lambda data: sent.append(types.Odometry.deserialize(bytes(data)))
+        )
+        node._use(1, 0, names, [0.0, 0.0])
+        for k in range(1, 9):
+            node._use(1 + k, 0, names, [-theta * k / 8, theta * k / 8])
+    q = sent[-1].pose.pose.orientation
+    # The rotation by 4 rad about z, written with w >= 0: by 4 - 2 pi.
+    half = 0.5 * (4.0 - 2.0 * math.pi)
+    assert [q.x, q.y, q.z, q.w] == pytest.approx(
+        [0.0, 0.0, math.sin(half), math.cos(half)], abs=1e-9
+    )
+    assert q.w > 0.0

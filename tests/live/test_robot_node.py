@@ -131,6 +131,10 @@ def test_encoder_ticks_quantise_the_reported_angles() -> None:
         assert robot._encoder(1.0) == pytest.approx(math.pi / 2)
         assert robot._encoder(0.7) == 0.0
         assert robot.names == ["front_left_wheel_joint", "front_right_wheel_joint"]
+        assert robot.name == "diffbot_robot"
+        # One update per period of the rate.
+        periods = [t.period for t in robot._timers if t.callback == robot.update]
+        assert periods == [pytest.approx(1.0 / RobotSettings().rate, rel=1e-12)]
 
 
 def encoder_errors(seed: int) -> list[float]:

@@ -141,6 +141,25 @@ def test_a_deferred_signal_under_the_default_action_is_raised_again_after_the_bl
         signal.signal(signal.SIGTERM, before)
 
 
+def test_only_the_main_thread_defers_and_sees_a_signal() -> None:
+    seen: list[int | None] = []
+
+    def elsewhere() -> None:
+        with signals.deferred():  # does nothing outside the main thread
+            seen.append(signals.caught())
+
+    before = signal.getsignal(signal.SIGTERM)
+    with signals.deferred(deliver=False):
+        signal.raise_signal(signal.SIGTERM)
+        assert signals.caught() == signal.SIGTERM
+        thread = threading.Thread(target=elsewhere)
+        thread.start()
+        thread.join()
+    assert seen == [None]
+    assert signals.caught() is None
+    assert signal.getsignal(signal.SIGTERM) is before
+
+
 def test_an_ignored_signal_stays_ignored() -> None:
     before = signal.signal(signal.SIGHUP, signal.SIG_IGN)
     try:
