@@ -123,10 +123,11 @@ def test_no_pose_means_nothing_commanded() -> None:
 
 
 def test_a_robot_at_the_plan_s_end_arrives_and_stamped_commands_carry_the_frame() -> None:
-    # The second pose puts the robot at the plan's end: past the plan, once it has stayed there
-    # for the follower's dwell, it has arrived, and the run ends long before its time cap.
+    # The second pose puts the robot at the plan's end, a quarter circle of 0.2 m to the left:
+    # past the plan, once it has stayed there for the follower's dwell, it has arrived, and the
+    # run ends long before its time cap.
     params = load_params()
-    follower = Follower(params, plan(parse_plan("straight 0.1 0.3s"), params))
+    follower = Follower(params, plan(parse_plan("ccw 0.2 90 0.3s"), params))
     settings = FollowSettings(
         pose_kind="pose", pose_timeout=30.0, stamped=True, frame_id="base_footprint"
     )
@@ -137,7 +138,7 @@ def test_a_robot_at_the_plan_s_end_arrives_and_stamped_commands_carry_the_frame(
         assert poses.wait_for_subscribers(PATIENCE)
         poses.publish(pose_stamped(0.0, 0.0, 0.0))  # the origin
         assert driver.wait_until_ready(PATIENCE)
-        poses.publish(pose_stamped(0.1, 0.0, 0.0))
+        poses.publish(pose_stamped(0.2, 0.2, math.pi / 2))
         end = time.monotonic() + PATIENCE
         while (driver.pose is None or driver.pose.x == 0.0) and time.monotonic() < end:
             driver.spin_once(0.02)
@@ -149,8 +150,8 @@ def test_a_robot_at_the_plan_s_end_arrives_and_stamped_commands_carry_the_frame(
     assert report.arrived
     assert report.completed
     assert report.duration < driver.cap
-    assert report.position_error == pytest.approx(0.0, abs=1e-12)
-    assert report.heading_error == pytest.approx(0.0, abs=1e-12)
+    assert report.position_error == pytest.approx(0.0, abs=1e-9)
+    assert report.heading_error == pytest.approx(0.0, abs=1e-9)
     assert len(seen) == report.sent + 1
     assert {c.header.frame_id for c in seen} == {"base_footprint"}
     stamps = [stamp_ns(c.header.stamp) for c in seen]

@@ -64,6 +64,7 @@ def test_localhost_keeps_discovery_on_loopback() -> None:
     off = cyclone_config("OFF")
     assert "<NetworkInterface name='lo'/>" in off
     assert "Peer" not in off
+    assert "<Discovery></Discovery>" in off  # nothing to discover by: this process only
     subnet = cyclone_config("SUBNET")
     assert "NetworkInterface" not in subnet
     assert "AllowMulticast" not in subnet
