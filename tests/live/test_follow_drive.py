@@ -80,6 +80,15 @@ def test_settings_out_of_range_are_refused(field: str, value: float, bounds: str
     assert FollowSettings(overtime=1e6).overtime == 1e6
 
 
+def test_a_frame_id_or_pose_kind_that_cannot_be_is_refused_naming_the_setting() -> None:
+    with pytest.raises(LiveError) as caught:
+        FollowSettings(frame_id="base\tlink")
+    assert str(caught.value) == "frame_id 'base\\tlink' holds a control character"
+    with pytest.raises(LiveError) as caught:
+        FollowSettings(pose_kind="twist")  # type: ignore[arg-type]
+    assert str(caught.value) == "pose_kind must be odometry, pose or pose-covariance, got 'twist'"
+
+
 def test_poses_are_taken_from_the_first_and_bad_ones_refused() -> None:
     params = load_params()
     follower = Follower(params, plan(parse_plan("straight 0.1 1s"), params))
@@ -142,6 +151,9 @@ def test_a_robot_at_the_plan_s_end_arrives_and_stamped_commands_carry_the_frame(
         end = time.monotonic() + PATIENCE
         while (driver.pose is None or driver.pose.x == 0.0) and time.monotonic() < end:
             driver.spin_once(0.02)
+        poses.publish(pose_stamped(math.nan, 0.0, 0.0))  # refused, counted in the report
+        while driver.refusals.total == 0 and time.monotonic() < end:
+            driver.spin_once(0.02)
         before = time.time_ns()
         report = driver.follow()
         after = time.time_ns()
@@ -149,6 +161,7 @@ def test_a_robot_at_the_plan_s_end_arrives_and_stamped_commands_carry_the_frame(
             node.spin_once(0.02)
     assert report.arrived
     assert report.completed
+    assert report.refused == 1
     assert report.duration < driver.cap
     assert report.position_error == pytest.approx(0.0, abs=1e-9)
     assert report.heading_error == pytest.approx(0.0, abs=1e-9)
