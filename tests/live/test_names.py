@@ -18,6 +18,7 @@ from diffbot.live.names import (
     MAX_TOPIC_LENGTH,
     check_frame_id,
     check_node_name,
+    check_topic,
     frame_problem,
     node_name_problem,
     resolve_topic,
@@ -68,10 +69,19 @@ def test_bad_topic_names_are_named(name: str, problem: str) -> None:
         ("a/b", "/a/b"),
         ("~/odom", "/diffbot_odometry/odom"),
         ("~/a/b", "/diffbot_odometry/a/b"),
+        # Only slashes lead to the root: a name may begin with any letter.
+        ("Xray/scan", "/Xray/scan"),
     ],
 )
 def test_a_topic_resolves_as_rcl_expands_it_in_the_root_namespace(name: str, resolved: str) -> None:
     assert resolve_topic(name, "diffbot_odometry") == resolved
+
+
+def test_a_checked_topic_is_returned_or_refused_naming_what_it_is() -> None:
+    assert check_topic("/odom") == "/odom"
+    with pytest.raises(LiveError) as refused:
+        check_topic("a b", "cmd_vel")
+    assert str(refused.value) == "cmd_vel 'a b' may hold only letters, digits, '_' and '/'"
 
 
 def test_the_longest_topic_is_rmws() -> None:
