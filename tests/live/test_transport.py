@@ -319,6 +319,18 @@ def test_the_drop_count_outlives_the_reader() -> None:
     assert subscription.dropped == 17
 
 
+def test_one_timer_checks_the_types_of_every_reader_each_second() -> None:
+    with Node("reader") as node:
+        assert node._timers == []  # no reader yet: nothing to check
+        node.create_subscription(types.String, "a", lambda m: None)
+        node.create_subscription(types.String, "b", lambda m: None)
+        node.create_service(
+            types.EmptyRequest, types.EmptyResponse, "c", lambda r: types.EmptyResponse()
+        )
+        checks = [t.period for t in node._timers if t.callback == node.check_types]
+    assert checks == [1.0]
+
+
 def test_a_started_node_spins_in_a_daemon_thread_named_for_it() -> None:
     with Node("background").start():
         (thread,) = [t for t in threading.enumerate() if t.name == "diffbot-background"]
