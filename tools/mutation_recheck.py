@@ -105,6 +105,14 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--hang", type=float, default=60.0, help="per-test bound (s)")
     parser.add_argument(
+        "--exclude",
+        nargs="+",
+        type=Path,
+        default=[],
+        help="earlier logs of this script: their mutants are not drawn again (a second sample "
+        "stays apart from the first)",
+    )
+    parser.add_argument(
         "--also",
         nargs="+",
         default=[],
@@ -113,7 +121,13 @@ def main() -> None:
     )
     args = parser.parse_args()
     mutants: Path = args.mutants.resolve()
-    names = marked(mutants, args.unrun)
+    drawn = {
+        line.split()[-1]
+        for log in args.exclude
+        for line in log.read_text(encoding="utf-8").splitlines()
+        if "  diffbot." in line
+    }
+    names = [name for name in marked(mutants, args.unrun) if name not in drawn]
     kind = "unrun" if args.unrun else "timed-out"
     if args.sample and args.sample < len(names):
         picked = random.Random(args.seed).sample(names, args.sample)
