@@ -174,6 +174,19 @@ def test_a_robot_at_the_plan_s_end_arrives_and_stamped_commands_carry_the_frame(
     assert (seen[-1].twist.linear.x, seen[-1].twist.angular.z) == (0.0, 0.0)
 
 
+def test_a_signal_caught_before_the_run_leaves_only_the_stop() -> None:
+    from diffbot.live.signals import deferred
+
+    params = load_params()
+    follower = Follower(params, plan(parse_plan("straight 0.1 1s"), params))
+    with FollowDriver(follower, FollowSettings()) as driver, deferred(deliver=False):
+        signal.raise_signal(signal.SIGINT)
+        report = driver.follow()
+    assert (report.sent, report.stale, report.duration) == (0, 0, 0.0)
+    assert not report.completed
+    assert not report.arrived
+
+
 class StopsCounted(Follower):
     """A follower with a lead that counts the stops it is told of."""
 
