@@ -289,7 +289,7 @@ def test_limited_wheels_stop_at_the_timeout_and_ramp_again_from_rest() -> None:
         name="diff", source="c.yaml", ros_version=2, linear=AxisLimits(max_acceleration=0.5)
     )
     limited = TWO.replace(controller=controller)
-    settings = RobotSettings(rate=100.0, timeout=0.05, limit_wheels=True)
+    settings = RobotSettings(rate=100.0, timeout=1.0, limit_wheels=True)
     rest = {"left_wheel_joint": 0.0, "right_wheel_joint": 0.0}
     with RobotNode(limited, None, settings) as robot:
         robot.on_wheels(0, [2.0])
@@ -298,7 +298,8 @@ def test_limited_wheels_stop_at_the_timeout_and_ramp_again_from_rest() -> None:
             robot.update()
         # 0.5 m/s² at r = 0.05 m: 0.1 rad/s more per update.
         assert robot.velocities["left_wheel_joint"] == pytest.approx(0.3, abs=1e-12)
-        time.sleep(0.1)  # quiet for longer than the timeout: the watchdog stops the wheels
+        assert robot.timeouts == 0
+        time.sleep(1.1)  # quiet for longer than the timeout: the watchdog stops the wheels
         robot.update()
         assert robot.timeouts == 1
         assert robot.targets == rest
