@@ -45,6 +45,39 @@ def test_the_users_cyclone_configuration_is_taken_and_its_faults_are_the_error(
     assert capfd.readouterr().err == ""  # Cyclone's lines are in the error, not on stderr
 
 
+class ConfiguredError(Exception):
+    """Raised instead of starting a domain: the configuration it was given."""
+
+
+@pytest.mark.parametrize(
+    ("environment", "reach"),
+    [
+        ({"ROS_LOCALHOST_ONLY": "1"}, "LOCALHOST"),
+        ({"ROS_AUTOMATIC_DISCOVERY_RANGE": "OFF"}, "OFF"),
+        ({"ROS_AUTOMATIC_DISCOVERY_RANGE": "SUBNET"}, "SUBNET"),
+    ],
+)
+def test_a_domain_is_configured_for_the_discovery_range_after_the_users_file(
+    environment: dict[str, str], reach: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from diffbot.live import participant as module
+    from diffbot.live.discovery import cyclone_config
+
+    def start(ident: int, config: str) -> None:
+        raise ConfiguredError(ident, config)
+
+    for name in ("ROS_LOCALHOST_ONLY", "ROS_AUTOMATIC_DISCOVERY_RANGE"):
+        monkeypatch.delenv(name, raising=False)
+    for name, value in environment.items():
+        monkeypatch.setenv(name, value)
+    monkeypatch.setenv("CYCLONEDDS_URI", "file:///etc/dds.xml")
+    monkeypatch.setattr(module, "Domain", start)
+    monkeypatch.setattr(module, "_DOMAINS", {})
+    with pytest.raises(ConfiguredError) as started:
+        participant(spare_domain(4))
+    assert started.value.args == (spare_domain(4), cyclone_config(reach, "file:///etc/dds.xml"))
+
+
 def test_what_cyclone_writes_goes_on_to_stderr_unless_it_fails(
     capfd: pytest.CaptureFixture[str],
 ) -> None:
