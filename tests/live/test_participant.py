@@ -78,6 +78,21 @@ def test_a_domain_is_configured_for_the_discovery_range_after_the_users_file(
     assert started.value.args == (spare_domain(4), cyclone_config(reach, "file:///etc/dds.xml"))
 
 
+def test_a_participant_that_cannot_join_is_one_error_naming_the_domain(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from diffbot.live import participant as module
+
+    def full(ident: int) -> None:
+        raise DDSException(-1, "no participant index left")
+
+    monkeypatch.setattr(module, "DomainParticipant", full)
+    with pytest.raises(LiveError) as caught:
+        participant(spare_domain(3))
+    assert str(caught.value).startswith(f"cannot join DDS domain {spare_domain(3)}: ")
+    assert "no participant index left" in str(caught.value)
+
+
 def test_what_cyclone_writes_goes_on_to_stderr_unless_it_fails(
     capfd: pytest.CaptureFixture[str],
 ) -> None:

@@ -261,13 +261,14 @@ def test_a_node_describes_what_it_reads_publishes_and_serves() -> None:
         node.create_subscription(types.TwistStamped, "/cmd_vel", lambda m: None)
         node.create_subscription(types.JointState, "~/joints", lambda m: None)
         node.create_publisher(types.Odometry, "odom")
-        node.create_service(
-            types.EmptyRequest, types.EmptyResponse, "~/reset", lambda r: types.EmptyResponse()
-        )
+        for service in ("~/reset", "/stop"):
+            node.create_service(
+                types.EmptyRequest, types.EmptyResponse, service, lambda r: types.EmptyResponse()
+            )
         assert node.describe() == (
             "reads /cmd_vel (geometry_msgs/msg/Twist or geometry_msgs/msg/TwistStamped), "
             "/describer/joints (sensor_msgs/msg/JointState); "
-            "publishes /odom (nav_msgs/msg/Odometry); serves /describer/reset"
+            "publishes /odom (nav_msgs/msg/Odometry); serves /describer/reset, /stop"
         )
 
 
