@@ -78,6 +78,22 @@ def test_a_domain_is_configured_for_the_discovery_range_after_the_users_file(
     assert started.value.args == (spare_domain(4), cyclone_config(reach, "file:///etc/dds.xml"))
 
 
+@pytest.mark.parametrize("ident", [0, 232])
+def test_the_first_and_last_domain_ids_are_taken(
+    ident: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from diffbot.live import participant as module
+
+    def start(ident: int, config: str) -> None:
+        raise ConfiguredError(ident, config)
+
+    monkeypatch.setattr(module, "Domain", start)
+    monkeypatch.setattr(module, "_DOMAINS", {})
+    with pytest.raises(ConfiguredError) as started:
+        participant(ident)
+    assert started.value.args[0] == ident
+
+
 def test_a_participant_that_cannot_join_is_one_error_naming_the_domain(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
