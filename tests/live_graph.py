@@ -35,21 +35,21 @@ def _slot() -> int:
     return (os.getppid() * count + int(worker[2:])) % blocks
 
 
-#: The block each process holds (by process id), and the lock file that holds it.
-_held: dict[int, tuple[int, int]] = {}
+#: The block each process holds, by process id.
+_held: dict[int, int] = {}
 
 
-def _claim() -> tuple[int, int]:
+def _claim() -> int:
     """A block no other process on this machine holds, from :func:`_slot` on: held by an
-    exclusive lock on a file of its own until this process ends. Two test runs at once (a
-    mutation run's forked children, which share what their parent imported; pytest-xdist's
-    workers; two checkouts) never share a domain. Where every block is held, or there are no
-    file locks, the first one tried (-1: no lock)."""
+    exclusive lock on a file of its own, whose descriptor stays open until this process ends.
+    Two test runs at once (a mutation run's forked children, which share what their parent
+    imported; pytest-xdist's workers; two checkouts) never share a domain. Where every block is
+    held, or there are no file locks, the first one tried."""
     first = _slot()
     try:
         import fcntl
     except ImportError:  # no flock (Windows)
-        return first, -1
+        return first
     blocks = DOMAINS // BLOCK
     folder = tempfile.gettempdir()
     for k in range(blocks):
@@ -64,8 +64,8 @@ def _claim() -> tuple[int, int]:
         except OSError:
             os.close(fd)
             continue
-        return block, fd
-    return first, -1
+        return block
+    return first
 
 
 def domain() -> int:
@@ -74,7 +74,7 @@ def domain() -> int:
     pid = os.getpid()
     if pid not in _held:
         _held[pid] = _claim()
-    return 1 + BLOCK * _held[pid][0]
+    return 1 + BLOCK * _held[pid]
 
 
 #: How long a test waits for discovery or a message before it fails (s): DIFFBOT_TEST_PATIENCE
@@ -87,6 +87,11 @@ def spare_domain(k: int) -> int:
     if not 1 <= k < BLOCK:
         raise ValueError(f"a block has {BLOCK - 1} spare domains, not {k}")
     return domain() + k
+
+
+def timer_periods(node: Node, callback: Callable[[], None]) -> list[float]:
+    """The periods (s) of ``node``'s timers that call ``callback``."""
+    return [t.period for t in node._timers if t.callback == callback]
 
 
 def deep() -> QosProfile:
