@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from live_graph import PATIENCE, deep, spare_domain, until
+from live_graph import PATIENCE, deep, spare_domain, timer_periods, until
 from robots import BOT
 
 from diffbot.body_limits import BodyLimits
@@ -255,15 +255,10 @@ def test_a_timeout_of_zero_never_stops_a_limited_command(clock: Clock) -> None:
         assert node.timeouts == 0
 
 
-def periods(node: InverseKinematicsNode, callback: Any) -> list[float]:
-    """The periods (s) of the node's timers that call ``callback``."""
-    return [t.period for t in node._timers if t.callback == callback]
-
-
 def test_updates_run_at_the_rate_and_the_watch_at_a_quarter_timeout_at_most() -> None:
     with InverseKinematicsNode(LIMITED, IkSettings(rate=25.0)) as node:
-        assert periods(node, node.update) == [pytest.approx(0.04, rel=1e-12)]
-        assert periods(node, node.watch) == []
+        assert timer_periods(node, node.update) == [pytest.approx(0.04, rel=1e-12)]
+        assert timer_periods(node, node.watch) == []
     # Without limits no updates, a watch: a quarter of the timeout where shorter than the
     # rate's period, else the period; none without a timeout.
     for settings, period in (
@@ -271,14 +266,14 @@ def test_updates_run_at_the_rate_and_the_watch_at_a_quarter_timeout_at_most() ->
         (IkSettings(rate=10.0, timeout=2.0), 0.1),
     ):
         with InverseKinematicsNode(BOT, settings) as node:
-            assert periods(node, node.update) == []
-            assert periods(node, node.watch) == [pytest.approx(period, rel=1e-12)]
+            assert timer_periods(node, node.update) == []
+            assert timer_periods(node, node.watch) == [pytest.approx(period, rel=1e-12)]
     with InverseKinematicsNode(BOT, IkSettings(timeout=0.0)) as node:
-        assert periods(node, node.watch) == []
+        assert timer_periods(node, node.watch) == []
     # A limiting controller, told not to limit.
     with InverseKinematicsNode(LIMITED, IkSettings(use_limits=False)) as node:
         assert not node.commander.limited
-        assert periods(node, node.update) == []
+        assert timer_periods(node, node.update) == []
 
 
 @pytest.mark.usefixtures("clock")

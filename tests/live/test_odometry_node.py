@@ -366,14 +366,11 @@ def test_the_published_orientation_keeps_w_positive_past_half_a_turn() -> None:
     # A spin of 4 rad (past pi): wheels turned -theta and +theta with theta = 4 b / (2 r).
     names = ["front_left_wheel_joint", "front_right_wheel_joint"]
     theta = 4.0 * BOT.wheel_separation / (2.0 * BOT.wheel_radius)
-    sent: list[types.Odometry] = []
     with OdometryNode(BOT, OdometrySettings(publish_tf=False)) as node:
-        node.odom_publisher.publish_serialized = (  # type: ignore[method-assign]
-            lambda data: sent.append(types.Odometry.deserialize(bytes(data)))
-        )
-        node._use(1, 0, names, [0.0, 0.0])
+        sent = published_odometry(node)
+        node.on_joint_state(joint_state(names, [0.0, 0.0], T0))
         for k in range(1, 9):
-            node._use(1 + k, 0, names, [-theta * k / 8, theta * k / 8])
+            node.on_joint_state(joint_state(names, [-theta * k / 8, theta * k / 8], T0 + k * 10**8))
     q = sent[-1].pose.pose.orientation
     # The rotation by 4 rad about z, written with w >= 0: by 4 - 2 pi.
     half = 0.5 * (4.0 - 2.0 * math.pi)

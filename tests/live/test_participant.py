@@ -46,7 +46,20 @@ def test_the_users_cyclone_configuration_is_taken_and_its_faults_are_the_error(
 
 
 class ConfiguredError(Exception):
-    """Raised instead of starting a domain: the configuration it was given."""
+    """Raised instead of starting a domain: the domain id and the configuration it was given."""
+
+
+@pytest.fixture
+def configured(monkeypatch: pytest.MonkeyPatch) -> None:
+    """No domain started yet in this process, and each start raises :class:`ConfiguredError`
+    instead of starting one."""
+    from diffbot.live import participant as module
+
+    def start(ident: int, config: str) -> None:
+        raise ConfiguredError(ident, config)
+
+    monkeypatch.setattr(module, "Domain", start)
+    monkeypatch.setattr(module, "_DOMAINS", {})
 
 
 @pytest.mark.parametrize(
@@ -57,38 +70,25 @@ class ConfiguredError(Exception):
         ({"ROS_AUTOMATIC_DISCOVERY_RANGE": "SUBNET"}, "SUBNET"),
     ],
 )
+@pytest.mark.usefixtures("configured")
 def test_a_domain_is_configured_for_the_discovery_range_after_the_users_file(
     environment: dict[str, str], reach: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from diffbot.live import participant as module
     from diffbot.live.discovery import cyclone_config
-
-    def start(ident: int, config: str) -> None:
-        raise ConfiguredError(ident, config)
 
     for name in ("ROS_LOCALHOST_ONLY", "ROS_AUTOMATIC_DISCOVERY_RANGE"):
         monkeypatch.delenv(name, raising=False)
     for name, value in environment.items():
         monkeypatch.setenv(name, value)
     monkeypatch.setenv("CYCLONEDDS_URI", "file:///etc/dds.xml")
-    monkeypatch.setattr(module, "Domain", start)
-    monkeypatch.setattr(module, "_DOMAINS", {})
     with pytest.raises(ConfiguredError) as started:
         participant(spare_domain(4))
     assert started.value.args == (spare_domain(4), cyclone_config(reach, "file:///etc/dds.xml"))
 
 
 @pytest.mark.parametrize("ident", [0, 232])
-def test_the_first_and_last_domain_ids_are_taken(
-    ident: int, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    from diffbot.live import participant as module
-
-    def start(ident: int, config: str) -> None:
-        raise ConfiguredError(ident, config)
-
-    monkeypatch.setattr(module, "Domain", start)
-    monkeypatch.setattr(module, "_DOMAINS", {})
+@pytest.mark.usefixtures("configured")
+def test_the_first_and_last_domain_ids_are_taken(ident: int) -> None:
     with pytest.raises(ConfiguredError) as started:
         participant(ident)
     assert started.value.args[0] == ident

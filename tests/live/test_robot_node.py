@@ -10,7 +10,7 @@ import sys
 import time
 
 import pytest
-from live_graph import PATIENCE, deep, until
+from live_graph import PATIENCE, deep, timer_periods, until
 from robots import BOT, two_wheel_urdf
 
 from diffbot.controller_config import AxisLimits, ControllerConfig
@@ -133,8 +133,9 @@ def test_encoder_ticks_quantise_the_reported_angles() -> None:
         assert robot.names == ["front_left_wheel_joint", "front_right_wheel_joint"]
         assert robot.name == "diffbot_robot"
         # One update per period of the rate.
-        periods = [t.period for t in robot._timers if t.callback == robot.update]
-        assert periods == [pytest.approx(1.0 / RobotSettings().rate, rel=1e-12)]
+        assert timer_periods(robot, robot.update) == [
+            pytest.approx(1.0 / RobotSettings().rate, rel=1e-12)
+        ]
 
 
 def encoder_errors(seed: int) -> list[float]:

@@ -11,7 +11,7 @@ import threading
 import time
 
 import pytest
-from live_graph import PATIENCE, until
+from live_graph import PATIENCE, timer_periods, until
 
 from diffbot.live import types
 from diffbot.live.signals import caught, deferred
@@ -330,8 +330,7 @@ def test_one_timer_checks_the_types_of_every_reader_each_second() -> None:
         node.create_service(
             types.EmptyRequest, types.EmptyResponse, "c", lambda r: types.EmptyResponse()
         )
-        checks = [t.period for t in node._timers if t.callback == node.check_types]
-    assert checks == [1.0]
+        assert timer_periods(node, node.check_types) == [1.0]
 
 
 def test_a_started_node_spins_in_a_daemon_thread_named_for_it() -> None:
