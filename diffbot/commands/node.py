@@ -30,6 +30,7 @@ from diffbot.commands.options import (
     warn,
 )
 from diffbot.commands.paths import InputPath
+from diffbot.commands.recording_options import feedback_option
 from diffbot.commands.settings import from_options
 from diffbot.commands.topic_options import CMD_VEL_HELP, distro_option, resolve_cmd_vel
 from diffbot.kinematics import DiffDriveParams
@@ -108,6 +109,7 @@ def node() -> None:
     metavar="N",
     help="Velocity rolling window in steps [controllers file, else 1].",
 )
+@feedback_option
 @duration_option
 @announce_option
 @quiet_option
@@ -121,6 +123,7 @@ def odom(
     child_frame_id: str | None,
     publish_rate: float | None,
     window: int | None,
+    feedback: str | None,
     duration: float | None,
     announce: bool,
     quiet: bool,
@@ -128,10 +131,12 @@ def odom(
     """Odometry from joint states: subscribes JOINT_STATES, publishes nav_msgs/Odometry and the
     odom -> base_link transform on /tf, integrated exactly along each step's arc.
 
-    Stamps come from the joint states' headers. Frames, rate, covariances, the velocity window
-    and enable_odom_tf come from the controllers file when there is one (--controllers), else
-    from the options. A joint state without a wheel joint, with a NaN, going back in time or
-    with mismatched arrays is skipped and counted in the status line.
+    Stamps come from the joint states' headers. Frames, rate, covariances, the velocity window,
+    enable_odom_tf and position_feedback come from the controllers file when there is one
+    (--controllers), else from the options. With --feedback velocity (position_feedback: false)
+    each wheel's velocity is held over the time since the last joint state, as the controller
+    does. A joint state without a wheel joint, with a NaN, going back in time or with
+    mismatched arrays is skipped and counted in the status line.
 
     It serves diff_drive_controller's ~/set_odometry (control_msgs/srv/SetOdometry: x, y, yaw)
     and a ~/reset_odometry (std_srvs/srv/Empty) back to the origin, under the controller's name
@@ -156,6 +161,7 @@ def odom(
         publish_rate=publish_rate,
         window=window,
         publish_tf=False if no_tf else None,
+        feedback=feedback,
     )
     _spin(lambda: OdometryNode(params, settings), "odom", duration, announce, quiet)
 

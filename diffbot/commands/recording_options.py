@@ -153,6 +153,15 @@ class RecordingOptions:
         return Conditioning(self.counts_per_rev, self.wrap)
 
 
+#: What odometry integrates, for the commands that read wheel feedback (recorded or live).
+feedback_option = click.option(
+    "--feedback",
+    type=click.Choice(["position", "velocity"]),
+    help="Integrate the wheel joints' positions or their velocities (as "
+    "diff_drive_controller does with position_feedback: false). Default: the controllers "
+    "file's position_feedback when one is given or found, else position.",
+)
+
 _OPTIONS = [
     click.option(
         "--counts-per-rev",
@@ -195,13 +204,7 @@ _OPTIONS = [
         help="A CSV's time unit (default: seconds, or as the first stamp's size says, and "
         "said so).",
     ),
-    click.option(
-        "--feedback",
-        type=click.Choice(["position", "velocity"]),
-        help="Integrate the wheel joints' positions or their velocities (as "
-        "diff_drive_controller does with position_feedback: false). Default: the controllers "
-        "file's position_feedback when one is given or found, else position.",
-    ),
+    feedback_option,
 ]
 
 _FIELDS = (

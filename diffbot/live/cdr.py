@@ -224,16 +224,23 @@ def decode_joint_state(data: bytes) -> types.JointState:
 
 
 class JointStateReader:
-    """Reads sensor_msgs/JointState payloads as (sec, nanosec, names, positions), fast for a
-    stream whose layout repeats (as a driver's does): the same frame and joint names and the
+    """Reads sensor_msgs/JointState payloads as (sec, nanosec, names, values), the values being
+    the joints' positions (rad) or, with ``field="velocity"``, their velocities (rad/s); fast for
+    a stream whose layout repeats (as a driver's does): the same frame and joint names and the
     same lengths of ``position``, ``velocity`` and ``effort``. A payload of the previous one's
     length whose bytes from the frame through the position count equal that payload's, and
     whose velocity and effort counts are that payload's too, is read with one ``struct`` call
-    (its names are the same tuple); any other is parsed field by field. Velocities and efforts
-    are checked to lie within the payload, not read.
+    (its names are the same tuple); any other is parsed field by field. The sequences not read
+    are checked to lie within the payload.
+
+    Args:
+        field: ``"position"`` or ``"velocity"``, the sequence read.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, field: str = "position") -> None:
+        if field not in ("position", "velocity"):
+            raise ValueError(f"field must be 'position' or 'velocity', got {field!r}")
+        self._velocity = field == "velocity"
         self._size = -1
         self._prefix = b""
         self._names: tuple[str, ...] = ()
@@ -241,7 +248,7 @@ class JointStateReader:
         self._counts: tuple[int, int] = (0, 0)
 
     def read(self, data: bytes) -> tuple[int, int, tuple[str, ...], tuple[float, ...]]:
-        """The stamp (sec, nanosec), the joint names and positions (rad) of a payload.
+        """The stamp (sec, nanosec), the joint names and the field's values of a payload.
 
         Raises:
             ValueError, struct.error, UnicodeDecodeError: a malformed or truncated payload.
@@ -254,7 +261,12 @@ class JointStateReader:
             and data.startswith(HEADER)
         ):
             values = fast.unpack_from(data, 4)
-            if values[-2:] == self._counts:
+            if self._velocity:
+                # (sec, nanosec, velocity count, velocities..., effort count)
+                if (values[2], values[-1]) == self._counts:
+                    return values[0], values[1], self._names, values[3:-1]
+            elif values[-2:] == self._counts:
+                # (sec, nanosec, positions..., velocity count, effort count)
                 return values[0], values[1], self._names, values[2:-2]
         return self._parse(data)
 
@@ -270,25 +282,35 @@ class JointStateReader:
         first = reader.at - 8 * len(position)  # where position[0] is (or would be)
         at: list[int] = []
         counts: list[int] = []
+        starts: list[int] = []
         for _ in range(2):  # velocity, effort: within the payload
             reader.align(4)
             at.append(reader.at)
             counts.append(reader.u32())
             if counts[-1]:
                 reader.align(8)
-                reader.at += 8 * counts[-1]
-                if reader.at > len(data):
-                    raise ValueError("sequence longer than the payload")
+            starts.append(reader.at)
+            reader.at += 8 * counts[-1]
+            if reader.at > len(data):
+                raise ValueError("sequence longer than the payload")
         sec, nanosec = _STAMP.unpack_from(data, 4)
         end = first + 8 * len(position)
-        self._fast = struct.Struct(
-            f"<iI{first - 12}x{len(position)}d{at[0] - end}xI{at[1] - at[0] - 4}xI"
-        )
+        if self._velocity:
+            velocity = struct.unpack_from(f"<{counts[0]}d", data, starts[0])
+            after = starts[0] + 8 * counts[0]
+            self._fast = struct.Struct(
+                f"<iI{end - 12}x{at[0] - end}xI{starts[0] - at[0] - 4}x{counts[0]}d"
+                f"{at[1] - after}xI"
+            )
+        else:
+            self._fast = struct.Struct(
+                f"<iI{first - 12}x{len(position)}d{at[0] - end}xI{at[1] - at[0] - 4}xI"
+            )
         self._size = len(data)
         self._prefix = data[12:first]
         self._names = names
         self._counts = (counts[0], counts[1])
-        return sec, nanosec, names, position
+        return sec, nanosec, names, velocity if self._velocity else position
 
 
 class OdometryWriter:

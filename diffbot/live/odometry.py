@@ -3,6 +3,8 @@
 What diff_drive_controller publishes from its wheel feedback, computed by
 :class:`diffbot.odometry.Odometry` (exact along each step's arc): each joint state moves the pose
 by its wheels' motion since the last used one, stamped with the joint state's own header stamp.
+The motion is read from the wheels' positions or, with velocity feedback (the controller's
+``position_feedback: false``), from their velocities held over the time since the last one.
 A sample with mismatched ``name``/``position`` lengths, a NaN or an angle out of range, a stamp
 ahead of this machine's clock (:mod:`diffbot.live.wire`), without a wheel joint or going back in
 time is skipped and counted (:attr:`OdometryNode.counts`), never read as zero.
@@ -26,16 +28,29 @@ from diffbot.live.wire import Refusals, joint_state_problem
 from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
+from diffbot.velocity_feedback import FEEDBACKS
 
-__all__ = ["JOINT_STATES", "SKIP_DROPPED", "SKIP_MISMATCHED", "OdometryNode", "OdometrySettings"]
+__all__ = [
+    "JOINT_STATES",
+    "SKIP_DROPPED",
+    "SKIP_MISMATCHED",
+    "SKIP_NO_VELOCITY",
+    "OdometryNode",
+    "OdometrySettings",
+]
 
-#: Why a joint state was skipped: its name and position arrays differ in length.
+#: Why a joint state was skipped: its name and position (velocity) arrays differ in length.
 SKIP_MISMATCHED = "mismatched lengths"
+#: Why a joint state was skipped with velocity feedback: it holds no velocities at all.
+SKIP_NO_VELOCITY = "no velocities"
 #: The reason of joint states dropped unread, the node behind a flood (or lost on the way).
 SKIP_DROPPED = "dropped while behind"
 #: The joint-state subscription: best effort, a queue deep enough for bursts at kHz rates;
 #: what comes while it is full is dropped and counted (memory stays bounded).
 JOINT_STATES = replace(SUBSCRIPTION, depth=100, drop_newest=True)
+
+#: The feedback a controller's ``position_feedback`` gives (None: not said).
+_FEEDBACK_OF: dict[bool | None, str] = {False: "velocity", True: "position"}
 
 
 @dataclass(frozen=True)
@@ -56,6 +71,8 @@ class OdometrySettings:
         services: the name the odometry services are under (``/<services>/set_odometry``,
             ``/<services>/reset_odometry``): the controller's name when a controllers file
             names one, else the node's (None).
+        feedback: ``"position"`` (the joint states' wheel positions) or ``"velocity"`` (their
+            wheel velocities, as diff_drive_controller with ``position_feedback: false``).
     """
 
     joint_states: str = "joint_states"
@@ -68,6 +85,7 @@ class OdometrySettings:
     twist_covariance: tuple[float, ...] = DEFAULT_TWIST_COVARIANCE
     window: int = 1
     services: str | None = None
+    feedback: str = "position"
 
     def with_controller(
         self, controller: ControllerConfig | None, **given: Any
@@ -85,6 +103,7 @@ class OdometrySettings:
                 "twist_covariance": controller.twist_covariance_diagonal,
                 "window": controller.velocity_rolling_window_size,
                 "services": controller.name,
+                "feedback": _FEEDBACK_OF.get(controller.position_feedback),
             }
             values = {k: v for k, v in found.items() if v is not None}
         values.update({k: v for k, v in given.items() if v is not None})
@@ -121,9 +140,13 @@ class OdometryNode(Node):
             )
         check_frame_id(settings.frame_id, "frame_id")
         check_frame_id(settings.child_frame_id, "child_frame_id")
+        if settings.feedback not in FEEDBACKS:
+            raise LiveError(f"feedback must be 'position' or 'velocity', got {settings.feedback!r}")
         self.settings = settings
+        self._velocity = settings.feedback == "velocity"
         self.odometry = Odometry(
             params,
+            feedback=settings.feedback,
             frame_id=settings.frame_id,
             child_frame_id=settings.child_frame_id,
             pose_covariance=settings.pose_covariance,
@@ -155,7 +178,7 @@ class OdometryNode(Node):
             settings.joint_states,
             cast(Any, self._on_sample),
             JOINT_STATES,
-            cast(Any, JointStateReader().read),
+            cast(Any, JointStateReader(settings.feedback).read),
         )
         base = "/" + (settings.services or self.name).strip("/")
         #: The services' names: diff_drive_controller's ``~/set_odometry``, and a reset.
@@ -194,19 +217,29 @@ class OdometryNode(Node):
     def on_joint_state(self, message: types.JointState) -> None:
         """Integrate one joint state and publish the odometry it gives (at most at the rate)."""
         when = message.header.stamp
-        self._use(when.sec, when.nanosec, message.name, message.position)
+        values = message.velocity if self._velocity else message.position
+        self._use(when.sec, when.nanosec, message.name, values)
 
     def _on_sample(self, sample: tuple[int, int, Sequence[str], Sequence[float]]) -> None:
         self._use(*sample)
 
-    def _use(self, sec: int, nanosec: int, names: Sequence[str], position: Sequence[float]) -> None:
-        if len(position) != len(names):
-            self.mismatched += 1
+    def _use(self, sec: int, nanosec: int, names: Sequence[str], values: Sequence[float]) -> None:
+        # values: the wheel positions (rad), or with velocity feedback the velocities (rad/s).
+        velocity = self._velocity
+        if len(values) != len(names):
+            if velocity and not values:
+                self.refusals.check(SKIP_NO_VELOCITY)
+            else:
+                self.mismatched += 1
             return
-        if not self.refusals.check(joint_state_problem(sec, nanosec, position)):
+        if not self.refusals.check(joint_state_problem(sec, nanosec, values, velocity=velocity)):
             return
         stamp = sec * 1_000_000_000 + nanosec
-        if not self.odometry.update_joint_state(names, position, stamp_ns=stamp):
+        if velocity:
+            used = self.odometry.update_joint_state(names, (), stamp_ns=stamp, velocities=values)
+        else:
+            used = self.odometry.update_joint_state(names, values, stamp_ns=stamp)
+        if not used:
             return
         last = self._last_published
         if last is not None and stamp - last < self._period_ns:

@@ -93,11 +93,18 @@ def wheel_problem(values: Sequence[float], joints: int) -> str | None:
 
 
 def joint_state_problem(
-    sec: int, nanosec: int, positions: Sequence[float], now_ns: int | None = None
+    sec: int,
+    nanosec: int,
+    values: Sequence[float],
+    now_ns: int | None = None,
+    *,
+    velocity: bool = False,
 ) -> str | None:
-    """Why a joint state stamped ``sec``/``nanosec`` with joint angles ``positions`` (rad) is
-    refused, or None. ``now_ns``: this machine's clock (ns; read when None)."""
-    return _stamp_problem(sec, nanosec, now_ns) or _values_problem(positions, MAX_RECORDED_ANGLE)
+    """Why a joint state stamped ``sec``/``nanosec`` with joint angles ``values`` (rad), or with
+    ``velocity`` joint velocities (rad/s), is refused, or None. ``now_ns``: this machine's clock
+    (ns; read when None)."""
+    bound = MAX_WHEEL_SPEED if velocity else MAX_RECORDED_ANGLE
+    return _stamp_problem(sec, nanosec, now_ns) or _values_problem(values, bound)
 
 
 def _stamp_problem(sec: int, nanosec: int, now_ns: int | None) -> str | None:

@@ -142,6 +142,70 @@ def test_a_stream_of_joint_states_reads_as_each_decoded_alone(
         assert list(read_position) == message.position
 
 
+@given(
+    st.lists(
+        st.tuples(
+            STAMP,
+            st.sampled_from(["", "base_link"]),
+            st.sampled_from([["left", "right"], ["left", "right", "arm"], []]),
+            st.lists(FLOAT, max_size=3),
+            st.lists(FLOAT, max_size=3),
+            st.lists(FLOAT, max_size=2),
+        ),
+        min_size=1,
+        max_size=6,
+    )
+)
+def test_a_stream_read_for_velocities_gives_each_payload_s_own_velocities(
+    stream: list[tuple[int, str, list[str], list[float], list[float], list[float]]],
+) -> None:
+    # Positions, velocities and efforts of any lengths, changing along the stream: a robot
+    # that reports velocities only sends empty positions.
+    reader = JointStateReader("velocity")
+    for stamp, frame, names, position, velocity, effort in stream:
+        payload = encode_joint_state(stamp, frame, names, position, velocity, effort)
+        message = decode_joint_state(payload)
+        sec, nanosec, read_names, read_velocity = reader.read(payload)
+        assert (sec, nanosec) == (message.header.stamp.sec, message.header.stamp.nanosec)
+        assert list(read_names) == message.name
+        assert list(read_velocity) == message.velocity
+
+
+@pytest.mark.parametrize("position", [[], [0.5, 0.25]])
+@pytest.mark.parametrize("effort", [[], [7.0, 8.0]])
+def test_a_repeated_layout_reads_each_payload_s_own_velocities(
+    position: list[float], effort: list[float]
+) -> None:
+    # The second payload takes the one-call shortcut: its velocities, not the first one's, nor
+    # its positions or efforts.
+    reader = JointStateReader("velocity")
+    names = ["left", "right"]
+    first = encode_joint_state(1, "base_link", names, position, [1.0, 2.0], effort)
+    second = encode_joint_state(2, "base_link", names, position, [3.0, -4.0], effort)
+    assert reader.read(first) == (0, 1, ("left", "right"), (1.0, 2.0))
+    for _ in range(2):
+        assert reader.read(second) == (0, 2, ("left", "right"), (3.0, -4.0))
+    # Velocities of another count in a payload of the same length are parsed, not shortcut.
+    full = encode_joint_state(3, "base_link", names, position, [1.0, 2.0], [7.0, 8.0])
+    third = encode_joint_state(3, "base_link", names, position, [5.0], [7.0, 8.0, 9.0])
+    assert len(third) == len(full)
+    assert reader.read(full) == (0, 3, ("left", "right"), (1.0, 2.0))
+    assert reader.read(third) == (0, 3, ("left", "right"), (5.0,))
+
+
+def test_a_reader_reads_positions_or_velocities_only() -> None:
+    with pytest.raises(ValueError, match=r"^field must be 'position' or 'velocity', got 'effort'$"):
+        JointStateReader("effort")
+    payload = encode_joint_state(1, "b", ["l", "r"], [1.0, 2.0], [3.0, 4.0], [5.0, 6.0])
+    assert JointStateReader()._velocity is False
+    assert JointStateReader("position").read(payload)[3] == (1.0, 2.0)
+    assert JointStateReader("velocity").read(payload)[3] == (3.0, 4.0)
+    velocity = JointStateReader("velocity")
+    for cut in range(1, len(payload) - 4):
+        with pytest.raises((ValueError, struct.error)):
+            velocity.read(payload[:-cut])
+
+
 @pytest.mark.parametrize("last", [0.0, -0.0, 5e-324, 1.0])
 @pytest.mark.parametrize("velocity", [[], [0.0, 0.0]])
 def test_a_repeated_layout_reads_each_payloads_own_positions(

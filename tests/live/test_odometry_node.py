@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import math
 import time
+from pathlib import Path
 
 import pytest
-from live_graph import PATIENCE, ServiceClient, deep, spare_domain, until
+from live_graph import PATIENCE, ServiceClient, deep, live_process, spare_domain, until
 from robots import BOT
 
 from diffbot.controller_config import ControllerConfig
+from diffbot.kinematics import forward
 from diffbot.live import types
 from diffbot.live.messages import stamp_ns, time_of, yaw_of
 from diffbot.live.odometry import OdometryNode, OdometrySettings
@@ -83,6 +85,145 @@ def test_the_node_reproduces_a_plans_final_pose() -> None:
     assert last.pose.covariance[0] == 0.001
     assert last.pose.covariance[35] == 0.01
     assert node.counts == {"received": n, "used": n, "published": n}
+
+
+def velocity_state(
+    names: list[str], velocities: list[float], ns: int, positions: list[float] | None = None
+) -> types.JointState:
+    """A joint state of wheel velocities, with no positions unless given (a driver that
+    reports velocities only)."""
+    return types.JointState(
+        header=types.Header(time_of(ns), ""),
+        name=names,
+        position=positions or [],
+        velocity=velocities,
+    )
+
+
+def test_velocity_feedback_integrates_the_wheels_velocities_over_each_step() -> None:
+    # Wheel velocities held for 2 s at 50 Hz: the robot drives one exact arc, whatever the
+    # positions say (here: none, then frozen at zero, as a driver without encoders sends).
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    left, right = 2.0, 3.0
+    steps = 100
+    settings = OdometrySettings(feedback="velocity")
+    with OdometryNode(BOT, settings) as node, Node("probe") as probe_node:
+        probe = Probe(probe_node)
+        assert probe.joint_states.wait_for_subscribers(PATIENCE)
+        probe.until(lambda: node.odom_publisher.subscription_count >= 1)
+        for k in range(steps + 1):
+            frozen = [0.0, 0.0] if k % 2 else None
+            probe.joint_states.publish(
+                velocity_state(names, [left, right], T0 + k * 20_000_000, frozen)
+            )
+            node.spin_once()
+        until((node, probe_node), lambda: len(probe.odometry) == steps + 1)
+    twist = forward(BOT, left, right)
+    turn = twist.angular * 2.0
+    radius = twist.linear / twist.angular
+    pose = probe.odometry[-1].pose.pose
+    assert pose.position.x == pytest.approx(radius * math.sin(turn), abs=1e-12)
+    assert pose.position.y == pytest.approx(radius * (1.0 - math.cos(turn)), abs=1e-12)
+    assert yaw_of(pose.orientation) == pytest.approx(turn, abs=1e-12)
+    moving = probe.odometry[-1].twist.twist
+    assert moving.linear.x == pytest.approx(twist.linear, abs=1e-12)
+    assert moving.angular.z == pytest.approx(twist.angular, abs=1e-12)
+    # The first joint state only starts the clock.
+    assert probe.odometry[0].pose.pose.position.x == 0.0
+    assert node.counts == {"received": steps + 1, "used": steps + 1, "published": steps + 1}
+
+
+def test_velocity_feedback_skips_and_counts_what_it_cannot_use() -> None:
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    node = OdometryNode(BOT, OdometrySettings(feedback="velocity"))
+    with node:
+        for message in (
+            velocity_state(names, [1.0, 1.0], T0),
+            velocity_state(names, [], T0 + 10**8, [5.0, 5.0]),  # positions only
+            velocity_state(names, [1.0], T0 + 2 * 10**8),  # mismatched lengths
+            velocity_state(names, [2e4, 1.0], T0 + 3 * 10**8),  # beyond any wheel's speed
+            velocity_state(names, [math.inf, 1.0], T0 + 3 * 10**8),
+            # An angle beyond any wheel's, as a velocity it is only fast: used.
+            velocity_state(names, [1.0, 1.0], T0 + 5 * 10**8, [1e300, 1e300]),
+        ):
+            node.on_joint_state(message)
+    assert node.counts == {
+        "received": 0,
+        "used": 2,
+        "published": 2,
+        "no velocities": 1,
+        "mismatched lengths": 1,
+        "out of range": 1,
+        "not finite": 1,
+    }
+    # Moved 0.5 s at 1 rad/s on both wheels: the whole gap since the first sample.
+    assert node.odometry.pose.x == pytest.approx(0.5 * BOT.wheel_radius, abs=1e-15)
+    assert node.status().endswith(
+        "skipped: 1 no velocities, 1 out of range, 1 not finite, 1 mismatched lengths"
+    )
+
+
+def test_the_controller_s_position_feedback_chooses_what_is_read() -> None:
+    def settings(position_feedback: bool | None, **given: str) -> OdometrySettings:
+        controller = ControllerConfig(
+            name="c", source="c.yaml", ros_version=2, position_feedback=position_feedback
+        )
+        return OdometrySettings().with_controller(controller, **given)
+
+    assert settings(False).feedback == "velocity"
+    assert settings(True).feedback == "position"
+    assert settings(None).feedback == "position"
+    assert settings(False, feedback="position").feedback == "position"
+    assert settings(True, feedback="velocity").feedback == "velocity"
+    with pytest.raises(LiveError, match=r"^feedback must be 'position' or 'velocity', got 'x'$"):
+        OdometryNode(BOT, OdometrySettings(feedback="x"))
+
+
+VELOCITY_CONTROLLERS = """controller_manager:
+  ros__parameters:
+    diffbot_base_controller:
+      type: diff_drive_controller/DiffDriveController
+diffbot_base_controller:
+  ros__parameters:
+    left_wheel_names: ["front_left_wheel_joint"]
+    right_wheel_names: ["front_right_wheel_joint"]
+    wheel_separation: 0.135
+    wheel_radius: 0.035
+    position_feedback: false
+"""
+
+
+@pytest.mark.parametrize("given", ["option", "controllers file"])
+def test_node_odom_reads_velocities_when_told_or_when_its_controller_does(
+    given: str, tmp_path: Path
+) -> None:
+    if given == "option":
+        args = ["--feedback", "velocity"]
+    else:
+        controllers = tmp_path / "controllers.yaml"
+        controllers.write_text(VELOCITY_CONTROLLERS)
+        args = ["--controllers", str(controllers)]
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    stamps: list[tuple[int, float]] = []
+
+    def keep(message: types.Odometry) -> None:
+        stamps.append((stamp_ns(message.header.stamp), message.pose.pose.position.x))
+
+    with live_process("node", "odom", "--no-tf", *args), Node("probe") as probe:
+        states = probe.create_publisher(types.JointState, "joint_states")
+        probe.create_subscription(types.Odometry, "odom", keep, DEEP)
+        assert states.wait_for_subscribers(PATIENCE)
+        # Positions that never move beside velocities that do: only velocities move the robot.
+        # Each state is sent until the node has answered it (the reader is best effort).
+        for k in range(2):
+            stamp = T0 + k * 10**9
+            message = velocity_state(names, [4.0, 4.0], stamp, [0.0, 0.0])
+            end = time.monotonic() + PATIENCE
+            while not any(s == stamp for s, _ in stamps) and time.monotonic() < end:
+                states.publish(message)
+                probe.spin_once(0.1)
+    # The second state's velocity held over the second since the first: 4 rad/s x 0.035 m.
+    assert dict(stamps) == {T0: 0.0, T0 + 10**9: pytest.approx(0.14, abs=1e-12)}
 
 
 def test_bad_samples_are_skipped_and_counted() -> None:

@@ -63,6 +63,14 @@ def test_the_checks_name_their_reason() -> None:
     assert joint_state_problem(2**31 - 1, 0, [1.0], NOW) == STAMPED_AHEAD
     assert joint_state_problem(sec, 0, [1e300], NOW) == OUT_OF_RANGE
     assert joint_state_problem(sec, 0, [0.0, math.nan], NOW) == NOT_FINITE
+    # Wheel velocities (velocity feedback) are held to the wheel speeds' bound, not the angles'.
+    assert joint_state_problem(sec, 0, [-MAX_WHEEL_SPEED], NOW, velocity=True) is None
+    assert joint_state_problem(sec, 0, [1.01 * MAX_WHEEL_SPEED], NOW, velocity=True) == (
+        OUT_OF_RANGE
+    )
+    assert joint_state_problem(sec, 0, [1.01 * MAX_WHEEL_SPEED], NOW) is None
+    assert joint_state_problem(sec, 0, [math.inf], NOW, velocity=True) == NOT_FINITE
+    assert joint_state_problem(sec + 61, 0, [1.0], NOW, velocity=True) == STAMPED_AHEAD
     assert MAX_STAMP_AHEAD_NS == 60 * 10**9
     refusals = Refusals()
     assert refusals.check(None)
