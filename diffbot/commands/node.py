@@ -154,6 +154,9 @@ def odom(
     checked_frame("--frame-id", frame_id)
     checked_frame("--child-frame-id", child_frame_id)
     params = robot.with_path(description, {}).load()
+    from diffbot.commands.odom import tell_open_loop
+
+    tell_open_loop(params, "this node integrates the wheels' feedback from the joint states")
     settings = OdometrySettings(joint_states=joint_states, odom_topic=odom_topic).with_controller(
         params.controller,
         frame_id=frame_id,

@@ -284,7 +284,7 @@ def odom(
         p = robot.load()
         if not open_loop:  # commanded twists do not depend on the wheels' geometry
             recording.check_robot(robot, p)
-            _tell_open_loop(p)
+            tell_open_loop(p)
         outputs = _outputs(sources, out)
         tasks = [task(source, output) for source, output in zip(sources, outputs, strict=True)]
         _many(
@@ -305,15 +305,19 @@ def odom(
     p = robot.load()
     if not open_loop:
         recording.check_robot(robot, p)
-        _tell_open_loop(p)
+        tell_open_loop(p)
     out_path = out.path([*inputs, *(Path(path) for path in p.description_files)])
     output = None if out_path is None else str(out_path)
     _one(task(source, output), quiet, as_json, out, robot_label(robot))
 
 
-def _tell_open_loop(params: DiffDriveParams) -> None:
+def tell_open_loop(
+    params: DiffDriveParams,
+    instead: str = "this is the wheels' odometry: --open-loop integrates the commands as the "
+    "controller does",
+) -> None:
     """Say that the controller's own odometry comes from its commands (``open_loop: true``) when
-    the wheels' odometry is computed instead."""
+    the wheels' odometry is computed instead; ``instead`` says what is done."""
     from diffbot.commands.said_once import quieted, shown_before
 
     controller = params.controller
@@ -321,8 +325,7 @@ def _tell_open_loop(params: DiffDriveParams) -> None:
         return
     message = (
         f"{controller.source}: {controller.name} computes its odometry from its commands "
-        "(open_loop: true); this is the wheels' odometry: --open-loop integrates the "
-        "commands as the controller does"
+        f"(open_loop: true); {instead}"
     )
     if not shown_before(controller.source, [message]):  # said once for a controllers file
         opt.warn(message)

@@ -4,6 +4,8 @@ final pose out, stamped from the joint states; bad samples counted, never read a
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -224,6 +226,25 @@ def test_node_odom_reads_velocities_when_told_or_when_its_controller_does(
                 probe.spin_once(0.1)
     # The second state's velocity held over the second since the first: 4 rad/s x 0.035 m.
     assert dict(stamps) == {T0: 0.0, T0 + 10**9: pytest.approx(0.14, abs=1e-12)}
+
+
+def test_node_odom_says_when_its_controller_integrates_commands_instead(tmp_path: Path) -> None:
+    controllers = tmp_path / "controllers.yaml"
+    controllers.write_text(VELOCITY_CONTROLLERS + "    open_loop: true\n")
+    args = ["node", "odom", "--controllers", str(controllers), "--duration", "0.2"]
+    done = subprocess.run(
+        [sys.executable, "-m", "diffbot", *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.startswith(
+        f"warning: {controllers}: diffbot_base_controller computes its odometry from its "
+        "commands (open_loop: true); this node integrates the wheels' feedback from the joint "
+        "states\n"
+    ), done.stderr
 
 
 def test_bad_samples_are_skipped_and_counted() -> None:
