@@ -179,7 +179,7 @@ _OPTIONS = [
     click.option(
         "--time-column",
         metavar="NAME",
-        help="A CSV's time column (default: time, stamp, t or __time).",
+        help="A CSV's time column (default: the one named time, stamp, t or __time).",
     ),
     click.option(
         "--left-column",

@@ -2,11 +2,12 @@
 
 A recording CSV has a time column (``time``, ``stamp``, ``t`` or ``__time``, any case, in
 seconds) and one position column per wheel joint, named by the joint or ending with
-``/<joint>/position`` (as bag export tools name the fields of a JointState); other columns are
-ignored and an empty cell means the joint is missing from that row. A side with several drive
-wheels needs a column for at least one of them. The rules are those of :mod:`csv` (excel
-dialect, UTF-8 with an optional byte order mark): the first row that is not blank names the
-columns. Stamps are decimal seconds turned into integer nanoseconds exactly (ties to even).
+``/<joint>/position`` (as bag export tools name the fields of a JointState); two columns that
+may be the same one are refused (:mod:`diffbot.io.csv_columns`), other columns are ignored and
+an empty cell means the joint is missing from that row. A side with several drive wheels needs
+a column for at least one of them. The rules are those of :mod:`csv` (excel dialect, UTF-8 with
+an optional byte order mark): the first row that is not blank names the columns. Stamps are
+decimal seconds turned into integer nanoseconds exactly (ties to even).
 
 A chunk of lines is parsed by :func:`numpy.loadtxt` (the wheel cells as float64, the time cells
 as bytes) and the stamps by integer arithmetic on those bytes (:mod:`diffbot.io.csv_stamps`).
@@ -32,7 +33,8 @@ import numpy as np
 
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
-from diffbot.io.csv_layout import CsvLayout, names_joint
+from diffbot.io.csv_columns import TIME_COLUMNS, joint_columns, named_columns, time_column
+from diffbot.io.csv_layout import CsvLayout
 from diffbot.io.csv_stamps import (
     TIME_UNITS,
     UNIT_NAMES,
@@ -75,8 +77,6 @@ __all__ = [
     "unit_by_magnitude",
 ]
 
-#: Names a time column may have (seconds), case-insensitive, in order of preference.
-TIME_COLUMNS: Final = ("time", "stamp", "t", "__time")
 #: A number written with a decimal comma (``-0,25``, ``1764000000,1``).
 _DECIMAL_COMMA: Final = re.compile(r"[-+]?\d+,\d+")
 #: Whole-number stamps this far apart (or more) are doubted as seconds.
@@ -131,38 +131,6 @@ def _position(text: str) -> float:
     return float(text)
 
 
-def _columns(
-    headers: Sequence[str], joints: Sequence[str], side: str, source: str, field: str = "position"
-) -> list[tuple[str, int]]:
-    """The columns of a side's joints that the file has, as (joint, index); at least one."""
-    found: list[tuple[str, int]] = []
-    for joint in joints:
-        matches = [i for i, h in enumerate(headers) if names_joint(h, joint, field)]
-        if len(matches) > 1:
-            raise RecordingError(
-                f"{source}: several columns for the {side} wheel joint {joint!r}: "
-                f"{listing(headers[i] for i in matches)}"
-            )
-        found.extend((joint, i) for i in matches)
-    if not found:
-        names = " or ".join(repr(j) for j in joints)
-        positions = field == "velocity" and any(
-            names_joint(h, joint) for h in headers for joint in joints
-        )
-        raise RecordingError(
-            f"{source}: no column for the {side} wheel joint {names} ("
-            + ("named by the joint or " if field == "position" else "")
-            + f"ending with '/<joint>/{field}'); columns found: {listing(headers)}"
-            + (
-                "; the file holds the wheels' positions: read them with {feedback} position"
-                if positions
-                else "; another robot's recording? give its description ({robot}), or name "
-                "the columns ({left_column}, {right_column})"
-            )
-        )
-    return found
-
-
 def _rows_exactly(
     rows: Iterable[list[str]],
     indexes: Sequence[int],
@@ -215,24 +183,6 @@ def _rows_exactly(
         np.array(present, dtype=np.bool_).reshape(-1, joints),
         skipped,
     )
-
-
-def _named_columns(
-    headers: Sequence[str], names: Sequence[str], option: str, source: str
-) -> list[tuple[str, int]]:
-    """The columns named exactly (or else, ignoring case, uniquely) as (name, index)."""
-    found = []
-    lowered = [h.lower() for h in headers]
-    for name in names:
-        if name in headers:
-            found.append((name, headers.index(name)))
-        elif lowered.count(name.lower()) == 1:
-            found.append((name, lowered.index(name.lower())))
-        else:
-            raise RecordingError(
-                f"{source}: no column {name!r} ({option}); columns found: {listing(headers)}"
-            )
-    return found
 
 
 class CsvChunks:
@@ -306,27 +256,20 @@ class CsvChunks:
                 f"naming the columns is needed (such as {example}; other names with "
                 "{time_column}, {left_column}, {right_column})"
             )
-        lowered = [h.lower() for h in headers]
-        if layout.time_column is not None:
-            ((_, time_index),) = _named_columns(
-                headers, [layout.time_column], "{time_column}", source
+        time_index = time_column(headers, source, layout.time_column)
+        if time_index is None:
+            raise RecordingError(
+                f"{source}: no time column ({', '.join(TIME_COLUMNS)}; or name it: "
+                f"{{time_column}}); columns found: {listing(headers)}"
             )
-        else:
-            found = next((lowered.index(n) for n in TIME_COLUMNS if n in lowered), None)
-            if found is None:
-                raise RecordingError(
-                    f"{source}: no time column ({', '.join(TIME_COLUMNS)}; or name it: "
-                    f"{{time_column}}); columns found: {listing(headers)}"
-                )
-            time_index = found
         if layout.left_columns is not None:
-            left = _named_columns(headers, layout.left_columns, "{left_column}", source)
+            left = named_columns(headers, layout.left_columns, "{left_column}", source)
         else:
-            left = _columns(headers, sides[0], "left", source, layout.field)
+            left = joint_columns(headers, sides[0], "left", source, layout.field)
         if layout.right_columns is not None:
-            right = _named_columns(headers, layout.right_columns, "{right_column}", source)
+            right = named_columns(headers, layout.right_columns, "{right_column}", source)
         else:
-            right = _columns(headers, sides[1], "right", source, layout.field)
+            right = joint_columns(headers, sides[1], "right", source, layout.field)
         seen = {time_index}
         for _, index in left + right:
             if index in seen:

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
-from diffbot.io.csv_chunks import TIME_COLUMNS
+from diffbot.io.csv_columns import time_column
 from diffbot.io.textfile import open_text
 from diffbot.numbers import MAX_COORDINATE, MAX_RECORDED_ANGLE, finite_in_range
 from diffbot.samples import INT64, NS_PER_S, ns_from_seconds
@@ -160,7 +160,7 @@ def _read_csv(path: Path) -> PoseTrack:
     with open_text(path, RecordingError, "a CSV file", newline="") as stream:
         reader = csv.reader(stream)
         headers = [h.strip().lower() for h in next(reader, [])]
-        time_index = next((headers.index(n) for n in TIME_COLUMNS if n in headers), None)
+        time_index = time_column(headers, source)
         names = {"yaw": "theta"}
         columns = {names.get(h, h): i for i, h in reversed(list(enumerate(headers)))}
         missing = [c for c in POSE_COLUMNS if c not in columns]

@@ -253,3 +253,11 @@ def test_a_long_csv_track_is_kept_in_typed_arrays(tmp_path: Path) -> None:
     assert track.x[-1] == 4999 * 0.001
     assert track.y[1234] == -1234 * 0.002
     assert track.theta[4321] == 4321 * 1e-4
+
+
+def test_a_csv_track_with_two_time_columns_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "truth.csv"
+    path.write_text("time,stamp,x,y,theta\n0,5,0,0,0\n", "utf-8")
+    with pytest.raises(RecordingError) as caught:
+        read_pose_track(path)
+    assert "several columns may be the time ('time', 'stamp')" in str(caught.value)
