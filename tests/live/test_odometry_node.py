@@ -143,6 +143,7 @@ def test_velocity_feedback_skips_and_counts_what_it_cannot_use() -> None:
             velocity_state(names, [1.0, 1.0], T0),
             velocity_state(names, [], T0 + 10**8, [5.0, 5.0]),  # positions only
             velocity_state(names, [1.0], T0 + 2 * 10**8),  # mismatched lengths
+            velocity_state(names, [1.0, 1.0, 1.0], T0 + 2 * 10**8),  # and the other way
             velocity_state(names, [2e4, 1.0], T0 + 3 * 10**8),  # beyond any wheel's speed
             velocity_state(names, [math.inf, 1.0], T0 + 3 * 10**8),
             # An angle beyond any wheel's, as a velocity it is only fast: used.
@@ -154,14 +155,14 @@ def test_velocity_feedback_skips_and_counts_what_it_cannot_use() -> None:
         "used": 2,
         "published": 2,
         "no velocities": 1,
-        "mismatched lengths": 1,
+        "mismatched lengths": 2,
         "out of range": 1,
         "not finite": 1,
     }
     # Moved 0.5 s at 1 rad/s on both wheels: the whole gap since the first sample.
     assert node.odometry.pose.x == pytest.approx(0.5 * BOT.wheel_radius, abs=1e-15)
     assert node.status().endswith(
-        "skipped: 1 no velocities, 1 out of range, 1 not finite, 1 mismatched lengths"
+        "skipped: 1 no velocities, 1 out of range, 1 not finite, 2 mismatched lengths"
     )
 
 
