@@ -24,6 +24,7 @@ from diffbot.commands.options import (
     Count,
     RobotOptions,
     encoder_noise_options,
+    fail,
     quiet_option,
     robot_options,
     true_geometry_options,
@@ -110,6 +111,22 @@ def node() -> None:
     help="Velocity rolling window in steps [controllers file, else 1].",
 )
 @feedback_option
+@click.option(
+    "--open-loop",
+    is_flag=True,
+    help="Integrate the velocity commands instead of the wheels, as diff_drive_controller does "
+    "with open_loop: true: each held until the next or until cmd_vel_timeout (the controllers "
+    "file's, else 0.5 s); published at --publish-rate [else 50 Hz], stamped by this machine's "
+    "clock.",
+)
+@click.option("--cmd-vel", metavar="TOPIC", help="With --open-loop: " + CMD_VEL_HELP)
+@distro_option
+@click.option(
+    "--stamped",
+    is_flag=True,
+    help="With --open-loop: read geometry_msgs/TwistStamped only. Default: Twist or "
+    "TwistStamped, whichever the publisher sends.",
+)
 @duration_option
 @announce_option
 @quiet_option
@@ -124,6 +141,10 @@ def odom(
     publish_rate: float | None,
     window: int | None,
     feedback: str | None,
+    open_loop: bool,
+    cmd_vel: str | None,
+    distro: str | None,
+    stamped: bool,
     duration: float | None,
     announce: bool,
     quiet: bool,
@@ -136,7 +157,8 @@ def odom(
     (--controllers), else from the options. With --feedback velocity (position_feedback: false)
     each wheel's velocity is held over the time since the last joint state, as the controller
     does. A joint state without a wheel joint, with a NaN, going back in time or with
-    mismatched arrays is skipped and counted in the status line.
+    mismatched arrays is skipped and counted in the status line. With --open-loop the odometry
+    comes from the velocity commands instead (CMD_VEL, as node ik reads it).
 
     It serves diff_drive_controller's ~/set_odometry (control_msgs/srv/SetOdometry: x, y, yaw)
     and a ~/reset_odometry (std_srvs/srv/Empty) back to the origin, under the controller's name
@@ -146,9 +168,16 @@ def odom(
     Examples:
       diffbot node odom --duration 1     listen for a second, then say what was counted
       ROS_LOCALHOST_ONLY=1 diffbot node odom --controllers my_controllers.yaml
+      diffbot node odom --open-loop --duration 1    from cmd_vel, as a controller's open loop
     """
     checked_topic("--joint-states", joint_states)
     checked_topic("--odom-topic", odom_topic)
+    if open_loop and feedback is not None:
+        fail("--open-loop integrates the commands, not the wheels' --feedback: choose one")
+    if not open_loop and (cmd_vel is not None or stamped or distro is not None):
+        fail("--cmd-vel, --stamped and --distro go with --open-loop")
+    if cmd_vel is not None:
+        checked_topic("--cmd-vel", cmd_vel)
     from diffbot.live.odometry import OdometryNode, OdometrySettings
 
     checked_frame("--frame-id", frame_id)
@@ -156,7 +185,12 @@ def odom(
     params = robot.with_path(description, {}).load()
     from diffbot.commands.odom import tell_open_loop
 
-    tell_open_loop(params, "this node integrates the wheels' feedback from the joint states")
+    if not open_loop:
+        tell_open_loop(
+            params,
+            "this node integrates the wheels' feedback from the joint states: --open-loop "
+            "integrates the commands as the controller does",
+        )
     settings = OdometrySettings(joint_states=joint_states, odom_topic=odom_topic).with_controller(
         params.controller,
         frame_id=frame_id,
@@ -166,7 +200,22 @@ def odom(
         publish_tf=False if no_tf else None,
         feedback=feedback,
     )
-    _spin(lambda: OdometryNode(params, settings), "odom", duration, announce, quiet)
+    if not open_loop:
+        _spin(lambda: OdometryNode(params, settings), "odom", duration, announce, quiet)
+        return
+    from diffbot.live.open_loop_node import CommandSettings, OpenLoopOdometryNode
+
+    topic, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
+    controller = params.controller
+    timeout = controller.cmd_vel_timeout if controller is not None else None
+    commands = CommandSettings(
+        cmd_vel=topic,
+        stamped=True if stamped else None,
+        timeout=0.5 if timeout is None else timeout,
+    )
+    _spin(
+        lambda: OpenLoopOdometryNode(params, settings, commands), "odom", duration, announce, quiet
+    )
 
 
 @node.command("ik")

@@ -13,15 +13,16 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Any, cast
+from typing import Any
 
 from diffbot.body_limits import BodyLimits
 from diffbot.execution import DEFAULT_UPDATE_RATE
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
-from diffbot.live.cdr import decode_twist, decode_twist_stamped, encode_float64_array
+from diffbot.live.cdr import encode_float64_array
 from diffbot.live.messages import commands, twist_mismatch
 from diffbot.live.transport import LiveError, Node, Subscription
+from diffbot.live.twist_subscriptions import subscribe_twists
 from diffbot.live.wire import NOT_FINITE, Refusals, twist_problem
 from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
 from diffbot.wheel_commands import WheelCommander
@@ -95,24 +96,9 @@ class InverseKinematicsNode(Node):
         super().__init__(name, domain=domain)
         self.left = self.create_publisher(types.Float64MultiArray, settings.left_topic)
         self.right = self.create_publisher(types.Float64MultiArray, settings.right_topic)
-        self.subscriptions: list[Subscription[Any]] = []
-        # Commands are read straight into (linear, angular), not into message objects.
-        take = cast(Any, self.on_command)
-        if settings.stamped is not False:
-            self.subscriptions.append(
-                self.create_subscription(
-                    types.TwistStamped,
-                    settings.cmd_vel,
-                    take,
-                    decode=cast(Any, decode_twist_stamped),
-                )
-            )
-        if settings.stamped is not True:
-            self.subscriptions.append(
-                self.create_subscription(
-                    types.Twist, settings.cmd_vel, take, decode=cast(Any, decode_twist)
-                )
-            )
+        self.subscriptions: list[Subscription[Any]] = subscribe_twists(
+            self, settings.cmd_vel, settings.stamped, self.on_command
+        )
         period = 1.0 / settings.rate
         if self.commander.limited:
             self.create_timer(period, self.update)

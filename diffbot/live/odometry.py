@@ -171,15 +171,7 @@ class OdometryNode(Node):
         self.tf_publisher = (
             self.create_publisher(types.TFMessage, "/tf", TF) if settings.publish_tf else None
         )
-        # Payloads are read into plain tuples (:class:`JointStateReader`), not messages: no
-        # message object is made per sample.
-        self.subscription = self.create_subscription(
-            types.JointState,
-            settings.joint_states,
-            cast(Any, self._on_sample),
-            JOINT_STATES,
-            cast(Any, JointStateReader(settings.feedback).read),
-        )
+        self._subscribe(params)
         base = "/" + (settings.services or self.name).strip("/")
         #: The services' names: diff_drive_controller's ``~/set_odometry``, and a reset.
         self.set_service = f"{base}/set_odometry"
@@ -192,6 +184,18 @@ class OdometryNode(Node):
         )
         #: Service calls answered, by service name.
         self.calls: dict[str, int] = {}
+
+    def _subscribe(self, params: DiffDriveParams) -> None:
+        """Subscribe what moves the odometry: the joint states."""
+        # Payloads are read into plain tuples (:class:`JointStateReader`), not messages: no
+        # message object is made per sample.
+        self.subscription = self.create_subscription(
+            types.JointState,
+            self.settings.joint_states,
+            cast(Any, self._on_sample),
+            JOINT_STATES,
+            cast(Any, JointStateReader(self.settings.feedback).read),
+        )
 
     def on_set(self, request: types.SetOdometryRequest) -> types.SetOdometryResponse:
         """control_msgs/srv/SetOdometry: put the odometry at (x, y, yaw), keeping the wheels'

@@ -244,7 +244,7 @@ def test_node_odom_says_when_its_controller_integrates_commands_instead(tmp_path
     assert done.stderr.startswith(
         f"warning: {controllers}: diffbot_base_controller computes its odometry from its "
         "commands (open_loop: true); this node integrates the wheels' feedback from the joint "
-        "states\n"
+        "states: --open-loop integrates the commands as the controller does\n"
     ), done.stderr
 
 
