@@ -83,6 +83,24 @@ def test_a_command_stops_holding_at_its_timeout() -> None:
     assert pose(late) == pytest.approx((0.0, 0.0, 0.5), abs=1e-12)
 
 
+def test_the_timeout_s_own_moment_is_no_sample_twice() -> None:
+    # An advance at the very moment of the timeout, and one after it: each moment is taken
+    # once, and the clock goes on after the stop.
+    commands = held(timeout=0.5)
+    commands.command(0.2, 0.0, T0)
+    assert commands.advance(T0 + S // 2)
+    assert commands.advance(T0 + S)
+    assert commands.advance(T0 + 2 * S)
+    assert pose(commands) == pytest.approx((0.1, 0.0, 0.0), abs=1e-12)
+    assert commands.odometry.skipped == {}
+    assert commands.odometry.samples == 4
+    # The shortest timeout there is still stops the command.
+    brief = held(timeout=1e-9)
+    brief.command(1.0, 0.0, T0)
+    brief.advance(T0 + S)
+    assert pose(brief) == pytest.approx((1e-9, 0.0, 0.0), abs=1e-15)
+
+
 def test_without_a_timeout_a_command_holds_for_good() -> None:
     commands = held(timeout=0.0)
     commands.command(0.2, 0.0, T0)

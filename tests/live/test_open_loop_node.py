@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from live_graph import PATIENCE, deep, live_process, timer_periods, until
+from live_graph import PATIENCE, deep, live_process, spare_domain, timer_periods, until
 from robots import BOT
 
 from diffbot.live import types
@@ -130,3 +130,15 @@ def test_node_odom_refuses_open_loop_options_that_do_not_go_together(
     assert done.stderr.startswith("error: "), done.stderr
     assert message in done.stderr, done.stderr
     assert done.stderr.count("\n") == 1
+
+
+def test_the_node_s_name_domain_and_timeout_bound() -> None:
+    with OpenLoopOdometryNode(BOT) as node:
+        assert node.name == "diffbot_odometry"
+    with OpenLoopOdometryNode(BOT, name="wheels_off", domain=spare_domain(3)) as node:
+        assert node.name == "wheels_off"
+        assert node.participant.domain_id == spare_domain(3)
+    with pytest.raises(LiveError) as caught:
+        OpenLoopOdometryNode(BOT, commands=CommandSettings(timeout=2e6))
+    assert str(caught.value).startswith("timeout must be")
+    assert "1e+06" in str(caught.value)
