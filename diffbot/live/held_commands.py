@@ -2,7 +2,8 @@
 
 diff_drive_controller with ``open_loop: true`` integrates the command it holds at every update
 instead of the wheels' feedback (``try_update_open_loop``), and holds a command until the next
-comes or until it is ``cmd_vel_timeout`` old, when it stops. :class:`HeldCommands` does the same
+comes or until it is ``cmd_vel_timeout`` old, when it stops; its speed limiter acts after the
+odometry, on the wheels' commands only. :class:`HeldCommands` does the same
 on a wall clock: each command moves the robot along the arc of its linear and angular velocity
 until the next command or the timeout, whichever comes first, and not at all after. The arcs are
 integrated in closed form by :class:`~diffbot.odometry.Odometry`, fed the wheel angles the

@@ -40,6 +40,20 @@ def test_a_straight_then_a_spin_end_where_they_should() -> None:
     assert commands.held == (0.0, 0.5)
 
 
+def test_the_controller_s_own_open_loop_known_value() -> None:
+    # ros2_controllers' diff_drive_controller/test/test_odometry.cpp, TestOpenLoopUpdate: wheels
+    # of radius 1 m, 1 m apart; v = 2 m/s, w = 0.5 rad/s for 1 s.
+    robot = DiffDriveParams(wheel_radius=1.0, wheel_separation=1.0)
+    commands = held(robot)
+    commands.command(2.0, 0.5, T0)
+    commands.advance(T0 + S)
+    assert pose(commands) == pytest.approx(
+        (4.0 * math.sin(0.5), -4.0 * (math.cos(0.5) - 1.0), 0.5), abs=1e-12
+    )
+    assert commands.odometry.twist.linear == pytest.approx(2.0, abs=1e-12)
+    assert commands.odometry.twist.angular == pytest.approx(0.5, abs=1e-12)
+
+
 @pytest.mark.parametrize(
     "robot",
     [
