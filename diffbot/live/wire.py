@@ -28,8 +28,6 @@ from diffbot.samples import SKIP_NOT_FINITE
 
 __all__ = [
     "BAD_STAMP",
-    "MAX_ANGULAR_SPEED",
-    "MAX_LINEAR_SPEED",
     "MAX_STAMP_AHEAD_NS",
     "NOT_FINITE",
     "OUT_OF_RANGE",

@@ -21,7 +21,6 @@ from diffbot.live.robot import RobotNode, RobotSettings
 from diffbot.live.transport import Node
 from diffbot.live.wire import (
     BAD_STAMP,
-    MAX_LINEAR_SPEED,
     MAX_STAMP_AHEAD_NS,
     NOT_FINITE,
     OUT_OF_RANGE,
@@ -33,7 +32,7 @@ from diffbot.live.wire import (
     twist_problem,
     wheel_problem,
 )
-from diffbot.numbers import MAX_COORDINATE, MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED
+from diffbot.numbers import MAX_COORDINATE, MAX_LINEAR_SPEED, MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED
 from diffbot.wheel_commands import LEFT_TOPIC, RIGHT_TOPIC
 
 DEEP = deep()
