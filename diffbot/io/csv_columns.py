@@ -10,9 +10,9 @@ from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.csv_layout import names_joint
 
-__all__ = ["TIME_COLUMNS", "joint_columns", "named_columns", "time_column"]
+__all__ = ["TIME_COLUMNS", "joint_columns", "named_columns", "preferred_time_column", "time_column"]
 
-#: Names a time column may have (seconds), case-insensitive.
+#: Names a time column may have (seconds), case-insensitive, in order of preference.
 TIME_COLUMNS: Final = ("time", "stamp", "t", "__time")
 
 
@@ -42,6 +42,14 @@ def time_column(headers: Sequence[str], source: str, given: str | None = None) -
     return candidates[0] if candidates else None
 
 
+def preferred_time_column(headers: Sequence[str]) -> int | None:
+    """The index of the first column named as the first of :data:`TIME_COLUMNS` that any column
+    is (any case), or None: the time of a ground-truth track, which has no option to name
+    it."""
+    lowered = [h.lower() for h in headers]
+    return next((lowered.index(name) for name in TIME_COLUMNS if name in lowered), None)
+
+
 def named_columns(
     headers: Sequence[str], names: Sequence[str], option: str, source: str
 ) -> list[tuple[str, int]]:
@@ -63,6 +71,12 @@ def named_columns(
             found.append((name, headers.index(name)))
         elif lowered.count(name.lower()) == 1:
             found.append((name, lowered.index(name.lower())))
+        elif lowered.count(name.lower()) > 1:
+            raise RecordingError(
+                f"{source}: several columns are named {name!r} but for case "
+                f"({listing(h for h in headers if h.lower() == name.lower())}; {option}): "
+                "give one's exact name"
+            )
         else:
             raise RecordingError(
                 f"{source}: no column {name!r} ({option}); columns found: {listing(headers)}"

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
-from diffbot.io.csv_columns import time_column
+from diffbot.io.csv_columns import preferred_time_column
 from diffbot.io.textfile import open_text
 from diffbot.numbers import MAX_COORDINATE, MAX_RECORDED_ANGLE, finite_in_range
 from diffbot.samples import INT64, NS_PER_S, ns_from_seconds
@@ -70,8 +70,9 @@ def read_pose_track(path: str | os.PathLike[str], topic: str | None = None) -> P
     """Read a ground-truth pose track.
 
     Args:
-        path: a CSV file (a time column as for recordings, and ``x``, ``y``, ``theta`` or
-            ``yaw``; rows with an empty pose cell are skipped), or a rosbag2 recording.
+        path: a CSV file (a time column, the first of ``time``, ``stamp``, ``t`` and
+            ``__time`` it has, and ``x``, ``y``, ``theta`` or ``yaw``; rows with an empty pose
+            cell are skipped), or a rosbag2 recording.
         topic: the pose topic of a bag; by default its one topic of PoseStamped or Odometry.
 
     Returns:
@@ -160,7 +161,7 @@ def _read_csv(path: Path) -> PoseTrack:
     with open_text(path, RecordingError, "a CSV file", newline="") as stream:
         reader = csv.reader(stream)
         headers = [h.strip().lower() for h in next(reader, [])]
-        time_index = time_column(headers, source)
+        time_index = preferred_time_column(headers)
         names = {"yaw": "theta"}
         columns = {names.get(h, h): i for i, h in reversed(list(enumerate(headers)))}
         missing = [c for c in POSE_COLUMNS if c not in columns]

@@ -42,7 +42,8 @@ class HeldCommands:
             1.0 / (params.right_sign * right_radius),
             half / (params.right_sign * right_radius),
         )
-        self._timeout_ns = round(timeout * NS_PER_S)
+        # A positive timeout stays positive (at least 1 ns): 0 alone means never.
+        self._timeout_ns = max(round(timeout * NS_PER_S), 1) if timeout > 0.0 else 0
         self._angles = [0.0, 0.0]
         self._held = (0.0, 0.0)
         self._since: int | None = None

@@ -12,7 +12,7 @@ counted, and the robot is taken to stop, as the inverse-kinematics node stops th
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from diffbot.kinematics import DiffDriveParams
@@ -62,8 +62,9 @@ class OpenLoopOdometryNode(OdometryNode):
 
     Args:
         params: the robot (radii, separation, direction signs).
-        settings: the odometry's topic, frames, rate (None: :data:`DEFAULT_PUBLISH_RATE`),
-            covariances and window (``joint_states`` and ``feedback`` are not read).
+        settings: the odometry's topic, frames, rate (None: :data:`DEFAULT_PUBLISH_RATE`) and
+            covariances (``joint_states``, ``feedback`` and ``window`` are not read: the
+            twist is the held command's, as the controller publishes it).
         commands: the command topic, its kind and the timeout.
         domain: the DDS domain (``ROS_DOMAIN_ID`` when None).
         name: the node's name.
@@ -79,6 +80,9 @@ class OpenLoopOdometryNode(OdometryNode):
         name: str = "diffbot_odometry",
     ) -> None:
         finite_in_range(commands.timeout, "timeout", 0.0, MAX_PLAN_DURATION, error=LiveError)
+        # The held commands are fed as wheel angles (position feedback), and the twist is the
+        # held command itself, as the controller's open loop publishes it (no rolling window).
+        settings = replace(settings, feedback="position", window=1)
         self.command_settings = commands
         #: Commands received.
         self.commands = 0

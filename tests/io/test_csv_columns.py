@@ -10,7 +10,13 @@ from click.testing import CliRunner
 
 from diffbot.cli import main
 from diffbot.errors import RecordingError
-from diffbot.io.csv_columns import TIME_COLUMNS, joint_columns, named_columns, time_column
+from diffbot.io.csv_columns import (
+    TIME_COLUMNS,
+    joint_columns,
+    named_columns,
+    preferred_time_column,
+    time_column,
+)
 
 
 @pytest.mark.parametrize("name", [*TIME_COLUMNS, "Time", "STAMP", "__TIME"])
@@ -65,8 +71,10 @@ def test_named_columns_are_found_exactly_else_by_case_and_never_among_two() -> N
         ("right", 2),
     ]
     assert named_columns(headers, ["left"], "{left_column}", "f.csv") == [("left", 1)]
-    with pytest.raises(RecordingError, match=r"^f\.csv: no column 'Right' \(right_column=\)"):
+    with pytest.raises(RecordingError, match=r"^f\.csv: several columns are named 'Right' but"):
         named_columns(headers, ["Right"], "{right_column}", "f.csv")  # two in any case
+    with pytest.raises(RecordingError, match=r"^f\.csv: no column 'up' \(right_column=\)"):
+        named_columns(headers, ["up"], "{right_column}", "f.csv")
     with pytest.raises(RecordingError) as caught:
         named_columns(headers, ["x"], "{right_column}", "f.csv")
     assert str(caught.value) == (
@@ -99,3 +107,20 @@ def test_odom_refuses_a_csv_with_two_times_in_one_line(tmp_path: Path) -> None:
     )
     assert chosen.exit_code == 0, chosen.stderr
     assert '"duration": 0.5' in chosen.stdout
+
+
+def test_the_preferred_time_column_is_the_first_name_in_order_of_preference() -> None:
+    assert preferred_time_column(["stamp", "x", "TIME"]) == 2
+    assert preferred_time_column(["__time", "t"]) == 1
+    assert preferred_time_column(["t", "T"]) == 0
+    assert preferred_time_column(["x", "y"]) is None
+
+
+def test_a_name_given_that_several_columns_have_but_for_case_is_refused_as_such() -> None:
+    with pytest.raises(RecordingError) as caught:
+        time_column(["Time", "time", "left"], "f.csv", "TIME")
+    assert str(caught.value) == (
+        "f.csv: several columns are named 'TIME' but for case ('Time', 'time'; time_column=): "
+        "give one's exact name"
+    )
+    assert time_column(["Time", "time", "left"], "f.csv", "Time") == 0

@@ -255,9 +255,11 @@ def test_a_long_csv_track_is_kept_in_typed_arrays(tmp_path: Path) -> None:
     assert track.theta[4321] == 4321 * 1e-4
 
 
-def test_a_csv_track_with_two_time_columns_is_refused(tmp_path: Path) -> None:
+def test_a_csv_track_takes_its_time_from_the_first_time_name_it_has(tmp_path: Path) -> None:
+    # A track has no option naming its time: time before stamp before t before __time, as
+    # before the recording reader refused such pairs (a file may be both, with --time-column).
     path = tmp_path / "truth.csv"
-    path.write_text("time,stamp,x,y,theta\n0,5,0,0,0\n", "utf-8")
-    with pytest.raises(RecordingError) as caught:
-        read_pose_track(path)
-    assert "several columns may be the time ('time', 'stamp')" in str(caught.value)
+    path.write_text("stamp,Time,x,y,theta\n7,1,0,0,0\n8,2,1,0,0\n", "utf-8")
+    assert read_pose_track(path).stamps_ns.tolist() == [10**9, 2 * 10**9]
+    path.write_text("t,stamp,x,y,theta\n7,1,0,0,0\n8,2,1,0,0\n", "utf-8")
+    assert read_pose_track(path).stamps_ns.tolist() == [10**9, 2 * 10**9]

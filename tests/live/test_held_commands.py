@@ -108,11 +108,15 @@ def test_the_timeout_s_own_moment_is_no_sample_twice() -> None:
     assert pose(commands) == pytest.approx((0.1, 0.0, 0.0), abs=1e-12)
     assert commands.odometry.skipped == {}
     assert commands.odometry.samples == 4
-    # The shortest timeout there is still stops the command.
+    # The shortest timeout there is still stops the command; a shorter one is not "never".
     brief = held(timeout=1e-9)
     brief.command(1.0, 0.0, T0)
     brief.advance(T0 + S)
     assert pose(brief) == pytest.approx((1e-9, 0.0, 0.0), abs=1e-15)
+    briefer = held(timeout=4e-10)
+    briefer.command(1.0, 0.0, T0)
+    briefer.advance(T0 + S)
+    assert pose(briefer) == pytest.approx((1e-9, 0.0, 0.0), abs=1e-15)
 
 
 def test_without_a_timeout_a_command_holds_for_good() -> None:

@@ -142,3 +142,22 @@ def test_the_node_s_name_domain_and_timeout_bound() -> None:
         OpenLoopOdometryNode(BOT, commands=CommandSettings(timeout=2e6))
     assert str(caught.value).startswith("timeout must be")
     assert "1e+06" in str(caught.value)
+
+
+def test_the_open_loop_reads_no_feedback_setting_and_its_twist_is_the_command() -> None:
+    # A controllers file may say position_feedback: false and a rolling window beside
+    # open_loop: true; neither changes what the commands do, and the twist published is the
+    # held command, as the controller's open loop publishes it.
+    settings = OdometrySettings(feedback="velocity", window=10)
+    with OpenLoopOdometryNode(BOT, settings, CommandSettings(timeout=0.0)) as node:
+        node.on_tick(T0)
+        node.on_command((0.2, 0.0), T0)
+        for k in range(1, 11):
+            node.on_tick(T0 + k * S // 10)
+        assert tuple(node.odometry.pose) == pytest.approx((0.2, 0.0, 0.0), abs=1e-12)
+        assert node.odometry.twist.linear == pytest.approx(0.2, abs=1e-12)
+        node.on_command((0.0, 0.0), T0 + S)
+        node.on_tick(T0 + 11 * S // 10)
+        assert node.odometry.twist.linear == 0.0
+        assert node.odometry.feedback == "position"
+        assert node.odometry.velocity_rolling_window_size == 1
