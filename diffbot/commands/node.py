@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
 
 import click
+from click.core import ParameterSource
 
 from diffbot.commands.follow_options import disturbance_options
 from diffbot.commands.limit_options import body_limit_option
@@ -176,6 +177,9 @@ def odom(
         fail("--open-loop integrates the commands, not the wheels' --feedback: choose one")
     if not open_loop and (cmd_vel is not None or stamped or distro is not None):
         fail("--cmd-vel, --stamped and --distro go with --open-loop")
+    context = click.get_current_context()
+    if open_loop and context.get_parameter_source("joint_states") == ParameterSource.COMMANDLINE:
+        fail("--open-loop reads the commands, not --joint-states: choose one")
     if cmd_vel is not None:
         checked_topic("--cmd-vel", cmd_vel)
     from diffbot.live.odometry import OdometryNode, OdometrySettings

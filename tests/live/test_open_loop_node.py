@@ -114,6 +114,7 @@ def test_node_odom_open_loop_follows_the_commands(tmp_path: Path) -> None:
     [
         (["--open-loop", "--feedback", "velocity"], "--open-loop integrates the commands"),
         (["--cmd-vel", "x"], "--cmd-vel, --stamped and --distro go with --open-loop"),
+        (["--open-loop", "--joint-states", "js"], "--open-loop reads the commands, not"),
     ],
 )
 def test_node_odom_refuses_open_loop_options_that_do_not_go_together(
