@@ -11,6 +11,25 @@ BOT = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
 BOT_50_RPM = BOT.replace(max_wheel_speed=5.235987755982989)
 
 
+def bundled_controllers(
+    *parameters: str, name: str = "diffbot_base_controller", update_rate: int | None = None
+) -> str:
+    """A ros2_control controllers file for the bundled robot's joints and sizes: one
+    diff_drive_controller ``name``, its ``parameters`` lines (``"open_loop: true"``) after the
+    wheels, and the controller manager's ``update_rate`` when given."""
+    rate = "" if update_rate is None else f"    update_rate: {update_rate}\n"
+    extra = "".join(f"    {line}\n" for line in parameters)
+    return (
+        f"controller_manager:\n  ros__parameters:\n{rate}"
+        f"    {name}:\n      type: diff_drive_controller/DiffDriveController\n"
+        f"{name}:\n  ros__parameters:\n"
+        '    left_wheel_names: ["front_left_wheel_joint"]\n'
+        '    right_wheel_names: ["front_right_wheel_joint"]\n'
+        "    wheel_separation: 0.135\n    wheel_radius: 0.035\n"
+        f"{extra}"
+    )
+
+
 def two_wheel_urdf(
     *,
     radius: str = "0.05",

@@ -32,16 +32,12 @@ class HeldCommands:
     def __init__(self, params: DiffDriveParams, odometry: Odometry, timeout: float) -> None:
         self.odometry = odometry
         left_radius, right_radius = params.radii
+        left = 1.0 / (params.left_sign * left_radius)
+        right = 1.0 / (params.right_sign * right_radius)
         half = 0.5 * params.wheel_separation
-        #: Wheel angle per metre of linear and per radian of angular motion, each side (rad).
-        self._left = (
-            1.0 / (params.left_sign * left_radius),
-            -half / (params.left_sign * left_radius),
-        )
-        self._right = (
-            1.0 / (params.right_sign * right_radius),
-            half / (params.right_sign * right_radius),
-        )
+        # Wheel angle (rad) per metre of linear and per radian of angular motion, each side.
+        self._left = (left, -half * left)
+        self._right = (right, half * right)
         # A positive timeout stays positive (at least 1 ns): 0 alone means never.
         self._timeout_ns = max(round(timeout * NS_PER_S), 1) if timeout > 0.0 else 0
         self._angles = [0.0, 0.0]

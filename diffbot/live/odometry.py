@@ -287,10 +287,14 @@ class OdometryNode(Node):
         """One line of counts for people: ``1200 joint states, 1198 used, 1198 published;
         skipped: 2 not finite``."""
         counts = self.counts
-        line = (
-            f"{counts.pop('received')} joint states, {counts.pop('used')} used, "
-            f"{counts.pop('published')} published"
-        )
+        line = self._tally(counts)
         if counts:
             line += "; skipped: " + ", ".join(f"{n} {reason}" for reason, n in counts.items())
         return line
+
+    def _tally(self, counts: dict[str, int]) -> str:
+        """The status line's head, taking its counts out of ``counts`` (the skips remain)."""
+        return (
+            f"{counts.pop('received')} joint states, {counts.pop('used')} used, "
+            f"{counts.pop('published')} published"
+        )

@@ -133,11 +133,6 @@ class OpenLoopOdometryNode(OdometryNode):
         received = sum(s.received for s in self.subscriptions) + malformed
         return {"received": received, "published": self.published, **skipped}
 
-    def status(self) -> str:
-        """One line of counts for people: ``1200 commands, 3000 published; skipped: 2 not
-        finite``."""
-        counts = self.counts
-        line = f"{counts.pop('received')} commands, {counts.pop('published')} published"
-        if counts:
-            line += "; skipped: " + ", ".join(f"{n} {reason}" for reason, n in counts.items())
-        return line
+    def _tally(self, counts: dict[str, int]) -> str:
+        """The status line's head, ``1200 commands, 3000 published`` (the skips follow it)."""
+        return f"{counts.pop('received')} commands, {counts.pop('published')} published"

@@ -11,6 +11,7 @@ from typing import Any
 
 import pytest
 from click.testing import CliRunner, Result
+from robots import bundled_controllers
 from rosbags.rosbag2 import Reader
 from rosbags.typesys import Stores, get_typestore
 
@@ -187,20 +188,9 @@ def test_reverse_segments_typed_unquoted_join_as_written(runner: CliRunner) -> N
     assert data["final_pose"]["y"] == pytest.approx(-0.25, abs=1e-12)
 
 
-SLOW_CONTROLLER = """\
-controller_manager:
-  ros__parameters:
-    update_rate: 50
-    diff_drive_controller:
-      type: diff_drive_controller/DiffDriveController
-diff_drive_controller:
-  ros__parameters:
-    left_wheel_names: ["front_left_wheel_joint"]
-    right_wheel_names: ["front_right_wheel_joint"]
-    wheel_separation: 0.135
-    wheel_radius: 0.035
-    linear.x.max_acceleration: 0.05
-"""
+SLOW_CONTROLLER = bundled_controllers(
+    "linear.x.max_acceleration: 0.05", name="diff_drive_controller", update_rate=50
+)
 
 
 def simulate_json(runner: CliRunner, tmp_path: Path, *args: str) -> dict[str, Any]:

@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 from cli_results import assert_one_error_line
 from click.testing import CliRunner, Result
+from robots import bundled_controllers
 
 from diffbot.cli import main
 from diffbot.commands.topic_options import resolve_cmd_vel
@@ -16,20 +17,7 @@ from diffbot.controller_config import ControllerConfig
 from diffbot.kinematics import DiffDriveParams
 
 #: A ros2_control_demos-style controllers file for the bundled robot's joints, written for Humble.
-HUMBLE_CONTROLLERS = """\
-controller_manager:
-  ros__parameters:
-    update_rate: 10
-    diffbot_base_controller:
-      type: diff_drive_controller/DiffDriveController
-diffbot_base_controller:
-  ros__parameters:
-    left_wheel_names: ["front_left_wheel_joint"]
-    right_wheel_names: ["front_right_wheel_joint"]
-    wheel_separation: 0.135
-    wheel_radius: 0.035
-    use_stamped_vel: false
-"""
+HUMBLE_CONTROLLERS = bundled_controllers("use_stamped_vel: false", update_rate=10)
 
 
 @pytest.fixture

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 from live_graph import PATIENCE, ServiceClient, deep, live_process, spare_domain, until
-from robots import BOT
+from robots import BOT, bundled_controllers
 
 from diffbot.controller_config import ControllerConfig
 from diffbot.kinematics import forward
@@ -182,18 +182,7 @@ def test_the_controller_s_position_feedback_chooses_what_is_read() -> None:
         OdometryNode(BOT, OdometrySettings(feedback="x"))
 
 
-VELOCITY_CONTROLLERS = """controller_manager:
-  ros__parameters:
-    diffbot_base_controller:
-      type: diff_drive_controller/DiffDriveController
-diffbot_base_controller:
-  ros__parameters:
-    left_wheel_names: ["front_left_wheel_joint"]
-    right_wheel_names: ["front_right_wheel_joint"]
-    wheel_separation: 0.135
-    wheel_radius: 0.035
-    position_feedback: false
-"""
+VELOCITY_CONTROLLERS = bundled_controllers("position_feedback: false")
 
 
 @pytest.mark.parametrize("given", ["option", "controllers file"])
