@@ -235,12 +235,12 @@ class Node:
     def announce(self, distro: str | None = None) -> None:
         """Publish this node on ``ros_discovery_info`` as a ROS 2 node does, so that
         ``ros2 node list`` names it: its name, the root namespace and the GUIDs of its readers
-        and writers, again whenever it makes another. ``distro`` (``ROS_DISTRO`` when None,
-        else jazzy) picks the layout of the GIDs (24 bytes up to Humble, 16 since Iron)."""
+        and writers, again whenever it makes another. ``distro`` (``ROS_DISTRO`` when None)
+        picks the layout of the GIDs: 24 bytes up to Humble, 16 since Iron and when unset."""
         from diffbot.live import types
 
         info_type, node_type, gid_type = types.discovery_types(
-            distro or os.environ.get("ROS_DISTRO", "") or "jazzy"
+            distro or os.environ.get("ROS_DISTRO", "")
         )
         size = len(gid_type().data)
 
@@ -312,8 +312,7 @@ class Node:
         return [
             sample.type_name
             for sample in self._publications.read(N=4096)
-            if getattr(sample, "topic_name", None) == dds_name
-            and sample.sample_info.instance_state == alive
+            if sample.topic_name == dds_name and sample.sample_info.instance_state == alive
         ]
 
     def publisher_types(self, topic: str) -> set[str]:
@@ -395,7 +394,8 @@ class Node:
     def shutdown(self) -> None:
         """Stop spinning (from any thread) and wait for a background spin to end."""
         self._stop.set()
-        self._wake.set(True)
+        with contextlib.suppress(DDSException):  # the participant is already gone
+            self._wake.set(True)
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=5.0)
             self._thread = None
@@ -413,8 +413,7 @@ class Node:
         self._timers.clear()
         self._publications = None
         self._topics.clear()
-        with contextlib.suppress(DDSException):  # already gone
-            self.participant.__del__()
+        self.participant.__del__()  # a no-op when the participant is already gone
 
     def __enter__(self: N) -> N:
         return self

@@ -137,18 +137,21 @@ def counts(entry: Any) -> list[tuple[str, str, int, int]]:
     ]
 
 
-@pytest.mark.parametrize(("distro", "size"), [("humble", 24), ("jazzy", 16)])
+@pytest.mark.parametrize(("distro", "size"), [("humble", 24), ("jazzy", 16), ("", 16)])
 def test_an_announced_node_is_seen_with_its_endpoints(
     distro: str, size: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setenv("ROS_DISTRO", distro)
+    if distro:
+        monkeypatch.setenv("ROS_DISTRO", distro)
+    else:  # unset: the newest layout
+        monkeypatch.delenv("ROS_DISTRO", raising=False)
     with Node("announced_probe") as node, Node("listener") as listener:
         node.create_subscription(types.JointState, "joint_states", lambda m: None)
         node.announce()
         # Endpoints made after the announcement are announced too.
         node.create_publisher(types.Odometry, "odom")
         node.create_publisher(types.TFMessage, "/tf")
-        entry = discovered(listener, distro, lambda e: counts(e)[0][3] == 2)
+        entry = discovered(listener, distro or "jazzy", lambda e: counts(e)[0][3] == 2)
         assert counts(entry) == [("/", "announced_probe", 1, 2)]
         assert bytes(entry.gid.data) == node.participant.guid.bytes.ljust(size, b"\0")
         (info,) = entry.node_entities_info_seq

@@ -154,7 +154,8 @@ def test_a_service_answers_each_client_under_its_own_id_and_sequence() -> None:
     assert (a2.guid, a2.seq, a2.message) == (1, 2, "x 2")  # type: ignore[attr-defined]
 
 
-def test_a_request_of_another_type_is_named_once() -> None:
+@pytest.mark.parametrize("service", ["/server/set_odometry", "/Xserver/set_odometry"])
+def test_a_request_of_another_type_is_named_once(service: str) -> None:
     from cyclonedds.pub import DataWriter
     from cyclonedds.topic import Topic
 
@@ -165,11 +166,11 @@ def test_a_request_of_another_type_is_named_once() -> None:
         server.create_service(
             types.SetOdometryRequest,
             types.SetOdometryResponse,
-            "/server/set_odometry",
+            service,
             lambda request: types.SetOdometryResponse(success=True),
         )
         # A std_srvs/srv/Empty client of the same service name: it never matches the server.
-        topic = Topic(client.participant, "rq/server/set_odometryRequest", types.EmptyRequest)
+        topic = Topic(client.participant, f"rq{service}Request", types.EmptyRequest)
         writer = DataWriter(client.participant, topic, SERVICE.qos())
         end = time.monotonic() + PATIENCE
         while not server.warnings and time.monotonic() < end:
@@ -177,7 +178,7 @@ def test_a_request_of_another_type_is_named_once() -> None:
             server.check_types()
         del writer
     assert server.warnings == [
-        "'/server/set_odometry' carries std_srvs/srv/Empty_Request; this node reads "
+        f"'{service}' carries std_srvs/srv/Empty_Request; this node reads "
         "control_msgs/srv/SetOdometry_Request"
     ]
 
@@ -374,3 +375,126 @@ def test_a_signal_ends_a_spin_at_once_and_the_next_spin_waits_idle() -> None:
         node.spin(0.5)
         assert time.monotonic() - started >= 0.5
         assert time.process_time() - cpu < 0.2
+
+
+@pytest.fixture
+def long_waits(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Waits in C of a minute, so that only a wake can end one early."""
+    from diffbot.live import transport
+
+    monkeypatch.setattr(transport, "_WAIT_SLICE", 60.0)
+
+
+@pytest.mark.usefixtures("long_waits")
+def test_a_wake_or_a_shutdown_ends_every_wait_until_cleared() -> None:
+    with Node("woken") as node:
+        node.wake()
+        started = time.monotonic()
+        for _ in range(3):
+            node.spin_once(PATIENCE)
+        assert time.monotonic() - started < PATIENCE / 2
+    with Node("stopped") as node:
+        node.shutdown()
+        started = time.monotonic()
+        node.spin_once(PATIENCE)
+        assert time.monotonic() - started < PATIENCE / 2
+
+
+def test_spin_once_waits_for_nothing_unless_told() -> None:
+    with Node("eager") as node:
+        started = time.monotonic()
+        for _ in range(10):
+            node.spin_once()
+        assert time.monotonic() - started < 0.3
+
+
+def test_one_spin_hands_on_every_waiting_message_however_many() -> None:
+    from diffbot.live.transport import QosProfile
+
+    got: list[str] = []
+    many = QosProfile(depth=1000)
+    with Node("talker") as talker, Node("listener") as listener:
+        chatter = talker.create_publisher(types.String, "chatter", many)
+        listener.create_subscription(types.String, "chatter", lambda m: got.append(m.data), many)
+        assert chatter.wait_for_subscribers(PATIENCE)
+        for k in range(600):
+            chatter.publish(types.String(str(k)))
+        end = time.monotonic() + PATIENCE
+        while time.monotonic() < end:  # all 600 wait in the reader, none taken yet
+            if len(listener._subscriptions[0].reader.read(N=1000)) == 600:
+                break
+            time.sleep(0.01)
+        listener.spin_once(0.0)
+    assert got == [str(k) for k in range(600)]
+
+
+def test_a_latched_publisher_reaches_a_reader_that_comes_later() -> None:
+    from diffbot.live.transport import LATCHED
+
+    got: list[str] = []
+    with Node("talker") as talker, Node("late") as late:
+        kept = talker.create_publisher(types.String, "map", LATCHED)
+        kept.publish(types.String("first"))
+        news = talker.create_publisher(types.String, "news")
+        news.publish(types.String("missed"))
+        late.create_subscription(types.String, "map", lambda m: got.append(m.data), LATCHED)
+        heard = late.create_subscription(types.String, "news", lambda m: got.append(m.data))
+        until(late, lambda: bool(got))
+        assert heard.wait_for_publishers(PATIENCE)
+        late.spin(0.2)
+    # The volatile publisher had no reader when it wrote: nothing of it is kept for later.
+    assert got == ["first"]
+
+
+def test_a_node_makes_each_topic_once_and_joins_its_own_domain() -> None:
+    from live_graph import spare_domain
+
+    with Node("topics", domain=spare_domain(3)) as node:
+        assert node.participant.domain_id == spare_domain(3)
+        assert node._topic(types.String, "x") is node._topic(types.String, "/x")
+        assert node._topic(types.String, "x") is not node._topic(types.Twist, "x")
+
+
+def test_a_node_whose_participant_is_gone_is_destroyed_quietly_and_makes_no_more() -> None:
+    node = Node("gone")
+    node.create_subscription(types.String, "chatter", lambda m: None)
+    node.participant.__del__()
+    node.destroy_node()
+    late = Node("late")
+    late.destroy_node()
+    for make in (
+        lambda: late.create_publisher(types.String, "out"),
+        lambda: late.create_subscription(types.String, "out", lambda m: None),
+        lambda: late.create_service(
+            types.EmptyRequest, types.EmptyResponse, "out", lambda r: types.EmptyResponse()
+        ),
+    ):
+        with pytest.raises(LiveError, match=r"^cannot make topic 'out': .*BAD_PARAMETER"):
+            make()
+
+
+@pytest.mark.parametrize("topic", ["~/cmd", "/reader/cmd"])
+def test_a_topic_carrying_another_type_is_named_once_to_the_warn_callback(topic: str) -> None:
+    told: list[str] = []
+    with Node("reader") as reader, Node("talker") as talker:
+        reader.warn = told.append
+        reader.create_subscription(types.Twist, topic, lambda m: None)
+        reader.create_subscription(types.String, "/both", lambda m: None)
+        reader.create_subscription(types.Twist, "/both", lambda m: None)
+        publishers = [
+            talker.create_publisher(types.TwistStamped, "/reader/cmd"),
+            talker.create_publisher(types.Twist, "/both"),
+            talker.create_publisher(types.String, "/both"),
+        ]
+        end = time.monotonic() + PATIENCE
+        while time.monotonic() < end and not (told and len(reader.publications("/both")) == 2):
+            reader.spin_once(0.05)
+            reader.check_types()
+        reader.check_types()
+        del publishers
+    expected = [
+        "'/reader/cmd' carries geometry_msgs/msg/TwistStamped; this node reads "
+        "geometry_msgs/msg/Twist"
+    ]
+    assert told == expected
+    assert reader.warnings == expected
