@@ -5,10 +5,12 @@
 #   tools/mutation.sh reference sdf   # some of them
 #
 # "live" mutates the whole live package against every live test that runs without other
-# processes (hours); "live-codecs" its message codecs, names and checks against their own tests;
-# "live-nodes" the odometry (wheels and open loop) and wheel-command nodes and the signal handling
-# against their tests, "live-graph" the simulated robot, drive, follow and discovery,
-# "live-transport" the DDS plumbing, its configuration and the message types against their tests. A live selection waits DIFFBOT_TEST_PATIENCE (5 s) for discovery
+# processes (hours); the other live selections each mutate some of its modules against their
+# own tests: "live-codecs" the message codecs, names and checks; "live-nodes" the odometry
+# (wheels and open loop) and wheel-command nodes and the signal handling; "live-graph" the
+# simulated robot, drive, follow, the endpoints and the discovery configuration;
+# "live-transport" the DDS plumbing, its configuration and the message types. A live selection
+# waits DIFFBOT_TEST_PATIENCE (5 s) for discovery
 # or a message: a mutant that breaks a node makes every wait run out.
 #
 # Each module is mutated by mutmut (the `test` extra installs it) in a scratch copy of the
@@ -29,7 +31,7 @@ modules=(
   "live-codecs|diffbot/live/cdr.py diffbot/live/wire.py diffbot/live/names.py diffbot/live/messages.py diffbot/live/qos.py|tests/live/test_cdr.py tests/live/test_wire.py tests/live/test_names.py tests/live/test_messages.py tests/live/test_types.py tests/live/test_qos.py"
   "live|diffbot/live/*|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
   "live-nodes|diffbot/live/odometry.py diffbot/live/open_loop_node.py diffbot/live/held_commands.py diffbot/live/twist_subscriptions.py diffbot/live/inverse_kinematics.py diffbot/live/signals.py|tests/live/test_odometry_node.py tests/live/test_open_loop_node.py tests/live/test_held_commands.py tests/live/test_ik_node.py tests/live/test_signals.py tests/live/test_loop.py::test_the_loop_in_one_process"
-  "live-graph|diffbot/live/robot.py diffbot/live/drive.py diffbot/live/follow_drive.py diffbot/live/endpoints.py diffbot/live/discovery.py|tests/live --deselect tests/live/test_flood.py --deselect tests/live/test_live_commands.py --deselect tests/live/test_ros2_interop.py"
+  "live-graph|diffbot/live/robot.py diffbot/live/drive.py diffbot/live/follow_drive.py diffbot/live/endpoints.py diffbot/live/discovery.py|tests/live/test_robot_node.py tests/live/test_drive.py tests/live/test_follow_drive.py tests/live/test_transport.py tests/live/test_keyhash.py tests/live/test_participant.py tests/live/test_loop.py::test_the_loop_in_one_process"
   "live-transport|diffbot/live/transport.py diffbot/live/participant.py diffbot/live/cyclone.py diffbot/live/types.py|tests/live/test_transport.py tests/live/test_participant.py tests/live/test_keyhash.py tests/live/test_types.py tests/live/test_discovery.py"
   "planning|diffbot/planning/*|tests/planning"
   "goals|diffbot/goals.py|tests/test_goals.py"

@@ -78,6 +78,53 @@ def test_wheel_commands_go_to_each_side_once_per_joint() -> None:
     assert right == [[float(stream.right[k])]]
 
 
+def test_a_wheel_drive_ends_with_zero_on_every_joint_and_counts_each_command() -> None:
+    stream = ramp(plan(parse_plan("spin 90 0.5s"), BOT), Limits()).commands(20.0)
+    left: list[list[float]] = []
+    right: list[list[float]] = []
+    settings = DriveSettings(wheels=True, joints=(2, 1))
+    counted: list[int] = []
+    with Node("probe") as probe, Driver(stream, settings) as driver:
+        probe.create_subscription(
+            types.Float64MultiArray, settings.left_topic, lambda m: left.append(m.data), DEEP
+        )
+        probe.create_subscription(
+            types.Float64MultiArray, settings.right_topic, lambda m: right.append(m.data), DEEP
+        )
+        assert driver.wait_for_subscriber(PATIENCE)
+        report = driver.drive(counted.append)
+        n = stream.times.size
+        until(probe, lambda: len(left) == len(right) == n + 1)
+    assert left[:-1] == [[float(v)] * 2 for v in stream.left]
+    assert right[:-1] == [[float(v)] for v in stream.right]
+    assert (left[-1], right[-1]) == ([0.0, 0.0], [0.0])
+    assert counted == [1] * n
+    assert (report.sent, report.total, report.completed) == (n, n, True)
+    assert report.duration_error == report.lateness.last
+
+
+def test_a_signal_in_a_drive_stops_it_early_with_zero() -> None:
+    stream = ramp(plan(parse_plan("straight 1 20s"), BOT), Limits()).commands(20.0)
+    got: list[tuple[float, float]] = []
+    with (
+        Node("probe") as probe,
+        Driver(stream, DriveSettings()) as driver,
+        deferred(deliver=False),
+    ):
+        probe.create_subscription(
+            types.Twist, "cmd_vel", lambda m: got.append((m.linear.x, m.angular.z)), DEEP
+        )
+        assert driver.wait_for_subscriber(PATIENCE)
+        threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT)).start()
+        report = driver.drive()
+        until(probe, lambda: len(got) == report.sent + 1)
+    assert not report.completed
+    assert 0 < report.sent < stream.times.size
+    assert report.duration_error == 0.0  # not the plan's end: no duration to compare
+    assert got[-1] == (0.0, 0.0)
+    assert got[-2] != (0.0, 0.0)  # cut short while moving
+
+
 def test_a_bad_frame_id_is_refused_naming_it() -> None:
     stream = ramp(plan(parse_plan("straight 0.1 0.5s"), BOT), Limits()).commands(20.0)
     with pytest.raises(LiveError, match=r"^frame_id '' is empty$"):

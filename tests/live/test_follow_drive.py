@@ -23,12 +23,13 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import replace
 
 import pytest
-from live_graph import PATIENCE, deep
+from live_graph import PATIENCE, deep, spare_domain, until
 
 from diffbot.closed_loop import LoopSettings, run
 from diffbot.follow import DEFAULT_XY_TOLERANCE, DEFAULT_YAW_TOLERANCE, Follower
@@ -103,6 +104,13 @@ def test_poses_are_taken_from_the_first_and_bad_ones_refused() -> None:
         assert driver.pose.x == pytest.approx(0.1, abs=1e-12)
         assert driver.pose.y == pytest.approx(0.0, abs=1e-12)
         assert driver.pose.theta == pytest.approx(math.pi / 2, abs=1e-12)
+        # 0.1 m towards -x is to the left of a robot first heading +y.
+        left = pose_stamped(0.9, 2.0, math.pi / 2)
+        driver.on_pose(left.header, left.pose)
+        assert driver.pose.x == pytest.approx(0.0, abs=1e-12)
+        assert driver.pose.y == pytest.approx(0.1, abs=1e-12)
+        assert driver.pose.theta == pytest.approx(0.0, abs=1e-12)
+        driver.on_pose(ahead.header, ahead.pose)
         bad = pose_stamped(math.nan, 0.0, 0.0)
         driver.on_pose(bad.header, bad.pose)
         zero = types.Pose(types.Point(0.0, 0.0, 0.0), types.Quaternion(0.0, 0.0, 0.0, 0.0))
@@ -129,6 +137,70 @@ def test_no_pose_means_nothing_commanded() -> None:
         assert not driver.wait_until_ready(0.5)
         probe.spin_once(0.2)
     assert seen == []
+
+
+def test_a_pose_without_a_command_subscriber_is_not_ready() -> None:
+    params = load_params()
+    follower = Follower(params, plan(parse_plan("straight 0.1 1s"), params))
+    domain = spare_domain(2)
+    with FollowDriver(follower, FollowSettings(pose_kind="pose"), domain=domain) as driver:
+        assert driver.name == "diffbot_follow"
+        assert driver.participant.domain_id == domain
+        first = pose_stamped(0.0, 0.0, 0.0)
+        driver.on_pose(first.header, first.pose)
+        assert driver.command_count == 0
+        assert not driver.wait_until_ready(0.3)
+
+
+def test_never_a_pose_is_stale_to_the_end_and_reported_from_the_start() -> None:
+    params = load_params()
+    follower = Follower(params, plan(parse_plan("straight 0.1 0.2s"), params))
+    settings = FollowSettings(overtime=0.0)
+    with Node("probe") as probe, FollowDriver(follower, settings) as driver:
+        seen = commands_seen(probe)
+        end = time.monotonic() + PATIENCE
+        while driver.command_count == 0 and time.monotonic() < end:
+            probe.spin_once(0.02)
+        report = driver.follow()
+        end = time.monotonic() + PATIENCE
+        while len(seen) < report.sent + 1 and time.monotonic() < end:
+            probe.spin_once(0.02)
+    assert report.sent == report.stale > 0
+    assert report.completed
+    assert not report.arrived
+    # Measured from the plan's start, where the robot was never seen to leave.
+    assert report.position_error == pytest.approx(0.1, abs=1e-12)
+    assert report.heading_error == 0.0
+    assert {(c.linear.x, c.angular.z) for c in seen} == {(0.0, 0.0)}
+
+
+def test_a_signal_in_the_run_ends_it_with_a_report_and_zero() -> None:
+    from diffbot.live.signals import caught, deferred
+
+    params = load_params()
+    follower = Follower(params, plan(parse_plan("straight 1 20s"), params))
+    settings = FollowSettings(pose_kind="pose", pose_timeout=30.0)
+    with (
+        Node("probe") as probe,
+        FollowDriver(follower, settings) as driver,
+        deferred(deliver=False),
+    ):
+        seen = commands_seen(probe)
+        end = time.monotonic() + PATIENCE
+        while driver.command_count == 0 and time.monotonic() < end:
+            probe.spin_once(0.02)
+        first = pose_stamped(0.0, 0.0, 0.0)
+        driver.on_pose(first.header, first.pose)
+        threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT)).start()
+        report = driver.follow()
+        assert caught() == signal.SIGINT
+        end = time.monotonic() + PATIENCE
+        while len(seen) < report.sent + 1 and time.monotonic() < end:
+            probe.spin_once(0.02)
+    assert not report.completed
+    assert 0 < report.sent < 20 * 20
+    assert report.duration < PATIENCE
+    assert (seen[-1].linear.x, seen[-1].angular.z) == (0.0, 0.0)
 
 
 def test_a_robot_at_the_plan_s_end_arrives_and_stamped_commands_carry_the_frame() -> None:
@@ -430,25 +502,41 @@ def test_progress_is_the_distance_from_the_reference_or_the_goal(law: str) -> No
     # command.
     params = load_params()
     follower = Follower(params, plan(parse_plan("ccw 0.2 90 0.5s"), params), law=law)
-    settings = FollowSettings(pose_kind="pose", pose_timeout=30.0, overtime=0.0)
+    settings = FollowSettings(pose_kind="pose", pose_timeout=30.0, overtime=0.0, stamped=True)
     seen: list[tuple[float, float]] = []
+    commanded: list[types.TwistStamped] = []
     with Node("localization") as node, FollowDriver(follower, settings) as driver:
+        node.create_subscription(types.TwistStamped, "cmd_vel", commanded.append, deep())
         poses = node.create_publisher(types.PoseStamped, "odom")
         assert poses.wait_for_subscribers(PATIENCE)
+        until(node, lambda: driver.command_count == 1)
         poses.publish(pose_stamped(0.0, 0.0, 0.0))  # the origin
         end = time.monotonic() + PATIENCE
         while driver.pose is None and time.monotonic() < end:
             driver.spin_once(0.02)
-        poses.publish(pose_stamped(0.0, 0.1, 0.0))
+        poses.publish(pose_stamped(0.05, 0.1, 0.0))
         while (driver.pose is None or driver.pose.y == 0.0) and time.monotonic() < end:
             driver.spin_once(0.02)
-        driver.follow(lambda t, error: seen.append((t, error)))
+        report = driver.follow(lambda t, error: seen.append((t, error)))
+        while len(commanded) < report.sent + 1 and time.monotonic() < end:
+            node.spin_once(0.02)
     assert len(seen) >= 5
     for t, error in seen:
         if law == "tracking":
             x, y = follower.reference(t)[:2]
         else:
             x, y = 0.2, 0.2
-        assert error == pytest.approx(math.hypot(x, y - 0.1), abs=1e-12)
+        assert error == pytest.approx(math.hypot(x - 0.05, y - 0.1), abs=1e-12)
     if law == "tracking":
         assert seen[-1][1] > seen[0][1] + 0.05  # the reference drives on, away from it
+    # The k-th command goes out at k / rate, never early.
+    period = 1.0 / settings.rate
+    assert all(t >= k * period - 1e-9 for k, (t, _) in enumerate(seen))
+    assert len(seen) <= driver.cap / period + 1
+    # The robot never moved: its report is its distance and heading from the plan's end.
+    assert not report.arrived
+    assert report.completed
+    assert report.position_error == pytest.approx(math.hypot(0.15, 0.1), abs=1e-12)
+    assert report.heading_error == pytest.approx(math.pi / 2, abs=1e-12)
+    assert any(c.twist.linear.x > 0.0 for c in commanded)  # stamped commands carry the twist
+    assert (commanded[-1].twist.linear.x, commanded[-1].twist.angular.z) == (0.0, 0.0)

@@ -10,7 +10,7 @@ import sys
 import time
 
 import pytest
-from live_graph import PATIENCE, deep, timer_periods, until
+from live_graph import PATIENCE, deep, spare_domain, timer_periods, until
 from robots import BOT, two_wheel_urdf
 
 from diffbot.controller_config import AxisLimits, ControllerConfig
@@ -74,7 +74,14 @@ def test_commanded_wheels_turn_and_silence_stops_them() -> None:
                 and stamp(tf[-1].transforms[0].header) == stamp(states[-1].header)
             ),
         )
+        status = robot.status()
+        counts = (robot.updates, robot.timeouts)
+    # The two commands counted among the robot's own counts.
+    assert status == f"{counts[0]} updates, 2 commands, 0 refused, {counts[1]} timeouts"
     assert states[-1].name == ["left_wheel_joint", "right_wheel_joint"]
+    assert states[-1].header.frame_id == ""  # joint states name no frame, as ros2_control's
+    assert (truth[-1].header.frame_id, truth[-1].child_frame_id) == ("odom", "base_link")
+    assert truth[-1].pose.pose.position.z == 0.0
     assert states[-1].velocity == [0.0, 0.0]
     assert states[-1].position == [stopped["left_wheel_joint"], stopped["right_wheel_joint"]]
     turned = stopped["right_wheel_joint"]
@@ -161,6 +168,17 @@ def test_a_bad_wheel_command_is_refused_as_zero() -> None:
         robot.on_wheels(0, [1.0, 2.0])  # two values for one joint
         robot.on_wheels(1, [math.nan])
         assert robot.refused == 2
+        assert robot.velocities == {"left_wheel_joint": 0.0, "right_wheel_joint": 0.0}
+
+
+def test_a_bad_velocity_command_is_refused_as_a_stop_in_the_robots_domain() -> None:
+    settings = RobotSettings(cmd_vel="cmd_vel")
+    with RobotNode(TWO, settings=settings, domain=spare_domain(4)) as robot:
+        assert robot.participant.domain_id == spare_domain(4)
+        robot.on_command((0.1, 0.0))
+        assert robot.velocities == {"left_wheel_joint": 2.0, "right_wheel_joint": 2.0}
+        robot.on_command((math.nan, 0.0))
+        assert robot.refused == 1
         assert robot.velocities == {"left_wheel_joint": 0.0, "right_wheel_joint": 0.0}
 
 

@@ -9,6 +9,7 @@ import re
 import signal
 import threading
 import time
+from typing import Any, cast
 
 import pytest
 from live_graph import PATIENCE, timer_periods, until
@@ -29,6 +30,7 @@ from diffbot.live.transport import (
 def test_ros_topics_live_under_rt() -> None:
     assert dds_topic("/odom") == "rt/odom"
     assert dds_topic("cmd_vel") == "rt/cmd_vel"
+    assert dds_topic("/Xtopic") == "rt/Xtopic"  # only the root's slash goes
     assert dds_topic("left_wheel_velocity_controller/commands") == (
         "rt/left_wheel_velocity_controller/commands"
     )
@@ -37,6 +39,7 @@ def test_ros_topics_live_under_rt() -> None:
 def test_the_domain_comes_from_ros_domain_id() -> None:
     assert domain_id({}) == 0
     assert domain_id({"ROS_DOMAIN_ID": " 42 "}) == 42
+    assert domain_id({"ROS_DOMAIN_ID": "0"}) == 0
     assert domain_id({"ROS_DOMAIN_ID": "232"}) == 232
     for bad in ("233", "-1", "x", "1.5"):
         with pytest.raises(LiveError, match="ROS_DOMAIN_ID must be a whole number from 0 to 232"):
@@ -191,7 +194,6 @@ def test_a_request_of_another_type_is_named_once(service: str) -> None:
 def test_a_services_endpoints_carry_one_service_id_as_rmw_cyclonedds_pairs_them(
     service: str, base: str
 ) -> None:
-    from typing import Any
 
     from cyclonedds.builtin import (
         BuiltinDataReader,
@@ -277,13 +279,21 @@ def test_a_node_describes_what_it_reads_publishes_and_serves() -> None:
 def test_serialized_payloads_of_any_length_arrive_whole(text: str) -> None:
     # A payload is padded to whole 4-byte words on the wire, as rmw does.
     got: list[str] = []
+    raw: list[bytes] = []
+    sent = types.String(text).serialize()
     with Node("talker") as talker, Node("listener") as listener:
         chatter = talker.create_publisher(types.String, "chatter")
         listener.create_subscription(types.String, "chatter", lambda m: got.append(m.data))
+        listener.create_subscription(
+            types.String, "chatter", raw.append, decode=cast(Any, lambda data: data)
+        )
         assert chatter.wait_for_subscribers(PATIENCE)
-        chatter.publish_serialized(types.String(text).serialize())
-        until(listener, lambda: bool(got))
+        chatter.publish_serialized(sent)
+        until(listener, lambda: bool(got and raw))
     assert got == [text]
+    (payload,) = raw
+    assert len(payload) % 4 == 0
+    assert payload == sent + bytes(len(payload) - len(sent))
 
 
 def test_a_type_mismatch_names_every_type_read() -> None:
