@@ -83,7 +83,8 @@ PATIENCE = float(os.environ.get("DIFFBOT_TEST_PATIENCE", "20"))
 
 
 def spare_domain(k: int) -> int:
-    """The ``k``-th spare domain of this process's block (k from 1 to ``BLOCK - 1``)."""
+    """The ``k``-th spare domain of this process's block (k from 1 to ``BLOCK - 1``). Nodes
+    share 1 to 3; 4 is kept for the participant test that needs a domain no node started."""
     if not 1 <= k < BLOCK:
         raise ValueError(f"a block has {BLOCK - 1} spare domains, not {k}")
     return domain() + k
