@@ -158,13 +158,9 @@ def test_never_a_pose_is_stale_to_the_end_and_reported_from_the_start() -> None:
     settings = FollowSettings(overtime=0.0)
     with Node("probe") as probe, FollowDriver(follower, settings) as driver:
         seen = commands_seen(probe)
-        end = time.monotonic() + PATIENCE
-        while driver.command_count == 0 and time.monotonic() < end:
-            probe.spin_once(0.02)
+        until(probe, lambda: driver.command_count == 1)
         report = driver.follow()
-        end = time.monotonic() + PATIENCE
-        while len(seen) < report.sent + 1 and time.monotonic() < end:
-            probe.spin_once(0.02)
+        until(probe, lambda: len(seen) == report.sent + 1)
     assert report.sent == report.stale > 0
     assert report.completed
     assert not report.arrived
@@ -186,17 +182,13 @@ def test_a_signal_in_the_run_ends_it_with_a_report_and_zero() -> None:
         deferred(deliver=False),
     ):
         seen = commands_seen(probe)
-        end = time.monotonic() + PATIENCE
-        while driver.command_count == 0 and time.monotonic() < end:
-            probe.spin_once(0.02)
+        until(probe, lambda: driver.command_count == 1)
         first = pose_stamped(0.0, 0.0, 0.0)
         driver.on_pose(first.header, first.pose)
         threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT)).start()
         report = driver.follow()
         assert caught() == signal.SIGINT
-        end = time.monotonic() + PATIENCE
-        while len(seen) < report.sent + 1 and time.monotonic() < end:
-            probe.spin_once(0.02)
+        until(probe, lambda: len(seen) == report.sent + 1)
     assert not report.completed
     assert 0 < report.sent < 20 * 20
     assert report.duration < PATIENCE
@@ -518,8 +510,7 @@ def test_progress_is_the_distance_from_the_reference_or_the_goal(law: str) -> No
         while (driver.pose is None or driver.pose.y == 0.0) and time.monotonic() < end:
             driver.spin_once(0.02)
         report = driver.follow(lambda t, error: seen.append((t, error)))
-        while len(commanded) < report.sent + 1 and time.monotonic() < end:
-            node.spin_once(0.02)
+        until(node, lambda: len(commanded) == report.sent + 1)
     assert len(seen) >= 5
     for t, error in seen:
         if law == "tracking":
