@@ -215,7 +215,7 @@ def odom(
     commands = CommandSettings(
         cmd_vel=topic,
         stamped=True if stamped else None,
-        timeout=0.5 if timeout is None else timeout,
+        timeout=CommandSettings.timeout if timeout is None else timeout,
     )
     _spin(
         lambda: OpenLoopOdometryNode(params, settings, commands), "odom", duration, announce, quiet
