@@ -20,6 +20,7 @@ from diffbot.commands.options import (
     warn,
 )
 from diffbot.commands.plan_options import PlanOptions, plan_arguments
+from diffbot.commands.shown_defaults import choice_option
 from diffbot.explain import FORMATS, Derivation, languages, render
 from diffbot.explain import explain_fk as derive_fk
 from diffbot.explain import explain_ik as derive_ik
@@ -46,19 +47,17 @@ class Rendering:
 #: Add ``--lang`` and ``--format``; the command receives them as ``rendering: Rendering``.
 rendering_options = option_group(
     [
-        click.option(
+        choice_option(
             "--lang",
-            type=click.Choice(languages()),
+            choices=languages(),
             default="en",
-            show_default=True,
             help="Language of the words (the maths is the same in all).",
         ),
-        click.option(
+        choice_option(
             "--format",
             "output_format",
-            type=click.Choice(FORMATS),
+            choices=FORMATS,
             default="text",
-            show_default=True,
             help="text: for a terminal; md: Markdown with LaTeX maths, for notes.",
         ),
     ],

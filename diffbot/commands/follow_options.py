@@ -9,6 +9,7 @@ from typing import Any, TypeVar
 import click
 
 from diffbot.commands.options import FiniteFloat, NumberPair
+from diffbot.commands.shown_defaults import choice_option, name_option
 from diffbot.follow import MAX_LEAD
 from diffbot.simulation import MAX_DELAY
 
@@ -93,11 +94,10 @@ def follow_options(command: F) -> F:
         help="Standard deviations of the noise on the true pose given to the follower with "
         "--pose-source truth (m, degrees); default none.",
     )(command)
-    command = click.option(
+    command = choice_option(
         "--pose-source",
-        type=click.Choice(["odom", "truth"]),
+        choices=["odom", "truth"],
         default="odom",
-        show_default=True,
         help="What the follower is given: the robot's wheel odometry, or its true pose (with "
         "--pose-noise), as motion capture or localization gives it.",
     )(command)
@@ -157,12 +157,8 @@ def live_follow_options(command: F) -> F:
         help="With --follow: take the pose from this geometry_msgs/PoseStamped or "
         "PoseWithCovarianceStamped topic (localization, motion capture) instead of --odom-topic.",
     )(command)
-    command = click.option(
-        "--odom-topic",
-        default="odom",
-        show_default=True,
-        metavar="TOPIC",
-        help="With --follow: the nav_msgs/Odometry topic of the robot's pose.",
+    command = name_option(
+        "--odom-topic", "odom", "With --follow: the nav_msgs/Odometry topic of the robot's pose."
     )(command)
     return _follow_option(
         "Close the loop: follow the plan from the robot's pose, published on --cmd-vel at --rate "

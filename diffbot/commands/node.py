@@ -34,6 +34,7 @@ from diffbot.commands.options import (
 from diffbot.commands.paths import InputPath
 from diffbot.commands.recording_options import feedback_option
 from diffbot.commands.settings import from_options
+from diffbot.commands.shown_defaults import name_option
 from diffbot.commands.topic_options import CMD_VEL_HELP, distro_option, resolve_cmd_vel
 from diffbot.kinematics import DiffDriveParams
 
@@ -77,20 +78,8 @@ def node() -> None:
 @node.command("odom")
 @click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
 @robot_options
-@click.option(
-    "--joint-states",
-    default="joint_states",
-    show_default=True,
-    metavar="TOPIC",
-    help="The sensor_msgs/JointState topic to read.",
-)
-@click.option(
-    "--odom-topic",
-    default="odom",
-    show_default=True,
-    metavar="TOPIC",
-    help="The nav_msgs/Odometry topic to publish.",
-)
+@name_option("--joint-states", "joint_states", "The sensor_msgs/JointState topic to read.")
+@name_option("--odom-topic", "odom", "The nav_msgs/Odometry topic to publish.")
 @click.option("--no-tf", is_flag=True, help="Do not broadcast odom -> base_link on /tf.")
 @click.option("--frame-id", metavar="FRAME", help="Odometry frame [controllers file, else odom].")
 @click.option(

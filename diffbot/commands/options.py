@@ -37,6 +37,7 @@ from diffbot.commands.robot_path import (
     not_a_description,
 )
 from diffbot.commands.said_once import say_warnings
+from diffbot.commands.shown_defaults import choice_option, name_option
 from diffbot.errors import DescriptionError
 from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import open_regular
@@ -368,11 +369,10 @@ _ROBOT_OPTIONS = [
         is_flag=True,
         help="Read no controllers file, not even the one the description names.",
     ),
-    click.option(
+    choice_option(
         "--source",
-        type=click.Choice(["auto", "description", "controllers", "plugin"]),
+        choices=["auto", "description", "controllers", "plugin"],
         default="auto",
-        show_default=True,
         help="Where the radius, separation and wheels come from: auto takes the controllers "
         "file, else the simulator's diff-drive plugin, else the geometry; the others are still "
         "cross-checked.",
@@ -468,9 +468,7 @@ def topic_option(help_text: str, *, reading: bool = False) -> Callable[[F], F]:
             default=None,
             help=f"{help_text} Default: /joint_states, or else the bag's only JointState topic.",
         )
-    return click.option(
-        "--topic", metavar="TOPIC", default="/joint_states", show_default=True, help=help_text
-    )
+    return name_option("--topic", "/joint_states", help_text)
 
 
 def true_geometry_options(radii_help: str, separation_help: str) -> Callable[[F], F]:

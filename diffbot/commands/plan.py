@@ -29,6 +29,7 @@ from diffbot.commands.plan_options import (
     frame_id_option,
     plan_input_options,
 )
+from diffbot.commands.shown_defaults import choice_option
 from diffbot.commands.topic_options import distro_option, resolve_cmd_vel, wheel_topic_options
 from diffbot.errors import EXIT_CHECK_FAILED, OutputError
 from diffbot.formats.command_stream import write_stream_csv, write_stream_json
@@ -59,12 +60,11 @@ __all__ = ["plan_command"]
 @click.argument("tokens", nargs=-1, metavar="[SPEC | FILE] [NAME:=VALUE]...")
 @robot_options
 @plan_input_options
-@click.option(
+@choice_option(
     "--format",
     "output_format",
-    type=click.Choice(PLAN_FORMATS),
+    choices=PLAN_FORMATS,
     default="table",
-    show_default=True,
     help="table: for people; json, csv: for programs; twist, wheels: ROS message lines; "
     "ros2: a shell script that publishes the plan.",
 )

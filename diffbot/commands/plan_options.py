@@ -28,6 +28,7 @@ from diffbot.commands.options import (
     split_xacro_args,
 )
 from diffbot.commands.paths import InputPath, input_path
+from diffbot.commands.shown_defaults import choice_option, name_option
 from diffbot.formats.text import fmt
 from diffbot.kinematics import DiffDriveParams
 from diffbot.planfile import load_plan, parse_plan
@@ -173,12 +174,8 @@ def join_plan_arguments(tokens: Sequence[str]) -> str:
 
 
 #: The frame of TwistStamped commands, for the commands that send or write them.
-frame_id_option = click.option(
-    "--frame-id",
-    default="base_link",
-    show_default=True,
-    metavar="FRAME",
-    help="The frame of --stamped commands.",
+frame_id_option = name_option(
+    "--frame-id", "base_link", "The frame of --stamped commands.", metavar="FRAME"
 )
 
 
@@ -452,11 +449,10 @@ _GOAL_OPTIONS = [
         metavar="FILE",
         help="Plan through the waypoints of a CSV (x,y[,heading] rows), YAML or JSON file.",
     ),
-    click.option(
+    choice_option(
         "--shape",
-        type=click.Choice(["fastest", "spin-straight-spin", "dubins", "reeds-shepp"]),
+        choices=["fastest", "spin-straight-spin", "dubins", "reeds-shepp"],
         default="fastest",
-        show_default=True,
         help="fastest: the least time at the whole motor limit (turns in place and straights; "
         "at --speed and --spin-rate when either is given, and within --max-linear and "
         "--max-angular); "

@@ -9,6 +9,7 @@ from typing import TypeVar
 
 import click
 
+from diffbot.commands.shown_defaults import name_option
 from diffbot.kinematics import DiffDriveParams
 from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
 
@@ -43,13 +44,7 @@ def wheel_topic_options(left_help: str, right_help: str) -> Callable[[_F], _F]:
     def add(command: _F) -> _F:
         sides = (("right", right_help, RIGHT_TOPIC), ("left", left_help, LEFT_TOPIC))
         for side, text, topic in sides:
-            command = click.option(
-                f"--{side}-topic",
-                default=topic,
-                show_default=True,
-                metavar="TOPIC",
-                help=text,
-            )(command)
+            command = name_option(f"--{side}-topic", topic, text)(command)
         return command
 
     return add
