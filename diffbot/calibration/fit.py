@@ -13,7 +13,7 @@ import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from diffbot.calibration.checks import positive, vector
 from diffbot.errors import CalibrationError, ParameterError
@@ -352,10 +352,10 @@ def fit(
         t, left, right = t[inside], left[inside], right[inside]
     enough_samples(t.size, f" ({tt[0]:.6g} s to {tt[-1]:.6g} s)")
     starts, ends = window_bounds(t, window, window_duration, segments if inside.all() else ())
-    index, first, last = bound_samples(starts, ends)
-    at = t[index]
+    bounds = bound_samples(starts, ends)
+    at = t[bounds.samples]
     truth = (np.interp(at, tt, tx), np.interp(at, tt, ty), np.interp(at, tt, unwrapped(tth)))
-    return solve(params, left, right, index, first, last, truth, weight, limit)
+    return solve(params, left, right, bounds, truth, weight, limit)
 
 
 def weights(
@@ -377,11 +377,17 @@ def enough_samples(count: int, span: str = "") -> None:
         )
 
 
-def bound_samples(
-    starts: NDArray[np.intp], ends: NDArray[np.intp]
-) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp]]:
-    """The samples at the windows' bounds, in order (``index``; the poses are needed there
-    only), and where each window's first and last sample lie in it.
+class SampleBounds(NamedTuple):
+    """The samples at the windows' bounds, in order (``samples``; the poses are needed there
+    only), and where each window's ``first`` and ``last`` sample lie in ``samples``."""
+
+    samples: NDArray[np.intp]
+    first: NDArray[np.intp]
+    last: NDArray[np.intp]
+
+
+def bound_samples(starts: NDArray[np.intp], ends: NDArray[np.intp]) -> SampleBounds:
+    """The samples at the bounds of the windows from ``starts`` to ``ends`` (sample indices).
 
     Raises:
         CalibrationError: fewer than two windows.
@@ -394,16 +400,14 @@ def bound_samples(
             "{window})"
         )
     index = np.unique(np.concatenate((starts, ends)))
-    return index, np.searchsorted(index, starts), np.searchsorted(index, ends)
+    return SampleBounds(index, np.searchsorted(index, starts), np.searchsorted(index, ends))
 
 
 def solve(
     params: DiffDriveParams,
     left: NDArray[np.float64],
     right: NDArray[np.float64],
-    index: NDArray[np.intp],
-    first: NDArray[np.intp],
-    last: NDArray[np.intp],
+    bounds: SampleBounds,
     truth_at: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
     weight: float,
     limit: float,
@@ -413,6 +417,7 @@ def solve(
     """
     import numpy as np
 
+    index, first, last = bounds
     start = np.array([*params.radii, params.wheel_separation])
     truth = _relative(*truth_at, first, last)
     if np.hypot(truth[0], truth[1]).sum() < 1e-9:

@@ -167,7 +167,7 @@ def fit_recordings(
     sizes = np.cumsum([0] + [part.left.size for part in parts])
     starts = np.concatenate([p.starts + n for p, n in zip(parts, sizes, strict=False)])
     ends = np.concatenate([p.ends + n for p, n in zip(parts, sizes, strict=False)])
-    index, first, last = bound_samples(starts, ends)
+    bounds = bound_samples(starts, ends)
     del starts, ends
     truth_at = (
         np.concatenate([p.truth_at[0] for p in parts]),
@@ -177,7 +177,7 @@ def fit_recordings(
     left = parts[0].left if len(parts) == 1 else np.concatenate([p.left for p in parts])
     right = parts[0].right if len(parts) == 1 else np.concatenate([p.right for p in parts])
     del parts
-    result = solve(params, left, right, index, first, last, truth_at, weight, limit)
+    result = solve(params, left, right, bounds, truth_at, weight, limit)
     return result, offsets
 
 

@@ -229,3 +229,16 @@ def test_the_heading_is_unwrapped_a_piece_at_a_time_as_numpy_unwraps_it_whole(
         monkeypatch.setattr(module, "_PASS", size)
         assert np.array_equal(module.unwrapped(theta), np.unwrap(theta))
     assert module.unwrapped(np.empty(0)).size == 0
+
+
+def test_the_windows_bounds_are_each_sample_once_and_where_each_window_starts_and_ends() -> None:
+    from diffbot.calibration.fit import bound_samples
+
+    starts = np.array([0, 5, 5, 9], dtype=np.intp)
+    ends = np.array([5, 9, 12, 12], dtype=np.intp)
+    bounds = bound_samples(starts, ends)
+    np.testing.assert_array_equal(bounds.samples, [0, 5, 9, 12])
+    np.testing.assert_array_equal(bounds.samples[bounds.first], starts)
+    np.testing.assert_array_equal(bounds.samples[bounds.last], ends)
+    with pytest.raises(CalibrationError, match="at least two are needed"):
+        bound_samples(starts[:1], ends[:1])
