@@ -277,15 +277,16 @@ class RobotOptions:
             no_controllers=self.no_controllers,
         )
         if not quiet:
-            say_warnings(
-                params.warnings,
-                params.source,
-                self.robot,
-                xacro_args=self.xacro_args,
-                packages=self.packages,
-                controllers=self.controllers,
-            )
+            say_warnings(params.warnings, params.source, self.robot, self.params_command())
         return params
+
+    def params_command(self) -> list[str]:
+        """The words of the ``diffbot params`` command that loads this description as given:
+        its path, xacro arguments, packages and controllers file."""
+        words = ["diffbot", "params", *([self.robot] if self.robot else [])]
+        words += [f"{name}:={value}" for name, value in self.xacro_args.items()]
+        words += [f"--package={name}={folder}" for name, folder in self.packages.items()]
+        return words + ([f"--controllers={self.controllers}"] if self.controllers else [])
 
 
 #: ``--trust``: let the description run xacro's full Python (robot options and ``urdf``).

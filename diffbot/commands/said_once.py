@@ -14,7 +14,7 @@ import contextlib
 import hashlib
 import os
 import shlex
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Final
 
@@ -100,10 +100,7 @@ def say_warnings(
     warnings: Sequence[str],
     source: str,
     robot: str | None,
-    *,
-    xacro_args: Mapping[str, str],
-    packages: Mapping[str, str],
-    controllers: str | None,
+    again: Sequence[str],
 ) -> None:
     """Show a description's warnings on stderr: in full the first time, as one line saying how
     many and how to see them when the same ones were shown before; nothing with ``--quiet``.
@@ -112,8 +109,7 @@ def say_warnings(
         warnings: the messages.
         source: the description they are about, as the parameters name it.
         robot: the description as the user gave it (None: the bundled robot).
-        xacro_args, packages, controllers: the options given with it, repeated in the
-            ``diffbot params`` command that shows the warnings again.
+        again: the words of the command that shows the warnings again.
     """
     from diffbot.commands.options import warn
 
@@ -123,13 +119,9 @@ def say_warnings(
         for message in warnings:
             warn(message)
         return
-    words = ["diffbot", "params", *([robot] if robot else [])]
-    words += [f"{name}:={value}" for name, value in xacro_args.items()]
-    words += [f"--package={name}={folder}" for name, folder in packages.items()]
-    words += [f"--controllers={controllers}"] if controllers else []
     count = len(warnings)
     plural = "warning" if count == 1 else "warnings"
     warn(
         f"{count} {plural} about {robot or 'the bundled robot'}, shown before: "
-        f"{shlex.join(words)} shows {'it' if count == 1 else 'them'}; -q silences warnings"
+        f"{shlex.join(again)} shows {'it' if count == 1 else 'them'}; -q silences warnings"
     )

@@ -135,3 +135,31 @@ def test_quiet_params_marks_nothing() -> None:
     run("params", ROBOT, "--controllers", CONTROLLERS, "-q")
     _, later = run("ik", ROBOT, "0.1", "0", "--controllers", CONTROLLERS)
     assert len(later) == 2
+
+
+def test_the_command_that_shows_them_again_repeats_the_options_that_load_the_description() -> None:
+    from diffbot.commands.options import RobotOptions
+
+    given = RobotOptions(
+        robot="my robot.xacro",
+        xacro_args={"prefix": "a_", "wheels": "4"},
+        packages={"my_pkg": "/opt/my pkg"},
+        left_joint="l",
+        right_joint="r",
+        wheel_radius=0.1,
+        wheel_separation=None,
+        max_rpm=None,
+        controllers="c.yaml",
+        trust=True,
+    )
+    assert given.params_command() == [
+        "diffbot",
+        "params",
+        "my robot.xacro",
+        "prefix:=a_",
+        "wheels:=4",
+        "--package=my_pkg=/opt/my pkg",
+        "--controllers=c.yaml",
+    ]
+    bundled = RobotOptions(None, {}, {}, None, None, None, None, None)
+    assert bundled.params_command() == ["diffbot", "params"]
