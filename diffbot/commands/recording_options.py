@@ -89,11 +89,7 @@ class RecordingOptions:
             topic,
             feedback=self.feedback_for(params),
             conditioning=self.conditioning(),
-            time_column=self.time_column,
-            left_column=self.left_column,
-            right_column=self.right_column,
-            delimiter=self.delimiter,
-            time_unit=self.time_unit,
+            **self.csv(),
         )
         warn_notes(recording.notes, source)
         if recording.conditioning is not None:
