@@ -18,14 +18,13 @@ from dataclasses import dataclass, replace
 from typing import Any, cast
 
 from diffbot.controller_config import ControllerConfig
-from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
 from diffbot.live.cdr import JointStateReader, OdometryWriter
 from diffbot.live.names import check_frame_id
 from diffbot.live.transport import SUBSCRIPTION, TF, LiveError, Node
-from diffbot.live.wire import Refusals, joint_state_problem
-from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
+from diffbot.live.wire import Refusals, joint_state_problem, planar_pose_problem
+from diffbot.numbers import MAX_COORDINATE, MAX_PLAN_DURATION, MAX_RECORDED_ANGLE, finite_in_range
 from diffbot.odometry import DEFAULT_POSE_COVARIANCE, DEFAULT_TWIST_COVARIANCE, Odometry
 from diffbot.ros.messages import covariance_matrix
 from diffbot.velocity_feedback import FEEDBACKS
@@ -200,15 +199,17 @@ class OdometryNode(Node):
     def on_set(self, request: types.SetOdometryRequest) -> types.SetOdometryResponse:
         """control_msgs/srv/SetOdometry: put the odometry at (x, y, yaw), keeping the wheels'
         baseline as diff_drive_controller's ``set_odometry`` does (z, roll and pitch, which a
-        planar odometry has not, are ignored as there). A value that is not finite is
-        refused."""
+        planar odometry has not, are ignored as there). A value that is not finite, or beyond
+        the range of poses and angles the node takes (:mod:`diffbot.live.wire`), is refused."""
         self.calls[self.set_service] = self.calls.get(self.set_service, 0) + 1
-        try:
-            self.odometry.reset(request.x, request.y, request.yaw)
-        except ParameterError:
+        problem = planar_pose_problem(request.x, request.y, request.yaw)
+        if problem is not None:
             return types.SetOdometryResponse(
-                success=False, message="x, y and yaw must be finite numbers"
+                success=False,
+                message=f"x, y and yaw must be finite numbers within {MAX_COORDINATE:g} m and "
+                f"{MAX_RECORDED_ANGLE:g} rad ({problem})",
             )
+        self.odometry.reset(request.x, request.y, request.yaw)
         return types.SetOdometryResponse(success=True, message="Odometry set request accepted")
 
     def on_reset(self, request: types.EmptyRequest) -> types.EmptyResponse:

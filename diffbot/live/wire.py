@@ -35,6 +35,7 @@ __all__ = [
     "WRONG_LENGTH",
     "Refusals",
     "joint_state_problem",
+    "planar_pose_problem",
     "pose_problem",
     "twist_problem",
     "wheel_problem",
@@ -44,7 +45,8 @@ __all__ = [
 NOT_FINITE: Final = SKIP_NOT_FINITE
 #: A number beyond its physical range.
 OUT_OF_RANGE: Final = "out of range"
-#: A stamp's nanoseconds not within 0..999999999.
+#: A stamp before 1970 (negative seconds: ROS time is never negative) or with nanoseconds not
+#: within 0..999999999.
 BAD_STAMP: Final = "bad stamp"
 #: A stamp further ahead of this machine's clock than :data:`MAX_STAMP_AHEAD_NS`.
 STAMPED_AHEAD: Final = "stamped in the future"
@@ -106,9 +108,11 @@ def joint_state_problem(
 
 
 def _stamp_problem(sec: int, nanosec: int, now_ns: int | None) -> str | None:
-    """Why a stamp is refused (nanoseconds out of their range, or further ahead of this
-    machine's clock ``now_ns`` than :data:`MAX_STAMP_AHEAD_NS`; read when None), or None."""
-    if not 0 <= nanosec < 1_000_000_000:
+    """Why a stamp is refused (before 1970, nanoseconds out of their range, or further ahead
+    of this machine's clock ``now_ns`` than :data:`MAX_STAMP_AHEAD_NS`; read when None), or
+    None. A negative stamp would start a wheel's clock decades back, and the next good message
+    would then hold its velocity over all those years."""
+    if sec < 0 or not 0 <= nanosec < 1_000_000_000:
         return BAD_STAMP
     now = time.time_ns() if now_ns is None else now_ns
     if sec * 1_000_000_000 + nanosec - now > MAX_STAMP_AHEAD_NS:
@@ -140,6 +144,16 @@ def pose_problem(
     if abs(sum(q * q for q in orientation) - 1.0) > QUATERNION_SLACK:
         return OUT_OF_RANGE
     return None
+
+
+def planar_pose_problem(x: float, y: float, yaw: float) -> str | None:
+    """Why a planar pose asked for (x, y in m, yaw in rad: a ``set_odometry`` request) is
+    refused, or None: positions within the poses' bound, a heading within the angles'."""
+    return (
+        _number_problem(x, MAX_COORDINATE)
+        or _number_problem(y, MAX_COORDINATE)
+        or _number_problem(yaw, MAX_RECORDED_ANGLE)
+    )
 
 
 class Refusals:

@@ -19,6 +19,7 @@ from diffbot.live import types
 from diffbot.live.messages import stamp_ns, time_of, yaw_of
 from diffbot.live.odometry import OdometryNode, OdometrySettings
 from diffbot.live.transport import LiveError, Node
+from diffbot.numbers import MAX_COORDINATE, MAX_RECORDED_ANGLE
 from diffbot.planfile import parse_plan
 from diffbot.simulation import simulate
 from diffbot.trajectory import plan
@@ -164,6 +165,23 @@ def test_velocity_feedback_skips_and_counts_what_it_cannot_use() -> None:
     assert node.status().endswith(
         "skipped: 1 no velocities, 1 out of range, 1 not finite, 2 mismatched lengths"
     )
+
+
+def test_a_negative_stamp_is_skipped_and_does_not_start_the_clock() -> None:
+    # A first joint state stamped in 1901 would start the velocity clock there: the next good
+    # one would then hold its velocity over 124 years.
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    node = OdometryNode(BOT, OdometrySettings(feedback="velocity"))
+    with node:
+        for message in (
+            velocity_state(names, [1e4, 1e4], -(2**31) * 10**9),
+            velocity_state(names, [1.0, 1.0], T0),
+            velocity_state(names, [1.0, 1.0], -1),  # a nanosecond before 1970, mid-stream
+            velocity_state(names, [1.0, 1.0], T0 + 10**8),
+        ):
+            node.on_joint_state(message)
+    assert node.counts == {"received": 0, "used": 2, "published": 2, "bad stamp": 2}
+    assert node.odometry.pose.x == pytest.approx(0.1 * BOT.wheel_radius, abs=1e-15)
 
 
 def test_the_controller_s_position_feedback_chooses_what_is_read() -> None:
@@ -485,8 +503,18 @@ def test_odd_service_names_keep_their_letters_and_a_bad_set_is_refused_in_words(
         assert node.set_service == "/Xodom/set_odometry"
         assert node.reset_service == "/Xodom/reset_odometry"
         reply = node.on_set(types.SetOdometryRequest(x=math.nan))
+        far = node.on_set(types.SetOdometryRequest(y=-1e308))
+        spun = node.on_set(types.SetOdometryRequest(yaw=2e12))
+        edge = node.on_set(types.SetOdometryRequest(x=-MAX_COORDINATE, yaw=MAX_RECORDED_ANGLE))
+        pose = node.odometry.pose
     assert reply.success is False
-    assert reply.message == "x, y and yaw must be finite numbers"
+    bounds = "x, y and yaw must be finite numbers within 1e+09 m and 1e+12 rad"
+    assert reply.message == f"{bounds} (not finite)"
+    # A pose beyond the bound of poses taken from any message is refused as they are.
+    assert (far.success, far.message) == (False, f"{bounds} (out of range)")
+    assert (spun.success, spun.message) == (False, f"{bounds} (out of range)")
+    assert edge.success is True
+    assert (pose.x, pose.y) == (-MAX_COORDINATE, 0.0)
 
 
 def test_the_node_s_odometry_takes_its_frames_covariances_and_window() -> None:

@@ -28,6 +28,7 @@ from diffbot.live.wire import (
     WRONG_LENGTH,
     Refusals,
     joint_state_problem,
+    planar_pose_problem,
     pose_problem,
     twist_problem,
     wheel_problem,
@@ -98,6 +99,15 @@ def test_a_pose_is_finite_in_range_and_a_rotation() -> None:
     assert pose_problem(sec, 0, (0.0, 0.0, 0.0), (1.5, 0.0, 0.0, math.nan), NOW) == OUT_OF_RANGE
 
 
+def test_a_planar_pose_asked_for_is_held_to_the_bounds_of_poses_and_angles() -> None:
+    assert planar_pose_problem(MAX_COORDINATE, -MAX_COORDINATE, -MAX_RECORDED_ANGLE) is None
+    assert planar_pose_problem(1.01 * MAX_COORDINATE, 0.0, 0.0) == OUT_OF_RANGE
+    assert planar_pose_problem(0.0, -1.01 * MAX_COORDINATE, 0.0) == OUT_OF_RANGE
+    assert planar_pose_problem(0.0, 0.0, 1.01 * MAX_RECORDED_ANGLE) == OUT_OF_RANGE
+    assert planar_pose_problem(0.0, math.nan, 0.0) == NOT_FINITE
+    assert planar_pose_problem(0.0, 0.0, -math.inf) == NOT_FINITE
+
+
 @pytest.mark.parametrize("check", ["joint state", "pose"])
 def test_stamps_are_refused_at_the_edges_of_their_ranges(check: str) -> None:
     def problem(sec: int, nanosec: int, now: int | None = NOW) -> str | None:
@@ -108,6 +118,10 @@ def test_stamps_are_refused_at_the_edges_of_their_ranges(check: str) -> None:
     sec = NOW // 10**9
     assert problem(sec, 999_999_999) is None
     assert problem(sec, 1_000_000_000) == BAD_STAMP
+    # ROS time starts at 0 (simulated time too); a negative second is no time at all.
+    assert problem(0, 0) is None
+    assert problem(-1, 999_999_999) == BAD_STAMP
+    assert problem(-(2**31), 0) == BAD_STAMP
     # Ahead by exactly the most allowed is taken; a nanosecond more is not.
     edge = NOW + MAX_STAMP_AHEAD_NS - 7
     assert problem(edge // 10**9, edge % 10**9, NOW - 7) is None
