@@ -1,3 +1,3 @@
-from diffbot.cli import main
+from diffbot.cli import run
 
-main(prog_name="diffbot")
+run()

@@ -135,7 +135,13 @@ class DiffbotGroup(SuggestingGroup):
             with guarded_run():
                 code = self._run(args, prog_name, complete_var, **extra)
         finally:
-            signal_handlers.restore(saved)
+            if ending and signal_handlers.ends_with_run():
+                # The exit code is decided (an error's too) and the outputs are written: a
+                # signal while the interpreter shuts down (which puts back the default actions
+                # that end a process) must not turn that into a death by the signal.
+                signal_handlers.ignore((signal.SIGINT, *ending))
+            else:
+                signal_handlers.restore(saved)
         if not standalone_mode:
             return code
         sys.exit(code if isinstance(code, int) else 0)
@@ -192,6 +198,13 @@ def _flush_or_drop_stdout() -> None:
 def _error(message: str, code: int) -> NoReturn:
     click.echo(f"error: {shorten_numerals(' '.join(str(message).split()))}", err=True)
     sys.exit(code)
+
+
+def run() -> None:
+    """The command line's entry point (``diffbot``, ``python -m diffbot``): one command, then
+    the process ends."""
+    signal_handlers.process_ends_with_run()
+    main(prog_name="diffbot")
 
 
 @click.group(

@@ -8,7 +8,8 @@ from typing import Any
 
 import pytest
 
-from diffbot.signal_handlers import install, restore
+from diffbot import signal_handlers
+from diffbot.signal_handlers import ends_with_run, ignore, install, restore
 
 SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
@@ -51,3 +52,28 @@ def test_an_ignored_signal_stays_ignored() -> None:
     restore(saved)
     assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
     assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+
+
+def test_ignored_signals_stay_ignored_and_one_set_outside_python_is_left_alone(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    signal.signal(signal.SIGTERM, other)
+    signal.signal(signal.SIGHUP, signal.SIG_DFL)
+    ignore(SIGNALS)
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_IGN
+    assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
+    # Python cannot put back a handler it did not install: such a signal is not touched.
+    signal.signal(signal.SIGHUP, signal.SIG_DFL)
+    monkeypatch.setattr(signal, "getsignal", lambda signum: None)
+    ignore(SIGNALS)
+    monkeypatch.undo()
+    assert signal.getsignal(signal.SIGHUP) is signal.SIG_DFL
+
+
+def test_only_the_entry_point_says_that_the_process_ends_with_its_run(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    assert ends_with_run() is False  # a library or a test runner keeps its signals
+    monkeypatch.setattr(signal_handlers._Process, "ends_with_run", False)
+    signal_handlers.process_ends_with_run()
+    assert ends_with_run() is True

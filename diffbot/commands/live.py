@@ -99,11 +99,13 @@ def run_node(
 
     From the node's making to the status line, an ending signal only asks the node to stop
     (:mod:`diffbot.live.signals`): the node ends cleanly wherever the signal comes, and a
-    signal is the normal end of a node's run (exit code 0).
+    signal is the normal end of a node's run (exit code 0). From then on the command line's
+    process only exits, with ending signals ignored.
     """
     from diffbot.live.signals import deferred
+    from diffbot.signal_handlers import ends_with_run
 
-    with deferred(deliver=False):
+    with deferred(deliver=False, ignore_after=ends_with_run()):
         node = make()
         try:
             if announce:

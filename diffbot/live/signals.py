@@ -67,14 +67,19 @@ def caught() -> int | None:
 
 
 @contextmanager
-def deferred(wake: Callable[[], None] | None = None, *, deliver: bool = True) -> Iterator[None]:
+def deferred(
+    wake: Callable[[], None] | None = None, *, deliver: bool = True, ignore_after: bool = False
+) -> Iterator[None]:
     """Within the block, an ending signal is only recorded (:func:`caught`) and ``wake()``
     called (from the handler: it must only wake, as a guard condition's ``set`` does).
 
     Blocks nest: the outermost installs the handlers (not over a signal that is ignored, as
     under ``nohup``), and on leaving restores them and, when a signal came, hands it to the
     handler that was there before (``deliver``), or drops it (``deliver=False``). A block left
-    by an exception restores the handlers and hands nothing on.
+    by an exception restores the handlers and hands nothing on. With ``ignore_after`` the
+    outermost block leaves the signals it took ignored instead of restoring them: for a
+    process whose outcome the block decided (``diffbot node``: exit code 0), so that a second
+    Ctrl-C while it exits finds no handler that would change that.
     """
     if not _in_main_thread():
         yield
@@ -94,7 +99,10 @@ def deferred(wake: Callable[[], None] | None = None, *, deliver: bool = True) ->
             _STATE.wakers.remove(wake)
         if outermost:
             saved, _STATE.saved = _STATE.saved, {}
-            signal_handlers.restore(saved)
+            if ignore_after:
+                signal_handlers.ignore(saved)
+            else:
+                signal_handlers.restore(saved)
             received, _STATE.signum = _STATE.signum, None
     if outermost and deliver and received is not None:
         _hand_on(received, saved.get(received, signal.SIG_DFL))

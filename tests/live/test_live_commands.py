@@ -3,6 +3,7 @@ counts, the missing extra is named."""
 
 from __future__ import annotations
 
+import contextlib
 import os
 import random
 import select
@@ -17,6 +18,7 @@ import pytest
 from click.testing import CliRunner
 from live_graph import PATIENCE
 
+from diffbot import signal_handlers
 from diffbot.cli import main
 from diffbot.live import types
 from diffbot.live.transport import Node, QosProfile
@@ -219,6 +221,52 @@ def test_every_live_command_ends_cleanly_on_a_signal_under_load(seed: int) -> No
     assert last[LEFT_TOPIC] == zero
     assert last[RIGHT_TOPIC] == zero
     assert last["cmd_vel"] == (0.0, 0.0)
+
+
+@pytest.mark.parametrize("second", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
+def test_a_second_signal_while_a_node_shuts_down_does_not_end_it(second: int) -> None:
+    """Ctrl-C twice: the second signal comes while the interpreter shuts down after the status
+    line (DDS torn down, a few tenths of a second, the default actions of signals back), and is
+    ignored: the exit code stays the first signal's clean 0."""
+    process = subprocess.Popen(
+        [sys.executable, "-m", "diffbot", "node", "ik"],
+        stderr=subprocess.PIPE,
+        text=True,
+        env=os.environ.copy(),
+    )
+    try:
+        assert process.stderr is not None
+        assert process.stderr.readline().startswith("ik: reads ")
+        process.send_signal(signal.SIGINT)
+        status = process.stderr.readline()
+        process.send_signal(second)
+        _, rest = process.communicate(timeout=PATIENCE)
+    finally:
+        process.kill()
+    assert status.startswith("ik: 0 commands"), status + rest
+    assert (process.returncode, rest) == (0, "")
+
+
+def test_the_command_line_ignores_ending_signals_once_its_outcome_is_decided(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    ending = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+    before = {signum: signal.getsignal(signum) for signum in ending}
+    try:
+        # Run inside another program (as click's test runner does): the signals are given back.
+        for standalone in (False, True):
+            with contextlib.suppress(SystemExit):
+                main.main(["ik", "nan", "0"], prog_name="diffbot", standalone_mode=standalone)
+            assert {s: signal.getsignal(s) for s in ending} == before
+        # As the process's entry point: it only exits after the command, signals ignored.
+        monkeypatch.setattr(signal_handlers._Process, "ends_with_run", True)
+        with pytest.raises(SystemExit) as done:
+            main.main(["ik", "nan", "0"], prog_name="diffbot")
+        assert done.value.code == 2
+        assert {s: signal.getsignal(s) for s in ending} == dict.fromkeys(ending, signal.SIG_IGN)
+    finally:
+        for signum, handler in before.items():
+            signal.signal(signum, handler)
 
 
 @pytest.mark.parametrize(

@@ -121,6 +121,27 @@ def test_a_deferred_signal_goes_to_the_handler_before_or_ends_the_run() -> None:
         signal.signal(signal.SIGTERM, before)
 
 
+def test_a_block_that_decides_the_outcome_leaves_the_signals_it_took_ignored() -> None:
+    got: list[int] = []
+    before = {
+        signal.SIGINT: signal.getsignal(signal.SIGINT),
+        signal.SIGTERM: signal.signal(signal.SIGTERM, lambda signum, frame: got.append(signum)),
+        signal.SIGHUP: signal.signal(signal.SIGHUP, signal.SIG_IGN),
+    }
+    try:
+        with signals.deferred(deliver=False, ignore_after=True):
+            signal.raise_signal(signal.SIGTERM)
+            assert signals.caught() == signal.SIGTERM
+        assert signals.caught() is None
+        for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+            assert signal.getsignal(signum) is signal.SIG_IGN
+        signal.raise_signal(signal.SIGTERM)  # a second signal: nothing runs, nothing ends
+        assert got == []
+    finally:
+        for signum, handler in before.items():
+            signal.signal(signum, handler)
+
+
 def test_a_deferred_signal_under_the_default_action_is_raised_again_after_the_block(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
