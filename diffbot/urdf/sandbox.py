@@ -296,7 +296,9 @@ def sandboxed(
             return folder
 
         def load_yaml(filename: str) -> Any:
-            name = xacro.abs_filename_spec(filename)
+            # Absolute before it is checked: xacro.load_yaml joins a relative name to the
+            # including file's folder again, and would read another file than the one checked.
+            name = os.path.abspath(xacro.abs_filename_spec(filename))
             allowed.check(name, "xacro.load_yaml")
             if not os.path.lexists(name) and xacro.filestack:
                 _missing_include(name, xacro.filestack[-1], located, shown, "loads")

@@ -239,6 +239,27 @@ def test_load_yaml_cannot_climb_out_of_the_folder_or_follow_a_link(tmp_path: Pat
         assert "secret" in process(path, trust=True)
 
 
+def test_load_yaml_reads_the_file_it_checked_from_any_current_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A description named by a relative path with a folder (urdf/robot.urdf.xacro, run from the
+    # repository): the name is taken from the description's folder once, not twice, whatever
+    # the current folder. A link where the doubled name would lead goes outside the tree.
+    body = "<link name=\"${xacro.load_yaml('etc/wheel.yaml')['radius']}\"/>"
+    write(tmp_path / "repo" / "urdf" / "robot.urdf.xacro", robot(body))
+    write(tmp_path / "repo" / "urdf" / "etc" / "wheel.yaml", "radius: 0.05\n")
+    write(tmp_path / "outside" / "etc" / "wheel.yaml", "radius: 0.07\n")
+    (tmp_path / "repo" / "urdf" / "urdf").symlink_to(tmp_path / "outside")
+    for folder, name in (
+        (tmp_path / "repo", "urdf/robot.urdf.xacro"),
+        (tmp_path, "repo/urdf/robot.urdf.xacro"),
+    ):
+        monkeypatch.chdir(folder)
+        expanded = process(name)
+        assert 'name="0.05"' in expanded
+        assert "0.07" not in expanded
+
+
 def test_an_include_outside_the_folders_is_refused(tmp_path: Path) -> None:
     write(tmp_path / "elsewhere.xacro", robot('<link name="elsewhere"/>'))
     body = f'<xacro:include filename="{tmp_path / "elsewhere.xacro"}"/>'
