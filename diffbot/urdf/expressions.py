@@ -460,6 +460,21 @@ def _pow(base: Any, exponent: Any, modulus: Any = None) -> Any:
     return pow(base, exponent, modulus)
 
 
+def _tokenize(text: Any, sep: Any = ",; ", skip_empty: bool = True) -> list[str]:
+    """``xacro.tokenize`` without a regular expression made of its argument: ``text`` cut at
+    every character of ``sep``, empty pieces dropped unless ``skip_empty`` is false.
+
+    xacro builds the pattern ``[SEP]`` from the text it is given, so a crafted ``sep`` closes
+    the class and backtracks exponentially; here every character of ``sep`` is one separator
+    (a ``-`` too: no ranges), in time linear in ``text``.
+    """
+    text, sep = str(text), str(sep)
+    parts = [text]
+    if sep:
+        parts = text.translate(dict.fromkeys(map(ord, sep), sep[0])).split(sep[0])
+    return [part for part in parts if part] if skip_empty else parts
+
+
 def _refused_load_yaml(filename: str) -> Any:
     raise RefusalError("xacro.load_yaml outside an expansion (no folders to read from)")
 
@@ -494,6 +509,7 @@ def symbols(load_yaml: Callable[[str], Any]) -> dict[str, Any]:
     booleans = {"True": True, "False": False}
     original = xacro.create_global_symbols()["xacro"]
     helpers = {k: safe(k, original[k]) for k in _XACRO_FUNCTIONS if k in original}
+    helpers["tokenize"] = SafeFunction("tokenize", _tokenize)
     helpers["load_yaml"] = SafeFunction("load_yaml", load_yaml)
 
     table: dict[str, Any] = dict(maths)

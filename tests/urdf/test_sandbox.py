@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from linear_time import assert_linear
 
 import diffbot
 from diffbot.errors import (
@@ -479,6 +480,34 @@ def test_everyday_expressions_give_known_values(expression: str, expected: objec
 def test_unsafe_or_unbounded_expressions_are_refused(expression: str, reason: str) -> None:
     with pytest.raises(RefusedExpressionError, match=refused(reason)):
         safe_eval(expression, {})
+
+
+@given(
+    st.text(alphabet="ab ,;-x]|(", max_size=40),
+    st.text(alphabet=" ,;:/", min_size=1, max_size=4),
+    st.booleans(),
+)
+def test_tokenize_cuts_as_xacro_does_at_plain_separators(
+    text: str, sep: str, skip_empty: bool
+) -> None:
+    import xacro
+
+    expected = xacro.tokenize(text, sep, skip_empty)
+    assert safe_eval("xacro.tokenize(t, s, e)", {"t": text, "s": sep, "e": skip_empty}) == expected
+    assert safe_eval("xacro.tokenize(t)", {"t": text}) == xacro.tokenize(text)
+
+
+def test_tokenize_takes_each_character_of_its_separator_literally_in_linear_time() -> None:
+    # xacro makes the pattern [SEP] of it: this one closes the class and backtracks 2**n times.
+    crafted = "x]|(a|a)*[y"
+    assert safe_eval("xacro.tokenize('a-b]c(d', ']-(')", {}) == ["a", "b", "c", "d"]
+    timing = assert_linear(
+        lambda text: safe_eval("xacro.tokenize(t, s)", {"t": text.decode(), "s": crafted}),
+        lambda n: b"a" * n + b"!",
+        4000,
+        accepts=True,
+    )
+    assert timing.large < 1.0, timing
 
 
 small = st.integers(min_value=-1000, max_value=1000)
