@@ -64,12 +64,13 @@ def description_roots(path: str | os.PathLike[str]) -> tuple[Path, ...]:
     nearest folder at most two levels up holding a ``package.xml`` counts too.
 
     Args:
-        path: the description file.
+        path: the description file, or its folder (an SDF model folder).
 
     Returns:
         The folders, symbolic links resolved.
     """
-    folder = resolved(path, DescriptionError).parent
+    real = resolved(path, DescriptionError)
+    folder = real if real.is_dir() else real.parent
     roots = [folder]
     for parent in list(folder.parents)[:2]:
         if (parent / "package.xml").is_file() and parent != Path(parent.anchor):

@@ -172,15 +172,22 @@ class _Model:
     includes: int = 0
 
 
-def model_file(folder: Path) -> Path:
+def model_file(folder: Path, roots: Sequence[Path] | None = None) -> Path:
     """The SDF file of a model folder: the first ``<sdf>`` its ``model.config`` names, else
     ``model.sdf``.
 
+    Args:
+        folder: the model folder.
+        roots: the folders the ``model.config`` must lie in, links resolved (None: any).
+
     Raises:
         DescriptionError: the folder holds neither.
+        OutsideRootsError: the ``model.config`` lies outside ``roots`` (it is not read).
     """
     config = folder / "model.config"
     if config.is_file():
+        if roots is not None:
+            check_inside(config, roots, "reading", "it")
         root = _parse(config, "a model.config")
         for sdf in root.iter("sdf"):
             name = (sdf.text or "").strip()
@@ -208,7 +215,7 @@ class _Reader:
     def __init__(self, source: Path, finder: PackageFinder, roots: Sequence[Path], trust: bool):
         self.source = source
         self.finder = finder
-        self.roots = [resolved(root, DescriptionError) for root in roots]
+        self.roots = list(dict.fromkeys(resolved(root, DescriptionError) for root in roots))
         self.trust = trust
         self.model = _Model()
 
@@ -318,7 +325,7 @@ class _Reader:
             target = self.locate(uri, here)
             if target.is_dir():
                 self.check(target)  # before its model.config is read
-                target = model_file(target)
+                target = model_file(target, None if self.trust else self.roots)
             name = (include.findtext("name") or "").strip() or target.parent.name
             include_pose, _ = _pose(include, f"{where} include {uri!r}")
             self.read_file(target, _mul(frame, include_pose), f"{prefix}{name}::", depth + 1)
@@ -480,7 +487,7 @@ def expand_sdf(
         OutsideRootsError: an include outside the description's folders (untrusted).
         ExpansionLimitError: a file too large, includes nested too deep or too many.
     """
-    file = model_file(path) if path.is_dir() else path
+    file = model_file(path, None if trust else [*roots, path]) if path.is_dir() else path
     reader = _Reader(file, finder, [*roots, path if path.is_dir() else file.parent], trust)
     reader.read_file(file, _identity(), "", 0)
     root = _parse(file, "an SDF file")

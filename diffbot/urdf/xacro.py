@@ -206,8 +206,7 @@ def _read_sdf(
     from diffbot.urdf.sandbox import description_roots
     from diffbot.urdf.sdf import expand_sdf
 
-    anchor = source / "model.config" if source.is_dir() else source
-    roots = description_roots(anchor)
+    roots = description_roots(source)
     urdf, files = expand_sdf(source, finder, roots, trust=trust)
     warnings = [f"{source} is SDF: xacro argument {name!r} ignored" for name in given]
     # the folders of the models it included count as its own, as a xacro's packages do

@@ -318,6 +318,29 @@ def test_a_model_folder_outside_is_refused_before_its_model_config_is_read(
         diffbot.load_params(robot)
 
 
+@pytest.mark.parametrize("included", [True, False])
+def test_a_model_config_linked_from_outside_is_refused_unread(
+    tmp_path: Path, included: bool
+) -> None:
+    # The model folder lies inside the tree, its model.config is a link out of it: the file
+    # is refused before it is parsed, so nothing of it shows in the message.
+    secret = tmp_path / "outside" / "notes.xml"
+    secret.parent.mkdir()
+    secret.write_text("<config><sdf>SECRET-CONTENT</sdf></config>", encoding="utf-8")
+    models = tmp_path / "ws" / "models"
+    robot = model_folder(models, "rover", ROVER.replace("model://wheel", "wheel"))
+    linked = robot / "wheel" if included else robot
+    linked.mkdir(exist_ok=True)
+    (linked / "model.config").unlink(missing_ok=True)
+    (linked / "model.config").symlink_to(secret)
+    with pytest.raises(OutsideRootsError, match=r"model\.config: reading refused") as caught:
+        diffbot.load_params(robot)
+    assert "SECRET" not in str(caught.value)
+    result = CliRunner().invoke(main, ["params", str(robot)])
+    assert_one_error_line(result, "outside the description's folders")
+    assert "SECRET" not in result.output
+
+
 @pytest.mark.parametrize(
     ("limits", "expected"),
     [
