@@ -6,8 +6,9 @@ only inside the description's folder tree and the folders of the packages ``$(fi
 resolved; ``$(env)``, ``$(optenv)``, ``$(arg)``, ``$(find)`` and ``$(dirname)`` work as usual.
 
 Trusted or not, the expansion is bounded: in total text produced (``max_bytes``), elements
-processed (``max_elements``) and macro or include nesting (``max_depth``), so a macro that
-doubles itself fails within a fraction of a second instead of running for hours. Every file the
+processed (``max_elements``), macro or include nesting (``max_depth``) and CPU time
+(``max_seconds``), so a macro that doubles itself fails within a fraction of a second instead
+of running for hours, and so does a costly expression evaluated over and over. Every file the
 expansion reads is recorded (:attr:`Sandbox.files`), so outputs can be kept off all of them.
 
 xacro keeps its state in module globals, so :func:`sandboxed` patches them while holding
@@ -20,6 +21,7 @@ import contextlib
 import os
 import re
 import threading
+import time
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -35,6 +37,7 @@ __all__ = [
     "MAX_BYTES",
     "MAX_DEPTH",
     "MAX_ELEMENTS",
+    "MAX_SECONDS",
     "XACRO_LOCK",
     "description_roots",
     "inside_folders",
@@ -50,6 +53,11 @@ MAX_DEPTH = 64
 #: xacro takes about 50 us per element, so this bounds an expansion to about half a second; the
 #: bundled robot processes 136.
 MAX_ELEMENTS = 10_000
+
+#: Most CPU time one expansion may take (s), checked at each element and, untrusted, at each
+#: step of an expression: the largest real descriptions expand in about a second; sizes alone
+#: do not bound time (a million-item sort is allowed, and may be asked for ten thousand times).
+MAX_SECONDS = 10.0
 
 #: Held while xacro's module globals are patched; reentrant so callers can hold it around us.
 XACRO_LOCK = threading.RLock()
@@ -188,13 +196,25 @@ def _replace_node(node: Any, by: Any, content_only: bool = False) -> None:
 class _Budget:
     """What one expansion has used so far, against its limits."""
 
-    def __init__(self, source: str, max_bytes: int, max_depth: int, max_elements: int) -> None:
+    def __init__(
+        self, source: str, max_bytes: int, max_depth: int, max_elements: int, max_seconds: float
+    ) -> None:
         self.source = source
         self.max_bytes = max_bytes
         self.max_depth = max_depth
         self.max_elements = max_elements
+        self.max_seconds = max_seconds
         self.bytes = 0
         self.elements = 0
+        # The CPU time of this thread: what other threads and processes do does not count.
+        self.deadline = time.thread_time() + max_seconds
+
+    def spend_time(self) -> None:
+        if time.thread_time() > self.deadline:
+            raise ExpansionLimitError(
+                f"{self.source}: expansion refused: it takes more than {self.max_seconds:g} s "
+                "of CPU time (max_seconds); a costly expression may be evaluated over and over"
+            )
 
     def spend_bytes(self, count: int) -> None:
         self.bytes += count
@@ -205,6 +225,7 @@ class _Budget:
             )
 
     def spend_element(self) -> None:
+        self.spend_time()
         self.elements += 1
         if self.elements > self.max_elements:
             raise ExpansionLimitError(
@@ -254,6 +275,7 @@ def sandboxed(
     max_bytes: int = MAX_BYTES,
     max_depth: int = MAX_DEPTH,
     max_elements: int = MAX_ELEMENTS,
+    max_seconds: float = MAX_SECONDS,
     folders: list[Path] | None = None,
     shown: Callable[[str], str] = str,
 ) -> Iterator[list[Path]]:
@@ -271,6 +293,8 @@ def sandboxed(
         max_bytes: most characters of text evaluated in the whole expansion.
         max_depth: deepest nesting of macro calls and of included files.
         max_elements: most elements processed (macro bodies and blocks count each time).
+        max_seconds: most CPU time of the expansion (s), checked between elements and, when
+            untrusted, between the steps of an expression.
         folders: a list that receives, on exit, the folders the description may read (its own,
             its package's, ``roots`` and the packages ``$(find PKG)`` resolved), so that files
             its text names (a controllers file) can be held to the same sandbox.
@@ -285,7 +309,7 @@ def sandboxed(
 
     with XACRO_LOCK:
         allowed = _Roots([*description_roots(path), *roots])
-        budget = _Budget(os.fspath(path), max_bytes, max_depth, max_elements)
+        budget = _Budget(os.fspath(path), max_bytes, max_depth, max_elements, max_seconds)
         read: list[Path] = []
         resolve = find if find is not None else subst._eval_find
         located: dict[str, str] = {}
@@ -312,7 +336,12 @@ def sandboxed(
             return data
 
         table = symbols(load_yaml)
-        evaluate = xacro.safe_eval if trust else safe_eval
+
+        def evaluate(text: str, names: Any) -> Any:
+            budget.spend_time()
+            if trust:
+                return xacro.safe_eval(text, names)
+            return safe_eval(text, names, tick=budget.spend_time)
 
         def eval_text(text: str, names: Any) -> Any:
             lexer = xacro.QuickLexer(xacro.LEXER)
@@ -375,7 +404,7 @@ def sandboxed(
                 true=True,
                 false=False,
             )
-            return str(safe_eval(text, _EvalNames(functions, args)))
+            return str(safe_eval(text, _EvalNames(functions, args), tick=budget.spend_time))
 
         saved: dict[str, Any] = {name: getattr(xacro, name) for name in _PATCHED}
         saved.update(
@@ -502,7 +531,7 @@ def process(
         named_from: a mapping that receives, for each ``<parameters>`` text an included file
             wrote, that file's folder (where a relative name in it starts from).
         **options: the keywords of :func:`sandboxed` (``roots``, ``find``, ``trust``,
-            ``max_bytes``, ``max_depth``, ``max_elements``, ``folders``).
+            ``max_bytes``, ``max_depth``, ``max_elements``, ``max_seconds``, ``folders``).
 
     Returns:
         The expanded URDF text.

@@ -22,6 +22,7 @@ from diffbot.errors import (
     RefusedExpressionError,
     SandboxError,
 )
+from diffbot.urdf import sandbox
 from diffbot.urdf.expression_limits import MAX_INT_BITS
 from diffbot.urdf.expressions import safe_eval
 from diffbot.urdf.sandbox import description_roots, process, sandboxed
@@ -307,6 +308,61 @@ def test_a_macro_that_doubles_itself_thirty_times_fails_fast(tmp_path: Path) -> 
     with pytest.raises(ExpansionLimitError, match=r"more than \d+ elements \(max_elements\)"):
         process(path)
     assert time.process_time() - start < 20.0
+
+
+COSTLY = (
+    '<xacro:macro name="m" params="n"><xacro:if value="${n > 0}">\n'
+    '  <foo v="${len(python.sorted([0] * 200000))}"/>\n'
+    '  <xacro:m n="${n - 1}"/><xacro:m n="${n - 1}"/>\n'
+    "</xacro:if></xacro:macro>\n"
+    '<xacro:m n="12"/>'
+)
+
+
+@pytest.mark.parametrize("trust", [False, True])
+def test_a_costly_expression_evaluated_over_and_over_runs_out_of_time(
+    tmp_path: Path, trust: bool
+) -> None:
+    # 4095 sorts of 200,000 items, each allowed by its size and under the element limit: the
+    # expansion's CPU time is bounded as well, between elements and expressions.
+    path = write(tmp_path / "evil" / "costly.urdf.xacro", robot(COSTLY))
+    start = time.thread_time()
+    with pytest.raises(ExpansionLimitError, match=r"more than 0\.3 s of CPU time \(max_seconds\)"):
+        process(path, trust=trust, max_seconds=0.3)
+    assert time.thread_time() - start < 1.5
+    assert sandbox.MAX_SECONDS == 10.0
+
+
+def test_one_expression_runs_out_of_time_between_its_steps(tmp_path: Path) -> None:
+    # One expression of many steps, each linear in a 450,000-item list: the budget is checked
+    # at each step, not only once the expression is done.
+    steps = ", ".join(["1 in p"] * 1000)
+    body = f'<xacro:property name="p" value="${{[0] * 450000}}"/>\n<link name="${{[{steps}]}}"/>'
+    path = write(tmp_path / "evil" / "steps.urdf.xacro", robot(body))
+    start = time.thread_time()
+    with pytest.raises(ExpansionLimitError, match=r"max_seconds"):
+        process(path, max_seconds=0.2)
+    assert time.thread_time() - start < 1.0
+    ticks: list[None] = []
+    assert safe_eval("1 + x * 2", {"x": 3}, tick=lambda: ticks.append(None)) == 7
+    assert len(ticks) == 5  # 1, x, 2, x * 2, the sum
+
+
+def test_python_sum_joins_lists_in_linear_time() -> None:
+    assert safe_eval("python.sum([1, 2.5, 3])", {}) == 6.5
+    assert safe_eval("python.sum([[1], [2, 3]], [0])", {}) == [0, 1, 2, 3]
+    assert safe_eval("python.sum(((1,), (2,)), ())", {}) == (1, 2)
+    with pytest.raises(TypeError, match=re.escape('can only concatenate list (not "tuple")')):
+        safe_eval("python.sum([(1,)], [])", {})
+    with pytest.raises(RefusedExpressionError, match=refused("a sum of more than")):
+        safe_eval("python.sum(x, [])", {"x": [[0] * 1000] * 1001})
+    timing = assert_linear(
+        lambda text: safe_eval(f"len(python.sum([[1]] * {len(text)}, []))", {}),
+        lambda n: b"x" * n,
+        20_000,
+        accepts=True,
+    )
+    assert timing.large < 1.0, timing
 
 
 def test_a_huge_power_is_refused_fast(tmp_path: Path) -> None:
