@@ -176,6 +176,9 @@ class DiffbotGroup(SuggestingGroup):
         except OSError as err:
             _flush_or_drop_stdout()
             _error(f"{err.filename + ': ' if err.filename else ''}{err.strerror or err}", 2)
+        except MemoryError:
+            _flush_or_drop_stdout()
+            _error("out of memory: an input holds more than this machine can read at once", 2)
         return code
 
 
@@ -195,8 +198,17 @@ def _flush_or_drop_stdout() -> None:
         _drop_stdout()
 
 
+#: Longest error line shown (characters): a name of megabytes (a crafted link, a key) is cut
+#: in its middle, so that the line stays one a person can read.
+_LONGEST_ERROR = 2000
+
+
 def _error(message: str, code: int) -> NoReturn:
-    click.echo(f"error: {shorten_numerals(' '.join(str(message).split()))}", err=True)
+    text = shorten_numerals(" ".join(str(message).split()))
+    if len(text) > _LONGEST_ERROR:
+        half = _LONGEST_ERROR // 2
+        text = f"{text[:half]} [... {len(text) - 2 * half} characters ...] {text[-half:]}"
+    click.echo(f"error: {text}", err=True)
     sys.exit(code)
 
 

@@ -213,6 +213,33 @@ def test_a_full_disk_under_an_output_file_is_one_error_line(
     assert list(tmp_path.iterdir()) == []
 
 
+def test_running_out_of_memory_is_one_error_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import diffbot.recordings
+
+    def too_large(*args: Any, **kwargs: Any) -> None:
+        raise MemoryError
+
+    monkeypatch.setattr(diffbot.recordings, "read_recording", too_large)
+    run = tmp_path / "run.csv"
+    assert CliRunner().invoke(main, ["simulate", "straight 0.1", "--out", str(run)]).exit_code == 0
+    result = CliRunner().invoke(main, ["calibrate", "fit", str(run)])
+    assert result.exit_code == 2, result.output
+    one_error_line(result.stderr, "out of memory: an input holds more than this machine can read")
+
+
+def test_an_error_naming_megabytes_is_cut_to_one_readable_line(tmp_path: Path) -> None:
+    deep = tmp_path.joinpath(*["x" * 200] * 15)  # 3000 characters, within PATH_MAX
+    result = CliRunner().invoke(main, ["params", str(deep / "robot.urdf")])
+    assert result.exit_code == 2, result.output
+    one_error_line(result.stderr, "characters ...]")
+    line = result.stderr.strip()
+    assert len(line) < 2100
+    assert line.startswith(f"error: {tmp_path}")
+    assert line.rstrip().endswith("no such file")
+
+
 def test_a_full_disk_under_a_bag_is_one_error_line(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
