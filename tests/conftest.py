@@ -1,7 +1,9 @@
-"""Shared fixtures: an isolated parameter cache, the bundled robot, a CLI runner."""
+"""Shared fixtures: a DDS domain of its own, an isolated parameter cache, the bundled robot, a CLI
+runner."""
 
 from __future__ import annotations
 
+import os
 import signal
 from collections.abc import Iterator
 from pathlib import Path
@@ -9,6 +11,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 from hypothesis import settings
+from live_graph import domain
 
 import diffbot
 
@@ -36,6 +39,35 @@ def _signals_as_in_a_terminal() -> Iterator[None]:
     yield
     for signum, previous in saved.items():
         signal.signal(signum, previous)
+
+
+@pytest.fixture(autouse=True, scope="session")
+def loopback_domain() -> Iterator[int]:
+    """Every test talks DDS, if at all, on loopback in a domain of its own: one no other test
+    process on the machine holds (:func:`live_graph.domain`), with discovery kept on the machine
+    (ROS_LOCALHOST_ONLY=1: interface lo, no multicast, the local peers by unicast). Processes
+    the tests start inherit both, so a command run as a help or doc example never meets
+    another run's nodes."""
+    saved = {
+        k: os.environ.get(k)
+        for k in (
+            "ROS_DOMAIN_ID",
+            "ROS_LOCALHOST_ONLY",
+            "ROS_AUTOMATIC_DISCOVERY_RANGE",
+            "CYCLONEDDS_URI",
+        )
+    }
+    here = domain()
+    os.environ["ROS_DOMAIN_ID"] = str(here)
+    os.environ["ROS_LOCALHOST_ONLY"] = "1"
+    os.environ.pop("ROS_AUTOMATIC_DISCOVERY_RANGE", None)
+    os.environ.pop("CYCLONEDDS_URI", None)
+    yield here
+    for key, value in saved.items():
+        if value is None:
+            os.environ.pop(key, None)
+        else:
+            os.environ[key] = value
 
 
 @pytest.fixture(autouse=True, scope="session")
