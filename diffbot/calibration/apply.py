@@ -59,7 +59,14 @@ class ApplyResult(NamedTuple):
 
 def calibrated_path(path: Path) -> Path:
     """Where the calibrated copy of ``path`` goes: beside it, ``.calibrated`` before its first
-    suffix (``robot.urdf.xacro`` -> ``robot.calibrated.urdf.xacro``)."""
+    suffix (``robot.urdf.xacro`` -> ``robot.calibrated.urdf.xacro``).
+
+    Raises:
+        OutputError: ``path`` has no name to make the copy's from (``.``, ``/``, empty).
+    """
+    from diffbot.io.outputs import check_output_name
+
+    check_output_name(os.fspath(path), source=True)
     name = path.name
     stem, dot, suffixes = name.partition(".")
     if not stem:  # a hidden file such as .robot.yaml

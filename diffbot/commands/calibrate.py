@@ -25,7 +25,7 @@ from diffbot.commands.options import (
     split_xacro_args,
     topic_option,
 )
-from diffbot.commands.paths import InputPath, input_path
+from diffbot.commands.paths import EditedPath, InputPath, input_path
 from diffbot.commands.plan_options import check_topic
 from diffbot.commands.recording_options import (
     RecordingOptions,
@@ -90,7 +90,7 @@ _output_options = option_group(
         click.option("--json", "as_json", is_flag=True, help="Machine-readable output."),
         click.option(
             "--apply-to",
-            type=InputPath(),
+            type=EditedPath(),
             metavar="FILE",
             help="Write a calibrated copy of FILE beside it (FILE.calibrated...): a controllers "
             "YAML gets the multipliers of the robot's diff-drive controller, a .urdf/.xacro the "

@@ -6,7 +6,11 @@ command line, before the command runs, and the conversion notes the path as an i
 (:func:`diffbot.io.outputs.note_input`). No word of the command line is taken for a path unless
 click parsed it as one, or a command took one of its arguments for a file (:func:`input_path`,
 through the same type). Every output option is an :class:`OutputPath`, checked by
-:mod:`diffbot.io.outputs`, which keeps outputs off every noted input.
+:mod:`diffbot.io.outputs`, which keeps outputs off every noted input. A file a command writes a
+changed copy of is an :class:`EditedPath`: an input whose name is checked as an output's, since
+the copy's name is made from it. Every name that stands for no file or folder of its own (empty,
+``.``, ``/``, ``x.csv/.``) is refused here, as click parses it, by
+:func:`diffbot.io.outputs.check_output_name`.
 """
 
 from __future__ import annotations
@@ -22,11 +26,12 @@ import click
 from diffbot.commands.messages import fail
 from diffbot.commands.option_groups import F, option_group
 from diffbot.errors import DiffbotError
-from diffbot.io.outputs import check_file_name, input_clash, note_input
+from diffbot.io.outputs import check_output_name, input_clash, note_input
 from diffbot.io.pathnames import resolved
 
 __all__ = [
     "OUTPUT_NAMES",
+    "EditedPath",
     "InputPath",
     "OutOptions",
     "OutputPath",
@@ -61,6 +66,8 @@ class InputPath(click.Path):
 
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
         text = os.fspath(value) if isinstance(value, os.PathLike) else str(value)
+        if param is not None and not text.strip():
+            self.fail(f"{text!r}: an empty name, not a file or folder name", param, ctx)
         if text.strip() and not (self.allow_dash and text == "-"):
             try:
                 resolved(text)
@@ -70,6 +77,30 @@ class InputPath(click.Path):
                 self.fail(str(err), param, ctx)
             note_input(text)
         return super().convert(text, param, ctx)
+
+
+class EditedPath(InputPath):
+    """A file a command reads to write a changed copy of it, beside it under a name made from
+    its own (``robot.urdf`` -> ``robot.calibrated.urdf``) unless the output option names the
+    copy: an input, whose name must name a file as an output's must (no ``.``, ``/``, empty
+    name, or name ending in a slash or ``/.``)."""
+
+    def __init__(self) -> None:
+        super().__init__(dir_okay=False)
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        text = os.fspath(value) if isinstance(value, os.PathLike) else str(value)
+        checked_name(text, _shown(param), source=True)
+        return super().convert(text, param, ctx)
+
+
+def _shown(param: click.Parameter | None, default: str = "-o/--out") -> str:
+    """The option's names, as messages give them (``-o/--out`` for the output option)."""
+    if param is None or not param.opts:
+        return default
+    if tuple(param.opts) == OUTPUT_NAMES:
+        return "-o/--out"
+    return "/".join(param.opts)
 
 
 #: A file or folder read, as a command's own arguments name one (see :func:`input_path`).
@@ -127,8 +158,7 @@ class OutputPath(click.ParamType):  # type: ignore[type-arg,unused-ignore]
 
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> str:
         text = os.fspath(value) if isinstance(value, os.PathLike) else str(value)
-        if not self.folder_ok:
-            file_output(text)
+        checked_name(text, _shown(param), folder=self.folder_ok)
         return text
 
 
@@ -136,14 +166,23 @@ class OutputPath(click.ParamType):  # type: ignore[type-arg,unused-ignore]
 OUTPUT_NAMES = ("-o", "--output", "--out")
 
 
+def checked_name(text: str, option: str, *, folder: bool = False, source: bool = False) -> None:
+    """Bad input, one line naming ``option``, when ``text`` names no output of its own (see
+    :func:`diffbot.io.outputs.check_output_name`, which ``folder`` and ``source`` are passed
+    to): the one check of the names of outputs and of the files whose copies are written."""
+    try:
+        check_output_name(text, folder=folder, source=source)
+    except DiffbotError as err:
+        fail(f"{option} {err}")
+
+
 def file_output(value: str | None, option: str = "-o/--out") -> str | None:
-    """``value`` unless it names a folder (a trailing slash, ``/.`` or ``/..``) where a file is
-    written: the file would otherwise appear under another name than the one asked for."""
+    """``value`` unless it names a folder (a trailing slash, ``/.`` or ``/..``, the root, or an
+    empty name) where a file is written: the file would otherwise appear under another name than
+    the one asked for. An output option that may name a folder (``--bag``) is checked as a
+    folder as click parses it, and as a file here once the command knows it writes one."""
     if value is not None:
-        try:
-            check_file_name(value)
-        except DiffbotError as err:
-            fail(f"{option} {err}")
+        checked_name(value, option)
     return value
 
 
@@ -163,12 +202,11 @@ def output_option(
 
 
 def check_out(out: str | None, inputs: Sequence[Path], force: bool) -> Path | None:
-    """The --out path, refused early when it is empty, exists (without --force), or is, holds
-    or lies inside an input (compared as resolved paths, links followed)."""
+    """The --out path, refused early when it exists (without --force), or is, holds or lies
+    inside an input (compared as resolved paths, links followed). Its name was checked as click
+    parsed it (:class:`OutputPath`)."""
     if out is None:
         return None
-    if not out.strip():
-        fail("--out needs a file or directory name, got ''")
     path = Path(out)
     clash = input_clash(path, inputs)
     if clash is not None:

@@ -37,8 +37,8 @@ __all__ = [
     "BAG_FILES",
     "atomic_text",
     "check_bag_output",
-    "check_file_name",
     "check_not_input",
+    "check_output_name",
     "check_replaceable",
     "guarded_run",
     "input_clash",
@@ -91,26 +91,36 @@ def noted_inputs() -> tuple[Path, ...]:
         return () if _noted is None else tuple(_noted)
 
 
-def check_file_name(path: str) -> None:
-    """Refuse a file output named as a folder: ending in a slash, or in a last part ``.`` or
-    ``..``. The file would otherwise appear under another name (``x.csv/`` and ``x.csv/.`` as
-    ``x.csv``, ``x.csv/..`` as the folder holding it) than the one asked for.
+def check_output_name(path: str, *, folder: bool = False, source: bool = False) -> None:
+    """Refuse an output name that names no output of its own: an empty name, the root, or a last
+    part ``.`` or ``..`` (``.``, ``/``, ``x.csv/.``, ``out/..``); for a file (``folder`` false),
+    also a name ending in a slash. Such a name stands for a folder that already exists (the
+    current one, the root, the one holding ``x.csv``), so the output would appear under another
+    name than the one asked for, or replace that folder. A folder output (a bag, a folder of
+    outputs) may end in a slash (``run_bag/``). With ``source``, ``path`` is the file read whose
+    changed copy is written beside it, under a name made from its own: the same names are
+    refused.
 
     Raises:
-        OutputError: the name ends in a slash, ``/.`` or ``/..``.
+        OutputError: the name is one of those.
     """
+    if not path.strip():
+        raise OutputError(f"{path!r}: an empty name, not a file or folder name", path=path)
     separators = "/" + os.sep
-    last = path.rstrip(separators)
-    if last and last != path:
-        raise OutputError(
-            f"{path}: ends with a slash (a folder), but a file is written there", path=path
-        )
+    trimmed = path.rstrip(separators)
+    if folder:
+        refused = "a folder that exists: give the output a name of its own"
+    else:
+        refused = f"a folder, but a file is {'read' if source else 'written'} there"
+    if not trimmed:
+        raise OutputError(f"{path}: the root, {refused}", path=path)
+    if trimmed != path and not folder:
+        raise OutputError(f"{path}: ends with a slash, {refused}", path=path)
+    last = trimmed
     for separator in separators:
         last = last.rpartition(separator)[2]
     if last in (".", ".."):
-        raise OutputError(
-            f"{path}: ends with {last!r} (a folder), but a file is written there", path=path
-        )
+        raise OutputError(f"{path}: ends with {last!r}, {refused}", path=path)
 
 
 def check_replaceable(path: Path) -> None:

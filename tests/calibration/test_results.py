@@ -22,7 +22,7 @@ from diffbot.calibration import (
     xacro_arguments,
 )
 from diffbot.controller_config import ControllerConfig
-from diffbot.errors import CalibrationError
+from diffbot.errors import CalibrationError, OutputError
 from diffbot.urdf.controllers import load_controllers
 
 CALIBRATED = fit_result(0.0349, 0.0352, 0.1377)
@@ -108,6 +108,12 @@ def test_params_json_of_umbmark_adds_the_error_ratios() -> None:
 )
 def test_calibrated_copies_sit_beside_the_original(name: str, expected: str) -> None:
     assert calibrated_path(Path("conf") / name) == Path("conf") / expected
+
+
+@pytest.mark.parametrize("name", [".", "/", "", "conf/.."])
+def test_a_path_without_a_file_name_has_no_calibrated_copy(name: str) -> None:
+    with pytest.raises(OutputError, match="a file is read there"):
+        calibrated_path(Path(name))
 
 
 def test_a_calibrated_controllers_yaml_reads_back_as_the_calibration(tmp_path: Path) -> None:

@@ -206,6 +206,29 @@ def test_fit_writes_a_calibrated_copy_beside_the_file(
     run(runner, *args, "--force")
 
 
+@pytest.mark.parametrize(
+    ("name", "fragment"),
+    [
+        (".", "ends with '.', a folder"),
+        ("/", "the root, a folder"),
+        ("", "an empty name"),
+        ("controllers.yaml/.", "ends with '.', a folder"),
+        ("controllers.yaml/", "ends with a slash"),
+    ],
+)
+def test_apply_to_a_name_of_no_file_is_one_error_line(
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, name: str, fragment: str
+) -> None:
+    # controllers.yaml/. once read controllers.yaml; "." and "/" ended in a traceback
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "controllers.yaml").write_text("a: 1\n", encoding="utf-8")
+    for words in (["fit", "run.csv"], ["umbmark", "--side", "4", "--cw", "0,0", "--ccw", "0,0"]):
+        line = bad_input(runner, "calibrate", *words, "--apply-to", name)
+        assert line.startswith(f"error: --apply-to {name or repr(name)}"), line
+        assert fragment in line, line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["controllers.yaml"]
+
+
 ROVER = Path(__file__).resolve().parents[2] / "docs" / "examples" / "rover"
 
 

@@ -4,6 +4,10 @@ so that a new command, option or reader that bypasses them fails here:
 - every option or argument that names a file or folder is of a path type, which notes it for the
   input/output guard as click parses it;
 - every output option is the output type, written through :mod:`diffbot.io.outputs`;
+- every option naming a file a command writes a changed copy of is the edited type;
+- no path option takes a name that stands for no file or folder of its own: an empty name, and
+  for an output or an edited file ``.``, ``/`` or a name ending in ``/.``, refused as click
+  parses it by the one check of :mod:`diffbot.io.outputs`;
 - every numeric option is of a checked number type (finite, in range, integers of sane size);
 - every file is read through :mod:`diffbot.io.textfile` (or one of the few binary readers named
   here, each with its reason).
@@ -24,7 +28,7 @@ from robots import two_wheel_urdf
 import diffbot
 from diffbot import cli
 from diffbot.commands.options import ARGUMENTS, CheckedNumber
-from diffbot.commands.paths import OUTPUT_NAMES, InputPath, OutputPath, PackageDir
+from diffbot.commands.paths import OUTPUT_NAMES, EditedPath, InputPath, OutputPath, PackageDir
 
 EXAMPLES = Path(diffbot.__file__).parent.parent / "docs" / "examples"
 
@@ -57,6 +61,8 @@ NUMBER_METAVARS = {"N", "M", "S", "HZ", "RPM", "STD", "SECONDS", "FRACTION", "L,
 #: Values holding numbers that are text to the command line and numbers to the library, which
 #: checks them with diffbot.numbers where it parses them (poses, a time offset or "auto").
 PARSED_LATER = {"--to", "--from", "--time-offset"}
+#: Options naming a file a command reads to write a changed copy of it (named after it).
+EDITED = {"--apply-to"}
 
 
 def test_every_command_is_walked() -> None:
@@ -84,6 +90,59 @@ def test_every_output_is_of_the_output_type(command: click.Command) -> None:
         assert is_output == isinstance(param.type, OutputPath), param.opts
         if is_output:
             assert tuple(param.opts) == OUTPUT_NAMES
+
+
+@pytest.mark.parametrize("command", BY_NAME)
+def test_every_edited_file_is_of_the_edited_type(command: click.Command) -> None:
+    for param in command.params:
+        edited = any(name in EDITED for name in param.opts)
+        assert edited == isinstance(param.type, EditedPath), param.opts
+
+
+def path_params() -> list[object]:
+    """(command, words before the value, what the value must name) of every path option and
+    argument, found by metavar as well as by type so that one of another type is found too."""
+    found: list[object] = []
+    for name, command in COMMANDS:
+        for param in command.params:
+            metavar = (param.metavar or "").strip("[]")
+            if param.name == ARGUMENTS and param.nargs == -1:
+                continue  # words taken for a path through input_path (see the refusals below)
+            path_type = isinstance(param.type, (click.Path, OutputPath, PackageDir))
+            if not (metavar in PATH_METAVARS or path_type):
+                continue
+            option = [max(param.opts, key=len)] if isinstance(param, click.Option) else []
+            kind = "input"
+            if any(n in OUTPUT_NAMES for n in param.opts):
+                kind = "output"
+            elif any(n in EDITED for n in param.opts):
+                kind = "edited"
+            label = f"{name} {option[0] if option else param.name}"
+            found.append(pytest.param(name.split(), option, kind, id=label))
+    return found
+
+
+#: Names that stand for no file or folder of its own.
+NO_NAME = ["", " "]
+FOLDERS = [".", "/", "sub/.", "sub/..", "./"]
+
+
+@pytest.mark.parametrize(("words", "option", "kind"), path_params())
+def test_no_path_takes_a_name_of_no_file_of_its_own(
+    words: list[str],
+    option: list[str],
+    kind: str,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sub").mkdir()
+    refused = NO_NAME + (FOLDERS if kind != "input" else [])
+    for value in refused:
+        result = CliRunner().invoke(cli.main, [*words, *option, value])
+        assert_one_error_line(result, *option[:1] if kind == "edited" else ())
+        assert [p.name for p in tmp_path.iterdir()] == ["sub"], value
+        assert list((tmp_path / "sub").iterdir()) == [], value
 
 
 @pytest.mark.parametrize("command", BY_NAME)

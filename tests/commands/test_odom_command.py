@@ -343,8 +343,8 @@ def test_odom_reads_a_csv_from_stdin(runner: CliRunner) -> None:
     ("args", "stdin", "message"),
     [
         ([""], None, "error: INPUT is empty: give a CSV file, - for stdin, or a rosbag2 recording"),
-        (["a.csv", "--out", ""], None, "error: --out needs a file or directory name, got ''"),
-        (["a.csv", "--out", " ", "--bag"], None, "error: --out needs a file or directory name"),
+        (["a.csv", "--out", ""], None, "error: -o/--out '': an empty name, not a file or"),
+        (["a.csv", "--out", " ", "--bag"], None, "error: -o/--out ' ': an empty name"),
         (["-"], b"", "error: -: empty file"),
         (["-"], b"\xff\xfe\x00", "error: -: not a text (UTF-8) CSV file"),
         (["-"], b"time,a,b\n0,0,0\n", "error: -: no column for the left wheel joint"),

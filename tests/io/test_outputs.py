@@ -20,7 +20,8 @@ from robots import two_wheel_urdf
 
 import diffbot
 from diffbot.cli import main
-from diffbot.io.outputs import move_new, replace_bag, write_text_atomic
+from diffbot.errors import OutputError
+from diffbot.io.outputs import check_output_name, move_new, replace_bag, write_text_atomic
 
 Write = Callable[[str, str], Path]
 
@@ -426,5 +427,31 @@ def test_a_file_output_named_as_a_folder_is_refused(name: str, tmp_path: Path) -
     # written out: a Path would drop a trailing "/."
     result = CliRunner().invoke(main, ["plan", "straight 1", "-o", f"{tmp_path}/{name}"])
     assert result.exit_code == 2, result.output
-    one_error_line(result.stderr, "a file is written there")
+    one_error_line(result.stderr, f"{tmp_path}/{name}: ends with")
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "name", ["", " ", ".", "..", "/", "//", "./", "x.csv/.", "out/..", "x.csv/"]
+)
+def test_a_name_of_no_file_of_its_own_is_refused(name: str) -> None:
+    with pytest.raises(OutputError):
+        check_output_name(name)
+    with pytest.raises(OutputError, match=r"a file is read there|an empty name"):
+        check_output_name(name, source=True)
+
+
+@pytest.mark.parametrize("name", ["", " ", ".", "/", "./", "run_bag/.", "run_bag/.."])
+def test_a_folder_output_needs_a_name_of_its_own(name: str) -> None:
+    with pytest.raises(OutputError):
+        check_output_name(name, folder=True)
+
+
+@pytest.mark.parametrize(
+    "name", ["x.csv", "./x.csv", "/tmp/x.csv", "a/../x.csv", ".x", "...", "x."]
+)
+def test_a_file_name_is_taken(name: str) -> None:
+    check_output_name(name)
+    check_output_name(name, source=True)
+    check_output_name(name, folder=True)
+    check_output_name(f"{name}/", folder=True)
