@@ -27,9 +27,11 @@ __all__ = [
     "MAX_TURN",
     "MAX_WAYPOINTS",
     "MAX_WHEEL_SPEED",
+    "MOTOR_LIMIT_RANGE",
     "WHEEL_SIZE_RANGE",
     "as_number",
     "finite_in_range",
+    "placeholder_limit",
     "positive_finite",
     "shorten_numerals",
     "shown",
@@ -67,6 +69,11 @@ MAX_COORDINATE = 1e9
 MAX_RECORDED_ANGLE = 1e12
 #: Fastest wheel velocity taken from a recording or a message (rad/s): about 95,000 rpm.
 MAX_WHEEL_SPEED = 1e4
+#: Motor limits a robot may have (rad/s): no faster than a wheel turns (MAX_WHEEL_SPEED), and no
+#: smaller than the smallest normal float (a subnormal limit divides wrong: a wheel at it shows
+#: as over it). A description's limit outside is a placeholder (URDFs often give 1e6), not a
+#: limit; an option's is refused.
+MOTOR_LIMIT_RANGE = (sys.float_info.min, MAX_WHEEL_SPEED)
 
 #: Largest standard deviation of simulated encoder noise (rad): a revolution. Beyond it a
 #: reading says nothing of the angle.
@@ -187,3 +194,12 @@ def positive_finite(value: object, what: str, error: type[DiffbotError] = Parame
     if number < sys.float_info.min:
         raise error(f"{what} must be {expected}, got {shown(value)}: too small to compute with")
     return number
+
+
+def placeholder_limit(value: float) -> str:
+    """What a warning says of a description's velocity limit ``value`` (rad/s) above
+    :data:`MOTOR_LIMIT_RANGE`: a placeholder (``1e6``, ``1.7e307``), so no motor limit."""
+    return (
+        f"velocity limit {value:g} rad/s is faster than any wheel turns (over "
+        f"{MOTOR_LIMIT_RANGE[1]:g} rad/s): taken for a placeholder, not a motor limit"
+    )

@@ -360,6 +360,10 @@ def _footprint(axes: Axes, pose: Pose, params: DiffDriveParams) -> None:
         axes.add_patch(wheel)
 
 
+#: How many times the fastest wheel speed (or 1 rpm) a motor limit may be and still be drawn.
+_OFF_SCALE = 1000.0
+
+
 def _draw_speeds(axes: Axes, plan: Plan) -> None:
     import numpy as np
 
@@ -371,11 +375,16 @@ def _draw_speeds(axes: Axes, plan: Plan) -> None:
     peak = max(abs(v) for v in [*left, *right])
     if plan.limit is not None:
         limit = rpm_from_rad_s(plan.limit)
-        peak = max(peak, limit)
         label: str | None = f"motor limit ±{limit:.3g} rpm"
-        for level in (limit, -limit):
-            axes.axhline(level, color=LIMIT_COLOUR, linestyle="--", linewidth=1.2, label=label)
-            label = None
+        if limit > _OFF_SCALE * max(peak, 1.0):
+            # The speeds would be a flat line at zero beside it (and a limit near the largest
+            # float has no axis at all): the legend names it, the axis scales to the wheels.
+            axes.plot([], [], color=LIMIT_COLOUR, linestyle="--", label=f"{label}, off the scale")
+        else:
+            peak = max(peak, limit)
+            for level in (limit, -limit):
+                axes.axhline(level, color=LIMIT_COLOUR, linestyle="--", linewidth=1.2, label=label)
+                label = None
         over_label: str | None = "over the limit"
         for first, last in _runs(sorted({found.index for found in plan.violations()})):
             axes.axvspan(

@@ -15,6 +15,7 @@ from figures import axes_labelled, colour_at, near, rendered
 from robots import BOT_50_RPM
 
 from diffbot.errors import OutputExistsError
+from diffbot.kinematics import rpm_from_rad_s
 from diffbot.planfile import parse_plan
 from diffbot.plotting import (
     LEFT_COLOUR,
@@ -141,6 +142,22 @@ def test_the_wheel_speeds_are_drawn_at_their_rpm(trajectory_a: Figure) -> None:
     assert near(rendered(trajectory_a), speeds, 5.0, 15.64, LEFT_COLOUR)
     assert near(rendered(trajectory_a), speeds, 5.0, 27.21, RIGHT_COLOUR)
     assert not near(rendered(trajectory_a), speeds, 5.0, 21.0, LEFT_COLOUR, radius=6)
+
+
+@pytest.mark.parametrize("limit", [1e308 / 9.55, 1.7e307, 1.7e308, 1e6])
+def test_a_limit_far_above_the_speeds_is_named_and_the_speeds_keep_their_scale(
+    limit: float,
+) -> None:
+    # A limit near the largest float had no axis (NaN limits, or no room for the ticks).
+    params = BOT_50_RPM.replace(max_wheel_speed=limit)
+    figure = plan_figure(plan(parse_plan(EXAMPLES["A"]), params), params)
+    figure.canvas.draw()
+    speeds = axes_labelled(figure, "wheel speeds")
+    assert speeds.get_ylim()[1] < 40.0  # the fastest wheel turns at 27.3 rpm
+    assert near(rendered(figure), speeds, 5.0, 15.64, LEFT_COLOUR)
+    assert near(rendered(figure), speeds, 5.0, 27.21, RIGHT_COLOUR)
+    labels = speeds.get_legend_handles_labels()[1]
+    assert f"motor limit ±{rpm_from_rad_s(limit):.3g} rpm, off the scale" in labels
 
 
 def test_a_plan_over_the_limit_is_shaded_while_it_is_over() -> None:

@@ -42,8 +42,14 @@ from diffbot.errors import DescriptionError
 from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import open_regular
 from diffbot.io.xmlhead import root_name
-from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm
-from diffbot.numbers import MAX_COUNT, MAX_NOISE, MAX_PLAN_DURATION, WHEEL_SIZE_RANGE
+from diffbot.kinematics import DiffDriveParams, rad_s_from_rpm, rpm_from_rad_s
+from diffbot.numbers import (
+    MAX_COUNT,
+    MAX_NOISE,
+    MAX_PLAN_DURATION,
+    MOTOR_LIMIT_RANGE,
+    WHEEL_SIZE_RANGE,
+)
 from diffbot.urdf import load_params
 
 
@@ -83,6 +89,32 @@ class FiniteFloat(CheckedNumber):
                 self.fail(f"{value!r} must be >= {self.minimum:g}", param, ctx)
         if self.maximum is not None and number > self.maximum:
             self.fail(f"{value!r} must be <= {self.maximum:g}", param, ctx)
+        return number
+
+
+class MotorLimit(FiniteFloat):
+    """A motor limit in rpm, within :data:`diffbot.numbers.MOTOR_LIMIT_RANGE` once in rad/s:
+    above 0, no faster than a wheel turns, and not so small that it divides wrong."""
+
+    name = "rpm"
+
+    def __init__(self) -> None:
+        super().__init__(0.0, open_min=True)
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
+        number = super().convert(value, param, ctx)
+        low, high = MOTOR_LIMIT_RANGE
+        if rad_s_from_rpm(number) > high:
+            self.fail(
+                f"{value!r} is faster than any wheel turns: a motor limit is at most "
+                f"{rpm_from_rad_s(high):.7g} rpm ({high:g} rad/s)",
+                param,
+                ctx,
+            )
+        if rad_s_from_rpm(number) < low:
+            self.fail(f"{value!r} is too small to compute with", param, ctx)
         return number
 
 
@@ -157,7 +189,6 @@ class Names(click.Choice):  # type: ignore[type-arg,unused-ignore]
 POSITIVE = FiniteFloat(0.0, open_min=True)
 #: A wheel radius or separation of a real robot (m).
 WHEEL_SIZE = FiniteFloat(WHEEL_SIZE_RANGE[0], maximum=WHEEL_SIZE_RANGE[1])
-NON_NEGATIVE = FiniteFloat(0.0)
 #: Highest --rate of the ros2 script (Hz): 'ros2 topic pub' is a Python loop, far from this fast.
 MAX_PUBLISH_RATE = 1000.0
 #: Lowest command --rate (Hz): one command per longest plan.
@@ -348,9 +379,10 @@ _ROBOT_OPTIONS = [
     ),
     click.option(
         "--max-rpm",
-        type=NON_NEGATIVE,
+        type=MotorLimit(),
         metavar="RPM",
-        help="Override the motor limit (rpm).",
+        help="Override the motor limit (rpm): above 0, at most 95493 rpm (1e4 rad/s). A "
+        "description's joint velocity limit above that is taken for a placeholder, no limit.",
     ),
     click.option(
         "--controllers",

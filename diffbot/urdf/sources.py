@@ -21,6 +21,7 @@ from diffbot.controller_config import ControllerConfig
 from diffbot.errors import DescriptionError, DriveWheelError, OutsideRootsError
 from diffbot.io.pathnames import resolved
 from diffbot.kinematics import DiffDriveParams, Disagreement
+from diffbot.numbers import MOTOR_LIMIT_RANGE, placeholder_limit
 from diffbot.urdf.controllers import choose_controller, load_controllers
 from diffbot.urdf.gazebo import GazeboDrive, gazebo_drives, ros2_control_parameter_files
 from diffbot.urdf.other_drives import note_other_drives, refusing_other_drives
@@ -485,8 +486,7 @@ def from_controller(
         multiplier = getattr(config, f"{side}_wheel_radius_multiplier")
         signs[side] = -1 if multiplier < 0 and given.wheel_radius is None else 1
         radii[side] = radius * (1.0 if given.wheel_radius is not None else abs(multiplier))
-    limits = velocity_limits(root)
-    tagged = [limits[name] for name in (*left, *right) if name in limits]
+    tagged = _interface_limits(root, [*left, *right], warnings)
     speed = given.max_wheel_speed
     if speed is None and tagged:
         speed = min(tagged)
@@ -539,6 +539,22 @@ def _flipped(
     return dataclasses.replace(fields, **flips) if flips else fields
 
 
+def _interface_limits(
+    root: ElementTree.Element, wheels: Sequence[str], warnings: list[str]
+) -> list[float]:
+    """The velocity limits (rad/s) the ros2_control velocity command interfaces of ``wheels``
+    give, those in :data:`MOTOR_LIMIT_RANGE`; one above it is a placeholder, with a warning."""
+    limits = velocity_limits(root)
+    low, high = MOTOR_LIMIT_RANGE
+    for name in wheels:
+        if limits.get(name, 0.0) > high:
+            warnings.append(
+                f"the ros2_control velocity command interface of joint {name!r}: "
+                + placeholder_limit(limits[name])
+            )
+    return [limits[name] for name in wheels if low <= limits.get(name, 0.0) <= high]
+
+
 def _motor_limit(
     root: ElementTree.Element, fields: Derived, given: Overriding, warnings: list[str]
 ) -> tuple[float | None, str]:
@@ -546,9 +562,7 @@ def _motor_limit(
     ``<limit velocity>`` and their ros2_control velocity command interface's ``max``."""
     if given.max_wheel_speed is not None:
         return given.max_wheel_speed, OVERRIDE
-    limits = velocity_limits(root)
-    wheels = [*fields.left_joints, *fields.right_joints]
-    tagged = [limits[name] for name in wheels if name in limits]
+    tagged = _interface_limits(root, [*fields.left_joints, *fields.right_joints], warnings)
     if not tagged:
         return None, DESCRIPTION
     tag = min(tagged)

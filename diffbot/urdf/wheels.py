@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, TypedDict
 
 from diffbot.errors import DescriptionError, DriveWheelError, ParameterError
 from diffbot.kinematics import DiffDriveParams
-from diffbot.numbers import WHEEL_SIZE_RANGE
+from diffbot.numbers import MOTOR_LIMIT_RANGE, WHEEL_SIZE_RANGE, placeholder_limit
 from diffbot.urdf.tree import Joint, Tree, check_not_steered, joints_of, parse_urdf
 from diffbot.urdf.urdf_model import RobotModel, Shape
 
@@ -390,14 +390,17 @@ def derive(
             )
 
     limits = [w.joint.velocity_limit for w in wheels]
+    low, high = MOTOR_LIMIT_RANGE
     for wheel, value in zip(wheels, limits, strict=True):
         if value is not None and not math.isfinite(value):
             raise DescriptionError(
                 f"{source}: joint {wheel.joint.name!r} has a non-finite velocity limit {value!r}"
             )
-    usable = [v for v in limits if v is not None and v > 0]
+    usable = [v for v in limits if v is not None and low <= v <= high]
     for wheel, value in zip(wheels, limits, strict=True):
-        if value is not None and value not in usable:
+        if value is not None and value > high:
+            warnings.append(f"joint {wheel.joint.name!r}: {placeholder_limit(value)}")
+        elif value is not None and value not in usable:
             warnings.append(f"joint {wheel.joint.name!r} has velocity limit {value!r}: ignored")
     max_speed = min(usable) if usable else None
     if len(set(usable)) > 1:

@@ -286,6 +286,35 @@ def test_a_velocity_command_interface_max_is_the_motor_limit(tmp_path: Path) -> 
     assert params.sources["max_wheel_speed"] == "description"
 
 
+@pytest.mark.parametrize(("joint", "interface"), [("1.7e307", None), ("1e6", None), (None, "1e5")])
+def test_a_velocity_limit_faster_than_any_wheel_is_a_placeholder_not_a_limit(
+    tmp_path: Path, joint: str | None, interface: str | None
+) -> None:
+    # Real descriptions write 1e6 for "no limit"; 1.7e307 rad/s left the plot no axis.
+    text = TWO.replace("BODY", "")
+    if joint is not None:
+        limit = f'<axis xyz="0 1 0"/><limit velocity="{joint}" effort="1"/>'
+        text = text.replace('<axis xyz="0 1 0"/>', limit)
+    if interface is not None:
+        tags = "".join(
+            f'<joint name="{side}_wheel_joint"><command_interface name="velocity">'
+            f'<param name="max">{interface}</param></command_interface></joint>'
+            for side in ("left", "right")
+        )
+        text = TWO.replace("BODY", f'<ros2_control name="r" type="system">{tags}</ros2_control>')
+    robot, _ = files(tmp_path, text)
+    params = diffbot.load_params(robot)
+    assert params.max_wheel_speed is None
+    placeholders = [w for w in params.warnings if "taken for a placeholder" in w]
+    assert len(placeholders) == 2
+    assert "faster than any wheel turns (over 10000 rad/s)" in placeholders[0]
+    # a limit a wheel can have is still the limit, beside a placeholder on the other wheel
+    both = text.replace(f'velocity="{joint}"', 'velocity="30"', 1) if joint else None
+    if both is not None:
+        robot.write_text(both, encoding="utf-8")
+        assert diffbot.load_params(robot).max_wheel_speed == 30.0
+
+
 def test_the_lower_of_joint_limit_and_interface_max_is_taken(tmp_path: Path) -> None:
     limited = TWO.replace(
         '<axis xyz="0 1 0"/>', '<axis xyz="0 1 0"/><limit velocity="30" effort="1"/>'
