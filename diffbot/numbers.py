@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import re
 import sys
+from collections.abc import Sequence
 
 from diffbot.errors import DiffbotError, ParameterError
 
@@ -196,10 +197,15 @@ def positive_finite(value: object, what: str, error: type[DiffbotError] = Parame
     return number
 
 
-def placeholder_limit(value: float) -> str:
-    """What a warning says of a description's velocity limit ``value`` (rad/s) above
-    :data:`MOTOR_LIMIT_RANGE`: a placeholder (``1e6``, ``1.7e307``), so no motor limit."""
+def placeholder_limit(where: str, names: Sequence[str], values: Sequence[float]) -> str:
+    """One warning for the velocity limits ``values`` (rad/s) of the joints ``names`` that lie
+    above :data:`MOTOR_LIMIT_RANGE`: placeholders (``1e6``, ``1.7e307``), so no motor limit.
+    ``where``: what gives them, before the joints' names (``"the velocity limit of"``)."""
+    joints = ", ".join(repr(name) for name in names)
+    limits = ", ".join(f"{value:g}" for value in dict.fromkeys(values))
+    plural = len(names) > 1
     return (
-        f"velocity limit {value:g} rad/s is faster than any wheel turns (over "
+        f"{where} joint{'s' if plural else ''} {joints}: {limits} rad/s "
+        f"{'are' if plural else 'is'} faster than any wheel turns (over "
         f"{MOTOR_LIMIT_RANGE[1]:g} rad/s): taken for a placeholder, not a motor limit"
     )

@@ -546,12 +546,10 @@ def _interface_limits(
     give, those in :data:`MOTOR_LIMIT_RANGE`; one above it is a placeholder, with a warning."""
     limits = velocity_limits(root)
     low, high = MOTOR_LIMIT_RANGE
-    for name in wheels:
-        if limits.get(name, 0.0) > high:
-            warnings.append(
-                f"the ros2_control velocity command interface of joint {name!r}: "
-                + placeholder_limit(limits[name])
-            )
+    above = [name for name in wheels if limits.get(name, 0.0) > high]
+    if above:
+        where = "the ros2_control velocity command interface max of"
+        warnings.append(placeholder_limit(where, above, [limits[name] for name in above]))
     return [limits[name] for name in wheels if low <= limits.get(name, 0.0) <= high]
 
 

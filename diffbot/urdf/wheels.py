@@ -397,10 +397,12 @@ def derive(
                 f"{source}: joint {wheel.joint.name!r} has a non-finite velocity limit {value!r}"
             )
     usable = [v for v in limits if v is not None and low <= v <= high]
+    above = [(w.joint.name, v) for w, v in zip(wheels, limits, strict=True) if v and v > high]
+    if above:
+        names, values = zip(*above, strict=True)
+        warnings.append(placeholder_limit("the velocity limit of", names, values))
     for wheel, value in zip(wheels, limits, strict=True):
-        if value is not None and value > high:
-            warnings.append(f"joint {wheel.joint.name!r}: {placeholder_limit(value)}")
-        elif value is not None and value not in usable:
+        if value is not None and value <= high and value not in usable:
             warnings.append(f"joint {wheel.joint.name!r} has velocity limit {value!r}: ignored")
     max_speed = min(usable) if usable else None
     if len(set(usable)) > 1:

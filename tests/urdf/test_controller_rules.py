@@ -306,8 +306,12 @@ def test_a_velocity_limit_faster_than_any_wheel_is_a_placeholder_not_a_limit(
     params = diffbot.load_params(robot)
     assert params.max_wheel_speed is None
     placeholders = [w for w in params.warnings if "taken for a placeholder" in w]
-    assert len(placeholders) == 2
-    assert "faster than any wheel turns (over 10000 rad/s)" in placeholders[0]
+    value = f"{float(joint or interface or 0):g}"
+    assert placeholders == [
+        f"the {'velocity limit' if joint else 'ros2_control velocity command interface max'} "
+        f"of joints 'left_wheel_joint', 'right_wheel_joint': {value} rad/s are faster than "
+        "any wheel turns (over 10000 rad/s): taken for a placeholder, not a motor limit"
+    ]
     # a limit a wheel can have is still the limit, beside a placeholder on the other wheel
     both = text.replace(f'velocity="{joint}"', 'velocity="30"', 1) if joint else None
     if both is not None:
