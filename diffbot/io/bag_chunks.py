@@ -1,14 +1,14 @@
 """Stream one topic of a bag in chunks of raw CDR messages, in constant memory.
 
 Uncompressed sqlite3 storage (a bag directory whose ``metadata.yaml`` names it, a directory of
-``.db3`` files without one, or one ``.db3`` file) is read with :mod:`sqlite3` itself: the
-topic's type from the metadata or the files' ``topics`` tables, then its messages many rows per
-call, in the order rosbags reads them (by receive time; ties by insertion order, as the bag's
-timestamp index yields them). A lone ``.db3.zstd`` file (or such files in a directory without
-metadata) is first decompressed to a temporary file, removed on :meth:`TopicChunks.close`.
-Anything else (mcap, compressed bags, metadata this module does not follow) is opened and read
-by rosbags' rosbag2 reader, and a ROS 1 ``.bag`` by its rosbag1 reader, its messages converted
-to CDR.
+``.db3`` files without one, taken in the order of the numbers in their names, or one ``.db3``
+file) is read with :mod:`sqlite3` itself: the topic's type from the metadata or the files'
+``topics`` tables, then its messages many rows per call, in the order rosbags reads them (by
+receive time; ties by insertion order, as the bag's timestamp index yields them). A lone
+``.db3.zstd`` file (or such files in a directory without metadata) is first decompressed to a
+temporary file, removed on :meth:`TopicChunks.close`. Anything else (mcap, compressed bags,
+metadata this module does not follow) is opened and read by rosbags' rosbag2 reader, and a
+ROS 1 ``.bag`` by its rosbag1 reader, its messages converted to CDR.
 
 Without a topic, ``/joint_states`` is read, or else the bag's only JointState topic.
 """
@@ -16,6 +16,7 @@ Without a topic, ``/joint_states`` is read, or else the bag's only JointState to
 from __future__ import annotations
 
 import os
+import re
 import sqlite3
 import tempfile
 from collections.abc import Callable, Iterator
@@ -80,10 +81,23 @@ class _SqlitePlan(NamedTuple):
     counts: dict[str, int]
 
 
+def _split_order(path: Path) -> tuple[list[str | int], str]:
+    """A sort key putting numbered names in the order of their numbers: ``ros2 bag record
+    --max-bag-size`` names its files ``NAME_0.db3``, ``NAME_1.db3``, ... ``NAME_10.db3``, which
+    plain name order would read as 0, 1, 10, 2."""
+    # re.split with a group alternates text and digits, so like compares with like; a file
+    # name is at most 255 bytes, so int() never meets a number too long to convert.
+    parts = re.split(r"(\d+)", path.name)
+    key: list[str | int] = [int(part) if k % 2 else part for k, part in enumerate(parts)]
+    return key, path.name
+
+
 def _storage_files(folder: Path, suffix: str) -> list[Path]:
-    """The files of a folder whose names end with ``suffix``, in name order, each checked to be
-    a regular file."""
-    found = sorted(p for p in folder.iterdir() if p.name.lower().endswith(suffix))
+    """The files of a folder whose names end with ``suffix``, in the order of the numbers in
+    their names (split recordings), each checked to be a regular file."""
+    found = sorted(
+        (p for p in folder.iterdir() if p.name.lower().endswith(suffix)), key=_split_order
+    )
     for p in found:
         check_regular(p, BagError, "a bag's storage file")
     return found
@@ -129,7 +143,7 @@ def _sqlite_plan(path: Path, scratch: Path | None = None) -> _SqlitePlan | None:
         files = _storage_files(path, ".db3")
         packed = _storage_files(path, ".db3.zstd")
         if packed and scratch is not None:
-            files = _decompressed(sorted(files + packed, key=lambda p: p.name), scratch)
+            files = _decompressed(sorted(files + packed, key=_split_order), scratch)
         if not files:
             return None
     else:

@@ -200,3 +200,34 @@ def test_wheel_positions_too_large_are_skipped_as_read_recording_skips_them(
     assert got.skipped == want.skipped == {"position out of range": 1}
     assert got.final_pose == want.final_pose
     assert got.samples == want.samples == 2
+
+
+def test_a_split_recording_without_metadata_is_read_in_the_order_of_its_file_numbers(
+    tmp_path: Path,
+) -> None:
+    # Straight for the first half, then a spin in place: read out of order, the wheels jump
+    # and the pose differs.
+    messages: list[Message] = []
+    for k in range(120):
+        turn = max(0, k - 60) * 0.2
+        left, right = 0.5 * min(k, 60) - turn, 0.5 * min(k, 60) + turn
+        messages.append(((k + 1) * 10**8, (k + 1) * 10**8, ["left", "right"], [left, right]))
+    whole = write_bag(tmp_path / "whole", messages)
+    split = tmp_path / "split"
+    split.mkdir()
+    for part in range(12):  # as ros2 bag record --max-bag-size names them: split_0 ... split_11
+        bag = write_bag(tmp_path / f"part{part}", messages[10 * part : 10 * part + 10])
+        (storage,) = bag.glob("*.db3")
+        storage.rename(split / f"split_{part}.db3")
+    with closing(TopicChunks(split, "/joint_states", chunk_size=7)) as chunks:
+        received = np.concatenate([c.receive_ns for c in chunks]).tolist()
+    assert received == [(k + 1) * 10**8 for k in range(120)]
+    got, want = bag_odometry(split, NAMED).summary, bag_odometry(whole, NAMED).summary
+    assert got.samples == want.samples == 120
+    assert got.final_pose.x == pytest.approx(want.final_pose.x, abs=1e-12)
+    assert got.final_pose.y == pytest.approx(want.final_pose.y, abs=1e-12)
+    assert got.final_pose.theta == pytest.approx(want.final_pose.theta, abs=1e-12)
+    # 59 steps of 0.2 rad each way on 0.035 m wheels 0.135 m apart
+    assert want.final_pose.theta == pytest.approx(
+        math.remainder(2 * 11.8 * 0.035 / 0.135, math.tau), abs=1e-9
+    )
