@@ -201,21 +201,25 @@ def _field(rows: NDArray[np.uint8], offset: int, dtype: str) -> NDArray[Any]:
 def _matches(rows: NDArray[np.uint8], layout: Layout) -> NDArray[np.bool_]:
     """Which rows (messages of the layout's size) share the layout bytes of row 0.
 
-    Compared a field at a time (8-byte words where they fit), each over all rows at once: the
-    encapsulation word (its options too), the frame id and names, and the three sequence
-    lengths. Comparing the options and the padding after the last name as well only sends more
-    messages to the exact path.
+    Compared over all rows at once, in a fixed number of NumPy calls whatever the layout's
+    length: the encapsulation word (its options too), the frame id and names as one block of
+    8-byte words (and a last 4-byte word), and the three sequence lengths. Comparing the
+    options and the padding after the last name as well only sends more messages to the exact
+    path.
     """
     key_end = (layout.key_end + 3) & -4
+    words_end = 12 + (key_end - 12) // 8 * 8
     fields = [(0, "<u4")]
-    fields += [(offset, "<u8") for offset in range(12, key_end - 7, 8)]
-    if (key_end - 12) % 8:
+    if words_end < key_end:
         fields.append((key_end - 4, "<u4"))
     fields += [(offset, "<u4") for offset in layout.count_offsets]
     same = np.ones(rows.shape[0], dtype=np.bool_)
     for offset, dtype in fields:
         column = _field(rows, offset, dtype)
         same &= column == column[0]
+    # The names as one block: a call per word took about a second per megabyte of frame id.
+    words = rows[:, 12:words_end].view("<u8")
+    same &= (words == words[0]).all(axis=1)
     return same
 
 

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from linear_time import FACTOR, GROWTH, SLACK, cpu_seconds
 from rosbags.typesys import Stores, get_typestore
 from rosbags.typesys.stores import ros2_humble as m
 
@@ -217,3 +218,32 @@ def test_no_messages_give_empty_arrays_of_the_right_shape() -> None:
     got = decode_positions([], ["left", "right"])
     assert got.positions.shape == (0, 2)
     assert got.stamp_ns.dtype == np.int64
+
+
+def long_frames(size: int) -> list[bytes]:
+    """Six JointStates with frame ids of ``size`` bytes and more, 8 bytes apart: each message
+    has a length, so a layout, of its own."""
+    return [
+        serialize(k + 1, 0, "a" * (size + 8 * k), ["left", "right"], ([0.1 * k, 0.2 * k], [], []))
+        for k in range(6)
+    ]
+
+
+#: CPU seconds per megabyte of messages the decoder may take: it measures about 0.001; with a
+#: NumPy call per 8 bytes of frame id it took 0.75.
+SECONDS_PER_MB = 0.05
+
+
+def test_long_frame_ids_are_decoded_in_time_linear_in_their_bytes() -> None:
+    small, large = long_frames(1 << 17), long_frames(FACTOR << 17)
+    got = decode_positions(large, ["left", "right"])
+    assert got.readable.all()
+    assert got.stamp_ns.tolist() == [(k + 1) * 10**9 for k in range(6)]
+    assert got.positions[:, 0] == pytest.approx([0.1 * k for k in range(6)], abs=1e-15)
+    assert got.positions[:, 1] == pytest.approx([0.2 * k for k in range(6)], abs=1e-15)
+    decode_positions(small, ["left", "right"])
+    small_time = min(cpu_seconds(lambda: decode_positions(small, ["left"])) for _ in range(3))
+    large_time = min(cpu_seconds(lambda: decode_positions(large, ["left"])) for _ in range(2))
+    megabytes = sum(map(len, large)) / 1e6
+    assert large_time <= GROWTH * FACTOR * small_time + SLACK
+    assert large_time <= SECONDS_PER_MB * megabytes, f"{large_time:.3f} s for {megabytes:.1f} MB"
