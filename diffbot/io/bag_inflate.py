@@ -51,7 +51,7 @@ MAX_MESSAGE_BYTES: Final = 64 << 20
 FILE_RATIO: Final = 100
 #: A compressed storage file may always grow to this many bytes.
 MIN_FILE_BYTES: Final = 64 << 20
-#: Bytes inflated per step of a file copy.
+#: Bytes inflated per step (of a file copy, or of a stream held in memory).
 _STEP: Final = 1 << 20
 
 
@@ -113,7 +113,8 @@ def inflate(data: bytes, kind: str, limit: int, what: str) -> bytes:
     try:
         while rest:
             stream = new()
-            piece = stream.decompress(rest, limit + 1 - len(out))
+            # A step at a time: a piece as large as the whole would be held beside it.
+            piece = stream.decompress(rest, min(_STEP, limit + 1 - len(out)))
             while True:
                 out += piece
                 if len(out) > limit:
@@ -122,7 +123,7 @@ def inflate(data: bytes, kind: str, limit: int, what: str) -> bytes:
                     break
                 if stream.needs_input:
                     raise RecordingError(f"{what}: its {kind} data is truncated")
-                piece = stream.decompress(b"", limit + 1 - len(out))
+                piece = stream.decompress(b"", min(_STEP, limit + 1 - len(out)))
                 if not (piece or stream.eof or stream.needs_input):
                     raise RecordingError(f"{what}: its {kind} data is truncated")  # no progress
             rest = stream.unused_data

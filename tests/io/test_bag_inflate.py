@@ -198,3 +198,14 @@ def test_an_mcap_chunk_inflating_past_its_declared_size_is_refused() -> None:
         mcap.DECOMPRESSORS["zstd"](zstd.compress(data), len(data) - 1)
     with pytest.raises(RecordingError, match="a bag chunk decompresses to more than 2047"):
         mcap.DECOMPRESSORS["lz4"](lz4.frame.compress(data), len(data) - 1)
+
+
+@pytest.mark.parametrize("kind", ["zstd", "lz4", "bz2"])
+def test_a_stream_inflated_whole_is_held_about_twice_at_most(kind: str) -> None:
+    data = bytes(16 << 20)
+    packed = COMPRESS[kind](data)
+    results: list[bytes] = []
+    peak = peak_bytes(lambda: results.append(inflate(packed, kind, len(data), "x")))
+    assert results[0] == data
+    # the growing result and its final copy; a whole-size piece beside them made it three
+    assert peak < 2.5 * len(data), f"{peak / len(data):.2f} times the data"
