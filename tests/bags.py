@@ -74,6 +74,7 @@ def write_ros1_bag(
     messages: Sequence[tuple[int, int, Sequence[str], Sequence[float]]],
     *,
     topic: str = "/joint_states",
+    frame_id: str = "",
 ) -> Path:
     """A ROS 1 bag with JointState messages on ``topic`` (stamp, receive time, names, positions),
     written by rosbags' rosbag1 writer with the ROS 1 Noetic types."""
@@ -89,7 +90,7 @@ def write_ros1_bag(
                 header=types["std_msgs/msg/Header"](
                     seq=0,
                     stamp=types["builtin_interfaces/msg/Time"](sec=sec, nanosec=nanosec),
-                    frame_id="",
+                    frame_id=frame_id,
                 ),
                 name=list(names),
                 position=np.array(positions, dtype=np.float64),

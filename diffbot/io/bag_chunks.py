@@ -3,12 +3,16 @@
 Uncompressed sqlite3 storage (a bag directory whose ``metadata.yaml`` names it, a directory of
 ``.db3`` files without one, taken in the order of the numbers in their names, or one ``.db3``
 file) is read with :mod:`sqlite3` itself: the topic's type from the metadata or the files'
-``topics`` tables, then its messages many rows per call, in the order rosbags reads them (by
+``topics`` tables, then its messages row by row, in the order rosbags reads them (by
 receive time; ties by insertion order, as the bag's timestamp index yields them). A lone
 ``.db3.zstd`` file (or such files in a directory without metadata) is first decompressed to a
 temporary file, removed on :meth:`TopicChunks.close`. Anything else (mcap, compressed bags,
 metadata this module does not follow) is opened and read by rosbags' rosbag2 reader, and a
 ROS 1 ``.bag`` by its rosbag1 reader, its messages converted to CDR.
+
+Whatever the storage, a chunk holds at most ``chunk_size`` messages and :data:`CHUNK_BYTES`
+bytes of them, and a message larger than :data:`MAX_MESSAGE_BYTES` is refused: a few
+kilobytes of compressed bag can hold thousands of messages of many megabytes each.
 
 Without a topic, ``/joint_states`` is read, or else the bag's only JointState topic.
 """
@@ -20,7 +24,6 @@ import re
 import sqlite3
 import tempfile
 from collections.abc import Callable, Iterator
-from operator import itemgetter
 from pathlib import Path, PurePath
 from typing import TYPE_CHECKING, Any, Final, NamedTuple
 
@@ -39,12 +42,27 @@ if TYPE_CHECKING:
     from rosbags.rosbag1 import Reader as Reader1
     from rosbags.rosbag2 import Reader
 
-__all__ = ["CHUNK_MESSAGES", "BagChunk", "BagError", "TopicChunks"]
+__all__ = [
+    "CHUNK_BYTES",
+    "CHUNK_MESSAGES",
+    "MAX_MESSAGE_BYTES",
+    "BagChunk",
+    "BagError",
+    "TopicChunks",
+]
 
 #: Messages per chunk unless asked otherwise: about 3 MB of JointState messages of four joints.
 #: Larger chunks are no faster and leave more memory behind (measured: 58 MB peak at 16384,
 #: 100-110 MB at 65536 for 1e6-3e6 messages).
 CHUNK_MESSAGES: Final = 16384
+#: Most bytes of messages a chunk holds, whatever their count: a chunk ends before the message
+#: that would take it past this. A few kilobytes of compressed bag inflate to messages of many
+#: megabytes each, and 16384 of them were held at once.
+CHUNK_BYTES: Final = 64 << 20
+#: Largest message read (bytes), as stored and as CDR: the topics read (joint states, poses,
+#: velocity commands) hold a few hundred bytes, a JointState of a hundred joints a few
+#: kilobytes.
+MAX_MESSAGE_BYTES: Final = 1 << 20
 
 
 class BagError(RecordingError):
@@ -64,9 +82,10 @@ class BagChunk(NamedTuple):
     blobs: list[bytes]
 
 
-def _unreadable(source: str, err: Exception) -> BagError:
+def _unreadable(source: str, err: Exception, ros1: bool) -> BagError:
     detail = " ".join(str(err).split()) or type(err).__name__
-    return BagError(f"{source}: not a readable rosbag2 recording: {detail}")
+    kind = "ROS 1 bag" if ros1 else "rosbag2 recording"
+    return BagError(f"{source}: not a readable {kind}: {detail}")
 
 
 def _open_uri(path: Path) -> sqlite3.Connection:
@@ -197,13 +216,13 @@ def _check_not_compressed(connection: sqlite3.Connection, path: Path) -> None:
         )
 
 
-def _blobs(values: list[Any]) -> list[bytes]:
-    """A chunk's ``data`` cells as messages. A damaged or hostile bag may hold TEXT, numbers or
+def _as_message(data: object) -> bytes:
+    """A stored message as bytes. A damaged or hostile sqlite3 bag may hold TEXT, numbers or
     NULL where a message's bytes go: those become empty messages, which decode as unreadable
-    and are skipped. (Checked here, once a chunk, rather than by SQL on every row.)"""
-    if set(map(type, values)) <= {bytes}:
-        return values
-    return [value if type(value) is bytes else b"" for value in values]
+    and are skipped."""
+    if isinstance(data, (memoryview, bytearray)):
+        return bytes(data)
+    return b""
 
 
 class TopicChunks:
@@ -215,7 +234,8 @@ class TopicChunks:
     Args:
         path: a rosbag2 directory (sqlite3 or mcap storage), or one ``.db3`` or ``.mcap`` file.
         topic: the topic to read.
-        chunk_size: messages per chunk (the last may hold fewer).
+        chunk_size: messages per chunk (fewer in the last, and in a chunk that reaches
+            :data:`CHUNK_BYTES`).
         choose: without a topic, picks the topic from the bag's topics and their types (and
             raises a :class:`~diffbot.errors.DiffbotError` when none fits); by default
             ``/joint_states`` or else the only JointState topic.
@@ -372,30 +392,67 @@ class TopicChunks:
     def chunks(self, *, receive_times: bool = True) -> Iterator[BagChunk]:
         """The topic's messages from the start, chunk by chunk, in receive order.
 
+        A chunk holds at most ``chunk_size`` messages and :data:`CHUNK_BYTES` bytes of them (a
+        single message may fill one), whatever the storage.
+
         Args:
-            receive_times: whether the chunks carry the receive times; without them reading
-                sqlite3 storage makes one Python object less per message.
+            receive_times: whether the chunks carry the receive times.
 
         Yields:
-            Chunks of messages; ``receive_ns`` is None when ``receive_times`` is false and the
-            bag is read with sqlite3.
+            Chunks of messages; ``receive_ns`` is None when ``receive_times`` is false.
 
         Raises:
-            BagError: the storage is damaged.
+            BagError: the storage is damaged, or a message is larger than
+                :data:`MAX_MESSAGE_BYTES`.
         """
         try:
             if self._sqlite is not None:
                 for path in self._sqlite.files:
-                    yield from self._sqlite_chunks(path, receive_times)
+                    yield from self._chunked(self._sqlite_rows(path), receive_times)
             else:
-                yield from self._generic_chunks()
-        except DiffbotError:
-            raise
+                yield from self._chunked(self._reader_rows(), receive_times)
+        except DiffbotError as err:
+            # Without the frames below: they hold the storage's buffers (a chunk of up to
+            # 256 MiB), which the error would keep alive while it is handled.
+            raise err.with_traceback(None) from None
         except Exception as err:
             # rosbags and sqlite3 raise assorted errors on damaged files; all mean the same.
-            raise _unreadable(self.source, err) from None
+            raise _unreadable(self.source, err, self._ros1) from None
 
-    def _sqlite_chunks(self, path: Path, receive_times: bool) -> Iterator[BagChunk]:
+    def _too_large(self, size: int) -> BagError:
+        return BagError(
+            f"{self.source}: a {self.msgtype} message of {size} bytes on topic {self.topic!r}, "
+            f"more than the {MAX_MESSAGE_BYTES} bytes (1 MiB) a message may take: refused"
+        )
+
+    def _chunked(
+        self, rows: Iterator[tuple[int, object]], receive_times: bool
+    ) -> Iterator[BagChunk]:
+        """Messages (receive time in ns, stored data) in chunks of at most ``chunk_size``
+        messages and :data:`CHUNK_BYTES` bytes, each message checked against
+        :data:`MAX_MESSAGE_BYTES`."""
+        size = self.chunk_size
+        stamps: list[int] = []
+        blobs: list[bytes] = []
+        held = 0
+        for stamp, data in rows:
+            blob = data if type(data) is bytes else _as_message(data)
+            n = len(blob)
+            if n > MAX_MESSAGE_BYTES:
+                raise self._too_large(n)
+            if held + n > CHUNK_BYTES or len(blobs) == size:
+                yield BagChunk(np.array(stamps, dtype=np.int64) if receive_times else None, blobs)
+                stamps, blobs, held = [], [], 0
+            stamps.append(stamp)
+            blobs.append(blob)
+            held += n
+        if blobs:
+            yield BagChunk(np.array(stamps, dtype=np.int64) if receive_times else None, blobs)
+
+    def _sqlite_rows(self, path: Path) -> Iterator[tuple[int, object]]:
+        """(receive time in ns, data) of the topic's messages in one sqlite3 storage file, one
+        row at a time: a chunk's worth of rows fetched at once would hold every large message
+        of it."""
         connection = _open_uri(path)
         try:
             ids = [
@@ -405,40 +462,27 @@ class TopicChunks:
                 )
             ]
             marks = ",".join("?" * len(ids))
-            columns = "timestamp, data" if receive_times else "data"
-            cursor = connection.execute(
-                f"SELECT {columns} FROM messages WHERE topic_id IN ({marks}) "
+            yield from connection.execute(
+                f"SELECT timestamp, data FROM messages WHERE topic_id IN ({marks}) "
                 "ORDER BY timestamp, id",
                 ids,
             )
-            if not receive_times:
-                data = itemgetter(0)
-                while rows := cursor.fetchmany(self.chunk_size):
-                    yield BagChunk(None, _blobs(list(map(data, rows))))
-                return
-            stamp, data = itemgetter(0), itemgetter(1)
-            while rows := cursor.fetchmany(self.chunk_size):
-                stamps = np.fromiter(map(stamp, rows), dtype=np.int64, count=len(rows))
-                yield BagChunk(stamps, _blobs(list(map(data, rows))))
         finally:
             connection.close()
 
-    def _generic_chunks(self) -> Iterator[BagChunk]:
+    def _reader_rows(self) -> Iterator[tuple[int, object]]:
+        """(receive time in ns, CDR data) of the topic's messages, read by rosbags."""
         assert self._reader is not None
         connections: list[Connection] = self._connections
-        stamps: list[int] = []
-        blobs: list[bytes] = []
-        convert = None
-        if self._ros1:
-            from diffbot.io.bag import typestore
+        messages = self._reader.messages(connections=connections)
+        if not self._ros1:
+            for _, timestamp, data in messages:
+                yield timestamp, data
+            return
+        from diffbot.io.bag import typestore
 
-            store = typestore()
-            convert = store.ros1_to_cdr
-        for _, timestamp, data in self._reader.messages(connections=connections):
-            stamps.append(timestamp)
-            blobs.append(bytes(data) if convert is None else bytes(convert(data, self.msgtype)))
-            if len(blobs) == self.chunk_size:
-                yield BagChunk(np.array(stamps, dtype=np.int64), blobs)
-                stamps, blobs = [], []
-        if blobs:
-            yield BagChunk(np.array(stamps, dtype=np.int64), blobs)
+        convert = typestore().ros1_to_cdr
+        for _, timestamp, data in messages:
+            if len(data) > MAX_MESSAGE_BYTES:  # before converting: that would copy it
+                raise self._too_large(len(data))
+            yield timestamp, convert(data, self.msgtype)
