@@ -276,6 +276,9 @@ def _csv(shape: str, token: str) -> Callable[[int], bytes]:
     def make(n: int) -> bytes:
         if shape == "rows":
             rows = "".join(f"{i},0.1,0.2\n" for i in range(n))
+        elif shape == "quoted wide rows":  # the quote sends every row through csv
+            wide = f"{token}," * 200
+            rows = '0,0.1,0.2,"x"\n' + "".join(f"{i},0.1,0.2,{wide}x\n" for i in range(n))
         elif shape == "columns":
             names = ",".join(f"c{i}" for i in range(n))
             rows = f"{names}\n" + f"0,0.1,0.2,{','.join(['0.5'] * n)}\n" * 10
@@ -288,8 +291,9 @@ def _csv(shape: str, token: str) -> Callable[[int], bytes]:
 
 
 @FEW
-@given(shape=st.sampled_from(["rows", "columns", "a long cell"]), token=TOKENS)
+@given(shape=st.sampled_from(["rows", "columns", "a long cell", "quoted wide rows"]), token=TOKENS)
 @example(shape="columns", token="1")
+@example(shape="quoted wide rows", token="12")
 def test_a_csv_recording_is_read_in_linear_time(tmp_path: Path, shape: str, token: str) -> None:
     read = on_file(tmp_path / "run.csv", lambda path: read_csv(path, "left", "right"))
     print(

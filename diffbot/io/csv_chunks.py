@@ -13,8 +13,10 @@ A chunk of lines is parsed by :func:`numpy.loadtxt` (the wheel cells as float64,
 as bytes) and the stamps by integer arithmetic on those bytes (:mod:`diffbot.io.csv_stamps`).
 Python's rules take over where NumPy's could differ: a chunk that loadtxt refuses (an empty or
 odd cell, a short row) is read row by row with :mod:`csv`, and so is the rest of a file from the
-first quote character or NUL on; a time cell that is not plain digits with at most 9 decimals
-is converted on its own.
+first quote character or NUL on (or from a chunk without a line end), in chunks of rows of about
+``chunk_bytes`` characters, each row turned into numbers as it is read and none longer than
+:data:`~diffbot.io.csv_lines.ROW_CHARS`; a time cell that is not plain digits with at most 9
+decimals is converted on its own.
 """
 
 from __future__ import annotations
@@ -22,7 +24,6 @@ from __future__ import annotations
 import contextlib
 import csv
 import io
-import itertools
 import math
 import os
 import re
@@ -35,6 +36,7 @@ from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.csv_columns import TIME_COLUMNS, joint_columns, named_columns, time_column
 from diffbot.io.csv_layout import CsvLayout
+from diffbot.io.csv_lines import RowLines
 from diffbot.io.csv_stamps import (
     TIME_UNITS,
     UNIT_NAMES,
@@ -235,11 +237,15 @@ class CsvChunks:
         self.unit_doubt: str | None = None
         self._comma_known = False
         headers: list[str] | None = None
+        lines = RowLines(self._stream, source=source)
         with self._errors():
-            for row in csv.reader(self._stream, delimiter=self.delimiter):
+            for row in csv.reader(lines, delimiter=self.delimiter):
+                lines.row_done()
                 if any(cell.strip() for cell in row):
                     headers = [h.strip() for h in row]
                     break
+        #: Lines read so far: those of the header, then of the chunks given.
+        self._line = lines.line
         if headers is None:
             raise RecordingError(f"{source}: empty file")
         if layout.delimiter is None and len(headers) == 1:
@@ -383,23 +389,39 @@ class CsvChunks:
                 yield from self._exact_rest(text, carry)
                 return
             yield self._fast(text, dtype)._replace(chars=len(text))
+            self._line += text.count("\n")
 
     def _exact_rest(self, text: str, carry: str) -> Iterator[CsvChunk]:
-        """The rest of the input, row by row with csv, in chunks of rows."""
+        """The rest of the input, row by row with csv, in chunks of at most
+        :data:`_EXACT_ROWS` rows and about ``chunk_bytes`` characters: a chunk holds its
+        samples and one row of cells at a time.
 
-        def lines() -> Iterator[str]:
-            yield from io.StringIO(text, newline="")
-            if carry:
-                yield from io.StringIO(self._text(carry + self._stream.readline()), newline="")
-            yield from map(self._text, self._stream)
-
-        rows = csv.reader(lines(), delimiter=self.delimiter)
+        Raises:
+            RecordingError: a row longer than :data:`~diffbot.io.csv_lines.ROW_CHARS`.
+        """
+        lines = RowLines(
+            self._stream, text + self._text(carry), self._text, source=self.source, line=self._line
+        )
+        rows = csv.reader(lines, delimiter=self.delimiter)
         while True:
+            start = lines.chars
             with self._errors():
-                batch = list(itertools.islice(rows, _EXACT_ROWS))
-            if not batch:
+                chunk = _rows_exactly(
+                    self._batch(rows, lines), self.indexes, self._decimals, self._field
+                )
+            if lines.chars == start:
                 return
-            yield _rows_exactly(batch, self.indexes, self._decimals, self._field)
+            yield chunk._replace(chars=lines.chars - start)
+
+    def _batch(self, rows: Iterator[list[str]], lines: RowLines) -> Iterator[list[str]]:
+        """The next rows of ``rows`` (read from ``lines``), up to :data:`_EXACT_ROWS` of them
+        or as soon as they reach ``chunk_bytes`` characters."""
+        start = lines.chars
+        for count, row in enumerate(rows, 1):
+            lines.row_done()
+            yield row
+            if count == _EXACT_ROWS or lines.chars - start >= self.chunk_bytes:
+                return
 
     def _fast(self, text: str, dtype: np.dtype[np.void]) -> CsvChunk:
         """Complete lines without quotes: loadtxt when it can, else csv row by row."""

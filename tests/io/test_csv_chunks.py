@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import tracemalloc
 from collections.abc import Sequence
 from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
 from pathlib import Path
@@ -307,3 +308,54 @@ def test_a_straight_run_ends_at_its_length(tmp_path: Path) -> None:
     assert summary.final_pose.y == 0.0
     assert math.remainder(summary.final_pose.theta, math.tau) == 0.0
     assert summary.duration == 1.0
+
+
+def quoted_wide_csv(path: Path, rows: int, columns: int = 200) -> None:
+    """A CSV whose first row quotes a cell (so that every row is read with csv), each row with
+    ``columns`` more cells of two digits."""
+    extra = ",".join(["12"] * columns)
+    with path.open("w") as out:
+        out.write("time,left,right,note," + ",".join(f"c{i}" for i in range(columns)) + "\n")
+        for k in range(rows):
+            note = '"x"' if k == 0 else "x"
+            out.write(f"{k * 0.01:.2f},{k * 0.001},{k * 0.002},{note},{extra}\n")
+
+
+def peak_bytes(path: Path, chunk_bytes: int) -> tuple[int, int]:
+    """Samples read from ``path`` and the peak of the memory allocated meanwhile (bytes)."""
+    tracemalloc.start()
+    try:
+        with open_csv_chunks(path, (["left"], ["right"]), chunk_bytes=chunk_bytes) as chunks:
+            count = sum(chunk.stamp_ns.size for chunk in chunks)
+        return count, tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def test_quoted_rows_are_read_in_memory_that_does_not_grow_with_the_file(tmp_path: Path) -> None:
+    budget = 1 << 16
+    small, large = tmp_path / "small.csv", tmp_path / "large.csv"
+    quoted_wide_csv(small, 1000)
+    quoted_wide_csv(large, 8000)  # 4.8 MB of text; 1.6 million cells, 100 MB as Python strings
+    small_count, small_peak = peak_bytes(small, budget)
+    large_count, large_peak = peak_bytes(large, budget)
+    assert (small_count, large_count) == (1000, 8000)
+    # A chunk holds about `budget` characters' rows as samples and one row's cells; the text
+    # grows by 4.2 MB from the small file to the large one, the peak by less than the budget.
+    assert large_peak - small_peak < budget, (small_peak, large_peak)
+    assert large_peak < 2 << 20, large_peak
+
+
+def test_quoted_rows_come_in_chunks_of_about_the_chunk_size(tmp_path: Path) -> None:
+    budget = 1 << 16
+    path = tmp_path / "run.csv"
+    quoted_wide_csv(path, 1000)
+    header, *lines = path.read_text().splitlines(keepends=True)
+    longest = max(map(len, lines))
+    with open_csv_chunks(path, (["left"], ["right"]), chunk_bytes=budget) as chunks:
+        sizes = [(chunk.stamp_ns.size, chunk.chars) for chunk in chunks]
+    assert len(sizes) > 5
+    assert all(budget <= chars < budget + longest for _, chars in sizes[:-1]), sizes
+    assert 0 < sizes[-1][1] < budget + longest
+    assert sum(n for n, _ in sizes) == 1000
+    assert sum(chars for _, chars in sizes) == path.stat().st_size - len(header)
