@@ -74,14 +74,16 @@ def read_recording(
         ParameterError: an unknown ``feedback``.
     """
     velocity = check_feedback(feedback) == "velocity"
+    counts_per_rev = None if conditioning is None else conditioning.counts_per_rev
     p = existing_recording(path)
     if is_bag(p):
         wheels = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
-        recording = _within_range(read_bag(p, topic, feedback), wheels, feedback)
+        limit = wheel_limit(feedback, counts_per_rev)
+        recording = _within_range(read_bag(p, topic, feedback), wheels, feedback, limit)
         return _conditioned(recording, params, conditioning, velocity)
 
     layout = csv_layout(time_column, left_column, right_column, delimiter, time_unit)
-    layout = dataclasses.replace(layout, field=feedback)
+    layout = dataclasses.replace(layout, field=feedback, counts_per_rev=counts_per_rev)
     sides = (params.left_joints, params.right_joints)
     skipped: dict[str, int] = {}
     with open_csv_chunks(p, sides, layout=layout) as chunks:
@@ -141,10 +143,10 @@ def _conditioned(
     return dataclasses.replace(recording, samples=kept, conditioning=report)
 
 
-def _within_range(recording: Recording, wheels: set[str], field: str) -> Recording:
+def _within_range(recording: Recording, wheels: set[str], field: str, limit: float) -> Recording:
     """The recording without the samples whose wheel positions (or velocities: ``field``) are
-    too large to compute with (counted as skipped, as a CSV reader counts them)."""
-    limit = wheel_limit(field)
+    beyond ``limit`` in their own unit, too large to compute with (counted as skipped, as a CSV
+    reader counts them)."""
     kept = [
         sample
         for sample in recording.samples

@@ -244,7 +244,11 @@ def csv_odometry(
         sides,
         chunk_bytes=CHUNK_BYTES if chunk_bytes is None else chunk_bytes,
         source=source,
-        layout=dataclasses.replace(layout or CsvLayout(), field=feedback),
+        layout=dataclasses.replace(
+            layout or CsvLayout(),
+            field=feedback,
+            counts_per_rev=None if conditioning is None else conditioning.counts_per_rev,
+        ),
     ) as chunks:
         conditioner = Conditioner.for_robot(params, chunks.joints, chunks.left_count, conditioning)
         angles = VelocityAngles(len(chunks.joints)) if velocity else None
@@ -287,6 +291,7 @@ def _bag_pass(
     joints = (*params.left_joints, *params.right_joints)
     conditioner = Conditioner.for_robot(params, joints, len(params.left_joints), conditioning)
     angles = VelocityAngles(len(joints)) if feedback == "velocity" else None
+    limit = wheel_limit(feedback, None if conditioning is None else conditioning.counts_per_rev)
     for chunk in topic.chunks(receive_times=clock == CLOCK_RECEIVE):
         decoded = decode_positions(chunk.blobs, joints, feedback)
         readable = decoded.readable
@@ -303,7 +308,7 @@ def _bag_pass(
             stamps = chunk.receive_ns[readable]
         # Readable messages with a finite wheel position too large to compute with are
         # skipped, as read_recording skips them.
-        large = beyond_ranges(positions, wheel_limit(feedback)) & present
+        large = beyond_ranges(positions, limit) & present
         out_of_range: NDArray[np.bool_] = np.any(large, axis=1)[readable]
         if unreadable:
             positions, present = positions[readable], present[readable]

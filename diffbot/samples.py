@@ -117,10 +117,22 @@ def range_reason(field: str) -> str:
     return SKIP_VELOCITY_RANGE if field == "velocity" else SKIP_POSITION_RANGE
 
 
-def wheel_limit(field: str) -> float:
+def wheel_limit(field: str, counts_per_rev: float | None = None) -> float:
     """The largest magnitude a wheel's ``field`` (``"position"``, rad, or ``"velocity"``, rad/s)
-    is taken with, from a file or a message alike."""
-    return MAX_WHEEL_SPEED if field == "velocity" else MAX_RECORDED_ANGLE
+    is taken with, from a file or a message alike.
+
+    Args:
+        field: ``"position"`` or ``"velocity"``.
+        counts_per_rev: encoder counts per revolution when the values are counts (counts/s),
+            None when they are radians (rad/s).
+
+    Returns:
+        The bound in the values' own unit: with ``counts_per_rev``, the bound in radians (rad/s)
+        as counts (counts/s), ``bound * counts_per_rev / (2 pi)``, so that the bound holds for
+        the values once converted, not for the counts.
+    """
+    limit = MAX_WHEEL_SPEED if field == "velocity" else MAX_RECORDED_ANGLE
+    return limit if counts_per_rev is None else limit * counts_per_rev / (2.0 * math.pi)
 
 
 def beyond_range(value: float, limit: float) -> bool:

@@ -46,3 +46,11 @@ def test_an_array_is_judged_as_each_of_its_values(table: np.ndarray, limit: floa
     judged = beyond_ranges(table, limit)
     assert judged.shape == table.shape
     assert judged.tolist() == [[beyond_range(v, limit) for v in row] for row in table.tolist()]
+
+
+def test_the_bound_of_counts_is_that_of_the_radians_they_convert_to() -> None:
+    # 2 pi counts a revolution: a count is a radian.
+    assert wheel_limit("velocity", 2 * math.pi) == pytest.approx(MAX_WHEEL_SPEED, rel=1e-15)
+    # 40960 counts a revolution: 1e4 rad/s is 65,189,864.69 counts/s.
+    assert wheel_limit("velocity", 40960) == pytest.approx(65_189_864.69, abs=0.01)
+    assert wheel_limit("position", 40960) == pytest.approx(6.518986469e15, rel=1e-9)

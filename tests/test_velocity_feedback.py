@@ -181,3 +181,55 @@ def test_velocities_beyond_range_are_skipped_as_velocities(tmp_path: Path, sourc
     assert dict(streamed.summary.skipped) == want
     # The two usable samples at 0 s and 3 s: 0.1 rad/s held over the gap on both wheels.
     assert streamed.summary.final_pose.x == pytest.approx(0.1 * 3.0 * 0.035, rel=1e-12)
+
+
+#: An encoder of 40960 counts per revolution at 0.1 rev/s, then 0.5 rev/s for 10 s (20480
+#: counts/s, 3.14 rad/s), then 0.1 rev/s again, one sample a second; the last sample is 1 %
+#: past the wheel velocity bound once converted to rad/s.
+COUNTS_PER_REV = 40960
+COUNT_SPEEDS = [20480.0 if 10 < k <= 20 else 4096.0 for k in range(31)]
+COUNT_SPEEDS.append(1.01 * MAX_WHEEL_SPEED * COUNTS_PER_REV / (2 * math.pi))
+
+
+def _counts_recording(tmp_path: Path, source: str) -> Path:
+    if source == "bag":
+        from bags import joint_state, write_bag
+
+        names = ["left_wheel_joint", "right_wheel_joint"]
+        messages = [
+            (k * S, joint_state(k * S, names, [0.0, 0.0], velocities=[v, v]))
+            for k, v in enumerate(COUNT_SPEEDS, start=1)
+        ]
+        return write_bag(tmp_path / "counts", messages)
+    header = "time,/left_wheel_joint/velocity,/right_wheel_joint/velocity"
+    rows = [f"{k},{v!r},{v!r}" for k, v in enumerate(COUNT_SPEEDS)]
+    if source == "quoted csv":
+        rows[0] = '"0",4096,4096'
+    path = tmp_path / "counts.csv"
+    path.write_text("\n".join([header, *rows]) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("source", ["csv", "quoted csv", "bag"])
+def test_the_velocity_bound_holds_for_counts_once_converted_to_radians(
+    tmp_path: Path, source: str
+) -> None:
+    from diffbot.conditioning import Conditioning
+    from diffbot.replay import recording_odometry
+
+    path = _counts_recording(tmp_path, source)
+    params = BOT.replace(left_joints=("left_wheel_joint",), right_joints=("right_wheel_joint",))
+    counts = Conditioning(counts_per_rev=COUNTS_PER_REV, wrap=0)
+    # 2 revolutions at 0.1 rev/s and 5 at 0.5 rev/s of a 35 mm wheel.
+    distance = (20 * 0.1 + 10 * 0.5) * 2 * math.pi * 0.035
+    assert distance == pytest.approx(1.5393804, abs=1e-7)
+    want = {"velocity out of range": 1}
+    streamed = recording_odometry(path, params, conditioning=counts, feedback="velocity")
+    assert dict(streamed.summary.skipped) == want
+    assert streamed.summary.distance == pytest.approx(distance, rel=1e-12)
+    assert streamed.summary.final_pose.x == pytest.approx(distance, rel=1e-12)
+    whole = diffbot.read_recording(path, params, conditioning=counts, feedback="velocity")
+    assert dict(whole.skipped) == want
+    assert len(whole.samples) == 31
+    left = whole.samples[-1].positions[0]
+    assert left * 0.035 == pytest.approx(distance, rel=1e-12)

@@ -138,10 +138,12 @@ def _rows_exactly(
     indexes: Sequence[int],
     decimals: int = 9,
     field: str = "position",
+    limit: float | None = None,
 ) -> CsvChunk:
     """Rows parsed by :mod:`csv` into one chunk, cell by cell: wheel ``field`` values beyond
-    its :func:`~diffbot.samples.wheel_limit` skip their row."""
-    out_of_range, limit = range_reason(field), wheel_limit(field)
+    ``limit`` (default: its :func:`~diffbot.samples.wheel_limit`) skip their row."""
+    out_of_range = range_reason(field)
+    limit = wheel_limit(field) if limit is None else limit
     time_index, *joint_indexes = indexes
     width = max(indexes) + 1
     stamps: list[int] = []
@@ -227,6 +229,7 @@ class CsvChunks:
         self.chunk_bytes = chunk_bytes
         self.source = source
         self._field = layout.field
+        self._limit = wheel_limit(layout.field, layout.counts_per_rev)
         self._stream = stream
         self.delimiter = layout.delimiter or ","
         self.delimiter_detected = False
@@ -407,7 +410,7 @@ class CsvChunks:
             start = lines.chars
             with self._errors():
                 chunk = _rows_exactly(
-                    self._batch(rows, lines), self.indexes, self._decimals, self._field
+                    self._batch(rows, lines), self.indexes, self._decimals, self._field, self._limit
                 )
             if lines.chars == start:
                 return
@@ -459,7 +462,7 @@ class CsvChunks:
         for j in range(len(self.joints)):
             positions[:, j] = rows[f"p{j}"]
         stamps = stamps[keep]
-        large = beyond_ranges(positions, wheel_limit(self._field)).any(axis=1)
+        large = beyond_ranges(positions, self._limit).any(axis=1)
         if large.any():
             skipped[range_reason(self._field)] = int(np.count_nonzero(large))
             positions, stamps = positions[~large], stamps[~large]
@@ -469,7 +472,7 @@ class CsvChunks:
     def _exact(self, text: str) -> CsvChunk:
         with self._errors():
             rows = csv.reader(io.StringIO(text, newline=""), delimiter=self.delimiter)
-            return _rows_exactly(rows, self.indexes, self._decimals, self._field)
+            return _rows_exactly(rows, self.indexes, self._decimals, self._field, self._limit)
 
 
 @contextlib.contextmanager

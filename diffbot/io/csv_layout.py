@@ -25,6 +25,9 @@ class CsvLayout:
         field: ``position`` or ``velocity``: the JointState field whose columns are found by
             the joints' names (``/<joint>/velocity``; a column named by the joint alone is a
             position).
+        counts_per_rev: encoder counts per revolution when the wheel columns hold counts
+            (counts/s): a row is skipped when a wheel's value, converted to radians (rad/s), is
+            beyond :func:`~diffbot.samples.wheel_limit`; None when they hold radians.
     """
 
     time_column: str | None = None
@@ -33,6 +36,7 @@ class CsvLayout:
     delimiter: str | None = None
     time_unit: str | None = None
     field: str = "position"
+    counts_per_rev: float | None = None
 
     def __post_init__(self) -> None:
         if self.delimiter is not None and len(self.delimiter) != 1:

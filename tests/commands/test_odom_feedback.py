@@ -325,3 +325,17 @@ def test_velocity_columns_named_by_the_bundled_robots_joints_need_no_robot(
     args = ["--feedback", "velocity", "--left-column", left, "--right-column", right]
     data = odom_json(runner, str(path), *args)
     assert final(data) == pytest.approx((0.1, 0.0, 0.0), abs=1e-12)
+
+
+def test_wheel_velocities_in_counts_are_bounded_once_converted(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # 0.1 rev/s, 0.5 rev/s for 10 s (20480 counts/s: 3.14 rad/s), 0.1 rev/s, on the bundled
+    # robot's 35 mm wheels.
+    rows = ["time,/a/front_left_wheel_joint/velocity,/a/front_right_wheel_joint/velocity"]
+    rows += [f"{k},{v},{v}" for k, v in ((k, 20480 if 10 < k <= 20 else 4096) for k in range(31))]
+    path = tmp_path / "counts.csv"
+    path.write_text("\n".join(rows) + "\n")
+    data = odom_json(runner, str(path), "--feedback", "velocity", "--counts-per-rev", "40960")
+    assert data["skipped"] == {}
+    assert data["distance"] == pytest.approx(1.5393804, abs=1e-7)
