@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any, Final
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.csv_columns import preferred_time_column
+from diffbot.io.csv_lines import RowLines
 from diffbot.io.textfile import open_text
 from diffbot.numbers import MAX_COORDINATE, MAX_RECORDED_ANGLE, finite_in_range
 from diffbot.samples import INT64, NS_PER_S, ns_from_seconds
@@ -159,8 +160,10 @@ def _read_csv(path: Path) -> PoseTrack:
     source = str(path)
     rows = _Poses(source)
     with open_text(path, RecordingError, "a CSV file", newline="") as stream:
-        reader = csv.reader(stream)
+        lines = RowLines(stream, source=source)
+        reader = csv.reader(lines)
         headers = [h.strip().lower() for h in next(reader, [])]
+        lines.row_done()
         time_index = preferred_time_column(headers)
         names = {"yaw": "theta"}
         columns = {names.get(h, h): i for i, h in reversed(list(enumerate(headers)))}
@@ -174,6 +177,7 @@ def _read_csv(path: Path) -> PoseTrack:
         indexes = [time_index, *(columns[c] for c in POSE_COLUMNS)]
         try:
             for line, row in enumerate(reader, start=2):
+                lines.row_done()
                 cells = [row[i].strip() if i < len(row) else "" for i in indexes]
                 if not all(cells[1:]):
                     continue

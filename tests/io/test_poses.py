@@ -13,6 +13,7 @@ from rosbags.rosbag2 import Writer
 from rosbags.typesys.stores import ros2_humble as m
 
 from diffbot.errors import RecordingError
+from diffbot.io.csv_lines import ROW_CHARS
 from diffbot.io.poses import read_pose_track, yaw_from_quaternion
 from diffbot.ros.messages import quaternion_from_yaw
 
@@ -119,6 +120,13 @@ def test_a_csv_track_with_a_bad_cell_names_its_line(tmp_path: Path) -> None:
     path = tmp_path / "truth.csv"
     path.write_text("time,x,y,theta\n0,0,0,0\n1,nan,0,0\n", "utf-8")
     with pytest.raises(RecordingError, match="line 3: not a finite time and pose"):
+        read_pose_track(path)
+
+
+def test_a_csv_track_with_a_row_longer_than_the_bound_names_its_line(tmp_path: Path) -> None:
+    path = tmp_path / "truth.csv"
+    path.write_text("time,x,y,theta\n0,0,0,0\n1,1,0,0," + "12," * ROW_CHARS + "\n", "utf-8")
+    with pytest.raises(RecordingError, match=r"truth.csv: line 3: a row longer than 4194304"):
         read_pose_track(path)
 
 
