@@ -6,7 +6,6 @@ from __future__ import annotations
 import itertools
 import json
 import math
-import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -14,6 +13,7 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from peak_memory import peak_bytes
 from robots import BOT_50_RPM
 from wheel_motion import angle_error
 
@@ -498,14 +498,14 @@ def test_simulated_chunks_keep_memory_flat() -> None:
     p = plan(parse_plan("straight 10 200s"), BOT)
     peaks = []
     for rate in (1000.0, 4000.0):
-        tracemalloc.start()
-        try:
+
+        def run(rate: float = rate) -> tuple[int, int]:
             states = simulate_chunks(p, BOT, Sampling(rate, noise=0.001, seed=1))
-            total = sum(t.size for t, _ in states.chunks)
-            peaks.append(tracemalloc.get_traced_memory()[1])
-        finally:
-            tracemalloc.stop()
-        assert total == states.samples
+            return sum(t.size for t, _ in states.chunks), states.samples
+
+        (total, samples), peak = peak_bytes(run)
+        peaks.append(peak)
+        assert total == samples
     # Four times the samples (8e5 at the end, 26 MB as whole arrays): about the same peak.
     assert peaks[1] < 1.3 * peaks[0]
     assert peaks[1] < 12e6

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from calibration_data import TRUE_LEFT, TRUE_RIGHT, TRUE_SEPARATION, recording
 from numpy.typing import NDArray
+from peak_memory import peak_bytes
 from robots import BOT
 
 from diffbot.calibration import FitResult, fit_recording
@@ -112,7 +113,6 @@ def test_fit_recordings_keeps_little_more_than_the_wheel_angles_of_a_long_record
     # numpy.diff over whole columns: thirteen columns' worth.
     import importlib
     import sys
-    import tracemalloc
 
     module = sys.modules["diffbot.calibration.fit"]
     monkeypatch.setattr(module, "CHUNK", 4096)  # the fixed work arrays, out of the figure
@@ -124,11 +124,6 @@ def test_fit_recordings_keeps_little_more_than_the_wheel_angles_of_a_long_record
     del stamps, left, right, truth
     for name in ("scipy.optimize", "diffbot.conditioning"):  # importing is not the fit's work
         importlib.import_module(name)
-    tracemalloc.start()
-    try:
-        result, _ = fit_recordings((pairs.pop() for _ in range(1)), BOT)
-        _, peak = tracemalloc.get_traced_memory()
-    finally:
-        tracemalloc.stop()
+    (result, _), peak = peak_bytes(lambda: fit_recordings((pairs.pop() for _ in range(1)), BOT))
     assert peak < 4 * 8 * n, f"{peak / (8 * n):.1f} columns of float64"
     assert estimates(result) == pytest.approx(TRUTH, rel=1e-7)

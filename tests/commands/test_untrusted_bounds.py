@@ -13,6 +13,7 @@ import pytest
 from cli_results import assert_one_error_line
 from click.testing import CliRunner
 from extras import need
+from peak_memory import peak_bytes
 
 from diffbot.cli import main
 
@@ -197,18 +198,15 @@ def test_a_runs_file_of_more_runs_than_a_test_drives_is_refused(tmp_path: Path) 
 
 
 def test_a_runs_file_is_read_no_further_than_its_bound(tmp_path: Path) -> None:
-    import tracemalloc
-
     from diffbot.commands.calibrate import MAX_RUNS_CHARS, _runs_file
     from diffbot.errors import CalibrationError
 
     path = tmp_path / "runs.csv"
     path.write_text("direction,x,y\n" + "cw,0.1,0.1\n" * 2_000_000, "utf-8")  # 24 MB
-    tracemalloc.start()
-    try:
+
+    def refused() -> None:
         with pytest.raises(CalibrationError, match="more than"):
             _runs_file(str(path))
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+
+    _, peak = peak_bytes(refused)
     assert peak < 20 * MAX_RUNS_CHARS  # the whole file would be over 24 MB before splitting

@@ -3,8 +3,6 @@ message larger than MAX_MESSAGE_BYTES, the same for every storage."""
 
 from __future__ import annotations
 
-import tracemalloc
-from collections.abc import Callable
 from contextlib import closing
 from pathlib import Path
 from typing import Any
@@ -13,6 +11,7 @@ import pytest
 from bags import JOINT_STATE, TYPESTORE, joint_state, write_bag, write_ros1_bag
 from cli_results import assert_one_error_line
 from click.testing import CliRunner
+from peak_memory import peak_bytes
 from robots import BOT, NAMED
 
 from diffbot.cli import main
@@ -53,17 +52,6 @@ def write(kind: str, path: Path, content: Messages, frame_id: str) -> Path:
     return path
 
 
-def peak_bytes(run: Callable[[], Any]) -> int:
-    """The most memory Python allocated while ``run`` ran (bytes)."""
-    tracemalloc.start()
-    try:
-        run()
-    finally:
-        peak = tracemalloc.get_traced_memory()[1]
-        tracemalloc.stop()
-    return peak
-
-
 @pytest.mark.parametrize("kind", KINDS)
 def test_a_chunk_ends_before_the_message_that_would_take_it_past_chunk_bytes(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, kind: str
@@ -92,7 +80,7 @@ def test_reading_holds_a_bounded_amount_of_memory_however_many_large_messages(
     bag = write(kind, tmp_path / "rec", messages(60), "f" * FRAME)  # 18 MB of messages
     bag_odometry(bag, NAMED)  # what is loaded on first use is not counted
     summaries: list[Any] = []
-    peak = peak_bytes(lambda: summaries.append(bag_odometry(bag, NAMED).summary))
+    _, peak = peak_bytes(lambda: summaries.append(bag_odometry(bag, NAMED).summary))
     # a MiB of messages, the storage's own chunk of about as much, and copies of a few
     assert peak < 6 << 20, f"{peak / 2**20:.1f} MiB"
     assert summaries[0].samples == 60

@@ -5,7 +5,6 @@ from __future__ import annotations
 import csv
 import io
 import math
-import tracemalloc
 from collections.abc import Sequence
 from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
 from pathlib import Path
@@ -14,6 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from peak_memory import peak_bytes
 from robots import NAMED
 from sinks import Collect
 
@@ -321,15 +321,14 @@ def quoted_wide_csv(path: Path, rows: int, columns: int = 200) -> None:
             out.write(f"{k * 0.01:.2f},{k * 0.001},{k * 0.002},{note},{extra}\n")
 
 
-def peak_bytes(path: Path, chunk_bytes: int) -> tuple[int, int]:
+def samples_and_peak(path: Path, chunk_bytes: int) -> tuple[int, int]:
     """Samples read from ``path`` and the peak of the memory allocated meanwhile (bytes)."""
-    tracemalloc.start()
-    try:
+
+    def read() -> int:
         with open_csv_chunks(path, (["left"], ["right"]), chunk_bytes=chunk_bytes) as chunks:
-            count = sum(chunk.stamp_ns.size for chunk in chunks)
-        return count, tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
+            return sum(chunk.stamp_ns.size for chunk in chunks)
+
+    return peak_bytes(read)
 
 
 def test_quoted_rows_are_read_in_memory_that_does_not_grow_with_the_file(tmp_path: Path) -> None:
@@ -337,8 +336,8 @@ def test_quoted_rows_are_read_in_memory_that_does_not_grow_with_the_file(tmp_pat
     small, large = tmp_path / "small.csv", tmp_path / "large.csv"
     quoted_wide_csv(small, 1000)
     quoted_wide_csv(large, 8000)  # 4.8 MB of text; 1.6 million cells, 100 MB as Python strings
-    small_count, small_peak = peak_bytes(small, budget)
-    large_count, large_peak = peak_bytes(large, budget)
+    small_count, small_peak = samples_and_peak(small, budget)
+    large_count, large_peak = samples_and_peak(large, budget)
     assert (small_count, large_count) == (1000, 8000)
     # A chunk holds about `budget` characters' rows as samples and one row's cells; the text
     # grows by 4.2 MB from the small file to the large one, the peak by less than the budget.

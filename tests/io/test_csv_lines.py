@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import csv
 import io
-import tracemalloc
 from pathlib import Path
 
 import pytest
 from cli_results import assert_one_error_line
 from click.testing import CliRunner
+from peak_memory import peak_bytes
 
 from diffbot.cli import main
 from diffbot.errors import RecordingError
@@ -80,13 +80,12 @@ def test_a_long_row_is_refused_before_it_is_held(tmp_path: Path) -> None:
     with path.open("w") as out:
         out.write(HEADER + "0,1,2,x\n")
         out.write("1,1,2," + "12," * (4 * ROW_CHARS // 3) + "x\n")  # 16 MiB, 5.6 million cells
-    tracemalloc.start()
-    try:
+
+    def refused() -> None:
         with pytest.raises(RecordingError, match="line 3: a row longer than"):
             samples(path)
-        _, peak = tracemalloc.get_traced_memory()
-    finally:
-        tracemalloc.stop()
+
+    _, peak = peak_bytes(refused)
     # The text of at most one bound's worth of the row (4 bytes a character at worst), never
     # its cells (300 MB as Python strings).
     assert peak < 4 * ROW_CHARS + (8 << 20), peak

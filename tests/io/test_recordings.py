@@ -5,12 +5,12 @@ from __future__ import annotations
 import io
 import math
 import sys
-import tracemalloc
 from pathlib import Path
 
 import numpy as np
 import pytest
 from bags import velocity_bag, write_bag
+from peak_memory import peak_bytes
 from robots import BOT
 from rosbags.highlevel import AnyReader
 from wheel_motion import TRAJECTORY_A, assert_pose_close, trajectory_a_velocities, wheel_samples
@@ -22,13 +22,14 @@ from diffbot.io.csvfile import format_joint_states_csv, format_odometry_csv
 from diffbot.kinematics import Pose
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, Odometry
 from diffbot.recordings import read_recording
-from diffbot.replay import OdometryRow, recording_odometry, run_odometry
+from diffbot.replay import OdometryRow, OdometryRun, recording_odometry, run_odometry
 from diffbot.samples import (
     CLOCK_HEADER,
     CLOCK_RECEIVE,
     SKIP_MISSING_STAMP,
     SKIP_STAMP_RANGE,
     SKIP_UNREADABLE,
+    Recording,
     seconds_text,
 )
 
@@ -174,13 +175,12 @@ def test_csv_rows_are_kept_in_compact_columns(tmp_path: Path) -> None:
     lines = [f"time,caster,{LEFT},{RIGHT},battery"]
     lines += [f"{k / 50!r},0.0,{k * 1e-3!r},{k * 2e-3!r},12.5" for k in range(rows)]
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    tracemalloc.start()
-    try:
+
+    def read_and_run() -> tuple[Recording, OdometryRun]:
         recording = read_csv(path, LEFT, RIGHT)
-        run = run_odometry(recording, Odometry(BOT))
-        _, peak = tracemalloc.get_traced_memory()
-    finally:
-        tracemalloc.stop()
+        return recording, run_odometry(recording, Odometry(BOT))
+
+    (recording, run), peak = peak_bytes(read_and_run)
     assert run.samples == rows
     # 25 bytes a sample and 48 a pose as columns (a list of records per row took over 600), plus
     # one chunk of text being parsed (CHUNK_BYTES characters and loadtxt's work space).

@@ -6,10 +6,10 @@ source each controller names, and the messages and bounds of reading the file
 from __future__ import annotations
 
 import os
-import tracemalloc
 from pathlib import Path
 
 import pytest
+from peak_memory import peak_bytes
 
 from diffbot.urdf import controllers
 from diffbot.urdf.controllers import (
@@ -304,13 +304,12 @@ def test_an_oversized_file_is_refused_without_reading_it_whole(tmp_path: Path) -
     huge = tmp_path / "huge.yaml"
     with huge.open("wb") as stream:
         stream.truncate(16 * MAX_FILE_BYTES)  # sparse: no disk is used
-    tracemalloc.start()
-    try:
+
+    def refused() -> None:
         with pytest.raises(ControllerConfigError, match="larger than"):
             load_controllers(huge)
-        _, peak = tracemalloc.get_traced_memory()
-    finally:
-        tracemalloc.stop()
+
+    _, peak = peak_bytes(refused)
     assert peak < 4 * MAX_FILE_BYTES
 
 
