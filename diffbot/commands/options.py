@@ -64,11 +64,16 @@ class FiniteFloat(CheckedNumber):
     name = "number"
 
     def __init__(
-        self, minimum: float | None = None, open_min: bool = False, maximum: float | None = None
+        self,
+        minimum: float | None = None,
+        open_min: bool = False,
+        maximum: float | None = None,
+        unit: str = "",
     ) -> None:
         self.minimum = minimum
         self.open_min = open_min
         self.maximum = maximum
+        self.unit = f" {unit}" if unit else ""
 
     def convert(
         self, value: Any, param: click.Parameter | None, ctx: click.Context | None
@@ -88,7 +93,7 @@ class FiniteFloat(CheckedNumber):
             if not self.open_min and number < self.minimum:
                 self.fail(f"{value!r} must be >= {self.minimum:g}", param, ctx)
         if self.maximum is not None and number > self.maximum:
-            self.fail(f"{value!r} must be <= {self.maximum:g}", param, ctx)
+            self.fail(f"{value!r} must be <= {self.maximum:g}{self.unit}", param, ctx)
         return number
 
 

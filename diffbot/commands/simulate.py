@@ -65,21 +65,6 @@ if TYPE_CHECKING:
 __all__ = ["simulate"]
 
 
-class _RateType(FiniteFloat):
-    """A sampling rate (Hz): > 0 and at most diffbot.simulation.MAX_RATE."""
-
-    def __init__(self) -> None:
-        super().__init__(0.0, open_min=True)
-
-    def convert(
-        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
-    ) -> float:
-        number = super().convert(value, param, ctx)
-        if number > MAX_RATE:
-            self.fail(f"{value!r} must be <= {MAX_RATE:g} Hz", param, ctx)
-        return number
-
-
 class _StartType(CheckedNumber):
     """Seconds since 1970 as a decimal number, read exactly into integer nanoseconds."""
 
@@ -146,7 +131,7 @@ def _write(
 @plan_input_options
 @click.option(
     "--rate",
-    type=_RateType(),
+    type=FiniteFloat(0.0, open_min=True, maximum=MAX_RATE, unit="Hz"),
     default=50.0,
     show_default=True,
     metavar="HZ",
