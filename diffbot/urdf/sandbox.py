@@ -23,6 +23,7 @@ import re
 import threading
 import time
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -193,21 +194,22 @@ def _replace_node(node: Any, by: Any, content_only: bool = False) -> None:
         child.nextSibling = siblings[index + 1] if index + 1 < len(siblings) else None
 
 
+@dataclass
 class _Budget:
     """What one expansion has used so far, against its limits."""
 
-    def __init__(
-        self, source: str, max_bytes: int, max_depth: int, max_elements: int, max_seconds: float
-    ) -> None:
-        self.source = source
-        self.max_bytes = max_bytes
-        self.max_depth = max_depth
-        self.max_elements = max_elements
-        self.max_seconds = max_seconds
-        self.bytes = 0
-        self.elements = 0
-        # The CPU time of this thread: what other threads and processes do does not count.
-        self.deadline = time.thread_time() + max_seconds
+    source: str
+    max_bytes: int
+    max_depth: int
+    max_elements: int
+    max_seconds: float
+    bytes: int = 0
+    elements: int = 0
+    # The CPU time of this thread: what other threads and processes do does not count.
+    deadline: float = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.deadline = time.thread_time() + self.max_seconds
 
     def spend_time(self) -> None:
         if time.thread_time() > self.deadline:
