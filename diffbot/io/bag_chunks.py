@@ -24,6 +24,7 @@ import re
 import sqlite3
 import tempfile
 from collections.abc import Callable, Iterator
+from operator import itemgetter
 from pathlib import Path, PurePath
 from typing import TYPE_CHECKING, Any, Final, NamedTuple
 
@@ -214,6 +215,10 @@ def _check_not_compressed(connection: sqlite3.Connection, path: Path) -> None:
             f"{path}: its messages are compressed one by one (zstd), which only the bag's "
             "metadata.yaml says: read the bag's folder with its metadata.yaml"
         )
+
+
+_STAMP = itemgetter(0)
+_DATA = itemgetter(1)
 
 
 def _as_message(data: object) -> bytes:
@@ -408,9 +413,9 @@ class TopicChunks:
         try:
             if self._sqlite is not None:
                 for path in self._sqlite.files:
-                    yield from self._chunked(self._sqlite_rows(path), receive_times)
+                    yield from self._chunked(self._sqlite_batches(path), receive_times)
             else:
-                yield from self._chunked(self._reader_rows(), receive_times)
+                yield from self._chunked(self._reader_batches(), receive_times)
         except DiffbotError as err:
             # Without the frames below: they hold the storage's buffers (a chunk of up to
             # 256 MiB), which the error would keep alive while it is handled.
@@ -425,34 +430,44 @@ class TopicChunks:
             f"more than the {MAX_MESSAGE_BYTES} bytes (1 MiB) a message may take: refused"
         )
 
-    def _chunked(
-        self, rows: Iterator[tuple[int, object]], receive_times: bool
-    ) -> Iterator[BagChunk]:
-        """Messages (receive time in ns, stored data) in chunks of at most ``chunk_size``
-        messages and :data:`CHUNK_BYTES` bytes, each message checked against
-        :data:`MAX_MESSAGE_BYTES`."""
+    def _batch_size(self) -> int:
+        """Rows read at once: a divisor of ``chunk_size`` (chunks keep their size) whose rows
+        of :data:`MAX_MESSAGE_BYTES` each stay within :data:`CHUNK_BYTES`."""
+        most = min(self.chunk_size, CHUNK_BYTES // MAX_MESSAGE_BYTES)
+        return next(k for k in range(most, 0, -1) if self.chunk_size % k == 0)
+
+    def _chunked(self, batches: Iterator[list[Any]], receive_times: bool) -> Iterator[BagChunk]:
+        """Batches of rows (receive time in ns, stored data) in chunks of at most
+        ``chunk_size`` messages and :data:`CHUNK_BYTES` bytes, each message checked against
+        :data:`MAX_MESSAGE_BYTES`. A batch at a time, not a row: most of the reading is then
+        done by C code (sqlite3's fetchmany, map)."""
         size = self.chunk_size
         stamps: list[int] = []
         blobs: list[bytes] = []
         held = 0
-        for stamp, data in rows:
-            blob = data if type(data) is bytes else _as_message(data)
-            n = len(blob)
-            if n > MAX_MESSAGE_BYTES:
-                raise self._too_large(n)
-            if held + n > CHUNK_BYTES or len(blobs) == size:
+        for rows in batches:
+            data = list(map(_DATA, rows))
+            if not set(map(type, data)) <= {bytes}:
+                data = list(map(_as_message, data))
+            lengths = list(map(len, data))
+            if max(lengths) > MAX_MESSAGE_BYTES:
+                raise self._too_large(max(lengths))
+            total = sum(lengths)
+            if blobs and (held + total > CHUNK_BYTES or len(blobs) + len(data) > size):
                 yield BagChunk(np.array(stamps, dtype=np.int64) if receive_times else None, blobs)
                 stamps, blobs, held = [], [], 0
-            stamps.append(stamp)
-            blobs.append(blob)
-            held += n
+            if receive_times:
+                stamps.extend(map(_STAMP, rows))
+            blobs.extend(data)
+            held += total
         if blobs:
             yield BagChunk(np.array(stamps, dtype=np.int64) if receive_times else None, blobs)
 
-    def _sqlite_rows(self, path: Path) -> Iterator[tuple[int, object]]:
-        """(receive time in ns, data) of the topic's messages in one sqlite3 storage file, one
-        row at a time: a chunk's worth of rows fetched at once would hold every large message
-        of it."""
+    def _sqlite_batches(self, path: Path) -> Iterator[list[Any]]:
+        """(receive time in ns, data) of the topic's messages in one sqlite3 storage file,
+        :meth:`_batch_size` rows at a time: a chunk's worth fetched at once would hold every
+        large message of it. (Rows are stored whole in the file: a fetch holds no more than
+        the file.)"""
         connection = _open_uri(path)
         try:
             ids = [
@@ -462,27 +477,36 @@ class TopicChunks:
                 )
             ]
             marks = ",".join("?" * len(ids))
-            yield from connection.execute(
+            cursor = connection.execute(
                 f"SELECT timestamp, data FROM messages WHERE topic_id IN ({marks}) "
                 "ORDER BY timestamp, id",
                 ids,
             )
+            step = self._batch_size()
+            while rows := cursor.fetchmany(step):
+                yield rows
         finally:
             connection.close()
 
-    def _reader_rows(self) -> Iterator[tuple[int, object]]:
-        """(receive time in ns, CDR data) of the topic's messages, read by rosbags."""
+    def _reader_batches(self) -> Iterator[list[Any]]:
+        """(receive time in ns, CDR data) of the topic's messages, read by rosbags,
+        :meth:`_batch_size` at a time."""
         assert self._reader is not None
         connections: list[Connection] = self._connections
         messages = self._reader.messages(connections=connections)
-        if not self._ros1:
-            for _, timestamp, data in messages:
-                yield timestamp, data
-            return
-        from diffbot.io.bag import typestore
+        convert = None
+        if self._ros1:
+            from diffbot.io.bag import typestore
 
-        convert = typestore().ros1_to_cdr
+            convert = typestore().ros1_to_cdr
+        step = self._batch_size()
+        batch: list[tuple[int, object]] = []
         for _, timestamp, data in messages:
             if len(data) > MAX_MESSAGE_BYTES:  # before converting: that would copy it
                 raise self._too_large(len(data))
-            yield timestamp, convert(data, self.msgtype)
+            batch.append((timestamp, data if convert is None else convert(data, self.msgtype)))
+            if len(batch) == step:
+                yield batch
+                batch = []
+        if batch:
+            yield batch
