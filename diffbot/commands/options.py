@@ -27,7 +27,7 @@ from diffbot.commands.paths import OUTPUT_NAMES as OUTPUT_NAMES
 from diffbot.commands.paths import InputPath, PackageDir, input_path
 from diffbot.commands.paths import OutOptions as OutOptions
 from diffbot.commands.paths import check_out as check_out
-from diffbot.commands.paths import file_output as file_output
+from diffbot.commands.paths import named_output as named_output
 from diffbot.commands.paths import out_options as out_options
 from diffbot.commands.paths import output_option as output_option
 from diffbot.commands.robot_path import (
@@ -95,6 +95,10 @@ class FiniteFloat(CheckedNumber):
         if self.maximum is not None and number > self.maximum:
             self.fail(f"{value!r} must be <= {self.maximum:g}{self.unit}", param, ctx)
         return number
+
+
+#: The fastest motor limit an option takes, as --help writes it (rpm, rounded down).
+_MOST_RPM = f"{math.floor(rpm_from_rad_s(MOTOR_LIMIT_RANGE[1]) * 100) / 100:.2f}"
 
 
 class MotorLimit(FiniteFloat):
@@ -386,8 +390,9 @@ _ROBOT_OPTIONS = [
         "--max-rpm",
         type=MotorLimit(),
         metavar="RPM",
-        help="Override the motor limit (rpm): above 0, at most 95493 rpm (1e4 rad/s). A "
-        "description's joint velocity limit above that is taken for a placeholder, no limit.",
+        help=f"Override the motor limit (rpm): above 0, at most {_MOST_RPM} rpm "
+        f"({MOTOR_LIMIT_RANGE[1]:g} rad/s). A description's joint velocity limit above that is "
+        "taken for a placeholder, no limit.",
     ),
     click.option(
         "--controllers",

@@ -37,8 +37,8 @@ __all__ = [
     "OutputPath",
     "PackageDir",
     "check_out",
-    "file_output",
     "input_path",
+    "named_output",
     "out_options",
     "output_option",
 ]
@@ -147,9 +147,10 @@ class PackageDir(click.ParamType):  # type: ignore[type-arg,unused-ignore]
 
 class OutputPath(click.ParamType):  # type: ignore[type-arg,unused-ignore]
     """Where a command writes: a file (a name that asks for a folder is refused, see
-    :func:`diffbot.io.outputs.check_file_name`) or, where ``folder_ok``, a file or a folder
-    (a bag, or one output per input). Written through :mod:`diffbot.io.outputs`, which keeps it
-    off every input of the run."""
+    :func:`diffbot.io.outputs.check_output_name`) or, where ``folder_ok``, a file, a bag or a
+    folder that gets one output per input: only an empty name is refused as click parses it,
+    and the rest once the command knows which (:func:`named_output`). Written through
+    :mod:`diffbot.io.outputs`, which keeps it off every input of the run."""
 
     name = "path"
 
@@ -158,7 +159,7 @@ class OutputPath(click.ParamType):  # type: ignore[type-arg,unused-ignore]
 
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> str:
         text = os.fspath(value) if isinstance(value, os.PathLike) else str(value)
-        checked_name(text, _shown(param), folder=self.folder_ok)
+        checked_name(text, _shown(param), holder=self.folder_ok)
         return text
 
 
@@ -166,23 +167,27 @@ class OutputPath(click.ParamType):  # type: ignore[type-arg,unused-ignore]
 OUTPUT_NAMES = ("-o", "--output", "--out")
 
 
-def checked_name(text: str, option: str, *, folder: bool = False, source: bool = False) -> None:
+def checked_name(
+    text: str, option: str, *, folder: bool = False, source: bool = False, holder: bool = False
+) -> None:
     """Bad input, one line naming ``option``, when ``text`` names no output of its own (see
-    :func:`diffbot.io.outputs.check_output_name`, which ``folder`` and ``source`` are passed
-    to): the one check of the names of outputs and of the files whose copies are written."""
+    :func:`diffbot.io.outputs.check_output_name`, which ``folder``, ``source`` and ``holder``
+    are passed to): the one check of the names of outputs and of the files whose copies are
+    written."""
     try:
-        check_output_name(text, folder=folder, source=source)
+        check_output_name(text, folder=folder, source=source, holder=holder)
     except DiffbotError as err:
         fail(f"{option} {err}")
 
 
-def file_output(value: str | None, option: str = "-o/--out") -> str | None:
-    """``value`` unless it names a folder (a trailing slash, ``/.`` or ``/..``, the root, or an
-    empty name) where a file is written: the file would otherwise appear under another name than
-    the one asked for. An output option that may name a folder (``--bag``) is checked as a
-    folder as click parses it, and as a file here once the command knows it writes one."""
+def named_output(value: str | None, *, bag: bool = False, option: str = "-o/--out") -> str | None:
+    """``value`` unless it names no output of its own: for a file (a trailing slash, ``/.`` or
+    ``/..``, the root, or an empty name: the file would appear under another name than the one
+    asked for), or with ``bag`` for a bag (``.``, ``..`` or the root: a folder that exists,
+    which the bag would replace). An output option that may name a folder is checked only for
+    an empty name as click parses it, and here once the command knows what it writes."""
     if value is not None:
-        checked_name(value, option)
+        checked_name(value, option, folder=bag)
     return value
 
 
@@ -232,8 +237,7 @@ class OutOptions:
     def path(self, inputs: Sequence[Path]) -> Path | None:
         """The --out path of one output, checked early against ``inputs`` (see
         :func:`check_out`); a file's name may not ask for a folder."""
-        if not self.as_bag:
-            file_output(self.out)
+        named_output(self.out, bag=self.as_bag)
         return check_out(self.out, inputs, self.force)
 
     def require_out_for_bag(self) -> None:

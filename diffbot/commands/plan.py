@@ -17,7 +17,7 @@ from diffbot.commands.options import (
     FiniteFloat,
     RobotOptions,
     fail,
-    file_output,
+    named_output,
     output_option,
     robot_options,
     warn,
@@ -202,8 +202,7 @@ def plan_command(
     source = request.source
     # Early, before any work, and in the plan's own words; write_text_atomic checks again.
     plan_file = [Path(source.path)] if source.path is not None else []
-    if not as_bag:
-        file_output(output)
+    named_output(output, bag=as_bag)
     if output is not None:
         clash = input_clash(Path(output), plan_file)
         if clash is not None and clash[1] in plan_file:

@@ -91,21 +91,26 @@ def noted_inputs() -> tuple[Path, ...]:
         return () if _noted is None else tuple(_noted)
 
 
-def check_output_name(path: str, *, folder: bool = False, source: bool = False) -> None:
+def check_output_name(
+    path: str, *, folder: bool = False, source: bool = False, holder: bool = False
+) -> None:
     """Refuse an output name that names no output of its own: an empty name, the root, or a last
     part ``.`` or ``..`` (``.``, ``/``, ``x.csv/.``, ``out/..``); for a file (``folder`` false),
     also a name ending in a slash. Such a name stands for a folder that already exists (the
     current one, the root, the one holding ``x.csv``), so the output would appear under another
-    name than the one asked for, or replace that folder. A folder output (a bag, a folder of
-    outputs) may end in a slash (``run_bag/``). With ``source``, ``path`` is the file read whose
-    changed copy is written beside it, under a name made from its own: the same names are
-    refused.
+    name than the one asked for, or replace that folder. A folder output (a bag) may end in a
+    slash (``run_bag/``). With ``source``, ``path`` is the file read whose changed copy is
+    written beside it, under a name made from its own: the same names are refused. With
+    ``holder``, ``path`` is a folder that receives outputs (one per input) and may be any
+    folder, ``.`` and ``..`` too: only an empty name is refused.
 
     Raises:
         OutputError: the name is one of those.
     """
     if not path.strip():
         raise OutputError(f"{path!r}: an empty name, not a file or folder name", path=path)
+    if holder:
+        return
     separators = "/" + os.sep
     trimmed = path.rstrip(separators)
     if folder:

@@ -94,6 +94,30 @@ def test_out_dir_gets_one_output_per_input(
     assert "exists: use --force to overwrite it" in again.stdout
 
 
+@pytest.mark.parametrize("folder", [".", "..", "./"])
+def test_the_out_dir_may_be_the_current_or_the_parent_folder(
+    runner: CliRunner,
+    fleet: list[str],
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    folder: str,
+) -> None:
+    # A folder that gets one output per input may be any folder; a file or a bag may not.
+    (tmp_path / "here" / "poses").mkdir(parents=True)
+    monkeypatch.chdir(tmp_path / "here" / "poses" if folder == ".." else tmp_path / "here")
+    result = runner.invoke(main, ["odom", fleet[0], fleet[1], "--out", folder, "--json"])
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in (tmp_path / "here").iterdir()) == [
+        "poses",
+        "run0.csv",
+        "run1.csv",
+    ]
+    for alone in (["--out", folder], ["--out", folder, "--bag"]):
+        refused = runner.invoke(main, ["odom", fleet[0], *alone, "--force"])
+        assert refused.exit_code == 2, refused.output
+        assert refused.stderr.startswith("error: -o/--out ")
+
+
 def test_a_process_pool_gives_the_serial_results(runner: CliRunner, fleet: list[str]) -> None:
     assert json_lines(runner, *fleet, "--jobs", "2") == json_lines(runner, *fleet)
 

@@ -447,6 +447,14 @@ def test_a_folder_output_needs_a_name_of_its_own(name: str) -> None:
         check_output_name(name, folder=True)
 
 
+@pytest.mark.parametrize("name", [".", "..", "/", "./", "out/.."])
+def test_a_folder_that_holds_outputs_may_be_any_folder(name: str) -> None:
+    check_output_name(name, holder=True)
+    for empty in ("", " "):
+        with pytest.raises(OutputError, match="an empty name"):
+            check_output_name(empty, holder=True)
+
+
 @pytest.mark.parametrize(
     "name", ["x.csv", "./x.csv", "/tmp/x.csv", "a/../x.csv", ".x", "...", "x."]
 )
