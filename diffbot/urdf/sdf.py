@@ -487,7 +487,8 @@ def expand_sdf(
         OutsideRootsError: an include outside the description's folders (untrusted).
         ExpansionLimitError: a file too large, includes nested too deep or too many.
     """
-    file = model_file(path, None if trust else [*roots, path]) if path.is_dir() else path
+    folders = list(dict.fromkeys([*roots, resolved(path, DescriptionError)]))
+    file = model_file(path, None if trust else folders) if path.is_dir() else path
     reader = _Reader(file, finder, [*roots, path if path.is_dir() else file.parent], trust)
     reader.read_file(file, _identity(), "", 0)
     root = _parse(file, "an SDF file")

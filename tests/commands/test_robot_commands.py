@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import subprocess
 import sys
 from collections.abc import Callable
@@ -119,6 +120,20 @@ def test_params_warnings_go_to_stderr_for_people_and_into_json(runner: CliRunner
     machine = run(runner, "params", "wheel_radiuss:=1", "--json")
     assert machine.stderr == ""
     assert "wheel_radiuss" in json.loads(machine.stdout)["warnings"][0]
+
+
+def test_the_fastest_motor_limit_help_names_is_taken_and_one_above_is_not(
+    runner: CliRunner,
+) -> None:
+    helped = runner.invoke(main, ["params", "--help"]).output
+    most = re.search(r"at most ([0-9.]+) rpm \(10000 rad/s\)", " ".join(helped.split()))
+    assert most is not None, helped
+    assert most[1] == "95492.96"
+    taken = run(runner, "params", "--max-rpm", most[1], "--json")
+    assert json.loads(taken.stdout)["max_wheel_speed"] == pytest.approx(1e4, rel=1e-6)
+    above = runner.invoke(main, ["params", "--max-rpm", "95493"])
+    assert above.exit_code == 2
+    assert "a motor limit is at most 95492.97 rpm (10000 rad/s)" in above.stderr
 
 
 @pytest.mark.parametrize(

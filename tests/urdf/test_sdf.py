@@ -337,7 +337,7 @@ def test_a_model_config_linked_from_outside_is_refused_unread(
         diffbot.load_params(robot)
     assert "SECRET" not in str(caught.value)
     result = CliRunner().invoke(main, ["params", str(robot)])
-    assert_one_error_line(result, "outside the description's folders")
+    assert_one_error_line(result, f"outside the description's folders ({robot.resolve()});")
     assert "SECRET" not in result.output
 
 
