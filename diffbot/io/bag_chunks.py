@@ -225,6 +225,8 @@ def _as_message(data: object) -> bytes:
     """A stored message as bytes. A damaged or hostile sqlite3 bag may hold TEXT, numbers or
     NULL where a message's bytes go: those become empty messages, which decode as unreadable
     and are skipped."""
+    if isinstance(data, bytes):
+        return data
     if isinstance(data, (memoryview, bytearray)):
         return bytes(data)
     return b""

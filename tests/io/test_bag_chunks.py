@@ -133,6 +133,29 @@ def test_chunks_hold_the_topic_in_receive_order_and_no_other(tmp_path: Path) -> 
     assert np.concatenate([c.receive_ns for c in got]).tolist() == list(range(21, 31))
 
 
+def test_cells_that_hold_no_bytes_become_empty_messages_and_the_rest_are_kept(
+    tmp_path: Path,
+) -> None:
+    import sqlite3
+
+    messages: list[Message] = [(k + 1, k + 1, ["left"], [float(k)]) for k in range(9)]
+    path = write_bag(tmp_path / "rec", messages)
+    with closing(TopicChunks(path, "/joint_states", chunk_size=4)) as chunks:
+        before = [blob for chunk in chunks for blob in chunk.blobs]
+    (database,) = path.glob("*.db3")
+    with closing(sqlite3.connect(database)) as connection:
+        joint_states = "topic_id = (SELECT id FROM topics WHERE name = '/joint_states')"
+        for value, stamp in (("'text'", 2), ("1.5", 5), ("7", 9)):  # receive times k + 1
+            connection.execute(
+                f"UPDATE messages SET data = {value} WHERE timestamp = {stamp} AND {joint_states}"
+            )
+        connection.commit()
+    with closing(TopicChunks(path, "/joint_states", chunk_size=4)) as chunks:
+        after = [blob for chunk in chunks for blob in chunk.blobs]
+    assert all(type(blob) is bytes for blob in after)
+    assert after == [b"" if k in (1, 4, 8) else blob for k, blob in enumerate(before)]
+
+
 def test_a_bag_stamped_with_zero_headers_is_read_on_the_receive_clock(tmp_path: Path) -> None:
     messages: list[Message] = [
         (10**9, 10**9, ["left", "right"], [0.0, 0.0]),
