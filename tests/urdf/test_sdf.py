@@ -337,7 +337,11 @@ def test_a_model_config_linked_from_outside_is_refused_unread(
         diffbot.load_params(robot)
     assert "SECRET" not in str(caught.value)
     result = CliRunner().invoke(main, ["params", str(robot)])
-    assert_one_error_line(result, f"outside the description's folders ({robot.resolve()});")
+    assert_one_error_line(
+        result,
+        f"outside the description's folders ({robot.resolve()}); trust the description "
+        "(--trust) to let it read any file",
+    )
     assert "SECRET" not in result.output
 
 
