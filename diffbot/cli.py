@@ -135,13 +135,10 @@ class DiffbotGroup(SuggestingGroup):
             with guarded_run():
                 code = self._run(args, prog_name, complete_var, **extra)
         finally:
-            if ending and signal_handlers.ends_with_run():
-                # The exit code is decided (an error's too) and the outputs are written: a
-                # signal while the interpreter shuts down (which puts back the default actions
-                # that end a process) must not turn that into a death by the signal.
-                signal_handlers.ignore((signal.SIGINT, *ending))
-            else:
-                signal_handlers.restore(saved)
+            # The exit code is decided (an error's too) and the outputs are written: a signal
+            # while the interpreter shuts down (which puts back the default actions that end a
+            # process) must not turn that into a death by the signal.
+            signal_handlers.settle(saved, (signal.SIGINT,) if ending else ())
         if not standalone_mode:
             return code
         sys.exit(code if isinstance(code, int) else 0)

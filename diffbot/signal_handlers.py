@@ -6,7 +6,7 @@ hang-up after all. A handler installed outside Python (``signal.getsignal`` give
 alone too: Python could not put it back.
 
 A process that ends with its run (the command line's) does not give its signals back: once
-the outcome is decided it ignores them while it exits (:func:`ignore`).
+the outcome is decided it ignores them while it exits (:func:`settle`).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import signal
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
-__all__ = ["ends_with_run", "ignore", "install", "process_ends_with_run", "restore"]
+__all__ = ["ends_with_run", "ignore", "install", "process_ends_with_run", "restore", "settle"]
 
 
 class _Process:
@@ -68,3 +68,14 @@ def ignore(signums: Iterable[int]) -> None:
     for signum in signums:
         if signal.getsignal(signum) is not None:
             signal.signal(signum, signal.SIG_IGN)
+
+
+def settle(saved: Mapping[int, Any], also: Iterable[int] = ()) -> None:
+    """Give back the signals a run took, once its outcome is decided: put back the handlers
+    :func:`install` replaced, or, in a process that ends with its run
+    (:func:`process_ends_with_run`), leave those signals and ``also`` ignored while it exits
+    (:func:`ignore`)."""
+    if _Process.ends_with_run:
+        ignore([*saved, *also])
+    else:
+        restore(saved)

@@ -9,7 +9,7 @@ from typing import Any
 import pytest
 
 from diffbot import signal_handlers
-from diffbot.signal_handlers import ends_with_run, ignore, install, restore
+from diffbot.signal_handlers import ends_with_run, ignore, install, restore, settle
 
 SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
@@ -77,3 +77,19 @@ def test_only_the_entry_point_says_that_the_process_ends_with_its_run(
     monkeypatch.setattr(signal_handlers._Process, "ends_with_run", False)
     signal_handlers.process_ends_with_run()
     assert ends_with_run() is True
+
+
+def test_a_run_settles_its_signals_as_its_process_goes_on_or_ends(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    signal.signal(signal.SIGTERM, other)
+    signal.signal(signal.SIGHUP, other)
+    saved = install([signal.SIGTERM], handler)
+    settle(saved, [signal.SIGHUP])  # the process goes on: given back, the other one untouched
+    assert signal.getsignal(signal.SIGTERM) is other
+    assert signal.getsignal(signal.SIGHUP) is other
+    monkeypatch.setattr(signal_handlers._Process, "ends_with_run", True)
+    saved = install([signal.SIGTERM], handler)
+    settle(saved, [signal.SIGHUP])  # the process ends: both ignored while it exits
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_IGN
+    assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN

@@ -103,9 +103,8 @@ def run_node(
     process only exits, with ending signals ignored.
     """
     from diffbot.live.signals import deferred
-    from diffbot.signal_handlers import ends_with_run
 
-    with deferred(deliver=False, ignore_after=ends_with_run()):
+    with deferred(deliver=False, ends_run=True):
         node = make()
         try:
             if announce:

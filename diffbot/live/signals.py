@@ -68,7 +68,7 @@ def caught() -> int | None:
 
 @contextmanager
 def deferred(
-    wake: Callable[[], None] | None = None, *, deliver: bool = True, ignore_after: bool = False
+    wake: Callable[[], None] | None = None, *, deliver: bool = True, ends_run: bool = False
 ) -> Iterator[None]:
     """Within the block, an ending signal is only recorded (:func:`caught`) and ``wake()``
     called (from the handler: it must only wake, as a guard condition's ``set`` does).
@@ -76,10 +76,10 @@ def deferred(
     Blocks nest: the outermost installs the handlers (not over a signal that is ignored, as
     under ``nohup``), and on leaving restores them and, when a signal came, hands it to the
     handler that was there before (``deliver``), or drops it (``deliver=False``). A block left
-    by an exception restores the handlers and hands nothing on. With ``ignore_after`` the
-    outermost block leaves the signals it took ignored instead of restoring them: for a
-    process whose outcome the block decided (``diffbot node``: exit code 0), so that a second
-    Ctrl-C while it exits finds no handler that would change that.
+    by an exception restores the handlers and hands nothing on. With ``ends_run`` the block
+    decides the run's outcome (``diffbot node``: exit code 0), and the outermost one settles the
+    signals it took (:func:`diffbot.signal_handlers.settle`): in a process that ends with its
+    run they stay ignored, so that a second Ctrl-C while it exits cannot change that outcome.
     """
     if not _in_main_thread():
         yield
@@ -99,8 +99,8 @@ def deferred(
             _STATE.wakers.remove(wake)
         if outermost:
             saved, _STATE.saved = _STATE.saved, {}
-            if ignore_after:
-                signal_handlers.ignore(saved)
+            if ends_run:
+                signal_handlers.settle(saved)
             else:
                 signal_handlers.restore(saved)
             received, _STATE.signum = _STATE.signum, None

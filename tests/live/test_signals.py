@@ -27,6 +27,7 @@ from typing import Any
 import pytest
 from live_graph import PATIENCE, spare_domain
 
+from diffbot import signal_handlers
 from diffbot.live import signals
 
 #: Signals per harness; four harnesses (odom, ik, robot, drive).
@@ -121,15 +122,25 @@ def test_a_deferred_signal_goes_to_the_handler_before_or_ends_the_run() -> None:
         signal.signal(signal.SIGTERM, before)
 
 
-def test_a_block_that_decides_the_outcome_leaves_the_signals_it_took_ignored() -> None:
+def test_a_block_that_decides_the_outcome_leaves_the_signals_it_took_ignored(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     got: list[int] = []
     before = {
         signal.SIGINT: signal.getsignal(signal.SIGINT),
         signal.SIGTERM: signal.signal(signal.SIGTERM, lambda signum, frame: got.append(signum)),
         signal.SIGHUP: signal.signal(signal.SIGHUP, signal.SIG_IGN),
     }
+    handlers = {signum: signal.getsignal(signum) for signum in before}
     try:
-        with signals.deferred(deliver=False, ignore_after=True):
+        # Inside another program (this test run) the block gives its signals back ...
+        with signals.deferred(deliver=False, ends_run=True):
+            signal.raise_signal(signal.SIGTERM)
+        assert {signum: signal.getsignal(signum) for signum in before} == handlers
+        got.clear()
+        # ... in a process that ends with its run (the command line's) they stay ignored.
+        monkeypatch.setattr(signal_handlers._Process, "ends_with_run", True)
+        with signals.deferred(deliver=False, ends_run=True):
             signal.raise_signal(signal.SIGTERM)
             assert signals.caught() == signal.SIGTERM
         assert signals.caught() is None
