@@ -32,7 +32,7 @@ __all__ = [
     "WHEEL_SIZE_RANGE",
     "as_number",
     "finite_in_range",
-    "placeholder_limit",
+    "motor_limits",
     "positive_finite",
     "shorten_numerals",
     "shown",
@@ -197,15 +197,22 @@ def positive_finite(value: object, what: str, error: type[DiffbotError] = Parame
     return number
 
 
-def placeholder_limit(where: str, names: Sequence[str], values: Sequence[float]) -> str:
-    """One warning for the velocity limits ``values`` (rad/s) of the joints ``names`` that lie
-    above :data:`MOTOR_LIMIT_RANGE`: placeholders (``1e6``, ``1.7e307``), so no motor limit.
-    ``where``: what gives them, before the joints' names (``"the velocity limit of"``)."""
-    joints = ", ".join(repr(name) for name in names)
-    limits = ", ".join(f"{value:g}" for value in dict.fromkeys(values))
-    plural = len(names) > 1
-    return (
-        f"{where} joint{'s' if plural else ''} {joints}: {limits} rad/s "
-        f"{'are' if plural else 'is'} faster than any wheel turns (over "
-        f"{MOTOR_LIMIT_RANGE[1]:g} rad/s): taken for a placeholder, not a motor limit"
-    )
+def motor_limits(
+    where: str, limits: Sequence[tuple[str, float]], warnings: list[str]
+) -> list[float]:
+    """The velocity limits (rad/s) of ``limits`` (joint name, limit) that are motor limits,
+    within :data:`MOTOR_LIMIT_RANGE`. Those above it are placeholders (``1e6``, ``1.7e307``),
+    no motor limit: one warning in ``warnings`` names their joints, ``where`` saying what gives
+    them (``"the velocity limit of"``). Those below are left out, unsaid."""
+    low, high = MOTOR_LIMIT_RANGE
+    above = [(name, value) for name, value in limits if value > high]
+    if above:
+        joints = ", ".join(repr(name) for name, _ in above)
+        values = ", ".join(f"{value:g}" for value in dict.fromkeys(v for _, v in above))
+        plural = len(above) > 1
+        warnings.append(
+            f"{where} joint{'s' if plural else ''} {joints}: {values} rad/s "
+            f"{'are' if plural else 'is'} faster than any wheel turns (over {high:g} rad/s): "
+            "taken for a placeholder, not a motor limit"
+        )
+    return [value for _, value in limits if low <= value <= high]

@@ -14,6 +14,7 @@ from diffbot.errors import ParameterError, RecordingError
 from diffbot.numbers import (
     as_number,
     finite_in_range,
+    motor_limits,
     positive_finite,
     reads_as_number,
     shorten_numerals,
@@ -101,3 +102,21 @@ def test_shorten_numerals_cuts_only_runs_of_more_than_40_digits() -> None:
     # Every long run is cut, each keeping its own ends; a short run between stays whole.
     text = shorten_numerals("2" * 50 + "-7-" + "3" * 60)
     assert text == "2" * 18 + "..." + "2" * 18 + "-7-" + "3" * 18 + "..." + "3" * 18
+
+
+def test_motor_limits_keep_those_a_wheel_can_have_and_name_placeholders_once() -> None:
+    warnings: list[str] = []
+    limits = [("a", 30.0), ("b", 1e6), ("c", 0.0), ("d", 1e4), ("e", 1e6), ("f", 1.7e307)]
+    assert motor_limits("the velocity limit of", limits, warnings) == [30.0, 1e4]
+    assert warnings == [
+        "the velocity limit of joints 'b', 'e', 'f': 1e+06, 1.7e+307 rad/s are faster than any "
+        "wheel turns (over 10000 rad/s): taken for a placeholder, not a motor limit"
+    ]
+    one: list[str] = []
+    assert motor_limits("max of", [("w", 2e4), ("v", 5e-324)], one) == []
+    assert one == [
+        "max of joint 'w': 20000 rad/s is faster than any wheel turns (over 10000 rad/s): "
+        "taken for a placeholder, not a motor limit"
+    ]
+    assert motor_limits("x", [], one) == []
+    assert len(one) == 1

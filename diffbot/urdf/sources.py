@@ -21,7 +21,7 @@ from diffbot.controller_config import ControllerConfig
 from diffbot.errors import DescriptionError, DriveWheelError, OutsideRootsError
 from diffbot.io.pathnames import resolved
 from diffbot.kinematics import DiffDriveParams, Disagreement
-from diffbot.numbers import MOTOR_LIMIT_RANGE, placeholder_limit
+from diffbot.numbers import motor_limits
 from diffbot.urdf.controllers import choose_controller, load_controllers
 from diffbot.urdf.gazebo import GazeboDrive, gazebo_drives, ros2_control_parameter_files
 from diffbot.urdf.other_drives import note_other_drives, refusing_other_drives
@@ -545,12 +545,8 @@ def _interface_limits(
     """The velocity limits (rad/s) the ros2_control velocity command interfaces of ``wheels``
     give, those in :data:`MOTOR_LIMIT_RANGE`; one above it is a placeholder, with a warning."""
     limits = velocity_limits(root)
-    low, high = MOTOR_LIMIT_RANGE
-    above = [name for name in wheels if limits.get(name, 0.0) > high]
-    if above:
-        where = "the ros2_control velocity command interface max of"
-        warnings.append(placeholder_limit(where, above, [limits[name] for name in above]))
-    return [limits[name] for name in wheels if low <= limits.get(name, 0.0) <= high]
+    named = [(name, limits[name]) for name in wheels if name in limits]
+    return motor_limits("the ros2_control velocity command interface max of", named, warnings)
 
 
 def _motor_limit(

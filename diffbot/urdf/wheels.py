@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, TypedDict
 
 from diffbot.errors import DescriptionError, DriveWheelError, ParameterError
 from diffbot.kinematics import DiffDriveParams
-from diffbot.numbers import MOTOR_LIMIT_RANGE, WHEEL_SIZE_RANGE, placeholder_limit
+from diffbot.numbers import MOTOR_LIMIT_RANGE, WHEEL_SIZE_RANGE, motor_limits
 from diffbot.urdf.tree import Joint, Tree, check_not_steered, joints_of, parse_urdf
 from diffbot.urdf.urdf_model import RobotModel, Shape
 
@@ -390,19 +390,15 @@ def derive(
             )
 
     limits = [w.joint.velocity_limit for w in wheels]
-    low, high = MOTOR_LIMIT_RANGE
     for wheel, value in zip(wheels, limits, strict=True):
         if value is not None and not math.isfinite(value):
             raise DescriptionError(
                 f"{source}: joint {wheel.joint.name!r} has a non-finite velocity limit {value!r}"
             )
-    usable = [v for v in limits if v is not None and low <= v <= high]
-    above = [(w.joint.name, v) for w, v in zip(wheels, limits, strict=True) if v and v > high]
-    if above:
-        names, values = zip(*above, strict=True)
-        warnings.append(placeholder_limit("the velocity limit of", names, values))
+    given = [(w.joint.name, v) for w, v in zip(wheels, limits, strict=True) if v is not None]
+    usable = motor_limits("the velocity limit of", given, warnings)
     for wheel, value in zip(wheels, limits, strict=True):
-        if value is not None and value <= high and value not in usable:
+        if value is not None and value <= MOTOR_LIMIT_RANGE[1] and value not in usable:
             warnings.append(f"joint {wheel.joint.name!r} has velocity limit {value!r}: ignored")
     max_speed = min(usable) if usable else None
     if len(set(usable)) > 1:
