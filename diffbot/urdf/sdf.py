@@ -215,7 +215,7 @@ class _Reader:
     def __init__(self, source: Path, finder: PackageFinder, roots: Sequence[Path], trust: bool):
         self.source = source
         self.finder = finder
-        self.roots = list(dict.fromkeys(resolved(root, DescriptionError) for root in roots))
+        self.roots = list(roots)  # resolved, each once; the models it includes add theirs
         self.trust = trust
         self.model = _Model()
 
@@ -487,9 +487,10 @@ def expand_sdf(
         OutsideRootsError: an include outside the description's folders (untrusted).
         ExpansionLimitError: a file too large, includes nested too deep or too many.
     """
-    folders = list(dict.fromkeys([*roots, resolved(path, DescriptionError)]))
+    folder = path if path.is_dir() else path.parent
+    folders = list(dict.fromkeys(resolved(f, DescriptionError) for f in [*roots, folder]))
     file = model_file(path, None if trust else folders) if path.is_dir() else path
-    reader = _Reader(file, finder, [*roots, path if path.is_dir() else file.parent], trust)
+    reader = _Reader(file, finder, folders, trust)
     reader.read_file(file, _identity(), "", 0)
     root = _parse(file, "an SDF file")
     model = root.find("model")
