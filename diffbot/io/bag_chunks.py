@@ -3,8 +3,8 @@
 Uncompressed sqlite3 storage (a bag directory whose ``metadata.yaml`` names it, a directory of
 ``.db3`` files without one, taken in the order of the numbers in their names, or one ``.db3``
 file) is read with :mod:`sqlite3` itself: the topic's type from the metadata or the files'
-``topics`` tables, then its messages row by row, in the order rosbags reads them (by
-receive time; ties by insertion order, as the bag's timestamp index yields them). A lone
+``topics`` tables, then its messages a few dozen rows per call, in the order rosbags reads
+them (by receive time; ties by insertion order, as the bag's timestamp index yields them). A lone
 ``.db3.zstd`` file (or such files in a directory without metadata) is first decompressed to a
 temporary file, removed on :meth:`TopicChunks.close`. Anything else (mcap, compressed bags,
 metadata this module does not follow) is opened and read by rosbags' rosbag2 reader, and a
@@ -504,7 +504,7 @@ class TopicChunks:
         step = self._batch_size()
         batch: list[tuple[int, object]] = []
         for _, timestamp, data in messages:
-            if len(data) > MAX_MESSAGE_BYTES:  # before converting: that would copy it
+            if len(data) > MAX_MESSAGE_BYTES:  # before it is held in a batch or converted
                 raise self._too_large(len(data))
             batch.append((timestamp, data if convert is None else convert(data, self.msgtype)))
             if len(batch) == step:
