@@ -11,46 +11,45 @@ Quick use::
 SI units throughout: metres, seconds, radians, rad/s.
 """
 
-from typing import TYPE_CHECKING
-
-from diffbot.errors import (
-    DescriptionError,
-    DiffbotError,
-    DriveWheelError,
-    NotDifferentialError,
-    OutputExistsError,
-    PackageNotFoundError,
-    ParameterError,
-    PlanError,
-    RecordingError,
-    XacroError,
-)
-from diffbot.kinematics import (
-    DiffDriveParams,
-    Pose,
-    Twist,
-    WheelSpeeds,
-    forward,
-    inverse,
-    joint_from_wheel,
-    limit_fraction,
-    norm_angle,
-    rad_s_from_rpm,
-    rpm_from_rad_s,
-    saturate,
-    wheel_from_joint,
-    within_limit,
-)
 from diffbot.lazy import lazy_names
-from diffbot.urdf import BUNDLED_DESCRIPTION, derive_params, expand, load_params
 
-# Plans and odometry load on first use: most commands need neither, and they would add to the
-# start-up of every CLI run (about 13 ms of it).
+TYPE_CHECKING = False
+
+# Every name loads on first use: a command pays only for what it needs, and the command line's
+# entry point takes signals before anything heavier than this file has loaded.
 if TYPE_CHECKING:
+    from diffbot.errors import (
+        DescriptionError,
+        DiffbotError,
+        DriveWheelError,
+        NotDifferentialError,
+        OutputExistsError,
+        PackageNotFoundError,
+        ParameterError,
+        PlanError,
+        RecordingError,
+        XacroError,
+    )
     from diffbot.execution import Execution, execute_plan
     from diffbot.follow import Follower
     from diffbot.goals import plan_through, plan_to
     from diffbot.io.command_bag import write_command_bag
+    from diffbot.kinematics import (
+        DiffDriveParams,
+        Pose,
+        Twist,
+        WheelSpeeds,
+        forward,
+        inverse,
+        joint_from_wheel,
+        limit_fraction,
+        norm_angle,
+        rad_s_from_rpm,
+        rpm_from_rad_s,
+        saturate,
+        wheel_from_joint,
+        within_limit,
+    )
     from diffbot.odometry import Odometry, PoseSeries, integrate
     from diffbot.planfile import format_plan, load_plan, parse_plan
     from diffbot.profiles import Limits, PathLimits
@@ -70,8 +69,37 @@ if TYPE_CHECKING:
         pose_at,
         wheel_positions,
     )
+    from diffbot.urdf import BUNDLED_DESCRIPTION, derive_params, expand, load_params
 
 _LAZY = {
+    "DescriptionError": "diffbot.errors",
+    "DiffbotError": "diffbot.errors",
+    "DriveWheelError": "diffbot.errors",
+    "NotDifferentialError": "diffbot.errors",
+    "OutputExistsError": "diffbot.errors",
+    "PackageNotFoundError": "diffbot.errors",
+    "ParameterError": "diffbot.errors",
+    "PlanError": "diffbot.errors",
+    "RecordingError": "diffbot.errors",
+    "XacroError": "diffbot.errors",
+    "DiffDriveParams": "diffbot.kinematics",
+    "Pose": "diffbot.kinematics",
+    "Twist": "diffbot.kinematics",
+    "WheelSpeeds": "diffbot.kinematics",
+    "forward": "diffbot.kinematics",
+    "inverse": "diffbot.kinematics",
+    "joint_from_wheel": "diffbot.kinematics",
+    "limit_fraction": "diffbot.kinematics",
+    "norm_angle": "diffbot.kinematics",
+    "rad_s_from_rpm": "diffbot.kinematics",
+    "rpm_from_rad_s": "diffbot.kinematics",
+    "saturate": "diffbot.kinematics",
+    "wheel_from_joint": "diffbot.kinematics",
+    "within_limit": "diffbot.kinematics",
+    "BUNDLED_DESCRIPTION": "diffbot.urdf",
+    "derive_params": "diffbot.urdf",
+    "expand": "diffbot.urdf",
+    "load_params": "diffbot.urdf",
     "Odometry": "diffbot.odometry",
     "OdometryMessage": "diffbot.ros.messages",
     "PoseSeries": "diffbot.odometry",
