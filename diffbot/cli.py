@@ -89,6 +89,11 @@ def _end_run(signum: int, frame: object) -> None:
     raise SystemExit(128 + signum)  # the exit status of a process the signal ended
 
 
+#: The commands that run nodes: they take ending signals themselves, from the node's making on
+#: (:func:`diffbot.live.signals.deferred`), and act on one held since the start there.
+_TAKE_SIGNALS_THEMSELVES = frozenset({"node", "drive"})
+
+
 class _PipeClosedError(Exception):
     """The reader of stdout went away (click would turn the EPIPE into exit code 1)."""
 
@@ -108,6 +113,18 @@ class DiffbotGroup(SuggestingGroup):
         command = getattr(importlib.import_module(module), name)
         assert isinstance(command, click.Command)
         return with_quiet(command)
+
+    def resolve_command(
+        self, ctx: click.Context, args: list[str]
+    ) -> tuple[str | None, click.Command | None, list[str]]:
+        name, command, rest = super().resolve_command(ctx, args)
+        if name not in _TAKE_SIGNALS_THEMSELVES:
+            # Signals held while the command line loaded end here: one that came acts now, as
+            # it would have then (Ctrl-C aborts, SIGTERM ends the run).
+            early = signal_handlers.release()
+            if early is not None:
+                signal_handlers.hand_on(early, signal.getsignal(early))
+        return name, command, rest
 
     def invoke(self, ctx: click.Context) -> Any:
         try:
@@ -137,7 +154,8 @@ class DiffbotGroup(SuggestingGroup):
         finally:
             # The exit code is decided (an error's too) and the outputs are written: a signal
             # while the interpreter shuts down (which puts back the default actions that end a
-            # process) must not turn that into a death by the signal.
+            # process) must not turn that into a death by the signal; nor one still held.
+            signal_handlers.release()
             signal_handlers.settle(saved, (signal.SIGINT,) if ending else ())
         if not standalone_mode:
             return code
@@ -210,8 +228,8 @@ def _error(message: str, code: int) -> NoReturn:
 
 
 def run() -> None:
-    """The command line's entry point (``diffbot``, ``python -m diffbot``): one command, then
-    the process ends."""
+    """The command line (``diffbot``, ``python -m diffbot``, through :func:`diffbot.__main__.run`,
+    which holds the signals first): one command, then the process ends."""
     signal_handlers.process_ends_with_run()
     main(prog_name="diffbot")
 

@@ -7,15 +7,40 @@ alone too: Python could not put it back.
 
 A process that ends with its run (the command line's) does not give its signals back: once
 the outcome is decided it ignores them while it exits (:func:`settle`).
+
+The command line holds the ending signals from its first step (:func:`hold`), before the
+modules it needs have loaded: a signal that comes meanwhile is only recorded. The run then acts
+on it where it would act on one that came later (:func:`release`): a node ends cleanly, another
+command aborts, rather than a traceback from the middle of an import.
 """
 
 from __future__ import annotations
 
 import signal
-from collections.abc import Callable, Iterable, Mapping
-from typing import Any
 
-__all__ = ["ends_with_run", "ignore", "install", "process_ends_with_run", "restore", "settle"]
+# Imported before anything else by the command line's entry point: no module for types only.
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from collections.abc import Callable, Iterable, Mapping
+    from typing import Any
+
+__all__ = [
+    "ENDING_SIGNALS",
+    "ends_with_run",
+    "hand_on",
+    "hold",
+    "ignore",
+    "install",
+    "process_ends_with_run",
+    "release",
+    "restore",
+    "settle",
+]
+
+#: The signals that end a run: Ctrl-C, ``kill``, a terminal that goes away.
+ENDING_SIGNALS = tuple(
+    getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)
+)
 
 
 class _Process:
@@ -35,14 +60,63 @@ def ends_with_run() -> bool:
     return _Process.ends_with_run
 
 
+class _Held:
+    """The signals :func:`hold` holds: the handler each takes once the hold ends (what
+    :func:`install` and :func:`restore` set meanwhile), and the first one that came."""
+
+    under: dict[int, Any] = {}  # noqa: RUF012 (one hold per process)
+    signum: int | None = None
+
+
+def _record(signum: int, frame: object) -> None:
+    # Records, nothing else: no exception may start here.
+    if _Held.signum is None:
+        _Held.signum = signum
+
+
+def hold(signums: Iterable[int] = ENDING_SIGNALS) -> None:
+    """From now until :func:`release`, a signal of ``signums`` (but one ignored or set outside
+    Python) is only recorded; the handlers :func:`install` sets meanwhile take effect at
+    :func:`release`. Main thread only."""
+    _Held.signum = None
+    _Held.under = install(signums, _record)
+
+
+def release() -> int | None:
+    """End the hold: put the handlers in place that were set during it.
+
+    Returns:
+        The first signal that came during the hold, for the caller to act on (with
+        :func:`hand_on`); None when none came, or nothing was held.
+    """
+    under, _Held.under = _Held.under, {}
+    for signum, handler in under.items():
+        signal.signal(signum, handler)
+    received, _Held.signum = _Held.signum, None
+    return received
+
+
+def hand_on(signum: int, handler: Any) -> None:
+    """Act on ``signum`` as ``handler`` would have: call it (it may raise), or, for the default
+    action, raise the signal again; an ignored signal does nothing."""
+    if callable(handler):
+        handler(signum, None)
+    elif handler == signal.SIG_DFL:
+        signal.raise_signal(signum)
+
+
 def install(signums: Iterable[int], handler: Callable[[int, Any], None]) -> dict[int, Any]:
-    """Set ``handler`` for each of ``signums`` that is neither ignored nor set outside Python.
+    """Set ``handler`` for each of ``signums`` that is neither ignored nor set outside Python
+    (during a :func:`hold`, as the handler the signal takes when the hold ends).
 
     Returns:
         The handlers replaced, by signal, for :func:`restore`.
     """
     saved: dict[int, Any] = {}
     for signum in signums:
+        if signum in _Held.under:
+            saved[signum], _Held.under[signum] = _Held.under[signum], handler
+            continue
         previous = signal.getsignal(signum)
         if previous is signal.SIG_IGN or previous is None:
             continue
@@ -53,7 +127,10 @@ def install(signums: Iterable[int], handler: Callable[[int, Any], None]) -> dict
 def restore(saved: Mapping[int, Any]) -> None:
     """Put back the handlers :func:`install` replaced."""
     for signum, previous in saved.items():
-        signal.signal(signum, previous)
+        if signum in _Held.under:
+            _Held.under[signum] = previous
+        else:
+            signal.signal(signum, previous)
 
 
 def ignore(signums: Iterable[int]) -> None:

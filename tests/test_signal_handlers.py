@@ -93,3 +93,57 @@ def test_a_run_settles_its_signals_as_its_process_goes_on_or_ends(
     settle(saved, [signal.SIGHUP])  # the process ends: both ignored while it exits
     assert signal.getsignal(signal.SIGTERM) is signal.SIG_IGN
     assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
+
+
+@pytest.fixture
+def no_hold() -> Iterator[None]:
+    """Whatever a test holds is released after it."""
+    yield
+    signal_handlers.release()
+
+
+def test_a_held_signal_is_only_recorded_and_the_first_is_acted_on_after_release(
+    no_hold: None,
+) -> None:
+    """As the command line's first step: a signal while its modules load raises nothing (no
+    traceback from the middle of an import); the run takes the first one after."""
+    calls: list[int] = []
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGHUP, signal.SIG_DFL)
+    signal_handlers.hold(SIGNALS)
+    signal.raise_signal(signal.SIGTERM)  # under the default action it would end this process
+    signal.raise_signal(signal.SIGHUP)
+    saved = install(SIGNALS, lambda signum, frame: calls.append(signum))
+    assert saved == {signal.SIGTERM: signal.SIG_DFL, signal.SIGHUP: signal.SIG_DFL}
+    signal.raise_signal(signal.SIGHUP)  # installed during the hold: takes effect at its end
+    assert calls == []
+    assert signal_handlers.release() == signal.SIGTERM
+    signal.raise_signal(signal.SIGHUP)
+    assert calls == [signal.SIGHUP]
+    assert signal_handlers.release() is None  # nothing held any more
+    restore(saved)
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+
+
+def test_handlers_put_back_during_a_hold_are_the_ones_its_release_leaves(no_hold: None) -> None:
+    signal.signal(signal.SIGTERM, other)
+    signal.signal(signal.SIGHUP, signal.SIG_IGN)  # as under nohup: not held, stays ignored
+    signal_handlers.hold(SIGNALS)
+    assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
+    restore(install(SIGNALS, handler))
+    assert signal_handlers.release() is None
+    assert signal.getsignal(signal.SIGTERM) is other
+    assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
+
+
+def test_a_signal_is_handed_on_as_its_handler_would_take_it(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    calls: list[int] = []
+    signal_handlers.hand_on(signal.SIGTERM, lambda signum, frame: calls.append(signum))
+    assert calls == [signal.SIGTERM]
+    raised: list[int] = []
+    monkeypatch.setattr(signal, "raise_signal", raised.append)
+    signal_handlers.hand_on(signal.SIGTERM, signal.SIG_DFL)  # the default action: again
+    signal_handlers.hand_on(signal.SIGHUP, signal.SIG_IGN)  # ignored: nothing
+    assert raised == [signal.SIGTERM]

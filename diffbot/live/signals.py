@@ -30,9 +30,7 @@ from diffbot import signal_handlers
 __all__ = ["ENDING_SIGNALS", "caught", "deferred"]
 
 #: The signals that ask a node to end.
-ENDING_SIGNALS = tuple(
-    getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)
-)
+ENDING_SIGNALS = signal_handlers.ENDING_SIGNALS
 
 
 class _State:
@@ -88,6 +86,10 @@ def deferred(
     if outermost:
         _STATE.signum = None
         _STATE.saved = signal_handlers.install(ENDING_SIGNALS, _handler)
+        # One that came while the command line loaded counts as one that comes now.
+        early = signal_handlers.release()
+        if early is not None and _STATE.signum is None:
+            _STATE.signum = early
     _STATE.depth += 1
     if wake is not None:
         _STATE.wakers.append(wake)
@@ -105,13 +107,4 @@ def deferred(
                 signal_handlers.restore(saved)
             received, _STATE.signum = _STATE.signum, None
     if outermost and deliver and received is not None:
-        _hand_on(received, saved.get(received, signal.SIG_DFL))
-
-
-def _hand_on(signum: int, previous: Any) -> None:
-    """Give ``signum`` to the handler that was installed before: call it (it may raise), or
-    raise the signal again under the default action."""
-    if callable(previous):
-        previous(signum, None)
-    elif previous == signal.SIG_DFL:
-        signal.raise_signal(signum)
+        signal_handlers.hand_on(received, saved.get(received, signal.SIG_DFL))

@@ -16,6 +16,7 @@ from typing import Any
 
 import pytest
 from click.testing import CliRunner
+from entry import started_gated
 from live_graph import PATIENCE
 
 from diffbot import signal_handlers
@@ -221,6 +222,34 @@ def test_every_live_command_ends_cleanly_on_a_signal_under_load(seed: int) -> No
     assert last[LEFT_TOPIC] == zero
     assert last[RIGHT_TOPIC] == zero
     assert last["cmd_vel"] == (0.0, 0.0)
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_while_the_command_line_loads_ends_a_node_as_a_later_one(signum: int) -> None:
+    """Held from the entry point's first step, it is the node's to act on once made: exit code
+    0 and the status line, as for a signal that comes while the node runs."""
+    process = started_gated("node", "odom", "--no-tf", "--quiet")
+    try:
+        process.send_signal(signum)
+        _, err = process.communicate(timeout=PATIENCE)
+    finally:
+        process.kill()
+    assert (process.returncode, err) == (0, "odom: 0 joint states, 0 used, 0 published\n")
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_while_the_command_line_loads_stops_a_drive_before_it_commands(
+    signum: int,
+) -> None:
+    process = started_gated("drive", "straight 1", "--wait", str(PATIENCE))
+    try:
+        process.send_signal(signum)
+        _, err = process.communicate(timeout=PATIENCE)
+    finally:
+        process.kill()
+    assert process.returncode == 128 + signum, err
+    assert "Traceback" not in err
+    assert "drove" not in err
 
 
 @pytest.mark.parametrize("second", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])

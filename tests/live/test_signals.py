@@ -459,6 +459,22 @@ def _robot_settings() -> Any:
     return RobotSettings(rate=FEED_RATE, cmd_vel="cmd_vel", timeout=0.0)
 
 
+def test_a_signal_held_since_the_start_is_caught_by_the_first_block() -> None:
+    """One that came while the command line loaded (:func:`signal_handlers.hold`) counts as one
+    that comes as the node is made: the node's run ends at once, cleanly."""
+    before = signal.getsignal(signal.SIGTERM)
+    try:
+        signal_handlers.hold([signal.SIGTERM])
+        signal.raise_signal(signal.SIGTERM)
+        with signals.deferred(deliver=False):
+            assert signals.caught() == signal.SIGTERM
+        assert signal_handlers.release() is None  # the block took it, and ended the hold
+    finally:
+        signal_handlers.release()
+        signal.signal(signal.SIGTERM, before)
+    assert signal.getsignal(signal.SIGTERM) is before
+
+
 if __name__ == "__main__":
     kind, count, seed = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
     print(json.dumps(harness(kind, count, seed)), flush=True)

@@ -1,0 +1,35 @@
+"""The command line's entry point holds the ending signals from its first step: one that comes
+while its modules load is acted on by the command as a later one would be (Ctrl-C aborts with
+exit code 130, SIGTERM ends the run with 143), never a traceback from the middle of an import."""
+
+from __future__ import annotations
+
+import signal
+from importlib.metadata import entry_points
+
+import pytest
+from entry import started_gated
+from live_graph import PATIENCE
+
+
+def test_the_console_script_is_the_entry_point_that_holds_the_signals() -> None:
+    (script,) = entry_points(group="console_scripts", name="diffbot")
+    assert script.value == "diffbot.__main__:run"
+
+
+@pytest.mark.parametrize(
+    ("signum", "code", "stderr"),
+    [(signal.SIGINT, 130, "error: aborted"), (signal.SIGTERM, 143, "")],
+)
+def test_a_signal_while_the_command_line_loads_ends_the_run_as_a_later_one(
+    signum: int, code: int, stderr: str
+) -> None:
+    process = started_gated("plan", "straight 1")
+    try:
+        process.send_signal(signum)
+        out, err = process.communicate(timeout=PATIENCE)
+    finally:
+        process.kill()
+    assert "Traceback" not in err
+    # After Ctrl-C's "^C" on a terminal, click starts a new line.
+    assert (process.returncode, out, err.strip()) == (code, "", stderr)
