@@ -2,8 +2,10 @@
 
 Its first step holds the signals that end a run (:func:`diffbot.signal_handlers.hold`), before
 the command line's modules load: a Ctrl-C, SIGTERM or SIGHUP that comes meanwhile is acted on
-by the command as one that comes later would be (a node ends cleanly with exit code 0, another
-command aborts), not as a traceback from the middle of an import.
+once the command is known, as one that comes during the run is (Ctrl-C aborts with exit code
+130, SIGTERM and SIGHUP end the run with 143 and 129), not raised in the middle of an import.
+A node or a drive holds it through its setup too, and acts on it before the node is made; a
+second signal meanwhile ends the process at once.
 """
 
 from diffbot import signal_handlers

@@ -90,7 +90,8 @@ def _end_run(signum: int, frame: object) -> None:
 
 
 #: The commands that run nodes: they take ending signals themselves, from the node's making on
-#: (:func:`diffbot.live.signals.deferred`), and act on one held since the start there.
+#: (:func:`diffbot.live.signals.deferred`), and hold them until then, so that none raises inside
+#: the DDS library's import or setup; one held acts there, before the node is made.
 _TAKE_SIGNALS_THEMSELVES = frozenset({"node", "drive"})
 
 

@@ -9,13 +9,14 @@ A process that ends with its run (the command line's) does not give its signals 
 the outcome is decided it ignores them while it exits (:func:`settle`).
 
 The command line holds the ending signals from its first step (:func:`hold`), before the
-modules it needs have loaded: a signal that comes meanwhile is only recorded. The run then acts
-on it where it would act on one that came later (:func:`release`): a node ends cleanly, another
-command aborts, rather than a traceback from the middle of an import.
+modules it needs have loaded: a signal that comes meanwhile is only recorded, and acted on where
+the run can take it as it takes one during the run (:func:`release`, :func:`hand_on`), rather
+than raised in the middle of an import (a traceback, or a library left half set up).
 """
 
 from __future__ import annotations
 
+import os
 import signal
 
 # Imported before anything else by the command line's entry point: no module for types only.
@@ -72,12 +73,19 @@ def _record(signum: int, frame: object) -> None:
     # Records, nothing else: no exception may start here.
     if _Held.signum is None:
         _Held.signum = signum
+        return
+    # A second one while the first waits for the run to act on it (a long setup): whoever sends
+    # it insists, and the process ends at once. Nothing is written while signals are held.
+    if signum == signal.SIGINT:
+        os.write(2, b"\nerror: aborted\n")
+    os._exit(128 + signum)
 
 
 def hold(signums: Iterable[int] = ENDING_SIGNALS) -> None:
     """From now until :func:`release`, a signal of ``signums`` (but one ignored or set outside
-    Python) is only recorded; the handlers :func:`install` sets meanwhile take effect at
-    :func:`release`. Main thread only."""
+    Python) is only recorded, and a second one ends the process at once (exit status 128 + its
+    number); the handlers :func:`install` sets meanwhile take effect at :func:`release`. Main
+    thread only."""
     _Held.signum = None
     _Held.under = install(signums, _record)
 

@@ -13,7 +13,7 @@ _GATED = """
 import importlib.abc, sys, time
 from diffbot import __main__ as entry, signal_handlers
 
-patience = float(sys.argv[1])
+patience, linger = float(sys.argv[1]), float(sys.argv[2])
 
 class Gate(importlib.abc.MetaPathFinder):
     opened = False
@@ -25,19 +25,23 @@ class Gate(importlib.abc.MetaPathFinder):
             end = time.monotonic() + patience
             while signal_handlers._Held.signum is None and time.monotonic() < end:
                 time.sleep(0.001)  # where an unheld signal raises, inside the import
+            if linger:
+                print("held", flush=True)
+                time.sleep(linger)
         return None
 
 sys.meta_path.insert(0, Gate())
-sys.argv[:] = ["diffbot", *sys.argv[2:]]
+sys.argv[:] = ["diffbot", *sys.argv[3:]]
 entry.run()
 """
 
 
-def started_gated(*args: str) -> subprocess.Popen[str]:
+def started_gated(*args: str, linger: float = 0.0) -> subprocess.Popen[str]:
     """``diffbot ARGS`` through the entry point, its import of click held up until a signal
-    came (at most :data:`PATIENCE` seconds); its first line on stdout says it is loading."""
+    came (at most :data:`PATIENCE` seconds), then ``linger`` seconds more; its first line on
+    stdout says it is loading, the next (with ``linger``) that a signal is held."""
     process = subprocess.Popen(
-        [sys.executable, "-c", _GATED, str(PATIENCE), *args],
+        [sys.executable, "-c", _GATED, str(PATIENCE), str(linger), *args],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,

@@ -33,3 +33,23 @@ def test_a_signal_while_the_command_line_loads_ends_the_run_as_a_later_one(
     assert "Traceback" not in err
     # After Ctrl-C's "^C" on a terminal, click starts a new line.
     assert (process.returncode, out, err.strip()) == (code, "", stderr)
+
+
+@pytest.mark.parametrize(
+    ("second", "code", "stderr"),
+    [(signal.SIGINT, 130, "error: aborted"), (signal.SIGTERM, 143, "")],
+)
+def test_a_second_signal_while_one_is_held_ends_the_process_at_once(
+    second: int, code: int, stderr: str
+) -> None:
+    """The first waits for the run to act on it; whoever sends a second insists."""
+    process = started_gated("plan", "straight 1", linger=PATIENCE)
+    try:
+        process.send_signal(signal.SIGTERM)
+        assert process.stdout is not None
+        assert process.stdout.readline() == "held\n"
+        process.send_signal(second)
+        out, err = process.communicate(timeout=PATIENCE / 2)  # not after the linger
+    finally:
+        process.kill()
+    assert (process.returncode, out, err.strip()) == (code, "", stderr)

@@ -112,11 +112,9 @@ def test_a_held_signal_is_only_recorded_and_the_first_is_acted_on_after_release(
     signal.signal(signal.SIGHUP, signal.SIG_DFL)
     signal_handlers.hold(SIGNALS)
     signal.raise_signal(signal.SIGTERM)  # under the default action it would end this process
-    signal.raise_signal(signal.SIGHUP)
     saved = install(SIGNALS, lambda signum, frame: calls.append(signum))
     assert saved == {signal.SIGTERM: signal.SIG_DFL, signal.SIGHUP: signal.SIG_DFL}
-    signal.raise_signal(signal.SIGHUP)  # installed during the hold: takes effect at its end
-    assert calls == []
+    assert calls == []  # installed during the hold: takes effect at its end
     assert signal_handlers.release() == signal.SIGTERM
     signal.raise_signal(signal.SIGHUP)
     assert calls == [signal.SIGHUP]
@@ -147,3 +145,25 @@ def test_a_signal_is_handed_on_as_its_handler_would_take_it(
     signal_handlers.hand_on(signal.SIGTERM, signal.SIG_DFL)  # the default action: again
     signal_handlers.hand_on(signal.SIGHUP, signal.SIG_IGN)  # ignored: nothing
     assert raised == [signal.SIGTERM]
+
+
+def test_a_second_signal_during_a_hold_ends_the_process_at_once(
+    monkeypatch: pytest.MonkeyPatch, capfd: pytest.CaptureFixture[str], no_hold: None
+) -> None:
+    class ExitedError(Exception):
+        pass
+
+    def exit_(code: int) -> None:
+        raise ExitedError(code)
+
+    monkeypatch.setattr(signal_handlers.os, "_exit", exit_)
+    signal_handlers.hold([signal.SIGINT, signal.SIGTERM])
+    signal.raise_signal(signal.SIGTERM)
+    with pytest.raises(ExitedError) as exited:
+        signal.raise_signal(signal.SIGINT)
+    assert exited.value.args == (128 + signal.SIGINT,)
+    assert capfd.readouterr().err == "\nerror: aborted\n"  # as a Ctrl-C during a run says
+    with pytest.raises(ExitedError) as exited:
+        signal.raise_signal(signal.SIGTERM)
+    assert exited.value.args == (128 + signal.SIGTERM,)
+    assert capfd.readouterr().err == ""

@@ -86,10 +86,14 @@ def deferred(
     if outermost:
         _STATE.signum = None
         _STATE.saved = signal_handlers.install(ENDING_SIGNALS, _handler)
-        # One that came while the command line loaded counts as one that comes now.
         early = signal_handlers.release()
-        if early is not None and _STATE.signum is None:
-            _STATE.signum = early
+        if early is not None:
+            # It came while the command line loaded or set up: the run ends as on one during
+            # its setup, before the block does anything.
+            saved = _STATE.saved
+            signal_handlers.restore(saved)
+            signal_handlers.hand_on(early, saved.get(early, signal.SIG_DFL))
+            _STATE.saved = signal_handlers.install(ENDING_SIGNALS, _handler)  # not ended by it
     _STATE.depth += 1
     if wake is not None:
         _STATE.wakers.append(wake)
