@@ -19,11 +19,22 @@ def lazy_names(
 ) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
     """The ``__getattr__`` and ``__dir__`` of ``package`` whose names in ``homes`` (name ->
     module) load on first use; each loaded name is kept in ``namespace`` (the package's
-    ``globals()``), so later lookups skip the function."""
+    ``globals()``), so later lookups skip the function. Any other name that is a submodule of
+    ``package`` is imported as such (``package.sub`` after ``import package``)."""
 
     def getattr_(name: str) -> Any:
         home = homes.get(name)
         if home is None:
+            # A submodule, as ``import package`` gave when it imported it eagerly.
+            if name.isidentifier() and not name.startswith("__"):
+                from importlib.util import find_spec
+
+                try:
+                    found = find_spec(f"{package}.{name}") is not None
+                except ModuleNotFoundError:  # the package itself is not importable
+                    found = False
+                if found:
+                    return importlib.import_module(f"{package}.{name}")
             raise AttributeError(f"module {package!r} has no attribute {name!r}")
         value = getattr(importlib.import_module(home), name)
         namespace[name] = value
