@@ -4,10 +4,15 @@ load: the first import of click waits, in the middle of the import, until a sign
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
 
 from live_graph import PATIENCE
+
+#: A signal, and how a run ends on it before it does anything: exit code, stderr (stripped).
+Ending = tuple[int, int, str]
+ENDINGS: list[Ending] = [(signal.SIGINT, 130, "error: aborted"), (signal.SIGTERM, 143, "")]
 
 _GATED = """
 import importlib.abc, sys, time
@@ -50,3 +55,15 @@ def started_gated(*args: str, linger: float = 0.0) -> subprocess.Popen[str]:
     assert process.stdout is not None
     assert process.stdout.readline() == "loading\n", process.communicate(timeout=PATIENCE)
     return process
+
+
+def signalled(signum: int, *args: str) -> tuple[int, str, str]:
+    """``diffbot ARGS`` sent ``signum`` in the middle of its import of click: its exit code,
+    stdout and stderr."""
+    process = started_gated(*args)
+    try:
+        process.send_signal(signum)
+        out, err = process.communicate(timeout=PATIENCE)
+    finally:
+        process.kill()
+    return process.returncode, out, err

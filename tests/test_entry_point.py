@@ -8,7 +8,7 @@ import signal
 from importlib.metadata import entry_points
 
 import pytest
-from entry import started_gated
+from entry import ENDINGS, Ending, signalled, started_gated
 from live_graph import PATIENCE
 
 
@@ -17,32 +17,19 @@ def test_the_console_script_is_the_entry_point_that_holds_the_signals() -> None:
     assert script.value == "diffbot.__main__:run"
 
 
-@pytest.mark.parametrize(
-    ("signum", "code", "stderr"),
-    [(signal.SIGINT, 130, "error: aborted"), (signal.SIGTERM, 143, "")],
-)
-def test_a_signal_while_the_command_line_loads_ends_the_run_as_a_later_one(
-    signum: int, code: int, stderr: str
-) -> None:
-    process = started_gated("plan", "straight 1")
-    try:
-        process.send_signal(signum)
-        out, err = process.communicate(timeout=PATIENCE)
-    finally:
-        process.kill()
+@pytest.mark.parametrize("ending", ENDINGS)
+def test_a_signal_while_the_command_line_loads_ends_the_run_as_a_later_one(ending: Ending) -> None:
+    signum, code, stderr = ending
+    returncode, out, err = signalled(signum, "plan", "straight 1")
     assert "Traceback" not in err
     # After Ctrl-C's "^C" on a terminal, click starts a new line.
-    assert (process.returncode, out, err.strip()) == (code, "", stderr)
+    assert (returncode, out, err.strip()) == (code, "", stderr)
 
 
-@pytest.mark.parametrize(
-    ("second", "code", "stderr"),
-    [(signal.SIGINT, 130, "error: aborted"), (signal.SIGTERM, 143, "")],
-)
-def test_a_second_signal_while_one_is_held_ends_the_process_at_once(
-    second: int, code: int, stderr: str
-) -> None:
+@pytest.mark.parametrize("ending", ENDINGS)
+def test_a_second_signal_while_one_is_held_ends_the_process_at_once(ending: Ending) -> None:
     """The first waits for the run to act on it; whoever sends a second insists."""
+    second, code, stderr = ending
     process = started_gated("plan", "straight 1", linger=PATIENCE)
     try:
         process.send_signal(signal.SIGTERM)

@@ -16,7 +16,7 @@ from typing import Any
 
 import pytest
 from click.testing import CliRunner
-from entry import started_gated
+from entry import ENDINGS, Ending, signalled
 from live_graph import PATIENCE
 
 from diffbot import signal_handlers
@@ -224,34 +224,22 @@ def test_every_live_command_ends_cleanly_on_a_signal_under_load(seed: int) -> No
     assert last["cmd_vel"] == (0.0, 0.0)
 
 
-@pytest.mark.parametrize(
-    ("signum", "code", "stderr"),
-    [(signal.SIGINT, 130, "error: aborted"), (signal.SIGTERM, 143, "")],
-)
+@pytest.mark.parametrize("ending", ENDINGS)
 def test_a_signal_while_the_command_line_loads_ends_a_node_command_before_its_node(
-    signum: int, code: int, stderr: str
+    ending: Ending,
 ) -> None:
     """As one during its setup: the command ends, nothing joins the graph, no traceback."""
-    process = started_gated("node", "odom", "--no-tf")
-    try:
-        process.send_signal(signum)
-        _, err = process.communicate(timeout=PATIENCE)
-    finally:
-        process.kill()
-    assert (process.returncode, err.strip()) == (code, stderr)
+    signum, code, stderr = ending
+    returncode, _, err = signalled(signum, "node", "odom", "--no-tf")
+    assert (returncode, err.strip()) == (code, stderr)
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_a_signal_while_the_command_line_loads_stops_a_drive_before_it_commands(
     signum: int,
 ) -> None:
-    process = started_gated("drive", "straight 1", "--wait", str(PATIENCE))
-    try:
-        process.send_signal(signum)
-        _, err = process.communicate(timeout=PATIENCE)
-    finally:
-        process.kill()
-    assert process.returncode == 128 + signum, err
+    returncode, _, err = signalled(signum, "drive", "straight 1", "--wait", str(PATIENCE))
+    assert returncode == 128 + signum, err
     assert "Traceback" not in err
     assert "drove" not in err
 
