@@ -122,9 +122,7 @@ class DiffbotGroup(SuggestingGroup):
         if name not in _TAKE_SIGNALS_THEMSELVES:
             # Signals held while the command line loaded end here: one that came acts now, as
             # it would have then (Ctrl-C aborts, SIGTERM ends the run).
-            early = signal_handlers.release()
-            if early is not None:
-                signal_handlers.hand_on(early, signal.getsignal(early))
+            signal_handlers.act_on_held()
         return name, command, rest
 
     def invoke(self, ctx: click.Context) -> Any:

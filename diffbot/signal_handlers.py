@@ -10,7 +10,7 @@ the outcome is decided it ignores them while it exits (:func:`settle`).
 
 The command line holds the ending signals from its first step (:func:`hold`), before the
 modules it needs have loaded: a signal that comes meanwhile is only recorded, and acted on where
-the run can take it as it takes one during the run (:func:`release`, :func:`hand_on`), rather
+the run can take it as it takes one during the run (:func:`act_on_held`), rather
 than raised in the middle of an import (a traceback, or a library left half set up).
 """
 
@@ -27,6 +27,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ENDING_SIGNALS",
+    "act_on_held",
     "ends_with_run",
     "hand_on",
     "hold",
@@ -102,6 +103,14 @@ def release() -> int | None:
         signal.signal(signum, handler)
     received, _Held.signum = _Held.signum, None
     return received
+
+
+def act_on_held() -> None:
+    """End the hold (:func:`release`), and act on a signal that came during it as the handler
+    now in place takes it (:func:`hand_on`): where the run can take a signal."""
+    early = release()
+    if early is not None:
+        hand_on(early, signal.getsignal(early))
 
 
 def hand_on(signum: int, handler: Any) -> None:

@@ -167,3 +167,18 @@ def test_a_second_signal_during_a_hold_ends_the_process_at_once(
         signal.raise_signal(signal.SIGTERM)
     assert exited.value.args == (128 + signal.SIGTERM,)
     assert capfd.readouterr().err == ""
+
+
+def test_acting_on_a_held_signal_gives_it_to_the_handler_now_in_place(no_hold: None) -> None:
+    calls: list[int] = []
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal_handlers.hold([signal.SIGTERM])
+    signal_handlers.act_on_held()  # nothing came: nothing done, the hold ended
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+    signal_handlers.hold([signal.SIGTERM])
+    install([signal.SIGTERM], lambda signum, frame: calls.append(signum))
+    signal.raise_signal(signal.SIGTERM)
+    assert calls == []
+    signal_handlers.act_on_held()
+    assert calls == [signal.SIGTERM]
+    assert signal_handlers.release() is None

@@ -84,16 +84,11 @@ def deferred(
         return
     outermost = _STATE.depth == 0
     if outermost:
+        # One held since the command line loaded or set up ends the run as one during its
+        # setup does, before the block does anything.
+        signal_handlers.act_on_held()
         _STATE.signum = None
         _STATE.saved = signal_handlers.install(ENDING_SIGNALS, _handler)
-        early = signal_handlers.release()
-        if early is not None:
-            # It came while the command line loaded or set up: the run ends as on one during
-            # its setup, before the block does anything.
-            saved = _STATE.saved
-            signal_handlers.restore(saved)
-            signal_handlers.hand_on(early, saved.get(early, signal.SIG_DFL))
-            _STATE.saved = signal_handlers.install(ENDING_SIGNALS, _handler)  # not ended by it
     _STATE.depth += 1
     if wake is not None:
         _STATE.wakers.append(wake)
