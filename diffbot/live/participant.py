@@ -1,5 +1,6 @@
-"""A process's DDS participants: each domain configured once, from the environment, on first use
-(Cyclone takes one configuration per domain and process)."""
+"""A process's DDS participants: a domain configured from the environment when the first of the
+process's participants joins it (Cyclone takes one configuration per domain and process), and
+deleted when the last one leaves."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from diffbot.live.cyclone import DDSException, Domain, DomainParticipant
 from diffbot.live.discovery import MAX_DOMAIN_ID, cyclone_config, discovery_range, domain_id
 from diffbot.live.errors import LiveError
 
-__all__ = ["participant"]
+__all__ = ["leave", "participant"]
 
 
 #: The most of what Cyclone writes to stderr while starting that an error repeats (bytes).
@@ -23,6 +24,8 @@ _MOST_SAID = 4096
 
 #: The domains this process created, by id: Cyclone takes one configuration per domain.
 _DOMAINS: dict[int, Any] = {}
+#: The domain id of each participant made here and not yet left, by the participant's ``id``.
+_MEMBERS: dict[int, int] = {}
 _DOMAINS_LOCK = threading.Lock()
 
 
@@ -83,8 +86,33 @@ def participant(domain: int | None) -> DomainParticipant:
                     _DOMAINS[ident] = Domain(ident, config) if config else None
             except DDSException as err:
                 raise LiveError(f"cannot start DDS on domain {ident}: {_why(err, said)}") from None
-    try:
-        with _cyclone_says() as said:
-            return DomainParticipant(ident)
-    except DDSException as err:
-        raise LiveError(f"cannot join DDS domain {ident}: {_why(err, said)}") from None
+        try:
+            with _cyclone_says() as said:
+                member = DomainParticipant(ident)
+        except DDSException as err:
+            _close_if_empty(ident)
+            raise LiveError(f"cannot join DDS domain {ident}: {_why(err, said)}") from None
+        _MEMBERS[id(member)] = ident
+        return member
+
+
+def leave(member: DomainParticipant) -> None:
+    """Delete ``member`` (a participant :func:`participant` made) with all it holds. The last
+    of the process's participants on a domain takes the domain with it, which returns only once
+    the participant's disposals are on the wire: Cyclone sends them from a thread of its own,
+    which a process ending at once would cut short, and its peers would then keep the
+    participant until its lease ran out. A second call does nothing."""
+    with _DOMAINS_LOCK:
+        ident = _MEMBERS.pop(id(member), None)
+        member.__del__()  # a no-op when the participant is already gone
+        if ident is not None:
+            _close_if_empty(ident)
+
+
+def _close_if_empty(ident: int) -> None:
+    """Delete domain ``ident`` when none of the process's participants is on it (the caller
+    holds the lock); the next participant configures it anew."""
+    if ident not in _MEMBERS.values():
+        domain = _DOMAINS.pop(ident, None)
+        if domain is not None:
+            domain.__del__()

@@ -49,7 +49,7 @@ from diffbot.live.discovery import (
 from diffbot.live.endpoints import Publisher, Subscription, Timer
 from diffbot.live.errors import INSTALL_HINT, LiveError
 from diffbot.live.names import check_node_name, check_topic, resolve_topic
-from diffbot.live.participant import participant
+from diffbot.live.participant import leave, participant
 from diffbot.live.qos import LATCHED, PUBLISHER, SERVICE, SUBSCRIPTION, TF, QosProfile
 from diffbot.live.signals import caught, deferred
 
@@ -413,7 +413,7 @@ class Node:
         self._timers.clear()
         self._publications = None
         self._topics.clear()
-        self.participant.__del__()  # a no-op when the participant is already gone
+        leave(self.participant)
 
     def __enter__(self: N) -> N:
         return self

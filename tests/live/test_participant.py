@@ -129,3 +129,74 @@ def test_what_cyclone_writes_goes_on_to_stderr_unless_it_fails(
         failing()
     assert held == [["the reason", "and more"]]
     assert capfd.readouterr().err == ""
+
+
+class _Entity:
+    """Stands in for a Cyclone entity: records its making and its (first) deletion in ``log``."""
+
+    def __init__(self, log: list[tuple[str, object]], kind: str, *args: object) -> None:
+        self.log, self.kind, self.gone = log, kind, False
+        log.append((f"make {kind}", args))
+
+    def __del__(self) -> None:
+        if not self.gone:
+            self.gone = True
+            self.log.append((f"delete {self.kind}", id(self)))
+
+
+@pytest.fixture
+def entities(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, object]]:
+    """No domain started yet in this process; domains and participants are :class:`_Entity`
+    stand-ins whose making and deletion go, in order, into the list returned."""
+    from diffbot.live import participant as module
+
+    log: list[tuple[str, object]] = []
+    monkeypatch.setattr(module, "Domain", lambda *a: _Entity(log, "domain", *a))
+    monkeypatch.setattr(module, "DomainParticipant", lambda *a: _Entity(log, "participant", *a))
+    monkeypatch.setattr(module, "_DOMAINS", {})
+    monkeypatch.setattr(module, "_MEMBERS", {})
+    return log
+
+
+def test_the_last_participant_to_leave_takes_its_domain_after_itself(
+    entities: list[tuple[str, object]], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from diffbot.live.discovery import cyclone_config
+    from diffbot.live.participant import leave
+
+    here = spare_domain(4)
+    first, second = participant(here), participant(here)
+    other = participant(spare_domain(3))
+    assert [kind for kind, _ in entities].count("make domain") == 2
+    leave(first)
+    leave(first)  # a second call does nothing
+    assert entities[-1] == ("delete participant", id(first))
+    leave(second)
+    # The participant goes first, then its domain: deleting a domain waits for its disposals.
+    assert [kind for kind, _ in entities[-3:]] == [
+        "delete participant",
+        "delete participant",
+        "delete domain",
+    ]
+    assert entities[-2] == ("delete participant", id(second))
+    assert not other.gone  # another domain's participant is not touched
+    # The next participant configures the domain anew, from the environment as it is now.
+    monkeypatch.setenv("CYCLONEDDS_URI", "file:///etc/dds.xml")
+    participant(here)
+    made = [args for kind, args in entities if kind == "make domain"]
+    assert made[-1] == (here, cyclone_config("LOCALHOST", "file:///etc/dds.xml"))
+
+
+def test_a_participant_that_cannot_join_an_empty_domain_takes_it_away(
+    entities: list[tuple[str, object]], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from diffbot.live import participant as module
+
+    def full(ident: int) -> None:
+        raise DDSException(-1, "no participant index left")
+
+    monkeypatch.setattr(module, "DomainParticipant", full)
+    with pytest.raises(LiveError):
+        participant(spare_domain(4))
+    assert [kind for kind, _ in entities] == ["make domain", "delete domain"]
+    assert module._DOMAINS == {}

@@ -479,7 +479,7 @@ def test_a_node_whose_participant_is_gone_is_destroyed_quietly_and_makes_no_more
             types.EmptyRequest, types.EmptyResponse, "out", lambda r: types.EmptyResponse()
         ),
     ):
-        with pytest.raises(LiveError, match=r"^cannot make topic 'out': .*BAD_PARAMETER"):
+        with pytest.raises(LiveError, match=r"^cannot make topic 'out': \[DDS_RETCODE_"):
             make()
 
 
