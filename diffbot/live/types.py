@@ -275,65 +275,56 @@ class TFMessage(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
     transforms: idl.sequence[TransformStamped] = field(default_factory=list)
 
 
-@final
-@dataclass
-class Gid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
-    """rmw_dds_common/Gid as Iron and later declare it: an endpoint's 16-byte DDS GUID."""
+def _entities_info(
+    gid_bytes: int, release: str, prefix: str = ""
+) -> tuple[type[Any], type[Any], type[Any]]:
+    """rmw_dds_common's Gid, NodeEntitiesInfo and ParticipantEntitiesInfo with GIDs of
+    ``gid_bytes`` bytes, as the ROS releases ``release`` declare them, their Python names
+    behind ``prefix``: one declaration for both widths, whose DDS types share their names."""
 
-    data: idl.array[idl.uint8, 16] = bytes(16)
+    @final
+    @dataclass
+    class Gid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
+        data: idl.array[idl.uint8, gid_bytes] = bytes(gid_bytes)  # type: ignore[misc]
 
+    @final
+    @dataclass
+    class NodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
+        node_namespace: idl.bounded_str[256] = "/"
+        node_name: idl.bounded_str[256] = ""
+        reader_gid_seq: idl.sequence[Gid] = field(default_factory=list)
+        writer_gid_seq: idl.sequence[Gid] = field(default_factory=list)
 
-@final
-@dataclass
-class NodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
-    """rmw_dds_common/NodeEntitiesInfo: a node's name and the GIDs of its readers and writers."""
+    @final
+    @dataclass
+    class ParticipantEntitiesInfo(
+        IdlStruct, typename="rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"
+    ):
+        gid: Gid = field(default_factory=Gid)
+        node_entities_info_seq: idl.sequence[NodeEntitiesInfo] = field(default_factory=list)
 
-    node_namespace: idl.bounded_str[256] = "/"
-    node_name: idl.bounded_str[256] = ""
-    reader_gid_seq: idl.sequence[Gid] = field(default_factory=list)
-    writer_gid_seq: idl.sequence[Gid] = field(default_factory=list)
-
-
-@final
-@dataclass
-class ParticipantEntitiesInfo(
-    IdlStruct, typename="rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"
-):
-    """rmw_dds_common/ParticipantEntitiesInfo: what ``ros_discovery_info`` carries, the nodes of
-    one DDS participant."""
-
-    gid: Gid = field(default_factory=Gid)
-    node_entities_info_seq: idl.sequence[NodeEntitiesInfo] = field(default_factory=list)
-
-
-@final
-@dataclass
-class HumbleGid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
-    """rmw_dds_common/Gid up to Humble: 24 bytes, the GUID then zeros."""
-
-    data: idl.array[idl.uint8, 24] = bytes(24)
-
-
-@final
-@dataclass
-class HumbleNodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
-    """rmw_dds_common/NodeEntitiesInfo with Humble's GIDs."""
-
-    node_namespace: idl.bounded_str[256] = "/"
-    node_name: idl.bounded_str[256] = ""
-    reader_gid_seq: idl.sequence[HumbleGid] = field(default_factory=list)
-    writer_gid_seq: idl.sequence[HumbleGid] = field(default_factory=list)
+    Gid.__doc__ = (
+        f"rmw_dds_common/Gid as {release} declare it: {gid_bytes} bytes, an endpoint's 16-byte"
+        " DDS GUID first (then zeros)."
+    )
+    NodeEntitiesInfo.__doc__ = (
+        "rmw_dds_common/NodeEntitiesInfo: a node's name and the GIDs of its readers and writers"
+        f" ({release})."
+    )
+    ParticipantEntitiesInfo.__doc__ = (
+        "rmw_dds_common/ParticipantEntitiesInfo: what ``ros_discovery_info`` carries, the nodes"
+        f" of one DDS participant ({release})."
+    )
+    made = (Gid, NodeEntitiesInfo, ParticipantEntitiesInfo)
+    for kind in made:
+        kind.__name__ = kind.__qualname__ = prefix + kind.__name__
+    return made
 
 
-@final
-@dataclass
-class HumbleParticipantEntitiesInfo(
-    IdlStruct, typename="rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"
-):
-    """rmw_dds_common/ParticipantEntitiesInfo with Humble's GIDs."""
-
-    gid: HumbleGid = field(default_factory=HumbleGid)
-    node_entities_info_seq: idl.sequence[HumbleNodeEntitiesInfo] = field(default_factory=list)
+Gid, NodeEntitiesInfo, ParticipantEntitiesInfo = _entities_info(16, "Iron and later")
+HumbleGid, HumbleNodeEntitiesInfo, HumbleParticipantEntitiesInfo = _entities_info(
+    24, "Humble and earlier", "Humble"
+)
 
 
 #: The ROS distributions whose rmw_dds_common/Gid holds 24 bytes (16 since Iron).
