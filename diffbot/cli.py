@@ -181,6 +181,13 @@ class DiffbotGroup(SuggestingGroup):
             _error(err.format_message(), err.exit_code)
         except DiffbotError as err:
             _error(err.render(FLAGS.__getitem__), err.exit_code)
+        except RuntimeError as err:
+            ending = _signal_behind(err)
+            if ending is None:
+                raise
+            if isinstance(ending, KeyboardInterrupt):
+                _error("aborted", 130)
+            raise ending from None
         except click.Abort:
             _error("aborted", 130)
         except (BrokenPipeError, _PipeClosedError):
@@ -194,6 +201,18 @@ class DiffbotGroup(SuggestingGroup):
             _flush_or_drop_stdout()
             _error("out of memory: an input holds more than this machine can read at once", 2)
         return code
+
+
+def _signal_behind(err: BaseException) -> BaseException | None:
+    """The exit a signal's handler raised (:func:`_end_run`, or Python's KeyboardInterrupt)
+    that ``err`` wraps, if any: Python 3.11 wraps what ``__set_name__`` raises, as during the
+    making of a class in an import the command does on demand, in a RuntimeError."""
+    cause = err.__cause__
+    while cause is not None:
+        if isinstance(cause, (SystemExit, KeyboardInterrupt)):
+            return cause
+        cause = cause.__cause__
+    return None
 
 
 def _drop_stdout() -> None:

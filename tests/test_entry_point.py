@@ -1,10 +1,13 @@
 """The command line's entry point holds the ending signals from its first step: one that comes
 while its modules load is acted on by the command as a later one would be (Ctrl-C aborts with
-exit code 130, SIGTERM ends the run with 143), never a traceback from the middle of an import."""
+exit code 130, SIGTERM ends the run with 143), never a traceback from the middle of an import;
+nor from a class made later in the run, which Python 3.11 reports as a RuntimeError."""
 
 from __future__ import annotations
 
+import os
 import signal
+import time
 from importlib.metadata import entry_points
 
 import pytest
@@ -40,3 +43,38 @@ def test_a_second_signal_while_one_is_held_ends_the_process_at_once(ending: Endi
     finally:
         process.kill()
     assert (process.returncode, out, err.strip()) == (code, "", stderr)
+
+
+class _Signalling:
+    """A descriptor whose ``__set_name__`` (run as a class that holds it is made, as in an
+    import) has the process sent ``signum``: the handler's exception is raised inside it."""
+
+    def __init__(self, signum: int) -> None:
+        self.signum = signum
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        os.kill(os.getpid(), self.signum)
+        time.sleep(PATIENCE)  # the handler runs before this ends
+
+
+@pytest.mark.parametrize("ending", ENDINGS)
+def test_a_signal_while_a_command_makes_a_class_ends_the_run_as_anywhere_else(
+    ending: Ending, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Python 3.11 wraps what ``__set_name__`` raises in a RuntimeError: the run still ends as
+    the signal says, not with a traceback."""
+    from click.testing import CliRunner
+
+    from diffbot import kinematics
+    from diffbot.cli import main
+
+    signum, code, stderr = ending
+
+    def inverse(*args: object) -> object:
+        type("Loaded", (), {"field": _Signalling(signum)})
+        raise AssertionError("the signal did not end the run")
+
+    monkeypatch.setattr(kinematics, "inverse", inverse)
+    result = CliRunner().invoke(main, ["ik", "0.1", "0.5"])
+    assert not isinstance(result.exception, RuntimeError), result.exception
+    assert (result.exit_code, result.stdout, result.stderr.strip()) == (code, "", stderr)
