@@ -25,6 +25,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsError, XacroError
@@ -33,6 +34,7 @@ from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular
 from diffbot.urdf.expression_limits import weight
 from diffbot.urdf.expressions import SafeFunction, safe_eval, symbols
+from diffbot.urdf.include_glob import include_files
 
 __all__ = [
     "MAX_BYTES",
@@ -264,7 +266,15 @@ class _EvalNames(Mapping[str, Any]):
         return len({**self.functions, **self.args})
 
 
-_PATCHED = ("eval_text", "eval_all", "handle_macro_call", "parse", "all_includes", "replace_node")
+_PATCHED = (
+    "eval_text",
+    "eval_all",
+    "handle_macro_call",
+    "parse",
+    "all_includes",
+    "replace_node",
+    "glob",
+)
 
 
 @contextlib.contextmanager
@@ -392,6 +402,12 @@ def sandboxed(
                 return document
             return saved["parse"](source, filename)
 
+        def list_includes(pattern: str) -> list[str]:
+            def check(folder: str) -> None:
+                allowed.check(os.path.join(xacro.root_dir, folder), "listing")
+
+            return include_files(pattern, check)
+
         def subst_eval(text: str, context: dict[str, Any]) -> str:
             args = context.setdefault("arg", {})
             functions: dict[str, Any] = {
@@ -429,6 +445,7 @@ def sandboxed(
                 xacro.safe_eval = safe_eval
                 xacro._global_symbols = table
                 subst._eval = subst_eval
+                xacro.glob = SimpleNamespace(glob=list_includes)
             yield read
         finally:
             if folders is not None:

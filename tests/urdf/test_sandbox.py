@@ -271,6 +271,35 @@ def test_an_include_outside_the_folders_is_refused(tmp_path: Path) -> None:
     assert 'name="elsewhere"' in process(path, roots=[tmp_path])
 
 
+def test_a_wildcard_include_lists_no_folder_outside_and_names_none_of_its_files(
+    tmp_path: Path,
+) -> None:
+    write(tmp_path / "elsewhere" / "secret_name.xacro", robot('<link name="elsewhere"/>'))
+    inside = write(tmp_path / "evil" / "parts" / "arm.xacro", robot('<link name="arm"/>'))
+    (tmp_path / "evil" / "linked").symlink_to(tmp_path / "elsewhere")
+    for pattern, folder in [
+        (f"{tmp_path}/elsewhere/*.xacro", "elsewhere"),
+        ("../elsewhere/*.xacro", "elsewhere"),
+        ("*/../../elsewhere/*.xacro", "elsewhere"),  # out of the tree past a wildcard
+        ("linked/*.xacro", "linked"),  # a link inside the tree to a folder outside
+    ]:
+        path = write(
+            tmp_path / "evil" / "e.urdf.xacro", robot(f'<xacro:include filename="{pattern}"/>')
+        )
+        with pytest.raises(OutsideRootsError, match=outside(rf"{folder}: listing")) as caught:
+            process(path)
+        assert "secret_name" not in str(caught.value), pattern
+    # Within the tree the wildcard includes as xacro's does; trusted, anywhere.
+    path = write(
+        tmp_path / "evil" / "e.urdf.xacro", robot('<xacro:include filename="p*/*.xacro"/>')
+    )
+    assert 'name="arm"' in process(path)
+    assert inside.exists()
+    body = f'<xacro:include filename="{tmp_path}/elsewhere/*.xacro"/>'
+    path = write(tmp_path / "evil" / "e.urdf.xacro", robot(body))
+    assert 'name="elsewhere"' in process(path, trust=True)
+
+
 def test_import_and_dunder_walks_are_refused(tmp_path: Path) -> None:
     marker = tmp_path / "imported"
     for expression, reason in [
