@@ -39,6 +39,7 @@ modules=(
   "reference|diffbot/reference.py|tests/test_reference.py"
   "sdf|diffbot/urdf/sdf.py|tests/urdf/test_sdf.py tests/urdf/test_sdf_frames.py tests/urdf/test_sdf_joints.py"
   "controllers|diffbot/urdf/controllers.py|tests/urdf/test_controllers.py tests/urdf/test_controllers_sections.py"
+  "include-glob|diffbot/urdf/include_glob.py|tests/urdf/test_include_glob.py"
 )
 
 wanted=("$@")

@@ -83,7 +83,7 @@ def participant(domain: int | None) -> DomainParticipant:
             config = cyclone_config(discovery_range(), env.get("CYCLONEDDS_URI", ""))
             try:
                 with _cyclone_says() as said:
-                    _DOMAINS[ident] = Domain(ident, config) if config else None
+                    _DOMAINS[ident] = Domain(ident, config)
             except DDSException as err:
                 raise LiveError(f"cannot start DDS on domain {ident}: {_why(err, said)}") from None
         try:
@@ -113,6 +113,4 @@ def _close_if_empty(ident: int) -> None:
     """Delete domain ``ident`` when none of the process's participants is on it (the caller
     holds the lock); the next participant configures it anew."""
     if ident not in _MEMBERS.values():
-        domain = _DOMAINS.pop(ident, None)
-        if domain is not None:
-            domain.__del__()
+        _DOMAINS.pop(ident).__del__()

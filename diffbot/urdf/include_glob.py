@@ -43,7 +43,7 @@ def include_files(pattern: str, check: Callable[[str], None]) -> list[str]:
                 if name.startswith(".") and not part.startswith("."):
                     continue
                 if fnmatch.fnmatchcase(name, part):
-                    listed.append(os.path.join(folder, name) if folder else name)
+                    listed.append(os.path.join(folder, name))
         found = listed
     matches: list[str] = []
     for path in found:

@@ -4,6 +4,7 @@ and what Cyclone says when it cannot start folded into the one error."""
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 
 import pytest
 from live_graph import spare_domain
@@ -151,8 +152,17 @@ def entities(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, object]]:
     from diffbot.live import participant as module
 
     log: list[tuple[str, object]] = []
-    monkeypatch.setattr(module, "Domain", lambda *a: _Entity(log, "domain", *a))
-    monkeypatch.setattr(module, "DomainParticipant", lambda *a: _Entity(log, "participant", *a))
+    made: list[_Entity] = []  # kept, so that only an explicit deletion is logged, not the GC's
+
+    def maker(kind: str) -> Callable[..., _Entity]:
+        def make(*args: object) -> _Entity:
+            made.append(_Entity(log, kind, *args))
+            return made[-1]
+
+        return make
+
+    monkeypatch.setattr(module, "Domain", maker("domain"))
+    monkeypatch.setattr(module, "DomainParticipant", maker("participant"))
     monkeypatch.setattr(module, "_DOMAINS", {})
     monkeypatch.setattr(module, "_MEMBERS", {})
     return log

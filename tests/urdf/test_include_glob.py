@@ -92,3 +92,15 @@ def test_each_folder_is_checked_before_it_is_listed_and_a_refusal_lists_nothing(
     with pytest.raises(RefusedError):
         include_files(f"{tmp_path}/i*/../out/secret.xacro", check)
     assert f"list {tmp_path}/in/../out" not in order
+
+
+def test_a_hidden_name_matches_only_a_pattern_that_begins_with_a_dot(tmp_path: Path) -> None:
+    tree(tmp_path, [".hidden.xacro", "shown.xacro"], [])
+    for pattern, names in [
+        ("*.xacro", ["shown.xacro"]),
+        (".*.xacro", [".hidden.xacro"]),
+        ("[.s]*", ["shown.xacro"]),  # glob's rule: the pattern's first character, not a class
+    ]:
+        spelled = f"{tmp_path}/{pattern}"
+        assert include_files(spelled, lambda folder: None) == [f"{tmp_path}/{n}" for n in names]
+        assert include_files(spelled, lambda folder: None) == sorted(glob.glob(spelled))
