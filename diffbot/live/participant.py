@@ -68,7 +68,7 @@ def _why(err: DDSException, said: list[str]) -> str:
 
 def participant(domain: int | None) -> DomainParticipant:
     """A participant on ``domain`` (``ROS_DOMAIN_ID`` when None), the domain configured from
-    the environment on first use.
+    the environment when none of the process's participants is on it; :func:`leave` ends it.
 
     Raises:
         LiveError: a domain id out of range, or Cyclone cannot start (its own messages, such as
