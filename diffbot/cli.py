@@ -181,15 +181,15 @@ class DiffbotGroup(SuggestingGroup):
             _error(err.format_message(), err.exit_code)
         except DiffbotError as err:
             _error(err.render(FLAGS.__getitem__), err.exit_code)
-        except RuntimeError as err:
+        except click.Abort:
+            _error("aborted", 130)
+        except RuntimeError as err:  # click.Abort is one too: it comes first
             ending = _signal_behind(err)
             if ending is None:
                 raise
             if isinstance(ending, KeyboardInterrupt):
                 _error("aborted", 130)
             raise ending from None
-        except click.Abort:
-            _error("aborted", 130)
         except (BrokenPipeError, _PipeClosedError):
             # The reader went away (``| head``): exit as a process killed by SIGPIPE would.
             _drop_stdout()
@@ -207,10 +207,12 @@ def _signal_behind(err: BaseException) -> BaseException | None:
     """The exit a signal's handler raised (:func:`_end_run`, or Python's KeyboardInterrupt)
     that ``err`` wraps, if any: Python 3.11 wraps what ``__set_name__`` raises, as during the
     making of a class in an import the command does on demand, in a RuntimeError."""
+    seen: set[int] = set()
     cause = err.__cause__
-    while cause is not None:
+    while cause is not None and id(cause) not in seen:
         if isinstance(cause, (SystemExit, KeyboardInterrupt)):
             return cause
+        seen.add(id(cause))
         cause = cause.__cause__
     return None
 

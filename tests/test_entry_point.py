@@ -78,3 +78,32 @@ def test_a_signal_while_a_command_makes_a_class_ends_the_run_as_anywhere_else(
     result = CliRunner().invoke(main, ["ik", "0.1", "0.5"])
     assert not isinstance(result.exception, RuntimeError), result.exception
     assert (result.exit_code, result.stdout, result.stderr.strip()) == (code, "", stderr)
+
+
+def test_clicks_own_abort_is_still_aborted_and_a_cause_that_loops_ends(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """click turns an end of input into its Abort, a RuntimeError too; and an exception whose
+    causes loop is raised as it is, not followed for ever."""
+    from click.testing import CliRunner
+
+    from diffbot import kinematics
+    from diffbot.cli import main
+
+    def closed(*args: object) -> object:
+        raise EOFError
+
+    monkeypatch.setattr(kinematics, "inverse", closed)
+    result = CliRunner().invoke(main, ["ik", "0.1", "0.5"])
+    assert (result.exit_code, result.stderr.strip()) == (130, "error: aborted")
+
+    looped = RuntimeError("looped")
+    looped.__cause__ = ValueError("and back")
+    looped.__cause__.__cause__ = looped
+
+    def loops(*args: object) -> object:
+        raise looped
+
+    monkeypatch.setattr(kinematics, "inverse", loops)
+    result = CliRunner().invoke(main, ["ik", "0.1", "0.5"])
+    assert result.exception is looped
