@@ -28,25 +28,35 @@ def include_files(pattern: str, check: Callable[[str], None]) -> list[str]:
     """
     parts = pattern.split(os.sep)
     first = next((k for k, part in enumerate(parts) if _has_wildcard(part)), len(parts))
-    found = [os.sep.join(parts[:first]) or (os.sep if pattern.startswith(os.sep) else "")]
+    head = os.sep.join(parts[:first]) or (os.sep if pattern.startswith(os.sep) else "")
+    # Each path found, and whether it is a name a listing gave (no name of the pattern's after).
+    found = [(head, False)]
     for part in parts[first:]:
         if not _has_wildcard(part):
-            found = [os.path.join(path, part) for path in found]
+            found = [
+                (os.path.join(path, part), False)
+                for path, was_listed in found
+                if not was_listed or os.path.isdir(path)  # a listed name goes on if a folder
+            ]
             continue
-        listed: list[str] = []
-        for folder in found:
+        listed: list[tuple[str, bool]] = []
+        for folder, was_listed in found:
             where = folder or os.curdir
-            if not os.path.isdir(where):
+            # A listed name that is no folder is passed over, as glob does; a folder the pattern
+            # spells is checked first, so that whether it exists is not learnt when refused.
+            if was_listed and not os.path.isdir(where):
                 continue
             check(where)
+            if not os.path.isdir(where):
+                continue
             for name in sorted(os.listdir(where)):
                 if name.startswith(".") and not part.startswith("."):
                     continue
                 if fnmatch.fnmatchcase(name, part):
-                    listed.append(os.path.join(folder, name))
+                    listed.append((os.path.join(folder, name), True))
         found = listed
     matches: list[str] = []
-    for path in found:
+    for path, _ in found:
         check(os.path.dirname(path) or os.curdir)
         if os.path.lexists(path):
             matches.append(path)

@@ -104,3 +104,41 @@ def test_a_hidden_name_matches_only_a_pattern_that_begins_with_a_dot(tmp_path: P
         spelled = f"{tmp_path}/{pattern}"
         assert include_files(spelled, lambda folder: None) == [f"{tmp_path}/{n}" for n in names]
         assert include_files(spelled, lambda folder: None) == sorted(glob.glob(spelled))
+
+
+def test_a_folder_the_pattern_spells_is_checked_whether_or_not_it_exists(tmp_path: Path) -> None:
+    """Else a refusal for one that exists, and none for one that does not, would tell which;
+    also where the pattern spells it after a wildcard."""
+    tree(tmp_path, ["there/a.xacro"], ["there"])
+    for spelled in ("there", "nowhere", "th*/../there", "th*/../nowhere"):
+        target = f"{tmp_path}/{spelled.replace('th*', 'there')}"
+
+        def check(path: str, target: str = target) -> None:
+            if path == target:
+                raise RefusedError(path)
+
+        with pytest.raises(RefusedError):
+            include_files(f"{tmp_path}/{spelled}/*.xacro", check)
+
+
+def test_a_spelled_folder_missing_under_one_match_does_not_end_the_others(tmp_path: Path) -> None:
+    tree(tmp_path, ["b/sub/x.xacro", "c/sub/y.xacro"], ["a", "b/sub", "c/sub"])
+    pattern = f"{tmp_path}/*/sub/*.xacro"
+    assert include_files(pattern, lambda folder: None) == sorted(glob.glob(pattern))
+    assert len(glob.glob(pattern)) == 2
+
+
+def test_a_listed_name_that_is_no_folder_is_passed_over_unchecked(tmp_path: Path) -> None:
+    """As glob does: ``*/x`` looks into folders only, so a file (or a link to one elsewhere)
+    beside them is neither descended into nor refused."""
+    tree(tmp_path, ["arm/macros.xacro", "LICENSE"], ["arm"])
+    checked: list[str] = []
+
+    def check(path: str) -> None:
+        checked.append(path)
+        if path.endswith("LICENSE"):
+            raise RefusedError(path)
+
+    pattern = f"{tmp_path}/*/macros.xacro"
+    assert include_files(pattern, check) == glob.glob(pattern) == [f"{tmp_path}/arm/macros.xacro"]
+    assert not any(path.endswith("LICENSE") for path in checked)
