@@ -74,19 +74,25 @@ def description_roots(path: str | os.PathLike[str]) -> tuple[Path, ...]:
     A description usually sits in ``urdf/`` of a package and reads ``../config/*.yaml``, so the
     nearest folder at most two levels up holding a ``package.xml`` counts too.
 
+    A description that is a link (as ``colcon build --symlink-install`` installs one) has both:
+    those of the folder it is named in, and those of the file it links to.
+
     Args:
         path: the description file, or its folder (an SDF model folder).
 
     Returns:
         The folders, symbolic links resolved.
     """
-    real = resolved(path, DescriptionError)
-    folder = real if real.is_dir() else real.parent
-    roots = [folder]
-    for parent in list(folder.parents)[:2]:
-        if (parent / "package.xml").is_file() and parent != Path(parent.anchor):
-            roots.append(parent)
-            break
+    roots: list[Path] = []
+    for named in (Path(os.path.abspath(path)), resolved(path, DescriptionError)):
+        folder = named if named.is_dir() else named.parent
+        folder = resolved(folder, DescriptionError)
+        found = [folder]
+        for parent in list(folder.parents)[:2]:
+            if (parent / "package.xml").is_file() and parent != Path(parent.anchor):
+                found.append(parent)
+                break
+        roots += [f for f in found if f not in roots]
     return tuple(roots)
 
 

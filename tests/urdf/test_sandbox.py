@@ -300,6 +300,29 @@ def test_a_wildcard_include_lists_no_folder_outside_and_names_none_of_its_files(
     assert 'name="elsewhere"' in process(path, trust=True)
 
 
+def test_a_description_installed_as_links_includes_from_the_folder_it_is_named_in(
+    tmp_path: Path,
+) -> None:
+    """``colcon build --symlink-install``: the install tree's folders are real, its files links
+    to the source tree's; a wildcard include lists the install tree's folder."""
+    source = tmp_path / "src" / "pkg"
+    write(source / "package.xml", "<package/>")
+    write(source / "urdf" / "parts" / "arm.xacro", robot('<link name="arm"/>'))
+    body = '<xacro:include filename="parts/*.xacro"/><link name="base"/>'
+    write(source / "urdf" / "robot.urdf.xacro", robot(body))
+    share = tmp_path / "install" / "pkg" / "share" / "pkg"
+    for name in ("package.xml", "urdf/robot.urdf.xacro", "urdf/parts/arm.xacro"):
+        (share / name).parent.mkdir(parents=True, exist_ok=True)
+        (share / name).symlink_to(source / name)
+    assert 'name="arm"' in process(share / "urdf" / "robot.urdf.xacro")
+    assert set(description_roots(share / "urdf" / "robot.urdf.xacro")) == {
+        share / "urdf",
+        share,
+        source / "urdf",
+        source,
+    }
+
+
 def test_import_and_dunder_walks_are_refused(tmp_path: Path) -> None:
     marker = tmp_path / "imported"
     for expression, reason in [
