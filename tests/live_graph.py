@@ -205,4 +205,6 @@ class ServiceClient:
         raise AssertionError("no reply in time")
 
     def close(self) -> None:
-        self.participant.__del__()
+        from diffbot.live.participant import leave
+
+        leave(self.participant)

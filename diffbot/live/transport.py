@@ -96,9 +96,13 @@ class Node:
     def __init__(self, name: str, *, domain: int | None = None) -> None:
         self.name = check_node_name(name)
         self.participant = participant(domain)
-        self._waitset = WaitSet(self.participant)
-        self._wake = GuardCondition(self.participant)
-        self._waitset.attach(self._wake)
+        try:
+            self._waitset = WaitSet(self.participant)
+            self._wake = GuardCondition(self.participant)
+            self._waitset.attach(self._wake)
+        except BaseException:
+            leave(self.participant)
+            raise
         self._topics: dict[tuple[str, str], Topic[Any]] = {}
         self._subscriptions: list[Subscription[Any]] = []
         self._services: list[Subscription[Any]] = []

@@ -305,7 +305,7 @@ def _entities_info(
 
     Gid.__doc__ = (
         f"rmw_dds_common/Gid as {release} declare it: {gid_bytes} bytes, an endpoint's 16-byte"
-        " DDS GUID first (then zeros)."
+        " DDS GUID" + (", then zeros." if gid_bytes > 16 else ".")
     )
     NodeEntitiesInfo.__doc__ = (
         "rmw_dds_common/NodeEntitiesInfo: a node's name and the GIDs of its readers and writers"
