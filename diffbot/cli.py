@@ -80,9 +80,8 @@ FLAGS = {
 
 
 #: Signals that end a run as Ctrl-C does: by an exception, so that temporary files are removed.
-_ENDING_SIGNALS = tuple(
-    getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)
-)
+#: Ctrl-C itself raises KeyboardInterrupt, which click turns into its Abort.
+_ENDING_SIGNALS = tuple(s for s in signal_handlers.ENDING_SIGNALS if s != signal.SIGINT)
 
 
 def _end_run(signum: int, frame: object) -> None:
