@@ -47,7 +47,10 @@ class RefusalError(Exception):
 
 
 def weight(value: Any, limit: int = MAX_ITEMS) -> int:
-    """Characters or items ``value`` stands for, nested items counted, stopping past ``limit``."""
+    """Characters or items ``value`` stands for, nested items counted, stopping past ``limit``.
+
+    An item of a container counts at least one, an empty string too: a list of a million empty
+    strings is a million items to build and to repeat."""
     if isinstance(value, (str, bytes)):
         return len(value)
     if isinstance(value, int):
@@ -60,7 +63,7 @@ def weight(value: Any, limit: int = MAX_ITEMS) -> int:
         return 1
     total = 1
     for item in items:
-        total += weight(item, limit - total)
+        total += max(1, weight(item, limit - total))
         if total > limit:
             break
     return total

@@ -146,7 +146,7 @@ class _Roots:
 
 
 def _yaml_weight(data: Any, memo: dict[int, int], limit: int) -> int:
-    """Items in YAML data with aliases expanded, computed without expanding them."""
+    """Items in YAML data with aliases expanded (each at least one), not expanding them."""
     key = id(data)
     if key in memo:
         if memo[key] < 0:
@@ -161,7 +161,7 @@ def _yaml_weight(data: Any, memo: dict[int, int], limit: int) -> int:
     memo[key] = -1
     total = 1
     for child in children:
-        total += _yaml_weight(child, memo, limit)
+        total += max(1, _yaml_weight(child, memo, limit))
         if total > limit:
             break
     memo[key] = total

@@ -437,9 +437,13 @@ def test_properties_that_double_a_string_hit_the_size_limit(tmp_path: Path) -> N
         process(path, max_bytes=1_000_000)
 
 
-def test_yaml_aliases_that_explode_hit_the_size_limit(tmp_path: Path) -> None:
-    lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"]
-    lines += [f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 10)}]" for i in range(1, 9)]
+@pytest.mark.parametrize(("leaf", "levels"), [("x", 9), ('""', 6)])
+def test_yaml_aliases_that_explode_hit_the_size_limit(
+    tmp_path: Path, leaf: str, levels: int
+) -> None:
+    # six levels of ten empty strings are 1.2 million items: each counts, empty or not
+    lines = [f"a0: &a0 [{', '.join([leaf] * 10)}]"]
+    lines += [f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 10)}]" for i in range(1, levels)]
     write(tmp_path / "evil" / "lol.yaml", "\n".join(lines) + "\n")
     body = "<a b=\"${xacro.load_yaml('lol.yaml')}\"/>"
     path = write(tmp_path / "evil" / "lol.urdf.xacro", robot(body))
@@ -572,6 +576,7 @@ def test_everyday_expressions_give_known_values(expression: str, expected: objec
         ("len(*[1])", "unpacking"),
         ("'x' * 10**7", "a repetition of more than"),
         ("[0] * 10**7", "a repetition of more than"),
+        ("len([''] * 10**6 * 100)", "a repetition of more than"),
         ("'%9999d' % 1", "a format field wider than"),
         ("'%(a(b)c)9999d' % {'a(b)c': 1}", "a format field wider than"),
         ("'%(a)%(b)*d' % {'a': 1}", "a format field wider than"),
