@@ -89,6 +89,33 @@ def test_a_urdf_is_read_in_linear_time(tmp_path: Path, shape: str, word: str) ->
     print("urdf", shape, assert_linear(read, _urdf(shape, word), 300, accepts=True))
 
 
+def _links(shape: str) -> Callable[[int], bytes]:
+    """``n`` more links: unattached (several roots, refused), in a chain of fixed joints below
+    the base, or each fixed to the base."""
+
+    def make(n: int) -> bytes:
+        links = [f'<link name="x{i}"/>' for i in range(n)]
+        if shape != "unattached":
+            parents = ["base_link", *(f"x{i}" for i in range(n - 1))]
+            if shape == "on the base":
+                parents = ["base_link"] * n
+            links += [
+                f'<joint name="j{i}" type="fixed"><parent link="{parent}"/>'
+                f'<child link="x{i}"/></joint>'
+                for i, parent in enumerate(parents)
+            ]
+        return two_wheel_urdf(body="\n".join(links)).encode()
+
+    return make
+
+
+@pytest.mark.parametrize("shape", ["unattached", "a chain", "on the base"])
+def test_a_urdf_of_many_links_is_read_in_linear_time(tmp_path: Path, shape: str) -> None:
+    read = on_file(tmp_path / "robot.urdf", diffbot.load_params)
+    accepts = shape != "unattached"
+    print("urdf links", shape, assert_linear(read, _links(shape), 1000, accepts=accepts))
+
+
 def _xacro(shape: str, word: str) -> Callable[[int], bytes]:
     def make(n: int) -> bytes:
         if shape == "comments":

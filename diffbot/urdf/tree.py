@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections import Counter
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -147,27 +148,37 @@ class Tree:
                 )
             self.parent_joint[joint.child] = joint
         links = [link.name for link in robot.links]
-        duplicates = sorted({name for name in links if links.count(name) > 1})
+        duplicates = sorted(name for name, count in Counter(links).items() if count > 1)
         if duplicates:
             raise DescriptionError(f"{source}: links defined more than once: {duplicates}")
         roots = [name for name in links if name not in self.parent_joint]
         if len(roots) != 1:
             what = "no root link (a cycle)" if not roots else f"several root links {roots}"
             raise DescriptionError(f"{source}: the links do not form one tree: {what}")
-        for name in links:
-            seen = {name}
-            node = name
-            while node in self.parent_joint:
-                node = self.parent_joint[node].parent
-                if node in seen:
-                    raise DescriptionError(
-                        f"{source}: the links do not form one tree: a cycle through {node!r}"
-                    )
-                seen.add(node)
+        self._check_no_cycle(links, source)
         self.links: dict[str, LinkModel] = {link.name: link for link in robot.links}
         self.base = "base_link" if "base_link" in self.links else roots[0]
         self._from_root: dict[str, NDArray[np.float64]] = {roots[0]: np.eye(4)}
         self._base_inv = np.linalg.inv(self._root_frame(self.base))
+
+    def _check_no_cycle(self, links: list[str], source: str) -> None:
+        """Refuse a cycle of parent joints; each link is walked up once (linear time)."""
+        rooted: set[str] = set()  # links whose walk up ends at the root
+        for name in links:
+            walk: list[str] = []
+            on_walk: set[str] = set()
+            node = name
+            while node not in rooted:
+                if node in on_walk:
+                    raise DescriptionError(
+                        f"{source}: the links do not form one tree: a cycle through {node!r}"
+                    )
+                walk.append(node)
+                on_walk.add(node)
+                if node not in self.parent_joint:
+                    break
+                node = self.parent_joint[node].parent
+            rooted.update(walk)
 
     def _root_frame(self, link: str) -> NDArray[np.float64]:
         chain: list[Joint] = []
@@ -197,7 +208,8 @@ class Tree:
     def joints_between(self, a: str, b: str) -> list[Joint]:
         """The joints on the path between two links."""
         up_a, up_b = self.ancestors(a), self.ancestors(b)
-        common = next(link for link in up_a if link in set(up_b))
+        above_b = set(up_b)
+        common = next(link for link in up_a if link in above_b)
         path = up_a[: up_a.index(common)] + up_b[: up_b.index(common)]
         return [self.parent_joint[link] for link in path]
 

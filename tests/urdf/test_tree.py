@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from linear_time import assert_linear
 
-from diffbot.errors import NotDifferentialError
+from diffbot.errors import DiffbotError, NotDifferentialError
 from diffbot.urdf.tree import (
     FULL_TURN_SLACK,
     Tree,
@@ -147,3 +149,54 @@ def test_steering_is_a_vertical_axis_within_25_degrees_and_a_range_short_of_a_tu
     ) + wheel_under("joint_l", "wheel")
     steers = steered_wheels(tree_of(body)) != {}
     assert steers == (math.cos(tilt) >= math.cos(math.radians(25.0)))
+
+
+def _many_links(shape: str) -> Callable[[int], bytes]:
+    """A tree of ``n`` more links: unattached (several roots), defined twice, in a chain of
+    fixed joints below the base, each on the base, or in a chain with the wheels at its end."""
+
+    def make(n: int) -> bytes:
+        links = [f'<link name="x{i}"/>' for i in range(n)]
+        if shape == "defined twice":
+            links += links
+        elif shape != "unattached":
+            parents = ["base_link"] * n
+            if shape != "on the base":
+                parents = ["base_link", *(f"x{i}" for i in range(n - 1))]
+            links += [
+                f'<joint name="j{i}" type="fixed"><parent link="{parent}"/><child link="x{i}"/>'
+                "</joint>"
+                for i, parent in enumerate(parents)
+            ]
+        end = f"x{n - 1}" if shape == "wheels at the end of a chain" else "base_link"
+        links += [wheel_under(end, "left"), wheel_under(end, "right")]
+        return "".join(links).encode()
+
+    return make
+
+
+def _tree_and_wheels(data: bytes) -> object:
+    tree = tree_of(data.decode())
+    return steered_wheels(tree)
+
+
+@pytest.mark.parametrize(
+    "shape",
+    ["unattached", "defined twice", "a chain", "on the base", "wheels at the end of a chain"],
+)
+def test_a_tree_of_many_links_is_checked_in_linear_time(shape: str) -> None:
+    accepts = shape not in ("unattached", "defined twice")
+    if not accepts:
+        with pytest.raises(DiffbotError, match=r"root links|more than once"):
+            _tree_and_wheels(_many_links(shape)(3))
+    print(shape, assert_linear(_tree_and_wheels, _many_links(shape), 2000, accepts=accepts))
+
+
+def test_a_cycle_far_from_the_root_is_named() -> None:
+    chain = "".join(
+        f'<link name="c{i}"/><joint name="k{i}" type="fixed"><parent link="c{(i - 1) % 50}"/>'
+        f'<child link="c{i}"/></joint>'
+        for i in range(50)
+    )
+    with pytest.raises(DiffbotError, match=r"a cycle through 'c\d+'"):
+        tree_of(chain)
