@@ -26,7 +26,7 @@ import click
 from diffbot.commands.messages import fail
 from diffbot.commands.option_groups import F, option_group
 from diffbot.errors import DiffbotError
-from diffbot.io.outputs import check_output_name, input_clash, note_input
+from diffbot.io.outputs import check_output_name, input_clash, note_input, note_stdin
 from diffbot.io.pathnames import resolved
 
 __all__ = [
@@ -76,6 +76,8 @@ class InputPath(click.Path):
                     fail(str(err))
                 self.fail(str(err), param, ctx)
             note_input(text)
+        elif text == "-":
+            note_stdin()
         return super().convert(text, param, ctx)
 
 

@@ -44,6 +44,7 @@ __all__ = [
     "input_clash",
     "move_new",
     "note_input",
+    "note_stdin",
     "noted_inputs",
     "output_target",
     "replace_bag",
@@ -55,6 +56,8 @@ BAG_FILES = (".db3", ".mcap")
 
 # The inputs of the guarded run, in the order noted; None when no run is guarded (library use).
 _noted: dict[Path, None] | None = None
+#: The device and inode of a regular file redirected into standard input, when read.
+_noted_stdin: list[tuple[int, int]] = []
 _noted_lock = threading.Lock()
 
 
@@ -68,6 +71,8 @@ def guarded_run(inputs: Iterable[str | os.PathLike[str]] = ()) -> Iterator[None]
     global _noted
     with _noted_lock:
         saved, _noted = _noted, {}
+        saved_stdin = _noted_stdin[:]
+        _noted_stdin.clear()
     try:
         for path in inputs:
             note_input(path)
@@ -75,6 +80,7 @@ def guarded_run(inputs: Iterable[str | os.PathLike[str]] = ()) -> Iterator[None]
     finally:
         with _noted_lock:
             _noted = saved
+            _noted_stdin[:] = saved_stdin
 
 
 def note_input(path: str | os.PathLike[str]) -> None:
@@ -83,6 +89,18 @@ def note_input(path: str | os.PathLike[str]) -> None:
     with _noted_lock:
         if _noted is not None:
             _noted[Path(os.path.abspath(path))] = None
+
+
+def note_stdin() -> None:
+    """Note standard input as an input of the run: a file redirected into it (``< a.csv``) is
+    then kept off every output, as the file named would be."""
+    try:
+        info = os.fstat(0)
+    except OSError:
+        return
+    with _noted_lock:
+        if _noted is not None and stat.S_ISREG(info.st_mode):
+            _noted_stdin.append((info.st_dev, info.st_ino))
 
 
 def noted_inputs() -> tuple[Path, ...]:
@@ -159,11 +177,22 @@ def _occupied(path: Path) -> Path:
     return real
 
 
+def _identity(path: Path) -> tuple[int, int] | None:
+    """The device and inode of an existing file (one file under several hard links has one),
+    or None."""
+    try:
+        info = path.stat()
+    except OSError:
+        return None
+    return info.st_dev, info.st_ino
+
+
 def input_clash(target: Path, inputs: Sequence[Path] = ()) -> tuple[str, Path] | None:
     """How an output path would touch an input: ("is" | "inside" | "contains", that input).
 
     The inputs are ``inputs`` and every input noted in the guarded run (:func:`note_input`).
-    Paths are compared resolved, links followed; a bag given as one of its files is its whole
+    Paths are compared resolved, links followed, and an existing output by its device and inode
+    (a hard link to an input is that input); a bag given as one of its files is its whole
     directory. None when the output touches no input.
 
     Raises:
@@ -171,9 +200,14 @@ def input_clash(target: Path, inputs: Sequence[Path] = ()) -> tuple[str, Path] |
         PathError: an input cannot be resolved.
     """
     real = resolved(target, OutputError)
+    identity = _identity(real)
+    if identity is not None:
+        with _noted_lock:
+            if identity in _noted_stdin:
+                return "is", Path("-")
     for given in dict.fromkeys([*inputs, *noted_inputs()]):
         occupied = _occupied(given)
-        if real == occupied:
+        if real == occupied or (identity is not None and identity == _identity(occupied)):
             return "is", given
         if occupied in real.parents:
             return "inside", given

@@ -320,6 +320,57 @@ def test_an_output_checked_in_a_guarded_run_avoids_every_noted_input(tmp_path: P
     assert output_target(plan, force=True) == plan
 
 
+def test_a_hard_link_to_an_input_is_that_input(tmp_path: Path) -> None:
+    from diffbot.io.outputs import guarded_run, output_target
+
+    plan = tmp_path / "plan.txt"
+    plan.write_text("straight 1\n", encoding="utf-8")
+    other = tmp_path / "other.txt"
+    os.link(plan, other)
+    with guarded_run([plan]), pytest.raises(OutputError, match=r"other\.txt is an input"):
+        output_target(other, force=True)
+    # a copy is another file
+    other.unlink()
+    other.write_text("straight 1\n", encoding="utf-8")
+    with guarded_run([plan]):
+        assert output_target(other, force=True) == other
+
+
+def test_a_file_redirected_into_stdin_is_an_input(tmp_path: Path) -> None:
+    made = subprocess.run(
+        [sys.executable, "-m", "diffbot", "simulate", "straight 0.2", "--rate", "10"],
+        capture_output=True,
+        check=True,
+    )
+    recording = tmp_path / "a.csv"
+    recording.write_bytes(made.stdout)
+    for out in ("a.csv", "b.csv"):
+        with recording.open("rb") as stdin:
+            run = subprocess.run(
+                [sys.executable, "-m", "diffbot", "odom", "-", "-o", out, "--force"],
+                stdin=stdin,
+                capture_output=True,
+                text=True,
+                cwd=tmp_path,
+            )
+        if out == "a.csv":
+            assert run.returncode == 2
+            assert run.stderr == "error: --out a.csv is the input -: inputs are never overwritten\n"
+            assert recording.read_bytes() == made.stdout
+        else:
+            assert run.returncode == 0, run.stderr
+            assert (tmp_path / "b.csv").read_text().startswith("time,x,y,theta")
+    # piped, stdin is no file: the output is written
+    piped = subprocess.run(
+        [sys.executable, "-m", "diffbot", "odom", "-", "-o", "c.csv"],
+        input=made.stdout,
+        capture_output=True,
+        cwd=tmp_path,
+    )
+    assert piped.returncode == 0
+    assert (tmp_path / "c.csv").is_file()
+
+
 def test_guarded_runs_do_not_leak_their_inputs(tmp_path: Path) -> None:
     from diffbot.io.outputs import guarded_run, noted_inputs
 
