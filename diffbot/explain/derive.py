@@ -356,7 +356,7 @@ def _end_pose(end: Pose, formulas: str, values: dict[str, Quantity]) -> list[Ste
     ]
 
 
-def _segment_section(p: Plan, planned: PlannedSegment) -> Section:
+def _segment_section(p: Plan, planned: PlannedSegment, shortest: float | None) -> Section:
     params = p.params
     geometry, length, turn = _geometry(planned)
     v, w = float(planned.twist.linear), float(planned.twist.angular)
@@ -395,10 +395,6 @@ def _segment_section(p: Plan, planned: PlannedSegment) -> Section:
     steps.extend(_wheel_steps(params, v, w, planned.wheels))
     steps.extend(_joint_steps(params, planned.wheels))
     if p.limit is not None:
-        shortest = next(
-            (found.shortest_duration for found in p.violations() if found.index == planned.index),
-            None,
-        )
         steps.extend(_limit_step(params.replace(max_wheel_speed=p.limit), planned.wheels, shortest))
     start, end = planned.start_pose, planned.end_pose
     pose_values = {
@@ -429,7 +425,12 @@ def explain_plan(p: Plan) -> Derivation:
     """
     robot = _robot(p.params.replace(max_wheel_speed=p.limit))
     sections = [Section(Text("section.given"), tuple(robot))]
-    sections.extend(_segment_section(p, planned) for planned in p.segments)
+    shortest: dict[int, float] = {}
+    for found in p.violations() if p.limit is not None else ():
+        shortest.setdefault(found.index, found.shortest_duration)
+    sections.extend(
+        _segment_section(p, planned, shortest.get(planned.index)) for planned in p.segments
+    )
     title = Text("title.plan", {"count": len(p.segments), "duration": _q(p.duration, "s")})
     return Derivation(title, tuple(sections))
 

@@ -10,7 +10,9 @@ import math
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from linear_time import assert_linear
 from rendered import assert_numbers, degrees, equations, notes
+from robots import BOT_50_RPM
 
 from diffbot.explain import (
     Derivation,
@@ -314,3 +316,11 @@ def test_odom_shows_the_step_the_odometry_class_integrates(
         "w": ([dth, dt], [float(twist.angular)], NONE),
     }
     _check(derivation, rendered, fmt, [by_symbol[step.symbol] for step in derivation.steps])
+
+
+def test_a_long_plan_is_explained_in_linear_time() -> None:
+    # each straight over the limit: its section names the shortest duration that keeps it
+    def read(data: bytes) -> object:
+        return explain_plan(plan([Straight(1.0, 0.1)] * data.count(b";"), BOT_50_RPM))
+
+    print(assert_linear(read, lambda n: b"straight 1 0.1;" * n, 250, accepts=True))
