@@ -118,7 +118,7 @@ class MotorLimit(FiniteFloat):
         if rad_s_from_rpm(number) > high:
             self.fail(
                 f"{value!r} is faster than any wheel turns: a motor limit is at most "
-                f"{rpm_from_rad_s(high):.7g} rpm ({high:g} rad/s)",
+                f"{_MOST_RPM} rpm ({high:g} rad/s)",
                 param,
                 ctx,
             )

@@ -33,7 +33,7 @@ from diffbot.commands.said_once import quieted, shown_before
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.plan_table import limit_text
 from diffbot.formats.robot import params_json, params_lines
-from diffbot.formats.text import fmt
+from diffbot.formats.text import fixed, fmt
 from diffbot.io.outputs import write_text_atomic
 from diffbot.kinematics import DiffDriveParams, Twist, WheelSpeeds
 from diffbot.numbers import reads_as_number
@@ -240,7 +240,9 @@ def ik(
             click.echo("motor limit  none in the description")
         else:
             state = "within" if ok else "OVER"
-            click.echo(f"motor limit  {limit_text(p)}: {state}, {100 * float(fraction):.1f}% used")
+            click.echo(
+                f"motor limit  {limit_text(p)}: {state}, {fixed(100 * float(fraction), 1)}% used"
+            )
         if not body.unlimited:
             click.echo(f"body limits  {_body_text(body)}: {'within' if body_ok else 'OVER'}")
     if not ok:

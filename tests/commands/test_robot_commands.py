@@ -131,9 +131,11 @@ def test_the_fastest_motor_limit_help_names_is_taken_and_one_above_is_not(
     assert most[1] == "95492.96"
     taken = run(runner, "params", "--max-rpm", most[1], "--json")
     assert json.loads(taken.stdout)["max_wheel_speed"] == pytest.approx(1e4, rel=1e-6)
-    above = runner.invoke(main, ["params", "--max-rpm", "95493"])
-    assert above.exit_code == 2
-    assert "a motor limit is at most 95492.97 rpm (10000 rad/s)" in above.stderr
+    # the refusal names the same bound as --help: 95492.97 is above the limit
+    for given in ("95493", "95492.97"):
+        above = runner.invoke(main, ["params", "--max-rpm", given])
+        assert above.exit_code == 2
+        assert "a motor limit is at most 95492.96 rpm (10000 rad/s)" in above.stderr
 
 
 @pytest.mark.parametrize(
@@ -149,7 +151,7 @@ def test_the_fastest_motor_limit_help_names_is_taken_and_one_above_is_not(
         (["ik", "1", "1", "--max-rpm", "0", "--saturate"], "'0' must be > 0"),
         (["ik", "1", "1", "--max-rpm", "1e-320", "--saturate"], "too small to compute with"),
         (["ik", "1", "1", "--max-rpm", "2e-307", "--saturate"], "too small to compute with"),
-        (["plan", "straight 1", "--max-rpm", "1e308"], "at most 95492.97 rpm (10000 rad/s)"),
+        (["plan", "straight 1", "--max-rpm", "1e308"], "at most 95492.96 rpm (10000 rad/s)"),
         (["params", "--max-rpm", "95493"], "'95493' is faster than any wheel turns"),
         (["params", "wheel_radius:=0"], "wheel radius must be a positive finite number"),
         (["params", "--package", "nodir"], "expected NAME=DIR"),
@@ -252,6 +254,13 @@ def test_ik_over_the_limit_prints_results_and_exits_1(runner: CliRunner) -> None
     assert result.exit_code == 1
     assert "OVER" in result.stdout
     assert result.stderr.startswith("error: left wheel at 54.57 rpm exceeds the motor limit")
+
+
+def test_a_share_of_a_tiny_motor_limit_is_written_short(runner: CliRunner) -> None:
+    result = run(runner, "ik", "0.2", "0", "--max-rpm", "1e-290")
+    assert result.exit_code == 1
+    line = next(line for line in result.stdout.splitlines() if line.startswith("motor limit"))
+    assert line.endswith("OVER, 5.45674e+293% used"), line
 
 
 def test_ik_saturate_keeps_the_radius_and_fits_the_limit(runner: CliRunner) -> None:
