@@ -12,6 +12,8 @@ import re
 from collections.abc import Iterable
 from typing import Any, TypeVar
 
+from diffbot.errors import ExpansionLimitError
+
 __all__ = [
     "MAX_EXPRESSION",
     "MAX_FORMAT_WIDTH",
@@ -25,6 +27,7 @@ __all__ = [
     "check_power",
     "check_size",
     "weight",
+    "yaml_weight",
 ]
 
 #: Largest integer (bits) an expression may produce; 4096 bits is about 10**1233.
@@ -66,6 +69,29 @@ def weight(value: Any, limit: int = MAX_ITEMS) -> int:
         total += max(1, weight(item, limit - total))
         if total > limit:
             break
+    return total
+
+
+def yaml_weight(data: Any, memo: dict[int, int], limit: int) -> int:
+    """Items in YAML data with aliases expanded (each at least one), not expanding them."""
+    key = id(data)
+    if key in memo:
+        if memo[key] < 0:
+            raise ExpansionLimitError("YAML data refers to itself (a recursive alias)")
+        return memo[key]
+    if isinstance(data, dict):
+        children: list[Any] = [*data.keys(), *data.values()]
+    elif isinstance(data, list):
+        children = list(data)
+    else:
+        return weight(data, limit)
+    memo[key] = -1
+    total = 1
+    for child in children:
+        total += max(1, yaml_weight(child, memo, limit))
+        if total > limit:
+            break
+    memo[key] = total
     return total
 
 

@@ -32,7 +32,7 @@ from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsEr
 from diffbot.formats.text import one_line
 from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular
-from diffbot.urdf.expression_limits import weight
+from diffbot.urdf.expression_limits import weight, yaml_weight
 from diffbot.urdf.expressions import SafeFunction, safe_eval, symbols
 from diffbot.urdf.include_glob import include_files
 
@@ -143,29 +143,6 @@ class _Roots:
 
     def check(self, filename: str, what: str) -> None:
         check_inside(filename, self.folders, what, "xacro")
-
-
-def _yaml_weight(data: Any, memo: dict[int, int], limit: int) -> int:
-    """Items in YAML data with aliases expanded (each at least one), not expanding them."""
-    key = id(data)
-    if key in memo:
-        if memo[key] < 0:
-            raise ExpansionLimitError("YAML data refers to itself (a recursive alias)")
-        return memo[key]
-    if isinstance(data, dict):
-        children: list[Any] = [*data.keys(), *data.values()]
-    elif isinstance(data, list):
-        children = list(data)
-    else:
-        return weight(data, limit)
-    memo[key] = -1
-    total = 1
-    for child in children:
-        total += max(1, _yaml_weight(child, memo, limit))
-        if total > limit:
-            break
-    memo[key] = total
-    return total
 
 
 # --- xacro patched ------------------------------------------------------------------------------
@@ -280,6 +257,7 @@ _PATCHED = (
     "all_includes",
     "replace_node",
     "glob",
+    "eval_extension",
 )
 
 
@@ -350,7 +328,7 @@ def sandboxed(
             with contextlib.suppress(OSError):
                 budget.spend_bytes(os.path.getsize(name))
             data = xacro.load_yaml(name)
-            budget.spend_bytes(_yaml_weight(data, {}, max_bytes))
+            budget.spend_bytes(yaml_weight(data, {}, max_bytes))
             return data
 
         table = symbols(load_yaml)
@@ -430,6 +408,13 @@ def sandboxed(
             )
             return str(safe_eval(text, _EvalNames(functions, args), tick=budget.spend_time))
 
+        def eval_extension(text: str) -> Any:
+            # $(dirname) is the folder of the file being read, as ROS's xacro passes it
+            # (the PyPI release passes no file, and cannot substitute it)
+            context = xacro.substitution_args_context
+            context["filename"] = xacro.filestack[-1] if xacro.filestack else None
+            return saved["eval_extension"](text)
+
         saved: dict[str, Any] = {name: getattr(xacro, name) for name in _PATCHED}
         saved.update(
             safe_eval=xacro.safe_eval,
@@ -444,6 +429,7 @@ def sandboxed(
             xacro.handle_macro_call = handle_macro_call
             xacro.parse = parse
             xacro.replace_node = _replace_node
+            xacro.eval_extension = eval_extension
             xacro.all_includes = []
             subst._eval_find = tracking_find
             subst._eval_dict["find"] = tracking_find

@@ -8,12 +8,14 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from diffbot.errors import ExpansionLimitError
 from diffbot.urdf.expression_limits import (
     MAX_ITEMS,
     RefusalError,
     check_binary,
     check_size,
     weight,
+    yaml_weight,
 )
 
 _LEAVES = st.one_of(st.text(max_size=5), st.binary(max_size=5), st.integers(), st.none())
@@ -67,3 +69,17 @@ def test_repeating_a_list_of_empty_strings_is_refused_past_the_limit(empty: obje
 def test_a_repetition_within_the_limit_passes() -> None:
     check_binary(ast.Mult, [""], MAX_ITEMS // 2 - 1)
     check_binary(ast.Mult, "", 10**12)  # an empty string repeated is empty
+
+
+def test_yaml_data_weighs_each_alias_where_it_stands() -> None:
+    leaf = ["", ""]  # one list, referred to ten times as YAML aliases are
+    data = {"a": [leaf] * 10}
+    # the dict, its key and value (a list of ten), and ten times the leaf list and its items
+    assert yaml_weight(data, {}, MAX_ITEMS) == 1 + 1 + 1 + 10 * 3
+
+
+def test_yaml_data_that_holds_itself_is_refused() -> None:
+    loop: list[object] = []
+    loop.append(loop)
+    with pytest.raises(ExpansionLimitError, match="refers to itself"):
+        yaml_weight(loop, {}, MAX_ITEMS)

@@ -711,3 +711,21 @@ def test_a_missing_yaml_behind_find_names_the_file_that_loads_it(
         "desc/urdf/robot.urdf.xacro loads $(find desc)/config/p.yaml, but desc/config/p.yaml "
         "does not exist (package desc is at desc)"
     )
+
+
+@pytest.mark.parametrize("trust", [False, True])
+def test_dirname_is_the_folder_of_the_file_being_read(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, trust: bool
+) -> None:
+    # as ROS's xacro substitutes it: in an include's name, and in the included file its own
+    part = write(tmp_path / "desc" / "parts" / "part.xacro", robot('<link name="in_$(dirname)"/>'))
+    top = write(
+        tmp_path / "desc" / "robot.urdf.xacro",
+        robot(
+            '<link name="top_$(dirname)"/><xacro:include filename="$(dirname)/parts/part.xacro"/>'
+        ),
+    )
+    monkeypatch.chdir(tmp_path)  # another folder than the description's
+    expanded = process(Path("desc") / top.name, trust=trust)
+    assert f'name="top_{top.parent}"' in expanded
+    assert f'name="in_{part.parent}"' in expanded
