@@ -208,7 +208,8 @@ def plan_command(
         if clash is not None and clash[1] in plan_file:
             fail(f"{output} is the plan file itself: write the output elsewhere")
         check_not_input(Path(output))
-    built = plan_options.build(request)
+    writes = output is not None or as_bag or output_format != "table"
+    built = plan_options.build(request, writes=writes)
     source, params, made = built.source, built.params, built.made
     cmd_vel_topic, stamped = resolve_cmd_vel(params, cmd_vel_topic, stamped, distro)
     ramped: RampedPlan | None = None

@@ -260,10 +260,11 @@ class PlanOptions:
         rest, xacro_args = split_xacro_args(tokens)
         return PlanRequest(self.source(rest), robot.with_path(None, xacro_args))
 
-    def build(self, request: PlanRequest) -> MadePlan:
+    def build(self, request: PlanRequest, *, writes: bool = False) -> MadePlan:
         """Load the robot and make the plan: a goal plan's segments resolved, ramped when
         :meth:`ramped` says so. --fastest for a robot without a motor limit is an error that
-        names the option that gives one."""
+        names the option that gives one. ``writes``: the command's output is asked for (a file,
+        a format for programs), so a goal at the start, which has none, is an error."""
         params = request.robot.load()
         if self.fastest and params.max_wheel_speed is None:
             fail(
@@ -271,7 +272,7 @@ class PlanOptions:
                 "give one with --max-rpm RPM"
             )
         body = self.body_limits(params)
-        source = self.resolve(request.source, params, body)
+        source = self.resolve(request.source, params, body, writes=writes)
         return MadePlan(source, params, self.make(source.segments, params, body), body)
 
     def body_limits(self, params: DiffDriveParams) -> BodyLimits:
@@ -295,11 +296,16 @@ class PlanOptions:
         return fastest_goal and has_limit and not self.cruise
 
     def resolve(
-        self, source: PlanInput, params: DiffDriveParams, body: BodyLimits | None = None
+        self,
+        source: PlanInput,
+        params: DiffDriveParams,
+        body: BodyLimits | None = None,
+        *,
+        writes: bool = False,
     ) -> PlanInput:
         """The plan input with a goal plan's segments and its note; a plan input without a goal
         as it is. A goal at the start is no plan: said so, and the command ends with exit code
-        0."""
+        0; when ``writes``, an error (exit code 2), so that nothing stale is taken for it."""
         goal = self.goal
         if goal is None:
             return source
@@ -319,6 +325,8 @@ class PlanOptions:
         made = plan_through(points, params, shape=goal.shape, **options)
         where = " then ".join(_pose_text(*p) for p in points)
         if not made.segments:
+            if writes:
+                fail(f"the goal {where} is the start: an empty plan, nothing to write")
             click.echo(f"the goal {where} is the start: an empty plan, nothing to drive")
             sys.exit(0)
         segments = [s.segment for s in made.segments]

@@ -323,7 +323,7 @@ def plot(
     source, robot = request.source, request.robot
     given = [source.path, robot.robot, robot.controllers, *odom_inputs]
     inputs = _prepared(given, output, force, show)
-    built = plan_options.build(request)
+    built = plan_options.build(request, writes=True)
     params, made = built.params, built.made
     if not isinstance(made, Plan):
         # The step plan holds the cruise speeds, the motor limit check and the poses.

@@ -251,7 +251,7 @@ def simulate(
     loop.check(rate)
     inputs = [path for path in (source.path, robot.robot) if path is not None]
     out.path([Path(path) for path in inputs])
-    built = plan_options.build(request)
+    built = plan_options.build(request, writes=True)
     source, params, made = built.source, built.params, built.made
     out_path = out.path([Path(path) for path in (*inputs, *params.description_files)])
     p = made if isinstance(made, Plan) else made.steps

@@ -166,6 +166,31 @@ def test_goal_at_the_start_is_an_empty_plan(runner: CliRunner) -> None:
 
 
 @pytest.mark.parametrize(
+    "args",
+    [
+        ["plan", "--json"],
+        ["plan", "--format", "csv"],
+        ["plan", "--format", "ros2", "-o", "run.sh", "--force"],
+        ["simulate", "-o", "run.sh", "--force"],
+        ["plot", "-o", "run.png", "--force"],
+    ],
+)
+def test_goal_at_the_start_writes_nothing_and_says_why(
+    runner: CliRunner, args: list[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "run.sh").write_text("# an older plan\n", encoding="utf-8")
+    result = runner.invoke(main, [*args, "--from", "1,2,30", "--to", "1,2,390"])
+    assert result.exit_code == 2, result.output
+    assert result.stdout == ""
+    assert result.stderr == (
+        "error: the goal (1, 2, 390 deg) is the start: an empty plan, nothing to write\n"
+    )
+    assert (tmp_path / "run.sh").read_text(encoding="utf-8") == "# an older plan\n"
+    assert not (tmp_path / "run.png").exists()
+
+
+@pytest.mark.parametrize(
     ("name", "text"),
     [
         ("w.csv", "x,y,heading\n1,0\n# a comment\n1,1,90\n"),
