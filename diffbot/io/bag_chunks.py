@@ -19,6 +19,7 @@ Without a topic, ``/joint_states`` is read, or else the bag's only JointState to
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import sqlite3
@@ -68,6 +69,16 @@ MAX_MESSAGE_BYTES: Final = 1 << 20
 
 class BagError(RecordingError):
     """A rosbag2 recording cannot be read, or lacks the topic asked for."""
+
+
+def _check_connection(source: str, topic: object, msgtype: object, count: object) -> None:
+    """Refuse a connection whose metadata (``metadata.yaml``, a bag's own records) has a field
+    of the wrong kind: a topic or type that is not a name, a count that is not a whole number."""
+    for what, value in (("topic name", topic), ("message type", msgtype)):
+        if not isinstance(value, str):
+            raise BagError(f"{source}: malformed bag metadata: a {what} of {value!r}")
+    if isinstance(count, bool) or not isinstance(count, int) or count < 0:
+        raise BagError(f"{source}: malformed bag metadata: a message count of {count!r}")
 
 
 class BagChunk(NamedTuple):
@@ -188,12 +199,15 @@ def _sqlite_plan(path: Path, scratch: Path | None = None) -> _SqlitePlan | None:
             return None
         for entry in info["topics_with_message_count"]:
             meta = entry["topic_metadata"]
+            count = entry["message_count"]
+            _check_connection(str(path), meta["name"], meta["type"], count)
             topics.setdefault(meta["name"], set()).add(meta["type"])
-            counts[meta["name"]] = counts.get(meta["name"], 0) + int(entry["message_count"])
+            counts[meta["name"]] = counts.get(meta["name"], 0) + count
     for file in files:
         connection = _open_uri(file)
         try:
             for name, msgtype in connection.execute("SELECT name, type FROM topics"):
+                _check_connection(str(path), name, msgtype, 0)
                 topics.setdefault(name, set()).add(msgtype)
             if not counts:  # no metadata: nothing said the messages are plain CDR
                 _check_not_compressed(connection, path)
@@ -342,6 +356,7 @@ class TopicChunks:
         try:
             topics: dict[str, set[str]] = {}
             for c in self._reader.connections:
+                _check_connection(self.source, c.topic, c.msgtype, c.msgcount)
                 topics.setdefault(c.topic, set()).add(c.msgtype)
             self._check_topic(topics)
             self._connections = [c for c in self._reader.connections if c.topic == self.topic]
@@ -387,8 +402,11 @@ class TopicChunks:
     def close(self) -> None:
         """Close the recording (and remove any files it decompressed)."""
         if self._reader is not None and getattr(self._reader, "is_open", True):
-            self._reader.close()
-            self._reader = None
+            reader, self._reader = self._reader, None
+            # rosbags' close trips over metadata it opened without checking (a file list
+            # that is not a list); a reader that only read has nothing to lose on close
+            with contextlib.suppress(Exception):
+                reader.close()
         if self._scratch is not None:
             self._scratch.cleanup()
             self._scratch = None

@@ -254,3 +254,31 @@ def test_a_split_recording_without_metadata_is_read_in_the_order_of_its_file_num
     assert want.final_pose.theta == pytest.approx(
         math.remainder(2 * 11.8 * 0.035 / 0.135, math.tau), abs=1e-9
     )
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+@pytest.mark.parametrize(
+    ("key", "value", "said"),
+    [
+        ("message_count", None, "a message count of None"),
+        ("message_count", "3", "a message count of '3'"),
+        ("message_count", -1, "a message count of -1"),
+        ("type", 5, "a message type of 5"),
+        ("type", None, "a message type of None"),
+        ("name", ["/joint_states"], "a topic name of \\['/joint_states'\\]"),
+    ],
+)
+def test_metadata_of_the_wrong_kind_is_one_error(
+    tmp_path: Path, storage: str, key: str, value: object, said: str
+) -> None:
+    import yaml
+
+    path = write_bag(tmp_path / "rec", [(1, 1, ["left", "right"], [0.0, 0.0])], storage)
+    metadata = path / "metadata.yaml"
+    info = yaml.safe_load(metadata.read_text(encoding="utf-8"))
+    topics = info["rosbag2_bagfile_information"]["topics_with_message_count"]
+    entry = next(t for t in topics if t["topic_metadata"]["name"] == "/joint_states")
+    (entry if key == "message_count" else entry["topic_metadata"])[key] = value
+    metadata.write_text(yaml.safe_dump(info), encoding="utf-8")
+    with pytest.raises(BagError, match=f"malformed bag metadata: {said}$"):
+        bag_odometry(path, NAMED)
