@@ -381,18 +381,34 @@ class Conditioner:
         column: _Column, stamps: NDArray[np.int64], angles: NDArray[np.float64]
     ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
         """Each sample's speed over the step that ends at it (rad/s) and whether the step is
-        beyond the joint's limit; the first sample a joint ever has ends no step."""
-        d_angle = np.diff(angles, prepend=column.last_value)
-        d_time = np.diff(stamps, prepend=column.last_stamp).astype(np.float64) / NS_PER_S
+        beyond the joint's limit; the first sample a joint ever has ends no step.
+
+        The steps are those the odometry integrates: a sample whose stamp is not after every
+        earlier one's is skipped there (a repeat, a second publisher), so it ends no step here
+        and the next step is measured from the sample before it."""
+        speed = np.zeros(stamps.shape[0])
+        bad = np.zeros(stamps.shape[0], dtype=np.bool_)
+        prior = column.last_stamp if column.started else np.iinfo(np.int64).min
+        before = np.empty_like(stamps)
+        before[0] = prior
+        np.maximum.accumulate(stamps[:-1], out=before[1:])
+        np.maximum(before, prior, out=before)
+        kept = np.flatnonzero(stamps > before)
+        if kept.size == 0:
+            return speed, bad
+        times, values = stamps[kept], angles[kept]
+        d_angle = np.diff(values, prepend=column.last_value)
+        d_time = np.diff(times, prepend=column.last_stamp).astype(np.float64) / NS_PER_S
         if not column.started:
             d_time[0] = 0.0  # no step ends at a joint's first sample
             column.started = True
-        column.last_value = float(angles[-1])
-        column.last_stamp = int(stamps[-1])
-        forward = d_time > 0
+        column.last_value = float(values[-1])
+        column.last_stamp = int(times[-1])
         with np.errstate(divide="ignore", invalid="ignore"):
-            speed = np.where(forward, np.abs(d_angle) / np.where(forward, d_time, 1.0), 0.0)
-            bad = forward & (np.abs(d_angle) > column.limit * d_time + column.slack)
+            speed[kept] = np.where(
+                d_time > 0, np.abs(d_angle) / np.where(d_time > 0, d_time, 1.0), 0.0
+            )
+            bad[kept] = (d_time > 0) & (np.abs(d_angle) > column.limit * d_time + column.slack)
         return speed, bad
 
     def report(self) -> ConditioningReport:

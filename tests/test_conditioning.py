@@ -107,6 +107,40 @@ def test_the_motor_limit_sets_the_bound_when_there_is_one() -> None:
     assert report.first_implausible.sample == 2
 
 
+@pytest.mark.parametrize("chunk", [1, 2, 4])
+@pytest.mark.parametrize(
+    ("wheel", "implausible", "sample"),
+    [
+        # the repeated stamp's row is skipped by the odometry: 5 -> 105 in 1 s is the step
+        ([0.0, 5.0, 100.0, 105.0], 1, 3),
+        # 5 -> 10 in 1 s is: the skipped row's 100 rad ends no step, and starts none
+        ([0.0, 5.0, 100.0, 10.0], 0, None),
+    ],
+)
+def test_steps_are_judged_as_the_odometry_integrates_them(
+    chunk: int, wheel: list[float], implausible: int, sample: int | None
+) -> None:
+    conditioner = Conditioner.for_robot(BOT_50_RPM, ("l", "r"), 1)
+    stamps = np.array([0, 1, 1, 2]) * 1_000_000_000
+    positions = np.column_stack([wheel, wheel])
+    for start in range(0, 4, chunk):
+        conditioner.feed(stamps[start : start + chunk], positions[start : start + chunk])
+    report = conditioner.report()
+    assert report.implausible_steps == implausible
+    found = report.first_implausible
+    assert (found.sample if found is not None else None) == sample
+    if found is not None:
+        assert found.speed == pytest.approx(100.0)
+
+
+def test_a_stamp_that_goes_back_ends_no_step() -> None:
+    conditioner = Conditioner.for_robot(BOT_50_RPM, ("l", "r"), 1)
+    stamps = np.array([0, 2, 1, 3]) * 1_000_000_000
+    wheel = [0.0, 2.0, 500.0, 4.0]  # the late row's 500 rad is skipped: 2 rad/s throughout
+    conditioner.feed(stamps, np.column_stack([wheel, wheel]))
+    assert conditioner.report().implausible_steps == 0
+
+
 def test_missing_and_non_finite_positions_pass_through_untouched() -> None:
     stamps = np.arange(4, dtype=np.int64) * 100_000_000
     positions = np.array([[65000.0, 1.0], [math.nan, 2.0], [100.0, 3.0], [200.0, 4.0]])
