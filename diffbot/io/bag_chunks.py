@@ -34,7 +34,7 @@ import numpy as np
 from diffbot.errors import DiffbotError, RecordingError
 from diffbot.formats.text import listing
 from diffbot.io.bag import BAG_INSTALL_HINT, DEFAULT_TOPIC, JOINT_STATE, bag_suffix
-from diffbot.io.bag_inflate import bound_rosbags, copy_inflated, ros1_reader
+from diffbot.io.bag_inflate import InflationBudget, bound_rosbags, copy_inflated, ros1_reader
 from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular, read_text
 
@@ -69,6 +69,13 @@ MAX_MESSAGE_BYTES: Final = 1 << 20
 
 class BagError(RecordingError):
     """A rosbag2 recording cannot be read, or lacks the topic asked for."""
+
+
+def _size_on_disk(path: Path) -> int:
+    """The bytes a bag takes on disk: its file, or the files of its folder."""
+    if path.is_file():
+        return path.stat().st_size
+    return sum(f.stat().st_size for f in path.iterdir() if f.is_file())
 
 
 def _check_connection(source: str, topic: object, msgtype: object, count: object) -> None:
@@ -283,6 +290,7 @@ class TopicChunks:
             raise BagError(f"chunk_size must be at least 1, got {chunk_size}")
         p = Path(path)
         self.source = str(p)
+        self._path = p
         self.topic = DEFAULT_TOPIC if topic is None else topic
         #: Whether the topic was chosen here, as the bag's only JointState topic.
         self.topic_chosen = False
@@ -521,7 +529,14 @@ class TopicChunks:
             convert = typestore().ros1_to_cdr
         step = self._batch_size()
         batch: list[tuple[int, object]] = []
-        for _, timestamp, data in messages:
+        budget = InflationBudget(_size_on_disk(self._path), self.source)
+        pending = iter(messages)
+        while True:
+            with budget.active():  # rosbags inflates the chunks as the messages are taken
+                taken = next(pending, None)
+            if taken is None:
+                break
+            _, timestamp, data = taken
             if len(data) > MAX_MESSAGE_BYTES:  # before it is held in a batch or converted
                 raise self._too_large(len(data))
             batch.append((timestamp, data if convert is None else convert(data, self.msgtype)))

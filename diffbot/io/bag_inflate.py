@@ -9,7 +9,11 @@ decompressed whole. Every stream is inflated piece by piece with a ``max_length`
 - an MCAP chunk: likewise its declared uncompressed size;
 - a message of a rosbag2 bag compressed message by message: :data:`MAX_MESSAGE_BYTES`;
 - a storage file of a bag compressed file by file (``.db3.zstd``, ``.mcap.zstd``):
-  :data:`FILE_RATIO` times its compressed size, at least :data:`MIN_FILE_BYTES`.
+  :data:`FILE_RATIO` times its compressed size, at least :data:`MIN_FILE_BYTES`;
+- all a read of one bag inflates (:class:`InflationBudget`): likewise, of the bag's size on
+  disk. Chunks that are each within their bound add up: an MCAP index that lists every chunk
+  as the first makes rosbags inflate them all before the first message, and a ROS 1 bag whose
+  messages alternate between chunks inflates a chunk again for each message.
 
 rosbags decompresses in its own readers: :func:`bound_rosbags` puts these bounded inflaters in
 place of its whole-buffer ones (once, before a reader is opened), and :class:`BoundedRos1Reader`
@@ -18,10 +22,12 @@ reads each ROS 1 chunk's declared size, which rosbags does not.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import os
 import shutil
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Iterator
 from typing import IO, TYPE_CHECKING, Any, Final, Protocol
 
 from diffbot.errors import RecordingError
@@ -35,6 +41,7 @@ __all__ = [
     "MAX_CHUNK_BYTES",
     "MAX_MESSAGE_BYTES",
     "MIN_FILE_BYTES",
+    "InflationBudget",
     "bound_rosbags",
     "copy_inflated",
     "file_limit",
@@ -90,6 +97,49 @@ def _decompressor(kind: str) -> Callable[[], _Decompressor]:
     raise RecordingError(f"unknown compression {kind!r}")
 
 
+_ACTIVE = threading.local()
+
+
+class InflationBudget:
+    """The bytes one read of a bag may inflate in all: :func:`file_limit` of its size on disk.
+
+    Args:
+        compressed_size: the bag's storage files' size on disk (bytes).
+        what: the bag, for the message.
+    """
+
+    def __init__(self, compressed_size: int, what: str) -> None:
+        self.limit = file_limit(compressed_size)
+        self.used = 0
+        self.what = what
+
+    @contextlib.contextmanager
+    def active(self) -> Iterator[None]:
+        """Count what this thread inflates inside the block against this budget."""
+        previous = getattr(_ACTIVE, "budget", None)
+        _ACTIVE.budget = self
+        try:
+            yield
+        finally:
+            _ACTIVE.budget = previous
+
+    def spend(self, count: int) -> None:
+        """Count ``count`` bytes inflated; refuse the read once they pass the limit."""
+        self.used += count
+        if self.used > self.limit:
+            raise RecordingError(
+                f"{self.what}: reading it decompresses more than {self.limit} bytes (the most "
+                f"a bag may: {FILE_RATIO} times its size on disk, at least "
+                f"{MIN_FILE_BYTES >> 20} MiB): refused (a bomb, or chunks read over and over?)"
+            )
+
+
+def _spend(count: int) -> None:
+    budget: InflationBudget | None = getattr(_ACTIVE, "budget", None)
+    if budget is not None:
+        budget.spend(count)
+
+
 def _too_large(what: str, limit: int) -> RecordingError:
     return RecordingError(f"{what} decompresses to more than {limit} bytes, refused (a bomb?)")
 
@@ -117,6 +167,7 @@ def inflate(data: bytes, kind: str, limit: int, what: str) -> bytes:
             piece = stream.decompress(rest, min(_STEP, limit + 1 - len(out)))
             while True:
                 out += piece
+                _spend(len(piece))
                 if len(out) > limit:
                     raise _too_large(what, limit)
                 if stream.eof:

@@ -198,3 +198,73 @@ def test_a_stream_inflated_whole_is_held_about_twice_at_most(kind: str) -> None:
     assert results[0] == data
     # the growing result and its final copy; a whole-size piece beside them made it three
     assert peak < 2.5 * len(data), f"{peak / len(data):.2f} times the data"
+
+
+def test_a_budget_counts_every_inflation_in_its_block_and_only_there() -> None:
+    from diffbot.io.bag_inflate import InflationBudget
+
+    budget = InflationBudget(1000, "rec")  # at least MIN_FILE_BYTES: 64 MiB
+    assert budget.limit == bag_inflate.MIN_FILE_BYTES
+    packed = zstd.compress(bytes(ZEROS))
+    with budget.active():
+        for _ in range(6):  # six streams each within their own bound
+            inflate(packed, "zstd", ZEROS, "a chunk")
+        assert budget.used == 6 * ZEROS
+        with pytest.raises(RecordingError, match=r"^rec: reading it decompresses more than"):
+            inflate(packed, "zstd", ZEROS, "a chunk")
+    spent = budget.used
+    assert spent <= budget.limit + (1 << 20)  # refused within a step of its limit
+    inflate(packed, "zstd", ZEROS, "a chunk")  # outside the block: counted nowhere
+    assert budget.used == spent
+    assert InflationBudget(1 << 30, "big").limit == bag_inflate.FILE_RATIO << 30
+
+
+def interleaved_ros1_bag(path: Path, pad: int) -> Path:
+    """A bz2 ROS 1 bag of two chunks, each with ``pad`` zero bytes on another topic: chunk one
+    holds the joint states of odd seconds, chunk two of even ones, so that reading them in
+    time order goes from one chunk to the other at each message."""
+    import numpy as np
+    from rosbags.rosbag1 import Writer as Writer1
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    types = store.types
+    writer = Writer1(path)
+    writer.set_compression(Writer1.CompressionFormat.BZ2)
+    writer.chunk_threshold = pad // 2
+    writer.open()
+    joints = writer.add_connection("/joint_states", JOINT_STATE, typestore=store)
+    padding = writer.add_connection("/pad", "std_msgs/msg/UInt8MultiArray", typestore=store)
+    layout = types["std_msgs/msg/MultiArrayLayout"](dim=[], data_offset=0)
+    blob = types["std_msgs/msg/UInt8MultiArray"](layout=layout, data=np.zeros(pad, np.uint8))
+    for parity in (1, 2):
+        for k in range(10):
+            second = 2 * k + parity
+            msg = types[JOINT_STATE](
+                header=types["std_msgs/msg/Header"](
+                    seq=0,
+                    stamp=types["builtin_interfaces/msg/Time"](sec=second, nanosec=0),
+                    frame_id="",
+                ),
+                name=[LEFT, RIGHT],
+                position=np.array([0.1 * second, 0.1 * second]),
+                velocity=np.empty(0),
+                effort=np.empty(0),
+            )
+            writer.write(joints, second * 10**9, bytes(store.serialize_ros1(msg, JOINT_STATE)))
+        blob_bytes = store.serialize_ros1(blob, "std_msgs/msg/UInt8MultiArray")
+        writer.write(padding, 10**12 + parity, bytes(blob_bytes))
+    writer.close()
+    return path
+
+
+def test_a_ros1_bag_read_chunk_to_chunk_over_and_over_is_refused_in_time(tmp_path: Path) -> None:
+    # two 8 MiB chunks of a few kilobytes each, inflated again at every one of 20 messages:
+    # 160 MiB for a bag of kilobytes, and hours for a bag of larger chunks
+    bag = interleaved_ros1_bag(tmp_path / "inter.bag", 8 << 20)
+    assert bag.stat().st_size < 64 << 10
+    result = odom(bag)
+    assert_one_error_line(result, "inter.bag: reading it decompresses more than", "refused")
+    # the same messages in chunks read once each are read
+    small = interleaved_ros1_bag(tmp_path / "small.bag", 1 << 20)
+    assert odom(small).exit_code == 0
