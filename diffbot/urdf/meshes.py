@@ -5,7 +5,8 @@ the largest distance of the mesh's vertices (scaled and posed as the collision s
 wheel joint's axis through the joint's origin. The mesh file is untrusted like the description:
 it is read only inside the folders the description may read (its own, its package's, the
 packages it names), only when it is a regular file of a bounded size, in a format read without
-following references to other files.
+following references to other files. A COLLADA mesh's coordinates are in the unit its root
+``<asset><unit meter>`` names (metres without one).
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import os
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Final
-from xml.etree.ElementTree import Element
+from xml.etree.ElementTree import Element, ParseError, iterparse
 
 from diffbot.errors import DescriptionError, DiffbotError, OutsideRootsError
 from diffbot.io.pathnames import resolved
@@ -25,6 +26,7 @@ from diffbot.urdf.poses import Matrix, pose_matrix
 __all__ = [
     "MAX_MESH_BYTES",
     "MESH_FORMATS",
+    "collada_metres",
     "finder_for",
     "mesh_radius",
     "origin_matrix",
@@ -68,15 +70,16 @@ def mesh_radius(
     """The largest distance (m) of a mesh's vertices from an axis through the origin.
 
     Args:
-        path: the mesh file (a regular file of at most :data:`MAX_MESH_BYTES`).
+        path: the mesh file (a regular file of at most :data:`MAX_MESH_BYTES`); a COLLADA
+            file's coordinates are in its unit (see :func:`collada_metres`), others' in metres.
         scale: the mesh's scale along its x, y and z.
         pose: the mesh frame in the frame of the axis (4x4).
         axis: the axis direction in that frame (any length but zero).
         name: the file as the user knows it, for messages.
 
     Raises:
-        DescriptionError: not a regular file, too large, of a format not read, unreadable or
-            without vertices.
+        DescriptionError: not a regular file, too large, of a format not read, unreadable,
+            without vertices or (COLLADA) of a unit that is not a positive length.
     """
     from diffbot.io.textfile import check_regular, open_regular
 
@@ -95,6 +98,10 @@ def mesh_radius(
     try:
         with open(open_regular(path, DescriptionError, "a mesh", name=name), "rb") as stream:
             data = io.BytesIO(stream.read(MAX_MESH_BYTES + 1))
+    except OSError as err:
+        raise DescriptionError(f"{name}: cannot read the mesh ({type(err).__name__})") from None
+    metres = collada_metres(data.getvalue(), name) if kind == "dae" else 1.0
+    try:
         loaded = trimesh.load(data, file_type=kind, force="mesh", process=False)
         vertices = np.asarray(getattr(loaded, "vertices", ()), dtype=np.float64)
     except Exception as err:  # trimesh and its format readers raise anything on a bad file
@@ -104,7 +111,7 @@ def mesh_radius(
     unit = np.asarray(axis, dtype=float)
     unit = unit / np.linalg.norm(unit)
     with np.errstate(all="ignore"):
-        points = (vertices * np.asarray(scale, dtype=float)) @ np.asarray(pose)[:3, :3].T
+        points = (vertices * (metres * np.asarray(scale, dtype=float))) @ np.asarray(pose)[:3, :3].T
         points = points + np.asarray(pose)[:3, 3]
         along = points @ unit
         squared = np.einsum("ij,ij->i", points, points) - along * along
@@ -112,6 +119,54 @@ def mesh_radius(
     if not math.isfinite(radius):
         raise DescriptionError(f"{name}: the mesh has non-finite vertices")
     return radius
+
+
+def collada_metres(data: bytes, name: str) -> float:
+    """The length (m) of one unit of a COLLADA document: its root's ``<asset><unit meter>``.
+
+    The root's unit scales the whole document, as Gazebo and RViz (Assimp) read it; the
+    ``<asset>`` of nodes and geometries is ignored, as they ignore it. Without a ``<unit>`` or its
+    ``meter``, a unit is a metre.
+
+    Raises:
+        DescriptionError: the document is not XML, or ``meter`` is not a finite positive number.
+    """
+    depth = 0
+    in_asset = False
+    try:
+        for event, element in iterparse(io.BytesIO(data), events=("start", "end")):
+            if event == "start":
+                depth += 1
+                in_asset = in_asset or (depth == 2 and _local(element.tag) == "asset")
+                continue
+            depth -= 1
+            if in_asset and depth == 1:
+                unit = next((c for c in element if _local(c.tag) == "unit"), None)
+                return _unit_metres(None if unit is None else unit.get("meter"), name)
+            if not in_asset:
+                element.clear()  # the rest of the document is not needed: keep memory flat
+    except ParseError as err:
+        raise DescriptionError(f"{name}: cannot read the mesh ({type(err).__name__})") from None
+    return 1.0
+
+
+def _local(tag: str) -> str:
+    return tag.rpartition("}")[2]
+
+
+def _unit_metres(text: str | None, name: str) -> float:
+    if text is None:
+        return 1.0
+    try:
+        # float() also takes "1_000", which no XML number is
+        metres = float(text) if "_" not in text else math.nan
+    except ValueError:
+        metres = math.nan
+    if not (math.isfinite(metres) and metres > 0):
+        raise DescriptionError(
+            f"{name}: the COLLADA unit's meter={text!r} is not a finite positive number of metres"
+        )
+    return metres
 
 
 def _resolve(

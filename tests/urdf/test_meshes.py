@@ -7,8 +7,13 @@ import math
 from pathlib import Path
 
 import pytest
+from cli_results import assert_one_error_line
+from click.testing import CliRunner
+from hypothesis import given
+from hypothesis import strategies as st
 
 import diffbot
+from diffbot.cli import main
 from diffbot.errors import DescriptionError, OutsideRootsError
 from diffbot.urdf import meshes
 from diffbot.urdf.meshes import mesh_radius, origin_matrix
@@ -145,3 +150,90 @@ def test_an_unknown_package_names_the_option(tmp_path: Path) -> None:
     description.write_text(robot("package://nowhere_pkg/tyre.stl"), encoding="utf-8")
     with pytest.raises(DescriptionError, match=r"'nowhere_pkg'.*packages: nowhere_pkg=DIR"):
         diffbot.load_params(description)
+
+
+def write_collada(path: Path, asset: str = "", node_asset: str = "") -> Path:
+    """A COLLADA triangle whose farthest vertex is 80 units from the y axis (x = 80 and z = 80).
+
+    ``asset`` goes in the document's ``<asset>``, ``node_asset`` in its node's.
+    """
+    path.write_text(
+        '<?xml version="1.0" encoding="utf-8"?>\n'
+        '<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">'
+        f"<asset>{asset}<up_axis>Z_UP</up_axis></asset>"
+        '<library_geometries><geometry id="w"><mesh><source id="p">'
+        '<float_array id="a" count="9">80 0 0  0 0 80  0 10 0</float_array>'
+        '<technique_common><accessor source="#a" count="3" stride="3">'
+        '<param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>'
+        "</accessor></technique_common>"
+        '</source><vertices id="v"><input semantic="POSITION" source="#p"/></vertices>'
+        '<triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p>'
+        "</triangles></mesh></geometry></library_geometries>"
+        '<library_visual_scenes><visual_scene id="s"><node id="n">'
+        f"{f'<asset>{node_asset}</asset>' if node_asset else ''}"
+        '<instance_geometry url="#w"/></node></visual_scene></library_visual_scenes>'
+        '<scene><instance_visual_scene url="#s"/></scene></COLLADA>\n',
+        encoding="utf-8",
+    )
+    return path
+
+
+def unit(meter: str, name: str = "unit") -> str:
+    return f'<unit name="{name}" meter="{meter}"/>'
+
+
+@pytest.mark.parametrize(
+    ("asset", "node_asset", "radius"),
+    [
+        (unit("0.001", "millimeter"), "", 0.08),
+        (unit("0.0254", "inch"), "", 80 * 0.0254),
+        ("", "", 80.0),
+        ('<unit name="meter"/>', "", 80.0),
+        # As in Gazebo and RViz, only the document's unit counts.
+        ("", unit("0.001", "millimeter"), 80.0),
+        (unit("0.01", "centimeter"), unit("0.001", "millimeter"), 0.8),
+    ],
+)
+def test_a_collada_meshs_coordinates_are_in_its_unit(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, asset: str, node_asset: str, radius: float
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    write_collada(tmp_path / "wheel.dae", asset, node_asset)
+    description = tmp_path / "robot.urdf"
+    description.write_text(robot("wheel.dae", rpy="0 0 0"), encoding="utf-8")
+    params = diffbot.load_params(description)
+    assert params.wheel_radius == pytest.approx(radius, rel=1e-12)
+    assert params.sources["wheel_radius"] == "mesh:wheel.dae"
+
+
+@given(meter=st.floats(1e-6, 1e3))
+def test_scaling_a_collada_unit_scales_the_radius(
+    tmp_path_factory: pytest.TempPathFactory, meter: float
+) -> None:
+    folder = tmp_path_factory.mktemp("unit")
+    path = write_collada(folder / "wheel.dae", unit(repr(meter)))
+    y_axis = (0.0, 1.0, 0.0)
+    assert mesh_radius(path, (1, 1, 1), IDENTITY, y_axis, "wheel.dae") == pytest.approx(
+        80 * meter, rel=1e-12
+    )
+    # The unit and the description's scale multiply.
+    assert mesh_radius(path, (2, 2, 2), IDENTITY, y_axis, "wheel.dae") == pytest.approx(
+        160 * meter, rel=1e-12
+    )
+
+
+@pytest.mark.parametrize("meter", ["0", "-1", "nan", "abc", "1e400", "inf", "", "1_0"])
+def test_a_collada_unit_that_is_not_a_length_is_one_error(tmp_path: Path, meter: str) -> None:
+    write_collada(tmp_path / "wheel.dae", unit(meter))
+    description = tmp_path / "robot.urdf"
+    description.write_text(robot("wheel.dae", rpy="0 0 0"), encoding="utf-8")
+    with pytest.raises(DescriptionError, match="not a finite positive number of metres"):
+        diffbot.load_params(description)
+    result = CliRunner().invoke(main, ["params", str(description)])
+    assert_one_error_line(result, "wheel.dae", f"meter={meter!r}")
+
+
+def test_a_collada_file_that_is_not_xml_is_one_error(tmp_path: Path) -> None:
+    (tmp_path / "wheel.dae").write_text("<COLLADA><asset>", encoding="utf-8")
+    with pytest.raises(DescriptionError, match="cannot read the mesh"):
+        mesh_radius(tmp_path / "wheel.dae", (1, 1, 1), IDENTITY, (0, 1, 0), "wheel.dae")
