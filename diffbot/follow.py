@@ -69,7 +69,12 @@ y_l²)``, ``w = v kappa`` (the same formula holds driving backwards with ``v < 0
 is the plan's own along the leg, regulated: times ``r / r_min`` on curves tighter than
 ``r_min`` (``r = 1/|kappa|``), and times ``d / d_approach`` within ``d_approach`` of the
 leg's end (never below a creep speed); when the lookahead point lies more than 45 degrees off
-the robot's heading it first turns in place toward it.
+the robot's heading it first turns in place toward it. The lookahead point is the first point
+past the robot's progress along the leg at the distance ``L`` from it; the progress (the
+nearest point) only moves forward along the leg, and a leg is done only once the progress is
+within ``L`` of its end, so a loop is driven although it ends where it starts. A spin turns its
+signed angle on the robot's heading counted in whole turns (360 degrees is a turn, 270 degrees
+is not -90).
 
 Arrival, both laws: Kanayama's law at ``v_r = 0`` corrects ``e_x`` and the heading but not a
 lateral error (no command moves the robot sideways), so past the plan's end the follower
@@ -78,10 +83,10 @@ lateral error over 0.6 of it until the distance is under 0.4 of it, it turns tow
 point (or away from it, to reverse onto it) and drives there (``w = k_spin beta``,
 ``v = ±k_x d cos beta``, moving only while the bearing error ``beta`` is under 0.3 rad);
 otherwise it aligns (``v = k_x e_x``, ``w = k_spin sin e_theta``). The wide hysteresis keeps
-a noisy pose source from toggling the two. It is done when past the plan's end (the last leg
-reached, for pure pursuit) and within ``xy_tolerance`` and ``yaw_tolerance`` for :data:`DWELL`
-s; once :meth:`Follower.done` has said so it commands zero (until the pose leaves the
-tolerances).
+a noisy pose source from toggling the two. It is done when past the plan's end (for pure
+pursuit: every leg driven and every spin turned) and within ``xy_tolerance`` and
+``yaw_tolerance`` for :data:`DWELL` s; once :meth:`Follower.done` has said so it commands zero
+(until the pose leaves the tolerances).
 
 Every command is brought within the motor limit by scaling both wheels by one factor (the
 commanded curvature is kept, as :func:`diffbot.kinematics.saturate` does), then, when the
@@ -384,7 +389,7 @@ class Follower:
         )
 
     def done(self, t: float, pose: Pose) -> bool:
-        """Whether the plan is finished: past its end (for pure pursuit: on its last leg) and
+        """Whether the plan is finished: past its end (for pure pursuit: its path driven) and
         within ``xy_tolerance`` and ``yaw_tolerance`` of its final pose, as every pose given
         for the last :data:`DWELL` s was (a robot still coasting leaves the tolerance within
         that time; call this at every control step)."""

@@ -2,7 +2,12 @@
 :class:`diffbot.follow.Follower`; the equations are in that module's notes).
 
 The plan's straights and arcs are sampled into legs, each driven in one direction; a spin or a
-change of direction ends a leg, and the next one starts with a turn in place to its heading.
+change of direction ends a leg, and the next one starts with a turn in place to its heading. A
+spin is a leg of its own, a turn in place by its signed angle. The legs are taken in the plan's
+order, and the progress along a leg only moves forward: a leg is done once its end is near
+along the path, not merely near in space, as a loop's end is at its start. Turns compare the
+robot's heading counted in whole turns (from the pose's changes between calls) with the heading
+the plan accumulates, so a spin of 360 or 270 degrees turns that far, the plan's way.
 """
 
 from __future__ import annotations
@@ -27,28 +32,40 @@ _NO_LENGTH = 1e-9
 
 
 class Leg:
-    """Points along a piece of path driven in one direction.
+    """Points along a piece of path driven in one direction, or a turn in place.
 
     Attributes:
-        xs, ys: the points (m), the first the leg's start, the last its end.
+        xs, ys: the points (m), the first the leg's start, the last its end; a turn in place
+            has its start point only.
         lengths: path length from the leg's start to each point (m).
         speeds: the plan's speed along the path at each point (m/s, > 0).
-        direction: +1 driving forward, -1 backwards.
-        start_heading: the robot's heading at the start (rad, not wrapped).
+        direction: +1 driving forward, -1 backwards (+1 for a turn in place).
+        from_heading: the plan's heading where the leg starts (rad, not wrapped).
+        start_heading: the heading to turn to before driving (rad, not wrapped): a spin's
+            end heading for a turn in place, else ``from_heading``.
     """
 
-    __slots__ = ("direction", "lengths", "speeds", "start_heading", "xs", "ys")
+    __slots__ = ("direction", "from_heading", "lengths", "speeds", "start_heading", "xs", "ys")
 
-    def __init__(self, direction: float, x: float, y: float, heading: float) -> None:
+    def __init__(
+        self, direction: float, x: float, y: float, heading: float, turn: float = 0.0
+    ) -> None:
         self.direction = direction
         self.xs, self.ys = [x], [y]
         self.lengths = [0.0]
         self.speeds = [0.0]
-        self.start_heading = heading
+        self.from_heading = heading
+        self.start_heading = heading + turn
+
+    @property
+    def moves(self) -> bool:
+        """Whether the leg drives (else it is a turn in place)."""
+        return len(self.xs) > 1
 
 
 def legs(plan: Plan, spacing: float) -> list[Leg]:
-    """The plan's path as legs with points at most ``spacing`` (m) apart."""
+    """The plan's path as legs with points at most ``spacing`` (m) apart, and a turn in place
+    for each spin, in the plan's order."""
     from diffbot.trajectory import advance, geometry
 
     found: list[Leg] = []
@@ -59,6 +76,8 @@ def legs(plan: Plan, spacing: float) -> list[Leg]:
         start = planned.start_pose
         if abs(ds) <= _NO_LENGTH:
             current = None  # a spin (or nothing): the next motion starts a new leg
+            if turn:
+                found.append(Leg(1.0, start.x, start.y, heading, turn))
             heading += turn
             continue
         direction = 1.0 if ds > 0.0 else -1.0
@@ -81,7 +100,8 @@ def legs(plan: Plan, spacing: float) -> list[Leg]:
 
 
 class Pursuit:
-    """The state of a regulated pure pursuit along a plan: which leg, where along it.
+    """The state of a regulated pure pursuit along a plan: which leg, where along it, and the
+    robot's heading counted in whole turns.
 
     Args:
         plan: the step plan whose path is followed.
@@ -99,26 +119,51 @@ class Pursuit:
         self.index = 0
         self.ahead = 0
         self.turning = True
-        #: True once the last leg is reached: the follower's arrival phase takes over.
+        #: The robot's heading (rad, not wrapped), from the headings given to :meth:`update`.
+        self.heading = 0.0
+        self._theta: float | None = None
+        #: True once every leg is driven and turned: the follower's arrival phase takes over.
         self.finished = not self.legs
 
     def update(self, x: float, y: float, theta: float) -> bool:
-        """Advance along the path for the robot at ``(x, y, theta)``; return :attr:`finished`."""
+        """Advance along the path for the robot at ``(x, y, theta)`` (m, m, rad, wrapped or
+        not); return :attr:`finished`. Call it at every control step: the heading is counted
+        from its change since the last call, which must be under half a turn."""
+        self._count_turns(theta)
         while not self.finished:
             leg = self.legs[self.leg]
             if self.turning:
-                if abs(math.remainder(leg.start_heading - theta, _TWO_PI)) > TURN_DONE:
+                if abs(leg.start_heading - self.heading) > TURN_DONE:
                     return False
                 self.turning = False
-            self._closest(leg, x, y)
-            if not self._leg_done(leg, x, y, theta):
-                return False
+            if leg.moves:
+                self._closest(leg, x, y)
+                if not self._leg_done(leg, x, y, theta):
+                    return False
             self.leg += 1
             self.index = self.ahead = 0
             self.turning = True
             if self.leg == len(self.legs):
                 self.finished = True
+            else:
+                self._anchor(self.legs[self.leg].from_heading)
         return True
+
+    def _count_turns(self, theta: float) -> None:
+        """Move :attr:`heading` by the change of ``theta`` (rad) since the last call."""
+        last = self._theta
+        self._theta = theta
+        if last is None:
+            self.heading = theta
+            self._anchor(self.legs[self.leg].from_heading if self.legs else 0.0)
+        else:
+            self.heading += math.remainder(theta - last, _TWO_PI)
+
+    def _anchor(self, planned: float) -> None:
+        """Take as :attr:`heading` the robot's heading nearest ``planned`` (rad), the plan's
+        heading where a leg starts: a whole turn the robot made that the plan did not is not
+        turned back, and from there every turn of the plan is made in full."""
+        self.heading = planned + math.remainder(self.heading - planned, _TWO_PI)
 
     def _closest(self, leg: Leg, x: float, y: float) -> None:
         """Move :attr:`index` forward to the point nearest the robot (a local search: the
@@ -134,22 +179,23 @@ class Pursuit:
         self.index = i
 
     def _leg_done(self, leg: Leg, x: float, y: float, theta: float) -> bool:
-        """Whether the robot has reached the leg's end: within the tolerance of it, or past it
-        (behind it in the direction of travel) with the end within the lookahead."""
+        """Whether the robot has driven the leg: its progress along the path has come within
+        the lookahead of the end (a leg that ends where it starts is not done at its start),
+        and it is within the tolerance of the end or past it (behind it in the direction of
+        travel)."""
+        if leg.lengths[-1] - leg.lengths[self.index] >= self.lookahead:
+            return False
         dx, dy = leg.xs[-1] - x, leg.ys[-1] - y
-        distance_squared = dx * dx + dy * dy
-        if distance_squared <= self.tolerance * self.tolerance:
+        if dx * dx + dy * dy <= self.tolerance * self.tolerance:
             return True
-        ahead = leg.direction * (math.cos(theta) * dx + math.sin(theta) * dy)
-        remaining = leg.lengths[-1] - leg.lengths[self.index]
-        return ahead <= 0.0 and remaining < self.lookahead
+        return leg.direction * (math.cos(theta) * dx + math.sin(theta) * dy) <= 0.0
 
     def command(self, x: float, y: float, theta: float) -> tuple[float, float]:
         """The command (m/s, rad/s) for the robot at ``(x, y, theta)`` after :meth:`update`."""
         leg = self.legs[self.leg]
         g = self.gains
         if self.turning:
-            return 0.0, g.kspin * math.remainder(leg.start_heading - theta, _TWO_PI)
+            return 0.0, g.kspin * (leg.start_heading - self.heading)
         xs, ys, i = leg.xs, leg.ys, self.index
         last = len(xs) - 1
         reach = self.lookahead * self.lookahead
