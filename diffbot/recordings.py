@@ -79,7 +79,8 @@ def read_recording(
     if is_bag(p):
         wheels = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
         limit = wheel_limit(feedback, counts_per_rev)
-        recording = _within_range(read_bag(p, topic, feedback), wheels, feedback, limit)
+        read = read_bag(p, topic, feedback, (params.left_joints, params.right_joints))
+        recording = _within_range(read, wheels, feedback, limit)
         return _conditioned(recording, params, conditioning, velocity)
 
     layout = csv_layout(time_column, left_column, right_column, delimiter, time_unit)

@@ -7,7 +7,8 @@ not grow with the recording; the result is that of feeding its samples one by on
 :class:`diffbot.odometry.Odometry` (stamps in seconds since the first sample), bit for bit. A
 side with several drive wheels is the mean of its joints present in a sample; a sample is
 skipped only when a whole side is missing. A bag topic is stamped by one clock: the header
-stamps when every readable message has a non-zero one, otherwise the bag's receive times. A
+stamps when every readable message with a wheel of each side has a non-zero one, otherwise the
+bag's receive times. A
 zero header stamp is seen only while reading, so a topic that turns out to need the receive
 times is read a second time: the sink is then told to start again (:meth:`PoseSink.restart`).
 
@@ -296,7 +297,11 @@ def _bag_pass(
         decoded = decode_positions(chunk.blobs, joints, feedback)
         readable = decoded.readable
         header = decoded.stamp_ns[readable]
-        if clock == CLOCK_HEADER and not np.all(header):
+        # the clock is chosen by the messages the odometry can use: a wheel of each side
+        left_side = decoded.present[:, : len(params.left_joints)]
+        right_side = decoded.present[:, len(params.left_joints) :]
+        sided = (np.any(left_side, axis=1) & np.any(right_side, axis=1))[readable]
+        if clock == CLOCK_HEADER and not np.all(header[sided]):
             return None
         unreadable = int(readable.size - np.count_nonzero(readable))
         odom.skip(SKIP_UNREADABLE, unreadable)

@@ -103,7 +103,10 @@ def typestore() -> Typestore:
 
 
 def read_bag(
-    path: str | os.PathLike[str], topic: str | None = None, field: str = "position"
+    path: str | os.PathLike[str],
+    topic: str | None = None,
+    field: str = "position",
+    sides: tuple[Sequence[str], Sequence[str]] | None = None,
 ) -> Recording:
     """Read the sensor_msgs/msg/JointState messages of one topic from a bag.
 
@@ -113,7 +116,9 @@ def read_bag(
 
     One clock stamps the whole topic: the header stamps when every message has a non-zero one,
     otherwise the bag's receive times for all of them (mixing the two would put samples decades
-    apart). :attr:`Recording.clock` says which (:data:`CLOCK_HEADER` or :data:`CLOCK_RECEIVE`).
+    apart); with ``sides``, every message that names a wheel joint of each side (another
+    publisher's messages on the topic, skipped anyway, do not choose the clock).
+    :attr:`Recording.clock` says which (:data:`CLOCK_HEADER` or :data:`CLOCK_RECEIVE`).
 
     Args:
         path: a rosbag2 directory (sqlite3 or mcap storage), one of its storage files, or a ROS 1
@@ -122,6 +127,8 @@ def read_bag(
             topic); other topics are ignored.
         field: ``"position"``, or ``"velocity"`` for samples holding the joints' velocities
             (rad/s) in place of their positions.
+        sides: the left and the right wheel joints, when the clock is chosen by the messages
+            that hold a wheel of each side.
 
     Returns:
         One sample per message, stamps in ns. Messages that cannot be decoded are counted in
@@ -168,7 +175,20 @@ def read_bag(
                 header_ns.append(stamp_ns)
                 receive_ns.append(int(timestamp))
         chosen = chunks.topic
-    use_header = all(header_ns)
+    if sides is None:
+        use_header = all(header_ns)
+    else:
+        left, right = set(sides[0]), set(sides[1])
+        sided: dict[int, bool] = {}  # by list: a run of equal names shares one
+        for stamp_ns, named in zip(header_ns, names_seen, strict=True):
+            key = id(named)
+            if key not in sided:
+                sided[key] = not left.isdisjoint(named) and not right.isdisjoint(named)
+            if sided[key] and not stamp_ns:
+                use_header = False
+                break
+        else:
+            use_header = True
     stamps = header_ns if use_header else receive_ns
     samples = [
         JointSample(*sample) for sample in zip(stamps, names_seen, positions_seen, strict=True)

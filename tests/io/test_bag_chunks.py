@@ -167,6 +167,31 @@ def test_a_bag_stamped_with_zero_headers_is_read_on_the_receive_clock(tmp_path: 
     assert got.summary.duration == 1.0
 
 
+def test_a_message_without_the_wheels_does_not_choose_the_clock(tmp_path: Path) -> None:
+    # header stamps 1 s apart, received 0.5 s apart (simulated time at half speed), and one
+    # message of another publisher on the topic (an arm's, its header stamp zero)
+    messages: list[Message] = [
+        (s * 10**9, s * 5 * 10**8, ["left", "right"], [float(s), float(s)]) for s in (1, 2, 3)
+    ]
+    messages.insert(2, (0, 11 * 10**8, ["arm"], [0.5]))
+    path = write_bag(tmp_path / "rec", messages)
+    chunked = bag_odometry(path, NAMED)
+    assert chunked.clock == CLOCK_HEADER
+    assert chunked.summary.duration == 2.0
+    assert chunked.summary.skipped == {"missing joint": 1}
+    recording = read_recording(path, NAMED)
+    assert recording.clock == CLOCK_HEADER
+    odometry = Odometry(NAMED)
+    whole = run_odometry(recording, odometry)
+    assert whole.duration == 2.0
+    assert odometry.pose == chunked.summary.final_pose
+    # a message of the wheels with a zero stamp still asks for the receive clock
+    messages[2] = (0, 11 * 10**8, ["left", "right"], [1.5, 1.5])
+    path = write_bag(tmp_path / "rec2", messages)
+    assert bag_odometry(path, NAMED).clock == CLOCK_RECEIVE
+    assert read_recording(path, NAMED).clock == CLOCK_RECEIVE
+
+
 def test_a_missing_topic_names_the_topics_found(tmp_path: Path) -> None:
     path = write_bag(tmp_path / "rec", [(1, 1, ["left"], [0.0])])
     with pytest.raises(
