@@ -19,7 +19,8 @@ is resolved like a package (the description's source tree, the given packages, t
 ``GZ_SIM_RESOURCE_PATH``, ``IGN_GAZEBO_RESOURCE_PATH`` and ``GAZEBO_MODEL_PATH``), no file
 outside the description's folders and those packages is read, files are bounded in size
 (:data:`MAX_FILE_BYTES`) and includes in depth (:data:`MAX_DEPTH`) and number
-(:data:`MAX_INCLUDES`).
+(:data:`MAX_INCLUDES`). Each file is parsed once however often it is included, so that reading
+takes time in proportion to the bytes on disk, not to includes times file size.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ from xml.etree import ElementTree as ET
 
 from diffbot.errors import DescriptionError, ExpansionLimitError
 from diffbot.io.pathnames import resolved
-from diffbot.io.textfile import check_regular
+from diffbot.io.textfile import check_regular, open_regular
 from diffbot.numbers import as_number, shown
 from diffbot.urdf.packages import PackageFinder, folder_below
 from diffbot.urdf.poses import Matrix, pose_matrix
@@ -172,13 +173,21 @@ class _Model:
     includes: int = 0
 
 
-def model_file(folder: Path, roots: Sequence[Path] | None = None) -> Path:
+#: Parsed files by resolved path. Their trees are only read, never changed, so one tree serves
+#: every include of its file.
+_Trees = dict[Path, ET.Element]
+
+
+def model_file(
+    folder: Path, roots: Sequence[Path] | None = None, trees: _Trees | None = None
+) -> Path:
     """The SDF file of a model folder: the first ``<sdf>`` its ``model.config`` names, else
     ``model.sdf``.
 
     Args:
         folder: the model folder.
         roots: the folders the ``model.config`` must lie in, links resolved (None: any).
+        trees: files already parsed, by resolved path (the ``model.config`` is added).
 
     Raises:
         DescriptionError: the folder holds neither.
@@ -187,8 +196,8 @@ def model_file(folder: Path, roots: Sequence[Path] | None = None) -> Path:
     config = folder / "model.config"
     if config.is_file():
         if roots is not None:
-            check_inside(config, roots, "reading", "it")
-        root = _parse(config, "a model.config")
+            _check_inside(config, roots)
+        root = _parse(config, "a model.config", trees)
         for sdf in root.iter("sdf"):
             name = (sdf.text or "").strip()
             if name:
@@ -201,27 +210,64 @@ def model_file(folder: Path, roots: Sequence[Path] | None = None) -> Path:
     )
 
 
-def _parse(path: Path, kind: str) -> ET.Element:
+def _check_inside(path: Path, roots: Sequence[Path]) -> None:
+    """Refuse ``path`` unless it lies inside one of ``roots`` (links resolved), as
+    :func:`check_inside` does, but looking each folder above it up among the roots that are
+    already resolved instead of resolving every root again at each of hundreds of includes.
+
+    Raises:
+        OutsideRootsError: ``path`` is outside every root.
+    """
+    real = resolved(path, DescriptionError)
+    folders = set(roots)
+    if real not in folders and folders.isdisjoint(real.parents):
+        check_inside(path, roots, "reading", "it")  # roots written otherwise, or the refusal
+
+
+def _parse(path: Path, kind: str, trees: _Trees | None = None) -> ET.Element:
+    """The root of an XML file, parsed once per ``trees`` (checked as a regular file each time).
+
+    Raises:
+        DescriptionError: not a regular file, unreadable, or malformed XML.
+        ExpansionLimitError: larger than :data:`MAX_FILE_BYTES` bytes.
+    """
     check_regular(path, DescriptionError, kind)
+    trees = {} if trees is None else trees
+    key = resolved(path, DescriptionError)
+    if key in trees:
+        return trees[key]
+    too_large = f"{path}: larger than {MAX_FILE_BYTES} bytes, refused"
     if path.stat().st_size > MAX_FILE_BYTES:
-        raise ExpansionLimitError(f"{path}: larger than {MAX_FILE_BYTES} bytes, refused")
+        raise ExpansionLimitError(too_large)
     try:
-        return ET.parse(path).getroot()
+        with open(open_regular(path, DescriptionError, kind), "rb") as handle:
+            data = handle.read(MAX_FILE_BYTES + 1)
+    except OSError as err:
+        raise DescriptionError(f"{path}: cannot read ({err.strerror or err})") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise ExpansionLimitError(too_large)
+    try:
+        # in one piece: expat fed in chunks rescans a token (a long comment) at each chunk
+        root = ET.fromstring(data)
     except ET.ParseError as err:
         raise DescriptionError(f"{path}: malformed XML: {err}") from None
+    trees[key] = root
+    return root
 
 
 class _Reader:
     def __init__(self, source: Path, finder: PackageFinder, roots: Sequence[Path], trust: bool):
         self.source = source
         self.finder = finder
-        self.roots = list(roots)  # resolved, each once; the models it includes add theirs
+        # resolved, each once; the models it includes add theirs
+        self.roots = dict.fromkeys(roots)
         self.trust = trust
         self.model = _Model()
+        self.trees: _Trees = {}
 
     def check(self, path: Path) -> None:
         if not self.trust:
-            check_inside(path, self.roots, "reading", "it")
+            _check_inside(path, list(self.roots))
 
     def locate(self, uri: str, here: Path) -> Path:
         """The model folder or file an include's URI names."""
@@ -236,7 +282,7 @@ class _Reader:
                         f"{self.source}: model {name!r} of {uri!r} not found: give its folder "
                         f"with {{packages}} {name}=DIR"
                     )
-                self.roots.append(resolved(found, DescriptionError))
+                self.roots.setdefault(resolved(found, DescriptionError))
                 return found / rest if rest else found
         if "://" in uri and not uri.startswith("file://"):
             raise DescriptionError(
@@ -259,7 +305,7 @@ class _Reader:
 
     def read_file(self, path: Path, frame: Matrix, prefix: str, depth: int) -> None:
         self.check(path)
-        root = _parse(path, "an SDF file")
+        root = _parse(path, "an SDF file", self.trees)
         self.model.files.append(path)
         if root.tag != "sdf":
             raise DescriptionError(f"{path}: not SDF: the root element is <{root.tag}>")
@@ -325,7 +371,7 @@ class _Reader:
             target = self.locate(uri, here)
             if target.is_dir():
                 self.check(target)  # before its model.config is read
-                target = model_file(target, None if self.trust else self.roots)
+                target = model_file(target, None if self.trust else list(self.roots), self.trees)
             name = (include.findtext("name") or "").strip() or target.parent.name
             include_pose, _ = _pose(include, f"{where} include {uri!r}")
             self.read_file(target, _mul(frame, include_pose), f"{prefix}{name}::", depth + 1)
@@ -492,7 +538,7 @@ def expand_sdf(
     file = model_file(path, None if trust else folders) if path.is_dir() else path
     reader = _Reader(file, finder, folders, trust)
     reader.read_file(file, _identity(), "", 0)
-    root = _parse(file, "an SDF file")
+    root = _parse(file, "an SDF file", reader.trees)
     model = root.find("model")
     if model is None:
         world = root.find("world")

@@ -224,7 +224,7 @@ OWN_READERS = {
     ("diffbot/cli.py", "_drop_stdout"),
     # a recording's storage, through the rosbags readers
     ("diffbot/io/bag_chunks.py", "_open_reader"),
-    # checked by textfile.check_regular and bounded in size first (the parser reads by name)
+    # a descriptor from textfile.open_regular, read in binary to bound its size
     ("diffbot/urdf/sdf.py", "_parse"),
     # a descriptor from textfile.open_regular: the head of a file, to tell a description
     ("diffbot/commands/options.py", "xml_root"),
