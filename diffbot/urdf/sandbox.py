@@ -423,21 +423,27 @@ def sandboxed(
             eval_find=subst._eval_find,
             dict_find=subst._eval_dict.get("find"),
         )
+        patches: dict[str, Any] = {
+            "eval_text": eval_text,
+            "eval_all": eval_all,
+            "handle_macro_call": handle_macro_call,
+            "parse": parse,
+            "replace_node": _replace_node,
+            "eval_extension": eval_extension,
+            "all_includes": [],
+        }
+        if not trust:
+            patches["glob"] = SimpleNamespace(glob=list_includes)
         try:
-            xacro.eval_text = eval_text
-            xacro.eval_all = eval_all
-            xacro.handle_macro_call = handle_macro_call
-            xacro.parse = parse
-            xacro.replace_node = _replace_node
-            xacro.eval_extension = eval_extension
-            xacro.all_includes = []
+            for name in _PATCHED:
+                if name in patches:
+                    setattr(xacro, name, patches[name])
             subst._eval_find = tracking_find
             subst._eval_dict["find"] = tracking_find
             if not trust:
                 xacro.safe_eval = safe_eval
                 xacro._global_symbols = table
                 subst._eval = subst_eval
-                xacro.glob = SimpleNamespace(glob=list_includes)
             yield read
         finally:
             if folders is not None:
