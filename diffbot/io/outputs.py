@@ -120,13 +120,20 @@ def check_output_name(
     slash (``run_bag/``). With ``source``, ``path`` is the file read whose changed copy is
     written beside it, under a name made from its own: the same names are refused. With
     ``holder``, ``path`` is a folder that receives outputs (one per input) and may be any
-    folder, ``.`` and ``..`` too: only an empty name is refused.
+    folder, ``.`` and ``..`` too: only an empty name is refused. ``-`` is refused everywhere:
+    it stands for standard output, not for a file of that name.
 
     Raises:
         OutputError: the name is one of those.
     """
     if not path.strip():
         raise OutputError(f"{path!r}: an empty name, not a file or folder name", path=path)
+    if path == "-":  # what reads standard input where a recording is named
+        raise OutputError(
+            "-: standard output, not a file: without the output option the output goes there; "
+            "write ./- for a file named '-'",
+            path=path,
+        )
     if holder:
         return
     separators = "/" + os.sep

@@ -348,7 +348,7 @@ def test_odom_reads_a_csv_from_stdin(runner: CliRunner) -> None:
         (["-"], b"", "error: -: empty file"),
         (["-"], b"\xff\xfe\x00", "error: -: not a text (UTF-8) CSV file"),
         (["-"], b"time,a,b\n0,0,0\n", "error: -: no column for the left wheel joint"),
-        (["-", "--out", "-"], b"time\n", "error: -: no column for the left wheel joint"),
+        (["-", "--out", "-"], b"time\n", "error: -o/--out -: standard output, not a file"),
     ],
 )
 def test_odom_refuses_empty_names_and_bad_stdin_with_one_error_line(

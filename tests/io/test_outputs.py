@@ -498,6 +498,13 @@ def test_a_folder_output_needs_a_name_of_its_own(name: str) -> None:
         check_output_name(name, folder=True)
 
 
+@pytest.mark.parametrize("kind", [{}, {"folder": True}, {"holder": True}, {"source": True}])
+def test_a_dash_names_standard_output_not_a_file(kind: dict[str, bool]) -> None:
+    with pytest.raises(OutputError, match=r"^-: standard output, not a file"):
+        check_output_name("-", **kind)
+    check_output_name("./-", **kind)
+
+
 @pytest.mark.parametrize("name", [".", "..", "/", "./", "out/.."])
 def test_a_folder_that_holds_outputs_may_be_any_folder(name: str) -> None:
     check_output_name(name, holder=True)
