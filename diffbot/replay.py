@@ -394,6 +394,7 @@ def bag_odometry(
             conditioner.report(),
             chunks.topic,
             chunks.topic_chosen,
+            chunks.notes(),
         )
 
 

@@ -175,6 +175,7 @@ def read_bag(
                 header_ns.append(stamp_ns)
                 receive_ns.append(int(timestamp))
         chosen = chunks.topic
+        notes = chunks.notes()
     if sides is None:
         use_header = all(header_ns)
     else:
@@ -194,7 +195,7 @@ def read_bag(
         JointSample(*sample) for sample in zip(stamps, names_seen, positions_seen, strict=True)
     ]
     clock = CLOCK_HEADER if use_header else CLOCK_RECEIVE
-    return Recording(source, "rosbag2", samples, skipped, clock, topic=chosen)
+    return Recording(source, "rosbag2", samples, skipped, clock, topic=chosen, notes=notes)
 
 
 # --------------------------------------------------------------------------------------------

@@ -402,6 +402,25 @@ class TopicChunks:
             )
         self.msgtype: str = types[0]
 
+    def notes(self) -> tuple[str, ...]:
+        """What a reader should know of the bag, for people: a storage file with a write-ahead
+        log (``.db3-wal``, left by a recording that did not close) whose messages are not
+        read, as rosbags does not read them (nor may a reader add to a bag the files that
+        reading them would)."""
+        files = [self._path] if self._path.is_file() else sorted(self._path.glob("*.db3"))
+        logs = []
+        for file in files:
+            log = file.with_name(file.name + "-wal")
+            with contextlib.suppress(OSError):
+                if log.is_file() and log.stat().st_size > 0:
+                    logs.append(log.name)
+        if not logs:
+            return ()
+        return (
+            f"{listing(logs)}: a write-ahead log of a recording that did not close; the "
+            "messages it holds are not read (open the bag once with sqlite3 to merge them)",
+        )
+
     @property
     def ros1(self) -> bool:
         """Whether the bag is a ROS 1 bag (its messages converted to CDR as they are read)."""

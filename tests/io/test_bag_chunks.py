@@ -307,3 +307,36 @@ def test_metadata_of_the_wrong_kind_is_one_error(
     metadata.write_text(yaml.safe_dump(info), encoding="utf-8")
     with pytest.raises(BagError, match=f"malformed bag metadata: {said}$"):
         bag_odometry(path, NAMED)
+
+
+def test_a_write_ahead_log_left_beside_the_storage_is_said_not_read(tmp_path: Path) -> None:
+    import shutil
+    import sqlite3
+
+    messages: list[Message] = [
+        (s * 10**9, s * 10**9, ["left", "right"], [float(s), float(s)]) for s in (1, 2, 3)
+    ]
+    made = write_bag(tmp_path / "made", messages)
+    storage = next(made.glob("*.db3"))
+    # a recorder that died with messages in its write-ahead log: copied while it is open
+    connection = sqlite3.connect(storage)
+    try:
+        connection.execute("PRAGMA journal_mode=WAL")
+        connection.execute("PRAGMA wal_autocheckpoint=0")
+        connection.execute("DELETE FROM messages WHERE timestamp > 1000000000")
+        connection.commit()
+        crashed = tmp_path / "crashed"
+        shutil.copytree(made, crashed)
+    finally:
+        connection.close()
+    log = crashed / f"{storage.name}-wal"
+    assert log.stat().st_size > 0
+    before = {p.name: p.read_bytes() for p in crashed.iterdir()}
+    got = bag_odometry(crashed, NAMED)
+    assert got.notes == (
+        f"'{log.name}': a write-ahead log of a recording that did not close; the messages it "
+        "holds are not read (open the bag once with sqlite3 to merge them)",
+    )
+    assert read_recording(crashed, NAMED).notes == got.notes
+    assert {p.name: p.read_bytes() for p in crashed.iterdir()} == before  # nothing added
+    assert bag_odometry(made, NAMED).notes == ()
