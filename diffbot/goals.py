@@ -126,8 +126,27 @@ def _check_shape(shape: str, min_radius: float | None, forward_only: bool) -> fl
     return min_radius
 
 
+def _joined(pieces: list[Piece], unit: float) -> list[Piece]:
+    """The pieces without those too short to drive (turns in rad, straights in metres, ``unit``
+    metres per unit of a straight's length), the neighbours such a piece parted joined: a turn
+    and the turn back a sliver of a straight apart (a goal 1e-18 m to the side) are no turn at
+    all, not two."""
+    out: list[Piece] = []
+    for kind, length in pieces:
+        scale = unit if kind == "S" else 1.0
+        if abs(length) * scale <= ROUNDING:
+            continue
+        if out and out[-1].kind == kind:
+            length += out.pop().length
+            if abs(length) * scale <= ROUNDING:
+                continue  # they undo each other
+        out.append(Piece(kind, length))
+    return out
+
+
 def _arcs(pieces: list[Piece], radius: float) -> list[Segment]:
     """Reeds-Shepp or Dubins pieces (radii) as arcs and straights (m)."""
+    pieces = _joined(pieces, radius)
     # The segments are valid by construction (a positive finite radius, angles and lengths
     # above the rounding): built as built() builds them, without their checks, inline (a goal
     # plan's segments cost more than its path otherwise).
@@ -156,6 +175,7 @@ def _arcs(pieces: list[Piece], radius: float) -> list[Segment]:
 
 def _turns(pieces: list[Piece], half_track: float) -> list[Segment]:
     """Time-optimal pieces (turns in rad, straights in half tracks) as spins and straights."""
+    pieces = _joined(pieces, half_track)
     out: list[Segment] = []
     for kind, length in pieces:
         if kind == "T":

@@ -535,3 +535,23 @@ def test_shape_times_take_fastest_and_cruise_as_plan_through_does() -> None:
         for shape in SHAPES:
             p = plan_through(route, ROBOT, shape=shape, min_radius=0.25, **options)
             assert times[shape].duration == p.duration
+
+
+@pytest.mark.parametrize(
+    ("shape", "radius"),
+    [("fastest", None), ("spin-straight-spin", None), ("dubins", 0.2), ("reeds-shepp", 0.2)],
+)
+@pytest.mark.parametrize("goal", [(0.0, 1e-18, 0.0), (1e-18, -1e-18, 0.0), (-1e-17, 0.0, 0.0)])
+def test_a_goal_a_sliver_from_the_start_is_no_turn_and_back(
+    shape: str, radius: float | None, goal: tuple[float, float, float]
+) -> None:
+    # the straight to it is shorter than a float's rounding: turning to face it and back
+    # again is no motion, and took a second and more
+    made = plan_through([goal], ROBOT, shape=shape, min_radius=radius)
+    assert made.segments == ()
+
+
+def test_turns_that_a_sliver_parts_are_joined_into_one() -> None:
+    # a quarter turn off the start: the heading change alone, in one spin
+    made = plan_through([(0.0, 1e-18, math.pi / 2)], ROBOT)
+    assert [s.segment for s in made.segments] == [Spin(math.pi / 2)]
