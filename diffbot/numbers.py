@@ -36,6 +36,7 @@ __all__ = [
     "positive_finite",
     "shorten_numerals",
     "shown",
+    "written_number",
 ]
 
 #: Longest a ramped or sampled plan may run (s): about 11.6 days; limits that need longer are
@@ -112,6 +113,20 @@ def shorten_numerals(text: str) -> str:
     ``...``: what an error or warning line shows of a 400-digit number it echoes."""
     half = 18
     return _LONG_DIGITS.sub(lambda m: f"{m[0][:half]}...{m[0][-half:]}", text)
+
+
+def written_number(text: str) -> float:
+    """The number ``text`` writes as files write numbers (XML, a robot description): what
+    ``float`` reads, less the spellings of Python alone, digits grouped by underscores
+    (``1_0``) and digits of other scripts (Arabic-Indic), which a URDF parser refuses and a
+    reader would take for garbage, not for ten.
+
+    Raises:
+        ValueError: ``text`` is not such a number (as ``float`` raises it).
+    """
+    if "_" in text or not text.isascii():
+        raise ValueError(f"could not convert string to float: {text!r}")
+    return float(text)
 
 
 def reads_as_number(text: str) -> bool:

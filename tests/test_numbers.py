@@ -19,6 +19,7 @@ from diffbot.numbers import (
     reads_as_number,
     shorten_numerals,
     shown,
+    written_number,
 )
 
 
@@ -120,3 +121,18 @@ def test_motor_limits_keep_those_a_wheel_can_have_and_name_placeholders_once() -
     ]
     assert motor_limits("x", [], one) == []
     assert len(one) == 1
+
+
+@given(st.floats(allow_nan=False) | st.integers(-(10**30), 10**30))
+def test_a_number_written_as_files_write_it_reads_as_float_reads_it(value: float) -> None:
+    for text in (repr(value), str(value), f"{value:e}" if isinstance(value, float) else str(value)):
+        assert written_number(text) == float(text)
+    assert math.isnan(written_number("nan"))
+    assert written_number(" -inf ") == -math.inf
+
+
+@pytest.mark.parametrize("text", ["1_0", "1_0e-2", "0.1_5", "\u0661\u0660", "1\u0660", "\uff11"])
+def test_spellings_of_python_alone_are_no_written_number(text: str) -> None:
+    float(text)  # Python reads each
+    with pytest.raises(ValueError, match="could not convert"):
+        written_number(text)

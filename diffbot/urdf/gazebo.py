@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from xml.etree.ElementTree import Element
 
 from diffbot.errors import DescriptionError
+from diffbot.numbers import written_number
 
 __all__ = [
     "GazeboDrive",
@@ -85,7 +86,7 @@ def _plugin_lengths(plugin: Element, filename: str, tag: str, scale: float) -> t
     values = []
     for text in _plugin_texts(plugin, tag):
         try:
-            value = float(text)
+            value = written_number(text)
         except ValueError:
             value = math.nan
         if not (math.isfinite(value) and value > 0.0):

@@ -21,6 +21,7 @@ from xml.etree.ElementTree import Element, ParseError, iterparse
 
 from diffbot.errors import DescriptionError, DiffbotError, OutsideRootsError
 from diffbot.io.pathnames import resolved
+from diffbot.numbers import written_number
 from diffbot.urdf.poses import Matrix, pose_matrix
 
 __all__ = [
@@ -41,7 +42,7 @@ MESH_FORMATS: Final = ("stl", "obj", "ply", "off", "glb", "dae")
 
 def _numbers(text: str | None, default: str, count: int, where: str) -> list[float]:
     try:
-        values = [float(v) for v in (text if text is not None else default).split()]
+        values = [written_number(v) for v in (text if text is not None else default).split()]
     except ValueError:
         values = []
     if len(values) != count or not all(math.isfinite(v) for v in values):
@@ -158,8 +159,7 @@ def _unit_metres(text: str | None, name: str) -> float:
     if text is None:
         return 1.0
     try:
-        # float() also takes "1_000", which no XML number is
-        metres = float(text) if "_" not in text else math.nan
+        metres = written_number(text)
     except ValueError:
         metres = math.nan
     if not (math.isfinite(metres) and metres > 0):

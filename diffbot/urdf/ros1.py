@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from xml.etree.ElementTree import Element
 
+from diffbot.numbers import written_number
+
 __all__ = ["urdf_radius", "urdf_separation"]
 
 
@@ -22,7 +24,7 @@ def _xyz(joint: Element) -> tuple[float, float, float] | None:
     origin = joint.find("origin")
     text = "0 0 0" if origin is None else origin.get("xyz", "0 0 0")
     try:
-        x, y, z = (float(v) for v in text.split())
+        x, y, z = (written_number(v) for v in text.split())
     except ValueError:
         return None
     return x, y, z
@@ -56,7 +58,7 @@ def urdf_radius(root: Element, left: str) -> float | None:
     if shape is None:
         shape = geometry.find("sphere")
     try:
-        radius = float(shape.get("radius", "nan")) if shape is not None else math.nan
+        radius = written_number(shape.get("radius", "nan")) if shape is not None else math.nan
     except ValueError:
         return None
     return radius if math.isfinite(radius) and radius > 0.0 else None

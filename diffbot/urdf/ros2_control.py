@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from xml.etree.ElementTree import Element
 
+from diffbot.numbers import written_number
+
 __all__ = ["velocity_limits"]
 
 
@@ -32,7 +34,7 @@ def velocity_limits(root: Element) -> dict[str, float]:
                     if param.get("name") not in ("max", "min"):
                         continue
                     try:
-                        value = abs(float((param.text or "").strip()))
+                        value = abs(written_number((param.text or "").strip()))
                     except ValueError:
                         continue
                     if math.isfinite(value) and value > 0.0:

@@ -36,7 +36,7 @@ from xml.etree import ElementTree as ET
 from diffbot.errors import DescriptionError, ExpansionLimitError
 from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular, open_regular
-from diffbot.numbers import as_number, shown
+from diffbot.numbers import as_number, shown, written_number
 from diffbot.urdf.packages import PackageFinder, folder_below
 from diffbot.urdf.poses import Matrix, pose_matrix
 from diffbot.urdf.sandbox import check_inside
@@ -89,7 +89,7 @@ def _quaternion(x: float, y: float, z: float, w: float) -> Matrix:
 def _numbers(text: str | None, count: int, where: str) -> list[float]:
     parts = (text or "").split()
     try:
-        values = [float(p) for p in parts]
+        values = [written_number(p) for p in parts]
     except ValueError:
         values = []
     if len(values) != count or not all(math.isfinite(v) for v in values):

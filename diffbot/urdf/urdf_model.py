@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 from xml.etree.ElementTree import Element
 
 from diffbot.errors import DescriptionError
-from diffbot.numbers import shown
+from diffbot.numbers import shown, written_number
 
 if TYPE_CHECKING:
     import numpy as np
@@ -141,7 +141,7 @@ class _Reader:
 
     def number(self, text: str, where: str) -> float:
         try:
-            return float(text)
+            return written_number(text)
         except (ValueError, OverflowError):
             raise self.fail(f"{where} must be a number, got {shown(text)}") from None
 

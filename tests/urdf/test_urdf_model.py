@@ -281,6 +281,12 @@ BROKEN = {
     "four numbers for three": ('<origin xyz="1 2 3 4"/>', "", "xyz must be 3 numbers"),
     "an empty origin": ('<origin xyz=""/>', "", "xyz must be 3 numbers"),
     "a word in the axis": ('<axis xyz="0 y 0"/>', "", "<axis> xyz must be a number"),
+    "digits grouped as Python groups them": (
+        '<origin xyz="0 1_0e-2 0"/>',
+        "",
+        "xyz must be a number, got '1_0e-2'",
+    ),
+    "digits of another script": ('<limit velocity="\u0665"/>', "", "velocity must be a number"),
     "a word as a limit": ('<limit velocity="fast"/>', "", "velocity must be a number"),
     "a word as a multiplier": ('<mimic joint="k" multiplier="x"/>', "", "multiplier must be"),
     "a word as a radius": (
