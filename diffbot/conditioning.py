@@ -400,15 +400,15 @@ class Conditioner:
         d_angle = np.diff(values, prepend=column.last_value)
         d_time = np.diff(times, prepend=column.last_stamp).astype(np.float64) / NS_PER_S
         if not column.started:
-            d_time[0] = 0.0  # no step ends at a joint's first sample
+            # no step ends at a joint's first sample: as if it came after all time, at rest
+            d_time[0] = math.inf
             column.started = True
         column.last_value = float(values[-1])
         column.last_stamp = int(times[-1])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            speed[kept] = np.where(
-                d_time > 0, np.abs(d_angle) / np.where(d_time > 0, d_time, 1.0), 0.0
-            )
-            bad[kept] = (d_time > 0) & (np.abs(d_angle) > column.limit * d_time + column.slack)
+        # each kept stamp is after the one before it: every step takes time
+        moved = np.abs(d_angle)
+        speed[kept] = moved / d_time
+        bad[kept] = moved > column.limit * d_time + column.slack
         return speed, bad
 
     def report(self) -> ConditioningReport:

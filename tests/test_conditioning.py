@@ -141,6 +141,17 @@ def test_a_stamp_that_goes_back_ends_no_step() -> None:
     assert conditioner.report().implausible_steps == 0
 
 
+def test_a_late_row_in_the_next_chunk_is_skipped_against_the_last_chunk() -> None:
+    # stamps 1 and 1.5 s come after 2 s: both are skipped, whichever chunk they are in, so
+    # the 500 rad they hold neither end nor start a step (the next one is 2 -> 3 s, 1 rad)
+    conditioner = Conditioner.for_robot(BOT_50_RPM, ("l", "r"), 1)
+    ns = 1_000_000_000
+    conditioner.feed(np.array([0, 2 * ns]), np.array([[0.0, 0.0], [2.0, 2.0]]))
+    late = np.array([[500.0, 500.0], [500.0, 500.0], [3.0, 3.0]])
+    conditioner.feed(np.array([1 * ns, 3 * ns // 2, 3 * ns]), late)
+    assert conditioner.report().implausible_steps == 0
+
+
 def test_missing_and_non_finite_positions_pass_through_untouched() -> None:
     stamps = np.arange(4, dtype=np.int64) * 100_000_000
     positions = np.array([[65000.0, 1.0], [math.nan, 2.0], [100.0, 3.0], [200.0, 4.0]])

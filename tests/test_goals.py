@@ -555,3 +555,28 @@ def test_turns_that_a_sliver_parts_are_joined_into_one() -> None:
     # a quarter turn off the start: the heading change alone, in one spin
     made = plan_through([(0.0, 1e-18, math.pi / 2)], ROBOT)
     assert [s.segment for s in made.segments] == [Spin(math.pi / 2)]
+
+
+def test_slivers_are_measured_in_metres_and_radians_and_joined_neighbours_cancel() -> None:
+    from diffbot.goals import _joined
+    from diffbot.planning import ROUNDING, Piece
+
+    # a straight is measured in metres (its length times the unit), a turn in radians
+    assert _joined([Piece("S", 1e-14)], 0.05) == []  # 5e-16 m
+    assert _joined([Piece("S", 1e-14)], 1.0) == [Piece("S", 1e-14)]
+    assert _joined([Piece("T", 2e-15)], 0.1) == [Piece("T", 2e-15)]  # 2e-15 rad, kept
+    assert _joined([Piece("T", 6e-16)], 0.1) == []
+    # up to the rounding itself, inclusive
+    assert _joined([Piece("S", ROUNDING)], 1.0) == []
+    assert _joined([Piece("L", ROUNDING)], 1.0) == []
+    # neighbours joined: to nothing within the rounding, in metres for straights
+    parted = [Piece("S", 4e-15), Piece("T", 1e-300), Piece("S", -3 * 1e-15)]
+    assert parted[0].length + parted[2].length == ROUNDING
+    assert _joined(parted, 1.0) == []
+    # 3e-15 m forward and 2.5e-15 m back, in units of 0.01 m: 5e-16 m in all
+    there_and_back = [Piece("S", 3e-13), Piece("T", 0.0), Piece("S", -2.5e-13)]
+    assert _joined(there_and_back, 0.01) == []
+    assert _joined(there_and_back, 1.0) == [Piece("S", 3e-13 - 2.5e-13)]
+    # a turn and the turn back cancel, and what follows is kept
+    back = [Piece("T", 0.5), Piece("S", 1e-17), Piece("T", -0.5), Piece("S", 1.0)]
+    assert _joined(back, 1.0) == [Piece("S", 1.0)]
