@@ -34,6 +34,7 @@ __all__ = [
     "finite_in_range",
     "motor_limits",
     "positive_finite",
+    "positive_written",
     "shorten_numerals",
     "shown",
     "written_number",
@@ -127,6 +128,16 @@ def written_number(text: str) -> float:
     if "_" in text or not text.isascii():
         raise ValueError(f"could not convert string to float: {text!r}")
     return float(text)
+
+
+def positive_written(text: str) -> float | None:
+    """The finite positive number ``text`` writes (:func:`written_number`), or None: a length,
+    a unit, a radius read from a file, for the caller to refuse in its own words."""
+    try:
+        value = written_number(text)
+    except ValueError:
+        return None
+    return value if math.isfinite(value) and value > 0.0 else None
 
 
 def reads_as_number(text: str) -> bool:

@@ -16,6 +16,7 @@ from diffbot.numbers import (
     finite_in_range,
     motor_limits,
     positive_finite,
+    positive_written,
     reads_as_number,
     shorten_numerals,
     shown,
@@ -136,3 +137,22 @@ def test_spellings_of_python_alone_are_no_written_number(text: str) -> None:
     float(text)  # Python reads each
     with pytest.raises(ValueError, match="could not convert"):
         written_number(text)
+
+
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [
+        ("0.05", 0.05),
+        ("1e-3", 1e-3),
+        ("0", None),
+        ("-1", None),
+        ("nan", None),
+        ("inf", None),
+        ("1e400", None),
+        ("abc", None),
+        ("", None),
+        ("1_0", None),
+    ],
+)
+def test_a_positive_written_number_or_none(text: str, value: float | None) -> None:
+    assert positive_written(text) == value

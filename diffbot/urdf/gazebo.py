@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from xml.etree.ElementTree import Element
 
 from diffbot.errors import DescriptionError
-from diffbot.numbers import written_number
+from diffbot.numbers import positive_written
 
 __all__ = [
     "GazeboDrive",
@@ -85,11 +85,8 @@ def _plugin_texts(plugin: Element, *tags: str) -> list[str]:
 def _plugin_lengths(plugin: Element, filename: str, tag: str, scale: float) -> tuple[float, ...]:
     values = []
     for text in _plugin_texts(plugin, tag):
-        try:
-            value = written_number(text)
-        except ValueError:
-            value = math.nan
-        if not (math.isfinite(value) and value > 0.0):
+        value = positive_written(text)
+        if value is None:
             raise GazeboPluginError(
                 f"Gazebo plugin {filename!r}: <{tag}> must be a positive length in m, got {text!r}"
             )

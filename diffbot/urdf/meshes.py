@@ -21,7 +21,7 @@ from xml.etree.ElementTree import Element, ParseError, iterparse
 
 from diffbot.errors import DescriptionError, DiffbotError, OutsideRootsError
 from diffbot.io.pathnames import resolved
-from diffbot.numbers import written_number
+from diffbot.numbers import positive_written, written_number
 from diffbot.urdf.poses import Matrix, pose_matrix
 
 __all__ = [
@@ -158,11 +158,8 @@ def _local(tag: str) -> str:
 def _unit_metres(text: str | None, name: str) -> float:
     if text is None:
         return 1.0
-    try:
-        metres = written_number(text)
-    except ValueError:
-        metres = math.nan
-    if not (math.isfinite(metres) and metres > 0):
+    metres = positive_written(text)
+    if metres is None:
         raise DescriptionError(
             f"{name}: the COLLADA unit's meter={text!r} is not a finite positive number of metres"
         )

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from xml.etree.ElementTree import Element
 
-from diffbot.numbers import written_number
+from diffbot.numbers import positive_written, written_number
 
 __all__ = ["urdf_radius", "urdf_separation"]
 
@@ -57,8 +57,4 @@ def urdf_radius(root: Element, left: str) -> float | None:
     shape = geometry.find("cylinder")
     if shape is None:
         shape = geometry.find("sphere")
-    try:
-        radius = written_number(shape.get("radius", "nan")) if shape is not None else math.nan
-    except ValueError:
-        return None
-    return radius if math.isfinite(radius) and radius > 0.0 else None
+    return None if shape is None else positive_written(shape.get("radius", ""))
