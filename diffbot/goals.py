@@ -146,19 +146,17 @@ def _joined(pieces: list[Piece], unit: float) -> list[Piece]:
 
 def _arcs(pieces: list[Piece], radius: float) -> list[Segment]:
     """Reeds-Shepp or Dubins pieces (radii) as arcs and straights (m)."""
-    pieces = _joined(pieces, radius)
     # The segments are valid by construction (a positive finite radius, angles and lengths
-    # above the rounding): built as built() builds them, without their checks, inline (a goal
-    # plan's segments cost more than its path otherwise).
+    # above the rounding, as _joined leaves them): built as built() builds them, without their
+    # checks, inline (a goal plan's segments cost more than its path otherwise).
     new = object.__new__
     out: list[Segment] = []
-    for kind, length in pieces:
+    for kind, length in _joined(pieces, radius):
+        segment: Segment
         if kind == "S":
-            if abs(length) * radius > ROUNDING:
-                segment: Segment = new(Straight)
-                segment.__dict__.update(length=length * radius, duration=None)
-                out.append(segment)
-        elif length > ROUNDING or length < -ROUNDING:
+            segment = new(Straight)
+            segment.__dict__.update(length=length * radius, duration=None)
+        else:
             # A left turn driven backwards turns the heading clockwise (and a right one, ccw).
             reverse = length < 0.0
             segment = new(Arc)
@@ -169,21 +167,18 @@ def _arcs(pieces: list[Piece], radius: float) -> list[Segment]:
                 duration=None,
                 reverse=reverse,
             )
-            out.append(segment)
+        out.append(segment)
     return out
 
 
 def _turns(pieces: list[Piece], half_track: float) -> list[Segment]:
     """Time-optimal pieces (turns in rad, straights in half tracks) as spins and straights."""
-    pieces = _joined(pieces, half_track)
-    out: list[Segment] = []
-    for kind, length in pieces:
-        if kind == "T":
-            if abs(length) > ROUNDING:
-                out.append(built(Spin, angle=length, duration=None))
-        elif abs(length) * half_track > ROUNDING:
-            out.append(built(Straight, length=length * half_track, duration=None))
-    return out
+    return [
+        built(Spin, angle=length, duration=None)
+        if kind == "T"
+        else built(Straight, length=length * half_track, duration=None)
+        for kind, length in _joined(pieces, half_track)
+    ]
 
 
 def _leg(
