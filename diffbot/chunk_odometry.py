@@ -22,7 +22,7 @@ from diffbot.batch_odometry import advance
 from diffbot.errors import ParameterError, RecordingError
 from diffbot.kinematics import DiffDriveParams, Pose, Twist, norm_angle
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, SKIP_STAMP_NOT_AFTER
-from diffbot.samples import NS_PER_S, side_means
+from diffbot.samples import NS_PER_S, later_than_before, side_means
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike, NDArray
@@ -189,12 +189,7 @@ class ChunkOdometry:
         t = seconds[index]
         # A sample is used when it is after the latest stamp of all valid samples before it:
         # each valid sample that was skipped was no later than the used one before it.
-        before = np.empty_like(t)
-        if t.size:
-            before[0] = self._last[2]
-            np.maximum.accumulate(t[:-1], out=before[1:])
-            np.maximum(before, self._last[2], out=before)
-        used = t > before
+        used = later_than_before(t, self._last[2])
         self._skip(SKIP_STAMP_NOT_AFTER, int(t.size - np.count_nonzero(used)))
         if self._first_repeat_ns is None and not used.all():
             self._first_repeat_ns = int(stamps[index[int(np.argmin(used))]])

@@ -34,7 +34,7 @@ import numpy as np
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.numbers import finite_in_range
-from diffbot.samples import NS_PER_S
+from diffbot.samples import NS_PER_S, later_than_before
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike, NDArray
@@ -389,11 +389,7 @@ class Conditioner:
         speed = np.zeros(stamps.shape[0])
         bad = np.zeros(stamps.shape[0], dtype=np.bool_)
         prior = column.last_stamp if column.started else np.iinfo(np.int64).min
-        before = np.empty_like(stamps)
-        before[0] = prior
-        np.maximum.accumulate(stamps[:-1], out=before[1:])
-        np.maximum(before, prior, out=before)
-        kept = np.flatnonzero(stamps > before)
+        kept = np.flatnonzero(later_than_before(stamps, prior))
         if kept.size == 0:
             return speed, bad
         times, values = stamps[kept], angles[kept]

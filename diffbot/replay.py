@@ -40,6 +40,7 @@ from diffbot.samples import (
     OdometryRows,
     Recording,
     beyond_ranges,
+    each_side,
     range_reason,
     wheel_limit,
 )
@@ -298,9 +299,7 @@ def _bag_pass(
         readable = decoded.readable
         header = decoded.stamp_ns[readable]
         # the clock is chosen by the messages the odometry can use: a wheel of each side
-        left_side = decoded.present[:, : len(params.left_joints)]
-        right_side = decoded.present[:, len(params.left_joints) :]
-        sided = (np.any(left_side, axis=1) & np.any(right_side, axis=1))[readable]
+        sided = each_side(decoded.present, len(params.left_joints))[readable]
         if clock == CLOCK_HEADER and not np.all(header[sided]):
             return None
         unreadable = int(readable.size - np.count_nonzero(readable))

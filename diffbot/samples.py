@@ -43,6 +43,8 @@ __all__ = [
     "Recording",
     "beyond_range",
     "beyond_ranges",
+    "each_side",
+    "later_than_before",
     "ns_from_seconds",
     "range_reason",
     "seconds_text",
@@ -276,6 +278,41 @@ def _extend(column: array.array[Any], values: NDArray[Any], dtype: str) -> None:
     column.frombytes(np.ascontiguousarray(values, dtype=dtype).view(np.uint8).data)
 
 
+def each_side(present: NDArray[np.bool_], left_count: int) -> NDArray[np.bool_]:
+    """Whether each sample holds a joint of each side: a sample the odometry can use.
+
+    Args:
+        present: whether each sample has each joint, bool, shape (n, joints): the left joints
+            first, then the right.
+        left_count: how many of the columns are left joints.
+    """
+    import numpy as np
+
+    both: NDArray[np.bool_] = np.logical_and(
+        np.any(present[:, :left_count], axis=1), np.any(present[:, left_count:], axis=1)
+    )
+    return both
+
+
+def later_than_before(values: NDArray[Any], prior: float) -> NDArray[np.bool_]:
+    """Whether each value is greater than ``prior`` and than every value before it: the
+    samples whose stamp is after every stamp before theirs, those the odometry uses.
+
+    Args:
+        values: stamps (any unit, int or float), shape (n,).
+        prior: the latest stamp before them (``-inf``, or the type's least, when none).
+    """
+    import numpy as np
+
+    before = np.empty_like(values)
+    if values.size:
+        before[0] = prior
+        np.maximum.accumulate(values[:-1], out=before[1:])
+        np.maximum(before, prior, out=before)
+    later: NDArray[np.bool_] = values > before
+    return later
+
+
 def side_means(
     positions: NDArray[np.float64], present: NDArray[np.bool_], left_count: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
@@ -298,12 +335,10 @@ def side_means(
     import numpy as np  # here: reading a CSV or a bag needs NumPy, quick commands do not
 
     means = []
-    have = np.ones(positions.shape[0], dtype=np.bool_)
     for columns in (slice(0, left_count), slice(left_count, positions.shape[1])):
         values, mask = positions[:, columns], present[:, columns]
         if values.shape[1] == 1:
             means.append(np.where(mask[:, 0], values[:, 0], 0.0))
-            have &= mask[:, 0]
             continue
         total = np.zeros(positions.shape[0])
         count = np.zeros(positions.shape[0])
@@ -316,8 +351,7 @@ def side_means(
         side = count > 0
         with np.errstate(invalid="ignore", divide="ignore"):
             means.append(np.where(side, total / np.where(side, count, 1.0), 0.0))
-        have &= side
-    return means[0], means[1], have
+    return means[0], means[1], each_side(present, left_count)
 
 
 class OdometryRow(NamedTuple):

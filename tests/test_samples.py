@@ -11,7 +11,14 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from diffbot.numbers import MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED
-from diffbot.samples import beyond_range, beyond_ranges, wheel_limit
+from diffbot.samples import (
+    beyond_range,
+    beyond_ranges,
+    each_side,
+    later_than_before,
+    side_means,
+    wheel_limit,
+)
 
 #: Values about the bounds, their negatives, the infinities and NaN, and anything else.
 values = st.one_of(
@@ -54,3 +61,33 @@ def test_the_bound_of_counts_is_that_of_the_radians_they_convert_to() -> None:
     # 40960 counts a revolution: 1e4 rad/s is 65,189,864.69 counts/s.
     assert wheel_limit("velocity", 40960) == pytest.approx(65_189_864.69, abs=0.01)
     assert wheel_limit("position", 40960) == pytest.approx(6.518986469e15, rel=1e-9)
+
+
+@given(st.lists(st.lists(st.booleans(), min_size=3, max_size=3), max_size=20), st.integers(1, 2))
+def test_each_side_is_a_joint_of_the_left_and_one_of_the_right(
+    rows: list[list[bool]], left_count: int
+) -> None:
+    present = np.array(rows, dtype=np.bool_).reshape(len(rows), 3)
+    got = each_side(present, left_count)
+    assert got.tolist() == [any(r[:left_count]) and any(r[left_count:]) for r in rows]
+    # side_means says the same of the samples it averages
+    assert side_means(np.zeros(present.shape), present, left_count)[2].tolist() == got.tolist()
+
+
+@given(
+    st.lists(st.integers(-(2**62), 2**62), max_size=30)
+    | st.lists(st.floats(-1e9, 1e9), max_size=30),
+    st.sampled_from([None, 0, -5, 10**6]),
+)
+def test_later_than_before_is_later_than_every_stamp_before(
+    values: list[float], prior: int | None
+) -> None:
+    floats = any(isinstance(v, float) for v in values)
+    array = np.array(values, dtype=np.float64 if floats else np.int64)
+    least = -math.inf if floats else int(np.iinfo(np.int64).min)
+    start = least if prior is None else prior
+    expected, latest = [], start
+    for value in values:
+        expected.append(value > latest)
+        latest = max(latest, value)
+    assert later_than_before(array, start).tolist() == expected
