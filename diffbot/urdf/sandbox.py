@@ -249,18 +249,6 @@ class _EvalNames(Mapping[str, Any]):
         return len({**self.functions, **self.args})
 
 
-_PATCHED = (
-    "eval_text",
-    "eval_all",
-    "handle_macro_call",
-    "parse",
-    "all_includes",
-    "replace_node",
-    "glob",
-    "eval_extension",
-)
-
-
 @contextlib.contextmanager
 def sandboxed(
     path: str | os.PathLike[str],
@@ -415,14 +403,7 @@ def sandboxed(
             context["filename"] = xacro.filestack[-1] if xacro.filestack else None
             return saved["eval_extension"](text)
 
-        saved: dict[str, Any] = {name: getattr(xacro, name) for name in _PATCHED}
-        saved.update(
-            safe_eval=xacro.safe_eval,
-            global_symbols=xacro._global_symbols,
-            subst_eval=subst._eval,
-            eval_find=subst._eval_find,
-            dict_find=subst._eval_dict.get("find"),
-        )
+        # What xacro is given in place of its own, by name; what it had is put back on exit.
         patches: dict[str, Any] = {
             "eval_text": eval_text,
             "eval_all": eval_all,
@@ -433,25 +414,30 @@ def sandboxed(
             "all_includes": [],
         }
         if not trust:
-            patches["glob"] = SimpleNamespace(glob=list_includes)
+            patches.update(
+                glob=SimpleNamespace(glob=list_includes),
+                safe_eval=safe_eval,
+                _global_symbols=table,
+            )
+        saved: dict[str, Any] = {name: getattr(xacro, name) for name in patches}
+        saved.update(
+            subst_eval=subst._eval,
+            eval_find=subst._eval_find,
+            dict_find=subst._eval_dict.get("find"),
+        )
         try:
-            for name in _PATCHED:
-                if name in patches:
-                    setattr(xacro, name, patches[name])
+            for name, patched in patches.items():
+                setattr(xacro, name, patched)
             subst._eval_find = tracking_find
             subst._eval_dict["find"] = tracking_find
             if not trust:
-                xacro.safe_eval = safe_eval
-                xacro._global_symbols = table
                 subst._eval = subst_eval
             yield read
         finally:
             if folders is not None:
                 folders.extend(allowed.folders)
-            for name in _PATCHED:
+            for name in patches:
                 setattr(xacro, name, saved[name])
-            xacro.safe_eval = saved["safe_eval"]
-            xacro._global_symbols = saved["global_symbols"]
             subst._eval = saved["subst_eval"]
             subst._eval_find = saved["eval_find"]
             if saved["dict_find"] is not None:

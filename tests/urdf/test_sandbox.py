@@ -491,6 +491,24 @@ def test_xacro_is_restored_after_a_refused_expansion(tmp_path: Path) -> None:
     assert all(a is b for a, b in zip(before, after, strict=True))
 
 
+@pytest.mark.parametrize("trust", [False, True])
+def test_every_name_the_sandbox_gives_xacro_is_taken_back(tmp_path: Path, trust: bool) -> None:
+    import xacro
+    import xacro.substitution_args as subst
+
+    modules = (vars(xacro), vars(subst), subst._eval_dict)
+    before = [dict(names) for names in modules]
+    body = '<link name="$(dirname)"/><xacro:include filename="parts/*.xacro"/>'
+    path = write(tmp_path / "desc" / "robot.urdf.xacro", robot(body))
+    write(tmp_path / "desc" / "parts" / "a.xacro", robot('<link name="a"/>'))
+    assert 'name="a"' in process(path, trust=trust)
+    changed = [
+        sorted(name for name, value in names.items() if old.get(name, object()) is not value)
+        for names, old in zip(modules, before, strict=True)
+    ]
+    assert changed == [["filestack", "macrostack"], [], []]  # xacro's own stacks, as it leaves them
+
+
 def test_expansions_in_parallel_threads_each_get_their_own_result(demo: Path) -> None:
     expected = expand_demo(demo)
     results: list[str] = []
