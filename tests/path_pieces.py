@@ -1,4 +1,5 @@
-"""Helpers for the closed-form path tests: where pieces lead, and OMPL's paths for comparison."""
+"""Helpers for the path tests: where closed-form pieces lead, OMPL's paths for comparison, and
+plans' segments drawn for property tests."""
 
 from __future__ import annotations
 
@@ -11,12 +12,39 @@ import numpy as np
 from hypothesis import strategies as st
 
 from diffbot.planning import Piece
+from diffbot.trajectory import Arc, Segment, Spin, Straight
 
 #: Goal coordinates (in radii, or half tracks) and headings (rad) of the property tests.
 COORDINATES = st.floats(-50.0, 50.0)
 HEADINGS = st.floats(-math.pi, math.pi)
 #: Random start/goal pairs compared with OMPL.
 PAIRS = 1000
+
+
+def plan_segments(
+    length: tuple[float, float],
+    radius: tuple[float, float],
+    angle: tuple[float, float],
+    spin: tuple[float, float],
+) -> st.SearchStrategy[Segment]:
+    """A segment of a plan, each way it can go: a straight of ``length`` (m) forwards or back,
+    an arc of ``radius`` (m) and ``angle`` (rad) either way round and driven either way, or a
+    spin of ``spin`` (rad) either way; each a (least, most) pair of magnitudes."""
+
+    def signed(bounds: tuple[float, float]) -> st.SearchStrategy[float]:
+        return st.sampled_from([-1.0, 1.0]).flatmap(lambda s: st.floats(*bounds).map(s.__mul__))
+
+    return st.one_of(
+        st.builds(Straight, signed(length)),
+        st.builds(
+            Arc,
+            st.floats(*radius),
+            st.floats(*angle),
+            st.sampled_from(["cw", "ccw"]),
+            reverse=st.booleans(),
+        ),
+        st.builds(Spin, signed(spin)),
+    )
 
 
 def walk(pieces: list[Piece], radius: float = 1.0) -> Iterator[tuple[float, float, float]]:

@@ -8,6 +8,7 @@ import math
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from path_pieces import plan_segments
 from robots import BOT_50_RPM
 
 from diffbot.errors import ParameterError
@@ -22,7 +23,7 @@ from diffbot.follow import (
 )
 from diffbot.kinematics import DiffDriveParams, Pose, inverse
 from diffbot.planfile import parse_plan
-from diffbot.trajectory import EXAMPLES, Arc, Plan, Spin, Straight, plan, pose_at
+from diffbot.trajectory import EXAMPLES, Plan, plan, pose_at
 
 ROBOT = BOT_50_RPM
 LIMIT = 5.235987755982989
@@ -59,22 +60,7 @@ def drive(
     return Pose(x, y, heading), commands
 
 
-segments = st.one_of(
-    st.builds(
-        Straight,
-        st.sampled_from([-1.0, 1.0]).flatmap(lambda s: st.floats(0.05, 2).map(lambda v: s * v)),
-    ),
-    st.builds(
-        Arc,
-        st.floats(0.1, 1.0),
-        st.floats(0.1, 3.0),
-        st.sampled_from(["cw", "ccw"]),
-        reverse=st.booleans(),
-    ),
-    st.builds(
-        Spin, st.sampled_from([-1.0, 1.0]).flatmap(lambda s: st.floats(0.1, 3).map(lambda v: s * v))
-    ),
-)
+segments = plan_segments(length=(0.05, 2.0), radius=(0.1, 1.0), angle=(0.1, 3.0), spin=(0.1, 3.0))
 
 
 @settings(max_examples=60, deadline=None)

@@ -13,6 +13,7 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from path_pieces import plan_segments
 from robots import BOT_50_RPM
 
 from diffbot.cli import main
@@ -22,7 +23,7 @@ from diffbot.kinematics import Pose
 from diffbot.planfile import parse_plan
 from diffbot.pursuit import Pursuit, legs
 from diffbot.simulation import Disturbances, simulate
-from diffbot.trajectory import Arc, Plan, Spin, Straight, geometry, plan
+from diffbot.trajectory import Plan, Spin, geometry, plan
 
 ROBOT = BOT_50_RPM.replace(left_joints=("l",), right_joints=("r",), left_joint="l", right_joint="r")
 RADIUS, SEPARATION = 0.035, 0.135
@@ -161,19 +162,11 @@ def test_a_spin_turns_the_plans_signed_angle(degrees):
     assert math.hypot(final.x, final.y) <= follower.xy_tolerance
 
 
-pieces = st.one_of(
-    st.builds(
-        Straight,
-        st.sampled_from([-1.0, 1.0]).flatmap(lambda s: st.floats(0.1, 0.6).map(lambda v: s * v)),
-    ),
-    st.builds(
-        Arc,
-        st.floats(0.2, 0.5),
-        st.floats(math.radians(30.0), math.radians(400.0)),
-        st.sampled_from(["cw", "ccw"]),
-        reverse=st.booleans(),
-    ),
-    st.builds(Spin, st.floats(-4.0 * math.pi, 4.0 * math.pi).filter(lambda a: abs(a) > 0.05)),
+pieces = plan_segments(
+    length=(0.1, 0.6),
+    radius=(0.2, 0.5),
+    angle=(math.radians(30.0), math.radians(400.0)),
+    spin=(0.05, 4.0 * math.pi),
 )
 
 
