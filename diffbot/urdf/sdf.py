@@ -519,7 +519,8 @@ def _attr(text: str) -> str:
 def expand_sdf(
     path: Path, finder: PackageFinder, roots: Sequence[Path], *, trust: bool = False
 ) -> tuple[str, tuple[Path, ...]]:
-    """An SDF model (a ``.sdf`` file or a model folder) as URDF text, and the files read.
+    """An SDF model (a ``.sdf`` file or a model folder) as URDF text, and the files read (each
+    once, however often it is included).
 
     Args:
         path: the model file or folder.
@@ -544,4 +545,4 @@ def expand_sdf(
         world = root.find("world")
         model = None if world is None else world.find("model")
     name = "" if model is None else model.get("name", "")
-    return reader.urdf(name or file.stem), tuple(reader.model.files)
+    return reader.urdf(name or file.stem), tuple(dict.fromkeys(reader.model.files))

@@ -94,5 +94,7 @@ def test_a_model_included_many_times_reads_as_as_many_copies(tmp_path: Path) -> 
         assert (x, y, z) == pytest.approx((j, 0, 0), abs=1e-12)
         assert float(origin.get("rpy", "").split()[2]) == pytest.approx(0.5, abs=1e-12)
     assert len(urdf.findall("gazebo/plugin")) == 5  # each include keeps its plugin
+    # the files read, each once: the robot's and the one it includes five times
+    assert sorted(f.parent.name for f in shared.files) == ["big", "robot"]
     params = diffbot.load_params(tmp_path / "shared" / "models" / "robot")
     assert (params.wheel_radius, params.wheel_separation) == (0.1, pytest.approx(0.4, abs=1e-12))
