@@ -37,6 +37,7 @@ __all__ = [
     "positive_written",
     "shorten_numerals",
     "shown",
+    "written_form",
     "written_number",
 ]
 
@@ -125,9 +126,18 @@ def written_number(text: str) -> float:
     Raises:
         ValueError: ``text`` is not such a number (as ``float`` raises it).
     """
-    if "_" in text or not text.isascii():
+    if not written_form(text):
         raise ValueError(f"could not convert string to float: {text!r}")
     return float(text)
+
+
+def written_form(text: str) -> bool:
+    """Whether ``text`` is spelled as numbers are written in files, on command lines and in
+    environment variables: ASCII only, no ``_`` between digits. ``float``, ``int`` and
+    ``Decimal`` also read digits of other scripts (``٣`` for 3) and grouped digits (``1_0``
+    for 10); every reader of numeric text asks this first, so that all refuse the same texts.
+    """
+    return "_" not in text and text.isascii()
 
 
 def positive_written(text: str) -> float | None:
@@ -141,9 +151,10 @@ def positive_written(text: str) -> float | None:
 
 
 def reads_as_number(text: str) -> bool:
-    """Whether ``float`` reads ``text`` as a number (NaN and infinities included)."""
+    """Whether ``text`` is a number as files write it (:func:`written_number`; NaN and
+    infinities included)."""
     try:
-        float(text)
+        written_number(text)
     except ValueError:
         return False
     return True
@@ -159,8 +170,8 @@ def as_number(
 
     NaN and infinities pass: the caller decides what they mean. Booleans are not numbers.
     """
-    if isinstance(value, bool):
-        raise error(f"{what} must be {expected}, got {value!r}")
+    if isinstance(value, bool) or (isinstance(value, str) and not written_form(value)):
+        raise error(f"{what} must be {expected}, got {shown(value)}")
     try:
         return float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):

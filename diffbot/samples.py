@@ -15,7 +15,7 @@ from decimal import ROUND_HALF_EVEN, Decimal, InvalidOperation
 from typing import TYPE_CHECKING, Any, Final, Generic, NamedTuple, TypeVar, overload
 
 from diffbot.kinematics import Pose, Twist, norm_angle
-from diffbot.numbers import MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED
+from diffbot.numbers import MAX_RECORDED_ANGLE, MAX_WHEEL_SPEED, written_form
 
 if TYPE_CHECKING:
     import numpy as np
@@ -168,7 +168,7 @@ def ns_from_seconds(text: str, decimals: int = 9) -> int | None:
     Beyond 1e30 s (far outside ROS time) the result is ±10**39 rather than the exact value, so
     that ``1e100000000`` costs nothing.
     """
-    if "_" in text:
+    if not written_form(text):
         raise ValueError(text)
     try:
         seconds = Decimal(text.strip())

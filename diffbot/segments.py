@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Literal
 
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
+from diffbot.numbers import written_form
 
 if TYPE_CHECKING:
     from typing import TypeAlias
@@ -27,9 +28,10 @@ __all__ = [
 
 
 def as_float(value: object) -> float:
-    """``float(value)`` (numeric text too, as ``float`` reads it), or NaN for a boolean and for
-    what ``float`` cannot read (other text, None, an int too large)."""
-    if isinstance(value, bool):
+    """``float(value)`` (numeric text too, as files write it:
+    :func:`~diffbot.numbers.written_form`), or NaN for a boolean and for what ``float`` cannot
+    read (other text, None, an int too large)."""
+    if isinstance(value, bool) or (isinstance(value, str) and not written_form(value)):
         return math.nan
     try:
         return float(value)  # type: ignore[arg-type]

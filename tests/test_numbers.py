@@ -20,6 +20,7 @@ from diffbot.numbers import (
     reads_as_number,
     shorten_numerals,
     shown,
+    written_form,
     written_number,
 )
 
@@ -80,13 +81,15 @@ def test_a_positive_number_too_small_to_compute_with_is_refused(value: float) ->
     assert positive_finite(1e-300, "x") == 1e-300
 
 
-@pytest.mark.parametrize("text", ["0", "-1.5", " 2e3 ", "1_000", "inf", "-Infinity", "nan", "+7"])
-def test_text_float_reads_is_a_number(text: str) -> None:
+@pytest.mark.parametrize("text", ["0", "-1.5", " 2e3 ", "inf", "-Infinity", "nan", "+7"])
+def test_text_written_as_a_number_is_one(text: str) -> None:
     assert reads_as_number(text)
 
 
-@pytest.mark.parametrize("text", ["", "x", "1,5", "0x10", "1e", "--1", "left_wheel"])
-def test_text_float_refuses_is_not_a_number(text: str) -> None:
+@pytest.mark.parametrize(
+    "text", ["", "x", "1,5", "0x10", "1e", "--1", "left_wheel", "1_000", "\u0661\u0665"]
+)
+def test_other_text_is_not_a_number(text: str) -> None:
     assert not reads_as_number(text)
 
 
@@ -137,6 +140,29 @@ def test_spellings_of_python_alone_are_no_written_number(text: str) -> None:
     float(text)  # Python reads each
     with pytest.raises(ValueError, match="could not convert"):
         written_number(text)
+
+
+#: Digits that are not ASCII: Arabic-Indic, Devanagari, full-width, mathematical bold.
+_OTHER_DIGITS = st.sampled_from("\u0663\u0969\uff13\U0001d7d1")
+
+
+@given(st.floats(allow_nan=False) | st.integers(-(10**30), 10**30), _OTHER_DIGITS, st.data())
+def test_a_text_with_another_scripts_digit_or_an_underscore_is_no_number_anywhere(
+    value: float, digit: str, data: st.DataObject
+) -> None:
+    text = repr(value)
+    at = data.draw(st.integers(0, len(text)))
+    for spelled in (text[:at] + digit + text[at:], text.replace("1", digit), f"1_{abs(value)!r}"):
+        if spelled == text:
+            continue
+        assert not written_form(spelled)
+        assert not reads_as_number(spelled)
+        with pytest.raises(ValueError, match="could not convert"):
+            written_number(spelled)
+        with pytest.raises(ParameterError, match="must be a number"):
+            as_number(spelled, "x")
+    assert written_form(text)
+    assert as_number(text, "x") == float(text)
 
 
 @pytest.mark.parametrize(

@@ -61,7 +61,7 @@ def test_geometry_is_the_signed_path_length_and_heading_change(
 def test_as_float_reads_numbers_and_gives_nan_for_anything_else() -> None:
     assert as_float("2.5") == 2.5
     assert as_float(3) == 3.0
-    for junk in ("x", None, True, 10**400):
+    for junk in ("x", None, True, 10**400, "1_0", "\u0663", "\uff13.5"):
         assert math.isnan(as_float(junk))
 
 

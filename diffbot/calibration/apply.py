@@ -24,7 +24,7 @@ from diffbot.calibration.checks import WheelGeometry, check_geometry, positive
 from diffbot.calibration.results import controller_yaml_lines, xacro_arguments, yaml_number
 from diffbot.errors import CalibrationError, DiffbotError
 from diffbot.kinematics import DiffDriveParams
-from diffbot.numbers import reads_as_number
+from diffbot.numbers import reads_as_number, written_number
 
 __all__ = ["ApplyResult", "apply_to", "calibrated_path"]
 
@@ -258,7 +258,7 @@ def _definitions(data: bytes, source: str) -> dict[str, list[_Definition]]:
 
 def _finite(text: str) -> bool:
     """Whether ``text`` reads as a finite number."""
-    return reads_as_number(text) and math.isfinite(float(text))
+    return reads_as_number(text) and math.isfinite(written_number(text))
 
 
 def _set_attribute(data: bytes, definition: _Definition, value: str, source: str) -> bytes:

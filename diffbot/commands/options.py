@@ -49,6 +49,8 @@ from diffbot.numbers import (
     MAX_PLAN_DURATION,
     MOTOR_LIMIT_RANGE,
     WHEEL_SIZE_RANGE,
+    written_form,
+    written_number,
 )
 from diffbot.urdf import load_params
 
@@ -82,7 +84,7 @@ class FiniteFloat(CheckedNumber):
             number = value
         else:
             try:
-                number = float(str(value).strip())
+                number = written_number(str(value).strip())
             except ValueError:
                 self.fail(f"{value!r} is not a number", param, ctx)
         if not math.isfinite(number):
@@ -159,7 +161,7 @@ class NumberPair(CheckedNumber):
         numbers = []
         for part in parts:
             try:
-                number = float(part.strip())
+                number = written_number(part.strip())
             except ValueError:
                 self.fail(f"{value!r}: {part.strip()!r} is not a number", param, ctx)
             if not math.isfinite(number):
@@ -182,6 +184,11 @@ class Count(click.IntRange, CheckedNumber):  # type: ignore[type-arg,unused-igno
 
     def __init__(self, minimum: int, maximum: int = MAX_COUNT) -> None:
         super().__init__(min=minimum, max=maximum)
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        if isinstance(value, str) and not written_form(value.strip()):
+            self.fail(f"{value!r} is not a valid integer.", param, ctx)
+        return super().convert(value, param, ctx)
 
 
 class Names(click.Choice):  # type: ignore[type-arg,unused-ignore]
@@ -213,7 +220,7 @@ def check_finite(what: str, *values: float) -> None:
 def parse_number(token: str, what: str) -> float:
     """A finite float from a command-line token, or a bad-input error naming it."""
     try:
-        number = float(token)
+        number = written_number(token)
     except ValueError:
         if token.startswith("-"):
             no_such_option(token)
@@ -229,7 +236,7 @@ def _looks_like_option(token: str) -> bool:
     if not token.startswith("-") or token == "-" or token[1] in "0123456789.":
         return False
     try:
-        float(token)
+        written_number(token)
     except ValueError:
         return True
     return False

@@ -45,7 +45,7 @@ from diffbot.io.csv_stamps import (
     unit_by_magnitude,
 )
 from diffbot.io.textfile import open_text
-from diffbot.numbers import reads_as_number
+from diffbot.numbers import reads_as_number, written_number
 from diffbot.samples import (
     INT64,
     SKIP_MISSING_STAMP,
@@ -80,7 +80,7 @@ __all__ = [
 ]
 
 #: A number written with a decimal comma (``-0,25``, ``1764000000,1``).
-_DECIMAL_COMMA: Final = re.compile(r"[-+]?\d+,\d+")
+_DECIMAL_COMMA: Final = re.compile(r"[-+]?[0-9]+,[0-9]+")
 #: Whole-number stamps this far apart (or more) are doubted as seconds.
 _DOUBTFUL_STEP: Final = 10
 #: Delimiters recognised in a header when none is given, besides the comma.
@@ -127,12 +127,6 @@ def _stamp(text: str, decimals: int = 9) -> int | str:
     return stamp_ns
 
 
-def _position(text: str) -> float:
-    if "_" in text:
-        raise ValueError(text)
-    return float(text)
-
-
 def _rows_exactly(
     rows: Iterable[list[str]],
     indexes: Sequence[int],
@@ -166,7 +160,7 @@ def _rows_exactly(
             for i in joint_indexes:
                 text = row[i]
                 if text and not text.isspace():
-                    values.append(_position(text))
+                    values.append(written_number(text))
                     bits.append(True)
                 else:
                     values.append(0.0)
@@ -348,7 +342,7 @@ class CsvChunks:
         if not cells:
             return
         try:
-            value = float(cells[0])
+            value = written_number(cells[0])
         except ValueError:
             return
         if not math.isfinite(value):

@@ -17,7 +17,7 @@ from diffbot.formats.text import listing
 from diffbot.io.csv_columns import preferred_time_column
 from diffbot.io.csv_lines import RowLines
 from diffbot.io.textfile import open_text
-from diffbot.numbers import MAX_COORDINATE, MAX_RECORDED_ANGLE, finite_in_range
+from diffbot.numbers import MAX_COORDINATE, MAX_RECORDED_ANGLE, finite_in_range, written_number
 from diffbot.samples import INT64, NS_PER_S, ns_from_seconds
 
 if TYPE_CHECKING:
@@ -183,7 +183,7 @@ def _read_csv(path: Path) -> PoseTrack:
                     continue
                 try:
                     stamp_ns = ns_from_seconds(cells[0]) if cells[0] else None
-                    values = [float(cell) for cell in cells[1:]]
+                    values = [written_number(cell) for cell in cells[1:]]
                 except ValueError:
                     stamp_ns = None
                     values = []

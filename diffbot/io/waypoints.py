@@ -23,8 +23,8 @@ __all__ = ["parse_pose", "read_waypoints"]
 Waypoint = tuple[float, float, float | None]
 
 #: A number and its unit, the text stripped first. Unambiguous (one way to match any text), so
-#: its time is linear in the text's length.
-_NUMBER = re.compile(r"([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(m|rad|deg)?")
+#: its time is linear in the text's length; ASCII digits only, as every number is written.
+_NUMBER = re.compile(r"([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(m|rad|deg)?", re.ASCII)
 _HEADER = ("x", "y", "heading")
 
 

@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from typing import Final
 
 from diffbot.live.errors import LiveError
+from diffbot.numbers import written_form
 
 __all__ = [
     "DISCOVERY_TOPIC",
@@ -43,7 +44,7 @@ def domain_id(environ: Mapping[str, str] | None = None) -> int:
     if not text:
         return 0
     try:
-        value = int(text)
+        value = int(text) if written_form(text) else -1
     except ValueError:
         value = -1
     if not 0 <= value <= MAX_DOMAIN_ID:

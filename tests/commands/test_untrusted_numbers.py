@@ -413,3 +413,21 @@ def test_a_warning_line_shows_a_400_digit_number_cut_short() -> None:
 
     result = CliRunner().invoke(speak, [])
     assert result.stderr == f"warning: odd value {'8' * 18}...{'8' * 18} kept\n"
+
+
+@pytest.mark.parametrize("number", ["\u0665\u0660", "5_0", "\uff15\uff10"])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["plan", "straight 1", "--max-rpm", "{}"],
+        ["ik", "{}", "0"],
+        ["plan", "--to", "{},0"],
+        ["simulate", "--example", "A", "--ticks", "{}"],
+        ["calibrate", "umbmark", "--side", "4", "--cw", "{},0", "--ccw", "0,0"],
+    ],
+)
+def test_a_number_in_another_scripts_digits_or_grouped_is_refused_by_every_option(
+    args: list[str], number: str
+) -> None:
+    result = run(*(a.format(number) for a in args))
+    assert_clean_error(result, repr(number).strip("'"))

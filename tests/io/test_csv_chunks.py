@@ -32,10 +32,11 @@ Row = tuple[int, float, float, int]
 
 
 def exact_ns(text: str) -> int | str | None:
-    """The documented stamp rule, spelled out: exact decimal seconds, ties to even, in int64."""
+    """The documented stamp rule, spelled out: exact decimal seconds written in ASCII digits,
+    ties to even, in int64."""
     if not text.strip():
         return "missing stamp"
-    if "_" in text:
+    if "_" in text or not text.isascii():  # Python's grouped digits, other scripts' digits
         return "unreadable value"
     try:
         seconds = Decimal(text.strip())
@@ -68,7 +69,7 @@ def reference(text: str) -> tuple[list[Row], dict[str, int]]:
         try:
             for k, cell in enumerate(cells[1:]):
                 if cell.strip():
-                    if "_" in cell:
+                    if "_" in cell or not cell.isascii():
                         raise ValueError(cell)
                     values[k] = float(cell)
                     bits += 1 << k
@@ -141,7 +142,7 @@ stamp_cells = st.one_of(
 position_cells = st.one_of(
     st.floats(allow_nan=False).map(repr),
     st.sampled_from(
-        ["", " ", "nan", "-inf", "1e5", " 2.5 ", "1_0", "abc", "-0.0", "0x1", "1e-400"]
+        ["", " ", "nan", "-inf", "1e5", " 2.5 ", "1_0", "abc", "-0.0", "0x1", "1e-400", "\u0663.5"]
     ),
 )
 

@@ -109,6 +109,14 @@ def test_a_csv_track_reads_time_x_y_theta_and_skips_rows_without_a_pose(tmp_path
     assert track.theta.tolist() == [0.5, -1.0]
 
 
+@pytest.mark.parametrize("cell", ["\u0663", "1_0", "\uff11.5"])
+def test_a_csv_track_cell_in_other_digits_is_no_number(tmp_path: Path, cell: str) -> None:
+    path = tmp_path / "truth.csv"
+    path.write_text(f"time,x,y,theta\n0,0,0,0\n1,{cell},0,0\n", "utf-8")
+    with pytest.raises(RecordingError, match="line 3: not a finite time and pose"):
+        read_pose_track(path)
+
+
 def test_a_csv_track_without_theta_is_refused(tmp_path: Path) -> None:
     path = tmp_path / "joints.csv"
     path.write_text("time,left,right\n0,0,0\n", "utf-8")

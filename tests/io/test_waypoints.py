@@ -33,6 +33,11 @@ def test_known_poses_in_si() -> None:
         ("w.csv", "0,1e10\n", "y must be a finite number >= -1e+09 and <= 1e+09 m"),
         ("w.csv", "0,0,1e300rad\n", "heading must be a finite number >= -1e+09 and <= 1e+09 rad"),
         ("w.json", "[[0, 0, 1e12]]", "heading must be a finite number >= -5.72958e+10"),
+        # digits of other scripts and Python's grouped digits are no written numbers
+        ("w.csv", "0,0\n\u0663,0\n", "row 2: '\u0663' is not a number"),
+        ("w.csv", "0,0\n1_0,0\n", "row 2: '1_0' is not a number"),
+        ("w.csv", "0,0,\u0669\u0660deg\n", "is not a number"),
+        ("w.yaml", "- ['\u0663', 0]\n", "item 1: '\u0663' is not a number"),
     ],
 )
 def test_numbers_past_the_boundary_are_plan_errors(

@@ -41,7 +41,7 @@ def test_the_domain_comes_from_ros_domain_id() -> None:
     assert domain_id({"ROS_DOMAIN_ID": " 42 "}) == 42
     assert domain_id({"ROS_DOMAIN_ID": "0"}) == 0
     assert domain_id({"ROS_DOMAIN_ID": "232"}) == 232
-    for bad in ("233", "-1", "x", "1.5"):
+    for bad in ("233", "-1", "x", "1.5", "\u0664\u0662", "4_2", "\uff14"):
         with pytest.raises(LiveError, match="ROS_DOMAIN_ID must be a whole number from 0 to 232"):
             domain_id({"ROS_DOMAIN_ID": bad})
 
