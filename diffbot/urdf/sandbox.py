@@ -9,7 +9,7 @@ Trusted or not, the expansion is bounded: in total text produced (``max_bytes``)
 processed (``max_elements``), macro or include nesting (``max_depth``) and CPU time
 (``max_seconds``), so a macro that doubles itself fails within a fraction of a second instead
 of running for hours, and so does a costly expression evaluated over and over. Every file the
-expansion reads is recorded (:attr:`Sandbox.files`), so outputs can be kept off all of them.
+expansion reads is recorded (:class:`Reads`), so outputs can be kept off all of them.
 
 xacro keeps its state in module globals, so :func:`sandboxed` patches them while holding
 :data:`XACRO_LOCK`, and expansions are serialised.
@@ -42,6 +42,7 @@ __all__ = [
     "MAX_ELEMENTS",
     "MAX_SECONDS",
     "XACRO_LOCK",
+    "Reads",
     "description_roots",
     "inside_folders",
     "process",
@@ -517,12 +518,27 @@ def _take_origins(document: Any) -> dict[str, Path]:
     return origins
 
 
+@dataclass
+class Reads:
+    """What an expansion read, for the files its text names and the outputs kept off them.
+
+    Attributes:
+        files: the files read: the description, included files, YAML data.
+        folders: the folders the description may read (:func:`sandboxed`'s ``folders``).
+        named_from: for each ``<parameters>`` text an included file wrote, that file's folder
+            (where a relative name in it starts from).
+    """
+
+    files: list[Path] = field(default_factory=list)
+    folders: list[Path] = field(default_factory=list)
+    named_from: dict[str, Path] = field(default_factory=dict)
+
+
 def process(
     path: str | os.PathLike[str],
     mappings: Mapping[str, str] | None = None,
     *,
-    files: list[Path] | None = None,
-    named_from: dict[str, Path] | None = None,
+    reads: Reads | None = None,
     **options: Any,
 ) -> str:
     """Expand a xacro description in the sandbox.
@@ -530,11 +546,9 @@ def process(
     Args:
         path: the .xacro file.
         mappings: xacro arguments (``NAME:=VALUE``).
-        files: a list that receives the files the expansion read besides ``path``.
-        named_from: a mapping that receives, for each ``<parameters>`` text an included file
-            wrote, that file's folder (where a relative name in it starts from).
-        **options: the keywords of :func:`sandboxed` (``roots``, ``find``, ``trust``,
-            ``max_bytes``, ``max_depth``, ``max_elements``, ``max_seconds``, ``folders``).
+        reads: a record that receives what the expansion read, even when it fails.
+        **options: the other keywords of :func:`sandboxed` (``roots``, ``find``, ``trust``,
+            ``max_bytes``, ``max_depth``, ``max_elements``, ``max_seconds``, ``shown``).
 
     Returns:
         The expanded URDF text.
@@ -553,16 +567,19 @@ def process(
 
     mappings = {} if mappings is None else mappings
     try:
-        with sandboxed(path, **options) as read:
+        folders = None if reads is None else reads.folders
+        with sandboxed(path, folders=folders, **options) as read:
             try:
                 document = xacro.process_file(os.fspath(path), mappings=mappings)
                 origins = _take_origins(document)
-                if named_from is not None:
-                    named_from.update(origins)
+                if reads is not None:
+                    reads.named_from.update(origins)
                 return str(document.toprettyxml(indent="  "))
             finally:
-                if files is not None:
-                    files.extend(read)
+                if reads is not None:
+                    # xacro lists what it includes and loads; trusted, it loads YAML unwatched
+                    listed = [Path(os.path.abspath(name)) for name in xacro.all_includes]
+                    reads.files.extend(dict.fromkeys([*read, *listed]))
     except RecursionError:
         raise ExpansionLimitError(
             f"{os.fspath(path)}: expansion refused: nesting too deep for Python (max_depth)"

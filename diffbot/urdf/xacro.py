@@ -220,37 +220,25 @@ def _run_xacro(
     finder: PackageFinder,
     trust: bool,
 ) -> Expansion:
-    from diffbot.urdf.sandbox import process
+    from diffbot.urdf.sandbox import Reads, process
 
     mappings = _RecordingArgs(given)
     find = _package_resolver(source, finder)
     stderr = io.StringIO()
-    files: list[Path] = []
-    folders: list[Path] = []
-    named_from: dict[str, Path] = {}
+    reads = Reads()
+    roots = [*finder.given.values(), *finder.bundled.values()]
     with contextlib.redirect_stderr(stderr):
         urdf = process(
-            source,
-            mappings,
-            roots=[*finder.given.values(), *finder.bundled.values()],
-            find=find,
-            trust=trust,
-            shown=finder.shown,
-            files=files,
-            folders=folders,
-            named_from=named_from,
+            source, mappings, roots=roots, find=find, trust=trust, shown=finder.shown, reads=reads
         )
     warnings = [one_line(line.removeprefix("warning: ")) for line in stderr.getvalue().splitlines()]
     warnings = [w for w in warnings if w]
     for name in given:
         if name not in mappings.seen:
             warnings.append(f"xacro argument {name!r} is not declared by {source.name}: ignored")
+    files = tuple(dict.fromkeys([source, *reads.files]))
     return Expansion(
-        urdf,
-        tuple(warnings),
-        tuple(dict.fromkeys([source, *files])),
-        tuple(folders),
-        tuple(named_from.items()),
+        urdf, tuple(warnings), files, tuple(reads.folders), tuple(reads.named_from.items())
     )
 
 

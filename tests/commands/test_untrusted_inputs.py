@@ -771,3 +771,24 @@ def test_a_bag_output_may_end_in_a_slash(tmp_path: Path, monkeypatch: pytest.Mon
     result = run(CliRunner(), "plan", "-o", "run_bag/", "--bag")
     assert result.exit_code == 0, result.output
     assert (tmp_path / "run_bag" / "metadata.yaml").is_file()
+
+
+@pytest.mark.parametrize("trust", [[], ["--trust"]])
+def test_no_output_goes_over_a_yaml_file_the_description_loaded(
+    tmp_path: Path, trust: list[str]
+) -> None:
+    # Trusted, xacro loads the YAML itself; it is an input all the same.
+    props = tmp_path / "props.yaml"
+    props.write_text("radius: 0.05\n", encoding="utf-8")
+    description = tmp_path / "r.urdf.xacro"
+    description.write_text(
+        '<?xml version="1.0"?>\n<robot name="t" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:property name="p" value="${xacro.load_yaml(\'props.yaml\')}"/>\n'
+        "<link name=\"base_${p['radius']}\"/>\n</robot>\n",
+        encoding="utf-8",
+    )
+    result = CliRunner().invoke(
+        main, ["urdf", str(description), "-o", str(props), "--force", *trust]
+    )
+    assert_one_line_error(result, "is an input")
+    assert props.read_text(encoding="utf-8") == "radius: 0.05\n"

@@ -21,11 +21,12 @@ from diffbot.errors import (
     OutsideRootsError,
     RefusedExpressionError,
     SandboxError,
+    XacroError,
 )
 from diffbot.urdf import sandbox
 from diffbot.urdf.expression_limits import MAX_INT_BITS
 from diffbot.urdf.expressions import safe_eval
-from diffbot.urdf.sandbox import description_roots, process, sandboxed
+from diffbot.urdf.sandbox import Reads, description_roots, process, sandboxed
 
 XACRO_NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
 REFUSED = r"refused in an untrusted description: it uses "
@@ -122,6 +123,36 @@ def expand_demo(demo: Path, *, trust: bool = False) -> str:
 
 def test_a_real_description_expands_in_the_sandbox_as_with_full_trust(demo: Path) -> None:
     assert expand_demo(demo) == expand_demo(demo, trust=True)
+
+
+@pytest.mark.parametrize("trust", [False, True])
+def test_the_record_of_reads_holds_every_file_and_folder_the_expansion_read(
+    demo: Path, trust: bool
+) -> None:
+    reads = Reads()
+    process(demo, find=find_parts(demo).__getitem__, trust=trust, reads=reads)
+    package, parts = demo.parents[1], demo.parents[2] / "parts"
+    assert set(reads.files) == {
+        demo,
+        package / "config" / "props.yaml",
+        parts / "parts.xacro",
+        package / "urdf" / "wheel.xacro",
+    }
+    assert {package, package / "urdf", parts} <= set(reads.folders)
+    assert len(reads.folders) == len(set(reads.folders))
+
+
+def test_the_record_of_reads_holds_what_was_read_before_an_expansion_failed(
+    tmp_path: Path,
+) -> None:
+    write(tmp_path / "part.xacro", robot('<link name="part"/>'))
+    body = '<xacro:include filename="part.xacro"/><link name="${undefined_name}"/>'
+    path = write(tmp_path / "robot.urdf.xacro", robot(body))
+    reads = Reads()
+    with pytest.raises(XacroError):
+        process(path, reads=reads)
+    assert set(reads.files) == {path, tmp_path / "part.xacro"}
+    assert reads.folders == [tmp_path]
 
 
 def test_yaml_properties_namespaces_blocks_and_math_reach_the_urdf(demo: Path) -> None:
