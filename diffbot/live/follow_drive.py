@@ -323,4 +323,4 @@ class FollowDriver(Node):
 
     def status(self) -> str:
         """One line of counts for people."""
-        return f"{self.refusals.total} poses refused"
+        return f"{self.refusals.total} poses refused, {self.malformed} malformed"

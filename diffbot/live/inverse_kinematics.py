@@ -186,5 +186,5 @@ class InverseKinematicsNode(Node):
             refused = f"{self.refused} refused ({reasons})"
         return (
             f"{self.commands} commands, {refused}, {self.timeouts} timeouts, "
-            f"{sum(s.malformed for s in self.subscriptions)} malformed"
+            f"{self.malformed} malformed"
         )

@@ -217,7 +217,7 @@ class RobotNode(Node):
             values = [0.0] * len(joints)
         held = self.velocities if self.targets is None else self.targets
         for joint, value in zip(joints, values, strict=True):
-            held[joint] = value
+            held[joint] = self._saturated(value)
         self._last_command = time.monotonic()
         if self.targets is None:
             self._command_motors()
@@ -241,6 +241,12 @@ class RobotNode(Node):
                 self.velocities[joint] = value
         self._last_command = time.monotonic()
         self._command_motors()
+
+    def _saturated(self, value: float) -> float:
+        """A joint velocity (rad/s) no faster than the motor limit: the wheels never turn
+        faster, whatever they are told (the disturbed motors clamp again, at their speeds)."""
+        limit = self.params.max_wheel_speed
+        return value if limit is None else min(max(value, -limit), limit)
 
     def _command_motors(self) -> None:
         """Hand the commanded joint velocities, one message's worth, to the disturbed motors
@@ -359,7 +365,7 @@ class RobotNode(Node):
         received = sum(s.received for s in self.subscriptions)
         return (
             f"{self.updates} updates, {received} commands, {self.refused} refused, "
-            f"{self.timeouts} timeouts"
+            f"{self.timeouts} timeouts, {self.malformed} malformed"
         )
 
 

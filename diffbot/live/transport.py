@@ -389,6 +389,11 @@ class Node:
         """One line of what the node counted, for people (nodes that count say more)."""
         return f"{len(self._subscriptions)} subscriptions"
 
+    @property
+    def malformed(self) -> int:
+        """Payloads its subscriptions received that did not decode, dropped."""
+        return sum(s.malformed for s in self._subscriptions)
+
     def start(self: N) -> N:
         """Spin in a background thread (for notebooks and tests) until :meth:`shutdown`."""
         self._thread = threading.Thread(target=self.spin, name=f"diffbot-{self.name}", daemon=True)

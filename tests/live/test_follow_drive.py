@@ -117,6 +117,9 @@ def test_poses_are_taken_from_the_first_and_bad_ones_refused() -> None:
         driver.on_pose(bad.header, zero)
         assert driver.refusals.total == 2
         assert driver.pose.x == pytest.approx(0.1, abs=1e-12)  # the refused ones changed nothing
+        (subscription,) = driver._subscriptions
+        subscription.deliver([b"\x00\x01\x00\x00"])  # a truncated payload
+        assert driver.status() == "2 poses refused, 1 malformed"
 
 
 def commands_seen(probe: Node) -> list[types.Twist]:

@@ -77,7 +77,9 @@ def test_commanded_wheels_turn_and_silence_stops_them() -> None:
         status = robot.status()
         counts = (robot.updates, robot.timeouts)
     # The two commands counted among the robot's own counts.
-    assert status == f"{counts[0]} updates, 2 commands, 0 refused, {counts[1]} timeouts"
+    assert status == (
+        f"{counts[0]} updates, 2 commands, 0 refused, {counts[1]} timeouts, 0 malformed"
+    )
     assert states[-1].name == ["left_wheel_joint", "right_wheel_joint"]
     assert states[-1].header.frame_id == ""  # joint states name no frame, as ros2_control's
     assert (truth[-1].header.frame_id, truth[-1].child_frame_id) == ("odom", "base_link")
@@ -171,6 +173,27 @@ def test_a_bad_wheel_command_is_refused_as_zero() -> None:
         assert robot.velocities == {"left_wheel_joint": 0.0, "right_wheel_joint": 0.0}
 
 
+@pytest.mark.parametrize("cmd_vel", [None, "cmd_vel"])
+def test_undisturbed_wheels_never_turn_faster_than_the_motor_limit(cmd_vel: str | None) -> None:
+    # The limit is 10 rad/s: wheel commands of 1000 and -1e4 rad/s, or a twist asking 40 rad/s.
+    with RobotNode(LIMITED, None, RobotSettings(cmd_vel=cmd_vel)) as robot:
+        assert robot.motors is None
+        if cmd_vel is None:
+            robot.on_wheels(0, [1000.0])
+            robot.on_wheels(1, [-1e4])
+        else:
+            robot.on_twist(types.Twist(types.Vector3(2.0, 0.0, 0.0)))
+        assert max(abs(v) for v in robot.velocities.values()) == pytest.approx(10.0, rel=1e-12)
+        assert max(abs(v) for v in robot.velocities.values()) <= 10.0
+        time.sleep(0.05)
+        before = dict(robot.positions)
+        started = time.monotonic()
+        robot.update()
+        robot.update()
+        turned = max(abs(robot.positions[j] - before[j]) for j in before)
+        assert turned <= 10.0 * (time.monotonic() - started + 0.1)
+
+
 def test_a_bad_velocity_command_is_refused_as_a_stop_in_the_robots_domain() -> None:
     settings = RobotSettings(cmd_vel="cmd_vel")
     with RobotNode(TWO, settings=settings, domain=spare_domain(3)) as robot:
@@ -190,6 +213,7 @@ def test_velocity_commands_read_from_the_wire_turn_the_wheels_as_ik_does(stamped
     with RobotNode(TWO, None, settings) as robot:
         robot.subscriptions[0].deliver([message.serialize(), b"\x00\x01\x00\x00"])
         assert robot.subscriptions[0].malformed == 1
+        assert robot.status().endswith(", 1 malformed")
         expected = WheelCommander(TWO).step(0.2, 1.5, 1.0 / 50.0)
         assert robot.velocities["left_wheel_joint"] == pytest.approx(expected.left[0], abs=1e-12)
         assert robot.velocities["right_wheel_joint"] == pytest.approx(expected.right[0], abs=1e-12)

@@ -212,7 +212,7 @@ def test_robot_refuses_out_of_range_commands_and_keeps_working() -> None:
         assert robot.velocities["front_left_wheel_joint"] == 3.0
         until(graph, lambda: robot.updates > 3)
     assert robot.refusals.counts == {OUT_OF_RANGE: 1}
-    assert robot.status().endswith("3 commands, 1 refused, 0 timeouts")
+    assert robot.status().endswith("3 commands, 1 refused, 0 timeouts, 0 malformed")
     assert all(math.isfinite(p) for p in robot.positions.values())
 
 
