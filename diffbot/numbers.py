@@ -25,6 +25,8 @@ __all__ = [
     "MAX_PLAN_SAMPLES",
     "MAX_PLAN_TIME",
     "MAX_RECORDED_ANGLE",
+    "MAX_ROLLING_WINDOW",
+    "MAX_TIMER_RATE",
     "MAX_TURN",
     "MAX_WAYPOINTS",
     "MAX_WHEEL_SPEED",
@@ -86,6 +88,11 @@ MAX_NOISE = 2.0 * math.pi
 #: Largest count an option takes (processes, samples per window, ticks per revolution): beyond
 #: it a count is a mistake, and an integer of hundreds of digits is refused before any use.
 MAX_COUNT = 2**32
+#: Fastest a live node's own timer runs (Hz): its updates, or the publishing of a node that
+#: publishes on a clock rather than as messages come.
+MAX_TIMER_RATE = 1000.0
+#: Most steps a rolling velocity window spans (a controller's velocity_rolling_window_size).
+MAX_ROLLING_WINDOW = 1_000_000
 
 #: Largest total turn a plan may make (rad): about 160 million turns, where a float still
 #: holds the heading to a tenth of a microradian.

@@ -21,13 +21,13 @@ from __future__ import annotations
 
 import math
 import operator
-from collections import deque
 from collections.abc import Mapping, Sequence
-from typing import Final, cast
+from typing import Final
 
 from diffbot.batch_odometry import PoseSeries, integrate
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams, Pose, Twist, norm_angle
+from diffbot.numbers import MAX_ROLLING_WINDOW, shown
 from diffbot.ros.messages import (
     Header,
     OdometryMessage,
@@ -40,6 +40,7 @@ from diffbot.ros.messages import (
 )
 from diffbot.samples import SKIP_NOT_FINITE
 from diffbot.velocity_feedback import check_feedback
+from diffbot.window_sums import WindowSums
 
 __all__ = [
     "DEFAULT_POSE_COVARIANCE",
@@ -154,9 +155,7 @@ class Odometry:
         self._sides = _SideIndices() if several else None
         #: The last steps' (ds, dθ, dt), when the velocity spans more than one step.
         window = _window_size(velocity_rolling_window_size)
-        self._steps: deque[tuple[float, float, float]] | None = (
-            deque(maxlen=window) if window > 1 else None
-        )
+        self._steps = WindowSums(window) if window > 1 else None
         left_radius, right_radius = params.radii
         self._left_scale = params.left_sign * left_radius
         self._right_scale = params.right_sign * right_radius
@@ -315,12 +314,7 @@ class Odometry:
         """Velocity over the window: the sums of its displacements over the sum of its times."""
         steps = self._steps
         assert steps is not None
-        steps.append((ds, turn, dt))
-        distance = heading = time = 0.0
-        for step_ds, step_turn, step_dt in steps:  # oldest first
-            distance += step_ds
-            heading += step_turn
-            time += step_dt
+        distance, heading, time = steps.push((ds, turn, dt))
         self._linear = distance / time
         self._angular = heading / time
 
@@ -450,7 +444,7 @@ class Odometry:
     @property
     def velocity_rolling_window_size(self) -> int:
         """How many of the last steps the velocity estimate spans."""
-        return 1 if self._steps is None else cast(int, self._steps.maxlen)
+        return 1 if self._steps is None else self._steps.size
 
     def _skip(self, reason: str) -> None:
         self._skipped[reason] = self._skipped.get(reason, 0) + 1
@@ -574,9 +568,10 @@ def _window_size(value: int) -> int:
         size = operator.index(value)
     except TypeError:
         size = 0
-    if isinstance(value, bool) or size < 1:
+    if isinstance(value, bool) or not 1 <= size <= MAX_ROLLING_WINDOW:
         raise ParameterError(
-            f"velocity_rolling_window_size must be a whole number >= 1, got {value!r}"
+            "velocity_rolling_window_size must be a whole number from 1 to "
+            f"{MAX_ROLLING_WINDOW:,}, got {shown(value)}"
         )
     return size
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import doctest
 import math
+import time
 from pathlib import Path
 
 import numpy as np
@@ -357,7 +358,30 @@ def test_reset_clears_the_window() -> None:
     assert odom.twist.linear == pytest.approx(BOT.wheel_radius, rel=1e-15)
 
 
-@pytest.mark.parametrize("size", [0, -3, 2.5, True, "4", None])
+def test_a_robot_at_rest_for_a_whole_window_reads_exactly_zero() -> None:
+    odom = Odometry(BOT, velocity_rolling_window_size=5)
+    for k in range(40):  # wheels at odd speeds, then at rest for five steps and more
+        angle = 0.1 * math.sqrt(k) * (1.0 + 1e-3 * k) if k < 30 else 0.1 * math.sqrt(29) * 1.029
+        odom.update(angle, 0.7 * angle, 0.013 * k)
+    assert odom.twist == (0.0, 0.0)
+
+
+def windowed_cost(window: int, updates: int) -> float:
+    odom = Odometry(BOT, velocity_rolling_window_size=window)
+    started = time.process_time()
+    for k in range(updates):
+        odom.update(0.01 * k, 0.012 * k, 0.01 * k)
+    return time.process_time() - started
+
+
+def test_a_window_of_a_million_steps_costs_a_step_what_one_of_two_does() -> None:
+    # Summed again at each step, a million-step window made each joint state cost its size.
+    small = min(windowed_cost(2, 20_000) for _ in range(3))
+    large = min(windowed_cost(1_000_000, 20_000) for _ in range(3))
+    assert large < 2.0 * small + 0.05, (small, large)
+
+
+@pytest.mark.parametrize("size", [0, -3, 2.5, True, "4", None, 1_000_001, 2**32])
 def test_a_window_size_that_is_not_a_whole_number_from_one_is_refused(size: object) -> None:
     with pytest.raises(diffbot.ParameterError, match="velocity_rolling_window_size must be"):
         Odometry(BOT, velocity_rolling_window_size=size)  # type: ignore[arg-type]

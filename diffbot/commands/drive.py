@@ -149,7 +149,9 @@ def drive(
             LiveFollow,
             "rate pose_timeout frame_id wait lead",
             law="pure-pursuit" if follow == "pure-pursuit" else "tracking",
-            pose_topic=checked_topic("--pose-topic" if pose_topic else "--odom-topic", pose),
+            pose_topic=checked_topic(
+                "--odom-topic" if pose_topic is None else "--pose-topic", pose
+            ),
             from_odometry=pose_topic is None,
             cmd_vel=cmd_vel,
             stamped=stamped,

@@ -23,8 +23,9 @@ if TYPE_CHECKING:
 
 #: A live node's rate (Hz): from one update per longest plan to the fastest publisher's.
 RATE = FiniteFloat(MIN_COMMAND_RATE, maximum=MAX_PUBLISH_RATE)
-#: How often odometry may be published (Hz): at least once per longest plan.
-PUBLISH_RATE = FiniteFloat(MIN_COMMAND_RATE)
+#: How often odometry may be published (Hz): at least once per longest plan, at most as often
+#: as a node runs its timer (an open loop publishes on one).
+PUBLISH_RATE = RATE
 #: A time a live command waits (s): up to the longest plan.
 WAIT = FiniteFloat(0.0, maximum=MAX_PLAN_DURATION)
 #: How long a live command runs before it stops by itself (s): up to the longest plan.

@@ -37,6 +37,7 @@ from diffbot.commands.settings import from_options
 from diffbot.commands.shown_defaults import name_option
 from diffbot.commands.topic_options import CMD_VEL_HELP, distro_option, resolve_cmd_vel
 from diffbot.kinematics import DiffDriveParams
+from diffbot.numbers import MAX_ROLLING_WINDOW
 
 if TYPE_CHECKING:
     from diffbot.live.transport import Node
@@ -96,9 +97,9 @@ def node() -> None:
 )
 @click.option(
     "--window",
-    type=Count(1),
+    type=Count(1, MAX_ROLLING_WINDOW),
     metavar="N",
-    help="Velocity rolling window in steps [controllers file, else 1].",
+    help="Velocity rolling window in steps, up to 1,000,000 [controllers file, else 1].",
 )
 @feedback_option
 @click.option(

@@ -47,6 +47,7 @@ from diffbot.numbers import (
     MAX_COUNT,
     MAX_NOISE,
     MAX_PLAN_DURATION,
+    MAX_TIMER_RATE,
     MOTOR_LIMIT_RANGE,
     WHEEL_SIZE_RANGE,
     written_form,
@@ -205,8 +206,9 @@ class Names(click.Choice):  # type: ignore[type-arg,unused-ignore]
 POSITIVE = FiniteFloat(0.0, open_min=True)
 #: A wheel radius or separation of a real robot (m).
 WHEEL_SIZE = FiniteFloat(WHEEL_SIZE_RANGE[0], maximum=WHEEL_SIZE_RANGE[1])
-#: Highest --rate of the ros2 script (Hz): 'ros2 topic pub' is a Python loop, far from this fast.
-MAX_PUBLISH_RATE = 1000.0
+#: Highest --rate of the ros2 script and of a live node (Hz): 'ros2 topic pub' is a Python loop,
+#: far from this fast, and so is a node.
+MAX_PUBLISH_RATE = MAX_TIMER_RATE
 #: Lowest command --rate (Hz): one command per longest plan.
 MIN_COMMAND_RATE = 1.0 / MAX_PLAN_DURATION
 

@@ -74,10 +74,18 @@ def topic_problem(name: str) -> str | None:
 
 def resolve_topic(name: str, node: str) -> str:
     """The absolute name of topic ``name`` of node ``node`` in the root namespace, as rcl
-    expands it: ``odom`` and ``/odom`` are ``/odom``, a private ``~/odom`` is ``/<node>/odom``."""
-    if name.startswith("~/"):
-        return f"/{node}/{name[2:]}"
-    return "/" + name.lstrip("/")
+    expands it: ``odom`` and ``/odom`` are ``/odom``, a private ``~/odom`` is ``/<node>/odom``.
+
+    Raises:
+        LiveError: the expanded name is longer than ROS allows.
+    """
+    full = f"/{node}/{name[2:]}" if name.startswith("~/") else "/" + name.lstrip("/")
+    if len(full) > MAX_TOPIC_LENGTH:
+        raise LiveError(
+            f"topic {shown(name)} is longer than {MAX_TOPIC_LENGTH} characters once expanded "
+            f"for node {shown(node)} ({len(full)})"
+        )
+    return full
 
 
 def node_name_problem(name: str) -> str | None:

@@ -22,7 +22,7 @@ from diffbot.live.odometry import OdometryNode, OdometrySettings
 from diffbot.live.transport import LiveError, Subscription
 from diffbot.live.twist_subscriptions import subscribe_twists
 from diffbot.live.wire import Refusals, twist_problem
-from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range
+from diffbot.numbers import MAX_PLAN_DURATION, MAX_TIMER_RATE, finite_in_range
 
 __all__ = ["DEFAULT_PUBLISH_RATE", "CommandSettings", "OpenLoopOdometryNode"]
 
@@ -80,6 +80,11 @@ class OpenLoopOdometryNode(OdometryNode):
         name: str = "diffbot_odometry",
     ) -> None:
         finite_in_range(commands.timeout, "timeout", 0.0, MAX_PLAN_DURATION, error=LiveError)
+        if settings.publish_rate is not None:
+            # the publish rate is this node's own timer: faster would only spin the processor
+            finite_in_range(
+                settings.publish_rate, "publish_rate", 0.0, MAX_TIMER_RATE, error=LiveError
+            )
         # The held commands are fed as wheel angles (position feedback), and the twist is the
         # held command itself, as the controller's open loop publishes it (no rolling window).
         settings = replace(settings, feedback="position", window=1)

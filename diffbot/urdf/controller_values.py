@@ -10,7 +10,13 @@ from typing import Any, Literal
 
 from diffbot.controller_config import AxisLimits, ControllerConfig, default_of, first_of
 from diffbot.errors import DescriptionError
-from diffbot.numbers import MAX_PLAN_DURATION, as_number, finite_in_range, shown
+from diffbot.numbers import (
+    MAX_PLAN_DURATION,
+    MAX_ROLLING_WINDOW,
+    as_number,
+    finite_in_range,
+    shown,
+)
 
 __all__ = [
     "MAX_ROLLING_WINDOW",
@@ -22,9 +28,8 @@ __all__ = [
 
 #: Fastest controller manager loop accepted (Hz): real ones run at tens to a few thousand.
 MAX_UPDATE_RATE = 1e6
-#: Largest wheels_per_side and velocity_rolling_window_size accepted.
+#: Largest wheels_per_side accepted.
 MAX_WHEELS_PER_SIDE = 1000
-MAX_ROLLING_WINDOW = 1_000_000
 
 
 class ControllerConfigError(DescriptionError):

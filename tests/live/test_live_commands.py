@@ -53,6 +53,29 @@ def test_a_duration_past_the_longest_plan_or_not_positive_is_refused(
 
 
 @pytest.mark.parametrize(
+    ("args", "option"),
+    [
+        (["node", "odom", "--window", "1000001", "--duration", "0.1"], "--window"),
+        (["node", "odom", "--window", "4294967296", "--duration", "0.1"], "--window"),
+        (["node", "odom", "--open-loop", "--publish-rate", "1e300"], "--publish-rate"),
+        (["node", "odom", "--publish-rate", "1001", "--duration", "0.1"], "--publish-rate"),
+        (
+            ["drive", "straight 0.2", "--follow", "--pose-topic", "", "--wait", "0.1"],
+            "--pose-topic",
+        ),
+    ],
+)
+@pytest.mark.timeout(30)  # an accepted rate or window would run the node for good
+def test_a_window_or_rate_past_what_a_node_can_run_is_one_error_line(
+    args: list[str], option: str
+) -> None:
+    result = CliRunner().invoke(main, args, prog_name="diffbot")
+    assert result.exit_code == 2, result.output
+    assert result.stderr.count("\n") == 1, result.stderr
+    assert option in result.stderr
+
+
+@pytest.mark.parametrize(
     ("args", "first"),
     [
         (

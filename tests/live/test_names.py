@@ -89,6 +89,15 @@ def test_the_longest_topic_is_rmws() -> None:
     assert topic_problem("/" + "a" * MAX_TOPIC_LENGTH) is not None
 
 
+def test_a_private_topic_is_held_to_the_longest_once_expanded() -> None:
+    node = "n" * 10
+    fits = "~/" + "a" * (MAX_TOPIC_LENGTH - len(node) - 2)
+    assert len(resolve_topic(fits, node)) == MAX_TOPIC_LENGTH
+    assert topic_problem(fits + "a") is None  # short enough as written...
+    with pytest.raises(LiveError, match=r"longer than 247 characters once expanded .* \(248\)"):
+        resolve_topic(fits + "a", node)  # ...not once /<node>/ stands for ~/
+
+
 @settings(max_examples=60)
 @given(st.text(max_size=300))
 def test_a_name_that_passes_is_one_dds_takes(name: str) -> None:

@@ -145,6 +145,15 @@ def test_the_node_s_name_domain_and_timeout_bound() -> None:
     assert "1e+06" in str(caught.value)
 
 
+@pytest.mark.parametrize("rate", [1000.5, 1e6, 1e300])
+def test_a_publish_rate_faster_than_a_node_s_timer_is_refused(rate: float) -> None:
+    # The open loop publishes on its own timer: at 1e300 Hz it would only spin the processor.
+    with pytest.raises(LiveError, match=r"publish_rate must be .* <= 1000"):
+        OpenLoopOdometryNode(BOT, OdometrySettings(publish_rate=rate))
+    with OpenLoopOdometryNode(BOT, OdometrySettings(publish_rate=1000.0)) as node:
+        assert node.settings.publish_rate == 1000.0
+
+
 def test_the_open_loop_reads_no_feedback_setting_and_its_twist_is_the_command() -> None:
     # A controllers file may say position_feedback: false and a rolling window beside
     # open_loop: true; neither changes what the commands do, and the twist published is the
