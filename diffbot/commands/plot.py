@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -173,37 +172,25 @@ TRUE_PATH = "true pose"
 
 def _true_path(source: str) -> _Path | None:
     """The true path of a simulated run's CSV (its ``x`` and ``y`` columns, as ``diffbot
-    simulate`` writes them with a true robot or a disturbed one), or None when it has none."""
+    simulate`` writes them with a true robot or a disturbed one), or None when it has none;
+    read as every pose track is (:func:`~diffbot.io.poses.read_pose_track`: finite, in range,
+    or one error naming the line)."""
     import csv
-
-    import numpy as np
 
     from diffbot.calibration.truth import TRUTH_COLUMNS
     from diffbot.errors import RecordingError
     from diffbot.io.bag import is_bag
+    from diffbot.io.poses import read_pose_track
     from diffbot.io.textfile import open_text
 
     if is_bag(source):
         return None
     with open_text(source, RecordingError, "a recording", newline="") as handle:
-        rows = csv.reader(handle)
-        header = [name.strip() for name in next(rows, [])]
-        if not set(TRUTH_COLUMNS) <= set(header):
-            return None
-        at_x, at_y = header.index("x"), header.index("y")
-        xs: list[float] = []
-        ys: list[float] = []
-        for row in rows:
-            try:
-                x, y = float(row[at_x]), float(row[at_y])
-            except (IndexError, ValueError):
-                continue
-            if math.isfinite(x) and math.isfinite(y):
-                xs.append(x)
-                ys.append(y)
-    if not xs:
+        header = [name.strip() for name in next(csv.reader(handle), [])]
+    if not set(TRUTH_COLUMNS) <= set(header):
         return None
-    return f"{source} {TRUE_PATH}", np.array(xs), np.array(ys)
+    track = read_pose_track(source)
+    return f"{source} {TRUE_PATH}", track.x, track.y
 
 
 def _reference(

@@ -213,6 +213,30 @@ def test_a_figure_of_many_recordings_prints_no_matplotlib_warning(tmp_path: Path
     assert (tmp_path / "p.png").stat().st_size > 0
 
 
+@pytest.mark.parametrize(
+    ("cell", "message"),
+    [
+        ("1e308", "line 4: y must be a finite number >= -1e+09 and <= 1e+09 m, got 1e+308"),
+        ("nan", "line 4: not a finite time and pose"),
+        ("inf", "line 4: not a finite time and pose"),
+    ],
+)
+def test_a_true_pose_past_the_boundary_is_one_error_naming_its_line(
+    runner: CliRunner, params: DiffDriveParams, tmp_path: Path, cell: str, message: str
+) -> None:
+    # matplotlib failed with a traceback on 1e308, and NaN was drawn as nothing, silently.
+    turns = 1.0 / params.wheel_radius
+    rows = [f"{k},{k / 10 * turns!r},{k / 10 * turns!r},{k / 10},0,0" for k in range(11)]
+    rows[2] = rows[2].rsplit(",", 2)[0] + f",{cell},0"
+    csv = tmp_path / "run.csv"
+    csv.write_text(f"time,{params.left_joint},{params.right_joint},x,y,theta\n" + "\n".join(rows))
+    target = tmp_path / "run.png"
+    result = run(runner, "straight 1 10s", "--odom", str(csv), "-o", str(target))
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"error: {csv}: {message}\n"
+    assert not target.exists()
+
+
 def test_a_simulated_runs_true_path_is_drawn_beside_its_odometry(
     runner: CliRunner, params: DiffDriveParams, tmp_path: Path
 ) -> None:
