@@ -8,7 +8,7 @@ from typing import Any, TypeVar
 
 import click
 
-from diffbot.commands.options import FiniteFloat, NumberPair
+from diffbot.commands.options import MIN_COMMAND_RATE, FiniteFloat, NumberPair
 from diffbot.commands.shown_defaults import choice_option, name_option
 from diffbot.follow import MAX_LEAD
 from diffbot.simulation import MAX_DELAY
@@ -103,7 +103,7 @@ def follow_options(command: F) -> F:
     )(command)
     command = click.option(
         "--control-rate",
-        type=FiniteFloat(0.0, open_min=True),
+        type=FiniteFloat(MIN_COMMAND_RATE),
         default=20.0,
         show_default=True,
         metavar="HZ",

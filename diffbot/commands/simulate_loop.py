@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import sys
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -13,7 +12,6 @@ import click
 
 from diffbot.commands.options import OutOptions, emit_json, fail
 from diffbot.commands.progress import progress
-from diffbot.errors import EXIT_BAD_INPUT
 from diffbot.formats.plan_table import violation_lines
 from diffbot.formats.text import fmt
 
@@ -157,9 +155,11 @@ def run_loop(
     rate, ticks, noise, seed = sampling
     steps = made if isinstance(made, Plan) else made.steps
     if request.follow is not None and not steps.within_limit:
-        for line in violation_lines(steps):
-            click.echo(line, err=True)
-        sys.exit(EXIT_BAD_INPUT)
+        # bad input, so one line: the first segment over the limit, and how many more
+        first, *others = violation_lines(steps)
+        count = f"{len(others)} more segment" + ("s" if len(others) > 1 else "")
+        more = f" (and {count}: 'diffbot plan' lists them)" if others else ""
+        fail(first.removeprefix("error: ") + more)
     disturbances = Disturbances(
         request.motor_lag, request.latency, request.drop, request.slip, seed=seed
     )

@@ -91,6 +91,7 @@ def test_the_table_says_how_far_the_run_ended(runner: CliRunner, tmp_path: Path)
         (["--latency", "inf"], "--latency"),
         (["--follow", "--control-rate", "60"], "--control-rate"),
         (["--control-rate", "0"], "--control-rate"),
+        (["--motor-lag", "0.1", "--control-rate", "1e-300"], "'--control-rate': '1e-300' must be"),
         (["--pose-source", "truth"], "--follow"),
         (["--follow", "--pose-noise", "0.001,0.2"], "--pose-source truth"),
         (["--follow", "--pose-source", "truth", "--pose-noise", "-1,0"], "--pose-noise"),
@@ -124,6 +125,23 @@ def test_a_plan_over_the_limit_is_not_followed(runner: CliRunner, tmp_path: Path
     assert "segment 1" in result.stderr
     assert "shortest duration" in result.stderr
     assert not (tmp_path / "x.csv").exists()
+
+
+@pytest.mark.parametrize(
+    ("text", "more"), [("straight 0.3; spin 90", " segment:"), ("straight 1 1s", None)]
+)
+def test_a_plan_over_the_limit_in_several_segments_is_still_one_error_line(
+    runner: CliRunner, tmp_path: Path, text: str, more: str | None
+) -> None:
+    args = ["simulate", text, "--follow", "--max-rpm", "0.01", "-o", str(tmp_path / "x.csv")]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 2
+    assert result.stderr.count("\n") == 1, result.stderr
+    assert result.stderr.startswith("error: segment 1 (")
+    if more is None:
+        assert "more segment" not in result.stderr
+    else:
+        assert f"(and 1 more{more} 'diffbot plan' lists them)" in result.stderr
 
 
 def test_a_plain_simulation_below_the_control_rate_is_not_refused(
