@@ -10,6 +10,7 @@ the bundled robot) are reported at 0: the caster is not modelled.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final, NamedTuple, Protocol
@@ -372,6 +373,9 @@ MAX_DELAY: Final = 60.0
 SLIP_PERIOD: Final = 0.1
 #: Longest step of the wheels' integration (s): short beside any turn of the path.
 MAX_STEP: Final = 0.001
+#: Longest advance (s) over which the slip redraws are placed on the millisecond steps' grid
+#: as they fell when every step was one; over a longer one they fall on SLIP_PERIOD's.
+_GRID_WALK: Final = 1.0
 
 
 @dataclass(frozen=True)
@@ -483,8 +487,17 @@ class DisturbedRobot:
         )
 
     def advance(self, until: float) -> None:
-        """Step the robot to time ``until`` (s)."""
+        """Step the robot to time ``until`` (s).
+
+        The wheels' speeds and travel are exact over a step of any length; the pose's chord is
+        exact while the path's curvature holds, that is while both wheels' speeds stay in
+        proportion (both at their targets, or both approaching targets in proportion, as from
+        rest or to a stop). Such steps run to the next event: a command's arrival, ``until``
+        or, while a wheel turns on slipping ground, the next slip redraw, so that a run costs
+        its events, not its seconds. Other steps are at most :data:`MAX_STEP`.
+        """
         pending = self._pending
+        slip = self.disturbances.slip
         while self.time < until:
             while pending and pending[0][0] <= self.time + 1e-12:
                 _, left, right = pending.popleft()
@@ -492,14 +505,64 @@ class DisturbedRobot:
                 if lim is not None:
                     left, right = min(max(left, -lim), lim), min(max(right, -lim), lim)
                 self._target = (left, right)
-            end = min(until, self.time + MAX_STEP)
-            if pending and pending[0][0] < end:
-                end = max(pending[0][0], self.time)
-            if self.disturbances.slip and self.time >= self._next_slip:
+            if slip and self.time >= self._next_slip:
                 self._traction = self._draw_traction()
                 self._next_slip += SLIP_PERIOD
-            self._step(end - self.time)
+            still = self._target == (0.0, 0.0) and self.speeds == [0.0, 0.0]
+            event = min(until, pending[0][0]) if pending else until
+            if still and slip and event - self.time > SLIP_PERIOD:
+                self._skip_slip(event)
+                self.time = max(event, self.time)
+                continue
+            if slip and (still or self._steady()):
+                end = (
+                    self._slip_step_end(until)
+                    if until - self.time <= _GRID_WALK
+                    else max(self.time, min(until, self._next_slip))
+                )
+            elif still or self._steady():
+                end = event
+            else:
+                end = min(until, self.time + MAX_STEP)
+            if pending and pending[0][0] < end:
+                end = max(pending[0][0], self.time)
+            if not still:
+                self._step(end - self.time)
             self.time = end
+
+    def _steady(self) -> bool:
+        """Whether the wheels' speeds stay in proportion until the next command: both approach
+        their targets by one factor, so they do when their gaps are in the proportion of the
+        targets (to rounding), or when they reach the targets at once, without a lag."""
+        if self.disturbances.motor_lag == 0.0:
+            return True
+        (left, right), (speed_left, speed_right) = self._target, self.speeds
+        one, other = left * (speed_right - right), right * (speed_left - left)
+        return abs(one - other) <= 1e-15 * (abs(one) + abs(other))
+
+    def _slip_step_end(self, until: float) -> float:
+        """Where millisecond steps from now would first meet a command's arrival, ``until`` or
+        the next slip redraw: the long step ends there, so that the redraws fall at the same
+        times, to the bit, as when the robot is stepped a millisecond at a time (a redraw is at
+        most SLIP_PERIOD / MAX_STEP steps away)."""
+        pending = self._pending
+        at = self.time
+        while True:
+            end = min(until, at + MAX_STEP)
+            if pending and pending[0][0] < end:
+                end = max(pending[0][0], at)
+            if end == at:  # a millisecond lost in the rounding of so late a time
+                return until
+            at = end
+            if at >= until or at >= self._next_slip or (pending and pending[0][0] <= at + 1e-12):
+                return at
+
+    def _skip_slip(self, end: float) -> None:
+        """A robot at rest until ``end`` loses no travel to slip: the redraws that fall before
+        ``end`` are skipped but the last, which is drawn, due, before the robot moves again;
+        the next ones stay on the grid of :data:`SLIP_PERIOD`."""
+        if end - self._next_slip >= SLIP_PERIOD:
+            self._next_slip += math.floor((end - self._next_slip) / SLIP_PERIOD) * SLIP_PERIOD
 
     def _draw_traction(self) -> tuple[float, float]:
         high = min(2.0 * self.disturbances.slip, 0.999)
@@ -516,7 +579,14 @@ class DisturbedRobot:
             target, speed = self._target[side], self.speeds[side]
             gap = speed - target
             travel[side] = target * dt + gap * lag * (1.0 - decay)
-            self.speeds[side] = target + gap * decay
+            speed = target + gap * decay
+            # A gap under 1e-15 of the target moves the wheel less, over the rest of its
+            # approach, than rounding moves its angle; a subnormal one has lost its precision
+            # and would take hundreds of time constants to reach 0: either ends the approach.
+            left_over = abs(speed - target)
+            if left_over <= 1e-15 * abs(target) or left_over < sys.float_info.min:
+                speed = target
+            self.speeds[side] = speed
             self.angles[side] += travel[side]
         left = travel[0] * self._radii[0] * self._traction[0]
         right = travel[1] * self._radii[1] * self._traction[1]

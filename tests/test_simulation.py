@@ -611,3 +611,68 @@ def test_a_halted_robot_forgets_what_was_still_to_arrive_and_slows_with_its_lag(
     assert robot.speeds == pytest.approx([speed] * 2, rel=1e-6)
     robot.advance(3.0)
     assert robot.stopped
+
+
+def _stepped(
+    robot: DisturbedRobot, commands: list[tuple[float, float, float]], end: float, dt: float
+):
+    """Advance ``robot`` to ``end`` in calls ``dt`` apart, commanding each (time, left, right)
+    when its time comes."""
+    pending = list(commands)
+    t = 0.0
+    while t < end:
+        while pending and pending[0][0] <= t:
+            _, left, right = pending.pop(0)
+            robot.command(left, right)
+        t = min(end, t + dt) if pending == [] or pending[0][0] > t + dt else pending[0][0]
+        robot.advance(t)
+    return robot
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"motor_lag": 0.1},
+        {"motor_lag": 0.3, "latency": 0.05, "slip": 0.05},
+        {"latency": 0.07, "slip": 0.1},
+    ],
+)
+def test_long_steps_where_the_curvature_holds_move_the_robot_as_millisecond_ones(
+    kwargs: dict[str, float],
+) -> None:
+    # From rest, to rest, and between motions of one curvature the pose is exact over any
+    # step; between others (a spin after an arc) the robot is stepped a millisecond at a time.
+    commands = [(0.0, 2.0, 3.0), (4.0, -1.0, 1.0), (9.0, 1.5, 1.5), (15.0, 0.0, 0.0)]
+    fine_robot = _disturbed(**kwargs)
+    fine_robot._steady = lambda: False  # type: ignore[method-assign]
+    fine = _stepped(fine_robot, commands, 40.0, 0.25)
+    coarse = _stepped(_disturbed(**kwargs), commands, 40.0, 0.25)
+    assert coarse.time == fine.time == 40.0
+    assert coarse.angles == pytest.approx(fine.angles, rel=1e-12, abs=1e-12)
+    assert coarse.pose == pytest.approx(fine.pose, rel=1e-12, abs=1e-12)
+    assert coarse.speeds == pytest.approx(fine.speeds, rel=1e-12, abs=1e-300)
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("slip", [0.0, 0.05])
+def test_a_robot_stepped_rarely_costs_its_events_not_its_seconds(slip: float) -> None:
+    import time
+
+    start = time.process_time()
+    robot = _disturbed(motor_lag=0.1, latency=0.5, slip=slip)
+    robot.advance(5e5)  # at rest: nothing moves, nothing slips
+    # The redraw due is left to be drawn before it moves, on the grid of SLIP_PERIOD.
+    assert 5e5 - 0.1 < robot._next_slip <= 5e5 or not slip
+    robot.command(2.0, 2.0)
+    robot.command(-1.0, 1.0)  # a spin after a straight: a changing curvature
+    robot.advance(5e5 + 30.0)
+    if not slip:
+        robot.advance(1e6)  # both wheels at their targets: one step
+        robot.command(0.0, 0.0)
+        robot.advance(2e6)
+        assert robot.speeds == [0.0, 0.0]
+        assert robot.stopped
+        # Half a million seconds at 1 rad/s, less a lag's worth at the start, plus one at the
+        # stop.
+        assert robot.angles == pytest.approx([-5e5, 5e5], rel=1e-12)
+    assert time.process_time() - start < 5.0
