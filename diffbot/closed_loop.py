@@ -130,13 +130,15 @@ class LoopResult:
     duration: float
 
 
-def _open_loop(made: Plan | RampedPlan, rate: float) -> tuple[list[float], list[Twist]]:
+def _open_loop(made: Plan | RampedPlan, rate: float) -> Iterator[tuple[float, Twist]]:
+    """The plan's commands at ``rate`` Hz with their times, made a chunk at a time as they are
+    taken: a long plan has millions."""
     from diffbot.ramps import sampled
 
-    stream = sampled(made).commands(rate)
-    return stream.times.tolist(), [
-        Twist(v, w) for v, w in zip(stream.linear.tolist(), stream.angular.tolist(), strict=True)
-    ]
+    for stream in sampled(made).command_chunks(rate):
+        times, linear, angular = stream.times.tolist(), stream.linear, stream.angular
+        for t, v, w in zip(times, linear.tolist(), angular.tolist(), strict=True):
+            yield t, Twist(v, w)
 
 
 @dataclass
@@ -265,9 +267,10 @@ def _chunks(
     noise_random = random.Random(s.seed)
     sample_period = 1.0 / s.rate
     period = 1.0 / s.control_rate
-    open_times, open_commands = (
-        ([], []) if controller is not None else _open_loop(made, s.control_rate)
+    commands: Iterator[tuple[float, Twist]] = (
+        iter(()) if controller is not None else _open_loop(made, s.control_rate)
     )
+    upcoming = next(commands, None)
     limit = params.max_wheel_speed
     tick_step = 0.0 if s.ticks is None else 2.0 * math.pi / s.ticks
     left_sign, right_sign = params.left_sign, params.right_sign
@@ -275,7 +278,7 @@ def _chunks(
     peak = 0.0
     estimate = Pose(0.0, 0.0, 0.0)
     arrived, finish, stop = False, None, None
-    sample, tick, k = 0, 0, 0
+    sample, tick = 0, 0
     t = 0.0
     while True:
         t_sample, t_control = sample * sample_period, tick * period
@@ -319,10 +322,10 @@ def _chunks(
                     finish, twist = t, Twist(0.0, 0.0)
             else:
                 twist = Twist(0.0, 0.0)
-                while k < len(open_times) and open_times[k] <= t + 1e-9:
-                    twist = open_commands[k]
-                    k += 1
-                if k == len(open_times) and finish is None and twist == Twist(0.0, 0.0):
+                while upcoming is not None and upcoming[0] <= t + 1e-9:
+                    twist = upcoming[1]
+                    upcoming = next(commands, None)
+                if upcoming is None and finish is None and twist == Twist(0.0, 0.0):
                     finish = t
                     arrived = True
             wheels = inverse(params, float(twist.linear), float(twist.angular))
