@@ -41,6 +41,7 @@ __all__ = [
     "LoopOutcome",
     "LoopResult",
     "LoopSettings",
+    "longest_run",
     "path_distance",
     "run",
     "run_chunks",
@@ -225,14 +226,37 @@ def run_chunks(
         ParameterError: a run of more than :data:`diffbot.simulation.MAX_SAMPLES` samples
             (at once, before any chunk).
     """
-    lag = settings.disturbances.motor_lag + settings.disturbances.latency
     give_up = made.duration + max(MIN_OVERTIME, made.duration)
-    most = (give_up + 10.0 * lag) * settings.rate
+    seconds = longest_run(made, settings, closed=controller is not None)
+    most = seconds * settings.rate + 2.0
     if most > MAX_SAMPLES:
-        raise ParameterError(f"the run would take more than {MAX_SAMPLES} samples")
+        highest = (MAX_SAMPLES - 2.0) / seconds
+        raise ParameterError(
+            f"the run of up to {seconds:g} s at {settings.rate:g} Hz would take {most:.4g} "
+            f"samples, more than {MAX_SAMPLES}: lower the rate to at most {highest:.4g} Hz"
+        )
     names = (*params.left_joints, *params.right_joints, *params.passive_joints)
-    outcome = LoopOutcome(names, math.ceil(most) + 2)
+    outcome = LoopOutcome(names, math.ceil(most))
     return outcome, _chunks(made, params, settings, controller, outcome, give_up, chunk)
+
+
+def longest_run(made: Plan | RampedPlan, settings: LoopSettings, *, closed: bool) -> float:
+    """The latest time (s) a run's last sample may fall, at most one sample period early.
+
+    Open loop: its commands, one a control period, then the settling :func:`run_chunks`
+    waits for (five motor lags, the latency and two control periods). Closed: the plan and the
+    longest the follower is given to arrive, to the control tick at which it is told to stop
+    (the next, should that fall on the tick to rounding), then the same settling.
+    """
+    from diffbot.ramps import sampled
+
+    d = settings.disturbances
+    period = 1.0 / settings.control_rate
+    settle = 5.0 * d.motor_lag + d.latency + 2.0 * period
+    if closed:
+        give_up = made.duration + max(MIN_OVERTIME, made.duration)
+        return (math.floor(give_up * settings.control_rate) + 1) * period + settle
+    return sampled(made).commands_end(settings.control_rate) + settle
 
 
 def _table(rows: list[tuple[float, ...]], params: DiffDriveParams) -> LoopChunk:

@@ -226,6 +226,13 @@ class RampedPlan:
             )
         return sum(_periods(run.duration, rate) for run in self.runs) + 1
 
+    def commands_end(self, rate: float) -> float:
+        """When the final zero command of :meth:`commands` at ``rate`` Hz is sent (s): each
+        run takes whole periods. Unlike :meth:`commands`, it takes no more time or memory for a
+        rate too high to make them.
+        """
+        return sum(_periods(run.duration, rate) for run in self.runs) / rate
+
     def command_chunks(self, rate: float, chunk: int = COMMAND_CHUNK) -> Iterator[CommandStream]:
         """:meth:`commands` in consecutive pieces of at most ``chunk`` commands, made as they are
         asked for: millions of commands in constant memory. The rate is checked at once.

@@ -166,3 +166,42 @@ def test_an_open_loop_run_makes_its_commands_as_it_sends_them() -> None:
     first, peak = peak_bytes(lambda: next(chunks))
     assert first[0].size == 100
     assert peak < 20e6
+
+
+def test_an_open_loop_run_is_bounded_by_its_own_length_not_a_followers() -> None:
+    # straight 0.01 at 1 MHz: two 20 Hz commands, then five lags and two periods to settle,
+    # 0.7 s and 700,001 samples; the 10 s a follower is given past the plan's end would make
+    # it over 10 million, and it was refused.
+    settings = LoopSettings(rate=1e6, control_rate=20.0, disturbances=Disturbances(motor_lag=0.1))
+    outcome, _ = run_chunks(made("straight 0.01"), ROBOT, settings)
+    assert 700_001 <= outcome.most_samples <= 700_003
+
+
+class Stubborn:
+    def command(self, t, pose):
+        return Twist(0.1, 0.0)
+
+    def done(self, t, pose):
+        return False
+
+
+@pytest.mark.parametrize("follow", [False, True])
+@pytest.mark.parametrize(("rate", "control_rate"), [(50.0, 20.0), (50.0, 7.0), (1.0, 1e-3)])
+def test_the_most_samples_a_run_may_take_bound_it_closely(
+    follow: bool, rate: float, control_rate: float
+) -> None:
+    # At 1e-3 Hz a command is held for 1000 s, and the run settles for two periods after the
+    # last: 3000 s, not the plan's 2 s and the follower's 10.
+    settings = LoopSettings(
+        rate=rate,
+        control_rate=control_rate,
+        disturbances=Disturbances(motor_lag=0.05, latency=0.03),
+    )
+    controller = Stubborn() if follow else None
+    outcome, chunks = run_chunks(made("straight 0.2 2s"), ROBOT, settings, controller)  # type: ignore[arg-type]
+    for _ in chunks:
+        pass
+    # A follower that gives up is told so at the first control tick past its time, or, to
+    # rounding, the next.
+    late = rate / control_rate if follow else 0.0
+    assert outcome.samples <= outcome.most_samples <= outcome.samples + 2 + late

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
-    from diffbot.closed_loop import LoopResult
+    from diffbot.closed_loop import LoopResult, LoopSettings
     from diffbot.kinematics import DiffDriveParams
     from diffbot.ramps import RampedPlan
     from diffbot.trajectory import Plan
@@ -132,6 +132,34 @@ def summary(made: Plan | RampedPlan, result: LoopResult) -> dict[str, Any]:
     )
 
 
+def _check_length(made: Plan | RampedPlan, settings: LoopSettings, *, closed: bool) -> None:
+    """Refuse a run of more samples than simulate makes, saying how many and the highest
+    --rate that fits (the --control-rate sets how long the run is, --rate only how densely
+    it is sampled)."""
+    from diffbot.closed_loop import longest_run
+    from diffbot.simulation import MAX_SAMPLES
+
+    seconds = longest_run(made, settings, closed=closed)
+    count = seconds * settings.rate + 2.0
+    if count <= MAX_SAMPLES:
+        return
+    highest = (MAX_SAMPLES - 2.0) / seconds
+    digits = 10.0 ** (math.floor(math.log10(highest)) - 3)
+    highest = math.floor(highest / digits) * digits  # four digits, rounded down to fit
+    how = (
+        f"lower --rate to at most {highest:.4g} Hz for this plan"
+        if highest >= settings.control_rate
+        else f"that is too long even at --rate {fmt(settings.control_rate)} Hz, the "
+        "--control-rate: lower both, or shorten the plan"
+    )
+    up_to = "up to " if closed else ""
+    fail(
+        f"the run's {up_to}{fmt(seconds)} s at {fmt(settings.rate)} Hz would take "
+        f"{math.ceil(count) if count < 1e12 else f'{count:.4g}'} samples, more than the "
+        f"{MAX_SAMPLES} simulate makes: {how}"
+    )
+
+
 def run_loop(
     request: LoopRequest,
     made: Plan | RampedPlan,
@@ -175,6 +203,7 @@ def run_loop(
         pose_source="truth" if request.pose_source == "truth" else "odom",
         pose_noise=(metres, math.radians(degrees)),
     )
+    _check_length(made, settings, closed=request.follow is not None)
     follower = None
     lead = 0.0
     if request.follow is not None:

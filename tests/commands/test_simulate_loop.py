@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import time
 from pathlib import Path
 
 import pytest
@@ -176,3 +177,60 @@ def test_the_lead_defaults_to_the_simulated_delay_and_cuts_the_cross_track_error
     assert given == {**led, "lead": 0.215}
     assert plain["max_cross_track_error"] > 0.01
     assert led["max_cross_track_error"] < 0.25 * plain["max_cross_track_error"]
+
+
+LOW_RATE = ["--rate", "0.01", "--control-rate", "0.01"]
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize(
+    ("args", "rows"),
+    [
+        (["straight 0.3", "--motor-lag", "0.1", "--control-rate", "1e-6", "--rate", "1e-6"], 5),
+        (["straight 0.001 100000s", "--motor-lag", "0.1", *LOW_RATE], 1004),
+        (
+            ["straight 0.3", "--follow", "--lead", "0", "--control-rate", "1e-6", "--rate", "1e-6"],
+            4,
+        ),
+    ],
+)
+def test_a_run_at_a_low_rate_costs_its_samples_not_its_seconds(
+    runner: CliRunner, tmp_path: Path, args: list[str], rows: int
+) -> None:
+    # Millions of simulated seconds, a few samples: they were stepped a millisecond at a time.
+    out = tmp_path / "x.csv"
+    start = time.process_time()
+    result = runner.invoke(main, ["simulate", *args, "-o", str(out)])
+    assert result.exit_code == 0, result.output + result.stderr
+    assert time.process_time() - start < 10.0
+    assert len(out.read_text().splitlines()) == 1 + rows
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (
+            ["straight 1 20000s", "--motor-lag", "0.1", "--rate", "1000"],
+            "error: the run's 20000.6 s at 1000 Hz would take 20000602 samples, more than the "
+            "10000000 simulate makes: lower --rate to at most 499.9 Hz for this plan",
+        ),
+        (
+            ["straight 0.2", "--motor-lag", "0.1", "--rate", "1e6", "--follow"],
+            "error: the run's up to 12.65 s at 1e+06 Hz would take 12650002 samples, more than "
+            "the 10000000 simulate makes: lower --rate to at most 7.905e+05 Hz for this plan",
+        ),
+        (
+            ["straight 1 600000s", "--motor-lag", "0.1"],
+            "error: the run's 600001 s at 50 Hz would take 30000032 samples, more than the "
+            "10000000 simulate makes: that is too long even at --rate 20 Hz, the "
+            "--control-rate: lower both, or shorten the plan",
+        ),
+    ],
+)
+def test_a_run_of_too_many_samples_says_how_many_and_the_highest_rate_that_fits(
+    runner: CliRunner, tmp_path: Path, args: list[str], message: str
+) -> None:
+    result = runner.invoke(main, ["simulate", *args, "-o", str(tmp_path / "x.csv")])
+    assert result.exit_code == 2
+    assert result.stderr == message + "\n"
+    assert not (tmp_path / "x.csv").exists()
