@@ -24,6 +24,7 @@ from diffbot.simulation import (
     CHUNK_SAMPLES,
     MAX_RATE,
     MAX_SAMPLES,
+    SLIP_PERIOD,
     Disturbances,
     DisturbedRobot,
 )
@@ -234,6 +235,14 @@ def run_chunks(
         raise ParameterError(
             f"the run of up to {seconds:g} s at {settings.rate:g} Hz would take {most:.4g} "
             f"samples, more than {MAX_SAMPLES}: lower the rate to at most {highest:.4g} Hz"
+        )
+    draws = seconds / SLIP_PERIOD if settings.disturbances.slip else 0.0
+    if draws > MAX_SAMPLES:
+        # a slipping robot steps at least once per traction drawn, however rarely it is sampled
+        raise ParameterError(
+            f"the run of up to {seconds:g} s would draw a slipping wheel's traction "
+            f"{draws:.4g} times (every {SLIP_PERIOD:g} s), more than {MAX_SAMPLES}: a faster "
+            "control_rate or a shorter plan"
         )
     names = (*params.left_joints, *params.right_joints, *params.passive_joints)
     outcome = LoopOutcome(names, math.ceil(most))

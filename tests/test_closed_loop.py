@@ -177,6 +177,19 @@ def test_an_open_loop_run_is_bounded_by_its_own_length_not_a_followers() -> None
     assert 700_001 <= outcome.most_samples <= 700_003
 
 
+@pytest.mark.timeout(60)
+def test_a_slipping_run_of_more_tractions_than_samples_is_refused_before_it_starts() -> None:
+    # At 1e-6 Hz the one command is held for 1e6 s: one sample, but 1e7 tractions to draw
+    # (one per 0.1 s of motion), which ran for a minute.
+    slipping = Disturbances(slip=0.1, seed=1)
+    settings = LoopSettings(rate=1e-6, control_rate=1e-6, disturbances=slipping)
+    with pytest.raises(ParameterError, match=r"draw a slipping wheel's traction 3e\+07 times"):
+        run_chunks(made("straight 0.3"), ROBOT, settings)
+    calm = LoopSettings(rate=1e-6, control_rate=1e-6, disturbances=Disturbances(motor_lag=0.1))
+    outcome, _ = run_chunks(made("straight 0.3"), ROBOT, calm)
+    assert outcome.most_samples <= 6  # a few samples: the run is not refused without slip
+
+
 class Stubborn:
     def command(self, t, pose):
         return Twist(0.1, 0.0)
