@@ -90,9 +90,13 @@ pursuit: every leg driven and every spin turned) and within ``xy_tolerance`` and
 
 Every command is brought within the motor limit by scaling both wheels by one factor (the
 commanded curvature is kept, as :func:`diffbot.kinematics.saturate` does), then, when the
-robot's controller configuration or the ramped plan gives acceleration or jerk limits, through
-the diff_drive_controller limiter model of :mod:`diffbot.limiter` (both axes moved the same
-share of the way, so the curvature stays).
+robot's controller configuration gives acceleration or jerk limits (for pure pursuit also a
+ramped plan's), through the diff_drive_controller limiter model of :mod:`diffbot.limiter` (both
+axes moved the same share of the way, so the curvature stays). The tracking law keeps a ramped
+plan's limits through its reference: the ramps use all of them, so the feedback held to them
+has no authority left and swings out of control. The arrival and pure pursuit's turns in place
+and approach go no faster than the limits can stop within the error left
+(:func:`diffbot.arrival.stopping_speed`).
 """
 
 from __future__ import annotations
@@ -106,7 +110,7 @@ from typing import TYPE_CHECKING, Final
 
 from diffbot.arrival import Arrival
 from diffbot.errors import ParameterError
-from diffbot.follow_plan import axis_limits, pieces
+from diffbot.follow_plan import axis_brakes, axis_limits, controller_limits, pieces
 from diffbot.kinematics import DiffDriveParams, Pose, Twist
 from diffbot.numbers import finite_in_range, shown
 
@@ -339,7 +343,10 @@ class Follower:
         self._index = 0
         left, right = params.radii
         self._wheel = (left, right, 0.5 * params.wheel_separation)
-        self._axes = axis_limits(plan, params)
+        self._axes = (
+            axis_limits(plan, params) if law == "pure-pursuit" else controller_limits(params)
+        )
+        linear, angular = axis_brakes(self._axes)
         #: The tracking law's integral: the curvature (1/m) added per m/s of reference speed,
         #: held within the largest bias a wheel mismatch gives.
         self.bias = 0.0
@@ -351,7 +358,12 @@ class Follower:
         #: (v, w) and the pose the commands before reach in the command frame (m, m, rad).
         self._sent: deque[tuple[float, float, float, float, float, float]] = deque()
         self._arrival = Arrival(
-            self.goal.x, self.goal.y, self.goal_heading, self.gains, self.xy_tolerance
+            self.goal.x,
+            self.goal.y,
+            self.goal_heading,
+            self.gains,
+            self.xy_tolerance,
+            (linear, angular),
         )
         self._within_since: float | None = None
         self._done: bool | None = None
@@ -359,7 +371,9 @@ class Follower:
         if law == "pure-pursuit":
             from diffbot.pursuit import Pursuit
 
-            self._pursuit = Pursuit(steps, self.gains, self.lookahead, self.xy_tolerance)
+            self._pursuit = Pursuit(
+                steps, self.gains, self.lookahead, self.xy_tolerance, (linear, angular)
+            )
 
     # ----------------------------------------------------------------------------------------
     def reference(self, t: float) -> tuple[float, float, float, float, float]:

@@ -11,7 +11,7 @@ if TYPE_CHECKING:
     from diffbot.ramps import RampedPlan
     from diffbot.trajectory import Plan
 
-__all__ = ["axis_limits", "pieces"]
+__all__ = ["axis_brakes", "axis_limits", "controller_limits", "pieces"]
 
 
 def pieces(plan: Plan | RampedPlan) -> list[tuple[float, ...]]:
@@ -51,8 +51,9 @@ def pieces(plan: Plan | RampedPlan) -> list[tuple[float, ...]]:
 
 
 def axis_limits(plan: Plan | RampedPlan, params: DiffDriveParams) -> tuple[AxisLimits, ...]:
-    """The (linear, angular) limits the commands keep besides the motor limit: the ramped
-    plan's, else the controller's, else none (an empty tuple)."""
+    """The (linear, angular) limits pure pursuit's commands keep besides the motor limit: the
+    ramped plan's (an untimed law has no other way to keep its ramps), else the controller's,
+    else none (an empty tuple)."""
     from diffbot.controller_config import AxisLimits
     from diffbot.trajectory import Plan
 
@@ -69,6 +70,14 @@ def axis_limits(plan: Plan | RampedPlan, params: DiffDriveParams) -> tuple[AxisL
             )
         if any(a.max_acceleration is not None or a.max_jerk is not None for a in axes):
             return tuple(axes)
+    return controller_limits(params)
+
+
+def controller_limits(params: DiffDriveParams) -> tuple[AxisLimits, ...]:
+    """The (linear, angular) limits of the robot's own controller, which every command meets
+    (the tracking law's too), or none (an empty tuple). A ramped plan's limits are the
+    reference's: its feed-forward keeps them, and the feedback that brings the robot back
+    onto it must not be held to them, for the reference uses all of them on its ramps."""
     controller = params.controller
     if controller is None:
         return ()
@@ -81,3 +90,29 @@ def axis_limits(plan: Plan | RampedPlan, params: DiffDriveParams) -> tuple[AxisL
     ):
         return linear, angular
     return ()
+
+
+def axis_brakes(axes: tuple[AxisLimits, ...]) -> tuple[tuple[float | None, float | None], ...]:
+    """The (acceleration, jerk) magnitudes (unit/s², unit/s³; None: unlimited) of each axis
+    of ``axes``, the tightest of its forward, braking and reverse limits; two unlimited axes
+    for none."""
+    if not axes:
+        return ((None, None), (None, None))
+
+    def tightest(*values: float | None) -> float | None:
+        given = [abs(v) for v in values if v is not None and v == v and v != 0.0]
+        return min(given) if given else None
+
+    return tuple(
+        (
+            tightest(
+                a.max_acceleration,
+                a.min_acceleration,
+                a.max_deceleration,
+                a.max_acceleration_reverse,
+                a.max_deceleration_reverse,
+            ),
+            tightest(a.max_jerk, a.min_jerk),
+        )
+        for a in axes
+    )

@@ -15,6 +15,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Final
 
+from diffbot.arrival import AxisBrake, stopping_speed
+
 if TYPE_CHECKING:
     from diffbot.follow import Gains
     from diffbot.trajectory import Plan
@@ -108,10 +110,21 @@ class Pursuit:
         gains: the follower's gains (``kspin``, ``min_radius``, ``approach``, ``creep``).
         lookahead: the lookahead distance (m), > 0.
         tolerance: the distance (m) from a leg's end at which it counts as reached.
+        brakes: the (linear, angular) acceleration and jerk limits the commands go through: a
+            turn in place and the approach to a leg's end go no faster than they can stop
+            (:func:`diffbot.arrival.stopping_speed`).
     """
 
-    def __init__(self, plan: Plan, gains: Gains, lookahead: float, tolerance: float) -> None:
+    def __init__(
+        self,
+        plan: Plan,
+        gains: Gains,
+        lookahead: float,
+        tolerance: float,
+        brakes: tuple[AxisBrake, AxisBrake] = ((None, None), (None, None)),
+    ) -> None:
         self.gains = gains
+        self.brakes = brakes
         self.lookahead = lookahead
         self.tolerance = tolerance
         self.legs = legs(plan, min(0.01, 0.25 * lookahead))
@@ -195,7 +208,7 @@ class Pursuit:
         leg = self.legs[self.leg]
         g = self.gains
         if self.turning:
-            return 0.0, g.kspin * (leg.start_heading - self.heading)
+            return 0.0, self._turn(leg.start_heading - self.heading)
         xs, ys, i = leg.xs, leg.ys, self.index
         last = len(xs) - 1
         reach = self.lookahead * self.lookahead
@@ -226,7 +239,7 @@ class Pursuit:
         direction = leg.direction
         angle = math.atan2(direction * ly, direction * lx)
         if abs(angle) > ROTATE_MIN_ANGLE:
-            return 0.0, g.kspin * angle
+            return 0.0, self._turn(angle)
         kappa = 2.0 * ly / square if square > 0.0 else 0.0
         speed = leg.speeds[i]
         if abs(kappa) * g.min_radius > 1.0:
@@ -234,5 +247,16 @@ class Pursuit:
         remaining = leg.lengths[-1] - leg.lengths[i]
         if remaining < g.approach:
             speed = max(speed * remaining / g.approach, min(g.creep, leg.speeds[i]))
+        # Slow enough to stop at the leg's end, the path length left.
+        speed = min(speed, stopping_speed(remaining, self.brakes[0]))
+        if kappa:
+            # The turn rate v kappa stops too, within the turn the leg has left.
+            turn_left = abs(kappa) * max(remaining, 0.0)
+            speed = min(speed, stopping_speed(turn_left, self.brakes[1]) / abs(kappa))
         v = direction * speed
         return v, v * kappa
+
+    def _turn(self, angle: float) -> float:
+        """The turn rate (rad/s) toward a heading ``angle`` (rad) away, that can stop there."""
+        top = stopping_speed(abs(angle), self.brakes[1])
+        return min(max(self.gains.kspin * angle, -top), top)

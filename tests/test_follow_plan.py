@@ -9,7 +9,7 @@ import pytest
 from robots import BOT_50_RPM
 
 from diffbot.follow import Follower
-from diffbot.follow_plan import axis_limits, pieces
+from diffbot.follow_plan import axis_limits, controller_limits, pieces
 from diffbot.kinematics import Pose
 from diffbot.planfile import parse_plan
 from diffbot.profiles import Limits, PathLimits
@@ -64,16 +64,29 @@ def test_a_step_plan_on_a_robot_without_a_controller_keeps_no_limits_but_a_ramp_
     assert (linear.max_acceleration, angular.max_acceleration) == (0.1, 0.5)
 
 
-def test_commands_keep_a_ramped_plans_acceleration_limits():
+def test_pure_pursuits_commands_keep_a_ramped_plans_acceleration_limits():
     steps = made("straight 1 10s")
     ramped = ramp(
         steps, Limits(linear=PathLimits(acceleration=0.1), angular=PathLimits(acceleration=0.5))
     )
-    follower = Follower(ROBOT, ramped)
+    # Untimed, pure pursuit has no ramped reference: the limiter keeps the plan's ramps.
+    follower = Follower(ROBOT, ramped, law="pure-pursuit")
     last_v, dt = 0.0, 0.05
-    # Far behind: the feedback asks for a jump the limiter spreads out.
+    # Far behind: the law asks for a jump the limiter spreads out.
     for k in range(1, 40):
         v, _ = follower.command(k * dt, Pose(-0.5, 0.0, 0.0))
         assert abs(v - last_v) <= 0.1 * dt * (1 + 1e-9) + 1e-12
         last_v = v
     assert last_v > 0.0
+
+
+def test_the_tracking_law_keeps_its_controllers_limits_and_follows_a_ramp_from_its_reference():
+    steps = made("straight 1 10s")
+    ramped = ramp(steps, Limits(linear=PathLimits(jerk=0.001)))
+    # The ramped plan's limits are its reference's, which uses all of them: the feedback is
+    # not held to them (held, the law has no authority left and swings out of control).
+    assert controller_limits(ROBOT) == ()
+    follower = Follower(ROBOT, ramped)
+    x, y, heading, v_r, w_r = follower.reference(3.0)
+    assert follower.command(3.0, Pose(x, y, heading)) == pytest.approx((v_r, w_r), abs=1e-12)
+    assert follower.command(3.05, Pose(-0.5, 0.0, 0.0))[0] > 0.1

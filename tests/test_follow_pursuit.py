@@ -8,6 +8,7 @@ import json
 import math
 from pathlib import Path
 
+import follow_ramps
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -181,3 +182,22 @@ def test_any_plan_ends_with_the_plans_turns_and_its_path_driven(items):
     assert math.hypot(final.x - goal.x, final.y - goal.y) <= follower.xy_tolerance
     assert final.theta == pytest.approx(p.segments[-1].end_heading, abs=math.radians(0.6))
     assert rolled >= 0.9 * sum(abs(geometry(s.segment)[0]) for s in p.segments)
+
+
+@pytest.mark.parametrize("known", [k for k in follow_ramps.KNOWN if k[1] == "pure-pursuit"])
+def test_pure_pursuit_brings_a_perfect_robot_to_a_ramped_plans_end(known):
+    text, law, linear, angular = known
+    # Its turns in place and its approach asked speeds the limits could not take back in
+    # time: 'spin 90' at 0.1 rad/s² overshot to 160.9 degrees and swung on.
+    assert follow_ramps.within(
+        follow_ramps.followed(follow_ramps.ramped(text, linear, angular), law)
+    )
+
+
+@settings(max_examples=30, deadline=None)
+@given(follow_ramps.PLANS, follow_ramps.LINEAR, follow_ramps.ANGULAR)
+def test_pure_pursuit_follows_any_ramped_plan_on_a_perfect_robot(text, linear, angular):
+    if linear.acceleration is None and linear.jerk is None and angular.acceleration is None:
+        linear = linear._replace(jerk=1e-3)
+    made = follow_ramps.ramped(text, linear, angular)
+    assert follow_ramps.within(follow_ramps.followed(made, "pure-pursuit")), (text, linear, angular)
