@@ -364,7 +364,9 @@ def _chunks(
             wheels = inverse(params, float(twist.linear), float(twist.angular))
             if limit:
                 peak = max(peak, abs(float(wheels.left)) / limit, abs(float(wheels.right)) / limit)
-            if finish is None or t == finish:
+            # A follower done commands zero at every tick, as a controller does, so a lost stop
+            # is sent again; an open loop's commands end with the plan's final zero.
+            if finish is None or t == finish or controller is not None:
                 robot.command(float(wheels.left), float(wheels.right))
             if finish is not None and stop is None:
                 stop = t + 5.0 * s.disturbances.motor_lag + s.disturbances.latency + 2 * period

@@ -85,8 +85,10 @@ point (or away from it, to reverse onto it) and drives there (``w = k_spin beta`
 otherwise it aligns (``v = k_x e_x``, ``w = k_spin sin e_theta``). The wide hysteresis keeps
 a noisy pose source from toggling the two. It is done when past the plan's end (for pure
 pursuit: every leg driven and every spin turned) and within ``xy_tolerance`` and
-``yaw_tolerance`` for :data:`DWELL` s; once :meth:`Follower.done` has said so it commands zero
-(until the pose leaves the tolerances).
+``yaw_tolerance`` for :data:`DWELL` s, or three lead times when longer (a robot that acts on
+its commands a lead time late coasts on for about that long: ``--motor-lag 1`` still rolled
+3 mm past a one-second dwell); once :meth:`Follower.done` has said so it commands zero (until
+the pose leaves the tolerances).
 
 Every command is brought within the motor limit by scaling both wheels by one factor (the
 commanded curvature is kept, as :func:`diffbot.kinematics.saturate` does), then, when the
@@ -333,6 +335,8 @@ class Follower:
                 else finite_in_range(lookahead, "lookahead", 0.0, 1e3, open_low=True, unit="m")
             )
         self.lead = finite_in_range(lead, "lead", 0.0, MAX_LEAD, unit="s")
+        #: How long (s) the pose must stay within the tolerances before it is done.
+        self.dwell = max(DWELL, 3.0 * self.lead)
         if self.lead and law != "tracking":
             raise ParameterError("lead is the tracking law's; pure pursuit takes none")
         self.duration = plan.duration
@@ -405,7 +409,7 @@ class Follower:
     def done(self, t: float, pose: Pose) -> bool:
         """Whether the plan is finished: past its end (for pure pursuit: its path driven) and
         within ``xy_tolerance`` and ``yaw_tolerance`` of its final pose, as every pose given
-        for the last :data:`DWELL` s was (a robot still coasting leaves the tolerance within
+        for the last :attr:`dwell` s was (a robot still coasting leaves the tolerance within
         that time; call this at every control step)."""
         pursuit = self._pursuit
         finished = pursuit.finished if pursuit is not None else t >= self.duration
@@ -420,7 +424,7 @@ class Follower:
             return False
         if self._within_since is None or t < self._within_since:
             self._within_since = t
-        self._done = t - self._within_since >= DWELL or None
+        self._done = t - self._within_since >= self.dwell or None
         return bool(self._done)
 
     def command(self, t: float, pose: Pose) -> Twist:

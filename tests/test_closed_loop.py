@@ -73,6 +73,40 @@ def test_closing_the_loop_on_odometry_ends_within_a_centimetre_and_a_degree() ->
         assert cross.max() < 0.02, law
 
 
+class DoneAtOnce:
+    """Done at its first step with the robot driving: it commands zero from then on."""
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def command(self, t, pose):
+        return Twist(0.0, 0.0)
+
+    def done(self, t, pose):
+        self.calls += 1
+        return self.calls > 1
+
+
+def test_a_follower_done_keeps_commanding_zero_so_a_lost_stop_is_sent_again() -> None:
+    # Every other command is lost: the one stop sent when the follower was done was lost for
+    # several seeds, and the robot drove on at its last command until the run ended.
+    class Driving(DoneAtOnce):
+        def command(self, t, pose):
+            return Twist(0.1, 0.0)
+
+    lost = 0
+    for seed in range(30):
+        motors = Disturbances(motor_lag=0.5, drop=0.5, seed=seed)
+        result = run(
+            made("straight 1"), ROBOT, LoopSettings(rate=100.0, disturbances=motors), Driving()
+        )
+        # Told 0.1 m/s for one 50 ms tick, it reaches 1 cm/s: a stop that arrives within a few
+        # ticks leaves it 6 mm on; a lost one let it speed up for the 2.6 s the run settles.
+        assert result.truth[0, -1] < 0.02, seed
+        lost += result.truth[0, -1] > 0.006  # its first stop lost
+    assert lost >= 3
+
+
 def test_a_run_that_never_arrives_gives_up() -> None:
     p = made("straight 0.2 2s")
 

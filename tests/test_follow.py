@@ -237,6 +237,17 @@ def test_pure_pursuit_arrives_with_the_goal_heading(text):
     assert abs(wrap(final.theta - goal.theta)) <= follower.yaw_tolerance
 
 
+@pytest.mark.parametrize(("lead", "dwell"), [(0.0, DWELL), (0.2, DWELL), (1.0, 3.0)])
+def test_a_robot_that_acts_a_lead_time_late_is_waited_for_three_lead_times(lead, dwell):
+    # --motor-lag 1 (lead 1.025 s) rolled on 3 mm after a one-second dwell, out of 5 mm.
+    follower = Follower(ROBOT, made("straight 1 10s"), lead=lead)
+    goal = Pose(1.0, 0.0, 0.0)
+    assert follower.dwell == dwell
+    assert not follower.done(10.0, goal)
+    assert not follower.done(10.0 + 0.99 * dwell, goal)
+    assert follower.done(10.0 + dwell, goal)
+
+
 def test_done_only_past_the_end_within_the_tolerances_for_the_dwell():
     p = made("straight 1 10s")
     follower = Follower(ROBOT, p)
