@@ -112,11 +112,12 @@ from typing import TYPE_CHECKING, Final
 
 from diffbot.arrival import Arrival
 from diffbot.errors import ParameterError
-from diffbot.follow_plan import axis_brakes, axis_limits, controller_limits, pieces
+from diffbot.follow_plan import axis_brakes, axis_limits, body_share, controller_limits, pieces
 from diffbot.kinematics import DiffDriveParams, Pose, Twist
 from diffbot.numbers import finite_in_range, shown
 
 if TYPE_CHECKING:
+    from diffbot.body_limits import BodyLimits
     from diffbot.ramps import RampedPlan
     from diffbot.trajectory import Plan
 
@@ -288,6 +289,8 @@ class Follower:
             against the reference at ``t + lead`` (see the module's notes).
         xy_tolerance: distance from the final pose within which it is done (m), > 0.
         yaw_tolerance: heading error within which it is done (rad), > 0.
+        body: body velocity limits every command keeps (m/s, rad/s; both axes scaled by one
+            factor), as the plan was made within (``--max-linear``, ``--max-angular``).
 
     Raises:
         ParameterError: an unknown law, a gain, lookahead or tolerance that is not finite or
@@ -305,6 +308,7 @@ class Follower:
         lead: float = 0.0,
         xy_tolerance: float = DEFAULT_XY_TOLERANCE,
         yaw_tolerance: float = DEFAULT_YAW_TOLERANCE,
+        body: BodyLimits | None = None,
     ) -> None:
         from diffbot.trajectory import Plan
 
@@ -313,6 +317,7 @@ class Follower:
         self.params = params
         self.plan = plan
         self.law = law
+        self.body = body
         steps = plan if isinstance(plan, Plan) else plan.steps
         self.limit = steps.limit if steps.limit is not None else params.max_wheel_speed
         self.gains = _checked_gains(gains, default_gains(params, self.limit))
@@ -539,6 +544,10 @@ class Follower:
                 scale = lim / peak
                 v, w = v * scale, w * scale
                 self._saturated = True
+        share = body_share(v, w, self.body)
+        if share < 1.0:
+            v, w = v * share, w * share
+            self._saturated = True
         last = self._last
         if self._axes:
             from diffbot.limiter import limit

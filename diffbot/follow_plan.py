@@ -6,12 +6,13 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    from diffbot.body_limits import BodyLimits
     from diffbot.controller_config import AxisLimits
     from diffbot.kinematics import DiffDriveParams
     from diffbot.ramps import RampedPlan
     from diffbot.trajectory import Plan
 
-__all__ = ["axis_brakes", "axis_limits", "controller_limits", "pieces"]
+__all__ = ["axis_brakes", "axis_limits", "body_share", "controller_limits", "pieces"]
 
 
 def pieces(plan: Plan | RampedPlan) -> list[tuple[float, ...]]:
@@ -116,3 +117,19 @@ def axis_brakes(axes: tuple[AxisLimits, ...]) -> tuple[tuple[float | None, float
         )
         for a in axes
     )
+
+
+def body_share(v: float, w: float, body: BodyLimits | None) -> float:
+    """The share (0 to 1) of ``(v, w)`` (m/s, rad/s) that lies within the body velocity limits
+    ``body``: both axes scaled by it keep the command's curvature, as the motor limit does."""
+    if body is None:
+        return 1.0
+    share = 1.0
+    for value, bounds in ((v, body.linear), (w, body.angular)):
+        if bounds is not None:
+            low, high = bounds
+            if value > high:
+                share = min(share, high / value)
+            elif value < low:
+                share = min(share, low / value)
+    return share

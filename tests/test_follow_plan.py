@@ -8,8 +8,9 @@ import math
 import pytest
 from robots import BOT_50_RPM
 
+from diffbot.body_limits import BodyLimits
 from diffbot.follow import Follower
-from diffbot.follow_plan import axis_limits, controller_limits, pieces
+from diffbot.follow_plan import axis_limits, body_share, controller_limits, pieces
 from diffbot.kinematics import Pose
 from diffbot.planfile import parse_plan
 from diffbot.profiles import Limits, PathLimits
@@ -90,3 +91,14 @@ def test_the_tracking_law_keeps_its_controllers_limits_and_follows_a_ramp_from_i
     x, y, heading, v_r, w_r = follower.reference(3.0)
     assert follower.command(3.0, Pose(x, y, heading)) == pytest.approx((v_r, w_r), abs=1e-12)
     assert follower.command(3.05, Pose(-0.5, 0.0, 0.0))[0] > 0.1
+
+
+def test_the_body_share_is_the_one_factor_that_brings_both_axes_within_their_limits() -> None:
+    body = BodyLimits(linear=(-0.1, 0.2), angular=(-1.0, 1.0))
+    assert body_share(0.1, 0.5, body) == 1.0
+    assert body_share(0.4, 0.5, body) == 0.5  # the linear axis asks half
+    assert body_share(-0.4, 0.5, body) == 0.25  # backwards its limit is 0.1
+    assert body_share(0.1, -4.0, body) == 0.25  # the angular axis asks a quarter
+    assert body_share(0.4, -4.0, body) == 0.25  # the tighter of the two
+    assert body_share(9.0, 9.0, None) == 1.0
+    assert body_share(9.0, 9.0, BodyLimits()) == 1.0

@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 from path_pieces import plan_segments
 from robots import BOT_50_RPM
 
+from diffbot.body_limits import BodyLimits
 from diffbot.cli import main
 from diffbot.closed_loop import LoopSettings, run
 from diffbot.follow import Follower
@@ -201,3 +202,18 @@ def test_pure_pursuit_follows_any_ramped_plan_on_a_perfect_robot(text, linear, a
         linear = linear._replace(jerk=1e-3)
     made = follow_ramps.ramped(text, linear, angular)
     assert follow_ramps.within(follow_ramps.followed(made, "pure-pursuit")), (text, linear, angular)
+
+
+@pytest.mark.parametrize("law", ["pure-pursuit", "tracking"])
+def test_every_command_keeps_the_body_limits_the_plan_was_made_within(law: str) -> None:
+    # Pure pursuit spun at the motor limit (2.7 rad/s) where --max-angular asked 0.01 rad/s.
+    body = BodyLimits(linear=(-0.05, 0.05), angular=(-0.01, 0.01))
+    p = plan(parse_plan("straight 0.3; spin 90"), ROBOT, body=body)
+    follower = Follower(ROBOT, p, law=law, body=body)
+    result = run(p, ROBOT, LoopSettings(rate=20.0, control_rate=20.0), follower)
+    assert result.arrived
+    rates = np.abs(np.diff(np.unwrap(result.truth[2])) / np.diff(result.times))
+    speeds = np.hypot(*np.diff(result.truth[:2], axis=1)) / np.diff(result.times)
+    assert rates.max() <= 0.01 * (1 + 1e-9)
+    assert speeds.max() <= 0.05 * (1 + 1e-9)
+    assert rates.max() > 0.0099  # at the limit, not held far below it

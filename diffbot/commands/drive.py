@@ -156,7 +156,15 @@ def drive(
             cmd_vel=cmd_vel,
             stamped=stamped,
         )
-        drive_follow(request, built.made, params, source.label, announce=announce, quiet=quiet)
+        drive_follow(
+            request,
+            built.made,
+            params,
+            source.label,
+            announce=announce,
+            quiet=quiet,
+            body=built.body,
+        )
         return
     ramped = sampled(built.made)
     total = ramped.command_count(rate)

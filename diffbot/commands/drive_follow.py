@@ -17,6 +17,7 @@ from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
 
 if TYPE_CHECKING:
+    from diffbot.body_limits import BodyLimits
     from diffbot.kinematics import DiffDriveParams
     from diffbot.live.follow_drive import FollowDriver, FollowReport
     from diffbot.ramps import RampedPlan
@@ -52,6 +53,7 @@ def drive_follow(
     *,
     announce: bool,
     quiet: bool,
+    body: BodyLimits | None = None,
 ) -> None:
     """Follow ``made`` live; exit 2 when no pose or no subscriber came within the wait (the
     robot never commanded), 1 when it did not arrive in time."""
@@ -59,7 +61,7 @@ def drive_follow(
     from diffbot.live.follow_drive import FollowDriver, FollowSettings
     from diffbot.live.signals import caught, deferred
 
-    follower = Follower(params, made, law=request.law, lead=request.lead)
+    follower = Follower(params, made, law=request.law, lead=request.lead, body=body)
     settings = FollowSettings(
         rate=request.rate,
         pose_topic=request.pose_topic,

@@ -264,7 +264,9 @@ def simulate(
             _write(states, start_ns, out_path, out, topic, advance, truth)
 
         sampling = (rate, ticks, noise, seed)
-        run_loop(loop, made, params, sampling, real, write, out, source.label, as_json, quiet)
+        run_loop(
+            loop, made, params, sampling, real, write, out, source.label, as_json, quiet, built.body
+        )
         limit_lines = built.limit_lines()
         if limit_lines:
             for line in limit_lines:

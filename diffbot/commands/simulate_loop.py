@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
+    from diffbot.body_limits import BodyLimits
     from diffbot.closed_loop import LoopResult, LoopSettings
     from diffbot.kinematics import DiffDriveParams
     from diffbot.ramps import RampedPlan
@@ -171,6 +172,7 @@ def run_loop(
     label: str,
     as_json: bool,
     quiet: bool = False,
+    body: BodyLimits | None = None,
 ) -> None:
     """Run the plan on the disturbed robot a chunk at a time, write the samples through
     ``write(states, truth, advance)`` as they come (a progress bar on a terminal unless
@@ -220,7 +222,7 @@ def run_loop(
                         f"control period, {fmt(lead)} s) is more than the longest --lead, "
                         f"{fmt(MAX_LEAD)} s: give --lead"
                     )
-        follower = Follower(params, made, law=request.follow, lead=lead)
+        follower = Follower(params, made, law=request.follow, lead=lead, body=body)
     outcome, chunks = run_chunks(made, params, settings, follower)
     truth = _Truth()
     gathered = _Figures(made)
