@@ -50,6 +50,15 @@ __all__ = [
 
 #: Longest a run goes on past the plan's end waiting to arrive (s), at least.
 MIN_OVERTIME: Final = 10.0
+#: Longest a run goes on past its give-up time for a controller within its tolerances to say
+#: done (s): a follower's dwell, at most three of its longest lead (2 s).
+SETTLE_GRACE: Final = 6.0
+
+
+def _settling(controller: object, late: float) -> bool:
+    """Whether a run ``late`` s past its give-up time waits for ``controller`` (a follower
+    within its tolerances, waiting out its dwell), for at most :data:`SETTLE_GRACE` s."""
+    return late < SETTLE_GRACE and bool(getattr(controller, "settling", False))
 
 
 class Controller(Protocol):
@@ -263,7 +272,7 @@ def longest_run(made: Plan | RampedPlan, settings: LoopSettings, *, closed: bool
     period = 1.0 / settings.control_rate
     settle = 5.0 * d.motor_lag + d.latency + 2.0 * period
     if closed:
-        give_up = made.duration + max(MIN_OVERTIME, made.duration)
+        give_up = made.duration + max(MIN_OVERTIME, made.duration) + SETTLE_GRACE
         return (math.floor(give_up * settings.control_rate) + 1) * period + settle
     return sampled(made).commands_end(settings.control_rate) + settle
 
@@ -351,7 +360,7 @@ def _chunks(
                 if finish is None and controller.done(t, estimate):
                     arrived, finish = True, t
                 twist = controller.command(t, estimate) if finish is None else Twist(0.0, 0.0)
-                if finish is None and t >= give_up:
+                if finish is None and t >= give_up and not _settling(controller, t - give_up):
                     finish, twist = t, Twist(0.0, 0.0)
             else:
                 twist = Twist(0.0, 0.0)

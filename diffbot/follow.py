@@ -432,6 +432,12 @@ class Follower:
         self._done = t - self._within_since >= self.dwell or None
         return bool(self._done)
 
+    @property
+    def settling(self) -> bool:
+        """Whether the last pose :meth:`done` saw was within the tolerances, the follower
+        waiting out its dwell: a run about to give up lets it finish (at most the dwell)."""
+        return self._within_since is not None and not self._done
+
     def command(self, t: float, pose: Pose) -> Twist:
         """The command (linear.x m/s, angular.z rad/s) at ``t`` (s since the plan started)
         for the robot at ``pose`` (m, m, rad; odom frame): within the motor limit and the
@@ -557,8 +563,12 @@ class Follower:
             if dt > 0.0:
                 lin, ang = self._axes
                 lv, lw = limit(lin, v, v0, v1, dt), limit(ang, w, w0, w1, dt)
-                share = min(_share(lv, v0, v), _share(lw, w0, w))
-                v, w = v0 + share * (v - v0), w0 + share * (w - w0)
+                linear, share = _share(lv, v0, v), min(_share(lv, v0, v), _share(lw, w0, w))
+                # A stop is not held back by the turn: braking, the speed keeps its own limit
+                # (the curvature gives way, as the controller's axes are limited apart).
+                braking = abs(v) < abs(v0) and v * v0 >= 0.0
+                v = v0 + (linear if braking else share) * (v - v0)
+                w = w0 + share * (w - w0)
             else:
                 v, w = v0, w0
         if last is None or t > last[0]:

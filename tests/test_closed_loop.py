@@ -11,7 +11,7 @@ from peak_memory import peak_bytes
 from robots import BOT_50_RPM
 
 from diffbot.calibration.truth import true_robot
-from diffbot.closed_loop import LoopSettings, path_distance, run, run_chunks
+from diffbot.closed_loop import SETTLE_GRACE, LoopSettings, path_distance, run, run_chunks
 from diffbot.errors import ParameterError
 from diffbot.follow import Follower
 from diffbot.kinematics import Twist
@@ -105,6 +105,39 @@ def test_a_follower_done_keeps_commanding_zero_so_a_lost_stop_is_sent_again() ->
         assert result.truth[0, -1] < 0.02, seed
         lost += result.truth[0, -1] > 0.006  # its first stop lost
     assert lost >= 3
+
+
+class SlowToSettle:
+    """Within its tolerances from 11.5 s, done a second later: past a 2 s plan's give-up
+    time of 12 s."""
+
+    settling = False
+
+    def command(self, t, pose):
+        return Twist(0.0, 0.0)
+
+    def done(self, t, pose):
+        self.settling = 11.5 <= t < 12.5
+        return t >= 12.5
+
+
+def test_a_follower_within_its_tolerances_at_the_give_up_time_is_let_say_done() -> None:
+    # Pure pursuit, slower than the plan's timing, was given up on while waiting out its dwell
+    # 0.3 mm from the goal ('--to 0,0,180 --shape reeds-shepp'): not arrived.
+    result = run(made("straight 0.1 2s"), ROBOT, LoopSettings(), SlowToSettle())
+    assert result.arrived
+    assert result.duration == pytest.approx(12.5)
+
+
+def test_a_follower_that_keeps_settling_is_given_up_on_after_the_grace() -> None:
+    class Dithering(SlowToSettle):
+        def done(self, t, pose):
+            self.settling = True
+            return False
+
+    result = run(made("straight 0.1 2s"), ROBOT, LoopSettings(), Dithering())
+    assert not result.arrived
+    assert result.duration == pytest.approx(12.0 + SETTLE_GRACE)
 
 
 def test_a_run_that_never_arrives_gives_up() -> None:
@@ -249,6 +282,6 @@ def test_the_most_samples_a_run_may_take_bound_it_closely(
     for _ in chunks:
         pass
     # A follower that gives up is told so at the first control tick past its time, or, to
-    # rounding, the next.
-    late = rate / control_rate if follow else 0.0
+    # rounding, the next; the bound also holds the grace a settling follower may take.
+    late = rate / control_rate + SETTLE_GRACE * rate if follow else 0.0
     assert outcome.samples <= outcome.most_samples <= outcome.samples + 2 + late

@@ -11,7 +11,8 @@ The robot is commanded zero:
 - while the pose is stale (none received for ``pose_timeout`` s); the follower takes over again
   when poses come back;
 - at the end: the follower done, or the time cap (the plan's duration plus the longer of 10 s and
-  the duration itself, as :func:`diffbot.closed_loop.run` gives up);
+  the duration itself, as :func:`diffbot.closed_loop.run` gives up; up to
+  :data:`~diffbot.closed_loop.SETTLE_GRACE` s more for a follower waiting out its dwell);
 - on Ctrl-C, SIGTERM or SIGHUP: a signal only wakes the loop (:mod:`diffbot.live.signals`),
   which stops between two commands.
 
@@ -27,6 +28,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Final, Literal
 
+from diffbot.closed_loop import SETTLE_GRACE
 from diffbot.kinematics import Pose, Twist
 from diffbot.live import types
 from diffbot.live.errors import LiveError
@@ -290,7 +292,9 @@ class FollowDriver(Node):
                         if progress is not None:
                             progress(t, self._error(t, pose))
                     sent += 1
-                    if t >= self.cap:
+                    # past the cap, a follower waiting out its dwell may still say done
+                    settling = self.follower.settling and t < self.cap + SETTLE_GRACE
+                    if t >= self.cap and not settling:
                         break
                     k += 1
             finally:

@@ -216,8 +216,8 @@ def test_a_run_at_a_low_rate_costs_its_samples_not_its_seconds(
         ),
         (
             ["straight 0.2", "--motor-lag", "0.1", "--rate", "1e6", "--follow"],
-            "error: the run's up to 12.65 s at 1e+06 Hz would take 12650002 samples, more than "
-            "the 10000000 simulate makes: lower --rate to at most 7.905e+05 Hz for this plan",
+            "error: the run's up to 18.65 s at 1e+06 Hz would take 18650003 samples, more than "
+            "the 10000000 simulate makes: lower --rate to at most 5.361e+05 Hz for this plan",
         ),
         (
             ["straight 1 600000s", "--motor-lag", "0.1"],
