@@ -24,6 +24,7 @@ from diffbot.closed_loop import LoopSettings, run
 from diffbot.follow import Follower
 from diffbot.kinematics import Pose
 from diffbot.planfile import parse_plan
+from diffbot.profiles import PathLimits
 from diffbot.pursuit import Pursuit, legs
 from diffbot.simulation import Disturbances, simulate
 from diffbot.trajectory import Plan, Spin, geometry, plan
@@ -224,3 +225,19 @@ def test_every_command_keeps_the_body_limits_the_plan_was_made_within(law: str) 
     assert rates.max() <= 0.01 * (1 + 1e-9)
     assert speeds.max() <= 0.05 * (1 + 1e-9)
     assert rates.max() > 0.0099  # at the limit, not held far below it
+
+
+def test_a_stop_is_not_held_back_by_a_turn_under_a_tight_angular_limit() -> None:
+    # The limiter model moved both axes the same share: at a leg's end the turn's 1 rad/s²
+    # held the braking back, the robot overshot the straight by 10.5 mm and swung around the
+    # goal until the time cap. Braking now keeps the speed's own limit.
+    made = follow_ramps.ramped(
+        "ccw 0.188 84.0; straight 0.125; spin -16.0", PathLimits(), PathLimits(None, 1.0, None)
+    )
+    result = run(made, ROBOT, LoopSettings(), Follower(ROBOT, made, law="pure-pursuit"))
+    goal = made.steps.final_pose
+    reached = np.hypot(result.truth[0] - goal.x, result.truth[1] - goal.y)
+    assert result.arrived
+    first = int(np.argmax(reached < 0.005))  # the first sample within the tolerance
+    assert reached[first:].max() < 0.005  # never out of it again
+    assert result.duration < made.duration + 10.0  # within the cap, without its grace
