@@ -36,6 +36,20 @@ def followed(made, law: str) -> tuple[bool, float, float]:
     return result.arrived, math.hypot(x - goal.x, y - goal.y), heading
 
 
+def drawn(text: str, linear: PathLimits, angular: PathLimits):
+    """The ramped plan of drawn limits; a plan drawn with none gets a linear jerk of 1e-3 m/s³
+    (a ramp is what is tested)."""
+    if linear.acceleration is None and linear.jerk is None and angular.acceleration is None:
+        linear = linear._replace(jerk=1e-3)
+    return ramped(text, linear, angular)
+
+
+def known_arrives(known: tuple[str, str, PathLimits, PathLimits]) -> bool:
+    """Whether one of :data:`KNOWN` ends within the tolerances, said done."""
+    text, law, linear, angular = known
+    return within(followed(ramped(text, linear, angular), law))
+
+
 def within(outcome: tuple[bool, float, float]) -> bool:
     arrived, distance, heading = outcome
     return arrived and distance <= DEFAULT_XY_TOLERANCE and heading <= DEFAULT_YAW_TOLERANCE

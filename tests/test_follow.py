@@ -599,18 +599,13 @@ def test_the_learnt_curvature_keeps_a_spin_in_place():
 
 @pytest.mark.parametrize("known", [k for k in follow_ramps.KNOWN if k[1] == "tracking"])
 def test_tracking_brings_a_perfect_robot_to_a_ramped_plans_end(known):
-    text, law, linear, angular = known
     # Held to the ramps its reference already uses to the full, the feedback swung out of
     # control: 'straight 1' at 0.001 m/s³ ended 353 mm off, not arrived.
-    assert follow_ramps.within(
-        follow_ramps.followed(follow_ramps.ramped(text, linear, angular), law)
-    )
+    assert follow_ramps.known_arrives(known)
 
 
 @settings(max_examples=30, deadline=None)
 @given(follow_ramps.PLANS, follow_ramps.LINEAR, follow_ramps.ANGULAR)
 def test_tracking_follows_any_ramped_plan_on_a_perfect_robot(text, linear, angular):
-    if linear.acceleration is None and linear.jerk is None and angular.acceleration is None:
-        linear = linear._replace(jerk=1e-3)
-    made = follow_ramps.ramped(text, linear, angular)
+    made = follow_ramps.drawn(text, linear, angular)
     assert follow_ramps.within(follow_ramps.followed(made, "tracking")), (text, linear, angular)

@@ -187,29 +187,25 @@ def test_any_plan_ends_with_the_plans_turns_and_its_path_driven(items):
     assert rolled >= 0.9 * sum(abs(geometry(s.segment)[0]) for s in p.segments)
 
 
-@pytest.mark.parametrize("known", [k for k in follow_ramps.KNOWN if k[1] == "pure-pursuit"])
-def test_pure_pursuit_brings_a_perfect_robot_to_a_ramped_plans_end(known):
-    text, law, linear, angular = known
-    # Its turns in place and its approach asked speeds the limits could not take back in
-    # time: 'spin 90' at 0.1 rad/s² overshot to 160.9 degrees and swung on.
-    assert follow_ramps.within(
-        follow_ramps.followed(follow_ramps.ramped(text, linear, angular), law)
-    )
-
-
 @settings(max_examples=30, deadline=None)
 @given(follow_ramps.PLANS, follow_ramps.LINEAR, follow_ramps.ANGULAR)
 def test_pure_pursuit_follows_any_ramped_plan_it_can_stop_on_a_perfect_robot(text, linear, angular):
-    if linear.acceleration is None and linear.jerk is None and angular.acceleration is None:
-        linear = linear._replace(jerk=1e-3)
-    made = follow_ramps.ramped(text, linear, angular)
+    made = follow_ramps.drawn(text, linear, angular)
     # An untimed law turns in place between legs: it must be able to stop the plan's speed
     # within its lookahead (at a jerk of 0.001 m/s³ a stop from 0.1 m/s takes a metre; the
     # tracking law, whose reference brakes in time, follows those: the test beside this one).
     cruise = max(abs(s.twist.linear) for s in made.steps.segments)
     lookahead = Follower(ROBOT, made, law="pure-pursuit").lookahead
-    assume(stopping_speed(lookahead, (linear.acceleration, linear.jerk)) >= cruise)
+    ramps = made.limits.linear
+    assume(stopping_speed(lookahead, (ramps.acceleration, ramps.jerk)) >= cruise)
     assert follow_ramps.within(follow_ramps.followed(made, "pure-pursuit")), (text, linear, angular)
+
+
+@pytest.mark.parametrize("known", [k for k in follow_ramps.KNOWN if k[1] == "pure-pursuit"])
+def test_pure_pursuit_brings_a_perfect_robot_to_a_ramped_plans_end(known):
+    # Its turns in place and its approach asked speeds the limits could not take back in
+    # time: 'spin 90' at 0.1 rad/s² overshot to 160.9 degrees and swung on.
+    assert follow_ramps.known_arrives(known)
 
 
 @pytest.mark.parametrize("law", ["pure-pursuit", "tracking"])
