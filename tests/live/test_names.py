@@ -94,8 +94,12 @@ def test_a_private_topic_is_held_to_the_longest_once_expanded() -> None:
     fits = "~/" + "a" * (MAX_TOPIC_LENGTH - len(node) - 2)
     assert len(resolve_topic(fits, node)) == MAX_TOPIC_LENGTH
     assert topic_problem(fits + "a") is None  # short enough as written...
-    with pytest.raises(LiveError, match=r"longer than 247 characters once expanded .* \(248\)"):
+    with pytest.raises(
+        LiveError, match=r"longer than 247 characters once expanded .* \(248\)"
+    ) as caught:
         resolve_topic(fits + "a", node)  # ...not once /<node>/ stands for ~/
+    assert str(caught.value).startswith("topic '~/aaaa")
+    assert "for node 'nnnnnnnnnn' (248)" in str(caught.value)
 
 
 @settings(max_examples=60)
