@@ -236,7 +236,7 @@ def run_chunks(
         ParameterError: a run of more than :data:`diffbot.simulation.MAX_SAMPLES` samples
             (at once, before any chunk).
     """
-    give_up = made.duration + max(MIN_OVERTIME, made.duration)
+    give_up = _give_up(made)
     seconds = longest_run(made, settings, closed=controller is not None)
     most = seconds * settings.rate + 2.0
     if most > MAX_SAMPLES:
@@ -268,13 +268,25 @@ def longest_run(made: Plan | RampedPlan, settings: LoopSettings, *, closed: bool
     """
     from diffbot.ramps import sampled
 
-    d = settings.disturbances
     period = 1.0 / settings.control_rate
-    settle = 5.0 * d.motor_lag + d.latency + 2.0 * period
+    settle = _settle(settings)
     if closed:
-        give_up = made.duration + max(MIN_OVERTIME, made.duration) + SETTLE_GRACE
+        give_up = _give_up(made) + SETTLE_GRACE
         return (math.floor(give_up * settings.control_rate) + 1) * period + settle
     return sampled(made).commands_end(settings.control_rate) + settle
+
+
+def _give_up(made: Plan | RampedPlan) -> float:
+    """When a run gives up waiting for its controller to arrive (s): the plan's duration and
+    the longer of :data:`MIN_OVERTIME` and the duration again."""
+    return made.duration + max(MIN_OVERTIME, made.duration)
+
+
+def _settle(settings: LoopSettings) -> float:
+    """How long a run goes on once its commands end (s), for the robot to come to rest: five
+    motor lags, the latency and two control periods."""
+    d = settings.disturbances
+    return 5.0 * d.motor_lag + d.latency + 2.0 / settings.control_rate
 
 
 def _table(rows: list[tuple[float, ...]], params: DiffDriveParams) -> LoopChunk:
@@ -378,7 +390,7 @@ def _chunks(
             if finish is None or t == finish or controller is not None:
                 robot.command(float(wheels.left), float(wheels.right))
             if finish is not None and stop is None:
-                stop = t + 5.0 * s.disturbances.motor_lag + s.disturbances.latency + 2 * period
+                stop = t + _settle(s)
     last = _table(rows, params)
     outcome.samples = sample
     outcome.peak_limit_fraction = peak if limit else None

@@ -563,7 +563,8 @@ class Follower:
             if dt > 0.0:
                 lin, ang = self._axes
                 lv, lw = limit(lin, v, v0, v1, dt), limit(ang, w, w0, w1, dt)
-                linear, share = _share(lv, v0, v), min(_share(lv, v0, v), _share(lw, w0, w))
+                linear = _share(lv, v0, v)
+                share = min(linear, _share(lw, w0, w))
                 # A stop is not held back by the turn: braking, the speed keeps its own limit
                 # (the curvature gives way, as the controller's axes are limited apart).
                 braking = abs(v) < abs(v0) and v * v0 >= 0.0

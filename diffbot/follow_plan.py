@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from diffbot.kinematics import range_share
+
 if TYPE_CHECKING:
     from diffbot.body_limits import BodyLimits
     from diffbot.controller_config import AxisLimits
@@ -124,12 +126,4 @@ def body_share(v: float, w: float, body: BodyLimits | None) -> float:
     ``body``: both axes scaled by it keep the command's curvature, as the motor limit does."""
     if body is None:
         return 1.0
-    share = 1.0
-    for value, bounds in ((v, body.linear), (w, body.angular)):
-        if bounds is not None:
-            low, high = bounds
-            if value > high:
-                share = min(share, high / value)
-            elif value < low:
-                share = min(share, low / value)
-    return share
+    return min(range_share(v, body.linear), range_share(w, body.angular))

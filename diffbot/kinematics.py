@@ -42,6 +42,7 @@ __all__ = [
     "limit_fraction",
     "norm_angle",
     "rad_s_from_rpm",
+    "range_share",
     "rpm_from_rad_s",
     "saturate",
     "sinc",
@@ -455,8 +456,9 @@ def _scale_to_limit(speeds: WheelSpeeds, lim: float) -> WheelSpeeds:
         return WheelSpeeds(speeds.left * factor, speeds.right * factor)
 
 
-def _factor(value: float, bounds: _Range) -> float:
-    """The factor in [0, 1] that brings ``value`` into ``bounds`` by scaling it toward 0."""
+def range_share(value: float, bounds: tuple[float, float] | None) -> float:
+    """The factor in [0, 1] that brings ``value`` into ``bounds`` (lowest, highest, holding 0;
+    None: no bound) by scaling it toward 0."""
     if bounds is None:
         return 1.0
     low, high = bounds
@@ -472,7 +474,7 @@ def _saturate_floats(params: DiffDriveParams, speeds: WheelSpeeds, limits: _Limi
     twist = forward(params, speeds.left, speeds.right)
     linear, angular = float(twist.linear), float(twist.angular)
     if preserve:
-        scale = min(_factor(linear, ranges[0]), _factor(angular, ranges[1]))
+        scale = min(range_share(linear, ranges[0]), range_share(angular, ranges[1]))
         peak = float(_peak(speeds)) * scale
         if lim is not None and peak > lim:
             scale *= lim / peak

@@ -514,13 +514,14 @@ class DisturbedRobot:
                 self._skip_slip(event)
                 self.time = max(event, self.time)
                 continue
-            if slip and (still or self._steady()):
+            steady = still or self._steady()
+            if slip and steady:
                 end = (
                     self._slip_step_end(until)
                     if until - self.time <= _GRID_WALK
                     else max(self.time, min(until, self._next_slip))
                 )
-            elif still or self._steady():
+            elif steady:
                 end = event
             else:
                 end = min(until, self.time + MAX_STEP)
