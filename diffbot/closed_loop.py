@@ -46,6 +46,7 @@ __all__ = [
     "path_distance",
     "run",
     "run_chunks",
+    "run_size",
 ]
 
 #: Longest a run goes on past the plan's end waiting to arrive (s), at least.
@@ -237,10 +238,8 @@ def run_chunks(
             (at once, before any chunk).
     """
     give_up = _give_up(made)
-    seconds = longest_run(made, settings, closed=controller is not None)
-    most = seconds * settings.rate + 2.0
+    seconds, most, highest = run_size(made, settings, closed=controller is not None)
     if most > MAX_SAMPLES:
-        highest = (MAX_SAMPLES - 2.0) / seconds
         raise ParameterError(
             f"the run of up to {seconds:g} s at {settings.rate:g} Hz would take {most:.4g} "
             f"samples, more than {MAX_SAMPLES}: lower the rate to at most {highest:.4g} Hz"
@@ -256,6 +255,16 @@ def run_chunks(
     names = (*params.left_joints, *params.right_joints, *params.passive_joints)
     outcome = LoopOutcome(names, math.ceil(most))
     return outcome, _chunks(made, params, settings, controller, outcome, give_up, chunk)
+
+
+def run_size(
+    made: Plan | RampedPlan, settings: LoopSettings, *, closed: bool
+) -> tuple[float, float, float]:
+    """How long a run may last (s, :func:`longest_run`), the most samples it may take (one a
+    sample period, and those at its ends), and the highest sampling rate (Hz) at which that
+    stays within :data:`~diffbot.simulation.MAX_SAMPLES`."""
+    seconds = longest_run(made, settings, closed=closed)
+    return seconds, seconds * settings.rate + 2.0, (MAX_SAMPLES - 2.0) / seconds
 
 
 def longest_run(made: Plan | RampedPlan, settings: LoopSettings, *, closed: bool) -> float:

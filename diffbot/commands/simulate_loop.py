@@ -137,14 +137,12 @@ def _check_length(made: Plan | RampedPlan, settings: LoopSettings, *, closed: bo
     """Refuse a run of more samples than simulate makes, saying how many and the highest
     --rate that fits (the --control-rate sets how long the run is, --rate only how densely
     it is sampled)."""
-    from diffbot.closed_loop import longest_run
+    from diffbot.closed_loop import run_size
     from diffbot.simulation import MAX_SAMPLES
 
-    seconds = longest_run(made, settings, closed=closed)
-    count = seconds * settings.rate + 2.0
+    seconds, count, highest = run_size(made, settings, closed=closed)
     if count <= MAX_SAMPLES:
         return
-    highest = (MAX_SAMPLES - 2.0) / seconds
     digits = 10.0 ** (math.floor(math.log10(highest)) - 3)
     highest = math.floor(highest / digits) * digits  # four digits, rounded down to fit
     how = (
