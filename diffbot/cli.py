@@ -74,6 +74,8 @@ FLAGS = {
     "counts_per_rev": "--counts-per-rev",
     "feedback": "--feedback",
     "open_loop": "--open-loop",
+    "left_topic": "--left-topic",
+    "right_topic": "--right-topic",
     "lead": "--lead",
     "robot": "--robot PATH",
 }

@@ -50,6 +50,8 @@ PARAMETERS: Mapping[str, str] = {
     "counts_per_rev": "counts_per_rev=",
     "feedback": "feedback=",
     "open_loop": "open_loop=True",
+    "left_topic": "left_topic=",
+    "right_topic": "right_topic=",
     "robot": "params=load_params(PATH)",
 }
 

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 from diffbot.errors import RecordingError
 from diffbot.io.bag import bag_writer, check_stamps, require_rosbags, typestore
+from diffbot.live.names import repeated_topic
 from diffbot.ros.messages import command_type
 from diffbot.samples import NS_PER_S
 
@@ -80,6 +81,11 @@ def write_command_bag(
         if topic is not None
     ]
     body_topic = _topic(cmd_vel)
+    named = [("the command topic", body_topic)]
+    named += [(("{left_topic}", "{right_topic}")[side], topic) for topic, side, _ in per_wheel]
+    problem = repeated_topic(named)
+    if problem is not None:
+        raise RecordingError(problem)
     require_rosbags()
     from rosbags.typesys.stores import ros2_humble as m
 

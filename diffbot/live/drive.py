@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 from diffbot.live import types
 from diffbot.live.cdr import encode_float64_array, encode_twist
 from diffbot.live.messages import commands, now_ns, time_of, twist_command
-from diffbot.live.names import check_frame_id
+from diffbot.live.names import check_distinct_topics, check_frame_id
 from diffbot.live.signals import caught, deferred
 from diffbot.live.transport import Node, Publisher
 from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
@@ -169,6 +169,9 @@ class Driver(Node):
         self.total: int | None = None if isinstance(stream, Iterable) else int(stream.times.size)
         #: Commands published so far by :meth:`drive`.
         self.sent = 0
+        if settings.wheels:
+            sides = [("{left_topic}", settings.left_topic), ("{right_topic}", settings.right_topic)]
+            check_distinct_topics(sides, name)
         super().__init__(name, domain=domain)
         self._twist: Publisher[types.Twist] | None = None
         self._stamped: Publisher[types.TwistStamped] | None = None

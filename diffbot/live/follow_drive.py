@@ -33,7 +33,7 @@ from diffbot.kinematics import Pose, Twist
 from diffbot.live import types
 from diffbot.live.errors import LiveError
 from diffbot.live.messages import now_ns, time_of, twist_command, yaw_of
-from diffbot.live.names import check_frame_id
+from diffbot.live.names import check_distinct_topics, check_frame_id
 from diffbot.live.signals import caught, deferred
 from diffbot.live.transport import Node, Publisher
 from diffbot.live.wire import Refusals, pose_problem
@@ -166,6 +166,8 @@ class FollowDriver(Node):
         self.received_at = -math.inf
         self._origin: tuple[float, float, float] | None = None
         self.refusals = Refusals()
+        pose = ("the pose topic", settings.pose_topic)
+        check_distinct_topics([pose, ("the command topic", settings.cmd_vel)], name)
         super().__init__(name, domain=domain)
         self._twist: Publisher[types.Twist] | None = None
         self._stamped: Publisher[types.TwistStamped] | None = None

@@ -21,6 +21,7 @@ from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
 from diffbot.live.cdr import encode_float64_array
 from diffbot.live.messages import commands, twist_mismatch
+from diffbot.live.names import check_distinct_topics
 from diffbot.live.transport import LiveError, Node, Subscription
 from diffbot.live.twist_subscriptions import subscribe_twists
 from diffbot.live.wire import NOT_FINITE, Refusals, twist_problem
@@ -93,6 +94,14 @@ class InverseKinematicsNode(Node):
         self._command = (0.0, 0.0)
         self._last: float | None = None
         self._moving = False
+        check_distinct_topics(
+            [
+                ("the command topic", settings.cmd_vel),
+                ("{left_topic}", settings.left_topic),
+                ("{right_topic}", settings.right_topic),
+            ],
+            name,
+        )
         super().__init__(name, domain=domain)
         self.left = self.create_publisher(types.Float64MultiArray, settings.left_topic)
         self.right = self.create_publisher(types.Float64MultiArray, settings.right_topic)

@@ -9,6 +9,7 @@ no regular expression: linear in the name's length.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Final
 
 from diffbot.live.errors import LiveError
@@ -18,11 +19,13 @@ __all__ = [
     "MAX_FRAME_LENGTH",
     "MAX_NODE_NAME_LENGTH",
     "MAX_TOPIC_LENGTH",
+    "check_distinct_topics",
     "check_frame_id",
     "check_node_name",
     "check_topic",
     "frame_problem",
     "node_name_problem",
+    "repeated_topic",
     "resolve_topic",
     "topic_problem",
 ]
@@ -86,6 +89,33 @@ def resolve_topic(name: str, node: str) -> str:
             f"for node {shown(node)} ({len(full)})"
         )
     return full
+
+
+def check_distinct_topics(named: Sequence[tuple[str, str]], node: str) -> None:
+    """Refuse two of a node's topics that are one once expanded for node ``node``.
+
+    Args:
+        named: (what the topic is for, its name) pairs; a left and a right wheel's command
+            topics, say: given one name, their commands would be mixed on it.
+        node: the node's name (for private ``~/`` names).
+
+    Raises:
+        LiveError: a bad topic name, or two that are one topic.
+    """
+    problem = repeated_topic([(w, resolve_topic(check_topic(n, w), node)) for w, n in named])
+    if problem is not None:
+        raise LiveError(problem)
+
+
+def repeated_topic(named: Sequence[tuple[str, str]]) -> str | None:
+    """What is wrong when two of ``named``'s (what it is for, absolute name) topics are one;
+    None when they all differ."""
+    seen: dict[str, str] = {}
+    for what, name in named:
+        if name in seen:
+            return f"{seen[name]} and {what} are both {name}: each needs a topic of its own"
+        seen[name] = what
+    return None
 
 
 def node_name_problem(name: str) -> str | None:

@@ -41,7 +41,7 @@ from diffbot.live.cdr import (
     encode_tf,
 )
 from diffbot.live.messages import now_ns, transform, twist_mismatch, yaw_quaternion
-from diffbot.live.names import check_frame_id
+from diffbot.live.names import check_distinct_topics, check_frame_id
 from diffbot.live.transport import LATCHED, TF, LiveError, Node, Subscription
 from diffbot.live.wire import Refusals, twist_problem, wheel_problem
 from diffbot.numbers import MAX_PLAN_DURATION, finite_in_range, shown
@@ -168,6 +168,9 @@ class RobotNode(Node):
         self.timeouts = 0
         #: Commands refused (:mod:`diffbot.live.wire`), by reason.
         self.refusals = Refusals()
+        if settings.cmd_vel is None:
+            sides = [("{left_topic}", settings.left_topic), ("{right_topic}", settings.right_topic)]
+            check_distinct_topics(sides, name)
         super().__init__(name, domain=domain)
         self.joint_states = self.create_publisher(types.JointState, "joint_states")
         self.ground_truth = self.create_publisher(types.Odometry, "ground_truth/odom")

@@ -52,6 +52,22 @@ def test_a_private_topic_cannot_be_stored_and_nothing_is_written(tmp_path: Path)
     assert not bag.exists()
 
 
+@pytest.mark.parametrize(
+    ("topics", "message"),
+    [
+        ({"left_topic": "w", "right_topic": "/w"}, "left_topic= and right_topic= are both /w"),
+        ({"left_topic": "cmd_vel"}, "the command topic and left_topic= are both /cmd_vel"),
+    ],
+)
+def test_one_topic_for_two_kinds_of_command_is_refused_and_nothing_is_written(
+    tmp_path: Path, topics: dict[str, str], message: str
+) -> None:
+    bag = tmp_path / "bag"
+    with pytest.raises(RecordingError, match=f"^{message}: each needs a topic of its own$"):
+        write_command_bag(bag, stream(), cmd_vel="cmd_vel", **topics)
+    assert not bag.exists()
+
+
 def messages(bag: Path) -> list[tuple[str, int, bytes]]:
     with Reader(bag) as reader:
         return [(c.topic, stamp, bytes(raw)) for c, stamp, raw in reader.messages()]

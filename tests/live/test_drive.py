@@ -125,6 +125,15 @@ def test_a_signal_in_a_drive_stops_it_early_with_zero() -> None:
     assert got[-2] != (0.0, 0.0)  # cut short while moving
 
 
+def test_one_topic_for_both_sides_is_refused_with_wheel_commands_only() -> None:
+    stream = ramp(plan(parse_plan("straight 0.1 0.5s"), BOT), Limits()).commands(20.0)
+    same = DriveSettings(wheels=True, left_topic="w", right_topic="/w")
+    with pytest.raises(LiveError, match=r"^left_topic= and right_topic= are both /w: "):
+        Driver(stream, same)
+    with Driver(stream, DriveSettings(left_topic="w", right_topic="w")) as driver:
+        assert driver.topics == ("cmd_vel",)
+
+
 def test_a_bad_frame_id_is_refused_naming_it() -> None:
     stream = ramp(plan(parse_plan("straight 0.1 0.5s"), BOT), Limits()).commands(20.0)
     with pytest.raises(LiveError, match=r"^frame_id '' is empty$"):

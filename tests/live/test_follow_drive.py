@@ -90,6 +90,17 @@ def test_a_frame_id_or_pose_kind_that_cannot_be_is_refused_naming_the_setting() 
     assert str(caught.value) == "pose_kind must be odometry, pose or pose-covariance, got 'twist'"
 
 
+def test_a_pose_read_on_the_command_topic_is_refused() -> None:
+    params = load_params()
+    follower = Follower(params, plan(parse_plan("straight 0.1 1s"), params))
+    settings = FollowSettings(pose_topic="/cmd_vel")
+    with pytest.raises(LiveError) as caught:
+        FollowDriver(follower, settings)
+    assert str(caught.value) == (
+        "the pose topic and the command topic are both /cmd_vel: each needs a topic of its own"
+    )
+
+
 def test_poses_are_taken_from_the_first_and_bad_ones_refused() -> None:
     params = load_params()
     follower = Follower(params, plan(parse_plan("straight 0.1 1s"), params))

@@ -301,6 +301,25 @@ def test_body_limits_clamp_each_axis_before_the_wheels_and_refusals_are_listed_b
     )
 
 
+@pytest.mark.parametrize(
+    ("settings", "message"),
+    [
+        (IkSettings(left_topic="w", right_topic="/w"), "left_topic= and right_topic= are both /w"),
+        (
+            IkSettings(cmd_vel="w", right_topic="w"),
+            "the command topic and right_topic= are both /w",
+        ),
+    ],
+)
+def test_one_topic_for_two_of_the_nodes_topics_is_refused(
+    settings: IkSettings, message: str
+) -> None:
+    from diffbot.live.transport import LiveError
+
+    with pytest.raises(LiveError, match=f"^{message}: each needs a topic of its own$"):
+        InverseKinematicsNode(BOT, settings)
+
+
 def test_a_negative_timeout_or_a_rate_not_above_zero_is_refused() -> None:
     from diffbot.live.transport import LiveError
 

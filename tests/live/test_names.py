@@ -16,11 +16,13 @@ from diffbot.live.errors import LiveError
 from diffbot.live.names import (
     MAX_FRAME_LENGTH,
     MAX_TOPIC_LENGTH,
+    check_distinct_topics,
     check_frame_id,
     check_node_name,
     check_topic,
     frame_problem,
     node_name_problem,
+    repeated_topic,
     resolve_topic,
     topic_problem,
 )
@@ -198,3 +200,28 @@ def test_a_bad_name_on_the_command_line_is_one_error_line(
     done = _diffbot(*args, b"--duration", b"0.1") if args[0] == b"node" else _diffbot(*args)
     assert done.returncode == 2, done.stderr[-2000:]
     assert done.stderr == message
+
+
+@pytest.mark.parametrize(
+    ("left", "right", "node", "both"),
+    [("a", "/a", "n", "/a"), ("~/a", "/n/a", "n", "/n/a"), ("/n/b", "~/b", "n", "/n/b")],
+)
+def test_two_topics_that_expand_to_one_are_refused_naming_both(
+    left: str, right: str, node: str, both: str
+) -> None:
+    with pytest.raises(LiveError) as refused:
+        check_distinct_topics([("the left", left), ("the right", right)], node)
+    assert (
+        str(refused.value)
+        == f"the left and the right are both {both}: each needs a topic of its own"
+    )
+
+
+def test_distinct_topics_pass_and_a_bad_one_is_named_before_any_comparison() -> None:
+    check_distinct_topics([("l", "a"), ("r", "~/a"), ("c", "/b/a")], "b2")
+    assert repeated_topic([("l", "/a"), ("r", "/b")]) is None
+    assert repeated_topic([("l", "/a"), ("r", "/b"), ("c", "/a")]) == (
+        "l and c are both /a: each needs a topic of its own"
+    )
+    with pytest.raises(LiveError, match=r"^the right topic '1a' "):
+        check_distinct_topics([("the left topic", "1a"), ("the right topic", "1a")][::-1], "n")

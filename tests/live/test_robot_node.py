@@ -8,6 +8,7 @@ import math
 import subprocess
 import sys
 import time
+from dataclasses import replace
 
 import pytest
 from live_graph import PATIENCE, deep, spare_domain, timer_periods, until
@@ -418,6 +419,16 @@ def test_a_disturbed_robot_drops_a_seeded_share_of_commands() -> None:
     assert 25 <= sum(first) <= 75
     assert arrivals(seed=7) == first
     assert arrivals(seed=8) != first
+
+
+def test_one_topic_for_both_sides_is_refused_unless_commands_come_on_cmd_vel() -> None:
+    same = RobotSettings(left_topic="~/w", right_topic="/diffbot_robot/w")
+    with pytest.raises(
+        LiveError, match=r"^left_topic= and right_topic= are both /diffbot_robot/w: "
+    ):
+        RobotNode(BOT, None, same)
+    with RobotNode(BOT, None, replace(same, cmd_vel="cmd_vel")) as node:
+        assert len(node.subscriptions) >= 1
 
 
 @pytest.mark.parametrize(
