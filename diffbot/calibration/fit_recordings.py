@@ -22,7 +22,7 @@ from diffbot.calibration.fit import (
 )
 from diffbot.errors import CalibrationError, ParameterError
 from diffbot.kinematics import DiffDriveParams
-from diffbot.samples import INT64, NS_PER_S, ColumnSamples, Recording
+from diffbot.samples import INT64, NS_PER_S, ColumnSamples, Recording, side_means
 
 if TYPE_CHECKING:
     import numpy as np
@@ -36,33 +36,46 @@ __all__ = ["fit_recording", "fit_recordings"]
 def _wheel_series(
     recording: Recording, params: DiffDriveParams
 ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
-    """Stamps (ns) and the two wheel joints' angles (rad) of the samples that hold both: views
-    of a CSV's columns when every sample does, copies otherwise."""
+    """Stamps (ns) and the two sides' wheel angles (rad) of the samples that the odometry uses
+    (a joint of each side, every value finite): views of a CSV's columns when every sample is,
+    copies otherwise.
+
+    A side with several joints moves by the mean of its joints that a sample holds, as the
+    odometry takes it (:func:`~diffbot.samples.side_means`; a joint's first occurrence in a
+    sample's names); a sample holding a NaN or infinite value is left out, as the odometry
+    skips it.
+    """
     import numpy as np
 
     samples = recording.samples
     if isinstance(samples, ColumnSamples):
-        columns = (
-            np.frombuffer(samples.stamps_ns, dtype=np.int64),
-            np.frombuffer(samples.left, dtype=np.float64),
-            np.frombuffer(samples.right, dtype=np.float64),
-        )
-        both = np.frombuffer(samples.present, dtype=np.uint8) == 3
-        if both.all():
-            return columns
-        return columns[0][both], columns[1][both], columns[2][both]
-    stamps: list[int] = []
-    left: list[float] = []
-    right: list[float] = []
-    for stamp_ns, names, positions in samples:
+        stamps = np.frombuffer(samples.stamps_ns, dtype=np.int64)
+        left = np.frombuffer(samples.left, dtype=np.float64)
+        right = np.frombuffer(samples.right, dtype=np.float64)
+        keep = np.frombuffer(samples.present, dtype=np.uint8) == 3
+        keep &= np.isfinite(left)
+        keep &= np.isfinite(right)
+        if keep.all():
+            return stamps, left, right
+        return stamps[keep], left[keep], right[keep]
+    joints = (*params.left_joints, *params.right_joints)
+    column = {joint: j for j, joint in reversed(list(enumerate(joints)))}
+    n = len(samples)
+    stamps = np.empty(n, dtype=np.int64)
+    positions = np.zeros((n, len(joints)))
+    present = np.zeros((n, len(joints)), dtype=np.bool_)
+    for k, (stamp_ns, names, values) in enumerate(samples):
+        stamps[k] = stamp_ns
         # A joint named without a value (an empty velocity field) is absent, as the odometry
-        # counts it.
-        index = {name: k for k, name in enumerate(names[: len(positions)])}
-        if params.left_joint in index and params.right_joint in index:
-            stamps.append(stamp_ns)
-            left.append(positions[index[params.left_joint]])
-            right.append(positions[index[params.right_joint]])
-    return np.array(stamps, dtype=np.int64), np.array(left), np.array(right)
+        # counts it; a joint named twice holds its first value.
+        for name, value in reversed(list(zip(names, values, strict=False))):
+            j = column.get(name)
+            if j is not None:
+                positions[k, j] = value
+                present[k, j] = True
+    left, right, keep = side_means(positions, present, len(params.left_joints))
+    keep &= np.isfinite(positions).all(axis=1)
+    return stamps[keep], left[keep], right[keep]
 
 
 def fit_recording(

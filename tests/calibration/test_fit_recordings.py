@@ -7,7 +7,7 @@ import pytest
 from calibration_data import TRUE_LEFT, TRUE_RIGHT, TRUE_SEPARATION, recording
 from numpy.typing import NDArray
 from peak_memory import peak_bytes
-from robots import BOT
+from robots import BOT, SKID
 
 from diffbot.calibration import FitResult, fit_recording
 from diffbot.calibration.fit_recordings import fit_recordings
@@ -82,6 +82,44 @@ def test_wheel_stamps_that_repeat_are_refused_naming_the_recording() -> None:
         CalibrationError, match=r"^bag: the wheel samples' stamps repeat or go back"
     ):
         fit_recording(Recording("bag", "rosbag2", samples), track, BOT)
+
+
+def test_a_side_of_several_wheels_is_fitted_by_their_mean_as_the_odometry_takes_it() -> None:
+    # A skid steer's bag: the front wheels read 2 % short of each side's mean, the rear 2 %
+    # long. The odometry moves each side by the mean of its joints; a fit that took the front
+    # joints alone put both radii 2 % off.
+    stamps, left, right, (x, y, theta) = recording()
+    stamps_ns = np.round(stamps * 1e9).astype(np.int64)
+    samples = [
+        JointSample(
+            int(t),
+            ["front_left", "front_right", "rear_right", "rear_left"],
+            [0.98 * a, 0.98 * b, 1.02 * b, 1.02 * a],
+        )
+        for t, a, b in zip(stamps_ns.tolist(), left.tolist(), right.tolist(), strict=True)
+    ]
+    track = PoseTrack("truth", stamps_ns, x, y, theta)
+    result = fit_recording(Recording("skid", "rosbag2", samples), track, SKID)
+    assert estimates(result) == pytest.approx(TRUTH, rel=1e-7)
+
+
+@pytest.mark.parametrize("kind", ["csv", "rosbag2"])
+def test_samples_with_a_value_not_finite_are_left_out_as_the_odometry_skips_them(
+    kind: str,
+) -> None:
+    # One NaN and one infinite wheel reading among 2001: the odometry skips those samples; the
+    # fit failed on them, blaming wheel positions too large.
+    stamps, left, right, truth = recording()
+    left[510] = np.nan
+    right[700] = np.inf
+    if kind == "csv":
+        ((read, track),) = column_pair(stamps, left, right, truth)
+    else:
+        read = as_recording(stamps, left, right)
+        stamps_ns = 1_700_000_000_000_000_000 + np.round(stamps * 1e9).astype(np.int64)
+        track = PoseTrack("truth", stamps_ns, *truth)
+    result = fit_recording(read, track, BOT)
+    assert estimates(result) == pytest.approx(TRUTH, rel=1e-7)
 
 
 def column_pair(
