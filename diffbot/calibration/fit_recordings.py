@@ -237,6 +237,13 @@ def _part(
     t = seconds_since(stamps_ns, origin)
     del stamps_ns
     tt = seconds_since(truth.stamps_ns, origin)
+    if not (truth.stamps_ns[1:] > truth.stamps_ns[:-1]).all():
+        # The interpolation below would read an unordered track as garbage, and nothing would
+        # say so.
+        raise CalibrationError(
+            f"{truth_source}: the ground truth's stamps repeat or go back (two publishers, or "
+            "rows out of order): a fit needs them increasing"
+        )
     tx, ty, tth = truth.x, truth.y, truth.theta
     del truth
     if time_offset == "auto":

@@ -122,6 +122,27 @@ def test_samples_with_a_value_not_finite_are_left_out_as_the_odometry_skips_them
     assert estimates(result) == pytest.approx(TRUTH, rel=1e-7)
 
 
+@pytest.mark.parametrize("swap", [(400, 401), (0, 1), (2000, 1999)])
+def test_a_ground_truth_whose_stamps_go_back_is_refused_naming_it(
+    swap: tuple[int, int],
+) -> None:
+    # A track with two poses out of order (a tracker that buffers): interpolated as it stood,
+    # adjacent swaps all along it gave a separation 0.6 % off with exit 0.
+    stamps, left, right, (x, y, theta) = recording()
+    stamps_ns = np.round(stamps * 1e9).astype(np.int64)
+    order = np.arange(stamps.size)
+    order[list(swap)] = order[list(swap[::-1])]
+    track = PoseTrack("mocap.csv", stamps_ns[order], x[order], y[order], theta[order])
+    samples = [
+        JointSample(int(t), [BOT.left_joint, BOT.right_joint], [a, b])
+        for t, a, b in zip(stamps_ns.tolist(), left.tolist(), right.tolist(), strict=True)
+    ]
+    with pytest.raises(
+        CalibrationError, match=r"^mocap.csv: the ground truth's stamps repeat or go back"
+    ):
+        fit_recording(Recording("bag", "rosbag2", samples), track, BOT)
+
+
 def column_pair(
     stamps: NDArray[np.float64],
     left: NDArray[np.float64],
