@@ -550,11 +550,13 @@ class TopicChunks:
         batch: list[tuple[int, object]] = []
         budget = InflationBudget(_size_on_disk(self._path), self.source)
         pending = iter(messages)
+        read = 0
         while True:
             with budget.active():  # rosbags inflates the chunks as the messages are taken
                 taken = next(pending, None)
             if taken is None:
                 break
+            read += 1
             _, timestamp, data = taken
             if len(data) > MAX_MESSAGE_BYTES:  # before it is held in a batch or converted
                 raise self._too_large(len(data))
@@ -564,3 +566,11 @@ class TopicChunks:
                 batch = []
         if batch:
             yield batch
+        listed = self.message_count
+        if listed is not None and read < listed:
+            # A damaged record (a message whose length runs past its end) ends rosbags' walk
+            # through an MCAP chunk early, and the messages after it are lost without a word.
+            raise BagError(
+                f"{self.source}: {read} of the {listed} messages the bag lists on "
+                f"{self.topic!r} could be read: the bag is damaged"
+            )

@@ -217,6 +217,45 @@ def test_a_file_that_is_no_bag_is_a_recording_error(tmp_path: Path) -> None:
         bag_odometry(path, NAMED)
 
 
+def _stretch_message_record(storage: Path, index: int) -> None:
+    """Damage an uncompressed MCAP file: the ``index``-th record of its first chunk, a message,
+    claims the rest of the chunk as its own."""
+    import struct
+
+    data = bytearray(storage.read_bytes())
+    at = 8  # past the magic
+    while data[at] != 0x06:  # the first chunk record
+        at += 9 + struct.unpack_from("<Q", data, at + 1)[0]
+    size = struct.unpack_from("<Q", data, at + 9 + 16)[0]  # its records' (uncompressed) size
+    compression = struct.unpack_from("<I", data, at + 9 + 28)[0]
+    assert compression == 0
+    start = at + 9 + 32 + 8  # its records begin
+    record = start
+    for _ in range(index):
+        record += 9 + struct.unpack_from("<Q", data, record + 1)[0]
+    assert data[record] == 0x05
+    struct.pack_into("<Q", data, record + 1, start + size - record - 9)
+    storage.write_bytes(bytes(data))
+
+
+def test_messages_a_damaged_mcap_file_loses_are_an_error_not_a_shorter_run(
+    tmp_path: Path,
+) -> None:
+    # rosbags' walk through the chunk ends at the stretched record and the later messages are
+    # gone; the run came out 458 samples long instead of 2001, exit 0.
+    messages: list[Message] = [
+        (k + 1, k + 1, ["left", "right"], [0.01 * k, 0.02 * k]) for k in range(50)
+    ]
+    bag = bags.write_bag(tmp_path / "rec", messages, storage="mcap", chatter=False)
+    (storage,) = bag.glob("*.mcap")
+    _stretch_message_record(storage, 20)  # the 19th message, after a schema and a channel
+    for path in (bag, storage):
+        with pytest.raises(
+            BagError, match=r"rec.*: 19 of the 50 messages the bag lists on '/joint_states' "
+        ):
+            bag_odometry(path, NAMED)
+
+
 def test_a_missing_path_is_a_recording_error(tmp_path: Path) -> None:
     with pytest.raises(RecordingError, match="no such file or directory"):
         TopicChunks(tmp_path / "absent", "/joint_states")
