@@ -24,6 +24,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import io
+import itertools
 import math
 import os
 import re
@@ -81,6 +82,11 @@ __all__ = [
 
 #: A number written with a decimal comma (``-0,25``, ``1764000000,1``).
 _DECIMAL_COMMA: Final = re.compile(r"[-+]?[0-9]+,[0-9]+")
+#: A whole number (``0``, ``-12``), written alike with a decimal point or comma.
+_WHOLE: Final = re.compile(r"[-+]?[0-9]+")
+#: Rows looked at, at most, for the first one with a fraction (a file of whole numbers, counts
+#: at integer stamps, would otherwise have its whole first chunk parsed row by row).
+_COMMA_ROWS: Final = 1000
 #: Whole-number stamps this far apart (or more) are doubted as seconds.
 _DOUBTFUL_STEP: Final = 10
 #: Delimiters recognised in a header when none is given, besides the comma.
@@ -291,7 +297,7 @@ class CsvChunks:
         if self.delimiter_detected:
             notes.append(f"columns separated by {self.delimiter!r}, as the header is")
         if self.decimal_comma:
-            notes.append("numbers with decimal commas, as the first row's are")
+            notes.append("numbers with decimal commas, as the first row with fractions writes them")
         if self.unit_doubt is not None:
             notes.append(f"stamps read as seconds, though {self.unit_doubt} (milliseconds?)")
         if self.unit_detected:
@@ -303,15 +309,18 @@ class CsvChunks:
 
     def _judge_comma(self, text: str) -> None:
         """Whether the numbers have decimal commas (``0,25``, as spreadsheets in many locales
-        write them): only where the delimiter is not a comma, by the first row's cells."""
+        write them): only where the delimiter is not a comma, by the first row whose cells are
+        not all whole numbers (those read alike either way: a run that starts ``0;0;0`` has
+        its fractions in the rows after), among the first :data:`_COMMA_ROWS`."""
         self._comma_known = True
         if self.delimiter == ",":
             return
-        for line in io.StringIO(text, newline=""):
-            if not line.strip():
-                continue
+        rows = (line for line in io.StringIO(text, newline="") if line.strip())
+        for line in itertools.islice(rows, _COMMA_ROWS):
             row = next(csv.reader([line], delimiter=self.delimiter), [])
             cells = [row[i].strip() for i in self.indexes if i < len(row)]
+            if all(not c or _WHOLE.fullmatch(c) for c in cells):
+                continue
             self.decimal_comma = any(_DECIMAL_COMMA.fullmatch(c) for c in cells) and all(
                 _DECIMAL_COMMA.fullmatch(c) or reads_as_number(c) or not c for c in cells
             )

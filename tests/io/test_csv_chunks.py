@@ -311,6 +311,32 @@ def test_a_straight_run_ends_at_its_length(tmp_path: Path) -> None:
     assert summary.duration == 1.0
 
 
+@pytest.mark.parametrize("first", ["0;0;0", "0;0;", ";0,5;0,5"])
+def test_decimal_commas_are_judged_by_the_first_row_with_a_fraction(first: str) -> None:
+    # A run that starts at rest, 0;0;0 (or with a cell empty, or no stamp), then goes on in a
+    # European spreadsheet's numbers: judged by the first row, which reads alike either way,
+    # every later row was skipped as unreadable and the run came out as two samples, exit 0.
+    rows = [f"{k / 50:.2f};{k * 0.01:.3f};{k * 0.02:.3f}" for k in range(1, 200)]
+    point = "time;left;right\n" + first.replace(",", ".") + "\n" + "\n".join(rows) + "\n"
+    comma = "time;left;right\n" + first + "\n" + "\n".join(r.replace(".", ",") for r in rows)
+
+    def read(text: str) -> tuple[list[int], list[list[float]], dict[str, int]]:
+        chunks = CsvChunks(io.StringIO(text), (["left"], ["right"]), source="r.csv")
+        stamps: list[int] = []
+        positions: list[list[float]] = []
+        skipped: dict[str, int] = {}
+        for chunk in chunks:
+            stamps += chunk.stamp_ns.tolist()
+            positions += chunk.positions.tolist()
+            for reason, count in chunk.skipped.items():
+                skipped[reason] = skipped.get(reason, 0) + count
+        return stamps, positions, skipped
+
+    expected = read(point)
+    assert len(expected[0]) >= 199
+    assert read(comma) == expected
+
+
 def quoted_wide_csv(path: Path, rows: int, columns: int = 200) -> None:
     """A CSV whose first row quotes a cell (so that every row is read with csv), each row with
     ``columns`` more cells of two digits."""
