@@ -37,7 +37,7 @@ modules=(
   "goals|diffbot/goals.py|tests/test_goals.py"
   "conditioning|diffbot/conditioning.py|tests/test_conditioning.py tests/test_conditioning_time_offset.py"
   "reference|diffbot/reference.py|tests/test_reference.py"
-  "sdf|diffbot/urdf/sdf.py|tests/urdf/test_sdf.py tests/urdf/test_sdf_frames.py tests/urdf/test_sdf_joints.py tests/urdf/test_sdf_includes.py"
+  "sdf|diffbot/urdf/sdf.py diffbot/urdf/sdf_frames.py|tests/urdf/test_sdf.py tests/urdf/test_sdf_frames.py tests/urdf/test_sdf_joints.py tests/urdf/test_sdf_includes.py"
   "controllers|diffbot/urdf/controllers.py|tests/urdf/test_controllers.py tests/urdf/test_controllers_sections.py"
   "include-glob|diffbot/urdf/include_glob.py|tests/urdf/test_include_glob.py"
 )

@@ -9,7 +9,9 @@ frame, plugins kept under ``<gazebo>``, so that wheels, radii and plugins are fo
 URDF.
 
 Up to SDF 1.4 a joint's axis is expressed in the model's frame (what ``use_parent_model_frame``
-says from 1.5 on): the version is read from each file's ``<sdf version=...>``. The base of the
+says from 1.5 on): the version is read from each file's ``<sdf version=...>``. Poses and axes
+may name any frame of their model (``relative_to``, ``expressed_in``), written before or after
+them: :mod:`diffbot.urdf.sdf_frames` resolves them once the whole model is read. The base of the
 tree (a link no joint moves) keeps its position but takes the model's orientation: the model's
 frame is its drive plane, even when its main link is rotated in it (a CAD export's chassis
 frame, say).
@@ -40,6 +42,8 @@ from diffbot.numbers import as_number, shown, written_number
 from diffbot.urdf.packages import PackageFinder, folder_below
 from diffbot.urdf.poses import Matrix, pose_matrix
 from diffbot.urdf.sandbox import check_inside
+from diffbot.urdf.sdf_frames import FrameGraph
+from diffbot.urdf.sdf_frames import multiply as _mul
 
 __all__ = ["MAX_DEPTH", "MAX_FILE_BYTES", "MAX_INCLUDES", "expand_sdf", "model_file"]
 
@@ -55,10 +59,6 @@ _RESOURCE_PATHS = ("GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_M
 
 def _identity() -> Matrix:
     return [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
-
-
-def _mul(a: Matrix, b: Matrix) -> Matrix:
-    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
 
 
 def _inverse(m: Matrix) -> Matrix:
@@ -147,7 +147,7 @@ def _origin(m: Matrix) -> str:
 @dataclass
 class _Link:
     name: str
-    pose: Matrix  # in the top model's frame
+    pose: Matrix  # in the top model's frame, once the frames are resolved
     shapes: list[tuple[str, Matrix, str]] = field(default_factory=list)  # kind, pose, geometry
 
 
@@ -158,10 +158,10 @@ class _Joint:
     parent: str
     child: str
     axis: tuple[float, float, float] | None
-    axis_in_model: Matrix | None  # the frame the axis is expressed in, when not the joint's
+    axis_frame: str | None  # the frame the axis is expressed in, when not the joint's
     limit: str
     pose: Matrix  # the joint's frame relative to ...
-    relative_to: str | None  # ... this link (None: its child link, SDF's default)
+    relative_to: str  # ... this frame (its child link unless the pose names another)
 
 
 @dataclass
@@ -264,6 +264,7 @@ class _Reader:
         self.trust = trust
         self.model = _Model()
         self.trees: _Trees = {}
+        self.graph = FrameGraph(str(source))
 
     def check(self, path: Path) -> None:
         if not self.trust:
@@ -339,24 +340,28 @@ class _Reader:
         where = f"{self.source}: model {model.get('name')!r}"
         pose, _ = _pose(model, where) if not top else (_identity(), None)
         frame = _mul(frame, pose)
-        local: dict[str, Matrix] = {}
+        own = prefix + "__model__"
+        self.graph.fix(own, frame)
+        if prefix:
+            self.graph.fix(prefix[:-2], frame)  # a nested model's name is its frame
         for link in model.findall("link"):
             name = prefix + link.get("name", "")
             link_pose, relative = _pose(link, f"{where} link {name!r}")
-            base = frame
-            if relative and prefix + relative in local:
-                base = local[prefix + relative]
-            matrix = _mul(base, link_pose)
-            local[name] = matrix
-            record = _Link(name, matrix)
+            self.graph.add(name, prefix + (relative or "__model__"), link_pose, f"link {name!r}")
+            record = _Link(name, _identity())
             for kind in ("collision", "visual"):
                 for element in link.findall(kind):
                     shape = self.shape(kind, element, f"{where} link {name!r}")
                     if shape is not None:
                         record.shapes.append(shape)
             self.model.links[name] = record
+        for element in model.findall("frame"):
+            name = prefix + element.get("name", "")
+            frame_pose, relative = _pose(element, f"{where} frame {name!r}")
+            attached = element.get("attached_to") or "__model__"
+            self.graph.add(name, prefix + (relative or attached), frame_pose, f"frame {name!r}")
         for joint in model.findall("joint"):
-            self.model.joints.append(self.joint(joint, prefix, frame, where, legacy))
+            self.model.joints.append(self.joint(joint, prefix, where, legacy))
         self.model.plugins.extend(model.findall("plugin"))
         for nested in model.findall("model"):
             name = f"{prefix}{nested.get('name', '')}::"
@@ -396,20 +401,16 @@ class _Reader:
             return None
         return kind, pose, inner
 
-    def joint(
-        self, joint: ET.Element, prefix: str, frame: Matrix, where: str, legacy: bool
-    ) -> _Joint:
+    def joint(self, joint: ET.Element, prefix: str, where: str, legacy: bool) -> _Joint:
         name = prefix + joint.get("name", "")
         kind = joint.get("type", "fixed")
         pose, relative = _pose(joint, f"{where} joint {name!r}")
-        if relative is not None and relative != "__model__":
-            relative = prefix + relative
         parent = (joint.findtext("parent") or "").strip()
         child = (joint.findtext("child") or "").strip()
         parent = parent if parent == "world" else prefix + parent
         axis_element = joint.find("axis")
         axis = None
-        in_model = None
+        axis_frame = None
         limit = ""
         if axis_element is not None:
             xyz_element = axis_element.find("xyz")
@@ -419,8 +420,9 @@ class _Reader:
             axis = (x, y, z)
             expressed = "" if xyz_element is None else xyz_element.get("expressed_in", "")
             parent_model = axis_element.findtext("use_parent_model_frame")
-            if expressed == "__model__" or legacy or parent_model in ("true", "1"):
-                in_model = frame
+            if legacy or parent_model in ("true", "1"):
+                expressed = "__model__"
+            axis_frame = prefix + expressed if expressed else None
             limits = {
                 key: _limit_value(axis_element.findtext(f"limit/{key}"), f"{where} joint {name!r}")
                 for key in ("lower", "upper", "velocity")
@@ -438,25 +440,25 @@ class _Reader:
                 limit = f'<limit effort="0" {" ".join(parts)}/>'
         if kind in ("ball", "universal", "gearbox", "screw"):
             kind = "fixed"
-        if relative == "__model__":
-            pose, relative = _mul(frame, pose), "__model__"
-        return _Joint(name, kind, parent, prefix + child, axis, in_model, limit, pose, relative)
+        relative_to = prefix + (relative or child)
+        self.graph.add(name, relative_to, pose, f"joint {name!r}")
+        return _Joint(
+            name, kind, parent, prefix + child, axis, axis_frame, limit, pose, relative_to
+        )
 
     def frames(self) -> dict[str, Matrix]:
         """Each link's URDF frame in the top model's: its joint's frame when it is a joint's
         child (URDF puts a child link where its joint is), else its own position turned as the
         model is (the model's frame is the drive plane, whatever the main link's orientation)."""
         links = self.model.links
+        for name, link in links.items():
+            link.pose = self.graph.resolve(name, f"link {name!r}")
         frames = {name: _translation(link.pose) for name, link in links.items()}
         for joint in self.model.joints:
             if joint.child not in links:
                 continue
-            if joint.relative_to == "__model__":
-                frames[joint.child] = joint.pose
-            elif joint.relative_to in links and joint.relative_to != joint.child:
-                frames[joint.child] = _mul(links[joint.relative_to].pose, joint.pose)
-            else:
-                frames[joint.child] = _mul(links[joint.child].pose, joint.pose)
+            at = self.graph.resolve(joint.relative_to, f"joint {joint.name!r}")
+            frames[joint.child] = _mul(at, joint.pose)
         return frames
 
     def urdf(self, name: str) -> str:
@@ -485,9 +487,12 @@ class _Reader:
             axis = ""
             if joint.axis is not None:
                 x, y, z = joint.axis
-                if joint.axis_in_model is not None:
-                    # expressed in the model frame: brought into the joint's frame
-                    rotation = _mul(_inverse(child), joint.axis_in_model)
+                if joint.axis_frame is not None:
+                    # expressed in another frame: brought into the joint's frame
+                    expressed = self.graph.resolve(
+                        joint.axis_frame, f"the axis of joint {joint.name!r}"
+                    )
+                    rotation = _mul(_inverse(child), expressed)
                     x, y, z = (
                         rotation[i][0] * x + rotation[i][1] * y + rotation[i][2] * z
                         for i in range(3)

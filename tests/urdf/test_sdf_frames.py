@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+import diffbot
 from diffbot.errors import DescriptionError, OutsideRootsError
 from diffbot.urdf import sdf
 from diffbot.urdf.packages import PackageFinder
@@ -154,6 +155,112 @@ def test_a_joint_posed_in_the_model_frame_is_not_moved_by_its_child_link(tmp_pat
     sphere = origin(robot.find("link[@name='wheel']/collision"))
     want = np.linalg.inv(matrix(*JOINT)) @ matrix(*LINK)
     np.testing.assert_allclose(sphere, want, rtol=0, atol=1e-12)
+
+
+def drive(wheels: str, frames: str = "") -> str:
+    """A cart of a chassis at the origin and two wheels (links ``left``, ``right``) on joints
+    ``left_joint`` and ``right_joint``; ``wheels`` gives each wheel's pose and axis."""
+    cylinder = (
+        '<collision name="c"><pose>0 0 0 1.5707963267948966 0 0</pose><geometry><cylinder>'
+        "<radius>0.05</radius><length>0.02</length></cylinder></geometry></collision>"
+    )
+    return (
+        f'<sdf version="1.9"><model name="cart"><link name="chassis"/>{frames}'
+        f"{wheels.replace('<collision/>', cylinder)}</model></sdf>"
+    )
+
+
+def wheel(name: str, pose: str, axis: str) -> str:
+    return (
+        f'<link name="{name}">{pose}<collision/></link>'
+        f'<joint name="{name}_joint" type="revolute"><parent>chassis</parent>'
+        f"<child>{name}</child><axis>{axis}</axis></joint>"
+    )
+
+
+def test_an_axis_expressed_in_another_link_is_turned_into_the_joints(tmp_path: Path) -> None:
+    # The right wheel's link is turned half a turn about z; its axis is written as +y of the
+    # chassis, so a positive speed rolls it forward, as the left one.
+    path = tmp_path / "cart.sdf"
+    path.write_text(
+        drive(
+            wheel("left", "<pose>0 0.2 0 0 0 0</pose>", '<xyz expressed_in="chassis">0 1 0</xyz>')
+            + wheel(
+                "right",
+                "<pose>0 -0.2 0 0 0 3.141592653589793</pose>",
+                '<xyz expressed_in="chassis">0 1 0</xyz>',
+            )
+        ),
+        encoding="utf-8",
+    )
+    params = diffbot.load_params(path, source="description")
+    assert (params.left_joint, params.right_joint) == ("left_joint", "right_joint")
+    assert (params.left_sign, params.right_sign) == (1, 1)
+
+
+def test_a_link_posed_relative_to_a_link_written_after_it_is_placed_there(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "cart.sdf"
+    path.write_text(
+        drive(
+            wheel("right", '<pose relative_to="left">0 -0.4 0 0 0 0</pose>', "<xyz>0 1 0</xyz>")
+            + wheel("left", "<pose>0 0.2 0 0 0 0</pose>", "<xyz>0 1 0</xyz>")
+        ),
+        encoding="utf-8",
+    )
+    params = diffbot.load_params(path, source="description")
+    assert params.wheel_separation == pytest.approx(0.4, abs=1e-12)
+
+
+def test_links_posed_relative_to_a_turned_frame_take_its_sides_and_its_axes(
+    tmp_path: Path,
+) -> None:
+    # The axle frame is turned half a turn: the wheel at its -y is on the cart's left, and the
+    # wheels' +y axes point to the cart's right, so a positive speed rolls them backwards.
+    axle = '<frame name="axle"><pose>0 0 0 0 0 3.141592653589793</pose></frame>'
+    path = tmp_path / "cart.sdf"
+    path.write_text(
+        drive(
+            wheel("left", '<pose relative_to="axle">0 -0.2 0 0 0 0</pose>', "<xyz>0 1 0</xyz>")
+            + wheel("right", '<pose relative_to="axle">0 0.2 0 0 0 0</pose>', "<xyz>0 1 0</xyz>"),
+            axle,
+        ),
+        encoding="utf-8",
+    )
+    params = diffbot.load_params(path, source="description")
+    assert (params.left_joint, params.right_joint) == ("left_joint", "right_joint")
+    assert (params.left_sign, params.right_sign) == (-1, -1)
+    assert params.wheel_separation == pytest.approx(0.4, abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("left_pose", "message"),
+    [
+        (
+            '<pose relative_to="nowhere">0 0.2 0 0 0 0</pose>',
+            "link 'left' names the frame 'nowhere', which the model does not have",
+        ),
+        (
+            '<pose relative_to="right">0 0.2 0 0 0 0</pose>',
+            "frames posed relative to each other in a cycle: left -> right -> left",
+        ),
+    ],
+)
+def test_a_pose_relative_to_no_frame_or_to_itself_is_named(
+    tmp_path: Path, left_pose: str, message: str
+) -> None:
+    path = tmp_path / "cart.sdf"
+    right = '<pose relative_to="left">0 -0.4 0 0 0 0</pose>'
+    path.write_text(
+        drive(
+            wheel("left", left_pose, "<xyz>0 1 0</xyz>") + wheel("right", right, "<xyz>0 1 0</xyz>")
+        ),
+        encoding="utf-8",
+    )
+    with pytest.raises(DescriptionError) as caught:
+        expand(path)
+    assert str(caught.value) == f"{path}: {message}"
 
 
 # --- joints and plugins -----------------------------------------------------------------------
