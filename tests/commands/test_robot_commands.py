@@ -312,6 +312,15 @@ def test_fk_human_output_gives_the_turning_radius(runner: CliRunner) -> None:
     assert "spin in place" in spin.stdout
 
 
+@pytest.mark.parametrize("scale", [1e-320, 1e-310, 1.0, 1e300])
+def test_fk_turning_radius_does_not_depend_on_the_wheels_scale(
+    runner: CliRunner, scale: float
+) -> None:
+    # One wheel still: the robot pivots about it, half the separation (0.135 m) from the middle.
+    result = run(runner, "fk", repr(scale), "0")
+    assert "radius   -0.0675 m (clockwise)" in result.stdout
+
+
 def test_fk_in_rpm_inverts_ik(runner: CliRunner) -> None:
     ik = json.loads(run(runner, "ik", "0.05", "-0.3", "--json").stdout)
     fk = json.loads(
