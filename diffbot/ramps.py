@@ -291,6 +291,28 @@ def _magnitude(*values: float | None) -> float | None:
     return min(given) if given else None
 
 
+_ACCELERATIONS = (
+    "max_acceleration",
+    "min_acceleration",
+    "max_deceleration",
+    "max_acceleration_reverse",
+    "max_deceleration_reverse",
+)
+
+
+def _refuse_held(axis: AxisLimits, name: str, accel: float | None, jerk: float | None) -> None:
+    """Refuse an acceleration or jerk limit of exactly 0 that no given limit replaces: the
+    controller's limiter then never lets the axis change its speed that way (0 is a limit
+    there; no limit is NaN), so no ramp within it exists."""
+    for limits, given in ((_ACCELERATIONS, accel), (("max_jerk", "min_jerk"), jerk)):
+        held = next((limit for limit in limits if getattr(axis, limit) == 0.0), None)
+        if held is not None and given is None:
+            raise PlanError(
+                f"the controller's {name}.{held} is 0: its limiter never lets {name} change "
+                "speed that way, so no ramped plan runs within it (NaN is no limit)"
+            )
+
+
 def _axis(axis: AxisLimits) -> PathLimits:
     return PathLimits(
         _magnitude(axis.max_velocity, axis.min_velocity),
@@ -325,6 +347,8 @@ def controller_limits(
     """
     linear = angular = PathLimits()
     if controller is not None:
+        _refuse_held(controller.linear, "linear.x", linear_accel, linear_jerk)
+        _refuse_held(controller.angular, "angular.z", angular_accel, None)
         linear, angular = _axis(controller.linear), _axis(controller.angular)
     return Limits(
         linear=PathLimits(

@@ -168,6 +168,33 @@ def test_controller_limits_take_the_tightest_magnitude_and_options_win() -> None
     assert controller_limits(None) == Limits()
 
 
+@pytest.mark.parametrize(
+    ("linear", "angular", "held"),
+    [
+        (AxisLimits(max_deceleration=0.0), AxisLimits(), "linear.x.max_deceleration"),
+        (AxisLimits(max_jerk=0.0), AxisLimits(), "linear.x.max_jerk"),
+        (AxisLimits(), AxisLimits(max_acceleration=0.0), "angular.z.max_acceleration"),
+        (AxisLimits(), AxisLimits(min_jerk=0.0), "angular.z.min_jerk"),
+    ],
+)
+def test_a_controller_limit_of_zero_holds_the_speed_and_is_refused_unless_replaced(
+    linear: AxisLimits, angular: AxisLimits, held: str
+) -> None:
+    # The controller's limiter takes 0 as a limit (NaN is none): the axis could never change
+    # speed, so a ramp "within" it would be a plan the robot does not follow.
+    controller = ControllerConfig(
+        name="d", source="c.yaml", ros_version=2, linear=linear, angular=angular
+    )
+    with pytest.raises(PlanError, match=f"^the controller's {held} is 0: "):
+        controller_limits(controller)
+    replaced = {"linear_accel": 1.0, "linear_jerk": 1.0, "angular_accel": 1.0}
+    if "angular.z" in held and "jerk" in held:
+        with pytest.raises(PlanError, match=held):  # no option replaces the angular jerk
+            controller_limits(controller, **replaced)
+    else:
+        assert has_ramps(controller_limits(controller, **replaced))
+
+
 def test_the_controller_speed_caps_the_cruise() -> None:
     limits = Limits(linear=PathLimits(0.05, 0.1, None))
     ramped = ramp(plan(parse_plan("straight 1"), BOT), limits)
