@@ -326,8 +326,9 @@ def fk(robot: RobotOptions, tokens: tuple[str, ...], in_rpm: bool, as_json: bool
     else:
         # From the wheels scaled to a peak of 1: the radius does not depend on their scale, and
         # speeds near the smallest floats would lose digits in the quotient of two tiny ones.
-        peak = max(abs(wheels.left), abs(wheels.right))
-        unit = kinematics.forward(p, wheels.left / peak, wheels.right / peak)
+        left, right = float(wheels.left), float(wheels.right)
+        peak = max(abs(left), abs(right))
+        unit = kinematics.forward(p, left / peak, right / peak)
         turn = float(unit.linear) / float(unit.angular)
         radius = f"{fmt(turn)} m ({'counter-clockwise' if angular > 0 else 'clockwise'})"
     click.echo(f"radius   {radius}")
