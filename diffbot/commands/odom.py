@@ -8,7 +8,6 @@ import json
 import math
 import re
 import sys
-from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -23,6 +22,7 @@ from diffbot.commands.recording_options import (
     conditioning_lines,
     recording_options,
     robot_label,
+    skipped_text,
     warn_conditioning,
     warn_notes,
 )
@@ -61,10 +61,6 @@ def _expand(sources: list[str]) -> list[str]:
 def _stdin_stream() -> io.TextIOWrapper:
     """The CSV on stdin as text, read as it comes (``diffbot simulate | diffbot odom -``)."""
     return io.TextIOWrapper(sys.stdin.buffer, encoding="utf-8-sig", newline="")
-
-
-def _skipped_text(skipped: Mapping[str, int]) -> str:
-    return ", ".join(f"{count} {reason}" for reason, count in sorted(skipped.items()))
 
 
 def _repeat_text(summary: OdometrySummary, kind: str) -> str:
@@ -353,7 +349,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot:
     if skipped_total:
         opt.warn(
             f"skipped {skipped_total} of {summary.samples + skipped_total} samples: "
-            f"{_skipped_text(summary.skipped)}{_missing_text(summary, run.kind)}"
+            f"{skipped_text(summary.skipped)}{_missing_text(summary, run.kind)}"
             f"{_repeat_text(summary, run.kind)}"
         )
     warn_notes(run.notes, source)

@@ -4,7 +4,7 @@ them."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -24,6 +24,7 @@ __all__ = [
     "conditioning_lines",
     "recording_options",
     "robot_label",
+    "skipped_text",
     "warn_conditioning",
     "warn_notes",
 ]
@@ -92,6 +93,12 @@ class RecordingOptions:
             **self.csv(),
         )
         warn_notes(recording.notes, source)
+        skipped = sum(recording.skipped.values())
+        if skipped:
+            warn(
+                f"{source}: skipped {skipped} of {len(recording.samples) + skipped} samples: "
+                f"{skipped_text(recording.skipped)}"
+            )
         if recording.conditioning is not None:
             warn_conditioning(recording.conditioning, source)
         return recording
@@ -241,6 +248,11 @@ def conditioning_lines(report: ConditioningReport) -> list[tuple[str, str]]:
             f"wrap{'s' if report.wraps != 1 else ''} undone"
         )
     return [("positions", "; ".join(parts))] if parts else []
+
+
+def skipped_text(skipped: Mapping[str, int]) -> str:
+    """How many samples were skipped for each reason, in words."""
+    return ", ".join(f"{count} {reason}" for reason, count in sorted(skipped.items()))
 
 
 def warn_notes(notes: tuple[str, ...], source: str) -> None:

@@ -182,6 +182,21 @@ def test_fit_takes_the_truth_from_another_file(
     assert "no ground truth: needs x, y, theta" in line
 
 
+def test_fit_says_how_many_samples_the_reader_skipped_and_why(
+    runner: CliRunner, run_csv: Path, tmp_path: Path
+) -> None:
+    rows = [line.split(",") for line in run_csv.read_text(encoding="utf-8").splitlines()]
+    joints = tmp_path / "joints.csv"
+    rows[7][1] = "seven"  # one unreadable wheel cell: that row is skipped, as odom skips it
+    joints.write_text("\n".join(",".join(r[:3]) for r in rows) + "\n", encoding="utf-8")
+    truth = tmp_path / "truth.csv"
+    truth.write_text("\n".join(",".join([r[0], *r[-3:]]) for r in rows) + "\n", "utf-8")
+    result = run(runner, "calibrate", "fit", str(joints), "--truth", str(truth), "--json")
+    samples = len(rows) - 1
+    want = f"warning: {joints}: skipped 1 of {samples} samples: 1 unreadable value"
+    assert want in result.stderr.splitlines()
+
+
 def test_fit_writes_a_calibrated_copy_beside_the_file(
     runner: CliRunner, run_csv: Path, tmp_path: Path
 ) -> None:
