@@ -125,7 +125,7 @@ def _conditioned(
         stamps[k] = stamp_ns
         for name, value in zip(names, values, strict=False):
             j = column.get(name)
-            if j is not None:
+            if j is not None and not present[k, j]:  # a joint named twice: the first, as odometry
                 positions[k, j] = value
                 present[k, j] = True
     wheels = VelocityAngles(len(joints)).feed(stamps, positions, present) if velocity else positions

@@ -288,6 +288,31 @@ def test_wheels_read_whole_from_separate_messages_are_named_message_by_message(
     )
 
 
+def test_a_joint_named_twice_is_converted_from_its_first_value_as_odometry_reads_it(
+    tmp_path: Path,
+) -> None:
+    # Converted counts (or wraps undone) must be those of the value the odometry then uses.
+    from diffbot.conditioning import Conditioning
+
+    counts = Conditioning(counts_per_rev=1000, wrap=0)
+    plain, twice = [], []
+    for k in range(20):
+        stamp, value = 10**9 * (k + 1), 25.0 * k
+        plain.append((stamp, stamp, [LEFT, RIGHT], [value, 2 * value]))
+        twice.append((stamp, stamp, [LEFT, RIGHT, LEFT], [value, 2 * value, 7e5]))
+    want = run_odometry(
+        read_recording(write_bag(tmp_path / "plain", plain), BOT, conditioning=counts),
+        Odometry(BOT),
+    )
+    got = run_odometry(
+        read_recording(write_bag(tmp_path / "twice", twice), BOT, conditioning=counts),
+        Odometry(BOT),
+    )
+    assert got.final_pose == want.final_pose
+    assert got.samples == want.samples == 20
+    assert want.final_pose.x > 0.1
+
+
 # --------------------------------------------------------------------------------------------
 # Bag input
 
