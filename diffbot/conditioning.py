@@ -394,7 +394,11 @@ class Conditioner:
             return speed, bad
         times, values = stamps[kept], angles[kept]
         d_angle = np.diff(values, prepend=column.last_value)
-        d_time = np.diff(times, prepend=column.last_stamp).astype(np.float64) / NS_PER_S
+        # Each step is in (0, 2**64) ns: as unsigned 64-bit numbers the differences are exact
+        # even across more than 2**63 ns (292 years), where signed ones wrap around.
+        last = np.array([column.last_stamp], dtype=np.int64).view(np.uint64)
+        steps_ns = np.diff(times.view(np.uint64), prepend=last)
+        d_time = steps_ns.astype(np.float64) / NS_PER_S
         if not column.started:
             # no step ends at a joint's first sample: as if it came after all time, at rest
             d_time[0] = math.inf

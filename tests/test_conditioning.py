@@ -107,6 +107,27 @@ def test_the_motor_limit_sets_the_bound_when_there_is_one() -> None:
     assert report.first_implausible.sample == 2
 
 
+@pytest.mark.parametrize("chunk", [1, 2])
+@pytest.mark.parametrize(("moved", "implausible"), [(1.0, 0), (1e12, 1)])
+def test_a_step_of_more_than_292_years_is_measured_exactly(
+    chunk: int, moved: float, implausible: int
+) -> None:
+    # From the least to the greatest int64 ns: the difference overflows int64.
+    conditioner = Conditioner.for_robot(BOT_50_RPM, ("l", "r"), 1)
+    low, high = -(2**63) + 1, 2**63 - 1
+    stamps = np.array([low, high], dtype=np.int64)
+    positions = np.array([[0.0, 0.0], [moved, 0.0]])
+    for start in range(0, 2, chunk):
+        conditioner.feed(stamps[start : start + chunk], positions[start : start + chunk])
+    report = conditioner.report()
+    # 1 rad in 585 years is plausible; 1e12 rad is not (54 rad/s).
+    assert report.implausible_steps == implausible
+    found = report.first_implausible
+    if implausible:
+        assert found is not None
+        assert found.speed == pytest.approx(moved / ((high - low) / 1e9), rel=1e-12)
+
+
 @pytest.mark.parametrize("chunk", [1, 2, 4])
 @pytest.mark.parametrize(
     ("wheel", "implausible", "sample"),
