@@ -122,6 +122,13 @@ def _segments_of(text: str) -> list[list[_Token]]:
     return segments
 
 
+def _written_nonzero(text: str) -> bool:
+    """Whether a number's text has a digit other than 0 before its exponent (``1e-400`` does,
+    though it reads as 0)."""
+    mantissa = text.lower().partition("e")[0]
+    return any(c in "123456789" for c in mantissa)
+
+
 def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> Segment:
     def where(token: _Token) -> str:
         if multiline:
@@ -178,6 +185,8 @@ def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> 
             value = _quantity(token.text, dimension)
         except _BadValueError as err:
             raise error(token, f"{role} {brief(token.text)}: {err}") from None
+        if value == 0.0 and _written_nonzero(token.text):
+            raise error(token, f"{role} {brief(token.text)} is too small: it rounds to 0")
         if (rule == "positive" or reverse) and value <= 0.0:
             hint = ""
             if kind in ("ccw", "cw") and role == "angle":
@@ -197,6 +206,8 @@ def _segment_from_tokens(tokens: list[_Token], number: int, multiline: bool) -> 
             duration = _quantity(token.text, "duration")
         except _BadValueError as err:
             raise error(token, f"duration {brief(token.text)}: {err}") from None
+        if duration == 0.0 and _written_nonzero(token.text):
+            raise error(token, f"duration {brief(token.text)} is too small: it rounds to 0")
         if duration <= 0.0:
             raise error(token, f"duration {brief(token.text)} must be > 0")
     if kind == "straight":
