@@ -903,14 +903,15 @@ scalars = (
     | st.floats()
     | st.sampled_from(["ccw", "cw", "25cm", "90deg", "10s", "x", "straight 1"])
 )
-documents = st.recursive(
-    scalars,
-    lambda children: (
-        st.lists(children, max_size=4)
-        | st.dictionaries(keys | st.text(max_size=4), children, max_size=4)
-    ),
-    max_leaves=12,
-)
+
+
+def _nested(children: st.SearchStrategy[object]) -> st.SearchStrategy[object]:
+    """Lists and mappings of ``children``: a parsed YAML or JSON document's containers."""
+    lists = st.lists(children, max_size=4)
+    return lists | st.dictionaries(keys | st.text(max_size=4), children, max_size=4)
+
+
+documents = st.recursive(scalars, _nested, max_leaves=12)
 
 
 @given(documents)
