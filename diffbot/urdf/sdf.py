@@ -304,7 +304,11 @@ class _Reader:
                     return candidate
         return None
 
-    def read_file(self, path: Path, frame: Matrix, prefix: str, depth: int) -> None:
+    def read_file(
+        self, path: Path, frame: Matrix, prefix: str, depth: int, placed: bool = False
+    ) -> None:
+        """Read the model of an SDF file into ``frame`` (``placed``: by an ``<include>``'s pose,
+        which replaces the model's own)."""
         self.check(path)
         root = _parse(path, "an SDF file", self.trees)
         self.model.files.append(path)
@@ -319,7 +323,8 @@ class _Reader:
                 f"{path}: expected one <model>, found {len(models)}: give the robot's model file"
             )
         legacy = _axes_in_model(root)
-        self.read_model(models[0], frame, prefix, path.parent, depth, top=not prefix, legacy=legacy)
+        top = not prefix or placed
+        self.read_model(models[0], frame, prefix, path.parent, depth, top=top, legacy=legacy)
 
     def read_model(
         self,
@@ -332,7 +337,8 @@ class _Reader:
         legacy: bool,
     ) -> None:
         """Read one model's links, joints, plugins, nested and included models (``legacy``: an
-        SDF 1.4 or older file, whose axes are in the model's frame)."""
+        SDF 1.4 or older file, whose axes are in the model's frame; ``top``: ``frame`` is the
+        model's own, its ``<pose>`` is not applied)."""
         if depth > MAX_DEPTH:
             raise ExpansionLimitError(
                 f"{self.source}: models nested more than {MAX_DEPTH} deep (max_depth)"
@@ -378,8 +384,11 @@ class _Reader:
                 self.check(target)  # before its model.config is read
                 target = model_file(target, None if self.trust else list(self.roots), self.trees)
             name = (include.findtext("name") or "").strip() or target.parent.name
+            # an include's pose replaces the model's own
+            placed = include.find("pose") is not None
             include_pose, _ = _pose(include, f"{where} include {uri!r}")
-            self.read_file(target, _mul(frame, include_pose), f"{prefix}{name}::", depth + 1)
+            at = _mul(frame, include_pose)
+            self.read_file(target, at, f"{prefix}{name}::", depth + 1, placed)
 
     def shape(self, kind: str, element: ET.Element, where: str) -> tuple[str, Matrix, str] | None:
         pose, _ = _pose(element, where)

@@ -1,5 +1,6 @@
-"""A model included many times: read once, in time linear in the bytes on disk, with the same
-result as the same model read from as many copies."""
+"""Included models: placed by the include's pose, which replaces the model's own, and read once
+however often they are included, in time linear in the bytes on disk, with the same result as
+the same model read from as many copies."""
 
 from __future__ import annotations
 
@@ -98,3 +99,54 @@ def test_a_model_included_many_times_reads_as_as_many_copies(tmp_path: Path) -> 
     assert sorted(f.parent.name for f in shared.files) == ["big", "robot"]
     params = diffbot.load_params(tmp_path / "shared" / "models" / "robot")
     assert (params.wheel_radius, params.wheel_separation) == (0.1, pytest.approx(0.4, abs=1e-12))
+
+
+#: A wheel model whose own pose stands it on the ground, turned so that its cylinder's axis is +y.
+STANDING_WHEEL = (
+    '<sdf version="1.9"><model name="wheel"><pose>0 0 0.1 -1.5707963267948966 0 0</pose>'
+    '<link name="tyre"><collision name="c"><geometry><cylinder><radius>0.1</radius>'
+    "<length>0.05</length></cylinder></geometry></collision></link></model></sdf>"
+)
+
+
+def wheels_included(left: str, right: str) -> str:
+    """A chassis and the wheel model included twice, as ``left`` and ``right`` with the given
+    ``<pose>`` elements (or none), each on a joint of axis z."""
+    parts = ['<sdf version="1.9"><model name="bot"><link name="chassis"/>']
+    for side, pose in (("left", left), ("right", right)):
+        parts.append(f"<include><uri>model://wheel</uri><name>{side}</name>{pose}</include>")
+        parts.append(
+            f'<joint name="{side}_joint" type="revolute"><parent>chassis</parent>'
+            f"<child>{side}::tyre</child><axis><xyz>0 0 1</xyz></axis></joint>"
+        )
+    return "".join(parts) + "</model></sdf>"
+
+
+def test_an_includes_pose_replaces_the_included_models_own(tmp_path: Path) -> None:
+    # As SDFormat has it, the include's pose is the model's pose: the roll the include repeats
+    # from the model's own is applied once, and each wheel's axis is +y.
+    models = tmp_path / "models"
+    model_folder(models, "wheel", STANDING_WHEEL)
+    turned = "<pose>0 {0} 0.1 -1.5707963267948966 0 0</pose>"
+    text = wheels_included(turned.format(0.3), turned.format(-0.3))
+    params = diffbot.load_params(model_folder(models, "bot", text))
+    assert params.wheel_separation == pytest.approx(0.6, abs=1e-12)
+    assert (params.left_joint, params.right_joint) == ("left_joint", "right_joint")
+    assert (params.left_sign, params.right_sign) == (1, 1)
+    assert params.wheel_radius == pytest.approx(0.1, abs=1e-12)
+
+
+def test_an_include_without_a_pose_keeps_the_included_models_own(tmp_path: Path) -> None:
+    # The right wheel is included without a pose: the model's own (rolled, at y = 0) places it.
+    models = tmp_path / "models"
+    model_folder(models, "wheel", STANDING_WHEEL)
+    text = wheels_included("<pose>0 0.3 0.1 -1.5707963267948966 0 0</pose>", "")
+    urdf = ElementTree.fromstring(expand(model_folder(models, "bot", text)).urdf)
+    joint = urdf.find("joint[@name='right_joint']")
+    assert joint is not None
+    origin = joint.find("origin")
+    assert origin is not None
+    assert [float(v) for v in origin.get("xyz", "").split()] == pytest.approx([0, 0, 0.1])
+    assert [float(v) for v in origin.get("rpy", "").split()] == pytest.approx(
+        [-1.5707963267948966, 0, 0]
+    )
