@@ -173,6 +173,10 @@ class _Model:
     includes: int = 0
 
 
+#: The pose an ``<include>`` gives its model, and the frame it is relative to (None: the
+#: including model's); None when it gives none.
+_Placed = tuple[Matrix, str | None] | None
+
 #: Parsed files by resolved path. Their trees are only read, never changed, so one tree serves
 #: every include of its file.
 _Trees = dict[Path, ET.Element]
@@ -305,10 +309,11 @@ class _Reader:
         return None
 
     def read_file(
-        self, path: Path, frame: Matrix, prefix: str, depth: int, placed: bool = False
+        self, path: Path, prefix: str, depth: int, placed: _Placed = None, parent: str = ""
     ) -> None:
-        """Read the model of an SDF file into ``frame`` (``placed``: by an ``<include>``'s pose,
-        which replaces the model's own)."""
+        """Read the model of an SDF file; ``placed``: the pose (and the frame it is relative
+        to) an ``<include>`` gives it, which replaces the model's own; ``parent``: the prefix of
+        the model that includes it."""
         self.check(path)
         root = _parse(path, "an SDF file", self.trees)
         self.model.files.append(path)
@@ -323,33 +328,36 @@ class _Reader:
                 f"{path}: expected one <model>, found {len(models)}: give the robot's model file"
             )
         legacy = _axes_in_model(root)
-        top = not prefix or placed
-        self.read_model(models[0], frame, prefix, path.parent, depth, top=top, legacy=legacy)
+        self.read_model(models[0], prefix, parent, path.parent, depth, legacy, placed)
 
     def read_model(
         self,
         model: ET.Element,
-        frame: Matrix,
         prefix: str,
+        parent: str,
         here: Path,
         depth: int,
-        top: bool,
         legacy: bool,
+        placed: _Placed = None,
     ) -> None:
-        """Read one model's links, joints, plugins, nested and included models (``legacy``: an
-        SDF 1.4 or older file, whose axes are in the model's frame; ``top``: ``frame`` is the
-        model's own, its ``<pose>`` is not applied)."""
+        """Read one model's links, joints, plugins, nested and included models (``prefix``: its
+        own, empty for the top model; ``parent``: its parent model's; ``legacy``: an SDF 1.4 or
+        older file, whose axes are in the model's frame; ``placed``: an include's pose)."""
         if depth > MAX_DEPTH:
             raise ExpansionLimitError(
                 f"{self.source}: models nested more than {MAX_DEPTH} deep (max_depth)"
             )
         where = f"{self.source}: model {model.get('name')!r}"
-        pose, _ = _pose(model, where) if not top else (_identity(), None)
-        frame = _mul(frame, pose)
         own = prefix + "__model__"
-        self.graph.fix(own, frame)
-        if prefix:
-            self.graph.fix(prefix[:-2], frame)  # a nested model's name is its frame
+        if not prefix:
+            self.graph.fix(own, _identity())
+        else:
+            # relative to a frame of its parent model (that model's own by default), any of
+            # which may be written after it
+            pose, relative = _pose(model, where) if placed is None else placed
+            what = f"model {prefix[:-2]!r}"
+            self.graph.add(own, parent + (relative or "__model__"), pose, what)
+            self.graph.add(prefix[:-2], own, _identity(), what)  # its name is its frame
         for link in model.findall("link"):
             name = prefix + link.get("name", "")
             link_pose, relative = _pose(link, f"{where} link {name!r}")
@@ -371,7 +379,7 @@ class _Reader:
         self.model.plugins.extend(model.findall("plugin"))
         for nested in model.findall("model"):
             name = f"{prefix}{nested.get('name', '')}::"
-            self.read_model(nested, frame, name, here, depth + 1, top=False, legacy=legacy)
+            self.read_model(nested, name, prefix, here, depth + 1, legacy)
         for include in model.findall("include"):
             self.model.includes += 1
             if self.model.includes > MAX_INCLUDES:
@@ -384,11 +392,10 @@ class _Reader:
                 self.check(target)  # before its model.config is read
                 target = model_file(target, None if self.trust else list(self.roots), self.trees)
             name = (include.findtext("name") or "").strip() or target.parent.name
-            # an include's pose replaces the model's own
-            placed = include.find("pose") is not None
-            include_pose, _ = _pose(include, f"{where} include {uri!r}")
-            at = _mul(frame, include_pose)
-            self.read_file(target, at, f"{prefix}{name}::", depth + 1, placed)
+            placed = None
+            if include.find("pose") is not None:
+                placed = _pose(include, f"{where} include {uri!r}")
+            self.read_file(target, f"{prefix}{name}::", depth + 1, placed, prefix)
 
     def shape(self, kind: str, element: ET.Element, where: str) -> tuple[str, Matrix, str] | None:
         pose, _ = _pose(element, where)
@@ -552,7 +559,7 @@ def expand_sdf(
     folders = list(dict.fromkeys(resolved(f, DescriptionError) for f in [*roots, folder]))
     file = model_file(path, None if trust else folders) if path.is_dir() else path
     reader = _Reader(file, finder, folders, trust)
-    reader.read_file(file, _identity(), "", 0)
+    reader.read_file(file, "", 0)
     root = _parse(file, "an SDF file", reader.trees)
     model = root.find("model")
     if model is None:

@@ -592,3 +592,80 @@ def test_a_file_without_folders_given_may_read_beside_itself(tmp_path: Path) -> 
     path.write_text(including("parts/wheel"), encoding="utf-8")
     urdf, _ = sdf.expand_sdf(path, PackageFinder(None, {}), [])
     assert 'name="left::tyre"' in urdf
+
+
+# --- models posed relative to a frame ---------------------------------------------------------
+
+#: A wheel of radius 0.07 in a model of its own, standing on its axle (its cylinder's axis is the
+#: link's z).
+WHEEL_MODEL = (
+    '<model name="{0}">{1}<link name="wheel"><collision name="c"><geometry><cylinder>'
+    "<radius>0.07</radius><length>0.04</length></cylinder></geometry></collision></link></model>"
+)
+
+
+def axle_cart(left: str, right: str) -> str:
+    """A cart whose wheels (``left``, ``right``: their models, or includes) hang from an axle
+    link turned half a turn about z and written after them, on joints of axis z."""
+    joints = "".join(
+        f'<joint name="{side}_joint" type="revolute"><parent>axle</parent>'
+        f"<child>{side}::wheel</child><axis><xyz>0 0 1</xyz></axis></joint>"
+        for side in ("left", "right")
+    )
+    return (
+        f'<sdf version="1.9"><model name="cart"><link name="chassis"/>{left}{right}'
+        '<link name="axle"><pose>0.1 0 0.05 0 0 3.141592653589793</pose></link>'
+        '<joint name="axle_fixed" type="fixed"><parent>chassis</parent><child>axle</child>'
+        f"</joint>{joints}</model></sdf>"
+    )
+
+
+#: Each wheel's pose relative to the turned axle: the left one at the axle's -y (the cart's +y),
+#: rolled +pi/2 so that its axis, -y of the axle, is +y of the cart.
+AXLE_POSE = '<pose relative_to="axle">0 {0} 0 1.5707963267948966 0 0</pose>'
+
+
+def test_nested_models_posed_relative_to_a_turned_link_take_its_sides_and_its_axes(
+    tmp_path: Path,
+) -> None:
+    text = axle_cart(
+        WHEEL_MODEL.format("left", AXLE_POSE.format(-0.25)),
+        WHEEL_MODEL.format("right", AXLE_POSE.format(0.25)),
+    )
+    path = tmp_path / "cart.sdf"
+    path.write_text(text, encoding="utf-8")
+    params = diffbot.load_params(path, source="description")
+    assert (params.left_joint, params.right_joint) == ("left_joint", "right_joint")
+    assert (params.left_sign, params.right_sign) == (1, 1)
+    assert params.wheel_separation == pytest.approx(0.5, abs=1e-12)
+    assert params.wheel_radius == pytest.approx(0.07, abs=1e-12)
+
+
+def test_included_models_posed_relative_to_a_turned_link_take_its_sides_and_its_axes(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "wheel.sdf").write_text(
+        f'<sdf version="1.9">{WHEEL_MODEL.format("wheel", "")}</sdf>', encoding="utf-8"
+    )
+    include = "<include><uri>wheel.sdf</uri><name>{0}</name>{1}</include>"
+    text = axle_cart(
+        include.format("left", AXLE_POSE.format(-0.25)),
+        include.format("right", AXLE_POSE.format(0.25)),
+    )
+    path = tmp_path / "cart.sdf"
+    path.write_text(text, encoding="utf-8")
+    params = diffbot.load_params(path, source="description")
+    assert (params.left_joint, params.right_joint) == ("left_joint", "right_joint")
+    assert (params.left_sign, params.right_sign) == (1, 1)
+    assert params.wheel_separation == pytest.approx(0.5, abs=1e-12)
+
+
+def test_a_nested_model_posed_relative_to_no_frame_is_named(tmp_path: Path) -> None:
+    pose = '<pose relative_to="nowhere">0 0.2 0 0 0 0</pose>'
+    path = tmp_path / "cart.sdf"
+    text = axle_cart(WHEEL_MODEL.format("left", pose), WHEEL_MODEL.format("right", ""))
+    with pytest.raises(DescriptionError) as caught:
+        expand(path, text)
+    assert str(caught.value) == (
+        f"{path}: model 'left' names the frame 'nowhere', which the model does not have"
+    )
