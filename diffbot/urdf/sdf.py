@@ -148,7 +148,8 @@ def _origin(m: Matrix) -> str:
 class _Link:
     name: str
     pose: Matrix  # in the top model's frame, once the frames are resolved
-    shapes: list[tuple[str, Matrix, str]] = field(default_factory=list)  # kind, pose, geometry
+    # kind, pose, geometry, and the frame the pose is relative to (None: the link's)
+    shapes: list[tuple[str, Matrix, str, str | None]] = field(default_factory=list)
 
 
 @dataclass
@@ -365,7 +366,7 @@ class _Reader:
             record = _Link(name, _identity())
             for kind in ("collision", "visual"):
                 for element in link.findall(kind):
-                    shape = self.shape(kind, element, f"{where} link {name!r}")
+                    shape = self.shape(kind, element, prefix, f"{where} link {name!r}")
                     if shape is not None:
                         record.shapes.append(shape)
             self.model.links[name] = record
@@ -397,8 +398,10 @@ class _Reader:
                 placed = _pose(include, f"{where} include {uri!r}")
             self.read_file(target, f"{prefix}{name}::", depth + 1, placed, prefix)
 
-    def shape(self, kind: str, element: ET.Element, where: str) -> tuple[str, Matrix, str] | None:
-        pose, _ = _pose(element, where)
+    def shape(
+        self, kind: str, element: ET.Element, prefix: str, where: str
+    ) -> tuple[str, Matrix, str, str | None] | None:
+        pose, relative = _pose(element, where)
         geometry = element.find("geometry")
         inner = ""
         if geometry is not None:
@@ -415,7 +418,7 @@ class _Reader:
                 inner = f'<box size="{size}"/>'
         if not inner:
             return None
-        return kind, pose, inner
+        return kind, pose, inner, None if relative is None else prefix + relative
 
     def joint(self, joint: ET.Element, prefix: str, where: str, legacy: bool) -> _Joint:
         name = prefix + joint.get("name", "")
@@ -484,11 +487,15 @@ class _Reader:
         for link in model.links.values():
             # shapes were posed in the link's SDF frame; URDF's link frame is its joint's
             moved = _mul(_inverse(frames[link.name]), link.pose)
-            shapes = "".join(
-                f"<{kind}>{_origin(_mul(moved, pose))}<geometry>{inner}</geometry></{kind}>"
-                for kind, pose, inner in link.shapes
-            )
-            lines.append(f'<link name="{_attr(link.name)}">{shapes}</link>')
+            shapes = []
+            for kind, pose, inner, relative in link.shapes:
+                if relative is not None:  # posed in another frame: brought into the link's
+                    at = self.graph.resolve(relative, f"a {kind} of link {link.name!r}")
+                    pose = _mul(_mul(_inverse(link.pose), at), pose)
+                shapes.append(
+                    f"<{kind}>{_origin(_mul(moved, pose))}<geometry>{inner}</geometry></{kind}>"
+                )
+            lines.append(f'<link name="{_attr(link.name)}">{"".join(shapes)}</link>')
         for joint in model.joints:
             if joint.parent == "world":
                 continue

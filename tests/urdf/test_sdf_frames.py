@@ -669,3 +669,26 @@ def test_a_nested_model_posed_relative_to_no_frame_is_named(tmp_path: Path) -> N
     assert str(caught.value) == (
         f"{path}: model 'left' names the frame 'nowhere', which the model does not have"
     )
+
+
+def test_a_collision_posed_relative_to_the_model_is_placed_and_turned_there(
+    tmp_path: Path,
+) -> None:
+    # Each wheel link is rolled to stand on its axle; its cylinder is posed in the model's frame,
+    # 3 cm further out and with the same roll: it lies along the axle, its mid-plane at +-0.23.
+    def side(name: str, y: float) -> str:
+        roll = "-1.5707963267948966 0 0"
+        return (
+            f'<link name="{name}"><pose>0 {y} 0.1 {roll}</pose><collision name="c">'
+            f'<pose relative_to="__model__">0 {y * 1.15:.2f} 0.1 {roll}</pose><geometry>'
+            "<cylinder><radius>0.1</radius><length>0.04</length></cylinder></geometry>"
+            f'</collision></link><joint name="{name}_joint" type="revolute"><parent>chassis'
+            f"</parent><child>{name}</child><axis><xyz>0 0 1</xyz></axis></joint>"
+        )
+
+    path = tmp_path / "cart.sdf"
+    path.write_text(drive(side("left", 0.2) + side("right", -0.2)), encoding="utf-8")
+    params = diffbot.load_params(path, source="description")
+    assert params.wheel_separation == pytest.approx(0.46, abs=1e-12)
+    assert (params.left_sign, params.right_sign) == (1, 1)
+    assert params.warnings == ()
