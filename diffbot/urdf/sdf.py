@@ -359,6 +359,14 @@ class _Reader:
             what = f"model {prefix[:-2]!r}"
             self.graph.add(own, parent + (relative or "__model__"), pose, what)
             self.graph.add(prefix[:-2], own, _identity(), what)  # its name is its frame
+            self.graph.attach(prefix[:-2], own)
+        # the model's frame moves with its canonical link: the one named, else its first
+        first = model.find("link")
+        if first is None:
+            first = model.find("model")
+        canonical = model.get("canonical_link") or ("" if first is None else first.get("name"))
+        if canonical:
+            self.graph.attach(own, prefix + canonical)
         for link in model.findall("link"):
             name = prefix + link.get("name", "")
             link_pose, relative = _pose(link, f"{where} link {name!r}")
@@ -375,6 +383,7 @@ class _Reader:
             frame_pose, relative = _pose(element, f"{where} frame {name!r}")
             attached = element.get("attached_to") or "__model__"
             self.graph.add(name, prefix + (relative or attached), frame_pose, f"frame {name!r}")
+            self.graph.attach(name, prefix + attached)
         for joint in model.findall("joint"):
             self.model.joints.append(self.joint(joint, prefix, where, legacy))
         self.model.plugins.extend(model.findall("plugin"))
@@ -470,6 +479,10 @@ class _Reader:
         child (URDF puts a child link where its joint is), else its own position turned as the
         model is (the model's frame is the drive plane, whatever the main link's orientation)."""
         links = self.model.links
+        for joint in self.model.joints:  # a frame or model named as an end: its link
+            if joint.parent != "world":
+                joint.parent = self.graph.link_of(joint.parent, links)
+            joint.child = self.graph.link_of(joint.child, links)
         for name, link in links.items():
             link.pose = self.graph.resolve(name, f"link {name!r}")
         frames = {name: _translation(link.pose) for name, link in links.items()}

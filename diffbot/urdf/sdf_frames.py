@@ -6,10 +6,14 @@ its links, joints, ``<frame>`` elements or nested models, written before or afte
 A :class:`FrameGraph` holds each frame as it is written (a pose relative to another frame, or a
 pose known in the top model's frame) and resolves a name to its pose in the top model's frame
 once every frame is known. A chain of any length is walked without recursion, and each frame is
-resolved once.
+resolved once. It also holds what each frame that is not a link is attached to (a ``<frame>``'s
+``attached_to``, a model's canonical link), so that a joint's parent or child written as such a
+frame (SDF 1.8 on) is the link it moves with.
 """
 
 from __future__ import annotations
+
+from collections.abc import Container
 
 from diffbot.errors import DescriptionError
 from diffbot.urdf.poses import Matrix
@@ -33,6 +37,7 @@ class FrameGraph:
         self.source = source
         self._known: dict[str, Matrix] = {}
         self._relative: dict[str, tuple[str, Matrix, str]] = {}
+        self._attached: dict[str, str] = {}
 
     def __contains__(self, name: object) -> bool:
         return name in self._known or name in self._relative
@@ -47,6 +52,22 @@ class FrameGraph:
         SDF leaves unique, written twice by an older file: its link comes first)."""
         if name not in self:
             self._relative[name] = (relative_to, pose, what)
+
+    def attach(self, name: str, to: str) -> None:
+        """Frame ``name`` moves with frame ``to`` (the first attachment of a name is kept)."""
+        self._attached.setdefault(name, to)
+
+    def link_of(self, name: str, links: Container[str]) -> str:
+        """The link frame ``name`` is attached to, through any chain of attachments; ``name``
+        itself when it is a link, or when the chain ends elsewhere or loops."""
+        current = name
+        for _ in range(len(self._attached) + 1):
+            if current in links:
+                return current
+            if current not in self._attached:
+                break
+            current = self._attached[current]
+        return name
 
     def resolve(self, name: str, what: str) -> Matrix:
         """The pose of frame ``name`` in the top model's frame.

@@ -692,3 +692,44 @@ def test_a_collision_posed_relative_to_the_model_is_placed_and_turned_there(
     assert params.wheel_separation == pytest.approx(0.46, abs=1e-12)
     assert (params.left_sign, params.right_sign) == (1, 1)
     assert params.warnings == ()
+
+
+def test_a_joint_between_frames_and_models_joins_the_links_they_are_attached_to(
+    tmp_path: Path,
+) -> None:
+    # SDF 1.8: a joint's parent and child may be any frame. The wheels hang from a frame attached
+    # to the chassis; the left joint's child is a hub frame of its wheel, rolled so that its z is
+    # +y (the joint's frame is the hub's); the right one's child is a nested model, whose frame
+    # is the joint's and whose link moves with it, with the axis -y.
+    cylinder = (
+        '<collision name="c"><pose>0 0 0 1.5707963267948966 0 0</pose><geometry><cylinder>'
+        "<radius>0.08</radius><length>0.04</length></cylinder></geometry></collision>"
+    )
+    text = (
+        '<sdf version="1.8"><model name="bot"><link name="chassis"><pose>0 0 0.1 0 0 0</pose>'
+        '</link><frame name="footprint" attached_to="chassis"><pose>0 0 -0.1 0 0 0</pose></frame>'
+        f'<link name="left_wheel"><pose>0.05 0.22 0.08 0 0 0</pose>{cylinder}</link>'
+        '<frame name="left_hub" attached_to="left_wheel">'
+        "<pose>0 0 0 -1.5707963267948966 0 0</pose></frame>"
+        '<model name="right_wheel"><pose>0.05 -0.22 0.08 0 0 0</pose>'
+        f'<link name="rim">{cylinder}</link></model>'
+        '<joint name="left_joint" type="continuous"><parent>footprint</parent>'
+        "<child>left_hub</child><axis><xyz>0 0 1</xyz></axis></joint>"
+        '<joint name="right_joint" type="continuous"><parent>footprint</parent>'
+        "<child>right_wheel</child><axis><xyz>0 -1 0</xyz></axis></joint>"
+        "</model></sdf>"
+    )
+    path = tmp_path / "bot.sdf"
+    robot = expand(path, text)
+    ends = [(j.get("name"), j.find("parent"), j.find("child")) for j in robot.iter("joint")]
+    assert [
+        (n, p.get("link"), c.get("link")) for n, p, c in ends if p is not None and c is not None
+    ] == [
+        ("left_joint", "chassis", "left_wheel"),
+        ("right_joint", "chassis", "right_wheel::rim"),
+    ]
+    params = diffbot.load_params(path, source="description")
+    assert (params.left_joint, params.right_joint) == ("left_joint", "right_joint")
+    assert (params.left_sign, params.right_sign) == (1, -1)
+    assert params.wheel_separation == pytest.approx(0.44, abs=1e-12)
+    assert params.warnings == ()
