@@ -7,6 +7,7 @@ They are read as a cross-check of the geometry and the controller configuration.
 
 from __future__ import annotations
 
+import copy
 import math
 import re
 from dataclasses import dataclass
@@ -21,6 +22,7 @@ __all__ = [
     "gazebo_drives",
     "other_drive_plugins",
     "ros2_control_parameter_files",
+    "scoped_plugin",
 ]
 
 
@@ -75,6 +77,19 @@ _GZ_SIM_NAMES = frozenset({"gz::sim::systems::DiffDrive", "ignition::gazebo::sys
 #: Plugins that drive a base but not as a differential drive: gz-sim's AckermannSteering and
 #: MecanumDrive systems, Gazebo classic's ackermann and tricycle drives.
 _OTHER_DRIVE = re.compile(r"(ackermann|steering|tricycle|bicycle|mecanum|omni|swerve)", re.I)
+#: The elements of the diff-drive plugins that name a joint.
+_JOINT_TAGS = frozenset(
+    {
+        "left_joint",
+        "right_joint",
+        "leftJoint",
+        "rightJoint",
+        "leftFrontJoint",
+        "leftRearJoint",
+        "rightFrontJoint",
+        "rightRearJoint",
+    }
+)
 _ROS2_CONTROL = re.compile(r"^(lib)?(gazebo_ros2_control|gz_ros2_control|ign_ros2_control)")
 
 
@@ -92,6 +107,19 @@ def _plugin_lengths(plugin: Element, filename: str, tag: str, scale: float) -> t
             )
         values.append(value * scale)
     return tuple(values)
+
+
+def scoped_plugin(plugin: Element, prefix: str) -> Element:
+    """A plugin of a nested or included SDF model as the whole model holds it: the joints it
+    names are the model's own, each named with ``prefix`` (``wheels::``) before it, as the
+    simulator finds them in the model the plugin is attached to. ``plugin`` is not changed."""
+    if not prefix:
+        return plugin
+    scoped = copy.deepcopy(plugin)
+    for child in scoped:
+        if child.tag in _JOINT_TAGS and (child.text or "").strip():
+            child.text = prefix + (child.text or "").strip()
+    return scoped
 
 
 def gazebo_drives(root: Element) -> list[GazeboDrive]:

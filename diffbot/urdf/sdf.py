@@ -39,6 +39,7 @@ from diffbot.errors import DescriptionError, ExpansionLimitError
 from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular, open_regular
 from diffbot.numbers import as_number, shown, written_number
+from diffbot.urdf.gazebo import scoped_plugin
 from diffbot.urdf.packages import PackageFinder, folder_below
 from diffbot.urdf.poses import Matrix, pose_matrix
 from diffbot.urdf.sandbox import check_inside
@@ -386,7 +387,7 @@ class _Reader:
             self.graph.attach(name, prefix + attached)
         for joint in model.findall("joint"):
             self.model.joints.append(self.joint(joint, prefix, where, legacy))
-        self.model.plugins.extend(model.findall("plugin"))
+        self.model.plugins.extend(scoped_plugin(p, prefix) for p in model.findall("plugin"))
         for nested in model.findall("model"):
             name = f"{prefix}{nested.get('name', '')}::"
             self.read_model(nested, name, prefix, here, depth + 1, legacy)

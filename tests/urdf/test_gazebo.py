@@ -1,5 +1,6 @@
 """Gazebo plugins read from a description: Gazebo classic's own DiffDrivePlugin, which measures
-its separation and radius, and the plugins of drives that are not differential."""
+its separation and radius, the plugins of drives that are not differential, and the plugins of
+nested SDF models, whose joints are their model's."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from diffbot.urdf.gazebo import gazebo_drives, other_drive_plugins
+from diffbot.urdf.gazebo import gazebo_drives, other_drive_plugins, scoped_plugin
 
 OWN_PLUGIN = (
     '<gazebo><plugin filename="libDiffDrivePlugin.so" name="diff_drive">'
@@ -111,3 +112,28 @@ def test_steering_and_mecanum_plugins_are_named() -> None:
         "libgazebo_ros_ackermann_drive.so",
         "gz::sim::systems::MecanumDrive",
     ]
+
+
+def test_a_nested_models_plugin_names_its_joints_in_the_whole_model() -> None:
+    plugin = ElementTree.fromstring(
+        '<plugin filename="gz-sim-diff-drive-system" name="gz::sim::systems::DiffDrive">'
+        "<left_joint> fl </left_joint><left_joint>rl</left_joint><right_joint>fr</right_joint>"
+        "<right_joint/><wheel_separation>0.5</wheel_separation><topic>left_joint</topic>"
+        "</plugin>"
+    )
+    scoped = scoped_plugin(plugin, "robot::base::")
+    assert [(c.tag, c.text) for c in scoped] == [
+        ("left_joint", "robot::base::fl"),
+        ("left_joint", "robot::base::rl"),
+        ("right_joint", "robot::base::fr"),
+        ("right_joint", None),
+        ("wheel_separation", "0.5"),
+        ("topic", "left_joint"),
+    ]
+    assert plugin.findtext("left_joint") == " fl "  # the parsed file is left as it was
+    assert scoped_plugin(plugin, "") is plugin
+    classic = ElementTree.fromstring(
+        '<plugin filename="libgazebo_ros_skid_steer_drive.so"><leftFrontJoint>a</leftFrontJoint>'
+        "<rightRearJoint>b</rightRearJoint><leftJoint>c</leftJoint></plugin>"
+    )
+    assert [c.text for c in scoped_plugin(classic, "m::")] == ["m::a", "m::b", "m::c"]

@@ -150,3 +150,32 @@ def test_an_include_without_a_pose_keeps_the_included_models_own(tmp_path: Path)
     assert [float(v) for v in origin.get("rpy", "").split()] == pytest.approx(
         [-1.5707963267948966, 0, 0]
     )
+
+
+def test_an_included_models_plugin_drives_the_included_models_joints(tmp_path: Path) -> None:
+    # The robot, with its DiffDrive plugin, is included in a model that adds a sensor: the
+    # plugin names the robot's joints as the robot's file writes them.
+    models = tmp_path / "models"
+    model_folder(models, "wheel", STANDING_WHEEL)
+    pose = "<pose>0 {0} 0.1 -1.5707963267948966 0 0</pose>"
+    plugin = (
+        '<plugin filename="gz-sim-diff-drive-system" name="gz::sim::systems::DiffDrive">'
+        "<left_joint>left_joint</left_joint><right_joint>right_joint</right_joint>"
+        "<wheel_separation>0.6</wheel_separation><wheel_radius>0.1</wheel_radius></plugin>"
+    )
+    robot_text = wheels_included(pose.format(0.3), pose.format(-0.3))
+    model_folder(models, "bot", robot_text.replace("</model></sdf>", plugin + "</model></sdf>"))
+    wrapper = (
+        '<sdf version="1.9"><model name="bot_with_lidar"><include><uri>model://bot</uri>'
+        '<name>bot</name></include><link name="lidar"><pose>0 0 0.3 0 0 0</pose></link>'
+        '<joint name="lidar_joint" type="fixed"><parent>bot::chassis</parent>'
+        "<child>lidar</child></joint></model></sdf>"
+    )
+    params = diffbot.load_params(model_folder(models, "bot_with_lidar", wrapper))
+    assert params.sources["left_joints"] == "plugin"
+    assert (params.left_joints, params.right_joints) == (
+        ("bot::left_joint",),
+        ("bot::right_joint",),
+    )
+    assert params.disagreements == ()
+    assert params.warnings == ()
