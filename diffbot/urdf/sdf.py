@@ -407,6 +407,9 @@ class _Reader:
             if include.find("pose") is not None:
                 placed = _pose(include, f"{where} include {uri!r}")
             self.read_file(target, f"{prefix}{name}::", depth + 1, placed, prefix)
+            # plugins written in the include are the included model's (SDF 1.9)
+            scoped = (scoped_plugin(p, f"{prefix}{name}::") for p in include.findall("plugin"))
+            self.model.plugins.extend(scoped)
 
     def shape(
         self, kind: str, element: ET.Element, prefix: str, where: str

@@ -179,3 +179,26 @@ def test_an_included_models_plugin_drives_the_included_models_joints(tmp_path: P
     )
     assert params.disagreements == ()
     assert params.warnings == ()
+
+
+def test_a_plugin_written_in_an_include_drives_the_included_model(tmp_path: Path) -> None:
+    # SDF 1.9: the include adds the DiffDrive plugin to the model it includes; its values are
+    # the ones the simulator drives with, and its joints are the included model's.
+    models = tmp_path / "models"
+    model_folder(models, "wheel", STANDING_WHEEL)
+    pose = "<pose>0 {0} 0.1 -1.5707963267948966 0 0</pose>"
+    model_folder(models, "bot", wheels_included(pose.format(0.3), pose.format(-0.3)))
+    plugin = (
+        '<plugin filename="gz-sim-diff-drive-system" name="gz::sim::systems::DiffDrive">'
+        "<left_joint>left_joint</left_joint><right_joint>right_joint</right_joint>"
+        "<wheel_separation>0.62</wheel_separation><wheel_radius>0.11</wheel_radius></plugin>"
+    )
+    wrapper = (
+        '<sdf version="1.9"><model name="world_robot"><include><uri>model://bot</uri>'
+        f"<name>bot</name>{plugin}</include></model></sdf>"
+    )
+    params = diffbot.load_params(model_folder(models, "world_robot", wrapper))
+    assert (params.wheel_radius, params.wheel_separation) == (0.11, 0.62)
+    assert params.sources["wheel_separation"] == "plugin"
+    assert params.left_joints == ("bot::left_joint",)
+    assert sorted(d.field for d in params.disagreements) == ["wheel_radius", "wheel_separation"]
