@@ -256,7 +256,9 @@ def plan_command(
             if output_format == "csv":
                 write_stream_csv(commands.command_chunks(rate), out)
             else:
-                document = _with_frame(plan_json(p, source.label) | {"commands": None}, frame)
+                document = _with_frame(
+                    plan_json(p, source.label, steps=built.steps) | {"commands": None}, frame
+                )
                 write_stream_json(document, lambda: commands.command_chunks(rate), rate, count, out)
 
         read = [source.path, *params.description_files]
@@ -270,7 +272,7 @@ def plan_command(
             "steps with --steps"
         )
     elif output_format == "json":
-        data = plan_json(p, source.label)
+        data = plan_json(p, source.label, steps=built.steps)
         if ramped is not None:
             data["runs"] = [
                 {

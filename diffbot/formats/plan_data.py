@@ -20,8 +20,13 @@ def pose_json(pose: Pose) -> dict[str, float]:
     return {"x": pose.x, "y": pose.y, "theta": pose.theta}
 
 
-def plan_json(p: Plan, label: str) -> dict[str, Any]:
-    """The whole plan as JSON-ready data (SI units, rpm labelled)."""
+def plan_json(p: Plan, label: str, *, steps: Plan | None = None) -> dict[str, Any]:
+    """The whole plan as JSON-ready data (SI units, rpm labelled).
+
+    ``steps`` is the step plan of a ramped plan ``p`` (its summary): the motor limit is checked
+    on it, as the durations a plan gives are cruise durations that the ramps lengthen, so the
+    shortest duration that fits is one of those, not a ramped one.
+    """
 
     segments = []
     for s in p.segments:
@@ -60,7 +65,7 @@ def plan_json(p: Plan, label: str) -> dict[str, Any]:
                 "rpm": v.rpm,
                 "shortest_duration": v.shortest_duration,
             }
-            for v in p.violations()
+            for v in (p if steps is None else steps).violations()
         ],
         "robot": robot_json(p.params),
     }

@@ -84,6 +84,23 @@ def test_rate_samples_a_step_plan_too_and_json_carries_the_stream(runner: CliRun
     assert commands["angular"][4:] == pytest.approx([math.pi / 4] * 8 + [0.0], rel=1e-14)
 
 
+@pytest.mark.parametrize("sampled", [[], ["--rate", "10"]])
+def test_a_ramped_plans_json_gives_the_shortest_duration_to_write_as_the_error_line_does(
+    runner: CliRunner, sampled: list[str]
+) -> None:
+    # 0.2 m/s turns the bundled wheels at 5.714 rad/s, over 50 rpm (5.236 rad/s); the ramps
+    # stretch the 5 s cruise to 7 s, but the duration that fits is one written in the plan.
+    spec = ["straight 1 5s", "--max-accel", "0.1"]
+    result = run(runner, *spec, "--json", *sampled)
+    assert result.exit_code == 1
+    (violation, _) = json.loads(result.stdout)["violations"]
+    least = 1 / (0.035 * 50 * math.pi / 30)
+    assert violation["shortest_duration"] == pytest.approx(least, rel=1e-12)
+    assert "shortest duration that fits: 5.457 s" in result.stderr
+    refit = run(runner, f"straight 1 {violation['shortest_duration'] * (1 + 1e-9)}s", *spec[1:])
+    assert refit.exit_code == 0, refit.output
+
+
 def test_stamped_json_and_ros2_script_name_twist_stamped_and_the_frame(runner: CliRunner) -> None:
     data = json.loads(run(runner, "--stamped", "--frame-id", "odom_base", "--json").output)
     assert data["message_type"] == "geometry_msgs/msg/TwistStamped"
