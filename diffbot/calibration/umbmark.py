@@ -67,8 +67,9 @@ class UmbmarkResult:
             nominal), from the separation error.
         beta: heading change (rad, positive counter-clockwise) along each side of the square,
             from unequal wheel diameters (positive when the right wheel is larger).
-        left_wheel_radius: corrected left wheel radius (m); the mean of the two radii is the
-            nominal radius (UMBmark cannot see a common scale error).
+        left_wheel_radius: corrected left wheel radius (m): the nominal left radius scaled so
+            that the two sides' scale factors average 1 (UMBmark cannot see a common scale
+            error); with equal nominal radii, the mean of the two radii is the nominal radius.
         right_wheel_radius: corrected right wheel radius (m).
         wheel_separation: corrected wheel separation (m).
         cw_centre: centre of gravity (x, y) of the clockwise runs' end positions (m).
@@ -137,8 +138,10 @@ def umbmark(
 
     so each of alpha and beta has an estimate from the x and one from the y coordinates; their
     mean is used. Then ``eb = (pi/2) / (pi/2 + alpha)``, ``b = eb b_nominal``, and, as each side
-    is an arc of length L turning by beta, ``ed = (L + beta b / 2) / (L - beta b / 2)``; the
-    radii keep the nominal mean.
+    is an arc of length L turning by beta, the ratio of the right side's scale error to the
+    left's is ``(L + beta b / 2) / (L - beta b / 2)``: each side's nominal radius (a controller's
+    multipliers applied) is scaled by its own, the two averaging 1, and ``ed`` is the ratio of
+    the radii so found (the same ratio when the nominal radii are equal).
 
     The approximation's error is of second order: for the bundled robot on a 4 m square with
     radii 0.1 % apart and the separation 1 % off, the separation comes out within 0.05 % and the
@@ -185,15 +188,18 @@ def umbmark(
             f"{separation:.3g} m apart can turn along {length:.3g} m: errors this large are "
             "beyond UMBmark's small-error approximation"
         )
-    ed = (1.0 + lean) / (1.0 - lean)
-    radius = params.wheel_radius
+    # The runs were commanded with each side's own nominal radius (a controller's multipliers
+    # applied), so the bend gives the ratio of the two sides' scale errors, not of their radii:
+    # each side's radius is scaled by its own.
+    scale = (1.0 + lean) / (1.0 - lean)
+    left, right = params.radii
     result = UmbmarkResult(
-        ed=ed,
+        ed=scale * (right / left),
         eb=eb,
         alpha=alpha,
         beta=beta,
-        left_wheel_radius=2.0 * radius / (ed + 1.0),
-        right_wheel_radius=2.0 * radius * ed / (ed + 1.0),
+        left_wheel_radius=2.0 * left / (scale + 1.0),
+        right_wheel_radius=2.0 * right * scale / (scale + 1.0),
         wheel_separation=separation,
         cw_centre=(x_cw, y_cw),
         ccw_centre=(x_ccw, y_ccw),

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from calibration_data import B0, R0, square_end
 from hypothesis import given, settings
@@ -11,7 +12,13 @@ from hypothesis import strategies as st
 from robots import BOT
 from wheel_motion import angle_error
 
-from diffbot.calibration import UmbmarkResult, umbmark, umbmark_segments
+from diffbot.calibration import (
+    UmbmarkResult,
+    ground_truth,
+    true_robot,
+    umbmark,
+    umbmark_segments,
+)
 from diffbot.errors import CalibrationError, DiffbotError, ParameterError, RecordingError
 from diffbot.trajectory import Spin, Straight, plan
 
@@ -205,3 +212,21 @@ def test_a_run_cannot_end_farther_than_the_square_it_drove(end: tuple[float, flo
 def test_an_exact_fit_that_leaves_the_square_model_is_refused_not_a_math_error() -> None:
     with pytest.raises(CalibrationError, match="does not converge"):
         umbmark(1.0, [(3.9, 0.0)], [(3.9, 0.0)], BOT, exact=True)
+
+
+def test_umbmark_corrects_each_sides_own_nominal_radius_when_they_differ() -> None:
+    # A controller's multipliers make the nominal radii 0.0355 m and 0.0345 m; the real wheels
+    # roll 0.3 % larger on the left and 0.3 % smaller on the right than those.
+    nominal = BOT.replace(left_wheel_radius=0.0355, right_wheel_radius=0.0345)
+    true = true_robot(nominal, (0.0355 * 1.003, 0.0345 * 0.997), B0 * 1.01)
+    ends = {}
+    for direction in ("cw", "ccw"):
+        commanded = plan(umbmark_segments(4.0, direction), nominal)
+        times = np.concatenate(([0.0], np.cumsum([s.duration for s in commanded.segments])))
+        x, y, _ = ground_truth(commanded, times, true)
+        ends[direction] = [(float(x[-1]), float(y[-1]))]
+    result = umbmark(4.0, ends["cw"], ends["ccw"], nominal, exact=True)
+    assert result.left_wheel_radius == pytest.approx(0.0355 * 1.003, rel=1e-9)
+    assert result.right_wheel_radius == pytest.approx(0.0345 * 0.997, rel=1e-9)
+    assert result.ed == pytest.approx((0.0345 * 0.997) / (0.0355 * 1.003), rel=1e-9)
+    assert result.wheel_separation == pytest.approx(B0 * 1.01, rel=1e-9)
