@@ -464,8 +464,10 @@ def path_limits(
     Raises:
         ProfileError: a non-finite curvature or a non-positive wheel radius.
     """
-    left_r = _radius(left_wheel_radius, params.wheel_radius, "left_wheel_radius")
-    right_r = _radius(right_wheel_radius, params.wheel_radius, "right_wheel_radius")
+    # Each side's own radius (a controller's multipliers applied), not the mean of the two.
+    left_default, right_default = params.radii
+    left_r = _radius(left_wheel_radius, left_default, "left_wheel_radius")
+    right_r = _radius(right_wheel_radius, right_default, "right_wheel_radius")
     half = params.wheel_separation / 2.0
     if spin:
         # Heading rate ω drives the wheels at ω·b/(2r); the slower-radius wheel turns faster.

@@ -395,6 +395,17 @@ def test_the_smaller_wheel_sets_the_spin_bound_when_radii_differ() -> None:
     assert bounds.velocity == pytest.approx(5.0 * 0.03 / (0.135 / 2), rel=1e-15)
 
 
+@pytest.mark.parametrize("spin", [False, True])
+def test_path_limits_take_each_sides_radius_from_the_robot_when_not_given(spin: bool) -> None:
+    robot = BOT.replace(left_wheel_radius=0.03, right_wheel_radius=0.04)
+    limits = Limits(wheel=PathLimits(velocity=5.0, acceleration=20.0))
+    given = path_limits(
+        BOT, limits, 2.0, spin=spin, left_wheel_radius=0.03, right_wheel_radius=0.04
+    )
+    assert path_limits(robot, limits, 2.0, spin=spin) == given
+    assert segment_limits(Spin(1.0) if spin else Arc(0.5, 1.0, "ccw"), robot, limits)[1] == given
+
+
 def test_no_limits_give_unbounded_path_limits() -> None:
     assert path_limits(BOT, Limits(), 2.0) == PathLimits(None, None, None)
 
