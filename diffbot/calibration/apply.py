@@ -378,12 +378,17 @@ def apply_to(
     kinds = {".yaml": "a YAML file", ".yml": "a YAML file"}
     kinds.update({".xacro": "a robot description", ".urdf": "a robot description"})
     if suffix in kinds:
-        # Line breaks as they are (CRLF stays CRLF): the copy differs only where it is edited.
-        with open_text(p, CalibrationError, kinds[suffix], newline="") as stream:
+        # Line breaks as they are (CRLF stays CRLF), and a leading BOM kept: the copy differs
+        # only where it is edited.
+        with open_text(p, CalibrationError, kinds[suffix], newline="", keep_bom=True) as stream:
             text = stream.read()
+        bom = "\ufeff" if text.startswith("\ufeff") else ""
+        text = text[len(bom) :]
         if suffix in (".yaml", ".yml"):
-            return _apply_controllers(text, str(p), result, controller)
-        return _apply_description(p, text.encode("utf-8"), result, load or _load)
+            applied = _apply_controllers(text, str(p), result, controller)
+        else:
+            applied = _apply_description(p, text.encode("utf-8"), result, load or _load)
+        return applied._replace(text=bom + applied.text)
     raise CalibrationError(
         f"{p}: a calibration applies to a controllers YAML (.yaml, .yml) or a description "
         "(.urdf, .xacro)"

@@ -47,8 +47,9 @@ def open_text(
     *,
     name: str | None = None,
     newline: str | None = None,
+    keep_bom: bool = False,
 ) -> Iterator[TextIO]:
-    """Open a UTF-8 text file for reading (a leading BOM dropped).
+    """Open a UTF-8 text file for reading (a leading BOM dropped, unless ``keep_bom``).
 
     Only a regular file is opened: a FIFO, a device or a directory is refused by its type first,
     so that none can block or feed endless data.
@@ -59,6 +60,8 @@ def open_text(
         kind: what the file should be, for messages ("a plan file").
         name: the input's name in messages (default: the path).
         newline: as for :func:`open` (``""`` for CSV).
+        keep_bom: read a leading BOM as the character U+FEFF, for a copy that must keep every
+            byte it does not change.
 
     Raises:
         error: the file is missing, not a regular file, not UTF-8 text, or unreadable (also while
@@ -69,7 +72,8 @@ def open_text(
     try:
         fd = open_regular(path, error, kind, name=name)
         # a BOM is not part of the content
-        with open(fd, encoding="utf-8-sig", newline=newline) as handle:
+        encoding = "utf-8" if keep_bom else "utf-8-sig"
+        with open(fd, encoding=encoding, newline=newline) as handle:
             yield handle
     except FileNotFoundError:
         raise error(f"{name}: no such file") from None

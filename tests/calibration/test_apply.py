@@ -263,3 +263,15 @@ def test_the_command_writes_no_copy_that_does_not_read_back(tmp_path: Path) -> N
     result = CliRunner().invoke(main, [*args, "--apply-to", str(source)])
     assert_one_error_line(result, "not the calibrated", "nothing written")
     assert [p.name for p in tmp_path.iterdir()] == ["robot.urdf.xacro"]
+
+
+@pytest.mark.parametrize("name", ["controllers.yaml", "robot.urdf.xacro"])
+def test_a_leading_byte_order_mark_stays_in_the_copy(tmp_path: Path, name: str) -> None:
+    # Only the calibrated values change: a BOM the editor wrote is kept like every other byte.
+    text = TRICYCLE_FIRST if name.endswith(".yaml") else sized_by_properties(COMMENTED_FIRST)
+    source = tmp_path / name
+    source.write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
+    applied = apply_to(source, CALIBRATED)
+    plain = tmp_path / f"plain.{name}"
+    plain.write_text(text, encoding="utf-8")
+    assert applied.text == "\ufeff" + apply_to(plain, CALIBRATED).text
