@@ -302,7 +302,8 @@ def plan_command(
             frame_id=frame_id,
         )
     else:
-        text = plan_table(p, source.label, wide=wide) + body_limit_line(p, built.body)
+        text = plan_table(p, source.label, wide=wide, steps=built.steps)
+        text += body_limit_line(built.steps, built.body)
         text += source.note
         if ramped is not None:
             text += RAMP_NOTE

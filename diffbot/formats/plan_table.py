@@ -39,15 +39,17 @@ def plan_limit_text(p: Plan) -> str:
 WIDTH = 100
 
 
-def plan_table(p: Plan, label: str, *, wide: bool = False) -> str:
+def plan_table(p: Plan, label: str, *, wide: bool = False, steps: Plan | None = None) -> str:
     """The plan as a table: each segment's twist, wheel speeds, share of the limit, end pose.
 
     The default table fits :data:`WIDTH` columns: wheel speeds in rpm only, short headers, the
     plan text shortened when it is longer; ``wide`` adds each wheel's speed in rad/s and the
-    motor limit on the robot line (about 130 columns).
+    motor limit on the robot line (about 130 columns). ``steps`` is the step plan of a ramped
+    plan ``p`` (its summary), whose check of the motor limit the table names the segments of:
+    a ramp that never reaches a segment's step speed does not make that speed fit.
     """
     if not wide:
-        return _narrow_table(p, label)
+        return _narrow_table(p, label, steps)
     params = p.params
     header = [
         "#",
@@ -90,7 +92,7 @@ def plan_table(p: Plan, label: str, *, wide: bool = False) -> str:
         f"separation {fmt(params.wheel_separation)} m); motor limit {plan_limit_text(p)}",
         "",
     ]
-    return "\n".join([*lines, *_aligned(rows)]) + "\n" + _summary(p)
+    return "\n".join([*lines, *_aligned(rows)]) + "\n" + _summary(p, steps)
 
 
 def _aligned(rows: list[list[str]]) -> list[str]:
@@ -105,7 +107,7 @@ def _aligned(rows: list[list[str]]) -> list[str]:
     ]
 
 
-def _narrow_table(p: Plan, label: str) -> str:
+def _narrow_table(p: Plan, label: str, steps: Plan | None) -> str:
     params = p.params
     header = ["#", "segment", "v m/s", "w rad/s", "L rpm", "R rpm", "limit%", "t s", "x m", "y m"]
     header.append("theta deg")
@@ -133,11 +135,12 @@ def _narrow_table(p: Plan, label: str) -> str:
         f"separation {fmt(params.wheel_separation)} m)",
         "",
     ]
-    return "\n".join([*lines, *_aligned(rows)]) + "\n" + _summary(p)
+    return "\n".join([*lines, *_aligned(rows)]) + "\n" + _summary(p, steps)
 
 
-def _summary(p: Plan) -> str:
-    """The lines under a table: the total time, the final pose, the motor limit check."""
+def _summary(p: Plan, steps: Plan | None) -> str:
+    """The lines under a table: the total time, the final pose, the motor limit check (of
+    ``steps`` when given)."""
     final = p.final_pose
     lines = [
         "",
@@ -154,7 +157,7 @@ def _summary(p: Plan) -> str:
                 f"{fixed(100 * (peak.fraction or 0.0), 1)}% in segment {peak.index + 1}"
             )
         else:
-            over = sorted({v.index + 1 for v in p.violations()})
+            over = sorted({v.index + 1 for v in (p if steps is None else steps).violations()})
             lines.append(
                 f"motor limit {plan_limit_text(p)}: OVER in segment"
                 f"{'s' if len(over) > 1 else ''} {', '.join(map(str, over))}"

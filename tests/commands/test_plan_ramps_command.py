@@ -101,6 +101,19 @@ def test_a_ramped_plans_json_gives_the_shortest_duration_to_write_as_the_error_l
     assert refit.exit_code == 0, refit.output
 
 
+def test_a_ramped_tables_limit_lines_name_the_segments_the_error_lines_name(
+    runner: CliRunner,
+) -> None:
+    # 1 cm in 0.05 s asks 0.2 m/s, over 50 rpm and --max-linear; the ramp of 0.1 m/s² peaks at
+    # 0.032 m/s, but the plan's durations are what the limits are checked on (exit code 1).
+    spec = ["straight 0.01 0.05s; spin 90", "--max-accel", "0.1", "--max-linear", "0.15"]
+    result = run(runner, *spec)
+    assert result.exit_code == 1
+    assert "motor limit 50 rpm (5.23599 rad/s): OVER in segment 1\n" in result.stdout
+    assert "body limits linear [-0.15, 0.15] m/s: OVER in segment 1\n" in result.stdout
+    assert result.stderr.count("error: segment 1 ") == 2
+
+
 def test_stamped_json_and_ros2_script_name_twist_stamped_and_the_frame(runner: CliRunner) -> None:
     data = json.loads(run(runner, "--stamped", "--frame-id", "odom_base", "--json").output)
     assert data["message_type"] == "geometry_msgs/msg/TwistStamped"
