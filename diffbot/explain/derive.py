@@ -307,14 +307,21 @@ def _kind(planned: PlannedSegment) -> Text:
     return Text("kind.spin", {"angle": _deg(segment.angle)})
 
 
+def _signed_radius(arc: Arc) -> float:
+    """The arc's radius signed as v/ω (m): negative when clockwise forwards or counter-clockwise
+    backwards, so that ``s = R·Δθ`` and ``v = ω·R`` hold with the signed s and v."""
+    sign = 1.0 if arc.direction == "ccw" else -1.0
+    return -sign * arc.radius if arc.reverse else sign * arc.radius
+
+
 def _geometry(planned: PlannedSegment) -> tuple[list[Step], float, float]:
-    """Steps giving the segment's path length s (m) and heading change Δθ (rad), and both."""
+    """Steps giving the segment's path length s (m, negative backwards) and heading change Δθ
+    (rad), and both."""
     segment = planned.segment
     if isinstance(segment, Arc):
-        sign = 1.0 if segment.direction == "ccw" else -1.0
-        radius = sign * segment.radius
-        turn = sign * segment.angle
-        length = radius * turn  # both negative when clockwise: s > 0 either way
+        radius = _signed_radius(segment)
+        turn = (1.0 if segment.direction == "ccw" else -1.0) * segment.angle
+        length = radius * turn  # negative only when driving backwards
         steps = [
             _given("label.radius", "R", _q(radius, "m")),
             _given("label.heading_change", "dtheta", _q(turn, "rad"), _deg(turn)),
@@ -381,8 +388,7 @@ def _segment_section(p: Plan, planned: PlannedSegment, shortest: float | None) -
         )
     )
     if isinstance(planned.segment, Arc):
-        arc = planned.segment
-        radius = arc.radius if arc.direction == "ccw" else -arc.radius
+        radius = _signed_radius(planned.segment)
         steps.append(
             Step(
                 Text("label.arc_speed"),

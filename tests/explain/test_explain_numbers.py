@@ -58,13 +58,18 @@ ROBOTS = st.builds(
     right_wheel_radius=st.one_of(st.none(), st.none(), _value(0.01, 0.5)),
 )
 SEGMENTS: st.SearchStrategy[Segment] = st.one_of(
-    st.builds(Straight, _value(0.01, 5.0), st.one_of(st.none(), _value(0.5, 30.0))),
+    st.builds(
+        Straight,
+        _value(0.01, 5.0) | _value(-5.0, -0.01),
+        st.one_of(st.none(), _value(0.5, 30.0)),
+    ),
     st.builds(
         Arc,
         _value(0.01, 3.0),
         _value(0.05, 6.0),
         st.sampled_from(["ccw", "cw"]),
         st.one_of(st.none(), _value(0.5, 30.0)),
+        reverse=st.booleans(),
     ),
     st.builds(Spin, _value(-6.0, 6.0).filter(lambda a: a != 0.0), _value(0.5, 30.0)),
 )
@@ -194,12 +199,18 @@ def test_fk_shows_the_body_velocity_forward_computes(
 
 
 def _geometry(segment: Segment) -> tuple[float, float, float]:
-    """Path length s (m), heading change (rad) and signed radius (m, 0 if not an arc)."""
+    """Path length s (m, negative backwards), heading change (rad) and radius signed as v/ω (m,
+    0 if not an arc)."""
     if isinstance(segment, Straight):
         return segment.length, 0.0, 0.0
     if isinstance(segment, Arc):
-        sign = 1.0 if segment.direction == "ccw" else -1.0
-        return segment.radius * segment.angle, sign * segment.angle, sign * segment.radius
+        turn = (1.0 if segment.direction == "ccw" else -1.0) * segment.angle
+        forward = -1.0 if segment.reverse else 1.0
+        return (
+            forward * segment.radius * segment.angle,
+            turn,
+            forward * segment.radius * (1.0 if turn > 0.0 else -1.0),
+        )
     return 0.0, segment.angle, 0.0
 
 

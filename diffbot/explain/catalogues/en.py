@@ -33,7 +33,10 @@ STRINGS: Final[dict[str, str]] = {
     "label.duration": "Duration",
     "label.path_length": "Path length",
     "label.heading_change": "Heading change",
-    "label.radius": "Radius of the arc, signed (negative when clockwise)",
+    "label.radius": (
+        "Radius of the arc, signed as v/ω (negative clockwise forwards or counter-clockwise "
+        "backwards)"
+    ),
     "label.arc_speed": "Linear velocity from the arc, as a check",
     "label.start_x": "x at the start",
     "label.start_y": "y at the start",

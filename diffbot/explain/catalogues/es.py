@@ -33,7 +33,10 @@ STRINGS: Final[dict[str, str]] = {
     "label.duration": "Duración",
     "label.path_length": "Longitud del recorrido",
     "label.heading_change": "Cambio de orientación",
-    "label.radius": "Radio del giro, con signo (negativo en sentido horario)",
+    "label.radius": (
+        "Radio del giro, con signo como v/ω (negativo en sentido horario hacia adelante o "
+        "antihorario hacia atrás)"
+    ),
     "label.arc_speed": "Velocidad lineal a partir del giro, como comprobación",
     "label.start_x": "x al inicio",
     "label.start_y": "y al inicio",
