@@ -205,12 +205,9 @@ def plan_command(
     named_output(output, bag=as_bag)
     if output is not None:
         clash = input_clash(Path(output), plan_file)
-        if clash is not None and clash[1] in plan_file:
-            where = {"is": "is the plan file itself", "inside": "would be inside the plan file"}
-            fail(
-                f"{output} {where.get(clash[0], 'holds the plan file')}: write the output elsewhere"
-            )
-        check_not_input(Path(output))
+        if clash is not None and clash[0] == "is" and clash[1] in plan_file:
+            fail(f"{output} is the plan file itself: write the output elsewhere")
+        check_not_input(Path(output), inputs=plan_file)
     writes = output is not None or as_bag or output_format != "table"
     built = plan_options.build(request, writes=writes)
     source, params, made = built.source, built.params, built.made

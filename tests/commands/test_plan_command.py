@@ -797,6 +797,15 @@ def test_output_over_the_plan_file_is_refused(runner: CliRunner, write: Write) -
     assert path.read_text() == "straight 1\n"
 
 
+def test_a_bag_over_the_folder_of_the_plan_file_says_it_contains_it(
+    runner: CliRunner, write: Write
+) -> None:
+    path = write("p.txt", "straight 1\n")
+    result = run(runner, str(path), "--bag", "-o", str(path.parent), "--force")
+    assert_bad_input(result, f"{path.parent} contains {path}: refusing to overwrite it")
+    assert path.read_text() == "straight 1\n"
+
+
 def test_output_over_the_robot_description_is_refused(runner: CliRunner, tmp_path: Path) -> None:
     urdf = tmp_path / "r.urdf"
     assert runner.invoke(main, ["urdf", "-o", str(urdf)]).exit_code == 0
