@@ -254,7 +254,9 @@ def plan_command(
                 write_stream_csv(commands.command_chunks(rate), out)
             else:
                 document = _with_frame(
-                    plan_json(p, source.label, steps=built.steps) | {"commands": None}, frame
+                    plan_json(p, source.label, steps=built.steps, body=built.body)
+                    | {"commands": None},
+                    frame,
                 )
                 write_stream_json(document, lambda: commands.command_chunks(rate), rate, count, out)
 
@@ -269,7 +271,7 @@ def plan_command(
             "steps with --steps"
         )
     elif output_format == "json":
-        data = plan_json(p, source.label, steps=built.steps)
+        data = plan_json(p, source.label, steps=built.steps, body=built.body)
         if ramped is not None:
             data["runs"] = [
                 {

@@ -4,13 +4,16 @@ from __future__ import annotations
 
 import csv
 import io
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from diffbot.formats.robot import robot_json
 from diffbot.kinematics import Pose, rpm_from_rad_s
 from diffbot.planfile import format_plan, format_segment
 from diffbot.segments import describe_segment
 from diffbot.trajectory import Plan
+
+if TYPE_CHECKING:
+    from diffbot.body_limits import BodyLimits
 
 __all__ = ["plan_csv", "plan_json", "pose_json"]
 
@@ -20,12 +23,15 @@ def pose_json(pose: Pose) -> dict[str, float]:
     return {"x": pose.x, "y": pose.y, "theta": pose.theta}
 
 
-def plan_json(p: Plan, label: str, *, steps: Plan | None = None) -> dict[str, Any]:
+def plan_json(
+    p: Plan, label: str, *, steps: Plan | None = None, body: BodyLimits | None = None
+) -> dict[str, Any]:
     """The whole plan as JSON-ready data (SI units, rpm labelled).
 
-    ``steps`` is the step plan of a ramped plan ``p`` (its summary): the motor limit is checked
+    ``steps`` is the step plan of a ramped plan ``p`` (its summary): the limits are checked
     on it, as the durations a plan gives are cruise durations that the ramps lengthen, so the
-    shortest duration that fits is one of those, not a ramped one.
+    shortest duration that fits is one of those, not a ramped one. With body velocity limits
+    ``body``, ``body_limits`` gives them and ``body_violations`` every segment over them.
     """
 
     segments = []
@@ -68,6 +74,30 @@ def plan_json(p: Plan, label: str, *, steps: Plan | None = None) -> dict[str, An
             for v in (p if steps is None else steps).violations()
         ],
         "robot": robot_json(p.params),
+    } | _body_json(p if steps is None else steps, body)
+
+
+def _body_json(checked: Plan, body: BodyLimits | None) -> dict[str, Any]:
+    """The body velocity limits and the segments over them; nothing without limits."""
+    if body is None or body.unlimited:
+        return {}
+    from diffbot.body_limits import violations
+
+    return {
+        "body_limits": {
+            "linear": None if body.linear is None else list(body.linear),
+            "angular": None if body.angular is None else list(body.angular),
+        },
+        "body_violations": [
+            {
+                "segment": v.index + 1,
+                "axis": v.axis,
+                "value": v.value,
+                "bounds": list(v.bounds),
+                "shortest_duration": v.shortest_duration,
+            }
+            for v in violations(checked, body)
+        ],
     }
 
 

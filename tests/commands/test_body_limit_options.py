@@ -137,6 +137,27 @@ def test_a_segment_over_a_body_limit_fails_naming_it(runner: CliRunner, robot: l
     assert "straight" in result.stdout  # the plan is still printed
 
 
+@pytest.mark.parametrize("sampled", [[], ["--rate", "10"]])
+def test_a_plans_json_names_the_segments_over_the_body_limits(
+    runner: CliRunner, robot: list[str], sampled: list[str]
+) -> None:
+    # Within the motor limit, over the file's 0.3 m/s: the exit code says so, and the JSON too.
+    result = run(runner, "plan", *robot, "straight 1 10s; straight 1 2s", "--json", *sampled)
+    assert result.exit_code == 1
+    data = json.loads(result.stdout)
+    assert data["within_limit"] is True
+    assert data["body_limits"] == {"linear": [-0.1, 0.3], "angular": [-1.0, 1.0]}
+    assert data["body_violations"] == [
+        {
+            "segment": 2,
+            "axis": "linear",
+            "value": 0.5,
+            "bounds": [-0.1, 0.3],
+            "shortest_duration": pytest.approx(1 / 0.3),
+        }
+    ]
+
+
 def test_simulate_refuses_a_plan_over_the_body_limits(
     runner: CliRunner, robot: list[str], tmp_path: Path
 ) -> None:
