@@ -12,8 +12,9 @@ from diffbot.trajectory import Arc, Segment, Spin, Straight
 if TYPE_CHECKING:
     from diffbot.body_limits import BodyLimits
     from diffbot.commands.plan_options import PlanOptions
+    from diffbot.ramps import RampedPlan
 
-__all__ = ["warn_over_body", "warn_unused"]
+__all__ = ["warn_over_body", "warn_slowed_runs", "warn_unused"]
 
 
 def warn_unused(options: PlanOptions, segments: Sequence[Segment]) -> set[str]:
@@ -66,4 +67,31 @@ def warn_over_body(options: PlanOptions, body: BodyLimits, unused: set[str]) -> 
         warn(
             f"{option} {value:g} {unit} is over the body velocity limit of {bounds[1]:g} "
             f"{unit} ({where}): the segments it times run at {bounds[1]:g} {unit}"
+        )
+
+
+def warn_slowed_runs(ramped: RampedPlan) -> None:
+    """Warn about segments a ramped plan drives slower than they ask: consecutive segments of
+    one direction are one run, with no stop between them, cruising at the slowest one's speed,
+    so a faster segment takes longer than its duration (or its speed) says."""
+    for run in ramped.runs:
+        planned = [ramped.steps.segments[i] for i in run.segments]
+        speeds = [
+            abs(float(p.twist.angular if isinstance(p.segment, Spin) else p.twist.linear))
+            for p in planned
+        ]
+        slowest = min(speeds)
+        slowed = [
+            i + 1 for i, v in zip(run.segments, speeds, strict=True) if v > slowest * 1.000001
+        ]
+        if not slowed:
+            continue
+        unit = "rad/s" if isinstance(planned[0].segment, Spin) else "m/s"
+        first, last = run.segments[0] + 1, run.segments[-1] + 1
+        named = ", ".join(str(i) for i in slowed)
+        warn(
+            f"segments {first}-{last} are one run (one direction, no stop between them), at "
+            f"the slowest one's {slowest:.4g} {unit}: segment{'s' if len(slowed) > 1 else ''} "
+            f"{named} take{'' if len(slowed) > 1 else 's'} longer than written (--steps drives "
+            "each at its own speed)"
         )

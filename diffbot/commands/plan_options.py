@@ -404,9 +404,13 @@ class PlanOptions:
         from diffbot.ramps import controller_limits, ramp
 
         try:
-            return ramp(steps, controller_limits(params.controller, **self.ramp_options))
+            ramped = ramp(steps, controller_limits(params.controller, **self.ramp_options))
         except ProfileError as err:
             fail(f"{err} (limits from {self._limit_sources(params)})")
+        from diffbot.commands.cruise_warnings import warn_slowed_runs
+
+        warn_slowed_runs(ramped)
+        return ramped
 
     def _limit_sources(self, params: DiffDriveParams) -> str:
         """Where the limits of a ramped plan come from: the cruise speeds, the options given,

@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 import pytest
+from robots import BOT
 
 from diffbot.body_limits import BodyLimits
-from diffbot.commands.cruise_warnings import warn_over_body, warn_unused
+from diffbot.commands.cruise_warnings import warn_over_body, warn_slowed_runs, warn_unused
 from diffbot.commands.plan_options import PlanOptions
-from diffbot.trajectory import Spin, Straight
+from diffbot.planfile import parse_plan
+from diffbot.profiles import Limits, PathLimits
+from diffbot.ramps import ramp
+from diffbot.trajectory import Spin, Straight, plan
 
 LIMITS = BodyLimits((-0.1, 0.3), (-1.0, 1.0))
 
@@ -56,4 +60,24 @@ def test_a_cruise_speed_over_the_limits_names_the_limit_and_where_it_comes_from(
     warn_over_body(options("--speed"), LIMITS, {"--speed"})
     warn_over_body(options("--speed"), BodyLimits((-1.0, 1.0), None), set())
     warn_over_body(options("--speed"), BodyLimits(), set())
+    assert capsys.readouterr().err == ""
+
+
+def test_segments_a_run_drives_slower_than_written_are_named(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    text = "straight 1 10s; straight 1 20s; straight 2 40s; spin 90 4s; spin 90 2s; spin -90 1s"
+    ramped = ramp(plan(parse_plan(text), BOT), Limits(linear=PathLimits(None, 1.0, None)))
+    warn_slowed_runs(ramped)
+    assert capsys.readouterr().err.splitlines() == [
+        "warning: segments 1-3 are one run (one direction, no stop between them), at the "
+        "slowest one's 0.05 m/s: segment 1 takes longer than written (--steps drives each at "
+        "its own speed)",
+        "warning: segments 4-5 are one run (one direction, no stop between them), at the "
+        "slowest one's 0.3927 rad/s: segment 5 takes longer than written (--steps drives each "
+        "at its own speed)",
+    ]
+    # Segment 1 cruises at segment 2's speed: 20 s (and its ramp), not its own 10 s.
+    assert ramped.summary.segments[0].duration > 20.0
+    warn_slowed_runs(ramp(plan(parse_plan("straight 1; straight 2"), BOT), ramped.limits))
     assert capsys.readouterr().err == ""
