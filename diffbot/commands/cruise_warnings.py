@@ -93,5 +93,5 @@ def warn_slowed_runs(ramped: RampedPlan) -> None:
             f"segments {first}-{last} are one run (one direction, no stop between them), at "
             f"the slowest one's {slowest:.4g} {unit}: segment{'s' if len(slowed) > 1 else ''} "
             f"{named} take{'' if len(slowed) > 1 else 's'} longer than written (--steps drives "
-            "each at its own speed)"
+            "each at its own speed, without ramps)"
         )

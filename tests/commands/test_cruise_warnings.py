@@ -72,10 +72,10 @@ def test_segments_a_run_drives_slower_than_written_are_named(
     assert capsys.readouterr().err.splitlines() == [
         "warning: segments 1-3 are one run (one direction, no stop between them), at the "
         "slowest one's 0.05 m/s: segment 1 takes longer than written (--steps drives each at "
-        "its own speed)",
+        "its own speed, without ramps)",
         "warning: segments 4-5 are one run (one direction, no stop between them), at the "
         "slowest one's 0.3927 rad/s: segment 5 takes longer than written (--steps drives each "
-        "at its own speed)",
+        "at its own speed, without ramps)",
     ]
     # Segment 1 cruises at segment 2's speed: 20 s (and its ramp), not its own 10 s.
     assert ramped.summary.segments[0].duration > 20.0
