@@ -28,10 +28,10 @@ from diffbot.commands.options import (
     fail,
     quiet_option,
     robot_options,
+    split_xacro_args,
     true_geometry_options,
     warn,
 )
-from diffbot.commands.paths import InputPath
 from diffbot.commands.recording_options import feedback_option
 from diffbot.commands.settings import from_options
 from diffbot.commands.shown_defaults import name_option
@@ -77,7 +77,7 @@ def node() -> None:
 
 
 @node.command("odom")
-@click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
+@click.argument("tokens", nargs=-1, metavar="[ROBOT] [NAME:=VALUE]...")
 @robot_options
 @name_option("--joint-states", "joint_states", "The sensor_msgs/JointState topic to read.")
 @name_option("--odom-topic", "odom", "The nav_msgs/Odometry topic to publish.")
@@ -123,7 +123,7 @@ def node() -> None:
 @quiet_option
 def odom(
     robot: RobotOptions,
-    description: str | None,
+    tokens: tuple[str, ...],
     joint_states: str,
     odom_topic: str,
     no_tf: bool,
@@ -176,7 +176,7 @@ def odom(
 
     checked_frame("--frame-id", frame_id)
     checked_frame("--child-frame-id", child_frame_id)
-    params = robot.with_path(description, {}).load()
+    params = _robot(robot, tokens).load()
     from diffbot.commands.odom import tell_open_loop
 
     if not open_loop:
@@ -213,7 +213,7 @@ def odom(
 
 
 @node.command("ik")
-@click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
+@click.argument("tokens", nargs=-1, metavar="[ROBOT] [NAME:=VALUE]...")
 @robot_options
 @click.option("--cmd-vel", metavar="TOPIC", help=CMD_VEL_HELP)
 @distro_option
@@ -248,7 +248,7 @@ def odom(
 @quiet_option
 def ik(
     robot: RobotOptions,
-    description: str | None,
+    tokens: tuple[str, ...],
     cmd_vel: str | None,
     distro: str | None,
     stamped: bool,
@@ -284,7 +284,7 @@ def ik(
     from diffbot.body_limits import body_limits
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
 
-    params = robot.with_path(description, {}).load()
+    params = _robot(robot, tokens).load()
     left, right = command_topics(robot.controllers, params)
     topic, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
     controller = params.controller
@@ -299,6 +299,15 @@ def ik(
         body=body_limits(params, max_linear, max_angular),
     )
     _spin(lambda: InverseKinematicsNode(params, settings), "ik", duration, announce, quiet)
+
+
+def _robot(robot: RobotOptions, tokens: tuple[str, ...]) -> RobotOptions:
+    """The robot options with the description and the ``NAME:=VALUE`` xacro arguments among
+    ``tokens``, as every command that takes a robot takes them."""
+    rest, xacro_args = split_xacro_args(tokens)
+    if len(rest) > 1:
+        fail(f"expected at most one ROBOT, got {rest}")
+    return robot.with_path(rest[0] if rest else None, xacro_args)
 
 
 def _spin(
@@ -338,7 +347,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
 
 
 @node.command("robot")
-@click.argument("description", required=False, type=InputPath(), metavar="[ROBOT]")
+@click.argument("tokens", nargs=-1, metavar="[ROBOT] [NAME:=VALUE]...")
 @robot_options
 @click.option(
     "--rate",
@@ -386,7 +395,7 @@ def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[st
 @quiet_option
 def robot_command(
     robot: RobotOptions,
-    description: str | None,
+    tokens: tuple[str, ...],
     rate: float,
     cmd_vel: str | None,
     stamped: bool,
@@ -434,7 +443,7 @@ def robot_command(
     ):
         if given is not None:
             checked_topic(option, given)
-    options = robot.with_path(description, {})
+    options = _robot(robot, tokens)
     params = options.load()
     if stamped and cmd_vel is None:
         warn("--stamped applies to --cmd-vel commands only")
