@@ -247,9 +247,15 @@ class OdometryNode(Node):
         if not used:
             return
         last = self._last_published
-        if last is not None and stamp - last < self._period_ns:
+        period = self._period_ns
+        if last is not None and stamp - last < period:
             return
-        self._last_published = stamp
+        # The publish time advances by the period, as the controller's does, so that stamps a
+        # little early or late keep the rate; after a gap of more than a period it starts afresh.
+        if last is not None and stamp - last < 2 * period:
+            self._last_published = last + period
+        else:
+            self._last_published = stamp
         self.publish(stamp)
 
     def publish(self, stamp: int) -> None:

@@ -4,6 +4,7 @@ final pose out, stamped from the joint states; bad samples counted, never read a
 from __future__ import annotations
 
 import math
+import random
 import subprocess
 import sys
 import time
@@ -349,6 +350,20 @@ def test_the_publish_rate_thins_by_stamps() -> None:
             node.on_joint_state(joint_state(names, [0.01 * k, 0.01 * k], T0 + k * 10**7))
     assert node.odometry.samples == 101
     assert node.published == 11  # every 0.1 s of stamps, the first included
+
+
+def test_the_publish_rate_holds_its_cadence_over_jittered_stamps() -> None:
+    # 50 Hz joint states whose stamps wander by up to 1 ms, as a driver's do, and a 25 Hz
+    # publish_rate: the controller publishes once per 40 ms period on average (its last publish
+    # time advances by the period), never once per three joint states when a stamp comes early.
+    names = ["front_left_wheel_joint", "front_right_wheel_joint"]
+    jitter = random.Random(7)
+    with OdometryNode(BOT, OdometrySettings(publish_rate=25.0, publish_tf=False)) as node:
+        for k in range(501):  # 10 s
+            stamp = T0 + k * 20_000_000 + jitter.randint(-1_000_000, 1_000_000)
+            node.on_joint_state(joint_state(names, [0.01 * k, 0.01 * k], stamp))
+    assert node.odometry.samples == 501
+    assert 249 <= node.published <= 251
 
 
 def test_joint_states_of_another_type_are_named_once() -> None:
