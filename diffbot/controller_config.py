@@ -86,6 +86,9 @@ class ControllerConfig:
     Attributes:
         name: the controller's name (its node name without namespace).
         source: the file it came from.
+        namespace: the namespace of its node as the file names it (``a200_0000`` for a section
+            ``/a200_0000/diff_cont:``, under namespace keys, or under its controller manager's
+            namespaced section); empty for the root namespace or one left to a wildcard.
         ros_version: 1 or 2.
         left_wheel_names: the left wheel joints (``left_wheel_names``, ROS 1 ``left_wheel``).
         right_wheel_names: the right wheel joints.
@@ -118,6 +121,7 @@ class ControllerConfig:
     name: str
     source: str
     ros_version: Literal[1, 2]
+    namespace: str = ""
     left_wheel_names: tuple[str, ...] = ()
     right_wheel_names: tuple[str, ...] = ()
     wheel_separation: float | None = None
@@ -143,6 +147,11 @@ class ControllerConfig:
     update_rate: float | None = None
     warnings: tuple[str, ...] = field(default=(), compare=False)
     arguments: tuple[str, ...] = field(default=(), compare=False)
+
+    @property
+    def node_name(self) -> str:
+        """The controller node's absolute name (``/a200_0000/diff_cont``, ``/diff_cont``)."""
+        return "/" + "/".join(part for part in (self.namespace, self.name) if part.strip("/"))
 
     @property
     def effective_separation(self) -> float | None:

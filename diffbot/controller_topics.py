@@ -1,9 +1,10 @@
 """The velocity command topic of a diff_drive_controller, and its message type, by ROS release.
 
 diff_drive_controller subscribes ``~/cmd_vel`` (``diff_drive_controller.cpp``'s
-``DEFAULT_COMMAND_TOPIC``), a topic under its own node name: ``/<controller>/cmd_vel``. On Humble
-it takes geometry_msgs/TwistStamped there unless ``use_stamped_vel: false`` (its default is
-true), and then geometry_msgs/Twist on ``~/cmd_vel_unstamped``
+``DEFAULT_COMMAND_TOPIC``), a topic under its own node name: ``/<controller>/cmd_vel``, or
+``/<namespace>/<controller>/cmd_vel`` when the controllers file puts the node in a namespace.
+On Humble it takes geometry_msgs/TwistStamped there unless ``use_stamped_vel: false`` (its
+default is true), and then geometry_msgs/Twist on ``~/cmd_vel_unstamped``
 (``DEFAULT_COMMAND_UNSTAMPED_TOPIC``); from Jazzy on it takes TwistStamped on ``~/cmd_vel`` only.
 """
 
@@ -63,7 +64,7 @@ def command_topic(controller: ControllerConfig, distro: str | None) -> CommandTo
     Without a release, a file that sets ``use_stamped_vel: false`` is read as Humble's (the
     parameter means nothing later) and any other as Jazzy's.
     """
-    base = f"/{controller.name.strip('/')}"
+    base = controller.node_name
     unstamped = controller.use_stamped_vel is False
     if distro == "humble" or (distro is None and unstamped):
         release = "Humble" if distro == "humble" else "Humble (use_stamped_vel: false)"

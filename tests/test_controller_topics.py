@@ -49,3 +49,21 @@ def test_the_release_comes_from_the_option_then_ros_distro() -> None:
     assert distro_of(None, {}) is None
     with pytest.raises(ParameterError, match="distro"):
         distro_of("foxy", {})
+
+
+def test_a_namespaced_controllers_topic_is_under_its_namespace() -> None:
+    # a file whose section is /a200_0000/platform_velocity_controller: the controller's node is
+    # there, and so is its ~/cmd_vel
+    namespaced = ControllerConfig(
+        name="platform_velocity_controller",
+        source="control.yaml",
+        ros_version=2,
+        namespace="a200_0000",
+        use_stamped_vel=False,
+    )
+    assert command_topic(namespaced, "humble").topic == (
+        "/a200_0000/platform_velocity_controller/cmd_vel_unstamped"
+    )
+    assert command_topic(namespaced, "jazzy").topic == (
+        "/a200_0000/platform_velocity_controller/cmd_vel"
+    )

@@ -101,7 +101,7 @@ class OdometrySettings:
                 "pose_covariance": controller.pose_covariance_diagonal,
                 "twist_covariance": controller.twist_covariance_diagonal,
                 "window": controller.velocity_rolling_window_size,
-                "services": controller.name,
+                "services": controller.node_name,
                 "feedback": _FEEDBACK_OF.get(controller.position_feedback),
             }
             values = {k: v for k, v in found.items() if v is not None}

@@ -301,6 +301,7 @@ def read_controllers(
     managers = by_name.get("controller_manager", ())
     rate = managers[0].params.get("update_rate") if managers else None
     configs: list[ControllerConfig] = []
+    namespaces: dict[str, str] = {}
     seen: set[str] = set()
     for node in nodes:
         name = node.name
@@ -315,6 +316,7 @@ def read_controllers(
                 continue
             seen.add(declared_name)
             sections = by_name.get(declared_name)
+            namespaces[declared_name] = _namespace_of([*(sections or ()), node])
             warnings = (
                 () if sections else (f"no {declared_name}: {_ROS2_KEY} section configures it",)
             )
@@ -330,6 +332,7 @@ def read_controllers(
             )
         if _is_diff_drive(node.params.get("type")) and name not in seen and name not in _WILDCARDS:
             seen.add(name)
+            namespaces[name] = _namespace_of([*by_name[name], *managers])
             configs.append(config_of(name, source, 2, params_of(name), rate))
     for name, params in _ros1_controllers(tree):
         configs.append(config_of(name, source, 1, params, None))
@@ -338,9 +341,25 @@ def read_controllers(
         for name in unresolved
     ] + [f"{source}: {sentence}" for sentence in repeated]
     return [
-        dataclasses.replace(c, warnings=(*c.warnings, *unset), arguments=used)
+        dataclasses.replace(
+            c,
+            warnings=(*c.warnings, *unset),
+            arguments=used,
+            namespace=namespaces.get(c.name, "") if c.ros_version == 2 else "",
+        )
         for c in (_follow_chain(c, nodes) for c in configs)
     ]
+
+
+def _namespace_of(sections: Sequence[_Node]) -> str:
+    """The namespace the first of ``sections`` (the controller's own, then its controller
+    manager's) puts its node in: ``a200_0000`` for ``/a200_0000/diff_cont:`` or for namespace
+    keys above it; empty at the root, or when every section leaves it to a wildcard."""
+    for section in sections:
+        parts = [part for key in section.path for part in str(key).split("/") if part]
+        if not any(part in _WILDCARDS for part in parts[:-1]):
+            return "/".join(parts[:-1])
+    return ""
 
 
 def _read_file(path: str | os.PathLike[str]) -> str:

@@ -259,6 +259,53 @@ robot1:
     assert (config.name, config.wheel_radius, config.update_rate) == ("diff_cont", 0.07, 60.0)
 
 
+WHEELS = "  ros__parameters: {left_wheel_names: [l], right_wheel_names: [r]}\n"
+
+
+@pytest.mark.parametrize(
+    ("text", "namespace"),
+    [
+        # the controller's own section names its node's namespace
+        (section("wheel_radius: 0.07", name="/robot1/diff_cont"), "robot1"),
+        # namespace keys above both sections
+        (
+            "robot1:\n  controller_manager:\n    ros__parameters:\n"
+            "      diff_cont: {type: diff_drive_controller/DiffDriveController}\n"
+            "  diff_cont:\n    ros__parameters: {left_wheel_names: [l], right_wheel_names: [r]}\n",
+            "robot1",
+        ),
+        # a wildcard leaves it to the controller manager's section
+        (
+            "/a/b/controller_manager:\n  ros__parameters:\n"
+            "    diff_cont: {type: diff_drive_controller/DiffDriveController}\n"
+            "/**/diff_cont:\n" + WHEELS,
+            "a/b",
+        ),
+        # the type in the controller's own namespaced section
+        (
+            "/ns/diff_cont:\n  ros__parameters:\n"
+            "    type: diff_drive_controller/DiffDriveController\n"
+            "    left_wheel_names: [l]\n    right_wheel_names: [r]\n",
+            "ns",
+        ),
+        # wildcards everywhere, or no namespace at all: the root
+        (
+            "/**/controller_manager:\n  ros__parameters:\n"
+            "    diff_cont: {type: diff_drive_controller/DiffDriveController}\n"
+            "/**/diff_cont:\n" + WHEELS,
+            "",
+        ),
+        (section("wheel_radius: 0.07"), ""),
+    ],
+)
+def test_the_controllers_node_namespace_is_the_one_its_file_names(
+    text: str, namespace: str
+) -> None:
+    config = one(text)
+    assert (config.name, config.namespace) == ("diff_cont", namespace)
+    assert config.node_name == "/" + "/".join(p for p in (namespace, "diff_cont") if p)
+
+
 def test_type_in_the_controllers_own_section_is_found() -> None:
     config = one(
         """
