@@ -36,6 +36,7 @@ from diffbot.trajectory import Plan, PlannedSegment, Spin, advance, geometry, re
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike, NDArray
 
+    from diffbot.body_limits import BodyLimits
     from diffbot.controller_config import AxisLimits, ControllerConfig
 
 __all__ = [
@@ -397,7 +398,7 @@ def sampled(made: Plan | RampedPlan) -> RampedPlan:
     return ramp(made, Limits()) if isinstance(made, Plan) else made
 
 
-def ramp(steps: Plan, limits: Limits) -> RampedPlan:
+def ramp(steps: Plan, limits: Limits, body: BodyLimits | None = None) -> RampedPlan:
     """Drive a step plan's segments with speed profiles within ``limits``.
 
     Consecutive segments of equal curvature and direction of travel form one run (for spins:
@@ -409,6 +410,10 @@ def ramp(steps: Plan, limits: Limits) -> RampedPlan:
         steps: the step plan (its segments, speeds and poses).
         limits: the robot's limits (speed limits cap the cruise; the motor limit is checked
             by the step plan, not imposed).
+        body: the body velocity ranges (a controller's ``min_velocity`` to ``max_velocity``);
+            when given, each run's speed is capped by the bound of its own direction of travel
+            (forward or backward, turning left or right) instead of by ``limits``' linear and
+            angular speeds, which bound both directions alike.
 
     Returns:
         The ramped plan.
@@ -439,7 +444,7 @@ def ramp(steps: Plan, limits: Limits) -> RampedPlan:
             left, right = params.radii
             bounds = path_limits(
                 params,
-                limits,
+                limits if body is None else _directed(limits, body, linear_gain, angular_gain),
                 angular_gain * linear_gain,
                 spin=spin,
                 left_wheel_radius=left,
@@ -468,6 +473,24 @@ def ramp(steps: Plan, limits: Limits) -> RampedPlan:
         )
         start += profile.duration
     return RampedPlan(steps, tuple(runs), limits, _summary(steps, runs))
+
+
+def _directed(limits: Limits, body: BodyLimits, linear: float, angular: float) -> Limits:
+    """``limits`` whose speeds are the body velocity bounds in a run's directions of travel:
+    v = ``linear``·s' and ω = ``angular``·s' along its path coordinate s. A direction the
+    ranges forbid is no bound here: the step plan reports it."""
+
+    def bound(bounds: tuple[float, float] | None, way: float) -> float | None:
+        if bounds is None or way == 0.0:
+            return None
+        found = bounds[1] if way > 0.0 else -bounds[0]
+        return found if found > 0.0 else None
+
+    return Limits(
+        linear=limits.linear._replace(velocity=bound(body.linear, linear)),
+        angular=limits.angular._replace(velocity=bound(body.angular, angular)),
+        wheel=limits.wheel,
+    )
 
 
 def _peaks(run: Run) -> list[float]:

@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from robots import BOT, BOT_50_RPM
 
+from diffbot.body_limits import BodyLimits
 from diffbot.controller_config import AxisLimits, ControllerConfig
 from diffbot.errors import PlanError
 from diffbot.kinematics import Pose
@@ -200,6 +201,28 @@ def test_the_controller_speed_caps_the_cruise() -> None:
     ramped = ramp(plan(parse_plan("straight 1"), BOT), limits)
     assert ramped.summary.segments[0].twist.linear == pytest.approx(0.05, rel=1e-12)
     assert ramped.duration == pytest.approx(1 / 0.05 + 0.05 / 0.1, rel=1e-12)
+
+
+def test_body_limits_cap_each_run_in_its_own_direction() -> None:
+    # A controller that drives forward at up to 0.6 m/s but backward at only 0.3 m/s, and
+    # turns left faster than right: a forward straight cruises at 0.6, not at 0.3.
+    body = BodyLimits(linear=(-0.3, 0.6), angular=(-1.0, 2.0))
+    limits = Limits(
+        linear=PathLimits(0.3, 0.5, None), angular=PathLimits(1.0, 4.0, None)
+    )  # the tightest magnitudes, as controller_limits gives them
+    steps = plan(parse_plan("straight 1 2s; straight -1 1s; spin 90 1s; spin -90 1s"), BOT)
+    ramped = ramp(steps, limits, body)
+    linear = [s.twist.linear for s in ramped.summary.segments[:2]]
+    angular = [s.twist.angular for s in ramped.summary.segments[2:]]
+    assert linear == pytest.approx([0.5, -0.3], rel=1e-12)
+    assert angular == pytest.approx([math.pi / 2, -1.0], rel=1e-12)
+    assert ramped.duration == pytest.approx(
+        (1 / 0.5 + 0.5 / 0.5)
+        + (1 / 0.3 + 0.3 / 0.5)
+        + (1.0 + (math.pi / 2) / 4.0)
+        + (math.pi / 2 + 1.0 / 4.0),
+        rel=1e-12,
+    )
 
 
 @settings(max_examples=40, deadline=None)

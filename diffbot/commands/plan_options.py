@@ -404,7 +404,7 @@ class PlanOptions:
         from diffbot.ramps import controller_limits, ramp
 
         try:
-            ramped = ramp(steps, controller_limits(params.controller, **self.ramp_options))
+            ramped = ramp(steps, controller_limits(params.controller, **self.ramp_options), body)
         except ProfileError as err:
             fail(f"{err} (limits from {self._limit_sources(params)})")
         from diffbot.commands.cruise_warnings import warn_slowed_runs

@@ -336,3 +336,23 @@ def test_a_command_bag_is_written_in_pieces_never_as_a_whole_stream(
     assert count > 20
     with Reader(bag) as reader:
         assert reader.message_count == 3 * count
+
+
+def test_a_forward_run_cruises_up_to_max_velocity_when_reversing_is_slower(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # A controller that reverses at no more than 0.05 m/s: a forward straight asked for 0.15 m/s
+    # (within max_velocity 0.18) is driven at 0.15 m/s, as the controller lets it through.
+    controllers = tmp_path / "controllers.yaml"
+    controllers.write_text(
+        bundled_controllers(
+            "linear.x.max_velocity: 0.18",
+            "linear.x.min_velocity: -0.05",
+            "linear.x.max_acceleration: 0.5",
+        )
+    )
+    result = run(runner, "straight 0.3 2s", "--controllers", str(controllers), "--json")
+    assert result.exit_code == 0, result.output
+    segment = json.loads(result.output)["segments"][0]
+    assert segment["linear"] == pytest.approx(0.15, rel=1e-12)
+    assert segment["duration"] == pytest.approx(2 + 0.15 / 0.5, rel=1e-12)
