@@ -10,12 +10,17 @@ from diffbot.controller_topics import command_topic, distro_of
 from diffbot.errors import ParameterError
 
 
-def controller(use_stamped_vel: bool | None = None) -> ControllerConfig:
+def controller(
+    use_stamped_vel: bool | None = None,
+    name: str = "diffbot_base_controller",
+    namespace: str = "",
+) -> ControllerConfig:
     return ControllerConfig(
-        name="diffbot_base_controller",
+        name=name,
         source="controllers.yaml",
         ros_version=2,
         use_stamped_vel=use_stamped_vel,
+        namespace=namespace,
     )
 
 
@@ -54,13 +59,7 @@ def test_the_release_comes_from_the_option_then_ros_distro() -> None:
 def test_a_namespaced_controllers_topic_is_under_its_namespace() -> None:
     # a file whose section is /a200_0000/platform_velocity_controller: the controller's node is
     # there, and so is its ~/cmd_vel
-    namespaced = ControllerConfig(
-        name="platform_velocity_controller",
-        source="control.yaml",
-        ros_version=2,
-        namespace="a200_0000",
-        use_stamped_vel=False,
-    )
+    namespaced = controller(False, "platform_velocity_controller", "a200_0000")
     assert command_topic(namespaced, "humble").topic == (
         "/a200_0000/platform_velocity_controller/cmd_vel_unstamped"
     )
