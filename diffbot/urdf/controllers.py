@@ -57,10 +57,12 @@ __all__ = [
     "ControllerConfigError",
     "choose_controller",
     "load_command_controllers",
+    "load_controller_files",
     "load_controllers",
     "load_other_drive_controllers",
     "node_base_name",
     "other_drive_controllers",
+    "read_controller_files",
     "read_controllers",
     "substitute_args",
 ]
@@ -122,6 +124,7 @@ def node_base_name(path: Sequence[str]) -> str:
 class _Node:
     path: tuple[str, ...]
     params: dict[str, Any]
+    source: str
 
     @property
     def name(self) -> str:
@@ -145,7 +148,7 @@ def _ros2_nodes(
                     f"{source}: {'/'.join(here)}: {_ROS2_KEY} must be a mapping, "
                     f"got {shown(params)}"
                 )
-            yield _Node(here, _flatten(params))
+            yield _Node(here, _flatten(params), source)
         else:
             yield from _ros2_nodes(value, source, here)
 
@@ -270,18 +273,48 @@ def read_controllers(
             with a value of the wrong type or out of its domain (the message names the file, the
             controller and the key).
     """
-    used = tuple(dict.fromkeys(_ARG.findall(text)))
-    text, unresolved = substitute_args(text, args)
+    return read_controller_files([(text, source)], args)
+
+
+def read_controller_files(
+    files: Sequence[tuple[str, str]], args: Mapping[str, str] | None = None
+) -> list[ControllerConfig]:
+    """Every diff-drive controller that several parameter files configure together, as a node
+    given them in this order takes them: a later file's value of a parameter replaces an
+    earlier one's (a simulation file that changes a controller's separation, say).
+
+    Args:
+        files: each file's YAML text and where it came from (a path).
+        args: values of ``$(arg NAME)`` substitutions.
+
+    Returns:
+        As :func:`read_controllers`; each controller's ``source`` is the first file that
+        configures it.
+
+    Raises:
+        ControllerConfigError: as :func:`read_controllers`, naming the file.
+    """
+    used: list[str] = []
+    unresolved: list[str] = []
     repeated: list[str] = []
-    tree = _parse_yaml(text, source, repeated)
-    if tree is None:
-        return []
-    if not isinstance(tree, Mapping):
-        raise ControllerConfigError(
-            f"{source}: a controllers file must be a mapping of node names, "
-            f"got {type(tree).__name__}"
-        )
-    nodes = list(_ros2_nodes(tree, source))
+    nodes: list[_Node] = []
+    ros1: list[tuple[str, dict[str, Any], str]] = []
+    for text, source in files:
+        used += _ARG.findall(text)
+        text, missing = substitute_args(text, args)
+        unresolved += missing
+        said: list[str] = []
+        tree = _parse_yaml(text, source, said)
+        repeated += [f"{source}: {sentence}" for sentence in said]
+        if tree is None:
+            continue
+        if not isinstance(tree, Mapping):
+            raise ControllerConfigError(
+                f"{source}: a controllers file must be a mapping of node names, "
+                f"got {type(tree).__name__}"
+            )
+        nodes += _ros2_nodes(tree, source)
+        ros1 += [(name, params, source) for name, params in _ros1_controllers(tree)]
     # Every lookup by name goes through this index: a file of thousands of controllers would
     # otherwise cost time quadratic in its size.
     by_name: dict[str, list[_Node]] = {}
@@ -323,7 +356,7 @@ def read_controllers(
             configs.append(
                 config_of(
                     declared_name,
-                    source,
+                    _sources([*(sections or ()), node]),
                     2,
                     params_of(declared_name),
                     manager_rate,
@@ -333,22 +366,28 @@ def read_controllers(
         if _is_diff_drive(node.params.get("type")) and name not in seen and name not in _WILDCARDS:
             seen.add(name)
             namespaces[name] = _namespace_of([*by_name[name], *managers])
-            configs.append(config_of(name, source, 2, params_of(name), rate))
-    for name, params in _ros1_controllers(tree):
+            configs.append(config_of(name, _sources(by_name[name]), 2, params_of(name), rate))
+    for name, params, source in ros1:
         configs.append(config_of(name, source, 1, params, None))
     unset = [
         f"$(arg {name}) has no value: give it as {name}:=VALUE, as the launch file would"
-        for name in unresolved
-    ] + [f"{source}: {sentence}" for sentence in repeated]
+        for name in dict.fromkeys(unresolved)
+    ] + repeated
     return [
         dataclasses.replace(
             c,
             warnings=(*c.warnings, *unset),
-            arguments=used,
+            arguments=tuple(dict.fromkeys(used)),
             namespace=namespaces.get(c.name, "") if c.ros_version == 2 else "",
         )
         for c in (_follow_chain(c, nodes) for c in configs)
     ]
+
+
+def _sources(sections: Sequence[_Node]) -> str:
+    """The first file of ``sections``: the one a controller's ``source`` names (a path, that
+    the commands read again for the controllers of its wheels)."""
+    return sections[0].source
 
 
 def _namespace_of(sections: Sequence[_Node]) -> str:
@@ -402,6 +441,17 @@ def load_controllers(
             is malformed (see :func:`read_controllers`).
     """
     return read_controllers(_read_file(path), os.fspath(path), args)
+
+
+def load_controller_files(
+    paths: Sequence[str | os.PathLike[str]], args: Mapping[str, str] | None = None
+) -> list[ControllerConfig]:
+    """:func:`read_controller_files` of files, in order.
+
+    Raises:
+        ControllerConfigError: as :func:`load_controllers`, naming the file.
+    """
+    return read_controller_files([(_read_file(p), os.fspath(p)) for p in paths], args)
 
 
 def load_other_drive_controllers(path: str | os.PathLike[str]) -> list[tuple[str, str]]:

@@ -22,7 +22,7 @@ from diffbot.errors import DescriptionError, DriveWheelError, OutsideRootsError
 from diffbot.io.pathnames import resolved
 from diffbot.kinematics import DiffDriveParams, Disagreement
 from diffbot.numbers import motor_limits
-from diffbot.urdf.controllers import choose_controller, load_controllers
+from diffbot.urdf.controllers import choose_controller, load_controller_files, load_controllers
 from diffbot.urdf.gazebo import GazeboDrive, gazebo_drives, ros2_control_parameter_files
 from diffbot.urdf.other_drives import note_other_drives, refusing_other_drives
 from diffbot.urdf.ros1 import urdf_radius, urdf_separation
@@ -119,9 +119,8 @@ def find_controller(
         if not configs:
             note_other_drives([Path(controllers)], warnings, others)
         return choose_controller(configs, controller)
-    configs = []
     base = resolved(description, DescriptionError).parent if description is not None else Path.cwd()
-    read = []
+    read: list[Path] = []
     for name in ros2_control_parameter_files(root):
         named = Path(name.strip())
         origin = (named_from or {}).get(name.strip(), base)
@@ -138,8 +137,9 @@ def find_controller(
                 "not exist here: its controller settings are not read"
             )
             continue
-        configs += load_controllers(_shown(path), values)
         read.append(_shown(path))
+    # One node takes every file, in order: a later file's value replaces an earlier one's.
+    configs = load_controller_files(read, values)
     if not configs:
         note_other_drives(read, warnings, others)
     if not configs and controller is None:

@@ -31,6 +31,7 @@ from diffbot.urdf.controllers import (
     load_controllers,
     load_other_drive_controllers,
     other_drive_controllers,
+    read_controller_files,
     read_controllers,
     substitute_args,
 )
@@ -102,6 +103,24 @@ def section(body: str, name: str = "diff_cont", manager: str = "controller_manag
         f"    {name}:\n      type: diff_drive_controller/DiffDriveController\n"
         f"{name}:\n  ros__parameters:\n{indented}\n"
     )
+
+
+def test_a_later_file_replaces_what_it_sets_and_keeps_the_rest() -> None:
+    # One node given both files, in order: the simulation's file changes one value, its own
+    # duplicate key within a file is said, and the controller is the first file's.
+    later = (
+        "diff_cont:\n  ros__parameters:\n    wheel_separation: 0.4\n    wheel_separation: 0.42\n"
+    )
+    (config,) = read_controller_files([(ROS2_NESTED, "a.yaml"), (later, "b.yaml")])
+    assert config.source == "a.yaml"
+    assert config.wheel_separation == 0.42
+    assert config.wheel_radius == 0.05
+    assert config.wheels_per_side == 2
+    assert config.linear.max_velocity == 0.8
+    assert any(w.startswith("b.yaml: ") for w in config.warnings)
+    (alone,) = read_controller_files([(ROS2_NESTED, "a.yaml")])
+    assert alone.wheel_separation == 0.30
+    assert read_controller_files([(later, "b.yaml")]) == []  # no file declares its type
 
 
 def params_of(config: ControllerConfig, radius: float | None = None) -> DiffDriveParams:

@@ -114,6 +114,26 @@ def test_the_controllers_file_the_plugin_names_wins_with_its_multipliers(tmp_pat
     assert not any("disagree" in w for w in params.warnings)
 
 
+def test_a_later_parameters_file_of_the_plugin_replaces_the_values_it_sets(
+    tmp_path: Path,
+) -> None:
+    # As a simulation's ros2_control plugin names the controllers file, then its own overrides.
+    robot = workspace(tmp_path)
+    text = robot.read_text(encoding="utf-8")
+    first = "<parameters>$(find rover_description)/config/controllers.yaml</parameters>"
+    later = "<parameters>$(find rover_description)/config/sim.yaml</parameters>"
+    robot.write_text(text.replace(first, first + later), encoding="utf-8")
+    overrides = "diff_cont:\n  ros__parameters:\n    wheel_separation: 0.31\n"
+    overrides += "    linear.x.max_velocity: 0.2\n"
+    (robot.parent.parent / "config" / "sim.yaml").write_text(overrides, encoding="utf-8")
+    params = load(robot)
+    assert params.wheel_separation == pytest.approx(0.31 * 1.05, rel=1e-15)
+    assert params.radii == pytest.approx((0.05 * 1.01, 0.05 * 0.99), rel=1e-15)
+    assert params.controller is not None
+    assert params.controller.linear.max_velocity == 0.2
+    assert params.controller.source.endswith("controllers.yaml")
+
+
 def test_overrides_win_over_the_controller(tmp_path: Path) -> None:
     params = load(workspace(tmp_path), wheel_radius=0.06, wheel_separation=0.5)
     assert (params.wheel_separation, *params.radii) == (0.5, 0.06, 0.06)
