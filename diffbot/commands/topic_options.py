@@ -61,7 +61,16 @@ def resolve_cmd_vel(
     from diffbot.controller_topics import command_topic, distro_of
 
     if cmd_vel is None and params.controller is not None:
-        found = command_topic(params.controller, distro_of(distro))
+        release = distro_of(distro)
+        found = command_topic(params.controller, release)
+        if params.controller.use_stamped_vel is False and found.stamped:
+            from diffbot.commands.options import warn
+
+            warn(
+                f"{params.controller.source}: use_stamped_vel: false means nothing on "
+                f"{(release or 'jazzy').capitalize()} (a Humble parameter): the controller takes "
+                f"TwistStamped on {found.topic}"
+            )
         return found.topic, stamped or found.stamped
     topic = DEFAULT_CMD_VEL if cmd_vel is None else cmd_vel
     if distro is not None and params.controller is not None:  # its release named: its type

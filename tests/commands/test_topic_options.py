@@ -63,6 +63,11 @@ def test_jazzy_takes_twiststamped_on_cmd_vel(runner: CliRunner, controllers: str
             "ros2 topic pub -r 10 /diffbot_base_controller/cmd_vel "
             "geometry_msgs/msg/TwistStamped" in result.stdout
         )
+        # the file's use_stamped_vel: false is a Humble parameter: said to do nothing here
+        assert result.stderr.splitlines() == [
+            f"warning: {controllers}: use_stamped_vel: false means nothing on Jazzy (a Humble "
+            "parameter): the controller takes TwistStamped on /diffbot_base_controller/cmd_vel"
+        ]
 
 
 def test_cmd_vel_given_overrides_the_controllers_topic(runner: CliRunner, controllers: str) -> None:
