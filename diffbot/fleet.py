@@ -16,7 +16,7 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Final, TextIO
+from typing import TYPE_CHECKING, Final, TextIO
 
 from diffbot.chunk_odometry import ChunkPoses
 from diffbot.conditioning import Conditioning
@@ -31,6 +31,10 @@ from diffbot.odometry import Odometry
 from diffbot.processes import safe_starts
 from diffbot.reference import ReferenceComparison, ReferenceResult
 from diffbot.replay import Progress, RecordingOdometry, csv_odometry, recording_odometry
+
+if TYPE_CHECKING:
+    from concurrent.futures import Future
+    from multiprocessing.synchronize import Event
 
 __all__ = [
     "DASK_DEFAULT_PORT",
@@ -308,20 +312,82 @@ def run_tasks(
             yield result
         return
     # Loaded here: the process pool and asyncio below weigh on every single-input run's start.
+    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    # The pool's helper process starts with it and every worker during the submissions, so
-    # all of them start clear of the current folder's code.
+    # The pool's helper process starts with it (or with the event, the first thing it
+    # shares) and every worker during the submissions, so all of them start clear of the
+    # current folder's code.
     with safe_starts():
-        pool = ProcessPoolExecutor(max_workers=min(jobs, len(tasks)))
+        stop = multiprocessing.get_context().Event()
+        pool = ProcessPoolExecutor(
+            max_workers=min(jobs, len(tasks)), initializer=_worker_start, initargs=(stop,)
+        )
+    futures: list[Future[OdometryResult]] = []
     with pool:
-        with safe_starts():
-            futures = [pool.submit(run_task, task) for task in tasks]
-        if done is not None:
+        try:
+            with safe_starts():
+                futures.extend(pool.submit(_pool_task, task) for task in tasks)
+            if done is not None:
+                for future in futures:
+                    future.add_done_callback(functools.partial(_finished, done))
             for future in futures:
-                future.add_done_callback(lambda f: done(f.result()))
-        for future in futures:
-            yield future.result()
+                yield future.result()
+        except BaseException:
+            # The run ends early (Ctrl-C, SIGTERM, results no longer wanted): the tasks not
+            # started never start, and those under way stop at their next chunk, their
+            # outputs unwritten.
+            stop.set()
+            for future in futures:
+                future.cancel()
+            pool.shutdown(wait=True, cancel_futures=True)
+            raise
+
+
+class _Stopped(BaseException):
+    """The run the task belongs to has ended: it stops where it is."""
+
+
+class _Worker:
+    """What a pool worker knows of its run: the event set when the run ends early."""
+
+    stop: Event | None = None
+
+
+def _worker_start(stop: Event) -> None:
+    """A pool worker's start. Ctrl-C reaches the whole process group, and is for the process
+    that runs the pool to act on: one taken in a worker mid-task can leave the pool waiting for
+    it forever. SIGTERM ends the task under way by an exception, so that its output's
+    temporary file is removed."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if signal.getsignal(signal.SIGTERM) is not signal.SIG_IGN:
+        signal.signal(signal.SIGTERM, _terminated)
+    _Worker.stop = stop
+
+
+def _terminated(signum: int, frame: object) -> None:
+    raise SystemExit(128 + signum)  # the exit status of a process the signal ended
+
+
+def _go_on(used: int = 0) -> None:
+    """Raise :class:`_Stopped` once the worker's run has ended (called between chunks)."""
+    if _Worker.stop is not None and _Worker.stop.is_set():
+        raise _Stopped
+
+
+def _pool_task(task: OdometryTask) -> OdometryResult:
+    """A task in a pool worker: not started, or stopped between two chunks, once the run has
+    ended."""
+    _go_on()
+    return run_task(task, progress=_go_on)
+
+
+def _finished(done: Callable[[OdometryResult], None], future: Future[OdometryResult]) -> None:
+    """Hand a finished task's result on; a task cancelled or stopped has none."""
+    if not future.cancelled() and future.exception() is None:
+        done(future.result())
 
 
 _HOST = re.compile(r"[A-Za-z0-9](?:[A-Za-z0-9.\-]*[A-Za-z0-9])?|\[[0-9A-Fa-f:.]+\]")
