@@ -490,6 +490,8 @@ def _many(
             f"{fmt(data['distance']):>11} x {fmt(round(pose['x'], 9))} m, "
             f"y {fmt(round(pose['y'], 9))} m, theta {fmt(round(pose['theta'], 9))} rad"
         )
+        if result.reference is not None:
+            click.echo(f"{'':<{width}} reference {_reference_text(result.reference)}")
     if failed:
         opt.warn(f"{failed} of {len(results)} recordings could not be read")
     if implausible:

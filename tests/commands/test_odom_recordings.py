@@ -409,3 +409,17 @@ def test_a_reference_needs_a_bag(runner: CliRunner, tmp_path: Path, robot: list[
     assert result.stderr == (
         f"error: {csv}: a reference topic is read from a bag, and this is a CSV\n"
     )
+
+
+def test_several_recordings_each_say_how_far_they_are_from_their_reference(
+    runner: CliRunner, tmp_path: Path, robot: list[str]
+) -> None:
+    agrees = reference_bag(tmp_path / "agrees")
+    drifts = reference_bag(tmp_path / "drifts", drift=0.002)
+    args = ["odom", str(agrees), str(drifts), *robot, *COUNTS, "--reference", "/odom"]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    row = next(k for k, line in enumerate(lines) if line.startswith(str(drifts)))
+    assert lines[row + 1].split()[:6] == ["reference", "/odom,", "101", "poses:", "final", "0.2"]
+    assert sum(line.split()[:1] == ["reference"] for line in lines) == 2
