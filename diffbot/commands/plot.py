@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -132,49 +133,81 @@ def _odometry(
     so that millions of samples stay small."""
     if differences is None:
         differences = []
-    from diffbot.commands.recording_options import warn_conditioning, warn_notes
-    from diffbot.replay import recording_odometry
-
     recordings: list[_Path] = []
-    for source in inputs:
-        sink = _PathSink()
-        run = recording_odometry(
-            source,
-            params,
-            topic,
-            sink=sink,
-            conditioning=options.conditioning(),
-            layout=options.layout(),
-            feedback=options.feedback_for(params),
-        )
-        warn_notes(run.notes, source)
-        warn_conditioning(run.conditioning, source)
-        summary = run.summary
-        skipped = sum(summary.skipped.values())
-        if skipped:
-            warn(
-                f"{source}: skipped {skipped} of {summary.samples + skipped} samples "
-                f"('diffbot odom {source}' says why)"
+    with tempfile.TemporaryDirectory() as folder:
+        for source in inputs:
+            path = _stdin_file(Path(folder)) if source == "-" else Path(source)
+            recordings.extend(
+                _recording(source, path, params, topic, options, reference, differences)
             )
-        stamps, x, y, heading = sink.arrays()
-        recordings.append((source, x, y))
-        truth = _true_path(source)
-        if truth is not None:
-            recordings.append(truth)
-        if reference is not None:
-            recordings.append(_reference(source, reference, (stamps, x, y, heading), differences))
     return recordings
+
+
+def _stdin_file(folder: Path) -> Path:
+    """The CSV on standard input copied to a file in ``folder`` as it comes, so that it can be
+    read twice: for its odometry, then for its true path."""
+    import shutil
+    import sys
+
+    path = folder / "stdin.csv"
+    with path.open("wb") as copy:
+        shutil.copyfileobj(sys.stdin.buffer, copy)
+    return path
+
+
+def _recording(
+    source: str,
+    path: Path,
+    params: DiffDriveParams,
+    topic: str | None,
+    options: RecordingOptions,
+    reference: str | None,
+    differences: list[tuple[str, list[float], list[float]]],
+) -> list[_Path]:
+    """The odometry path of the recording named ``source`` and read from ``path`` (standard
+    input's copy for ``-``), then its true path and its reference's, when it has them."""
+    from diffbot.commands.recording_options import warn_conditioning, warn_notes
+    from diffbot.replay import csv_odometry, recording_odometry
+
+    sink = _PathSink()
+    settings: dict[str, Any] = {
+        "sink": sink,
+        "conditioning": options.conditioning(),
+        "layout": options.layout(),
+        "feedback": options.feedback_for(params),
+    }
+    if source == "-":
+        run = csv_odometry(path, params, source=source, **settings)
+    else:
+        run = recording_odometry(source, params, topic, **settings)
+    warn_notes(run.notes, source)
+    warn_conditioning(run.conditioning, source)
+    summary = run.summary
+    skipped = sum(summary.skipped.values())
+    if skipped:
+        warn(
+            f"{source}: skipped {skipped} of {summary.samples + skipped} samples "
+            f"('diffbot odom {source}' says why)"
+        )
+    stamps, x, y, heading = sink.arrays()
+    paths: list[_Path] = [(source, x, y)]
+    truth = _true_path(source, path)
+    if truth is not None:
+        paths.append(truth)
+    if reference is not None:
+        paths.append(_reference(source, reference, (stamps, x, y, heading), differences))
+    return paths
 
 
 #: The label a recording's true path is drawn under: its source and this.
 TRUE_PATH = "true pose"
 
 
-def _true_path(source: str) -> _Path | None:
+def _true_path(source: str, path: Path) -> _Path | None:
     """The true path of a simulated run's CSV (its ``x`` and ``y`` columns, as ``diffbot
     simulate`` writes them with a true robot or a disturbed one), or None when it has none;
     read as every pose track is (:func:`~diffbot.io.poses.read_pose_track`: finite, in range,
-    or one error naming the line)."""
+    or one error naming the line); ``path`` is where ``source`` is read from."""
     import csv
 
     from diffbot.calibration.truth import TRUTH_COLUMNS
@@ -183,13 +216,13 @@ def _true_path(source: str) -> _Path | None:
     from diffbot.io.poses import read_pose_track
     from diffbot.io.textfile import open_text
 
-    if is_bag(source):
+    if is_bag(path):
         return None
-    with open_text(source, RecordingError, "a recording", newline="") as handle:
+    with open_text(path, RecordingError, "a recording", name=source, newline="") as handle:
         header = [name.strip() for name in next(csv.reader(handle), [])]
     if not set(TRUTH_COLUMNS) <= set(header):
         return None
-    track = read_pose_track(source)
+    track = read_pose_track(path, name=source)
     return f"{source} {TRUE_PATH}", track.x, track.y
 
 
@@ -299,6 +332,8 @@ def plot(
         fail("nothing to do: give -o FILE (.png, .svg or .pdf) to write the figure, or --show")
     if output is not None and not output.strip():
         fail("-o needs a file name, got ''")
+    if odom_inputs.count("-") > 1:
+        fail("--odom - reads standard input, which can be read once: give it once")
     if recording.feedback is not None and not odom_inputs:
         fail("--feedback says how --odom recordings are read: give one with --odom")
     if odom_inputs and not rest and plan_options.example is None and plan_options.goal is None:

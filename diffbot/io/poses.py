@@ -67,7 +67,9 @@ def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
     return math.atan2(sine, cosine)
 
 
-def read_pose_track(path: str | os.PathLike[str], topic: str | None = None) -> PoseTrack:
+def read_pose_track(
+    path: str | os.PathLike[str], topic: str | None = None, *, name: str | None = None
+) -> PoseTrack:
     """Read a ground-truth pose track.
 
     Args:
@@ -75,6 +77,8 @@ def read_pose_track(path: str | os.PathLike[str], topic: str | None = None) -> P
             ``__time`` it has, and ``x``, ``y``, ``theta`` or ``yaw``; rows with an empty pose
             cell are skipped), or a rosbag2 recording.
         topic: the pose topic of a bag; by default its one topic of PoseStamped or Odometry.
+        name: the CSV's name in messages (default: its path), such as ``-`` for a copy of
+            standard input.
 
     Returns:
         The poses, stamped by their header stamps in a bag (by the receive times when any
@@ -90,7 +94,7 @@ def read_pose_track(path: str | os.PathLike[str], topic: str | None = None) -> P
     p = existing_recording(path)
     if is_bag(p):
         return _read_bag(p, topic)
-    return _read_csv(p)
+    return _read_csv(p, name)
 
 
 class _Poses:
@@ -156,10 +160,10 @@ def _pose(values: Sequence[float], where: str) -> tuple[float, float, float]:
     )
 
 
-def _read_csv(path: Path) -> PoseTrack:
-    source = str(path)
+def _read_csv(path: Path, name: str | None = None) -> PoseTrack:
+    source = str(path) if name is None else name
     rows = _Poses(source)
-    with open_text(path, RecordingError, "a CSV file", newline="") as stream:
+    with open_text(path, RecordingError, "a CSV file", name=source, newline="") as stream:
         lines = RowLines(stream, source=source)
         reader = csv.reader(lines)
         headers = [h.strip().lower() for h in next(reader, [])]

@@ -263,3 +263,31 @@ def test_a_simulated_runs_true_path_is_drawn_beside_its_odometry(
     assert near(image, path, 0.5, 0.3, RECORDING_COLOURS[1], tolerance=45)
     assert not near(image, path, 0.5, 0.15, RECORDING_COLOURS[1], tolerance=45)
     assert near(image, path, 0.5, 0.0, PATH_COLOUR)
+
+
+def test_a_run_on_stdin_is_drawn_with_its_true_path(
+    runner: CliRunner, params: DiffDriveParams, tmp_path: Path
+) -> None:
+    # As `diffbot simulate ... | diffbot plot --odom -`: read once for the odometry and once for
+    # the true path, both named '-'.
+    turns = 1.0 / params.wheel_radius
+    rows = [f"{k / 10},{k / 10 * turns!r},{k / 10 * turns!r},{k / 10},0.3,0" for k in range(11)]
+    header = f"time,{params.left_joint},{params.right_joint},x,y,theta"
+    target = tmp_path / "run.png"
+    args = ["plot", "straight 1 10s", "--odom", "-", "-o", str(target)]
+    result = runner.invoke(main, args, input=header + "\n" + "\n".join(rows) + "\n")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines() == [
+        "robot bundled",
+        "-: odometry ends 0 m from the plan's end",
+        "- true pose: ends 0.3 m from the plan's end",
+    ]
+    image = png_pixels(target)
+    drawn = plan(parse_plan("straight 1 10s"), params)
+    recordings = [("-", [0.0, 1.0], [0.0, 0.0]), ("- true pose", [0.0, 1.0], [0.3, 0.3])]
+    layout = plan_figure(drawn, params, recordings=recordings)
+    layout.canvas.draw()
+    path = axes_labelled(layout, "path")
+    assert near(image, path, 0.5, 0.3, RECORDING_COLOURS[1], tolerance=45)
+    twice = runner.invoke(main, [*args, "--odom", "-", "--force"], input=header + "\n")
+    assert_bad_input(twice, "--odom - reads standard input, which can be read once")
