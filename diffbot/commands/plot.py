@@ -5,7 +5,7 @@ from __future__ import annotations
 import tempfile
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Final
 
 import click
 
@@ -36,6 +36,7 @@ if TYPE_CHECKING:
     from numpy.typing import NDArray
 
     from diffbot.chunk_odometry import ChunkPoses
+    from diffbot.reference import ReferenceComparison
 
 __all__ = ["plot"]
 
@@ -87,8 +88,17 @@ def _recordings_only(
         plotting.show()
 
 
-_Poses = tuple[
-    "NDArray[np.int64]", "NDArray[np.float64]", "NDArray[np.float64]", "NDArray[np.float64]"
+#: The poses of a recording kept for its figure, at most twice this many: beyond, every other one
+#: is dropped, and every other one of those to come, so that a recording of any length takes the
+#: same memory (the figure draws at most 100 000 points of a path anyway).
+KEPT_POSES: Final = 100_000
+
+_Kept = tuple[
+    "NDArray[np.int64]",
+    "NDArray[np.float64]",
+    "NDArray[np.float64]",
+    "NDArray[np.float64]",
+    "NDArray[np.float64]",
 ]
 
 
@@ -96,27 +106,58 @@ _Path = tuple[str, "NDArray[np.float64]", "NDArray[np.float64]"]
 
 
 class _PathSink:
-    """Keeps the stamp, x, y and heading of each pose as arrays: 32 bytes a sample."""
+    """The poses of a recording as they come, compared with a reference (when given) and
+    thinned to evenly spread ones, the first and the last among them: the stamp, x and y of
+    each, and the reference's x and y there (NaN where it has none)."""
 
-    def __init__(self) -> None:
-        self.columns: tuple[list[NDArray[Any]], ...] = ([], [], [], [])
+    def __init__(self, comparison: ReferenceComparison | None = None) -> None:
+        self.comparison = comparison
+        self.columns: list[list[NDArray[Any]]] = []
+        self.last: list[NDArray[Any]] = []
+        self.seen = 0
+        self.kept = 0
+        self.stride = 1
+        self.restart()
 
     def write(self, poses: ChunkPoses) -> None:
-        for column, values in zip(
-            self.columns, (poses.stamp_ns, poses.x, poses.y, poses.heading), strict=True
-        ):
-            column.append(values.copy())
-
-    def restart(self) -> None:
-        for column in self.columns:
-            column.clear()
-
-    def arrays(self) -> _Poses:
-        """The stamps (ns), x (m), y (m) and unwrapped heading (rad) of every pose."""
         import numpy as np
 
-        stamps, x, y, heading = (np.concatenate(column) for column in self.columns)
-        return stamps, x, y, heading
+        count = poses.stamp_ns.size
+        if not count:
+            return
+        if self.comparison is not None:
+            rx, ry, _ = self.comparison.add(poses.stamp_ns, poses.x, poses.y, poses.heading)
+        else:
+            rx = ry = np.full(count, np.nan)
+        values = (poses.stamp_ns, poses.x, poses.y, rx, ry)
+        keep = np.arange(self.seen, self.seen + count) % self.stride == 0
+        for column, value in zip(self.columns, values, strict=True):
+            column.append(value[keep])
+        self.last = [value[-1:].copy() for value in values]
+        self.seen += count
+        self.kept += int(np.count_nonzero(keep))
+        while self.kept > 2 * KEPT_POSES:  # keep the poses at every other multiple
+            self.columns = [[np.concatenate(column)[::2]] for column in self.columns]
+            self.kept = self.columns[0][0].size
+            self.stride *= 2
+
+    def restart(self) -> None:
+        self.columns = [[] for _ in range(5)]
+        self.last = []
+        self.seen = self.kept = 0
+        self.stride = 1
+        if self.comparison is not None:
+            self.comparison.reset()
+
+    def arrays(self) -> _Kept:
+        """The stamps (ns), x (m), y (m), and the reference's x and y (m) of the poses kept."""
+        import numpy as np
+
+        # The last pose too, when it was not kept as it came.
+        lasts = self.last if (self.seen - 1) % self.stride else [last[:0] for last in self.last]
+        pairs = zip(self.columns, lasts, strict=True)
+        stamps, x, y, rx, ry = (np.concatenate([*column, last]) for column, last in pairs)
+        return stamps, x, y, rx, ry
 
 
 def _odometry(
@@ -169,7 +210,8 @@ def _recording(
     from diffbot.commands.recording_options import warn_conditioning, warn_notes
     from diffbot.replay import csv_odometry, recording_odometry
 
-    sink = _PathSink()
+    comparison = None if reference is None else _comparison(source, reference)
+    sink = _PathSink(comparison)
     settings: dict[str, Any] = {
         "sink": sink,
         "conditioning": options.conditioning(),
@@ -189,13 +231,13 @@ def _recording(
             f"{source}: skipped {skipped} of {summary.samples + skipped} samples "
             f"('diffbot odom {source}' says why)"
         )
-    stamps, x, y, heading = sink.arrays()
+    stamps, x, y, rx, ry = sink.arrays()
     paths: list[_Path] = [(source, x, y)]
     truth = _true_path(source, path)
     if truth is not None:
         paths.append(truth)
-    if reference is not None:
-        paths.append(_reference(source, reference, (stamps, x, y, heading), differences))
+    if comparison is not None:
+        paths.append(_reference(source, comparison, (stamps, x, y, rx, ry), differences))
     return paths
 
 
@@ -226,20 +268,8 @@ def _true_path(source: str, path: Path) -> _Path | None:
     return f"{source} {TRUE_PATH}", track.x, track.y
 
 
-def _reference(
-    source: str,
-    topic: str,
-    poses: _Poses,
-    differences: list[tuple[str, list[float], list[float]]],
-) -> _Path:
-    """The reference's path in the odometry's frame, its distance from the odometry over time
-    appended to ``differences``, and the comparison said on stdout.
-
-    Args:
-        poses: the odometry's stamps (ns), x (m), y (m) and unwrapped heading (rad).
-    """
-    import numpy as np
-
+def _comparison(source: str, topic: str) -> ReferenceComparison:
+    """The comparison of a recording's odometry with its bag's pose topic, its poses read."""
     from diffbot.io.bag import is_bag
     from diffbot.io.poses import read_pose_track
     from diffbot.reference import ReferenceComparison
@@ -247,18 +277,34 @@ def _reference(
     if not is_bag(source):
         fail(f"{source}: a reference topic is read from a bag, and this is a CSV")
     track = read_pose_track(source, topic)
-    topic = track.topic or topic
-    comparison = ReferenceComparison(topic, track.stamps_ns, track.x, track.y, track.theta)
-    stamps, x, y, heading = poses
-    rx, ry, _ = comparison.add(stamps, x, y, heading)
+    return ReferenceComparison(track.topic or topic, track.stamps_ns, track.x, track.y, track.theta)
+
+
+def _reference(
+    source: str,
+    comparison: ReferenceComparison,
+    kept: _Kept,
+    differences: list[tuple[str, list[float], list[float]]],
+) -> _Path:
+    """The reference's path in the odometry's frame, its distance from the odometry over time
+    appended to ``differences``, and the comparison said on stdout.
+
+    Args:
+        comparison: the comparison, every pose of the recording given to it.
+        kept: the stamps (ns), x and y (m) of the poses kept for the figure, and the
+            reference's x and y (m) there.
+    """
+    import numpy as np
+
+    stamps, x, y, rx, ry = kept
+    result = comparison.result()
+    if not result.samples:
+        fail(f"{source}: {comparison.topic}: {result.no_overlap_text()}")
     inside = ~np.isnan(rx)
-    if not inside.any():
-        fail(f"{source}: {topic}: {comparison.result().no_overlap_text()}")
     seconds = (stamps[inside] - stamps[0]) / 1e9
     distance = np.hypot(x[inside] - rx[inside], y[inside] - ry[inside])
-    label = f"{source} {topic}"
+    label = f"{source} {comparison.topic}"
     differences.append((label, seconds.tolist(), distance.tolist()))
-    result = comparison.result()
     click.echo(
         f"{label}: final {fmt(result.final_position_error, 3)} m, max "
         f"{fmt(result.max_position_error, 3)} m, RMS {fmt(result.rms_position_error, 3)} m "

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import struct
 import sys
@@ -291,3 +292,35 @@ def test_a_run_on_stdin_is_drawn_with_its_true_path(
     assert near(image, path, 0.5, 0.3, RECORDING_COLOURS[1], tolerance=45)
     twice = runner.invoke(main, [*args, "--odom", "-", "--force"], input=header + "\n")
     assert_bad_input(twice, "--odom - reads standard input, which can be read once")
+
+
+def test_a_long_recording_is_kept_thinned_as_it_is_read(
+    runner: CliRunner, params: DiffDriveParams, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A recording of any length takes the same memory: evenly spread poses, its first and its
+    # last among them, at most twice KEPT_POSES.
+    from diffbot import plotting
+    from diffbot.commands import plot as command
+
+    monkeypatch.setattr(command, "KEPT_POSES", 25, raising=False)
+    drawn: list[tuple[str, object, object]] = []
+
+    def figure(*args: object, recordings: list[tuple[str, object, object]], **kw: object) -> object:
+        drawn.extend(recordings)
+        return plan_figure(*args, recordings=recordings, **kw)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(plotting, "plan_figure", figure)
+    turns = 1.0 / params.wheel_radius
+    rows = [f"{k / 100},{k / 1000 * turns!r},{k / 1000 * turns!r}" for k in range(1001)]
+    csv = tmp_path / "run.csv"
+    csv.write_text(f"time,{params.left_joint},{params.right_joint}\n" + "\n".join(rows) + "\n")
+    result = run(runner, "straight 1 10s", "--odom", str(csv), "-o", str(tmp_path / "run.png"))
+    assert result.exit_code == 0, result.output
+    ((label, x, _),) = drawn
+    assert label == str(csv)
+    xs = [float(v) for v in x]  # type: ignore[attr-defined]
+    assert len(xs) <= 2 * 25 + 1
+    assert xs[0] == 0.0
+    assert xs[-1] == pytest.approx(1.0, abs=1e-12)
+    steps = {round(b - a, 9) for a, b in itertools.pairwise(xs[:-1])}
+    assert len(steps) == 1, steps
