@@ -242,6 +242,8 @@ OWN_READERS = {
     ("diffbot/io/csv_chunks.py", "_fast"),
     # the tool's own marks of the warnings shown, created empty (a write, not a read)
     ("diffbot/commands/said_once.py", "shown_before"),
+    # standard input copied to a file in the run's own temporary folder (a write, not a read)
+    ("diffbot/commands/plot.py", "_stdin_file"),
     # the bundled robot's derived parameters, a file of the package itself
     ("diffbot/urdf/shipped.py", "shipped_fields"),
     # compressed storage of a recording checked regular by io.recordings first, inflated within
