@@ -270,7 +270,12 @@ def plan_command(
             "write a command bag with --out DIR --bag for 'ros2 bag play', or plan velocity "
             "steps with --steps"
         )
-    elif output_format == "json":
+    if rate is not None and output_format in ("table", "twist", "wheels"):
+        warn(
+            f"--rate changes nothing with --format {output_format} (it samples csv and json, "
+            "times --bag and the ros2 script)"
+        )
+    if output_format == "json":
         data = plan_json(p, source.label, steps=built.steps, body=built.body)
         if ramped is not None:
             data["runs"] = [

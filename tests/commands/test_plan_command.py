@@ -496,6 +496,22 @@ def test_wheels_flag_outside_ros2_format_warns(runner: CliRunner) -> None:
     assert result.stderr.startswith("warning: --wheels only changes --format ros2")
 
 
+@pytest.mark.parametrize("output_format", ["table", "twist", "wheels"])
+def test_a_rate_the_format_does_not_sample_is_said_to_change_nothing(
+    runner: CliRunner, output_format: str
+) -> None:
+    plain = run(runner, "straight 0.2", "--format", output_format)
+    result = run(runner, "straight 0.2", "--format", output_format, "--rate", "5")
+    assert result.exit_code == 0, result.output
+    assert result.stdout == plain.stdout
+    assert result.stderr == (
+        f"warning: --rate changes nothing with --format {output_format} (it samples csv and "
+        "json, times --bag and the ros2 script)\n"
+    )
+    sampled = run(runner, "straight 0.2", "--format", "csv", "--rate", "5")
+    assert sampled.stderr == ""
+
+
 # --------------------------------------------------------------------------------------------
 # Limit check
 
