@@ -9,9 +9,7 @@ import click
 from diffbot.commands.options import (
     RobotOptions,
     emit_json,
-    fail,
     robot_options,
-    split_xacro_args,
     warn,
 )
 from diffbot.commands.said_once import quieted, shown_before
@@ -43,10 +41,7 @@ def check(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
       diffbot check docs/examples/tutorial_bot/tutorial_bot.urdf --json
                                exit code 1: its Gazebo plugin says b = 0.4 m
     """
-    rest, xacro_args = split_xacro_args(tokens)
-    if len(rest) > 1:
-        fail(f"expected at most one PATH, got {rest}")
-    p = robot.with_path(rest[0] if rest else None, xacro_args).load(quiet=True)
+    p = robot.with_tokens(tokens).load(quiet=True)
     if as_json:
         emit_json(
             {

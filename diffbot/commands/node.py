@@ -28,7 +28,6 @@ from diffbot.commands.options import (
     fail,
     quiet_option,
     robot_options,
-    split_xacro_args,
     true_geometry_options,
     warn,
 )
@@ -176,7 +175,7 @@ def odom(
 
     checked_frame("--frame-id", frame_id)
     checked_frame("--child-frame-id", child_frame_id)
-    params = _robot(robot, tokens).load()
+    params = robot.with_tokens(tokens, "ROBOT").load()
     from diffbot.commands.odom import tell_open_loop
 
     if not open_loop:
@@ -284,7 +283,7 @@ def ik(
     from diffbot.body_limits import body_limits
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
 
-    params = _robot(robot, tokens).load()
+    params = robot.with_tokens(tokens, "ROBOT").load()
     left, right = command_topics(robot.controllers, params)
     topic, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
     controller = params.controller
@@ -299,15 +298,6 @@ def ik(
         body=body_limits(params, max_linear, max_angular),
     )
     _spin(lambda: InverseKinematicsNode(params, settings), "ik", duration, announce, quiet)
-
-
-def _robot(robot: RobotOptions, tokens: tuple[str, ...]) -> RobotOptions:
-    """The robot options with the description and the ``NAME:=VALUE`` xacro arguments among
-    ``tokens``, as every command that takes a robot takes them."""
-    rest, xacro_args = split_xacro_args(tokens)
-    if len(rest) > 1:
-        fail(f"expected at most one ROBOT, got {rest}")
-    return robot.with_path(rest[0] if rest else None, xacro_args)
 
 
 def _spin(
@@ -443,7 +433,7 @@ def robot_command(
     ):
         if given is not None:
             checked_topic(option, given)
-    options = _robot(robot, tokens)
+    options = robot.with_tokens(tokens, "ROBOT")
     params = options.load()
     if stamped and cmd_vel is None:
         warn("--stamped applies to --cmd-vel commands only")

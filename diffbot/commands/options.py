@@ -300,6 +300,15 @@ class RobotOptions:
         robot = input_path(path) if path is not None else self.robot
         return dataclasses.replace(self, robot=robot, xacro_args={**self.xacro_args, **xacro_args})
 
+    def with_tokens(self, tokens: Sequence[str], what: str = "PATH") -> RobotOptions:
+        """The same options with the description and the ``NAME:=VALUE`` xacro arguments
+        among a command's positional ``tokens`` merged in (at most one description, ``what``
+        in the message)."""
+        rest, xacro_args = split_xacro_args(tokens)
+        if len(rest) > 1:
+            fail(f"expected at most one {what}, got {rest}")
+        return self.with_path(rest[0] if rest else None, xacro_args)
+
     def load(self, *, quiet: bool = False) -> DiffDriveParams:
         """Load the robot; print its warnings on stderr unless ``quiet`` (once in full for a
         description, then as one line: :func:`~diffbot.commands.said_once.say_warnings`)."""

@@ -67,11 +67,7 @@ def params(robot: RobotOptions, tokens: tuple[str, ...], as_json: bool) -> None:
       diffbot params docs/examples/rover/urdf/rover.urdf.xacro wheel_radius:=0.04 \\
           --package rover_description=docs/examples/rover
     """
-    rest, xacro_args = split_xacro_args(tokens)
-    if len(rest) > 1:
-        fail(f"expected at most one PATH, got {rest}")
-    options = robot.with_path(rest[0] if rest else None, xacro_args)
-    p = options.load(quiet=True)
+    p = robot.with_tokens(tokens).load(quiet=True)
     if as_json:
         emit_json(params_json(p))
         return
