@@ -323,11 +323,10 @@ def run_tasks(
         pool = ProcessPoolExecutor(
             max_workers=min(jobs, len(tasks)), initializer=_worker_start, initargs=(stop,)
         )
-    futures: list[Future[OdometryResult]] = []
     with pool:
         try:
             with safe_starts():
-                futures.extend(pool.submit(_pool_task, task) for task in tasks)
+                futures = [pool.submit(_pool_task, task) for task in tasks]
             if done is not None:
                 for future in futures:
                     future.add_done_callback(functools.partial(_finished, done))
@@ -338,8 +337,6 @@ def run_tasks(
             # started never start, and those under way stop at their next chunk, their
             # outputs unwritten.
             stop.set()
-            for future in futures:
-                future.cancel()
             pool.shutdown(wait=True, cancel_futures=True)
             raise
 
