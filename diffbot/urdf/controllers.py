@@ -349,14 +349,16 @@ def read_controller_files(
                 continue
             seen.add(declared_name)
             sections = by_name.get(declared_name)
-            namespaces[declared_name] = _namespace_of([*(sections or ()), node])
+            # its own sections, then the controller manager's that declares it
+            owners = [*(sections or ()), node]
+            namespaces[declared_name] = _namespace_of(owners)
             warnings = (
                 () if sections else (f"no {declared_name}: {_ROS2_KEY} section configures it",)
             )
             configs.append(
                 config_of(
                     declared_name,
-                    _sources([*(sections or ()), node]),
+                    owners[0].source,
                     2,
                     params_of(declared_name),
                     manager_rate,
@@ -366,7 +368,7 @@ def read_controller_files(
         if _is_diff_drive(node.params.get("type")) and name not in seen and name not in _WILDCARDS:
             seen.add(name)
             namespaces[name] = _namespace_of([*by_name[name], *managers])
-            configs.append(config_of(name, _sources(by_name[name]), 2, params_of(name), rate))
+            configs.append(config_of(name, by_name[name][0].source, 2, params_of(name), rate))
     for name, params, source in ros1:
         configs.append(config_of(name, source, 1, params, None))
     unset = [
@@ -382,12 +384,6 @@ def read_controller_files(
         )
         for c in (_follow_chain(c, nodes) for c in configs)
     ]
-
-
-def _sources(sections: Sequence[_Node]) -> str:
-    """The first file of ``sections``: the one a controller's ``source`` names (a path, that
-    the commands read again for the controllers of its wheels)."""
-    return sections[0].source
 
 
 def _namespace_of(sections: Sequence[_Node]) -> str:
