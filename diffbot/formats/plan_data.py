@@ -33,7 +33,7 @@ def plan_json(
     shortest duration that fits is one of those, not a ramped one. With body velocity limits
     ``body``, ``body_limits`` gives them and ``body_violations`` every segment over them.
     """
-
+    checked = p if steps is None else steps
     segments = []
     for s in p.segments:
         segments.append(
@@ -71,10 +71,10 @@ def plan_json(
                 "rpm": v.rpm,
                 "shortest_duration": v.shortest_duration,
             }
-            for v in (p if steps is None else steps).violations()
+            for v in checked.violations()
         ],
         "robot": robot_json(p.params),
-    } | _body_json(p if steps is None else steps, body)
+    } | _body_json(checked, body)
 
 
 def _body_json(checked: Plan, body: BodyLimits | None) -> dict[str, Any]:
