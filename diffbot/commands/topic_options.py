@@ -63,12 +63,13 @@ def resolve_cmd_vel(
     if cmd_vel is None and params.controller is not None:
         release = distro_of(distro)
         found = command_topic(params.controller, release)
-        if params.controller.use_stamped_vel is False and found.stamped:
+        # Without a release such a file is read as Humble's: only a later one named ignores it.
+        if params.controller.use_stamped_vel is False and release not in (None, "humble"):
             from diffbot.commands.options import warn
 
             warn(
                 f"{params.controller.source}: use_stamped_vel: false means nothing on "
-                f"{(release or 'jazzy').capitalize()} (a Humble parameter): the controller takes "
+                f"{str(release).capitalize()} (a Humble parameter): the controller takes "
                 f"TwistStamped on {found.topic}"
             )
         return found.topic, stamped or found.stamped
