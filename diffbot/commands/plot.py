@@ -110,13 +110,14 @@ class _PathSink:
     thinned to evenly spread ones, the first and the last among them: the stamp, x and y of
     each, and the reference's x and y there (NaN where it has none)."""
 
+    columns: list[list[NDArray[Any]]]
+    last: list[NDArray[Any]]
+    seen: int
+    kept: int
+    stride: int
+
     def __init__(self, comparison: ReferenceComparison | None = None) -> None:
         self.comparison = comparison
-        self.columns: list[list[NDArray[Any]]] = []
-        self.last: list[NDArray[Any]] = []
-        self.seen = 0
-        self.kept = 0
-        self.stride = 1
         self.restart()
 
     def write(self, poses: ChunkPoses) -> None:
