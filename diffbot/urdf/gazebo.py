@@ -208,16 +208,15 @@ def _anchor(root: Element, name: str) -> tuple[float, float, float] | None:
     if not chain or len(chain) > len(joints):
         return None
     from diffbot.urdf.meshes import origin_matrix
+    from diffbot.urdf.poses import identity, multiply
 
-    frame = [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+    frame = identity()
     for joint in reversed(chain):
         try:
             pose = origin_matrix(joint.find("origin"), f"joint {name!r}")
         except DescriptionError:
             return None
-        frame = [
-            [sum(frame[i][k] * pose[k][j] for k in range(4)) for j in range(4)] for i in range(4)
-        ]
+        frame = multiply(frame, pose)
     return frame[0][3], frame[1][3], frame[2][3]
 
 

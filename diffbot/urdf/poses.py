@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["Matrix", "pose_matrix"]
+__all__ = ["Matrix", "identity", "multiply", "pose_matrix"]
 
 #: A 4x4 homogeneous transform as four rows.
 Matrix = list[list[float]]
@@ -21,3 +21,13 @@ def pose_matrix(x: float, y: float, z: float, roll: float, pitch: float, yaw: fl
         [-sp, cp * sr, cp * cr, z],
         [0.0, 0.0, 0.0, 1.0],
     ]
+
+
+def identity() -> Matrix:
+    """The transform that leaves every point where it is."""
+    return [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+
+
+def multiply(a: Matrix, b: Matrix) -> Matrix:
+    """The product of two transforms: ``b`` expressed in the frame ``a`` is relative to."""
+    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]

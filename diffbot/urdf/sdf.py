@@ -41,10 +41,10 @@ from diffbot.io.textfile import check_regular, open_regular
 from diffbot.numbers import as_number, shown, written_number
 from diffbot.urdf.gazebo import scoped_plugin
 from diffbot.urdf.packages import PackageFinder, folder_below
-from diffbot.urdf.poses import Matrix, pose_matrix
+from diffbot.urdf.poses import Matrix, identity, pose_matrix
+from diffbot.urdf.poses import multiply as _mul
 from diffbot.urdf.sandbox import check_inside
 from diffbot.urdf.sdf_frames import FrameGraph
-from diffbot.urdf.sdf_frames import multiply as _mul
 
 __all__ = ["MAX_DEPTH", "MAX_FILE_BYTES", "MAX_INCLUDES", "expand_sdf", "model_file"]
 
@@ -56,10 +56,6 @@ MAX_DEPTH: Final = 16
 MAX_INCLUDES: Final = 256
 
 _RESOURCE_PATHS = ("GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_MODEL_PATH")
-
-
-def _identity() -> Matrix:
-    return [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
 
 
 def _inverse(m: Matrix) -> Matrix:
@@ -126,7 +122,7 @@ def _pose(element: ET.Element, where: str) -> tuple[Matrix, str | None]:
     """An element's ``<pose>`` as a matrix, and the frame it is relative to (None: default)."""
     pose = element.find("pose")
     if pose is None or not (pose.text or "").strip():
-        return _identity(), None if pose is None else pose.get("relative_to")
+        return identity(), None if pose is None else pose.get("relative_to")
     words = (pose.text or "").split()
     if pose.get("rotation_format") == "quat_xyzw" or len(words) == 7:
         x, y, z, qx, qy, qz, qw = _numbers(pose.text, 7, f"{where} <pose>")
@@ -352,14 +348,14 @@ class _Reader:
         where = f"{self.source}: model {model.get('name')!r}"
         own = prefix + "__model__"
         if not prefix:
-            self.graph.fix(own, _identity())
+            self.graph.fix(own, identity())
         else:
             # relative to a frame of its parent model (that model's own by default), any of
             # which may be written after it
             pose, relative = _pose(model, where) if placed is None else placed
             what = f"model {prefix[:-2]!r}"
             self.graph.add(own, parent + (relative or "__model__"), pose, what)
-            self.graph.add(prefix[:-2], own, _identity(), what)  # its name is its frame
+            self.graph.add(prefix[:-2], own, identity(), what)  # its name is its frame
             self.graph.attach(prefix[:-2], own)
         # the model's frame moves with its canonical link: the one named, else its first
         first = model.find("link")
@@ -372,7 +368,7 @@ class _Reader:
             name = prefix + link.get("name", "")
             link_pose, relative = _pose(link, f"{where} link {name!r}")
             self.graph.add(name, prefix + (relative or "__model__"), link_pose, f"link {name!r}")
-            record = _Link(name, _identity())
+            record = _Link(name, identity())
             for kind in ("collision", "visual"):
                 for element in link.findall(kind):
                     shape = self.shape(kind, element, prefix, f"{where} link {name!r}")
@@ -551,7 +547,7 @@ class _Reader:
 
 def _translation(m: Matrix) -> Matrix:
     """The pose of ``m``'s origin without its rotation."""
-    moved = _identity()
+    moved = identity()
     for i in range(3):
         moved[i][3] = m[i][3]
     return moved

@@ -16,14 +16,9 @@ from __future__ import annotations
 from collections.abc import Container
 
 from diffbot.errors import DescriptionError
-from diffbot.urdf.poses import Matrix
+from diffbot.urdf.poses import Matrix, multiply
 
-__all__ = ["FrameGraph", "multiply"]
-
-
-def multiply(a: Matrix, b: Matrix) -> Matrix:
-    """The product of two 4x4 transforms."""
-    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
+__all__ = ["FrameGraph"]
 
 
 class FrameGraph:
