@@ -5,7 +5,20 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
-__all__ = ["AxisLimits", "ControllerConfig", "default_of", "first_of"]
+__all__ = [
+    "CONTROLLER_COVARIANCE",
+    "CONTROLLER_ROLLING_WINDOW",
+    "AxisLimits",
+    "ControllerConfig",
+    "default_of",
+    "first_of",
+]
+
+#: The covariance diagonals diff_drive_controller publishes when its file leaves them out
+#: (``pose_covariance_diagonal``, ``twist_covariance_diagonal`` in its parameter declaration).
+CONTROLLER_COVARIANCE = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+#: The controller's ``velocity_rolling_window_size`` when its file leaves it out (steps).
+CONTROLLER_ROLLING_WINDOW = 10
 
 
 @dataclass(frozen=True)
@@ -107,6 +120,9 @@ class ControllerConfig:
         use_stamped_vel: commands as TwistStamped (releases before Jazzy).
         odom_frame_id: the odometry frame.
         base_frame_id: the robot's frame.
+        tf_frame_prefix: what goes before both frame ids (``~`` standing for the namespace);
+            empty or None: the namespace (see :attr:`frame_prefix`).
+        tf_frame_prefix_enable: False: no prefix at all (older releases' switch).
         pose_covariance_diagonal: diagonal of the published pose covariance (6 values).
         twist_covariance_diagonal: diagonal of the published twist covariance (6 values).
         publish_rate: odometry publishing rate (Hz).
@@ -138,6 +154,8 @@ class ControllerConfig:
     use_stamped_vel: bool | None = None
     odom_frame_id: str | None = None
     base_frame_id: str | None = None
+    tf_frame_prefix: str | None = None
+    tf_frame_prefix_enable: bool | None = None
     pose_covariance_diagonal: tuple[float, ...] | None = None
     twist_covariance_diagonal: tuple[float, ...] | None = None
     publish_rate: float | None = None
@@ -152,6 +170,34 @@ class ControllerConfig:
     def node_name(self) -> str:
         """The controller node's absolute name (``/a200_0000/diff_cont``, ``/diff_cont``)."""
         return "/" + "/".join(part for part in (self.namespace, self.name) if part.strip("/"))
+
+    @property
+    def frame_prefix(self) -> str:
+        """What the controller puts before its odometry and base frame ids, as ROS 2's
+        diff_drive_controller resolves it: ``tf_frame_prefix`` (its first ``~`` standing for
+        the node's namespace), else the namespace; with one trailing slash and no leading one
+        (``a200_0000/``). Empty with ``tf_frame_prefix_enable: false``, in the root namespace
+        (or one left to a wildcard) without a prefix, and for ROS 1, whose controller has none.
+        """
+        if self.ros_version == 1 or self.tf_frame_prefix_enable is False:
+            return ""
+        node_namespace = "/" + self.namespace.strip("/")
+        prefix = (self.tf_frame_prefix or node_namespace).replace("~", node_namespace, 1)
+        if not prefix.endswith("/"):
+            prefix += "/"
+        return prefix.removeprefix("/")
+
+    @property
+    def odom_frame(self) -> str:
+        """The frame the controller's odometry is in: the prefix, then ``odom_frame_id``
+        (``odom`` when the file leaves it out)."""
+        return self.frame_prefix + (self.odom_frame_id or "odom")
+
+    @property
+    def base_frame(self) -> str:
+        """The robot's frame as the controller publishes it: the prefix, then
+        ``base_frame_id`` (``base_link`` when the file leaves it out)."""
+        return self.frame_prefix + (self.base_frame_id or "base_link")
 
     @property
     def effective_separation(self) -> float | None:

@@ -81,11 +81,15 @@ def node() -> None:
 @name_option("--joint-states", "joint_states", "The sensor_msgs/JointState topic to read.")
 @name_option("--odom-topic", "odom", "The nav_msgs/Odometry topic to publish.")
 @click.option("--no-tf", is_flag=True, help="Do not broadcast odom -> base_link on /tf.")
-@click.option("--frame-id", metavar="FRAME", help="Odometry frame [controllers file, else odom].")
+@click.option(
+    "--frame-id",
+    metavar="FRAME",
+    help="Odometry frame [the controller's, behind its prefix; else odom].",
+)
 @click.option(
     "--child-frame-id",
     metavar="FRAME",
-    help="The robot's frame [controllers file, else base_link].",
+    help="The robot's frame [the controller's, behind its prefix; else base_link].",
 )
 @click.option(
     "--publish-rate",
@@ -98,7 +102,8 @@ def node() -> None:
     "--window",
     type=Count(1, MAX_ROLLING_WINDOW),
     metavar="N",
-    help="Velocity rolling window in steps, up to 1,000,000 [controllers file, else 1].",
+    help="Velocity rolling window in steps, up to 1,000,000 [the controller's, 10 when its "
+    "file leaves it out; else 1].",
 )
 @feedback_option
 @click.option(
@@ -144,11 +149,13 @@ def odom(
 
     Stamps come from the joint states' headers. Frames, rate, covariances, the velocity window,
     enable_odom_tf and position_feedback come from the controllers file when there is one
-    (--controllers), else from the options. With --feedback velocity (position_feedback: false)
-    each wheel's velocity is held over the time since the last joint state, as the controller
-    does. A joint state without a wheel joint, with a NaN, going back in time or with
-    mismatched arrays is skipped and counted in the status line. With --open-loop the odometry
-    comes from the velocity commands instead (CMD_VEL, as node ik reads it).
+    (--controllers; its frames behind the controller's tf prefix, the controller's defaults
+    where it leaves them out); the options override. With --feedback velocity
+    (position_feedback: false) each wheel's velocity is held over the time since the last joint
+    state, as the controller does. A joint state without a wheel joint, with a NaN, going back
+    in time or with mismatched arrays is skipped and counted in the status line. With
+    --open-loop the odometry comes from the velocity commands instead (CMD_VEL, as node ik
+    reads it).
 
     It serves diff_drive_controller's ~/set_odometry (control_msgs/srv/SetOdometry: x, y, yaw)
     and a ~/reset_odometry (std_srvs/srv/Empty) back to the origin, under the controller's name

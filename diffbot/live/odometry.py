@@ -17,7 +17,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Any, cast
 
-from diffbot.controller_config import ControllerConfig
+from diffbot.controller_config import (
+    CONTROLLER_COVARIANCE,
+    CONTROLLER_ROLLING_WINDOW,
+    ControllerConfig,
+)
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
 from diffbot.live.cdr import JointStateReader, OdometryWriter
@@ -89,18 +93,23 @@ class OdometrySettings:
     def with_controller(
         self, controller: ControllerConfig | None, **given: Any
     ) -> OdometrySettings:
-        """These settings with the controller configuration's values where it has them, then
-        the ``given`` ones (options the user typed: they win)."""
+        """These settings with the controller configuration's, then the ``given`` ones (options
+        the user typed: they win).
+
+        The controller's are those its file sets and, where it leaves them out, the
+        controller's own defaults (its prefixed ``odom`` and ``base_link`` frames, zero
+        covariances, a window of 10 steps); only ``publish_rate``, whose default differs
+        between releases, stays one message per joint state when the file does not set it."""
         values: dict[str, Any] = {}
         if controller is not None:
             found = {
-                "frame_id": controller.odom_frame_id,
-                "child_frame_id": controller.base_frame_id,
+                "frame_id": controller.odom_frame,
+                "child_frame_id": controller.base_frame,
                 "publish_rate": controller.publish_rate,
                 "publish_tf": controller.enable_odom_tf,
-                "pose_covariance": controller.pose_covariance_diagonal,
-                "twist_covariance": controller.twist_covariance_diagonal,
-                "window": controller.velocity_rolling_window_size,
+                "pose_covariance": controller.pose_covariance_diagonal or CONTROLLER_COVARIANCE,
+                "twist_covariance": controller.twist_covariance_diagonal or CONTROLLER_COVARIANCE,
+                "window": controller.velocity_rolling_window_size or CONTROLLER_ROLLING_WINDOW,
                 "services": controller.node_name,
                 "feedback": _FEEDBACK_OF.get(controller.position_feedback),
             }

@@ -97,12 +97,13 @@ class _Reader:
             raise self.fail(key, "true or false", value)
         return value
 
-    def text(self, key: str) -> str | None:
+    def text(self, key: str, *, empty: bool = False) -> str | None:
+        """A string; an empty one only with ``empty``."""
         if key not in self.params:
             return None
         value = self.params[key]
-        if not isinstance(value, str) or not value:
-            raise self.fail(key, "a non-empty string", value)
+        if not isinstance(value, str) or not (value or empty):
+            raise self.fail(key, "a string" if empty else "a non-empty string", value)
         return value
 
     def names(self, *keys: str) -> tuple[str, ...] | None:
@@ -284,6 +285,8 @@ def config_of(
         use_stamped_vel=reader.flag("use_stamped_vel"),
         odom_frame_id=reader.text("odom_frame_id"),
         base_frame_id=reader.text("base_frame_id"),
+        tf_frame_prefix=reader.text("tf_frame_prefix", empty=True),
+        tf_frame_prefix_enable=reader.flag("tf_frame_prefix_enable"),
         pose_covariance_diagonal=reader.diagonal("pose_covariance_diagonal"),
         twist_covariance_diagonal=reader.diagonal("twist_covariance_diagonal"),
         publish_rate=reader.positive("publish_rate"),

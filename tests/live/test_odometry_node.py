@@ -322,6 +322,29 @@ def test_the_controller_configuration_sets_frames_rate_and_covariance() -> None:
     assert OdometrySettings().with_controller(None) == OdometrySettings()
 
 
+def test_what_the_controller_file_leaves_out_is_the_controller_s_default() -> None:
+    # diff_drive_controller_parameter.yaml: odom and base_link behind the namespace's prefix,
+    # zero covariances, a rolling window of 10; publish_rate stays per joint state.
+    controller = ControllerConfig(
+        name="diff_cont", source="c.yaml", ros_version=2, namespace="a200_0000"
+    )
+    settings = OdometrySettings().with_controller(controller)
+    assert (settings.frame_id, settings.child_frame_id) == ("a200_0000/odom", "a200_0000/base_link")
+    assert settings.pose_covariance == settings.twist_covariance == (0.0,) * 6
+    assert (settings.window, settings.publish_rate, settings.publish_tf) == (10, None, True)
+    # The options the user typed are taken as typed, without the prefix.
+    typed = OdometrySettings().with_controller(controller, frame_id="odom", window=1)
+    assert (typed.frame_id, typed.child_frame_id, typed.window) == (
+        "odom",
+        "a200_0000/base_link",
+        1,
+    )
+    # Without a controller the node keeps its own defaults.
+    alone = OdometrySettings()
+    assert (alone.frame_id, alone.window) == ("odom", 1)
+    assert alone.pose_covariance != (0.0,) * 6
+
+
 @pytest.mark.parametrize(
     ("settings", "message"),
     [

@@ -325,6 +325,20 @@ def test_the_controllers_node_namespace_is_the_one_its_file_names(
     assert config.node_name == "/" + "/".join(p for p in (namespace, "diff_cont") if p)
 
 
+def test_the_frame_prefix_is_read_with_the_namespace_it_stands_for() -> None:
+    def config(lines: str) -> ControllerConfig:
+        wheels = "left_wheel_names: [l]\nright_wheel_names: [r]\n"
+        return one(section(wheels + lines, "/a200_0000/diff_cont"))
+
+    # An empty tf_frame_prefix is the controller's default, not a malformed value.
+    empty = config("tf_frame_prefix: ''")
+    assert (empty.tf_frame_prefix, empty.odom_frame) == ("", "a200_0000/odom")
+    tilde = config("tf_frame_prefix: '~/robot'\nbase_frame_id: base")
+    assert tilde.base_frame == "a200_0000/robot/base"
+    off = config("tf_frame_prefix_enable: false")
+    assert (off.tf_frame_prefix_enable, off.base_frame) == (False, "base_link")
+
+
 def test_type_in_the_controllers_own_section_is_found() -> None:
     config = one(
         """
@@ -638,6 +652,8 @@ def test_acceleration_bounds_always_contain_zero(up: float, down: float, previou
         ("cmd_vel_timeout: -0.5", r"cmd_vel_timeout must be a finite number >= 0"),
         ("pose_covariance_diagonal: [0.1, 0.1]", r"pose_covariance_diagonal must be a list of 6"),
         ("odom_frame_id: 7", r"odom_frame_id must be a non-empty string, got 7"),
+        ("tf_frame_prefix: 7", r"tf_frame_prefix must be a string, got 7"),
+        ("tf_frame_prefix_enable: 1", r"tf_frame_prefix_enable must be true or false, got 1"),
         (
             "left_wheel_names: l\nright_wheel_names: [r]",
             r"left_wheel_names must be a list of joint",
