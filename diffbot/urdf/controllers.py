@@ -459,6 +459,10 @@ def load_command_controllers(path: str | os.PathLike[str]) -> dict[str, tuple[st
     """The controllers of a controllers YAML that command a group of joints (``joints``: a
     forward_command_controller, JointGroupVelocityController...), by name, with their joints.
 
+    A controller in a namespace is named with it (``a200_0000/left_wheel_controller``), the
+    namespace of its own section or else of its controller manager's, so that its ``commands``
+    topic is the one it subscribes.
+
     Raises:
         ControllerConfigError: as :func:`load_controllers`.
     """
@@ -466,11 +470,14 @@ def load_command_controllers(path: str | os.PathLike[str]) -> dict[str, tuple[st
     tree = _parse_yaml(_read_file(source), source)
     if not isinstance(tree, Mapping):
         return {}
+    nodes = list(_ros2_nodes(tree, source))
+    managers = [node for node in nodes if node.name == "controller_manager"]
     found: dict[str, tuple[str, ...]] = {}
-    for node in _ros2_nodes(tree, source):
+    for node in nodes:
         joints = node.params.get("joints")
         if isinstance(joints, list) and joints and all(isinstance(j, str) for j in joints):
-            found[node.name] = tuple(joints)
+            namespace = _namespace_of([node, *managers])
+            found["/".join(part for part in (namespace, node.name) if part)] = tuple(joints)
     return found
 
 

@@ -1237,11 +1237,38 @@ single:
         encoding="utf-8",
     )
     assert load_command_controllers(path) == {
-        "left": ("wheel_a", "wheel_b"),
+        "ns/left": ("wheel_a", "wheel_b"),  # its section's namespace, as a diff-drive's
         "right": ("wheel_c",),
     }
     path.write_text("- a\n- b\n", encoding="utf-8")
     assert load_command_controllers(path) == {}
+
+
+def test_command_controllers_in_a_namespace_are_named_with_it(tmp_path: Path) -> None:
+    path = tmp_path / "controllers.yaml"
+    path.write_text(
+        """
+/a200_0000/controller_manager:
+  ros__parameters: {update_rate: 50}
+/a200_0000/left_wheel_controller:
+  ros__parameters: {joints: [wheel_a]}
+robot_b:
+  right_wheel_controller:
+    ros__parameters: {joints: [wheel_b]}
+/**/other_controller:
+  ros__parameters: {joints: [wheel_c]}
+plain_controller:
+  ros__parameters: {joints: [wheel_d]}
+""",
+        encoding="utf-8",
+    )
+    # A section left to a wildcard is in its controller manager's namespace.
+    assert load_command_controllers(path) == {
+        "a200_0000/left_wheel_controller": ("wheel_a",),
+        "robot_b/right_wheel_controller": ("wheel_b",),
+        "a200_0000/other_controller": ("wheel_c",),
+        "plain_controller": ("wheel_d",),
+    }
 
 
 def test_file_errors_are_one_message_each(tmp_path: Path) -> None:
