@@ -127,6 +127,8 @@ class DiffDriveParams:
         controller: the diff_drive_controller configuration the robot runs with, if one was
             read (its limits, frame ids, odometry settings).
         description_files: every file the description was read from (outputs never go there).
+        command_topic: the ROS topic the description's simulator diff-drive plugin takes its
+            Twist commands on (Gazebo classic's, with its namespace and remappings), or None.
     """
 
     wheel_radius: float
@@ -147,6 +149,7 @@ class DiffDriveParams:
     disagreements: tuple[Disagreement, ...] = field(default=(), compare=False)
     controller: ControllerConfig | None = field(default=None, compare=False)
     description_files: tuple[str, ...] = field(default=(), compare=False)
+    command_topic: str | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "wheel_radius", _check_positive("wheel radius", self.wheel_radius))

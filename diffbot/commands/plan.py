@@ -101,7 +101,8 @@ __all__ = ["plan_command"]
     metavar="TOPIC",
     help="Twist topic (twist and ros2 formats, --bag) [the controllers file's diff-drive "
     "controller's /<name>/cmd_vel, TwistStamped from Jazzy on (cmd_vel_unstamped with "
-    "use_stamped_vel: false on Humble), else cmd_vel].",
+    "use_stamped_vel: false on Humble), else the description's Gazebo classic diff-drive "
+    "plugin's, else cmd_vel].",
 )
 @distro_option
 @wheel_topic_options(

@@ -1,6 +1,7 @@
 """Which velocity command topic a command publishes or reads: ``--cmd-vel`` when given, else the
 controllers file's diff-drive controller's own topic for the ROS release (``--distro``, else
-``ROS_DISTRO``), else plain ``cmd_vel``."""
+``ROS_DISTRO``), else the topic of the description's Gazebo classic diff-drive plugin, else
+plain ``cmd_vel``."""
 
 from __future__ import annotations
 
@@ -22,7 +23,9 @@ DEFAULT_CMD_VEL = "cmd_vel"
 #: Help of the --cmd-vel options: where the default comes from.
 CMD_VEL_HELP = (
     "The velocity command topic [the controllers file's diff-drive controller's "
-    "/<name>/cmd_vel (cmd_vel_unstamped with use_stamped_vel: false on Humble), else cmd_vel]."
+    "/<name>/cmd_vel (cmd_vel_unstamped with use_stamped_vel: false on Humble), else the "
+    "description's Gazebo classic diff-drive plugin's (its namespace and remapping), else "
+    "cmd_vel]."
 )
 
 #: --distro: the ROS release whose controller topics and types apply.
@@ -55,7 +58,8 @@ def resolve_cmd_vel(
 ) -> tuple[str, bool]:
     """The command topic and whether its messages are TwistStamped (``stamped`` can only add a
     stamp): the controller's topic and type when the robot has a diff-drive controller
-    configuration, else ``cmd_vel`` (the course's nodes, Twist). A ``cmd_vel`` given replaces the
+    configuration, else the topic its description's Gazebo classic diff-drive plugin subscribes
+    (Twist), else ``cmd_vel`` (the course's nodes, Twist). A ``cmd_vel`` given replaces the
     topic; with a controller configuration and ``distro`` given, the type stays the
     controller's on that release, else it is Twist unless ``stamped``."""
     from diffbot.controller_topics import command_topic, distro_of
@@ -73,7 +77,7 @@ def resolve_cmd_vel(
                 f"TwistStamped on {found.topic}"
             )
         return found.topic, stamped or found.stamped
-    topic = DEFAULT_CMD_VEL if cmd_vel is None else cmd_vel
+    topic = (params.command_topic or DEFAULT_CMD_VEL) if cmd_vel is None else cmd_vel
     if distro is not None and params.controller is not None:  # its release named: its type
         stamped = stamped or command_topic(params.controller, distro_of(distro)).stamped
     return topic, stamped

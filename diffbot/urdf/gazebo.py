@@ -22,6 +22,7 @@ __all__ = [
     "gazebo_drives",
     "other_drive_plugins",
     "ros2_control_parameter_files",
+    "ros_command_topic",
     "scoped_plugin",
 ]
 
@@ -44,6 +45,10 @@ class GazeboDrive:
         right_joints: the right wheel joints.
         wheel_separations: every separation written (m), one per wheel pair for Gazebo classic.
         wheel_radii: every radius written (m); half the diameter for Gazebo classic.
+        command_topic: the ROS topic a Gazebo classic ROS plugin takes its geometry_msgs/Twist
+            commands on (``/cmd_vel``, ``/demo/cmd_demo``: see :func:`ros_command_topic`);
+            None for plugins outside ROS (gz-sim's, whose topics reach ROS only through a
+            bridge, and Gazebo classic's own).
 
     A plugin without a separation or radius runs with its own default (gz-sim: 1.0 m and 0.2 m),
     which is rarely the robot's; the fields stay empty so that a check can say so.
@@ -55,6 +60,7 @@ class GazeboDrive:
     right_joints: tuple[str, ...]
     wheel_separations: tuple[float, ...] = ()
     wheel_radii: tuple[float, ...] = ()
+    command_topic: str | None = None
 
     @property
     def wheel_separation(self) -> float | None:
@@ -109,6 +115,38 @@ def _plugin_lengths(plugin: Element, filename: str, tag: str, scale: float) -> t
     return tuple(values)
 
 
+def ros_command_topic(plugin: Element) -> str:
+    """The absolute ROS topic a Gazebo classic ROS drive plugin subscribes for its commands.
+
+    ROS 2's ``gazebo_ros_diff_drive`` subscribes ``cmd_vel`` in its ``<ros><namespace>``, as
+    a ``<remapping>cmd_vel:=NAME</remapping>`` (or an older ``<argument>``, which may also set
+    ``__ns:=``) renames it; ROS 1's plugins subscribe ``<commandTopic>`` (default ``cmd_vel``)
+    in their ``<robotNamespace>``. Without a namespace the plugin is in the one it is spawned
+    in, the root unless the spawner is told another. A name that starts with ``/`` is taken
+    as it is.
+    """
+    namespace = next(iter(_plugin_texts(plugin, "robotNamespace")), "")
+    topic = next((t for t in _plugin_texts(plugin, "commandTopic") if t), "cmd_vel")
+    for ros in (child for child in plugin if child.tag == "ros"):
+        for child in ros:
+            text = (child.text or "").strip()
+            if child.tag == "namespace" and text:
+                namespace = text
+            elif child.tag in ("remapping", "argument"):
+                for word in text.split():
+                    source, said, target = word.partition(":=")
+                    if not said or not target:
+                        continue
+                    if source == "__ns":
+                        namespace = target
+                    elif source.rpartition("/")[2] == "cmd_vel":
+                        topic = target
+    if topic.startswith("/"):
+        return topic
+    parts = [part for part in (*namespace.split("/"), *topic.split("/")) if part]
+    return "/" + "/".join(parts)
+
+
 def scoped_plugin(plugin: Element, prefix: str) -> Element:
     """A plugin of a nested or included SDF model as the whole model holds it: the joints it
     names are the model's own, each named with ``prefix`` (``wheels::``) before it, as the
@@ -149,6 +187,7 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
     drives: list[GazeboDrive] = []
     for plugin in root.iter("plugin"):
         filename = plugin.get("filename", "")
+        topic: str | None = None
         if _CLASSIC.match(filename):
             kind = "gazebo_ros_diff_drive"
             separations = _plugin_lengths(plugin, filename, "wheel_separation", 1.0)
@@ -157,6 +196,7 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
             radii += _plugin_lengths(plugin, filename, "wheelDiameter", 0.5)
             left = _plugin_texts(plugin, "left_joint", "leftJoint")
             right = _plugin_texts(plugin, "right_joint", "rightJoint")
+            topic = ros_command_topic(plugin)
         elif _CLASSIC_OWN.match(filename):
             # Gazebo classic's own plugin takes no lengths: it measures them when it starts.
             kind = "gazebo_diff_drive"
@@ -169,6 +209,7 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
             radii = _plugin_lengths(plugin, filename, "wheelDiameter", 0.5)
             left = _plugin_texts(plugin, "leftFrontJoint", "leftRearJoint")
             right = _plugin_texts(plugin, "rightFrontJoint", "rightRearJoint")
+            topic = ros_command_topic(plugin)
         elif _GZ_SIM.match(filename) or plugin.get("name") in _GZ_SIM_NAMES:
             kind = "gz_sim_diff_drive"
             separations = _plugin_lengths(plugin, filename, "wheel_separation", 1.0)
@@ -185,6 +226,7 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
                 right_joints=tuple(t for t in right if t),
                 wheel_separations=separations,
                 wheel_radii=radii,
+                command_topic=topic,
             )
         )
     return drives

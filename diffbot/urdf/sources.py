@@ -394,6 +394,7 @@ def reconcile(
         sources=sources,
         disagreements=tuple(found),
         controller=config,
+        command_topic=next((d.command_topic for d in drives if d.command_topic), None),
     )
 
 

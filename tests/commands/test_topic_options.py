@@ -134,6 +134,41 @@ def test_resolving_the_topic_of_node_ik() -> None:
     assert resolve_cmd_vel(plain, "/cmd_vel", False, "jazzy") == ("/cmd_vel", False)
 
 
+def test_without_a_controller_the_gazebo_plugin_s_topic_is_the_default(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # A Gazebo classic ROS 2 plugin in namespace /demo, its cmd_vel remapped to cmd_demo.
+    urdf = Path(__file__).parents[1] / "corpus/gazebo_classic_ros2_two_pairs/urdf/two_pairs.urdf"
+    text = urdf.read_text("utf-8").replace(
+        "<ros><namespace>/demo</namespace></ros>",
+        "<ros><namespace>/demo</namespace><remapping>cmd_vel:=cmd_demo</remapping></ros>",
+    )
+    robot = tmp_path / "robot.urdf"
+    robot.write_text(text, "utf-8")
+    result = run(runner, "plan", "--robot", str(robot), "--format", "twist", "straight 0.1")
+    assert result.exit_code == 0, result.output
+    assert "ros2 topic pub -r 10 /demo/cmd_demo geometry_msgs/msg/Twist" in result.stdout
+    # A topic given still wins, and a controllers file's controller before the plugin.
+    given = run(
+        runner,
+        "plan",
+        "--robot",
+        str(robot),
+        "--cmd-vel-topic",
+        "x",
+        "--format",
+        "twist",
+        "straight 0.1",
+    )
+    assert "ros2 topic pub -r 10 x geometry_msgs/msg/Twist" in given.stdout
+    plain = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, command_topic="/demo/c")
+    assert resolve_cmd_vel(plain, None, False, None) == ("/demo/c", False)
+    controlled = plain.replace(
+        controller=ControllerConfig(name="base", source="c.yaml", ros_version=2)
+    )
+    assert resolve_cmd_vel(controlled, None, False, "jazzy") == ("/base/cmd_vel", True)
+
+
 @pytest.mark.parametrize("command", ["plan", "drive", "node ik"])
 def test_an_unknown_distro_is_one_error_line(runner: CliRunner, command: str) -> None:
     assert_one_error_line(run(runner, *command.split(), "--distro", "foxy"), "--distro")

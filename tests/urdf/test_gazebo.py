@@ -137,3 +137,52 @@ def test_a_nested_models_plugin_names_its_joints_in_the_whole_model() -> None:
         "<rightRearJoint>b</rightRearJoint><leftJoint>c</leftJoint></plugin>"
     )
     assert [c.text for c in scoped_plugin(classic, "m::")] == ["m::a", "m::b", "m::c"]
+
+
+def plugin_topic(filename: str, inner: str) -> str | None:
+    plugin = f'<gazebo><plugin filename="{filename}" name="drive">{inner}</plugin></gazebo>'
+    (drive,) = gazebo_drives(root("", plugin))
+    return drive.command_topic
+
+
+@pytest.mark.parametrize(
+    ("inner", "topic"),
+    [
+        ("", "/cmd_vel"),
+        # gazebo_ros_pkgs' ROS 2 world gazebo_ros_diff_drive_demo.world: a namespace, a remap.
+        (
+            "<ros><namespace>/demo</namespace><remapping>cmd_vel:=cmd_demo</remapping>"
+            "<remapping>odom:=odom_demo</remapping></ros>",
+            "/demo/cmd_demo",
+        ),
+        ("<ros><namespace>robot1/</namespace></ros>", "/robot1/cmd_vel"),
+        ("<ros><remapping>cmd_vel:=/abs/twist</remapping></ros>", "/abs/twist"),
+        (
+            "<ros><namespace>/demo</namespace><remapping>/demo/cmd_vel:=x</remapping></ros>",
+            "/demo/x",
+        ),
+        # Dashing and Eloquent wrote remappings and the namespace as arguments.
+        ("<ros><argument>__ns:=/old</argument><argument>cmd_vel:=cmd</argument></ros>", "/old/cmd"),
+        # ROS 1: commandTopic in robotNamespace.
+        ("<robotNamespace>/</robotNamespace><commandTopic>cmd_vel</commandTopic>", "/cmd_vel"),
+        (
+            "<robotNamespace>bot</robotNamespace><commandTopic>base/twist</commandTopic>",
+            "/bot/base/twist",
+        ),
+        (
+            "<commandTopic>/mobile_base/commands/velocity</commandTopic>",
+            "/mobile_base/commands/velocity",
+        ),
+    ],
+)
+def test_a_ros_plugin_s_command_topic_takes_its_namespace_and_remapping(
+    inner: str, topic: str
+) -> None:
+    assert plugin_topic("libgazebo_ros_diff_drive.so", inner) == topic
+    assert plugin_topic("libgazebo_ros_skid_steer_drive.so", inner) == topic
+
+
+def test_plugins_outside_ros_have_no_command_topic() -> None:
+    # gz-sim's topic is a Gazebo transport one, reached from ROS only through a bridge.
+    assert plugin_topic("gz-sim-diff-drive-system", "<topic>/model/r/cmd_vel</topic>") is None
+    assert plugin_topic("libDiffDrivePlugin.so", "") is None
