@@ -20,6 +20,8 @@ from diffbot.commands.progress import progress
 from diffbot.commands.recording_options import (
     RecordingOptions,
     conditioning_lines,
+    exit_if_implausible,
+    has_implausible_steps,
     recording_options,
     robot_label,
     skipped_text,
@@ -413,8 +415,8 @@ def _reference_text(reference: ReferenceResult) -> str:
 
 def _exit_if_implausible(result: OdometryResult) -> None:
     """Exit 1 after the summary when a step was implausible: the pose is not to be trusted."""
-    if result.run is not None and result.run.conditioning.implausible_steps:
-        sys.exit(EXIT_CHECK_FAILED)
+    if result.run is not None:
+        exit_if_implausible([result.run.conditioning])
 
 
 def _outputs(sources: list[str], out: OutOptions) -> list[str | None]:
@@ -479,7 +481,7 @@ def _many(
         assert result.run is not None
         warn_notes(result.run.notes, result.task.input)
         warn_conditioning(result.run.conditioning, result.task.input)
-        implausible += result.run.conditioning.implausible_steps > 0
+        implausible += has_implausible_steps(result.run.conditioning)
         data = _summary(result) | {"robot": robot}
         if as_json:
             click.echo(json.dumps(data, allow_nan=False))

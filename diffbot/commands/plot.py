@@ -23,6 +23,7 @@ from diffbot.commands.paths import InputPath
 from diffbot.commands.plan_options import PlanOptions, plan_arguments
 from diffbot.commands.recording_options import (
     RecordingOptions,
+    exit_if_implausible,
     recording_options,
     robot_label,
 )
@@ -36,6 +37,7 @@ if TYPE_CHECKING:
     from numpy.typing import NDArray
 
     from diffbot.chunk_odometry import ChunkPoses
+    from diffbot.conditioning import ConditioningReport
     from diffbot.reference import ReferenceComparison
 
 __all__ = ["plot"]
@@ -75,7 +77,8 @@ def _recordings_only(
     differences: list[tuple[str, list[float], list[float]]] = []
     params = robot.load()
     options.check_robot(robot, params)
-    recordings = _odometry(odom_inputs, params, topic, options, reference, differences)
+    reports: list[ConditioningReport] = []
+    recordings = _odometry(odom_inputs, params, topic, options, reports, reference, differences)
     figure = plotting.recordings_figure(recordings, differences=differences, window=show)
     references = {label for label, _, _ in differences}
     click.echo(f"robot {robot_label(robot)}")
@@ -86,6 +89,7 @@ def _recordings_only(
         plotting.save(figure, output, force=force, inputs=inputs)
     if show:
         plotting.show()
+    exit_if_implausible(reports)
 
 
 #: The poses of a recording kept for its figure, at most twice this many: beyond, every other one
@@ -166,22 +170,24 @@ def _odometry(
     params: DiffDriveParams,
     topic: str | None,
     options: RecordingOptions,
+    reports: list[ConditioningReport],
     reference: str | None = None,
     differences: list[tuple[str, list[float], list[float]]] | None = None,
 ) -> list[_Path]:
     """The odometry path of each recording, labelled by its file name, each followed by its
     reference's path when a reference topic is given (the distances between the two over time
     then go to ``differences``). Recordings are read in chunks, as ``diffbot odom`` reads them,
-    so that millions of samples stay small."""
+    so that millions of samples stay small; what was done to each one's positions goes to
+    ``reports``, in their order, for the exit code ``diffbot odom`` would give."""
     if differences is None:
         differences = []
     recordings: list[_Path] = []
     with tempfile.TemporaryDirectory() as folder:
         for source in inputs:
             path = _stdin_file(Path(folder)) if source == "-" else Path(source)
-            recordings.extend(
-                _recording(source, path, params, topic, options, reference, differences)
-            )
+            paths, report = _recording(source, path, params, topic, options, reference, differences)
+            recordings.extend(paths)
+            reports.append(report)
     return recordings
 
 
@@ -205,9 +211,10 @@ def _recording(
     options: RecordingOptions,
     reference: str | None,
     differences: list[tuple[str, list[float], list[float]]],
-) -> list[_Path]:
+) -> tuple[list[_Path], ConditioningReport]:
     """The odometry path of the recording named ``source`` and read from ``path`` (standard
-    input's copy for ``-``), then its true path and its reference's, when it has them."""
+    input's copy for ``-``), then its true path and its reference's, when it has them; and what
+    was done to its positions (warned about as ``diffbot odom`` warns)."""
     from diffbot.commands.recording_options import warn_conditioning, warn_notes
     from diffbot.replay import csv_odometry, recording_odometry
 
@@ -239,7 +246,7 @@ def _recording(
         paths.append(truth)
     if comparison is not None:
         paths.append(_reference(source, comparison, (stamps, x, y, rx, ry), differences))
-    return paths
+    return paths, run.conditioning
 
 
 #: The label a recording's true path is drawn under: its source and this.
@@ -359,7 +366,8 @@ def plot(
     each recording's odometry path, its legend giving how far it ends from the plan's end, and
     the true path of a simulated run's CSV (its x, y columns: `diffbot simulate --follow`, or
     a true robot), so that a followed run shows the plan, where the robot went and where its
-    odometry says it went.
+    odometry says it went. A recording with implausible steps (wheel jumps) is still drawn,
+    with the warning 'diffbot odom' gives for it, and the exit code is 1, as there.
     Below: both wheels' speeds over time (rpm, rad/s on the right), the motor limit, and the
     segments over it shaded (a warning names them; the exit code stays 0).
 
@@ -402,7 +410,8 @@ def plot(
     if odom_inputs:
         recording.check_robot(robot, params)
         click.echo(f"robot {robot_label(robot)}")
-    recordings = _odometry(odom_inputs, params, topic, recording, reference)
+    reports: list[ConditioningReport] = []
+    recordings = _odometry(odom_inputs, params, topic, recording, reports, reference)
     figure = plotting.plan_figure(p, params, recordings=recordings, window=show)
     for label, xs, ys in recordings:
         miss = plotting.end_distance(p, xs[-1], ys[-1])
@@ -415,3 +424,4 @@ def plot(
         plotting.save(figure, output, force=force, inputs=inputs)
     if show:
         plotting.show()
+    exit_if_implausible(reports)

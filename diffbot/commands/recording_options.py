@@ -4,13 +4,15 @@ them."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+import sys
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import click
 
 from diffbot.commands.options import F, FiniteFloat, RobotOptions, fail, option_group, warn
+from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
 
 if TYPE_CHECKING:
@@ -22,6 +24,8 @@ if TYPE_CHECKING:
 __all__ = [
     "RecordingOptions",
     "conditioning_lines",
+    "exit_if_implausible",
+    "has_implausible_steps",
     "recording_options",
     "robot_label",
     "skipped_text",
@@ -284,6 +288,19 @@ def warn_conditioning(report: ConditioningReport, source: str) -> None:
             f"sample {first.sample}, t {fmt(first.seconds, 6)} s ({first.joint} at "
             f"{fmt(first.speed, 4)} rad/s): the pose is not to be trusted ({_cause(report)})"
         )
+
+
+def has_implausible_steps(report: ConditioningReport) -> bool:
+    """Whether a recording's pose is not to be trusted: a step of it was implausible (the
+    warning of :func:`warn_conditioning` says which)."""
+    return report.implausible_steps > 0
+
+
+def exit_if_implausible(reports: Iterable[ConditioningReport]) -> None:
+    """Exit 1 once a command's output is given when any recording read had an implausible
+    step: the pose it gave is not to be trusted."""
+    if any(has_implausible_steps(report) for report in reports):
+        sys.exit(EXIT_CHECK_FAILED)
 
 
 def _cause(report: ConditioningReport) -> str:

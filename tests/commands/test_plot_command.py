@@ -60,9 +60,10 @@ def test_example_a_draws_the_path_and_the_wheel_speeds(
 def test_a_recording_is_drawn_over_the_plan_and_its_miss_reported(
     runner: CliRunner, params: DiffDriveParams, tmp_path: Path
 ) -> None:
-    # The wheels roll 1 m straight ahead while the plan turns a quarter circle of 0.5 m.
+    # The wheels roll 1 m straight ahead in 10 s while the plan turns a quarter circle of 0.5 m
+    # (in 1 s, no wheel turns that fast: 'diffbot odom' and plot --odom exit 1 on it).
     turns = 1.0 / params.wheel_radius
-    rows = [f"{k / 10},{k / 10 * turns!r},{k / 10 * turns!r}" for k in range(11)]
+    rows = [f"{k},{k / 10 * turns!r},{k / 10 * turns!r}" for k in range(11)]
     csv = tmp_path / "straight.csv"
     csv.write_text(f"time,{params.left_joint},{params.right_joint}\n" + "\n".join(rows) + "\n")
     target = tmp_path / "run.png"
@@ -241,9 +242,10 @@ def test_a_true_pose_past_the_boundary_is_one_error_naming_its_line(
 def test_a_simulated_runs_true_path_is_drawn_beside_its_odometry(
     runner: CliRunner, params: DiffDriveParams, tmp_path: Path
 ) -> None:
-    # The wheels report 1 m straight ahead; the true pose went along a line 0.3 m to the left.
+    # The wheels report 1 m straight ahead in 10 s; the true pose went along a line 0.3 m to
+    # the left.
     turns = 1.0 / params.wheel_radius
-    rows = [f"{k / 10},{k / 10 * turns!r},{k / 10 * turns!r},{k / 10},0.3,0" for k in range(11)]
+    rows = [f"{k},{k / 10 * turns!r},{k / 10 * turns!r},{k / 10},0.3,0" for k in range(11)]
     csv = tmp_path / "run.csv"
     header = f"time,{params.left_joint},{params.right_joint},x,y,theta"
     csv.write_text(header + "\n" + "\n".join(rows) + "\n")
@@ -272,7 +274,7 @@ def test_a_run_on_stdin_is_drawn_with_its_true_path(
     # As `diffbot simulate ... | diffbot plot --odom -`: read once for the odometry and once for
     # the true path, both named '-'.
     turns = 1.0 / params.wheel_radius
-    rows = [f"{k / 10},{k / 10 * turns!r},{k / 10 * turns!r},{k / 10},0.3,0" for k in range(11)]
+    rows = [f"{k},{k / 10 * turns!r},{k / 10 * turns!r},{k / 10},0.3,0" for k in range(11)]
     header = f"time,{params.left_joint},{params.right_joint},x,y,theta"
     target = tmp_path / "run.png"
     args = ["plot", "straight 1 10s", "--odom", "-", "-o", str(target)]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from click.testing import CliRunner, Result
 from extras import need
 from figures import axes_labelled, near, rendered
@@ -38,6 +39,28 @@ def test_recordings_without_a_plan_are_drawn_alone_in_counts(
     robot = tmp_path / "pioneer.urdf"
     assert result.stdout == f"robot {robot}\n{csv}: odometry ends at x 1 m, y 0.5 m\n"
     assert result.stderr == ""
+
+
+@pytest.mark.parametrize("plan", [[], ["--example", "A"]], ids=["alone", "over a plan"])
+def test_a_recording_with_implausible_steps_exits_1_with_the_warning_odom_gives(
+    runner: CliRunner, tmp_path: Path, plan: list[str]
+) -> None:
+    # Raw counts read as radians: 'diffbot odom' warns of 100 implausible steps and exits 1, as
+    # the pose is not to be trusted; plot --odom of the same recording exited 0.
+    csv = counts_csv(tmp_path)
+    robot = ["--robot", str(urdf(tmp_path))]
+    odom = runner.invoke(main, ["odom", str(csv), *robot], prog_name="diffbot")
+    assert odom.exit_code == 1, odom.output
+    target = tmp_path / "raw.png"
+    result = run(runner, *plan, "--odom", str(csv), *robot, "-o", str(target))
+    assert result.exit_code == odom.exit_code, result.output + result.stderr
+    assert result.stderr == odom.stderr
+    assert "100 implausible steps" in result.stderr
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"  # drawn all the same
+    # Read as counts, the same recording is plausible and both exit 0.
+    counts = ["--counts-per-rev", repr(COUNTS_PER_REV), "--wrap", "65536"]
+    again = run(runner, *plan, "--odom", str(csv), *robot, *counts, "-o", str(target), "--force")
+    assert again.exit_code == 0, again.output + again.stderr
 
 
 def test_the_recordings_figure_has_no_plan_in_it() -> None:
