@@ -255,7 +255,9 @@ def plan_command(
                 write_stream_csv(commands.command_chunks(rate), out)
             else:
                 document = _with_frame(
-                    plan_json(p, source.label, steps=built.steps, body=built.body)
+                    plan_json(
+                        p, source.label, steps=built.steps, body=built.body, start=source.start
+                    )
                     | {"commands": None},
                     frame,
                 )
@@ -277,7 +279,7 @@ def plan_command(
             "times --bag and the ros2 script)"
         )
     if output_format == "json":
-        data = plan_json(p, source.label, steps=built.steps, body=built.body)
+        data = plan_json(p, source.label, steps=built.steps, body=built.body, start=source.start)
         if ramped is not None:
             data["runs"] = [
                 {

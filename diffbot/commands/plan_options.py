@@ -30,7 +30,7 @@ from diffbot.commands.options import (
 from diffbot.commands.paths import InputPath, input_path
 from diffbot.commands.shown_defaults import choice_option, name_option
 from diffbot.formats.text import fmt
-from diffbot.kinematics import DiffDriveParams
+from diffbot.kinematics import DiffDriveParams, Pose, norm_angle
 from diffbot.planfile import load_plan, parse_plan
 from diffbot.trajectory import EXAMPLES, Plan, Segment
 from diffbot.trajectory import plan as make_plan
@@ -69,6 +69,9 @@ class PlanInput:
     path: Path | None
     #: What the table adds below the plan (a goal plan's shape and why).
     note: str = ""
+    #: A goal plan's start pose (m, m, rad), which its poses are relative to; None for a plan
+    #: of segments, which starts at its own origin.
+    start: Pose | None = None
 
 
 @dataclass(frozen=True)
@@ -353,7 +356,8 @@ class PlanOptions:
         if start != (0.0, 0.0, 0.0):
             note += f"poses are relative to the start {_pose_text(*start)}\n"
         label = f"to {where}" + (f" from {_pose_text(*start)}" if goal.start else "")
-        return PlanInput(segments, label, source.path, note)
+        x, y, heading = start
+        return PlanInput(segments, label, source.path, note, Pose(x, y, norm_angle(heading)))
 
     @property
     def ramp_options(self) -> dict[str, float | None]:

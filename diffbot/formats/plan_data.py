@@ -24,9 +24,17 @@ def pose_json(pose: Pose) -> dict[str, float]:
 
 
 def plan_json(
-    p: Plan, label: str, *, steps: Plan | None = None, body: BodyLimits | None = None
+    p: Plan,
+    label: str,
+    *,
+    steps: Plan | None = None,
+    body: BodyLimits | None = None,
+    start: Pose | None = None,
 ) -> dict[str, Any]:
     """The whole plan as JSON-ready data (SI units, rpm labelled).
+
+    ``start`` is a goal plan's start pose, in the frame its goals are given in: the plan's
+    poses (each segment's, the final one) are relative to it, and ``start_pose`` says so.
 
     ``steps`` is the step plan of a ramped plan ``p`` (its summary): the limits are checked
     on it, as the durations a plan gives are cruise durations that the ramps lengthen, so the
@@ -60,6 +68,7 @@ def plan_json(
         "plan": format_plan(s.segment for s in p.segments),
         "segments": segments,
         "duration": p.duration,
+        **({} if start is None else {"start_pose": pose_json(start)}),
         "final_pose": pose_json(p.final_pose),
         "within_limit": p.within_limit,
         "limit": p.limit,

@@ -119,6 +119,53 @@ def test_plans_end_at_the_goal(
     assert abs(math.remainder(theta - expected[2], 2 * math.pi)) <= 1e-12
 
 
+@pytest.mark.parametrize(
+    ("args", "start", "goal"),
+    [
+        (("--from", "1,2,90", "--to", "1,3,90"), (1.0, 2.0, math.pi / 2), (1.0, 3.0, math.pi / 2)),
+        # A heading past a turn is the same start: said in (-pi, pi], as every pose is.
+        (
+            ("--from", "-0.5,1,450", "--to", "2,0,-30"),
+            (-0.5, 1.0, math.pi / 2),
+            (2, 0, -math.pi / 6),
+        ),
+        (("--to", "0,1,0"), (0.0, 0.0, 0.0), (0.0, 1.0, 0.0)),
+        (("--to", "0,1,0", "--rate", "10"), (0.0, 0.0, 0.0), (0.0, 1.0, 0.0)),
+        (("--from", "1,0,0", "--to", "2,1,0", "--max-accel", "0.5"), (1.0, 0.0, 0.0), (2, 1, 0)),
+    ],
+)
+def test_the_json_gives_the_start_the_poses_are_relative_to(
+    runner: CliRunner,
+    args: tuple[str, ...],
+    start: tuple[float, float, float],
+    goal: tuple[float, float, float],
+) -> None:
+    # The poses of a goal plan are relative to --from, which its JSON did not give: a reader
+    # could not tell where the plan goes.
+    result = run(runner, "plan", *args, "--json")
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    given = data["start_pose"]
+    assert list(given) == ["x", "y", "theta"]
+    assert (given["x"], given["y"]) == pytest.approx(start[:2], abs=1e-15)
+    assert given["theta"] == pytest.approx(start[2], abs=1e-15)
+    assert data["segments"][0]["start_pose"] == {"x": 0.0, "y": 0.0, "theta": 0.0}
+    # The start composed with the plan's final pose is the goal, in the goals' frame.
+    end = data["final_pose"]
+    c, s = math.cos(given["theta"]), math.sin(given["theta"])
+    x = given["x"] + c * end["x"] - s * end["y"]
+    y = given["y"] + s * end["x"] + c * end["y"]
+    assert (x, y) == pytest.approx(goal[:2], abs=1e-12)
+    turn = math.remainder(given["theta"] + end["theta"] - goal[2], 2 * math.pi)
+    assert abs(turn) <= 1e-12
+
+
+def test_a_plan_of_segments_has_no_start_pose_of_its_own(runner: CliRunner) -> None:
+    result = run(runner, "plan", "straight 1; spin 90", "--json")
+    assert result.exit_code == 0, result.output
+    assert "start_pose" not in json.loads(result.stdout)
+
+
 def test_forward_only_never_backs_up(runner: CliRunner) -> None:
     result = run(runner, "plan", "--to", "-1,0,0", "--forward-only", "--format", "csv")
     rows = list(csv.DictReader(io.StringIO(result.stdout)))
