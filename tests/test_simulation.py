@@ -224,6 +224,50 @@ def test_simulate_then_odom_ends_exactly_at_the_plans_final_pose(
     assert json.loads(odom.stdout)["skipped"] == {}
 
 
+def test_simulate_of_a_true_robot_says_where_it_really_ended(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # The real wheels are 2 % larger and 0.139 m apart where the description says 0.035 m and
+    # 0.135 m: told to drive 1 m and turn 90 degrees, the robot drives 1.02 m and turns
+    # 90 * 1.02 * 0.135 / 0.139 degrees. The summary gave only the plan's end as its final pose.
+    out = tmp_path / "run.csv"
+    truth = ["--true-wheel-radius", "0.0357,0.0357", "--true-separation", "0.139"]
+    args = ["simulate", "straight 1; spin 90", *truth, "-o", str(out)]
+    result = runner.invoke(main, [*args, "--json"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    assert summary["final_pose"] == {"x": 1.0, "y": 0.0, "theta": math.pi / 2}  # the plan's
+    turn = math.pi / 2 * 1.02 * 0.135 / 0.139
+    end = summary["true_final_pose"]
+    assert end["x"] == pytest.approx(1.02, abs=1e-12)
+    assert end["y"] == pytest.approx(0.0, abs=1e-12)
+    assert end["theta"] == pytest.approx(turn, abs=1e-12)
+    # The CSV's last true pose, exactly.
+    last = out.read_text().splitlines()[-1].split(",")
+    assert [float(v) for v in last[-3:]] == [end["x"], end["y"], end["theta"]]
+    assert summary["final_position_error"] == pytest.approx(0.02, abs=1e-12)
+    assert summary["final_heading_error"] == pytest.approx(math.pi / 2 - turn, abs=1e-12)
+    # The table says it too, beside the plan's end.
+    table = runner.invoke(main, [*args, "--force"])
+    assert table.exit_code == 0, table.output
+    lines = table.stdout.splitlines()
+    assert "final pose  x 1 m, y 0 m, theta 1.5708 rad" in lines
+    assert (
+        f"true end    x 1.02 m, y 0 m, theta {turn:.6g} rad: 20 mm, "
+        f"{math.degrees(math.pi / 2 - turn):.3g} deg from the plan's end"
+    ) in lines
+    # In a bag as well.
+    bag = runner.invoke(main, [*args[:-1], str(tmp_path / "bag"), "--bag", "--json"])
+    assert bag.exit_code == 0, bag.output
+    assert json.loads(bag.stdout)["true_final_pose"] == end
+    # A robot as described ends where the plan does: no true pose, as the output has none.
+    plain = runner.invoke(main, ["simulate", "straight 1; spin 90", "-o", str(out), "--force"])
+    assert plain.exit_code == 0, plain.output
+    assert "true end" not in plain.stdout
+    described = runner.invoke(main, ["simulate", "straight 1", "-o", str(out), "--force", "--json"])
+    assert "true_final_pose" not in json.loads(described.stdout)
+
+
 def test_simulate_writes_a_bag_of_joint_states_that_odom_reads(
     runner: CliRunner, tmp_path: Path
 ) -> None:

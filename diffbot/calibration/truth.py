@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from diffbot.kinematics import DiffDriveParams
+from diffbot.kinematics import DiffDriveParams, Pose
 
 if TYPE_CHECKING:
     import numpy as np
@@ -90,6 +90,7 @@ class TruthStream:
         self.plan = plan
         self.robot = robot
         self._last: tuple[float, float, float, float, float] | None = None
+        self._final: Pose | None = None
 
     def rows(self, times: ArrayLike) -> NDArray[np.float64]:
         """Rows x, y (m) and theta (rad, wrapped to (-pi, pi]) at ``times`` (s, increasing and
@@ -115,7 +116,15 @@ class TruthStream:
             float(y[-1]),
             float(theta[-1]),
         )
-        return np.vstack((x, y, norm_angle(theta)))
+        rows = np.vstack((x, y, norm_angle(theta)))
+        self._final = Pose(*(float(v) for v in rows[:, -1]))
+        return rows
+
+    @property
+    def final(self) -> Pose | None:
+        """The last row given, as a pose (m, m, rad in (-pi, pi]): where the real robot ended
+        once every sample is taken; None before any."""
+        return self._final
 
 
 def truth_rows(

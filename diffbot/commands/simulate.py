@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import math
 import sys
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -35,7 +36,7 @@ from diffbot.commands.plan_options import (
     plan_input_options,
 )
 from diffbot.commands.progress import progress
-from diffbot.commands.simulate_loop import LoopRequest, run_loop
+from diffbot.commands.simulate_loop import LoopRequest, end_errors, run_loop
 from diffbot.errors import EXIT_CHECK_FAILED
 from diffbot.formats.text import fmt
 from diffbot.io.bag import JointStatesBagWriter
@@ -218,7 +219,9 @@ def simulate(
     from the description's: the commands come from the description, the wheels turn as
     commanded, and the real robot's exact pose is added as columns x, y, theta (m, m, rad) of
     the CSV, or as geometry_msgs/PoseStamped on /ground_truth in a bag: data for `diffbot
-    calibrate fit`.
+    calibrate fit`. The summary then gives where the real robot ended beside the plan's end
+    (--json: true_final_pose, final_position_error, final_heading_error; final_pose is the
+    plan's end).
 
     --motor-lag, --latency, --drop and --slip make the robot disobey as a real base does (its
     wheels also never exceed the motor limit); the plan's commands are then sent open loop at
@@ -226,9 +229,10 @@ def simulate(
     robot's wheel odometry (--pose-source odom) or its true pose with noise (--pose-source
     truth --pose-noise M,DEG); the tracking law acts on the pose predicted --lead s ahead
     (by default the robot's --latency plus --motor-lag plus half a control period). Such runs
-    add the true pose columns x, y, theta and their --json summary gives final_position_error,
-    final_heading_error (m, rad), max_cross_track_error, rms_cross_track_error (m),
-    peak_limit_fraction, duration (s), arrived and, followed, the lead (s).
+    add the true pose columns x, y, theta and their --json summary gives true_final_pose,
+    final_position_error, final_heading_error (m, rad), max_cross_track_error,
+    rms_cross_track_error (m), peak_limit_fraction, duration (s), arrived and, followed, the
+    lead (s).
 
     \b
     Examples:
@@ -317,6 +321,13 @@ def simulate(
                 done = executed.final_pose
                 summary["executed_final_pose"] = {"x": done.x, "y": done.y, "theta": done.theta}
                 summary["offset"] = executed.offset
+            if truth is not None and truth.final is not None:
+                # The real robot's end, as a disturbed run gives it: final_pose is the plan's.
+                end = truth.final
+                position, heading = end_errors(pose, end)
+                summary["true_final_pose"] = {"x": end.x, "y": end.y, "theta": end.theta}
+                summary["final_position_error"] = position
+                summary["final_heading_error"] = heading
             emit_json(summary)
         else:
             what = f"rosbag2, {topic}" if out.as_bag else "CSV"
@@ -347,6 +358,18 @@ def simulate(
                         f"x {fmt(round(done.x, 9))} m, y {fmt(round(done.y, 9))} m, "
                         f"theta {fmt(round(done.theta, 9))} rad, {fmt(executed.offset, 4)} m "
                         "from the planned end",
+                    )
+                ]
+            if truth is not None and truth.final is not None:
+                end = truth.final
+                position, heading = end_errors(pose, end)
+                millimetres = round(position, 9) * 1000.0  # rounding noise reads as 0
+                rows[-1:-1] = [
+                    (
+                        "true end",
+                        f"x {fmt(round(end.x, 9))} m, y {fmt(round(end.y, 9))} m, "
+                        f"theta {fmt(round(end.theta, 9))} rad: {fmt(millimetres, 4)} mm, "
+                        f"{fmt(math.degrees(heading), 3)} deg from the plan's end",
                     )
                 ]
             for label, value in rows:

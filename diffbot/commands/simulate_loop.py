@@ -21,11 +21,11 @@ if TYPE_CHECKING:
 
     from diffbot.body_limits import BodyLimits
     from diffbot.closed_loop import LoopResult, LoopSettings
-    from diffbot.kinematics import DiffDriveParams
+    from diffbot.kinematics import DiffDriveParams, Pose
     from diffbot.ramps import RampedPlan
     from diffbot.trajectory import Plan
 
-__all__ = ["LoopRequest", "run_loop", "summary"]
+__all__ = ["LoopRequest", "end_errors", "run_loop", "summary"]
 
 
 @dataclass(frozen=True)
@@ -64,6 +64,14 @@ class LoopRequest:
             )
         if self.pose_noise is not None and self.pose_noise[1] > 180.0:
             fail(f"--pose-noise: {fmt(self.pose_noise[1])} degrees is more than half a turn")
+
+
+def end_errors(goal: Pose, end: tuple[float, float, float]) -> tuple[float, float]:
+    """How far the true pose ``end`` (x, y in m, theta in rad) ended from the plan's end
+    ``goal``: the distance (m) and the heading difference (rad, in [0, pi])."""
+    x, y, theta = end
+    distance = math.hypot(x - goal.x, y - goal.y)
+    return distance, abs(math.remainder(theta - goal.theta, 2.0 * math.pi))
 
 
 class _Truth:
@@ -108,11 +116,10 @@ class _Figures:
         """Final errors (m, rad) of the true pose ``final`` against the plan's end, the
         cross-track errors (m), the peak share of the motor limit commanded, the duration (s),
         whether it arrived."""
-        goal = self.steps.final_pose
-        x, y, theta = final
+        position, heading = end_errors(self.steps.final_pose, final)
         return {
-            "final_position_error": math.hypot(x - goal.x, y - goal.y),
-            "final_heading_error": abs(math.remainder(theta - goal.theta, 2.0 * math.pi)),
+            "final_position_error": position,
+            "final_heading_error": heading,
             "max_cross_track_error": self.worst,
             "rms_cross_track_error": math.sqrt(self.squares / self.count) if self.count else 0.0,
             "peak_limit_fraction": peak,

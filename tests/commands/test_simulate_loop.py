@@ -73,6 +73,19 @@ def test_pure_pursuit_arrives_and_writes_the_true_pose_columns(
     assert abs(theta - math.pi / 2) < math.radians(1.0)
 
 
+def test_the_json_gives_the_plans_end_and_where_the_robot_really_ended(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    summary = simulate(runner, tmp_path, "straight 1; spin 90", *DISTURBED, "--slip", "0.05")
+    assert summary["final_pose"] == {"x": 1.0, "y": 0.0, "theta": math.pi / 2}  # the plan's
+    end = summary["true_final_pose"]
+    last = (tmp_path / "run.csv").read_text().splitlines()[-1].split(",")
+    assert [float(v) for v in last[-3:]] == [end["x"], end["y"], end["theta"]]
+    distance = math.hypot(end["x"] - 1.0, end["y"])
+    assert summary["final_position_error"] == pytest.approx(distance, abs=1e-15)
+    assert summary["final_position_error"] > 0.01  # slipping, it fell short
+
+
 def test_the_table_says_how_far_the_run_ended(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "a.csv"
     result = runner.invoke(
