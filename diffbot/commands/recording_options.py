@@ -34,6 +34,10 @@ __all__ = [
 ]
 
 
+#: The CSV options, named as the library's readers name them.
+_CSV_OPTIONS = ("time_column", "left_column", "right_column", "delimiter", "time_unit")
+
+
 @dataclass(frozen=True)
 class RecordingOptions:
     """How to read the positions of a recording.
@@ -74,14 +78,9 @@ class RecordingOptions:
         return feedback
 
     def csv(self) -> dict[str, str | None]:
-        """The CSV options as :func:`~diffbot.recordings.read_recording` takes them."""
-        return {
-            "time_column": self.time_column,
-            "left_column": self.left_column,
-            "right_column": self.right_column,
-            "delimiter": self.delimiter,
-            "time_unit": self.time_unit,
-        }
+        """The CSV options as :func:`~diffbot.recordings.read_recording` takes them (the
+        fields of the same names)."""
+        return {name: getattr(self, name) for name in _CSV_OPTIONS}
 
     def read(self, source: str, params: DiffDriveParams, topic: str | None) -> Recording:
         """A recording read whole with these options, what was judged or found said on
