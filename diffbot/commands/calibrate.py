@@ -29,6 +29,7 @@ from diffbot.commands.paths import EditedPath, InputPath, input_path
 from diffbot.commands.plan_options import check_topic
 from diffbot.commands.recording_options import (
     RecordingOptions,
+    exit_if_implausible,
     recording_options,
     robot_label,
 )
@@ -44,6 +45,8 @@ from diffbot.urdf import load_params
 if TYPE_CHECKING:
     from diffbot.calibration.fit import FitResult
     from diffbot.calibration.umbmark import UmbmarkResult
+    from diffbot.conditioning import ConditioningReport
+    from diffbot.samples import Recording
 
 __all__ = ["calibrate"]
 
@@ -379,7 +382,9 @@ def fit(
     (m, m, rad) beside a time column, or a bag's geometry_msgs/PoseStamped or
     nav_msgs/Odometry topic; it is interpolated at the wheel stamps. The motion over windows
     of --window samples is compared, starting from the description's values. Drive straights
-    and turns both ways (Trajectory A is enough).
+    and turns both ways (Trajectory A is enough). A recording with implausible steps (wheel
+    jumps) is fitted and reported, but the exit code is 1, as for `diffbot odom`: the windows
+    across a jump spoil the fit.
 
     Uses SciPy, which the base install brings.
 
@@ -417,11 +422,16 @@ def fit(
     if window is not None and window_duration is not None:
         fail("give --window or --window-duration, not both")
     # Read one recording at a time, as the fit takes them: each is let go once reduced.
+    reports: list[ConditioningReport] = []
+
+    def read(source: str) -> Recording:
+        read = recording.read(source, params, topic)
+        if read.conditioning is not None:
+            reports.append(read.conditioning)
+        return read
+
     pairs = (
-        (
-            recording.read(source, params, topic),
-            read_pose_track(truth[k] if truth else source, truth_topic),
-        )
+        (read(source), read_pose_track(truth[k] if truth else source, truth_topic))
         for k, source in enumerate(rest)
     )
     result, offsets = fit_recordings(
@@ -446,3 +456,5 @@ def fit(
         "feedback": feedback,
     }
     _report(result, params, output, robot, extra)
+    # As odom: a wheel jump spoils the windows across it, and the warning said where.
+    exit_if_implausible(reports)

@@ -197,6 +197,24 @@ def test_fit_says_how_many_samples_the_reader_skipped_and_why(
     assert want in result.stderr.splitlines()
 
 
+def test_fit_of_a_recording_with_a_wheel_jump_exits_1_with_odom_s_warning(
+    runner: CliRunner, run_csv: Path, tmp_path: Path
+) -> None:
+    rows = [line.split(",") for line in run_csv.read_text(encoding="utf-8").splitlines()]
+    for row in rows[len(rows) // 2 :]:
+        row[1] = repr(float(row[1]) + 50.0)  # the left encoder jumps by 50 rad, mid-run
+    jumped = tmp_path / "jumped.csv"
+    jumped.write_text("\n".join(",".join(r) for r in rows) + "\n", encoding="utf-8")
+    fitted = runner.invoke(main, ["calibrate", "fit", str(jumped), "--json"])
+    odom = runner.invoke(main, ["odom", str(jumped), "--json"])
+    assert (fitted.exit_code, odom.exit_code) == (1, 1), fitted.output
+    warning = next(line for line in odom.stderr.splitlines() if "implausible step" in line)
+    assert warning in fitted.stderr.splitlines()
+    # The fit is still reported, for what it is worth.
+    assert "wheel_separation" in json.loads(fitted.stdout)
+    assert run(runner, "calibrate", "fit", str(run_csv)).exit_code == 0
+
+
 def test_fit_writes_a_calibrated_copy_beside_the_file(
     runner: CliRunner, run_csv: Path, tmp_path: Path
 ) -> None:
