@@ -200,6 +200,23 @@ class ControllerConfig:
         return self.frame_prefix + (self.base_frame_id or "base_link")
 
     @property
+    def pose_covariance(self) -> tuple[float, ...]:
+        """The diagonal of the pose covariance the controller publishes: the file's, else its
+        default (zeros)."""
+        return self.pose_covariance_diagonal or CONTROLLER_COVARIANCE
+
+    @property
+    def twist_covariance(self) -> tuple[float, ...]:
+        """The diagonal of the twist covariance the controller publishes: the file's, else
+        its default (zeros)."""
+        return self.twist_covariance_diagonal or CONTROLLER_COVARIANCE
+
+    @property
+    def rolling_window(self) -> int:
+        """The steps the controller's velocity estimate spans: the file's, else 10."""
+        return self.velocity_rolling_window_size or CONTROLLER_ROLLING_WINDOW
+
+    @property
     def effective_separation(self) -> float | None:
         """The separation the controller computes with (m): separation times multiplier, or None."""
         if self.wheel_separation is None:

@@ -211,6 +211,21 @@ def _comparison(task: OdometryTask) -> ReferenceComparison | None:
     return ReferenceComparison(topic, track.stamps_ns, track.x, track.y, track.theta)
 
 
+def _published_as(params: DiffDriveParams) -> Odometry:
+    """An integrator carrying the frames and covariances the robot's controller publishes (its
+    prefixed frames, its covariances or their zero defaults), else the odometry's own."""
+    controller = params.controller
+    if controller is None:
+        return Odometry(params)
+    return Odometry(
+        params,
+        frame_id=controller.odom_frame,
+        child_frame_id=controller.base_frame,
+        pose_covariance=controller.pose_covariance,
+        twist_covariance=controller.twist_covariance,
+    )
+
+
 def run_task(
     task: OdometryTask, progress: Progress | None = None, stream: TextIO | None = None
 ) -> OdometryResult:
@@ -262,7 +277,9 @@ def run_task(
         if input_clash(Path(task.output), inputs) is not None:
             raise OutputError(f"{task.output} is or holds the input {task.input}: refusing it")
         if task.as_bag:
-            with OdometryBagWriter(task.output, Odometry(task.params), force=task.force) as bag:
+            with OdometryBagWriter(
+                task.output, _published_as(task.params), force=task.force
+            ) as bag:
                 bag_sink = _BagSink(bag)
                 run = odometry(bag_sink)
             return result(run, bag_sink.count)

@@ -66,3 +66,18 @@ def test_no_prefix_when_switched_off_or_for_ros_1() -> None:
         name="diff_cont", source="c.yaml", ros_version=1, tf_frame_prefix="robot"
     )
     assert (ros1.frame_prefix, ros1.base_frame) == ("", "base_link")
+
+
+def test_what_the_file_leaves_out_is_the_controller_s_default() -> None:
+    # diff_drive_controller_parameter.yaml: zero covariance diagonals, a window of 10 steps.
+    bare = controller()
+    assert bare.pose_covariance == bare.twist_covariance == (0.0,) * 6
+    assert bare.rolling_window == 10
+    set_ = controller(
+        pose_covariance_diagonal=(1, 2, 3, 4, 5, 6),
+        twist_covariance_diagonal=(6, 5, 4, 3, 2, 1),
+        velocity_rolling_window_size=3,
+    )
+    assert set_.pose_covariance == (1, 2, 3, 4, 5, 6)
+    assert set_.twist_covariance == (6, 5, 4, 3, 2, 1)
+    assert set_.rolling_window == 3

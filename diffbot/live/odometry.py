@@ -17,11 +17,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Any, cast
 
-from diffbot.controller_config import (
-    CONTROLLER_COVARIANCE,
-    CONTROLLER_ROLLING_WINDOW,
-    ControllerConfig,
-)
+from diffbot.controller_config import ControllerConfig
 from diffbot.kinematics import DiffDriveParams
 from diffbot.live import types
 from diffbot.live.cdr import JointStateReader, OdometryWriter
@@ -107,9 +103,9 @@ class OdometrySettings:
                 "child_frame_id": controller.base_frame,
                 "publish_rate": controller.publish_rate,
                 "publish_tf": controller.enable_odom_tf,
-                "pose_covariance": controller.pose_covariance_diagonal or CONTROLLER_COVARIANCE,
-                "twist_covariance": controller.twist_covariance_diagonal or CONTROLLER_COVARIANCE,
-                "window": controller.velocity_rolling_window_size or CONTROLLER_ROLLING_WINDOW,
+                "pose_covariance": controller.pose_covariance,
+                "twist_covariance": controller.twist_covariance,
+                "window": controller.rolling_window,
                 "services": controller.node_name,
                 "feedback": _FEEDBACK_OF.get(controller.position_feedback),
             }

@@ -11,7 +11,7 @@ import pytest
 from bags import write_bag
 from cli_results import assert_one_error_line
 from click.testing import CliRunner, Result
-from robots import BOT, two_wheel_urdf
+from robots import BOT, bundled_controllers, two_wheel_urdf
 from rosbags.highlevel import AnyReader
 from wheel_motion import TRAJECTORY_A, wheel_samples
 
@@ -139,6 +139,42 @@ def test_odom_reads_a_bag_and_writes_a_bag_of_odometry_and_tf(
     again = runner.invoke(main, args)
     assert again.exit_code == 2
     assert "exists: use --force" in again.stderr
+
+
+def test_odom_bag_output_is_in_the_controller_s_frames_with_its_covariances(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    stamps, lefts, rights = wheel_samples(BOT, TRAJECTORY_A)
+    messages = [
+        (round(s * 1e9) + 1, round(s * 1e9) + 1, [LEFT, RIGHT], [lt, rt])
+        for s, lt, rt in zip(stamps[:20], lefts, rights, strict=False)
+    ]
+    bag = write_bag(tmp_path / "in", messages, topic="/joint_states")
+    controllers = tmp_path / "controllers.yaml"
+    controllers.write_text(
+        bundled_controllers("tf_frame_prefix: robot", "base_frame_id: base_footprint"), "utf-8"
+    )
+    out = tmp_path / "odom_bag"
+    args = ["odom", str(bag), "--controllers", str(controllers), "--out", str(out), "--bag"]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 0, result.output
+    with AnyReader([out]) as reader:
+        odometry = [c for c in reader.connections if c.topic == "/odom"]
+        first = next(reader.messages(connections=odometry))
+        message = reader.deserialize(first[2], first[0].msgtype)
+        tf = [c for c in reader.connections if c.topic == "/tf"]
+        first_tf = next(reader.messages(connections=tf))
+        transform = reader.deserialize(first_tf[2], first_tf[0].msgtype).transforms[0]
+    assert (message.header.frame_id, message.child_frame_id) == (
+        "robot/odom",
+        "robot/base_footprint",
+    )
+    assert (transform.header.frame_id, transform.child_frame_id) == (
+        "robot/odom",
+        "robot/base_footprint",
+    )
+    assert not message.pose.covariance.any()
+    assert not message.twist.covariance.any()
 
 
 def test_odom_bag_output_needs_a_directory_name(runner: CliRunner, trajectory_a: Path) -> None:
