@@ -38,6 +38,7 @@ from diffbot.commands.plan_options import (
 from diffbot.commands.progress import progress
 from diffbot.commands.simulate_loop import LoopRequest, end_errors, run_loop
 from diffbot.errors import EXIT_CHECK_FAILED
+from diffbot.formats.plan_data import start_json
 from diffbot.formats.text import fmt
 from diffbot.io.bag import JointStatesBagWriter
 from diffbot.io.csvfile import joint_states_header, joint_states_lines
@@ -269,7 +270,18 @@ def simulate(
 
         sampling = (rate, ticks, noise, seed)
         run_loop(
-            loop, made, params, sampling, real, write, out, source.label, as_json, quiet, built.body
+            loop,
+            made,
+            params,
+            sampling,
+            real,
+            write,
+            out,
+            source.label,
+            as_json,
+            quiet,
+            built.body,
+            source.start,
         )
         limit_lines = built.limit_lines()
         if limit_lines:
@@ -313,6 +325,7 @@ def simulate(
                 "samples": states.samples,
                 "rate": rate,
                 "joints": list(states.names),
+                **start_json(source.start),
                 "final_pose": {"x": pose.x, "y": pose.y, "theta": pose.theta},
                 "within_limit": p.within_limit,
                 "output": out.out,

@@ -12,6 +12,7 @@ import click
 
 from diffbot.commands.options import OutOptions, emit_json, fail
 from diffbot.commands.progress import progress
+from diffbot.formats.plan_data import start_json
 from diffbot.formats.plan_table import violation_lines
 from diffbot.formats.text import fmt
 
@@ -178,10 +179,12 @@ def run_loop(
     as_json: bool,
     quiet: bool = False,
     body: BodyLimits | None = None,
+    start: Pose | None = None,
 ) -> None:
     """Run the plan on the disturbed robot a chunk at a time, write the samples through
     ``write(states, truth, advance)`` as they come (a progress bar on a terminal unless
-    ``quiet``), and say how it went."""
+    ``quiet``), and say how it went (``start``: a goal plan's start pose, which its poses are
+    relative to)."""
     from diffbot.closed_loop import LoopSettings, run_chunks
     from diffbot.follow import MAX_LEAD, Follower, delay_lead
     from diffbot.simulation import Disturbances, JointStateChunks
@@ -257,6 +260,7 @@ def run_loop(
                 "samples": outcome.samples,
                 "rate": rate,
                 "joints": list(outcome.names),
+                **start_json(start),
                 "final_pose": {"x": goal.x, "y": goal.y, "theta": goal.theta},
                 "true_final_pose": dict(zip(("x", "y", "theta"), outcome.final_truth, strict=True)),
                 "within_limit": steps.within_limit,

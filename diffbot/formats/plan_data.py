@@ -15,12 +15,19 @@ from diffbot.trajectory import Plan
 if TYPE_CHECKING:
     from diffbot.body_limits import BodyLimits
 
-__all__ = ["plan_csv", "plan_json", "pose_json"]
+__all__ = ["plan_csv", "plan_json", "pose_json", "start_json"]
 
 
 def pose_json(pose: Pose) -> dict[str, float]:
     """A pose as ``{x, y, theta}`` (m, m, rad)."""
     return {"x": pose.x, "y": pose.y, "theta": pose.theta}
+
+
+def start_json(start: Pose | None) -> dict[str, dict[str, float]]:
+    """``{"start_pose": {x, y, theta}}`` for a goal plan's start pose (m, m, rad), which its
+    poses are relative to; nothing for a plan of segments (None), which starts at its own
+    origin."""
+    return {} if start is None else {"start_pose": pose_json(start)}
 
 
 def plan_json(
@@ -68,7 +75,7 @@ def plan_json(
         "plan": format_plan(s.segment for s in p.segments),
         "segments": segments,
         "duration": p.duration,
-        **({} if start is None else {"start_pose": pose_json(start)}),
+        **start_json(start),
         "final_pose": pose_json(p.final_pose),
         "within_limit": p.within_limit,
         "limit": p.limit,

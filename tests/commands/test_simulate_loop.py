@@ -86,6 +86,21 @@ def test_the_json_gives_the_plans_end_and_where_the_robot_really_ended(
     assert summary["final_position_error"] > 0.01  # slipping, it fell short
 
 
+@pytest.mark.parametrize("disturbed", [[], DISTURBED])
+def test_a_goal_plan_s_json_gives_the_start_its_poses_are_relative_to(
+    runner: CliRunner, tmp_path: Path, disturbed: list[str]
+) -> None:
+    goal = ["--to", "1,1,90", "--from", "2,0,180", *disturbed]
+    summary = simulate(runner, tmp_path, *goal)
+    assert summary["start_pose"] == {"x": 2.0, "y": 0.0, "theta": math.pi}
+    # The start composed with the plan's end is the goal, in the goals' frame.
+    end = summary["final_pose"]
+    assert isinstance(end, dict)
+    x, y = 2.0 - end["x"], -end["y"]  # turned by 180 degrees
+    assert (x, y) == (pytest.approx(1.0, abs=1e-9), pytest.approx(1.0, abs=1e-9))
+    assert "start_pose" not in simulate(runner, tmp_path, "straight 0.2", *disturbed)
+
+
 def test_the_table_says_how_far_the_run_ended(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "a.csv"
     result = runner.invoke(
