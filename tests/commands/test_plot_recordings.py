@@ -61,6 +61,14 @@ def test_a_recording_with_implausible_steps_exits_1_with_the_warning_odom_gives(
     counts = ["--counts-per-rev", repr(COUNTS_PER_REV), "--wrap", "65536"]
     again = run(runner, *plan, "--odom", str(csv), *robot, *counts, "-o", str(target), "--force")
     assert again.exit_code == 0, again.output + again.stderr
+    # Of several recordings, the last line says how many are not to be trusted, as odom's does.
+    plausible = tmp_path / "plausible.csv"
+    header = csv.read_text(encoding="utf-8").splitlines()[0]
+    plausible.write_text(f"{header}\n0,0,0\n1,0.1,0.1\n", encoding="utf-8")
+    several = ["--odom", str(plausible), "--odom", str(csv)]
+    both = run(runner, *plan, *several, *robot, "-o", str(target), "--force")
+    assert both.exit_code == 1, both.output + both.stderr
+    assert both.stderr.splitlines()[-1] == "warning: 1 of 2 recordings have implausible steps"
 
 
 def test_the_recordings_figure_has_no_plan_in_it() -> None:
