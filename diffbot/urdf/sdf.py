@@ -183,8 +183,8 @@ _Trees = dict[Path, ET.Element]
 def model_file(
     folder: Path, roots: Sequence[Path] | None = None, trees: _Trees | None = None
 ) -> Path:
-    """The SDF file of a model folder: the first ``<sdf>`` its ``model.config`` names, else
-    ``model.sdf``.
+    """The SDF file of a model folder: the ``<sdf>`` of its ``model.config`` of the highest
+    ``version`` (the one Gazebo loads; the first when none has a version), else ``model.sdf``.
 
     Args:
         folder: the model folder.
@@ -200,16 +200,22 @@ def model_file(
         if roots is not None:
             _check_inside(config, roots)
         root = _parse(config, "a model.config", trees)
-        for sdf in root.iter("sdf"):
-            name = (sdf.text or "").strip()
-            if name:
-                return folder / name
+        named = [sdf for sdf in root.iter("sdf") if (sdf.text or "").strip()]
+        if named:
+            best = max(enumerate(named), key=lambda item: (_version(item[1]), -item[0]))[1]
+            return folder / (best.text or "").strip()
     if (folder / "model.sdf").is_file():
         return folder / "model.sdf"
     raise DescriptionError(
         f"{folder}: is a directory, but no model folder (no model.config naming an SDF file, "
         "no model.sdf)"
     )
+
+
+def _version(sdf: ET.Element) -> tuple[int, ...]:
+    """A ``version`` attribute as numbers (``1.5`` -> (1, 5)); () when missing or malformed."""
+    parts = (sdf.get("version") or "").strip().split(".")
+    return tuple(int(p) for p in parts) if all(p.isdigit() for p in parts) else ()
 
 
 def _check_inside(path: Path, roots: Sequence[Path]) -> None:

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+import diffbot
 from diffbot.errors import DescriptionError
 from diffbot.urdf import sdf
 from diffbot.urdf.packages import PackageFinder
@@ -298,3 +299,45 @@ def test_malformed_joint_and_nested_model_poses_are_named(tmp_path: Path) -> Non
     with pytest.raises(DescriptionError) as caught:
         expand(path, model('<model name="n"><pose>2</pose></model>'))
     assert str(caught.value) == f"{path}: model 'n' <pose>: expected 6 finite numbers, got '2'"
+
+
+def _wheeled(version: str) -> str:
+    """A TurtleBot3-like model: wheel joints posed turned about x in their wheels' frames, an
+    axis of 0 0 1 in the joint's frame (lateral in SDF 1.5, vertical if read as 1.4's)."""
+    wheels = "".join(
+        f'<link name="{side}"><collision name="c"><pose>0 {y} 0.023 -1.57 0 0</pose><geometry>'
+        "<cylinder><radius>0.033</radius><length>0.018</length></cylinder></geometry>"
+        f'</collision></link><joint name="{side}_joint" type="revolute"><parent>base_link'
+        f"</parent><child>{side}</child><pose>0 {y} 0.023 -1.57 0 0</pose>"
+        "<axis><xyz>0 0 1</xyz></axis></joint>"
+        for side, y in (("wheel_left", 0.08), ("wheel_right", -0.08))
+    )
+    model = f'<model name="burger"><link name="base_link"/>{wheels}</model>'
+    return f'<sdf version="{version}">{model}</sdf>'
+
+
+@pytest.mark.parametrize(
+    "listed",
+    [("1.4", "1.5"), ("1.5", "1.4")],
+)
+def test_a_model_folder_is_read_in_the_highest_sdf_version_its_model_config_lists(
+    tmp_path: Path, listed: tuple[str, str]
+) -> None:
+    # TurtleBot3's model folders list model-1_4.sdf before model.sdf; Gazebo loads the highest
+    # version its parser reads, whatever the order.
+    files = {"1.4": "model-1_4.sdf", "1.5": "model.sdf"}
+    for version, name in files.items():
+        (tmp_path / name).write_text(_wheeled(version), encoding="utf-8")
+    entries = "".join(f'<sdf version="{v}">{files[v]}</sdf>' for v in listed)
+    (tmp_path / "model.config").write_text(f"<model>{entries}</model>", encoding="utf-8")
+    assert sdf.model_file(tmp_path) == tmp_path / "model.sdf"
+    params = diffbot.load_params(tmp_path)
+    assert (params.left_joint, params.right_joint) == ("wheel_left_joint", "wheel_right_joint")
+    assert params.wheel_separation == pytest.approx(0.16)
+
+
+def test_a_model_config_without_versions_names_its_first_sdf(tmp_path: Path) -> None:
+    (tmp_path / "model.config").write_text(
+        "<model><sdf> </sdf><sdf>a.sdf</sdf><sdf>b.sdf</sdf></model>", encoding="utf-8"
+    )
+    assert sdf.model_file(tmp_path) == tmp_path / "a.sdf"
