@@ -172,6 +172,12 @@ class ControllerConfig:
         return "/" + "/".join(part for part in (self.namespace, self.name) if part.strip("/"))
 
     @property
+    def odom_topic(self) -> str:
+        """The topic the controller publishes its odometry on: ``~/odom``, under its node's
+        name (``/a200_0000/diff_cont/odom``)."""
+        return self.node_name + "/odom"
+
+    @property
     def frame_prefix(self) -> str:
         """What the controller puts before its odometry and base frame ids, as ROS 2's
         diff_drive_controller resolves it: ``tf_frame_prefix`` (its first ``~`` standing for

@@ -127,8 +127,10 @@ class DiffDriveParams:
         controller: the diff_drive_controller configuration the robot runs with, if one was
             read (its limits, frame ids, odometry settings).
         description_files: every file the description was read from (outputs never go there).
-        command_topic: the ROS topic the description's simulator diff-drive plugin takes its
-            Twist commands on (Gazebo classic's, with its namespace and remappings), or None.
+        plugin_topics: the ROS topics of the description's simulator diff-drive plugin
+            (Gazebo classic's) by their default names, ``cmd_vel`` (the Twist commands it
+            takes) and ``odom`` (the odometry it publishes), with its namespace and
+            remappings; empty without such a plugin.
     """
 
     wheel_radius: float
@@ -149,7 +151,7 @@ class DiffDriveParams:
     disagreements: tuple[Disagreement, ...] = field(default=(), compare=False)
     controller: ControllerConfig | None = field(default=None, compare=False)
     description_files: tuple[str, ...] = field(default=(), compare=False)
-    command_topic: str | None = field(default=None, compare=False)
+    plugin_topics: Mapping[str, str] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "wheel_radius", _check_positive("wheel radius", self.wheel_radius))

@@ -81,3 +81,9 @@ def test_what_the_file_leaves_out_is_the_controller_s_default() -> None:
     assert set_.pose_covariance == (1, 2, 3, 4, 5, 6)
     assert set_.twist_covariance == (6, 5, 4, 3, 2, 1)
     assert set_.rolling_window == 3
+
+
+def test_the_odometry_topic_is_the_controller_s_private_one() -> None:
+    # DEFAULT_ODOMETRY_TOPIC "~/odom" in diff_drive_controller.cpp: under the node's name.
+    assert controller().odom_topic == "/diff_cont/odom"
+    assert controller("a200_0000").odom_topic == "/a200_0000/diff_cont/odom"

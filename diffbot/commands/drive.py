@@ -22,6 +22,7 @@ from diffbot.commands.topic_options import (
     CMD_VEL_HELP,
     distro_option,
     resolve_cmd_vel,
+    resolve_odom_topic,
     wheel_topic_options,
 )
 from diffbot.errors import EXIT_CHECK_FAILED
@@ -86,7 +87,7 @@ def drive(
     right_topic: str,
     wait: float,
     follow: str | None,
-    odom_topic: str,
+    odom_topic: str | None,
     pose_topic: str | None,
     pose_timeout: float,
     lead: float,
@@ -144,7 +145,7 @@ def drive(
     if follow is not None:
         from diffbot.commands.drive_follow import LiveFollow, drive_follow
 
-        pose = odom_topic if pose_topic is None else pose_topic
+        pose = resolve_odom_topic(params, odom_topic) if pose_topic is None else pose_topic
         request = from_options(
             LiveFollow,
             "rate pose_timeout frame_id wait lead",

@@ -79,7 +79,12 @@ def node() -> None:
 @click.argument("tokens", nargs=-1, metavar="[ROBOT] [NAME:=VALUE]...")
 @robot_options
 @name_option("--joint-states", "joint_states", "The sensor_msgs/JointState topic to read.")
-@name_option("--odom-topic", "odom", "The nav_msgs/Odometry topic to publish.")
+@click.option(
+    "--odom-topic",
+    metavar="TOPIC",
+    help="The nav_msgs/Odometry topic to publish [the controllers file's diff-drive "
+    "controller's /<name>/odom, else odom].",
+)
 @click.option("--no-tf", is_flag=True, help="Do not broadcast odom -> base_link on /tf.")
 @click.option(
     "--frame-id",
@@ -129,7 +134,7 @@ def odom(
     robot: RobotOptions,
     tokens: tuple[str, ...],
     joint_states: str,
-    odom_topic: str,
+    odom_topic: str | None,
     no_tf: bool,
     frame_id: str | None,
     child_frame_id: str | None,
@@ -168,7 +173,8 @@ def odom(
       diffbot node odom --open-loop --duration 1    from cmd_vel, as a controller's open loop
     """
     checked_topic("--joint-states", joint_states)
-    checked_topic("--odom-topic", odom_topic)
+    if odom_topic is not None:
+        checked_topic("--odom-topic", odom_topic)
     if open_loop and feedback is not None:
         fail("--open-loop integrates the commands, not the wheels' --feedback: choose one")
     if not open_loop and (cmd_vel is not None or stamped or distro is not None):
@@ -191,8 +197,9 @@ def odom(
             "this node integrates the wheels' feedback from the joint states: --open-loop "
             "integrates the commands as the controller does",
         )
-    settings = OdometrySettings(joint_states=joint_states, odom_topic=odom_topic).with_controller(
+    settings = OdometrySettings(joint_states=joint_states).with_controller(
         params.controller,
+        odom_topic=odom_topic,
         frame_id=frame_id,
         child_frame_id=child_frame_id,
         publish_rate=publish_rate,

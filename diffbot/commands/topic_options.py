@@ -14,12 +14,21 @@ from diffbot.commands.shown_defaults import name_option
 from diffbot.kinematics import DiffDriveParams
 from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
 
-__all__ = ["DEFAULT_CMD_VEL", "distro_option", "resolve_cmd_vel", "wheel_topic_options"]
+__all__ = [
+    "DEFAULT_CMD_VEL",
+    "DEFAULT_ODOM",
+    "distro_option",
+    "resolve_cmd_vel",
+    "resolve_odom_topic",
+    "wheel_topic_options",
+]
 
 _F = TypeVar("_F", bound=Callable[..., object])
 
 #: The velocity command topic without a controllers file.
 DEFAULT_CMD_VEL = "cmd_vel"
+#: The odometry topic without a controllers file (or a simulator plugin, to read it).
+DEFAULT_ODOM = "odom"
 #: Help of the --cmd-vel options: where the default comes from.
 CMD_VEL_HELP = (
     "The velocity command topic [the controllers file's diff-drive controller's "
@@ -77,7 +86,19 @@ def resolve_cmd_vel(
                 f"TwistStamped on {found.topic}"
             )
         return found.topic, stamped or found.stamped
-    topic = (params.command_topic or DEFAULT_CMD_VEL) if cmd_vel is None else cmd_vel
+    topic = params.plugin_topics.get("cmd_vel", DEFAULT_CMD_VEL) if cmd_vel is None else cmd_vel
     if distro is not None and params.controller is not None:  # its release named: its type
         stamped = stamped or command_topic(params.controller, distro_of(distro)).stamped
     return topic, stamped
+
+
+def resolve_odom_topic(params: DiffDriveParams, given: str | None) -> str:
+    """The nav_msgs/Odometry topic a reader of the robot's odometry takes: ``given``, else the
+    diff-drive controller's own (``~/odom`` under its node's name) when the robot has a
+    controller configuration, else the one its description's Gazebo classic diff-drive plugin
+    publishes, else ``odom``."""
+    if given is not None:
+        return given
+    if params.controller is not None:
+        return params.controller.odom_topic
+    return params.plugin_topics.get("odom", DEFAULT_ODOM)

@@ -93,12 +93,14 @@ class OdometrySettings:
         the user typed: they win).
 
         The controller's are those its file sets and, where it leaves them out, the
-        controller's own defaults (its prefixed ``odom`` and ``base_link`` frames, zero
-        covariances, a window of 10 steps); only ``publish_rate``, whose default differs
-        between releases, stays one message per joint state when the file does not set it."""
+        controller's own defaults (its ``~/odom`` topic under its node's name, its prefixed
+        ``odom`` and ``base_link`` frames, zero covariances, a window of 10 steps); only
+        ``publish_rate``, whose default differs between releases, stays one message per joint
+        state when the file does not set it."""
         values: dict[str, Any] = {}
         if controller is not None:
             found = {
+                "odom_topic": controller.odom_topic,
                 "frame_id": controller.odom_frame,
                 "child_frame_id": controller.base_frame,
                 "publish_rate": controller.publish_rate,

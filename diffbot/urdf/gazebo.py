@@ -10,7 +10,8 @@ from __future__ import annotations
 import copy
 import math
 import re
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from xml.etree.ElementTree import Element
 
 from diffbot.errors import DescriptionError
@@ -22,7 +23,7 @@ __all__ = [
     "gazebo_drives",
     "other_drive_plugins",
     "ros2_control_parameter_files",
-    "ros_command_topic",
+    "ros_topic",
     "scoped_plugin",
 ]
 
@@ -45,10 +46,11 @@ class GazeboDrive:
         right_joints: the right wheel joints.
         wheel_separations: every separation written (m), one per wheel pair for Gazebo classic.
         wheel_radii: every radius written (m); half the diameter for Gazebo classic.
-        command_topic: the ROS topic a Gazebo classic ROS plugin takes its geometry_msgs/Twist
-            commands on (``/cmd_vel``, ``/demo/cmd_demo``: see :func:`ros_command_topic`);
-            None for plugins outside ROS (gz-sim's, whose topics reach ROS only through a
-            bridge, and Gazebo classic's own).
+        topics: the ROS topics of a Gazebo classic ROS plugin by their default names:
+            ``cmd_vel``, the geometry_msgs/Twist commands it takes, and ``odom``, the
+            nav_msgs/Odometry it publishes (``/demo/cmd_demo``: see :func:`ros_topic`); empty
+            for plugins outside ROS (gz-sim's, whose topics reach ROS only through a bridge,
+            and Gazebo classic's own).
 
     A plugin without a separation or radius runs with its own default (gz-sim: 1.0 m and 0.2 m),
     which is rarely the robot's; the fields stay empty so that a check can say so.
@@ -60,7 +62,7 @@ class GazeboDrive:
     right_joints: tuple[str, ...]
     wheel_separations: tuple[float, ...] = ()
     wheel_radii: tuple[float, ...] = ()
-    command_topic: str | None = None
+    topics: Mapping[str, str] = field(default_factory=dict, compare=False)
 
     @property
     def wheel_separation(self) -> float | None:
@@ -115,18 +117,23 @@ def _plugin_lengths(plugin: Element, filename: str, tag: str, scale: float) -> t
     return tuple(values)
 
 
-def ros_command_topic(plugin: Element) -> str:
-    """The absolute ROS topic a Gazebo classic ROS drive plugin subscribes for its commands.
+#: The ROS 1 plugins' elements that name each topic of a drive plugin.
+_ROS1_TOPIC_TAGS = {"cmd_vel": "commandTopic", "odom": "odometryTopic"}
 
-    ROS 2's ``gazebo_ros_diff_drive`` subscribes ``cmd_vel`` in its ``<ros><namespace>``, as
-    a ``<remapping>cmd_vel:=NAME</remapping>`` (or an older ``<argument>``, which may also set
-    ``__ns:=``) renames it; ROS 1's plugins subscribe ``<commandTopic>`` (default ``cmd_vel``)
-    in their ``<robotNamespace>``. Without a namespace the plugin is in the one it is spawned
-    in, the root unless the spawner is told another. A name that starts with ``/`` is taken
-    as it is.
+
+def ros_topic(plugin: Element, name: str) -> str:
+    """The absolute ROS topic a Gazebo classic ROS drive plugin uses for its topic ``name``
+    (``cmd_vel``: the Twist commands it subscribes; ``odom``: the odometry it publishes).
+
+    ROS 2's ``gazebo_ros_diff_drive`` uses ``name`` in its ``<ros><namespace>``, as a
+    ``<remapping>NAME:=OTHER</remapping>`` (or an older ``<argument>``, which may also set
+    ``__ns:=``) renames it; ROS 1's plugins use ``<commandTopic>`` and ``<odometryTopic>``
+    (default ``cmd_vel`` and ``odom``) in their ``<robotNamespace>``. Without a namespace the
+    plugin is in the one it is spawned in, the root unless the spawner is told another. A name
+    that starts with ``/`` is taken as it is.
     """
     namespace = next(iter(_plugin_texts(plugin, "robotNamespace")), "")
-    topic = next((t for t in _plugin_texts(plugin, "commandTopic") if t), "cmd_vel")
+    topic = next((t for t in _plugin_texts(plugin, _ROS1_TOPIC_TAGS[name]) if t), name)
     for ros in (child for child in plugin if child.tag == "ros"):
         for child in ros:
             text = (child.text or "").strip()
@@ -139,7 +146,7 @@ def ros_command_topic(plugin: Element) -> str:
                         continue
                     if source == "__ns":
                         namespace = target
-                    elif source.rpartition("/")[2] == "cmd_vel":
+                    elif source.rpartition("/")[2] == name:
                         topic = target
     if topic.startswith("/"):
         return topic
@@ -187,7 +194,7 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
     drives: list[GazeboDrive] = []
     for plugin in root.iter("plugin"):
         filename = plugin.get("filename", "")
-        topic: str | None = None
+        topics: dict[str, str] = {}
         if _CLASSIC.match(filename):
             kind = "gazebo_ros_diff_drive"
             separations = _plugin_lengths(plugin, filename, "wheel_separation", 1.0)
@@ -196,7 +203,7 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
             radii += _plugin_lengths(plugin, filename, "wheelDiameter", 0.5)
             left = _plugin_texts(plugin, "left_joint", "leftJoint")
             right = _plugin_texts(plugin, "right_joint", "rightJoint")
-            topic = ros_command_topic(plugin)
+            topics = {name: ros_topic(plugin, name) for name in _ROS1_TOPIC_TAGS}
         elif _CLASSIC_OWN.match(filename):
             # Gazebo classic's own plugin takes no lengths: it measures them when it starts.
             kind = "gazebo_diff_drive"
@@ -209,7 +216,7 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
             radii = _plugin_lengths(plugin, filename, "wheelDiameter", 0.5)
             left = _plugin_texts(plugin, "leftFrontJoint", "leftRearJoint")
             right = _plugin_texts(plugin, "rightFrontJoint", "rightRearJoint")
-            topic = ros_command_topic(plugin)
+            topics = {name: ros_topic(plugin, name) for name in _ROS1_TOPIC_TAGS}
         elif _GZ_SIM.match(filename) or plugin.get("name") in _GZ_SIM_NAMES:
             kind = "gz_sim_diff_drive"
             separations = _plugin_lengths(plugin, filename, "wheel_separation", 1.0)
@@ -226,7 +233,7 @@ def gazebo_drives(root: Element) -> list[GazeboDrive]:
                 right_joints=tuple(t for t in right if t),
                 wheel_separations=separations,
                 wheel_radii=radii,
-                command_topic=topic,
+                topics=topics,
             )
         )
     return drives

@@ -394,7 +394,7 @@ def reconcile(
         sources=sources,
         disagreements=tuple(found),
         controller=config,
-        command_topic=next((d.command_topic for d in drives if d.command_topic), None),
+        plugin_topics=next((d.topics for d in drives if d.topics), {}),
     )
 
 

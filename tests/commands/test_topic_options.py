@@ -12,7 +12,7 @@ from click.testing import CliRunner, Result
 from robots import bundled_controllers
 
 from diffbot.cli import main
-from diffbot.commands.topic_options import resolve_cmd_vel
+from diffbot.commands.topic_options import resolve_cmd_vel, resolve_odom_topic
 from diffbot.controller_config import ControllerConfig
 from diffbot.kinematics import DiffDriveParams
 
@@ -161,12 +161,18 @@ def test_without_a_controller_the_gazebo_plugin_s_topic_is_the_default(
         "straight 0.1",
     )
     assert "ros2 topic pub -r 10 x geometry_msgs/msg/Twist" in given.stdout
-    plain = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, command_topic="/demo/c")
+    topics = {"cmd_vel": "/demo/c", "odom": "/demo/o"}
+    plain = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, plugin_topics=topics)
     assert resolve_cmd_vel(plain, None, False, None) == ("/demo/c", False)
+    assert resolve_odom_topic(plain, None) == "/demo/o"
+    assert resolve_odom_topic(plain, "given") == "given"
     controlled = plain.replace(
         controller=ControllerConfig(name="base", source="c.yaml", ros_version=2)
     )
     assert resolve_cmd_vel(controlled, None, False, "jazzy") == ("/base/cmd_vel", True)
+    assert resolve_odom_topic(controlled, None) == "/base/odom"
+    bare = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
+    assert resolve_odom_topic(bare, None) == "odom"
 
 
 @pytest.mark.parametrize("command", ["plan", "drive", "node ik"])

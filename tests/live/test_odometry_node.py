@@ -208,12 +208,14 @@ VELOCITY_CONTROLLERS = bundled_controllers("position_feedback: false")
 def test_node_odom_reads_velocities_when_told_or_when_its_controller_does(
     given: str, tmp_path: Path
 ) -> None:
+    topic = "odom"
     if given == "option":
         args = ["--feedback", "velocity"]
     else:
         controllers = tmp_path / "controllers.yaml"
         controllers.write_text(VELOCITY_CONTROLLERS)
         args = ["--controllers", str(controllers)]
+        topic = "/diffbot_base_controller/odom"  # the controller's ~/odom
     names = ["front_left_wheel_joint", "front_right_wheel_joint"]
     stamps: list[tuple[int, float]] = []
 
@@ -222,7 +224,7 @@ def test_node_odom_reads_velocities_when_told_or_when_its_controller_does(
 
     with live_process("node", "odom", "--no-tf", *args), Node("probe") as probe:
         states = probe.create_publisher(types.JointState, "joint_states")
-        probe.create_subscription(types.Odometry, "odom", keep, DEEP)
+        probe.create_subscription(types.Odometry, topic, keep, DEEP)
         assert states.wait_for_subscribers(PATIENCE)
         # Positions that never move beside velocities that do: only velocities move the robot.
         # Each state is sent until the node has answered it (the reader is best effort).
@@ -329,11 +331,15 @@ def test_what_the_controller_file_leaves_out_is_the_controller_s_default() -> No
         name="diff_cont", source="c.yaml", ros_version=2, namespace="a200_0000"
     )
     settings = OdometrySettings().with_controller(controller)
+    assert settings.odom_topic == "/a200_0000/diff_cont/odom"  # its ~/odom
     assert (settings.frame_id, settings.child_frame_id) == ("a200_0000/odom", "a200_0000/base_link")
     assert settings.pose_covariance == settings.twist_covariance == (0.0,) * 6
     assert (settings.window, settings.publish_rate, settings.publish_tf) == (10, None, True)
     # The options the user typed are taken as typed, without the prefix.
-    typed = OdometrySettings().with_controller(controller, frame_id="odom", window=1)
+    typed = OdometrySettings().with_controller(
+        controller, frame_id="odom", window=1, odom_topic="odom_check"
+    )
+    assert typed.odom_topic == "odom_check"
     assert (typed.frame_id, typed.child_frame_id, typed.window) == (
         "odom",
         "a200_0000/base_link",

@@ -139,10 +139,10 @@ def test_a_nested_models_plugin_names_its_joints_in_the_whole_model() -> None:
     assert [c.text for c in scoped_plugin(classic, "m::")] == ["m::a", "m::b", "m::c"]
 
 
-def plugin_topic(filename: str, inner: str) -> str | None:
+def plugin_topic(filename: str, inner: str, name: str = "cmd_vel") -> str | None:
     plugin = f'<gazebo><plugin filename="{filename}" name="drive">{inner}</plugin></gazebo>'
     (drive,) = gazebo_drives(root("", plugin))
-    return drive.command_topic
+    return drive.topics.get(name)
 
 
 @pytest.mark.parametrize(
@@ -186,3 +186,24 @@ def test_plugins_outside_ros_have_no_command_topic() -> None:
     # gz-sim's topic is a Gazebo transport one, reached from ROS only through a bridge.
     assert plugin_topic("gz-sim-diff-drive-system", "<topic>/model/r/cmd_vel</topic>") is None
     assert plugin_topic("libDiffDrivePlugin.so", "") is None
+
+
+@pytest.mark.parametrize(
+    ("inner", "topic"),
+    [
+        ("", "/odom"),
+        (
+            "<ros><namespace>/demo</namespace><remapping>cmd_vel:=cmd_demo</remapping>"
+            "<remapping>odom:=odom_demo</remapping></ros>",
+            "/demo/odom_demo",
+        ),
+        (
+            "<robotNamespace>bot</robotNamespace><odometryTopic>wheel_odom</odometryTopic>",
+            "/bot/wheel_odom",
+        ),
+    ],
+)
+def test_a_ros_plugin_s_odometry_topic_takes_its_namespace_and_remapping(
+    inner: str, topic: str
+) -> None:
+    assert plugin_topic("libgazebo_ros_diff_drive.so", inner, "odom") == topic
