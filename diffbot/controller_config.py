@@ -181,7 +181,8 @@ class ControllerConfig:
     def frame_prefix(self) -> str:
         """What the controller puts before its odometry and base frame ids, as ROS 2's
         diff_drive_controller resolves it: ``tf_frame_prefix`` (its first ``~`` standing for
-        the node's namespace), else the namespace; with one trailing slash and no leading one
+        the node's namespace, as the newest releases read it; Kilted and older keep a ``~`` as
+        written), else the namespace; with one trailing slash and no leading one
         (``a200_0000/``). Empty with ``tf_frame_prefix_enable: false``, in the root namespace
         (or one left to a wildcard) without a prefix, and for ROS 1, whose controller has none.
         """
