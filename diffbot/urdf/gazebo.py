@@ -126,14 +126,17 @@ def ros_topic(plugin: Element, name: str) -> str:
     (``cmd_vel``: the Twist commands it subscribes; ``odom``: the odometry it publishes).
 
     ROS 2's ``gazebo_ros_diff_drive`` uses ``name`` in its ``<ros><namespace>``, as a
-    ``<remapping>NAME:=OTHER</remapping>`` (or an older ``<argument>``, which may also set
-    ``__ns:=``) renames it; ROS 1's plugins use ``<commandTopic>`` and ``<odometryTopic>``
-    (default ``cmd_vel`` and ``odom``) in their ``<robotNamespace>``. Without a namespace the
-    plugin is in the one it is spawned in, the root unless the spawner is told another. A name
-    that starts with ``/`` is taken as it is.
+    ``<remapping>FROM:=TO</remapping>`` (or an older ``<argument>``, which may also set
+    ``__ns:=``) renames it when FROM names the same topic (``cmd_vel``, ``/ns/cmd_vel``; not
+    ``/cmd_vel`` in another namespace); ROS 1's plugins use ``<commandTopic>`` and
+    ``<odometryTopic>`` (default ``cmd_vel`` and ``odom``) in their ``<robotNamespace>``.
+    Without a namespace the plugin is in the one it is spawned in, the root unless the spawner
+    is told another. Names are expanded as rcl expands them: ``/`` absolute, ``~`` the
+    plugin's node (its ``name``), else in the namespace.
     """
     namespace = next(iter(_plugin_texts(plugin, "robotNamespace")), "")
     topic = next((t for t in _plugin_texts(plugin, _ROS1_TOPIC_TAGS[name]) if t), name)
+    rules: list[tuple[str, str]] = []
     for ros in (child for child in plugin if child.tag == "ros"):
         for child in ros:
             text = (child.text or "").strip()
@@ -142,16 +145,21 @@ def ros_topic(plugin: Element, name: str) -> str:
             elif child.tag in ("remapping", "argument"):
                 for word in text.split():
                     source, said, target = word.partition(":=")
-                    if not said or not target:
-                        continue
-                    if source == "__ns":
+                    if said and target and source == "__ns":
                         namespace = target
-                    elif source.rpartition("/")[2] == name:
-                        topic = target
-    if topic.startswith("/"):
-        return topic
-    parts = [part for part in (*namespace.split("/"), *topic.split("/")) if part]
-    return "/" + "/".join(parts)
+                    elif said and target:
+                        rules.append((source, target))
+    node = plugin.get("name", "")
+
+    def expanded(written: str) -> str:
+        if written.startswith("~"):
+            written = node + written[1:]
+        parts = [] if written.startswith("/") else namespace.split("/")
+        return "/" + "/".join(part for part in (*parts, *written.split("/")) if part)
+
+    full = expanded(topic)
+    # rcl applies the first rule that matches.
+    return next((expanded(to) for source, to in rules if expanded(source) == full), full)
 
 
 def scoped_plugin(plugin: Element, prefix: str) -> Element:

@@ -161,6 +161,21 @@ def plugin_topic(filename: str, inner: str, name: str = "cmd_vel") -> str | None
             "<ros><namespace>/demo</namespace><remapping>/demo/cmd_vel:=x</remapping></ros>",
             "/demo/x",
         ),
+        # A rule matches when it names the same topic, as rcl expands both.
+        (
+            "<ros><namespace>/demo</namespace><remapping>/cmd_vel:=x</remapping></ros>",
+            "/demo/cmd_vel",
+        ),
+        (
+            "<ros><namespace>/demo</namespace><remapping>~/cmd_vel:=x</remapping></ros>",
+            "/demo/cmd_vel",
+        ),
+        (
+            "<ros><namespace>/demo</namespace><remapping>cmd_vel:=~/twist</remapping></ros>",
+            "/demo/drive/twist",
+        ),
+        ("<ros><remapping>cmd_vel:=a</remapping><remapping>cmd_vel:=b</remapping></ros>", "/a"),
+        ("<ros><remapping>other:=x</remapping><remapping>odom:=y</remapping></ros>", "/cmd_vel"),
         # Dashing and Eloquent wrote remappings and the namespace as arguments.
         ("<ros><argument>__ns:=/old</argument><argument>cmd_vel:=cmd</argument></ros>", "/old/cmd"),
         # ROS 1: commandTopic in robotNamespace.
