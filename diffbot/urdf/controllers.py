@@ -39,7 +39,7 @@ from __future__ import annotations
 import dataclasses
 import os
 import re
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -199,18 +199,23 @@ def other_drive_controllers(text: str, source: str) -> list[tuple[str, str]]:
     for name, value in _ros1_types(tree):
         if value not in DIFF_DRIVE_TYPES and _OTHER_DRIVE.search(value.rsplit("/", 1)[-1]):
             found.append((name, value))
-    for node in _ros2_nodes(tree, source):
-        for key, value in node.params.items():
-            if key == "type" or key.endswith(".type"):
-                name = node.name if key == "type" else node_base_name((key[: -len(".type")],))
-                if (
-                    isinstance(value, str)
-                    and value not in DIFF_DRIVE_TYPES
-                    and _OTHER_DRIVE.search(value.rsplit("/", 1)[-1].rsplit(":", 1)[-1])
-                    and (name, value) not in found
-                ):
-                    found.append((name, value))
+    for name, value in _ros2_types(_ros2_nodes(tree, source)):
+        if (
+            value not in DIFF_DRIVE_TYPES
+            and _OTHER_DRIVE.search(value.rsplit("/", 1)[-1].rsplit(":", 1)[-1])
+            and (name, value) not in found
+        ):
+            found.append((name, value))
     return found
+
+
+def _ros2_types(nodes: Iterable[_Node]) -> Iterator[tuple[str, str]]:
+    """Every ROS 2 controller's name and ``type``, as its own section (``type:``) or a
+    controller manager's (``NAME.type:``) declares it."""
+    for node in nodes:
+        for key, value in node.params.items():
+            if isinstance(value, str) and (key == "type" or key.endswith(".type")):
+                yield node.name if key == "type" else node_base_name((key[: -len(".type")],)), value
 
 
 def _ros1_types(tree: Mapping[Any, Any], path: tuple[str, ...] = ()) -> Iterator[tuple[str, str]]:
@@ -455,9 +460,18 @@ def load_other_drive_controllers(path: str | os.PathLike[str]) -> list[tuple[str
     return other_drive_controllers(_read_file(path), os.fspath(path))
 
 
+#: The controllers that take joint velocities on ``~/commands`` (std_msgs/Float64MultiArray).
+_WHEEL_COMMAND_TYPES = (
+    "forward_command_controller/ForwardCommandController",
+    "velocity_controllers/JointGroupVelocityController",
+)
+
+
 def load_command_controllers(path: str | os.PathLike[str]) -> dict[str, tuple[str, ...]]:
-    """The controllers of a controllers YAML that command a group of joints (``joints``: a
-    forward_command_controller, JointGroupVelocityController...), by name, with their joints.
+    """The controllers of a controllers YAML that take velocities for a group of joints on
+    their ``commands`` topic (``joints``: a forward_command_controller of the ``velocity``
+    interface, a JointGroupVelocityController; one of no declared type counts), by name, with
+    their joints.
 
     A controller in a namespace is named with it (``a200_0000/left_wheel_controller``), the
     namespace of its own section or else of its controller manager's, so that its ``commands``
@@ -472,9 +486,14 @@ def load_command_controllers(path: str | os.PathLike[str]) -> dict[str, tuple[st
         return {}
     nodes = list(_ros2_nodes(tree, source))
     managers = [node for node in nodes if node.name == "controller_manager"]
+    kinds = dict(_ros2_types(nodes))
     found: dict[str, tuple[str, ...]] = {}
     for node in nodes:
         joints = node.params.get("joints")
+        kind = kinds.get(node.name, _WHEEL_COMMAND_TYPES[0])
+        interface = node.params.get("interface_name", "velocity")
+        if kind not in _WHEEL_COMMAND_TYPES or interface != "velocity":
+            continue  # it takes no velocities on commands (a trajectory, positions)
         if isinstance(joints, list) and joints and all(isinstance(j, str) for j in joints):
             namespace = _namespace_of([node, *managers])
             found["/".join(part for part in (namespace, node.name) if part)] = tuple(joints)

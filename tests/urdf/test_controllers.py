@@ -1271,6 +1271,43 @@ plain_controller:
     }
 
 
+def test_only_controllers_taking_velocities_on_commands_are_command_controllers(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "controllers.yaml"
+    path.write_text(
+        """
+controller_manager:
+  ros__parameters:
+    trajectory: {type: joint_trajectory_controller/JointTrajectoryController}
+    positions: {type: position_controllers/JointGroupPositionController}
+    velocities: {type: velocity_controllers/JointGroupVelocityController}
+    forward: {type: forward_command_controller/ForwardCommandController}
+    forward_effort: {type: forward_command_controller/ForwardCommandController}
+trajectory:
+  ros__parameters: {joints: [wheel_a]}
+positions:
+  ros__parameters: {joints: [wheel_b]}
+velocities:
+  ros__parameters: {joints: [wheel_c]}
+forward:
+  ros__parameters: {joints: [wheel_d], interface_name: velocity}
+forward_effort:
+  ros__parameters: {joints: [wheel_e], interface_name: effort}
+undeclared:
+  ros__parameters: {joints: [wheel_f]}
+""",
+        encoding="utf-8",
+    )
+    # A trajectory controller subscribes ~/joint_trajectory; position and effort commands
+    # are no wheel velocities. A section of no declared type is taken at its word.
+    assert load_command_controllers(path) == {
+        "velocities": ("wheel_c",),
+        "forward": ("wheel_d",),
+        "undeclared": ("wheel_f",),
+    }
+
+
 def test_file_errors_are_one_message_each(tmp_path: Path) -> None:
     missing = tmp_path / "missing.yaml"
     with pytest.raises(ControllerConfigError) as caught:
