@@ -170,8 +170,14 @@ class _ComparingSink:
 
 
 class _BagSink:
-    def __init__(self, bag: OdometryBagWriter) -> None:
+    """Poses to an odometry bag; with a ``window`` of more than one step, their twists over
+    that many steps, as the robot's controller (and ``node odom``) publishes them."""
+
+    def __init__(self, bag: OdometryBagWriter, window: int = 1) -> None:
+        from diffbot.window_sums import RollingVelocity
+
         self.bag = bag
+        self.rolling = RollingVelocity(window) if window > 1 else None
 
     @property
     def count(self) -> int:
@@ -179,17 +185,19 @@ class _BagSink:
 
     def write(self, poses: ChunkPoses) -> None:
         theta = [norm_angle(h) for h in poses.heading.tolist()]
-        self.bag.write(
+        stamps, linear, angular = (
             poses.stamp_ns.tolist(),
-            poses.x.tolist(),
-            poses.y.tolist(),
-            theta,
             poses.linear.tolist(),
             poses.angular.tolist(),
         )
+        if self.rolling is not None:
+            linear, angular = self.rolling(stamps, linear, angular)
+        self.bag.write(stamps, poses.x.tolist(), poses.y.tolist(), theta, linear, angular)
 
     def restart(self) -> None:
         self.bag.restart()
+        if self.rolling is not None:
+            self.rolling.restart()
 
 
 _Sink = _CsvSink | _BagSink | _ComparingSink
@@ -280,7 +288,10 @@ def run_task(
             with OdometryBagWriter(
                 task.output, _published_as(task.params), force=task.force
             ) as bag:
-                bag_sink = _BagSink(bag)
+                # The controller's open loop publishes the held command: no window.
+                controller = task.params.controller
+                window = 1 if controller is None or task.open_loop else controller.rolling_window
+                bag_sink = _BagSink(bag, window)
                 run = odometry(bag_sink)
             return result(run, bag_sink.count)
         with atomic_text(Path(task.output), force=task.force, inputs=inputs) as out:

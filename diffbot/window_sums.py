@@ -13,7 +13,7 @@ of zero steps sums to exactly zero.
 
 from __future__ import annotations
 
-__all__ = ["WindowSums"]
+__all__ = ["RollingVelocity", "WindowSums"]
 
 Step = tuple[float, float, float]
 _ZERO: Step = (0.0, 0.0, 0.0)
@@ -67,3 +67,42 @@ class WindowSums:
         self._older.clear()
         self._newer.clear()
         self._newer_sum = _ZERO
+
+
+class RollingVelocity:
+    """The velocity over the last ``size`` steps of a stream of poses, each given with its
+    stamp and the velocity over the step that ends at it: the window's displacement over the
+    window's time, as :class:`diffbot.Odometry` with ``velocity_rolling_window_size=size``
+    (and so ``node odom``) gives it.
+
+    Args:
+        size: how many steps the window holds (at least 1).
+    """
+
+    def __init__(self, size: int) -> None:
+        self._sums = WindowSums(size)
+        self._last_ns: int | None = None
+
+    def restart(self) -> None:
+        """Forget every step: the next pose is a baseline again."""
+        self._sums.clear()
+        self._last_ns = None
+
+    def __call__(
+        self, stamps_ns: list[int], linear: list[float], angular: list[float]
+    ) -> tuple[list[float], list[float]]:
+        """The windowed linear and angular velocities of the next poses (a baseline, the first
+        pose after a start or restart, keeps its own: it ends no step)."""
+        out_linear: list[float] = []
+        out_angular: list[float] = []
+        for stamp, v, w in zip(stamps_ns, linear, angular, strict=True):
+            last, self._last_ns = self._last_ns, stamp
+            if last is None:
+                out_linear.append(v)
+                out_angular.append(w)
+                continue
+            dt = (stamp - last) / 1e9
+            distance, turn, time = self._sums.push((v * dt, w * dt, dt))
+            out_linear.append(distance / time)
+            out_angular.append(turn / time)
+        return out_linear, out_angular

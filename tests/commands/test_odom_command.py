@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import sys
+from itertools import pairwise
 from pathlib import Path
 
 import pytest
@@ -175,6 +176,47 @@ def test_odom_bag_output_is_in_the_controller_s_frames_with_its_covariances(
     )
     assert not message.pose.covariance.any()
     assert not message.twist.covariance.any()
+
+
+def test_odom_bag_twist_spans_the_controller_s_rolling_window(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # The controller (and node odom) publishes the velocity over its last
+    # velocity_rolling_window_size steps; the bag said the last step's alone.
+    stamps_ns = [0, 10**8, 3 * 10**8, 35 * 10**7, 6 * 10**8, 7 * 10**8, 9 * 10**8]
+    lefts = [0.0, 0.2, 0.1, 0.4, 0.45, 0.9, 0.7]
+    rights = [0.0, 0.3, 0.5, 0.5, 0.9, 1.0, 1.6]
+    messages = [
+        (s + 1, s + 1, [LEFT, RIGHT], [lt, rt])
+        for s, lt, rt in zip(stamps_ns, lefts, rights, strict=True)
+    ]
+    bag = write_bag(tmp_path / "in", messages, topic="/joint_states")
+    controllers = tmp_path / "controllers.yaml"
+    controllers.write_text(bundled_controllers("velocity_rolling_window_size: 3"), "utf-8")
+    out = tmp_path / "odom_bag"
+    args = ["odom", str(bag), "--controllers", str(controllers), "--out", str(out), "--bag"]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 0, result.output
+    with AnyReader([out]) as reader:
+        odometry = [c for c in reader.connections if c.topic == "/odom"]
+        twists = [
+            reader.deserialize(raw, connection.msgtype).twist.twist
+            for connection, _, raw in reader.messages(connections=odometry)
+        ]
+    r, b = BOT.wheel_radius, BOT.wheel_separation
+    steps = [
+        (r * (l1 - l0 + r1 - r0) / 2, r * (r1 - r0 - l1 + l0) / b, (t1 - t0) / 1e9)
+        for (l0, l1), (r0, r1), (t0, t1) in zip(
+            pairwise(lefts), pairwise(rights), pairwise(stamps_ns), strict=True
+        )
+    ]
+    assert len(twists) == len(stamps_ns)
+    assert (twists[0].linear.x, twists[0].angular.z) == (0.0, 0.0)
+    for k, twist in enumerate(twists[1:]):
+        window = steps[max(0, k - 2) : k + 1]
+        time = sum(step[2] for step in window)
+        assert twist.linear.x == pytest.approx(sum(s[0] for s in window) / time, abs=1e-12)
+        assert twist.angular.z == pytest.approx(sum(s[1] for s in window) / time, abs=1e-12)
 
 
 def test_odom_bag_output_needs_a_directory_name(runner: CliRunner, trajectory_a: Path) -> None:
