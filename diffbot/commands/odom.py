@@ -355,7 +355,7 @@ def _one(task: OdometryTask, quiet: bool, as_json: bool, out: OutOptions, robot:
             f"{_repeat_text(summary, run.kind)}"
         )
     warn_notes(run.notes, source)
-    warn_conditioning(run.conditioning, source)
+    warn_conditioning(run.conditioning, source, commands=result.task.open_loop)
     pose = summary.final_pose
     if as_json:
         opt.emit_json(_summary(result) | {"output": out.out, "robot": robot})
@@ -480,7 +480,9 @@ def _many(
             continue
         assert result.run is not None
         warn_notes(result.run.notes, result.task.input)
-        warn_conditioning(result.run.conditioning, result.task.input)
+        warn_conditioning(
+            result.run.conditioning, result.task.input, commands=result.task.open_loop
+        )
         implausible += has_implausible_steps(result.run.conditioning)
         data = _summary(result) | {"robot": robot}
         if as_json:

@@ -269,8 +269,9 @@ def warn_notes(notes: tuple[str, ...], source: str) -> None:
             warn(f"{source}: {note}")
 
 
-def warn_conditioning(report: ConditioningReport, source: str) -> None:
-    """Warnings on stderr for a detected wrap and for implausible steps."""
+def warn_conditioning(report: ConditioningReport, source: str, *, commands: bool = False) -> None:
+    """Warnings on stderr for a detected wrap and for implausible steps (of the wheels that
+    ``commands``, velocity commands integrated open loop, would turn, when True)."""
     if report.wrap_detected and report.wrap is not None:
         warn(
             f"{source}: the wheel positions wrap around at {_number(report.wrap)} (a counter, "
@@ -280,12 +281,14 @@ def warn_conditioning(report: ConditioningReport, source: str) -> None:
     first = report.first_implausible
     if first is not None:
         limit = max(report.speed_limit)
+        # Commands have no encoder to blame: they ask for more than the wheels can turn.
+        cause = "commands the wheels cannot follow" if commands else _cause(report)
         warn(
             f"{source}: {report.implausible_steps} implausible "
             f"step{'s' if report.implausible_steps != 1 else ''} (a wheel faster than "
             f"{fmt(limit, 4)} rad/s: {report.limit_source}); the first ends at "
             f"sample {first.sample}, t {fmt(first.seconds, 6)} s ({first.joint} at "
-            f"{fmt(first.speed, 4)} rad/s): the pose is not to be trusted ({_cause(report)})"
+            f"{fmt(first.speed, 4)} rad/s): the pose is not to be trusted ({cause})"
         )
 
 

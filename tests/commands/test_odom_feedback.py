@@ -264,6 +264,27 @@ def test_open_loop_of_a_csv_writes_the_poses(runner: CliRunner, tmp_path: Path) 
     assert float(last[1]) == pytest.approx(1.0, abs=1e-12)
 
 
+@pytest.mark.parametrize("json_lines", [False, True])
+def test_open_loop_commands_beyond_the_wheels_name_no_encoder_option(
+    runner: CliRunner, tmp_path: Path, json_lines: bool
+) -> None:
+    # 1 m/s asks the bundled robot's wheels for 28.6 rad/s, over 4 times its 5.24 rad/s: the
+    # pose is flagged, but the encoder options the warning named are refused with --open-loop.
+    path = tmp_path / "cmd.csv"
+    path.write_text("t,v,w\n0,1,0\n1,0,0\n")
+    args = ["odom", str(path), "--open-loop"]
+    # two inputs take the per-row path, which warns as well
+    args += [str(path), "--json"] if json_lines else []
+    result = runner.invoke(main, args)
+    assert result.exit_code == 1, result.output
+    warnings = [line for line in result.stderr.splitlines() if "implausible step (" in line]
+    assert len(warnings) == (2 if json_lines else 1)
+    for line in warnings:
+        assert "--counts-per-rev" not in line
+        assert "--wrap" not in line
+        assert line.endswith("the pose is not to be trusted (commands the wheels cannot follow)")
+
+
 @pytest.mark.parametrize(
     ("args", "fragments"),
     [
