@@ -50,8 +50,8 @@ def integrate(
     in the same order; any difference comes from NumPy's and libm's sin and cos (an ulp or so).
 
     A side of several wheels is given as one column per wheel, shape (n, k): each sample's side
-    angle is then the mean of its k wheels, added column by column from the first and divided
-    by k, as :meth:`Odometry.update_joint_state` averages a side (every wheel present here).
+    angle is then the mean of its k wheels, as :meth:`Odometry.update_joint_state` takes a side
+    (every wheel present here; :mod:`diffbot.side_angles`).
 
     Args:
         params: the robot.
@@ -231,16 +231,17 @@ def _wheel_array(values: ArrayLike, side: str) -> NDArray[np.float64]:
 def _side_mean(wheels: NDArray[np.float64]) -> NDArray[np.float64]:
     """A side's angle per sample from one column per wheel (shape (n, k)); 1-D arrays as given.
 
-    The columns are added from the first, then divided by their count: the order and rounding
-    of Odometry.update_joint_state's mean, so both agree to the last bit.
+    As :meth:`Odometry.update_joint_state` takes it (:mod:`diffbot.side_angles`), in the same
+    order and rounding, so both agree to the last bit: every wheel present, the mean of their
+    angles.
     """
     if wheels.ndim != 2 or wheels.shape[1] == 0:
         return wheels
-    total: NDArray[np.float64] = wheels[:, 0].copy()
-    for column in range(1, wheels.shape[1]):
-        total += wheels[:, column]
-    total /= wheels.shape[1]
-    return total
+    import numpy as np
+
+    from diffbot.side_angles import SideOffsets
+
+    return SideOffsets(wheels.shape[1]).chunk(wheels, np.ones(wheels.shape, dtype=np.bool_))
 
 
 def _check_finite(left: NDArray[np.float64], right: NDArray[np.float64]) -> None:

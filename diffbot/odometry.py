@@ -39,6 +39,7 @@ from diffbot.ros.messages import (
     covariance_matrix,
 )
 from diffbot.samples import SKIP_NOT_FINITE
+from diffbot.side_angles import MessageSides
 from diffbot.velocity_feedback import check_feedback
 from diffbot.window_sums import WindowSums
 
@@ -152,7 +153,7 @@ class Odometry:
         # attributes in a fast inline layout only up to that many.
         several = len(params.left_joints) > 1 or len(params.right_joints) > 1
         #: Where a message's names put each side's joints (sides of several wheels only).
-        self._sides = _SideIndices() if several else None
+        self._sides = MessageSides(params.left_joints, params.right_joints) if several else None
         #: The last steps' (ds, dθ, dt), when the velocity spans more than one step.
         window = _window_size(velocity_rolling_window_size)
         self._steps = WindowSums(window) if window > 1 else None
@@ -347,14 +348,15 @@ class Odometry:
         The wheel joints are found by name, in any order, among any other joints. The lookup is
         cached, so a stream whose messages list the same names costs one list comparison.
 
-        A side with several joints (``params.left_joints``, ``params.right_joints``) gives the
-        mean of the positions of its joints that the message holds: those joints' positions
-        added one by one in the order of ``params.left_joints`` (``right_joints``), the sum
-        divided by their count, in float64. A joint holds a position when its name is in
-        ``names`` (its first occurrence) and ``positions`` reaches its index. The sample is
+        A side with several joints (``params.left_joints``, ``params.right_joints``) is the
+        mean of their positions, and moves by the motion of those the message holds when it
+        lacks some (:mod:`diffbot.side_angles`: each joint less its encoder's offset, added one
+        by one in the order of ``params.left_joints``, the sum divided by their count, in
+        float64; velocities are averaged as they are). A joint holds a position when its name is
+        in ``names`` (its first occurrence) and ``positions`` reaches its index. The sample is
         skipped as ``missing joint`` only when no joint of a side holds one; a NaN or infinite
         position of any present joint skips it as ``not finite``. With one joint per side the
-        mean is that joint's position, unchanged.
+        side is that joint's position, unchanged.
 
         Args:
             names: the message's ``name`` field.
@@ -410,33 +412,18 @@ class Odometry:
 
     def _update_sides(
         self,
-        sides: _SideIndices,
+        sides: MessageSides,
         names: Sequence[str],
         positions: Sequence[float],
         stamp: float | None,
         stamp_ns: int | None,
     ) -> bool:
-        """update_joint_state for sides of several wheels: each side at its wheels' mean."""
-        if names != sides.names:
-            left_indices = _indices(names, self.params.left_joints)
-            right_indices = _indices(names, self.params.right_joints)
-            if not left_indices or not right_indices:
-                self._skip(SKIP_MISSING_JOINT)
-                return False
-            sides.names = names if type(names) is tuple else list(names)
-            sides.left = left_indices
-            sides.right = right_indices
-            sides.reach = max(*left_indices, *right_indices) + 1
-        left_indices, right_indices = sides.left, sides.right
-        if len(positions) < sides.reach:  # joints named without a position count as absent
-            size = len(positions)
-            left_indices = tuple(i for i in left_indices if i < size)
-            right_indices = tuple(i for i in right_indices if i < size)
-            if not left_indices or not right_indices:
-                self._skip(SKIP_MISSING_JOINT)
-                return False
-        left = _mean(positions, left_indices)
-        right = _mean(positions, right_indices)
+        """update_joint_state for sides of several wheels (:class:`MessageSides`)."""
+        found = sides.values(names, positions, angles=not self._velocity)
+        if found is None:
+            self._skip(SKIP_MISSING_JOINT)
+            return False
+        left, right = found
         if stamp_ns is None:
             return self.update(left, right, stamp)
         return self.update(left, right, stamp, stamp_ns=stamp_ns)
@@ -550,18 +537,6 @@ class Odometry:
         )
 
 
-class _SideIndices:
-    """The last names looked up, where they put each side's joints, how far positions reach."""
-
-    __slots__ = ("left", "names", "reach", "right")
-
-    def __init__(self) -> None:
-        self.names: list[str] | tuple[str, ...] | None = None
-        self.left: tuple[int, ...] = ()
-        self.right: tuple[int, ...] = ()
-        self.reach = 0
-
-
 def _window_size(value: int) -> int:
     """``value`` as a window size (a whole number >= 1), or ParameterError."""
     try:
@@ -574,16 +549,3 @@ def _window_size(value: int) -> int:
             f"{MAX_ROLLING_WINDOW:,}, got {shown(value)}"
         )
     return size
-
-
-def _indices(names: Sequence[str], joints: tuple[str, ...]) -> tuple[int, ...]:
-    """Where each of ``joints`` first appears in ``names`` (in the order of ``joints``)."""
-    return tuple(names.index(joint) for joint in joints if joint in names)
-
-
-def _mean(positions: Sequence[float], indices: tuple[int, ...]) -> float:
-    """The mean of ``positions`` at ``indices``: summed in that order, then divided by the count."""
-    total = float(positions[indices[0]])
-    for i in indices[1:]:
-        total += float(positions[i])
-    return total / len(indices)

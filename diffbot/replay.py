@@ -5,10 +5,10 @@ driven from here.
 :func:`recording_odometry` reads a CSV file or a bag topic chunk by chunk, in memory that does
 not grow with the recording; the result is that of feeding its samples one by one to
 :class:`diffbot.odometry.Odometry` (stamps in seconds since the first sample), bit for bit. A
-side with several drive wheels is the mean of its joints present in a sample; a sample is
-skipped only when a whole side is missing. A bag topic is stamped by one clock: the header
-stamps when every readable message with a wheel of each side has a non-zero one, otherwise the
-bag's receive times. A
+side with several drive wheels moves by the motion of its joints present in a sample
+(:mod:`diffbot.side_angles`); a sample is skipped only when a whole side is missing. A bag
+topic is stamped by one clock: the header stamps when every readable message with a wheel of
+each side has a non-zero one, otherwise the bag's receive times. A
 zero header stamp is seen only while reading, so a topic that turns out to need the receive
 times is read a second time: the sink is then told to start again (:meth:`PoseSink.restart`).
 
@@ -233,9 +233,10 @@ def csv_odometry(
         RecordingError: missing, empty or non-text input, no time column, no column for a side,
             malformed CSV, or no usable sample.
     """
-    from diffbot.chunk_odometry import ChunkOdometry, side_means
+    from diffbot.chunk_odometry import ChunkOdometry
     from diffbot.conditioning import Conditioner
     from diffbot.io.csv_chunks import CHUNK_BYTES, CsvLayout, open_csv_chunks
+    from diffbot.side_angles import SideAngles
     from diffbot.velocity_feedback import VelocityAngles, check_feedback
 
     odom = ChunkOdometry(params)
@@ -254,6 +255,7 @@ def csv_odometry(
     ) as chunks:
         conditioner = Conditioner.for_robot(params, chunks.joints, chunks.left_count, conditioning)
         angles = VelocityAngles(len(chunks.joints)) if velocity else None
+        wheel_sides = SideAngles(chunks.left_count, len(chunks.joints) - chunks.left_count)
         for chunk in chunks:
             for reason, count in chunk.skipped.items():
                 odom.skip(reason, count)
@@ -261,7 +263,7 @@ def csv_odometry(
             if angles is not None:
                 values = angles.feed(chunk.stamp_ns, values, chunk.present)
             positions = conditioner.feed(chunk.stamp_ns, values, chunk.present)
-            left, right, both = side_means(positions, chunk.present, chunks.left_count)
+            left, right, both = wheel_sides.chunk(positions, chunk.present)
             poses = odom.feed(chunk.stamp_ns, left, right, both)
             if sink is not None:
                 sink.write(poses)
@@ -284,15 +286,17 @@ def _bag_pass(
     """One pass over the topic; None when a zero header stamp asks for the receive clock."""
     import numpy as np
 
-    from diffbot.chunk_odometry import ChunkOdometry, side_means
+    from diffbot.chunk_odometry import ChunkOdometry
     from diffbot.conditioning import Conditioner
     from diffbot.io.jointstate_cdr import decode_positions
+    from diffbot.side_angles import SideAngles
     from diffbot.velocity_feedback import VelocityAngles
 
     odom = ChunkOdometry(params)
     joints = (*params.left_joints, *params.right_joints)
     conditioner = Conditioner.for_robot(params, joints, len(params.left_joints), conditioning)
     angles = VelocityAngles(len(joints)) if feedback == "velocity" else None
+    sides = SideAngles(len(params.left_joints), len(params.right_joints))
     limit = wheel_limit(feedback, None if conditioning is None else conditioning.counts_per_rev)
     for chunk in topic.chunks(receive_times=clock == CLOCK_RECEIVE):
         decoded = decode_positions(chunk.blobs, joints, feedback)
@@ -323,7 +327,7 @@ def _bag_pass(
         if angles is not None:
             positions = angles.feed(stamps, positions, present)
         positions = conditioner.feed(stamps, positions, present)
-        left, right, both = side_means(positions, present, len(params.left_joints))
+        left, right, both = sides.chunk(positions, present)
         poses = odom.feed(stamps, left, right, both)
         if sink is not None:
             sink.write(poses)

@@ -23,6 +23,7 @@ if TYPE_CHECKING:
 
     from diffbot.conditioning import ConditioningReport
     from diffbot.odometry import Odometry
+    from diffbot.side_angles import SideAngles
 
 __all__ = [
     "CLOCK_HEADER",
@@ -222,6 +223,7 @@ class ColumnSamples(ColumnView[JointSample]):
         self.right = array.array("d")
         #: Per row: 1 if the left wheel's cell is set, 2 if the right's, 3 if both.
         self.present = bytearray()
+        self._sides: SideAngles | None = None
         self._names: tuple[tuple[str, ...], ...] = (
             (),
             (left_joint,),
@@ -239,7 +241,8 @@ class ColumnSamples(ColumnView[JointSample]):
         present: NDArray[np.bool_],
         left_count: int,
     ) -> None:
-        """Append a chunk of rows: each side the mean of its joints present (:func:`side_means`).
+        """Append a chunk of rows: each side's angle (:func:`side_means`), the wheels' offsets
+        kept from one chunk to the next.
 
         Args:
             stamps_ns: the rows' stamps (ns), shape (n,).
@@ -247,7 +250,11 @@ class ColumnSamples(ColumnView[JointSample]):
             present: whether each row has each joint, same shape.
             left_count: how many of the joints are on the left.
         """
-        left, right, _ = side_means(positions, present, left_count)
+        if self._sides is None:
+            from diffbot.side_angles import SideAngles
+
+            self._sides = SideAngles(left_count, positions.shape[1] - left_count)
+        left, right, _ = self._sides.chunk(positions, present)
         have_left = present[:, :left_count].any(axis=1)
         have_right = present[:, left_count:].any(axis=1)
         _extend(self.stamps_ns, stamps_ns, "<i8")
@@ -316,12 +323,13 @@ def later_than_before(values: NDArray[Any], prior: float) -> NDArray[np.bool_]:
 def side_means(
     positions: NDArray[np.float64], present: NDArray[np.bool_], left_count: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
-    """Each side's wheel angle per sample: the mean of that side's joints present in it.
+    """Each side's wheel angle per sample, for a whole recording at once.
 
-    As diff_drive_controller averages the wheels of a side, and as
-    :meth:`diffbot.odometry.Odometry.update_joint_state` does: the present positions are added
-    in the order of the side's joints, the first one starting the sum, then divided by how many
-    there are (one joint: its position unchanged).
+    A side of one wheel is that wheel's angle, unchanged. A side of several is the mean over
+    its wheels present of each one's angle less its offset (:mod:`diffbot.side_angles`): while
+    every wheel is present, the mean of their angles, as diff_drive_controller averages them;
+    a wheel missing from a sample moves the side by the others' motion, not by the encoders'
+    offsets. A stream of chunks keeps one :class:`~diffbot.side_angles.SideAngles` instead.
 
     Args:
         positions: joint angles (rad), shape (n, joints): the left joints first, then the right.
@@ -332,26 +340,10 @@ def side_means(
         The left and right angles (rad), shape (n,) each, and whether the sample has at least
         one joint of each side.
     """
-    import numpy as np  # here: reading a CSV or a bag needs NumPy, quick commands do not
+    from diffbot.side_angles import SideAngles
 
-    means = []
-    for columns in (slice(0, left_count), slice(left_count, positions.shape[1])):
-        values, mask = positions[:, columns], present[:, columns]
-        if values.shape[1] == 1:
-            means.append(np.where(mask[:, 0], values[:, 0], 0.0))
-            continue
-        total = np.zeros(positions.shape[0])
-        count = np.zeros(positions.shape[0])
-        for j in range(values.shape[1]):
-            # The first present position starts the sum (not 0.0 + it: -0.0 stays -0.0).
-            with np.errstate(all="ignore"):
-                added = np.where(count > 0, total + values[:, j], values[:, j])
-            total = np.where(mask[:, j], added, total)
-            count += mask[:, j]
-        side = count > 0
-        with np.errstate(invalid="ignore", divide="ignore"):
-            means.append(np.where(side, total / np.where(side, count, 1.0), 0.0))
-    return means[0], means[1], each_side(present, left_count)
+    sides = SideAngles(left_count, positions.shape[1] - left_count)
+    return sides.chunk(positions, present)
 
 
 class OdometryRow(NamedTuple):

@@ -204,7 +204,8 @@ def odom(
     --topic. A bag's samples are all stamped by their header stamps, or all by the bag's receive
     times when any header stamp is zero (the summary says which). Each step is integrated
     exactly along its arc; the first sample sets the encoder baseline. A side with several
-    wheels moves by the mean of its joints present in a sample. Samples without a whole side,
+    wheels is the mean of their angles, and moves by the motion of those a sample has when it
+    lacks some (never by their encoders' offsets). Samples without a whole side,
     with NaN/inf or with a stamp not after the previous one are skipped and reported.
 
     With --feedback velocity the wheels' velocities are read instead (a bag's JointState

@@ -529,7 +529,7 @@ def read_csv(
 ) -> Recording:
     """Read the wheel joint samples of a recording CSV whole, as compact columns.
 
-    A side with several joints gives the mean of its joints present in each row (see
+    A side with several joints moves by the motion of its joints present in each row (see
     :func:`diffbot.samples.side_means`).
 
     Args:

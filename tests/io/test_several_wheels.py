@@ -100,3 +100,24 @@ def test_a_csv_needs_a_column_for_each_side(tmp_path: Path) -> None:
     path.write_text("time,front_left,rear_left\n0,1,2\n", encoding="utf-8")
     with pytest.raises(RecordingError, match="no column for the right wheel joint 'front_right'"):
         csv_odometry(path, SKID)
+
+
+def test_a_wheel_missing_from_a_row_moves_its_side_by_the_others_motion() -> None:
+    # Encoders from their own zeros (100 and 0 rad left, 0 and 50 right), all turning at
+    # 1 rad/s straight ahead; one row lacks the second left wheel. The mean of the angles
+    # present would jump by 50 rad there: a false turn, a distance 17 times too long.
+    lines = ["time," + ",".join(JOINTS)]
+    for k in range(31):
+        t = k / 10
+        row = [100.0 + t, t, t, 50.0 + t]
+        cells = [repr(v) for v in row]
+        if k == 15:
+            cells[1] = ""
+        lines.append(f"{t!r}," + ",".join(cells))
+    text = "\n".join(lines) + "\n"
+    got = csv_odometry(io.StringIO(text, newline=""), SKID).summary
+    radius = SKID.wheel_radius
+    assert got.final_pose.x == pytest.approx(3.0 * radius, abs=1e-12)
+    assert got.final_pose.y == pytest.approx(0.0, abs=1e-12)
+    assert got.final_pose.theta == pytest.approx(0.0, abs=1e-12)
+    assert got.distance == pytest.approx(3.0 * radius, abs=1e-12)
