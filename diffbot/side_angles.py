@@ -105,7 +105,7 @@ class SideOffsets:
                 if offset is None and usable[start:, j].any()
             ]
             stop = min(firsts, default=n)
-            self._rows(values[start:stop], present[start:stop], usable[start:stop], out[start:stop])
+            out[start:stop] = self._rows(values[start:stop], present[start:stop])
             if stop == n:
                 break
             row = [
@@ -116,16 +116,12 @@ class SideOffsets:
             start = stop + 1
         return out
 
-    def _rows(
-        self,
-        values: NDArray[np.float64],
-        present: NDArray[np.bool_],
-        usable: NDArray[np.bool_],
-        out: NDArray[np.float64],
-    ) -> None:
-        """Rows in which every usable wheel has an offset: their angles into ``out``."""
+    def _rows(self, values: NDArray[np.float64], present: NDArray[np.bool_]) -> NDArray[np.float64]:
+        """The angles of rows in which every wheel present and finite has an offset."""
         import numpy as np
 
+        with np.errstate(invalid="ignore"):
+            usable = present & np.isfinite(values)
         total = np.zeros(values.shape[0])
         count = np.zeros(values.shape[0])
         for j, offset in enumerate(self.offsets):
@@ -139,10 +135,13 @@ class SideOffsets:
             count += usable[:, j]
         known = count > 0
         with np.errstate(invalid="ignore", divide="ignore"):
-            out[:] = np.where(known, total / np.where(known, count, 1.0), 0.0)
-        out[(present & ~usable).any(axis=1)] = math.nan
-        if known.any():
-            self._last = float(out[np.flatnonzero(known)[-1]])
+            angles: NDArray[np.float64] = np.where(known, total / np.where(known, count, 1.0), 0.0)
+        spoiled = (present & ~usable).any(axis=1)
+        angles[spoiled] = math.nan
+        taken = np.flatnonzero(known & ~spoiled)
+        if taken.size:
+            self._last = float(angles[taken[-1]])
+        return angles
 
 
 class SideAngles:

@@ -106,6 +106,12 @@ def test_a_wheel_not_finite_gives_nan_and_teaches_nothing() -> None:
     chunk = side.chunk(np.array([[3.0, math.inf], [4.0, 0.0]]), np.array([[1, 1], [1, 0]], bool))
     assert math.isnan(chunk[0])
     assert chunk[1] == 4.0
+    # A spoiled row is not the side's last angle: a wheel joining after it joins the side at the
+    # last angle taken, 4, not at the spoiled row's 5 or NaN.
+    again = side.chunk(np.array([[5.0, math.nan], [0.0, 9.0]]), np.array([[1, 1], [0, 1]], bool))
+    assert math.isnan(again[0])
+    assert again[1] == 4.0
+    assert side.offsets[1] == 5.0
 
 
 def test_both_sides_and_a_single_wheel_side() -> None:

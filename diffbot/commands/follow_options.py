@@ -9,7 +9,7 @@ from typing import Any, TypeVar
 import click
 
 from diffbot.commands.options import MIN_COMMAND_RATE, FiniteFloat, NumberPair
-from diffbot.commands.shown_defaults import choice_option
+from diffbot.commands.shown_defaults import choice_option, name_option
 from diffbot.follow import MAX_LEAD
 from diffbot.simulation import MAX_DELAY
 
@@ -157,12 +157,12 @@ def live_follow_options(command: F) -> F:
         help="With --follow: take the pose from this geometry_msgs/PoseStamped or "
         "PoseWithCovarianceStamped topic (localization, motion capture) instead of --odom-topic.",
     )(command)
-    command = click.option(
+    command = name_option(
         "--odom-topic",
-        metavar="TOPIC",
-        help="With --follow: the nav_msgs/Odometry topic of the robot's pose [the controllers "
-        "file's diff-drive controller's /<name>/odom, else the description's Gazebo classic "
-        "diff-drive plugin's, else odom].",
+        None,
+        "With --follow: the nav_msgs/Odometry topic of the robot's pose [the controllers file's "
+        "diff-drive controller's /<name>/odom, else the description's Gazebo classic diff-drive "
+        "plugin's, else odom].",
     )(command)
     return _follow_option(
         "Close the loop: follow the plan from the robot's pose, published on --cmd-vel at --rate "

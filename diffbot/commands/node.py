@@ -79,18 +79,14 @@ def node() -> None:
 @click.argument("tokens", nargs=-1, metavar="[ROBOT] [NAME:=VALUE]...")
 @robot_options
 @name_option("--joint-states", "joint_states", "The sensor_msgs/JointState topic to read.")
-@click.option(
+@name_option(
     "--odom-topic",
-    metavar="TOPIC",
-    help="The nav_msgs/Odometry topic to publish [the controllers file's diff-drive "
-    "controller's /<name>/odom, else odom].",
+    None,
+    "The nav_msgs/Odometry topic to publish [the controllers file's diff-drive controller's "
+    "/<name>/odom, else odom].",
 )
 @click.option("--no-tf", is_flag=True, help="Do not broadcast odom -> base_link on /tf.")
-@click.option(
-    "--frame-id",
-    metavar="FRAME",
-    help="Odometry frame [the controller's, behind its prefix; else odom].",
-)
+@click.option("--frame-id", metavar="FRAME", help="Odometry frame [the controller's, else odom].")
 @click.option(
     "--child-frame-id",
     metavar="FRAME",

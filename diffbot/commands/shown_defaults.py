@@ -31,13 +31,14 @@ def choice_option(
 
 
 def name_option(
-    flag: str, default: str, help: str, *, metavar: str = "TOPIC"
+    flag: str, default: str | None, help: str, *, metavar: str = "TOPIC"
 ) -> Callable[[_F], _F]:
     """An option taking a name, ``default`` when not given.
 
     Args:
         flag: the option's flag.
-        default: the name it has when not given.
+        default: the name it has when not given (None: the command finds it, and ``help``
+            says how).
         help: its help text.
         metavar: what ``--help`` calls the value (TOPIC, FRAME).
     """
