@@ -7,6 +7,7 @@ import math
 import sys
 from itertools import pairwise
 from pathlib import Path
+from typing import Any
 
 import pytest
 from bags import write_bag
@@ -142,6 +143,19 @@ def test_odom_reads_a_bag_and_writes_a_bag_of_odometry_and_tf(
     assert "exists: use --force" in again.stderr
 
 
+def odom_bag_of(runner: CliRunner, tmp_path: Path, messages: list[Any], *parameters: str) -> Path:
+    """The bag ``odom --bag`` writes of a bag of ``messages`` for the bundled robot with a
+    controllers file of these diff-drive ``parameters``."""
+    bag = write_bag(tmp_path / "in", messages, topic="/joint_states")
+    controllers = tmp_path / "controllers.yaml"
+    controllers.write_text(bundled_controllers(*parameters), "utf-8")
+    out = tmp_path / "odom_bag"
+    args = ["odom", str(bag), "--controllers", str(controllers), "--out", str(out), "--bag"]
+    result = runner.invoke(main, args)
+    assert result.exit_code == 0, result.output
+    return out
+
+
 def test_odom_bag_output_is_in_the_controller_s_frames_with_its_covariances(
     runner: CliRunner, tmp_path: Path
 ) -> None:
@@ -150,15 +164,9 @@ def test_odom_bag_output_is_in_the_controller_s_frames_with_its_covariances(
         (round(s * 1e9) + 1, round(s * 1e9) + 1, [LEFT, RIGHT], [lt, rt])
         for s, lt, rt in zip(stamps[:20], lefts, rights, strict=False)
     ]
-    bag = write_bag(tmp_path / "in", messages, topic="/joint_states")
-    controllers = tmp_path / "controllers.yaml"
-    controllers.write_text(
-        bundled_controllers("tf_frame_prefix: robot", "base_frame_id: base_footprint"), "utf-8"
+    out = odom_bag_of(
+        runner, tmp_path, messages, "tf_frame_prefix: robot", "base_frame_id: base_footprint"
     )
-    out = tmp_path / "odom_bag"
-    args = ["odom", str(bag), "--controllers", str(controllers), "--out", str(out), "--bag"]
-    result = runner.invoke(main, args)
-    assert result.exit_code == 0, result.output
     with AnyReader([out]) as reader:
         odometry = [c for c in reader.connections if c.topic == "/odom"]
         first = next(reader.messages(connections=odometry))
@@ -190,13 +198,7 @@ def test_odom_bag_twist_spans_the_controller_s_rolling_window(
         (s + 1, s + 1, [LEFT, RIGHT], [lt, rt])
         for s, lt, rt in zip(stamps_ns, lefts, rights, strict=True)
     ]
-    bag = write_bag(tmp_path / "in", messages, topic="/joint_states")
-    controllers = tmp_path / "controllers.yaml"
-    controllers.write_text(bundled_controllers("velocity_rolling_window_size: 3"), "utf-8")
-    out = tmp_path / "odom_bag"
-    args = ["odom", str(bag), "--controllers", str(controllers), "--out", str(out), "--bag"]
-    result = runner.invoke(main, args)
-    assert result.exit_code == 0, result.output
+    out = odom_bag_of(runner, tmp_path, messages, "velocity_rolling_window_size: 3")
     with AnyReader([out]) as reader:
         odometry = [c for c in reader.connections if c.topic == "/odom"]
         twists = [

@@ -1244,9 +1244,15 @@ single:
     assert load_command_controllers(path) == {}
 
 
-def test_command_controllers_in_a_namespace_are_named_with_it(tmp_path: Path) -> None:
+def command_controllers(tmp_path: Path, text: str) -> dict[str, tuple[str, ...]]:
     path = tmp_path / "controllers.yaml"
-    path.write_text(
+    path.write_text(text, encoding="utf-8")
+    return load_command_controllers(path)
+
+
+def test_command_controllers_in_a_namespace_are_named_with_it(tmp_path: Path) -> None:
+    found = command_controllers(
+        tmp_path,
         """
 /a200_0000/controller_manager:
   ros__parameters: {update_rate: 50}
@@ -1260,10 +1266,9 @@ robot_b:
 plain_controller:
   ros__parameters: {joints: [wheel_d]}
 """,
-        encoding="utf-8",
     )
     # A section left to a wildcard is in its controller manager's namespace.
-    assert load_command_controllers(path) == {
+    assert found == {
         "a200_0000/left_wheel_controller": ("wheel_a",),
         "robot_b/right_wheel_controller": ("wheel_b",),
         "a200_0000/other_controller": ("wheel_c",),
@@ -1274,8 +1279,8 @@ plain_controller:
 def test_only_controllers_taking_velocities_on_commands_are_command_controllers(
     tmp_path: Path,
 ) -> None:
-    path = tmp_path / "controllers.yaml"
-    path.write_text(
+    found = command_controllers(
+        tmp_path,
         """
 controller_manager:
   ros__parameters:
@@ -1297,11 +1302,10 @@ forward_effort:
 undeclared:
   ros__parameters: {joints: [wheel_f]}
 """,
-        encoding="utf-8",
     )
     # A trajectory controller subscribes ~/joint_trajectory; position and effort commands
     # are no wheel velocities. A section of no declared type is taken at its word.
-    assert load_command_controllers(path) == {
+    assert found == {
         "velocities": ("wheel_c",),
         "forward": ("wheel_d",),
         "undeclared": ("wheel_f",),
