@@ -127,6 +127,9 @@ class DiffDriveParams:
         controller: the diff_drive_controller configuration the robot runs with, if one was
             read (its limits, frame ids, odometry settings).
         description_files: every file the description was read from (outputs never go there).
+        xacro_arguments: the xacro arguments the description declares or reads
+            (``wheel_radius``...); empty for a URDF without xacro, an SDF model, or no
+            description.
         plugin_topics: the ROS topics of the description's simulator diff-drive plugin
             (Gazebo classic's) by their default names, ``cmd_vel`` (the Twist commands it
             takes) and ``odom`` (the odometry it publishes), with its namespace and
@@ -151,6 +154,7 @@ class DiffDriveParams:
     disagreements: tuple[Disagreement, ...] = field(default=(), compare=False)
     controller: ControllerConfig | None = field(default=None, compare=False)
     description_files: tuple[str, ...] = field(default=(), compare=False)
+    xacro_arguments: tuple[str, ...] = field(default=(), compare=False)
     plugin_topics: Mapping[str, str] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:

@@ -310,8 +310,8 @@ def _read_back_description(path: Path, data: bytes, wanted: dict[str, float], lo
 
 def _apply_description(path: Path, data: bytes, result: WheelGeometry, load: Loader) -> ApplyResult:
     source = str(path)
-    arguments = xacro_arguments(result)
-    values = dict(item.split(":=") for item in arguments.arguments.split())
+    arguments = xacro_arguments(result)  # both: the definitions are checked below
+    values = dict(item.split(":=") for item in (arguments.arguments or "").split())
     found = _definitions(data, source)
     changed: list[str] = []
     for name in _DESCRIPTION_NAMES:

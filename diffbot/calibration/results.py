@@ -4,6 +4,7 @@ diff_drive_controller multiplier lines and xacro arguments (the calibrated copie
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from typing import NamedTuple
 
 from diffbot.calibration.checks import WheelGeometry, positive
@@ -79,20 +80,30 @@ class XacroArguments(NamedTuple):
     """xacro arguments of a calibration.
 
     Attributes:
-        arguments: ``wheel_radius:=... wheel_separation:=...`` (m).
+        arguments: ``wheel_radius:=... wheel_separation:=...`` (m), those of the two the
+            description declares; None when it declares neither.
         note: why one radius cannot say it all, when the two radii differ; else None.
     """
 
-    arguments: str
+    arguments: str | None
     note: str | None
 
 
-def xacro_arguments(result: WheelGeometry, *, tolerance: float = 1e-6) -> XacroArguments:
+def xacro_arguments(
+    result: WheelGeometry,
+    *,
+    tolerance: float = 1e-6,
+    declared: Collection[str] | None = None,
+) -> XacroArguments:
     """The description's arguments (one radius for both wheels) for a calibration.
 
     Args:
         result: a calibration (:class:`UmbmarkResult`, :class:`FitResult`).
         tolerance: relative difference of the radii below which they count as equal.
+        declared: the xacro arguments the description declares
+            (:attr:`~diffbot.kinematics.DiffDriveParams.xacro_arguments`): only those of
+            ``wheel_radius`` and ``wheel_separation`` it declares are given (an argument it does
+            not declare would be ignored); None: both.
 
     Returns:
         The arguments with the mean radius, and a note when the radii differ by more than
@@ -101,17 +112,20 @@ def xacro_arguments(result: WheelGeometry, *, tolerance: float = 1e-6) -> XacroA
     left = result.left_wheel_radius
     right = result.right_wheel_radius
     mean = 0.5 * (left + right)
-    arguments = (
-        f"wheel_radius:={_number(mean)} wheel_separation:={_number(result.wheel_separation)}"
-    )
+    values = {"wheel_radius": mean, "wheel_separation": result.wheel_separation}
+    given = [
+        f"{name}:={_number(value)}"
+        for name, value in values.items()
+        if declared is None or name in declared
+    ]
     note = None
-    if abs(right - left) > tolerance * mean:
+    if abs(right - left) > tolerance * mean and (declared is None or "wheel_radius" in declared):
         note = (
             f"the radii differ (left {_number(left)} m, right {_number(right)} m, "
             f"{100.0 * (right - left) / mean:+.3g} %): wheel_radius is their mean; apply the "
             "difference with the controller's left and right radius multipliers"
         )
-    return XacroArguments(arguments, note)
+    return XacroArguments(" ".join(given) or None, note)
 
 
 def params_json(result: WheelGeometry) -> dict[str, float]:

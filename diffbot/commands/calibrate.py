@@ -162,10 +162,14 @@ def _report(
         written = str(target)
     if output.as_json:
         emit_json(
-            {**calibration_data(result, nominal, base), **(extra or {}), "applied_to": written}
+            {
+                **calibration_data(result, nominal, base, params.xacro_arguments),
+                **(extra or {}),
+                "applied_to": written,
+            }
         )
         return
-    for line in calibration_lines(result, nominal, base):
+    for line in calibration_lines(result, nominal, base, params.xacro_arguments):
         click.echo(line)
     if written is not None:
         click.echo(f"wrote {written} (a calibrated copy of {output.apply_to})")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Collection
 from typing import Any
 
 from diffbot.calibration.fit import FitResult
@@ -35,6 +36,7 @@ def calibration_lines(
     result: UmbmarkResult | FitResult,
     nominal: tuple[float, float, float],
     base: tuple[float, float],
+    declared: Collection[str] | None = None,
 ) -> list[str]:
     """The report of a calibration: the errors, the geometry and how to apply it.
 
@@ -42,6 +44,8 @@ def calibration_lines(
         result: the calibration.
         nominal: the robot's left radius, right radius and separation before it (m).
         base: the radius and separation the controller's multipliers scale (m).
+        declared: the xacro arguments the description declares (see
+            :func:`~diffbot.calibration.results.xacro_arguments`); None: both suggested.
     """
     rows: list[tuple[str, str]] = []
     stderr: tuple[float, ...] | None = None
@@ -75,8 +79,9 @@ def calibration_lines(
     lines = [f"{label:<13} {value}" for label, value in rows]
     lines.append("diff_drive_controller (ros__parameters):")
     lines += [f"  {line}" for line in controller_yaml_lines(result, *base)]
-    arguments = xacro_arguments(result)
-    lines.append(f"xacro arguments: {arguments.arguments}")
+    arguments = xacro_arguments(result, declared=declared)
+    if arguments.arguments is not None:
+        lines.append(f"xacro arguments: {arguments.arguments}")
     if arguments.note is not None:
         lines.append(f"note: {arguments.note}")
     return lines
@@ -86,9 +91,11 @@ def calibration_data(
     result: UmbmarkResult | FitResult,
     nominal: tuple[float, float, float],
     base: tuple[float, float],
+    declared: Collection[str] | None = None,
 ) -> dict[str, Any]:
     """The calibration as JSON-ready data: the ``params`` keys first, then the details (the
-    arguments as for :func:`calibration_lines`)."""
+    arguments as for :func:`calibration_lines`; ``xacro_arguments`` null when the description
+    declares neither)."""
     data: dict[str, Any] = dict(params_json(result))
     if isinstance(result, UmbmarkResult):
         data.update(
@@ -112,7 +119,7 @@ def calibration_data(
                 "heading_rms_after": result.heading_rms_after,
             },
         )
-    arguments = xacro_arguments(result)
+    arguments = xacro_arguments(result, declared=declared)
     data.update(
         nominal={
             "left_wheel_radius": nominal[0],

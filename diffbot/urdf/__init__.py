@@ -164,4 +164,4 @@ def load_params(
             ),
         )
     files = tuple(str(path) for path in expansion.files)
-    return dataclasses.replace(params, description_files=files)
+    return dataclasses.replace(params, description_files=files, xacro_arguments=expansion.arguments)

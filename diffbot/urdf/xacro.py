@@ -52,6 +52,7 @@ class Expansion:
             controllers file, are read only there.
         named_from: for each ``<parameters>`` text an included file wrote, that file's folder:
             a relative name in it starts there (elsewhere, from the description's folder).
+        arguments: the xacro arguments the description declares or reads, sorted.
     """
 
     urdf: str
@@ -59,6 +60,7 @@ class Expansion:
     files: tuple[Path, ...] = ()
     folders: tuple[Path, ...] = ()
     named_from: tuple[tuple[str, Path], ...] = ()
+    arguments: tuple[str, ...] = ()
 
 
 class _RecordingArgs(dict[str, str]):
@@ -238,7 +240,12 @@ def _run_xacro(
             warnings.append(f"xacro argument {name!r} is not declared by {source.name}: ignored")
     files = tuple(dict.fromkeys([source, *reads.files]))
     return Expansion(
-        urdf, tuple(warnings), files, tuple(reads.folders), tuple(reads.named_from.items())
+        urdf,
+        tuple(warnings),
+        files,
+        tuple(reads.folders),
+        tuple(reads.named_from.items()),
+        tuple(sorted(mappings.seen)),
     )
 
 

@@ -83,6 +83,15 @@ def test_xacro_arguments_of_equal_radii_need_no_note() -> None:
     assert xacro_arguments(result) == ("wheel_radius:=0.035 wheel_separation:=0.135", None)
 
 
+def test_xacro_arguments_are_only_those_the_description_declares() -> None:
+    both = xacro_arguments(CALIBRATED, declared=("wheel_radius", "wheel_separation", "prefix"))
+    assert both == xacro_arguments(CALIBRATED)
+    separation = xacro_arguments(CALIBRATED, declared=("wheel_separation",))
+    # No wheel_radius to give the mean radius to: the multipliers say it all, no note.
+    assert separation == ("wheel_separation:=0.1377", None)
+    assert xacro_arguments(CALIBRATED, declared=()) == (None, None)
+
+
 def test_params_json_of_a_fit_has_the_three_geometry_keys() -> None:
     assert params_json(CALIBRATED) == {
         "left_wheel_radius": 0.0349,

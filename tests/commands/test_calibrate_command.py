@@ -6,6 +6,7 @@ import json
 import shutil
 import sys
 from pathlib import Path
+from xml.etree import ElementTree
 
 import pytest
 from click.testing import CliRunner, Result
@@ -14,6 +15,7 @@ from robots import BOT
 from diffbot.cli import main
 from diffbot.io.poses import read_pose_track
 from diffbot.urdf import BUNDLED_DESCRIPTION, load_params
+from diffbot.urdf.xacro import expand
 
 TRUE = {"left_wheel_radius": 0.0352, "right_wheel_radius": 0.0348, "wheel_separation": 0.138}
 SIMULATE_TRUTH = ["--true-wheel-radius", "0.0352,0.0348", "--true-separation", "0.138"]
@@ -103,6 +105,26 @@ def test_fit_recovers_the_simulated_truth(runner: CliRunner, run_csv: Path) -> N
     assert data["controller_yaml"][0] == "wheel_separation_multiplier: 1.02222222"
     assert data["xacro_arguments"] == "wheel_radius:=0.035 wheel_separation:=0.138"
     assert data["robot"] == "bundled"
+
+
+def test_fit_suggests_no_xacro_argument_a_description_does_not_declare(
+    runner: CliRunner, run_csv: Path, tmp_path: Path
+) -> None:
+    # The bundled robot's geometry as a plain URDF: it declares no xacro argument, which
+    # wheel_radius:= would be ignored by (a warning says so when it is given).
+    root = ElementTree.fromstring(expand().urdf)
+    for child in [c for c in root if c.tag in ("gazebo", "ros2_control")]:
+        root.remove(child)
+    urdf = tmp_path / "diffbot.urdf"
+    urdf.write_text(ElementTree.tostring(root, encoding="unicode"), encoding="utf-8")
+    args = ["calibrate", "fit", str(run_csv), "--robot", str(urdf)]
+    data = json.loads(run(runner, *args, "--json").stdout)
+    assert data["wheel_separation"] == pytest.approx(TRUE["wheel_separation"], rel=1e-9)
+    assert data["xacro_arguments"] is None
+    assert data["note"] is None
+    text = run(runner, *args).stdout
+    assert "xacro arguments" not in text
+    assert "wheel_separation_multiplier: 1.02222222" in text
 
 
 def velocities_only(run_csv: Path, target: Path) -> Path:

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from robots import two_wheel_urdf
 
 import diffbot
 from diffbot import urdf as urdf_module
@@ -90,6 +91,15 @@ def test_undeclared_xacro_argument_is_reported_as_ignored() -> None:
     params = diffbot.load_params(args={"wheel_radiuss": "0.04"})
     assert params.wheel_radius == pytest.approx(0.035)
     assert any("'wheel_radiuss' is not declared" in w for w in params.warnings)
+    # The arguments it does declare are known, a plain URDF's none.
+    assert params.xacro_arguments == ("max_wheel_rpm", "wheel_radius", "wheel_separation")
+    assert diffbot.expand().arguments == params.xacro_arguments
+
+
+def test_a_plain_urdf_declares_no_xacro_argument(tmp_path: Path) -> None:
+    path = tmp_path / "two.urdf"
+    path.write_text(two_wheel_urdf(), encoding="utf-8")
+    assert diffbot.load_params(path).xacro_arguments == ()
 
 
 def test_overrides_replace_what_the_description_says() -> None:
