@@ -68,7 +68,8 @@ class SideOffsets:
         if total is None:
             return None
         side = total / count
-        self._last = side
+        if side - side == 0.0:  # a sum past the float range is no angle to hold on to
+            self._last = side
         return side
 
     def _learn(self, values: Sequence[float | None], total: float | None, count: int) -> float:
@@ -80,10 +81,15 @@ class SideOffsets:
             side = self._last
         else:
             side = _mean([v for v in values if v is not None])
-        offsets = self.offsets
-        for j, value in enumerate(values):
-            if value is not None and offsets[j] is None:
-                offsets[j] = value - side
+        learned = [
+            (j, value - side)
+            for j, value in enumerate(values)
+            if value is not None and self.offsets[j] is None
+        ]
+        if not all(offset - offset == 0.0 for _, offset in learned):
+            return math.nan  # past the float range: nothing learned, the sample skipped
+        for j, offset in learned:
+            self.offsets[j] = offset
         self._last = side
         return side
 
@@ -138,7 +144,7 @@ class SideOffsets:
             angles: NDArray[np.float64] = np.where(known, total / np.where(known, count, 1.0), 0.0)
         spoiled = (present & ~usable).any(axis=1)
         angles[spoiled] = math.nan
-        taken = np.flatnonzero(known & ~spoiled)
+        taken = np.flatnonzero(known & ~spoiled & np.isfinite(angles))
         if taken.size:
             self._last = float(angles[taken[-1]])
         return angles

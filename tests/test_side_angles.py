@@ -150,3 +150,18 @@ def test_message_sides_learn_from_a_sample_the_other_side_leaves_unusable() -> N
     assert sides.values(["l1", "r1"], [0.0, -0.0], angles=True) == (0.0, 1.0)
     velocities = MessageSides(("l1", "l2"), ("r1", "r2"))
     assert velocities.values(["l1", "l2", "r1"], [1.0, 3.0, 2.0], angles=False) == (2.0, 2.0)
+
+
+def test_values_past_the_float_range_poison_no_offset() -> None:
+    side = SideOffsets(2)
+    assert side.angle([1e308, None]) == 1e308
+    # -1e308 less 1e308 is -inf: that offset would spoil every later sample of the wheel.
+    assert math.isnan(side.angle([None, -1e308]) or 0.0)
+    assert side.offsets == [0.0, None]
+    assert side.angle([2.0, None]) == 2.0
+    assert side.angle([None, 5.0]) == 2.0  # learned now, at the side's last angle
+    assert side.offsets == [0.0, 3.0]
+    huge = SideOffsets(2)
+    assert math.isnan(huge.angle([1e308, 1e308]) or 0.0)  # their sum overflows
+    assert huge.offsets == [None, None]
+    assert huge.angle([1.0, 3.0]) == 2.0
