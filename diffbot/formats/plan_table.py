@@ -17,7 +17,26 @@ if TYPE_CHECKING:
 #: Significant digits of the plan text above the table (machine outputs keep every digit).
 HEADER_DIGITS = 6
 
-__all__ = ["HEADER_DIGITS", "limit_text", "plan_limit_text", "plan_table", "violation_lines"]
+__all__ = [
+    "HEADER_DIGITS",
+    "geometry_text",
+    "limit_text",
+    "plan_limit_text",
+    "plan_table",
+    "violation_lines",
+]
+
+
+def geometry_text(params: DiffDriveParams) -> str:
+    """The robot's size for people: ``wheel radius R m, separation B m``, or each side's
+    radius when they differ (a controller's radius multipliers), as the commands use them."""
+    left, right = params.radii
+    radius = (
+        f"wheel radius {fmt(params.wheel_radius)} m"
+        if left == right
+        else f"wheel radii {fmt(left)} m left and {fmt(right)} m right"
+    )
+    return f"{radius}, separation {fmt(params.wheel_separation)} m"
 
 
 def limit_text(params: DiffDriveParams) -> str:
@@ -88,8 +107,7 @@ def plan_table(p: Plan, label: str, *, wide: bool = False, steps: Plan | None = 
         )
     lines = [
         f"{label}: {format_plan((s.segment for s in p.segments), HEADER_DIGITS)}",
-        f"robot: {params.source} (wheel radius {fmt(params.wheel_radius)} m, "
-        f"separation {fmt(params.wheel_separation)} m); motor limit {plan_limit_text(p)}",
+        f"robot: {params.source} ({geometry_text(params)}); motor limit {plan_limit_text(p)}",
         "",
     ]
     return "\n".join([*lines, *_aligned(rows)]) + "\n" + _summary(p, steps)
@@ -131,8 +149,7 @@ def _narrow_table(p: Plan, label: str, steps: Plan | None) -> str:
     title = f"{label}: {format_plan((s.segment for s in p.segments), HEADER_DIGITS)}"
     lines = [
         title if len(title) <= WIDTH else title[: WIDTH - 4] + " ...",
-        f"robot: {params.source} (wheel radius {fmt(params.wheel_radius)} m, "
-        f"separation {fmt(params.wheel_separation)} m)",
+        f"robot: {params.source} ({geometry_text(params)})",
         "",
     ]
     return "\n".join([*lines, *_aligned(rows)]) + "\n" + _summary(p, steps)
