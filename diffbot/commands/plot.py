@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, Final
 import click
 
 from diffbot import plotting
+from diffbot.commands.messages import emit_json
 from diffbot.commands.options import (
     NUMBERS,
     RobotOptions,
@@ -58,6 +59,38 @@ def _prepared(
     return inputs
 
 
+class _Said:
+    """What plot says on stdout: a line per result for people, or with ``--json`` one object
+    once the figure is written: ``robot`` (a path, ``"bundled"`` or ``"options"``, as ``odom
+    --json`` says it), ``plan`` (its source, null without one), ``output`` (the figure's file,
+    null when only shown) and ``paths``, one per path drawn over the plan: ``input`` (the
+    recording), ``path`` (``odometry``, ``true pose`` or ``reference``), ``end`` (its last
+    ``x``, ``y``, m), ``plan_end_distance`` (m from the plan's end, null without a plan), and
+    for a reference the fields of ``odom --json``'s ``reference``."""
+
+    def __init__(self, as_json: bool) -> None:
+        self.as_json = as_json
+        self.paths: list[dict[str, Any]] = []
+
+    def echo(self, text: str) -> None:
+        """A line for people (none with ``--json``)."""
+        if not self.as_json:
+            click.echo(text)
+
+    def path(self, source: str, kind: str, drawn: _Path, **fields: Any) -> _Path:
+        """Note a path drawn from the recording ``source``, and give it back."""
+        _, x, y = drawn
+        end = {"x": float(x[-1]), "y": float(y[-1])} if len(x) else None
+        entry = {"input": source, "path": kind, "end": end, "plan_end_distance": None}
+        self.paths.append(entry | fields)
+        return drawn
+
+    def emit(self, robot: str, plan: str | None, output: str | None) -> None:
+        """The ``--json`` object, when asked for."""
+        if self.as_json:
+            emit_json({"robot": robot, "plan": plan, "output": output, "paths": self.paths})
+
+
 def _recordings_only(
     robot: RobotOptions,
     xacro_args: dict[str, str],
@@ -68,6 +101,7 @@ def _recordings_only(
     output: str | None,
     force: bool,
     show: bool,
+    said: _Said,
 ) -> None:
     """Recordings with no plan: their odometry paths alone (and their references'), and where
     each ends."""
@@ -78,15 +112,18 @@ def _recordings_only(
     params = robot.load()
     options.check_robot(robot, params)
     reports: list[ConditioningReport] = []
-    recordings = _odometry(odom_inputs, params, topic, options, reports, reference, differences)
+    recordings = _odometry(
+        odom_inputs, params, topic, options, reports, said, reference, differences
+    )
     figure = plotting.recordings_figure(recordings, differences=differences, window=show)
     references = {label for label, _, _ in differences}
-    click.echo(f"robot {robot_label(robot)}")
+    said.echo(f"robot {robot_label(robot)}")
     for label, xs, ys in recordings:
         what = "ends" if label in references else "odometry ends"
-        click.echo(f"{label}: {what} at x {fmt(xs[-1], 4)} m, y {fmt(ys[-1], 4)} m")
+        said.echo(f"{label}: {what} at x {fmt(xs[-1], 4)} m, y {fmt(ys[-1], 4)} m")
     if output is not None:
         plotting.save(figure, output, force=force, inputs=inputs)
+    said.emit(robot_label(robot), None, output)
     if show:
         plotting.show()
     exit_if_implausible(reports)
@@ -171,6 +208,7 @@ def _odometry(
     topic: str | None,
     options: RecordingOptions,
     reports: list[ConditioningReport],
+    said: _Said,
     reference: str | None = None,
     differences: list[tuple[str, list[float], list[float]]] | None = None,
 ) -> list[_Path]:
@@ -185,7 +223,9 @@ def _odometry(
     with tempfile.TemporaryDirectory() as folder:
         for source in inputs:
             path = _stdin_file(Path(folder)) if source == "-" else Path(source)
-            paths, report = _recording(source, path, params, topic, options, reference, differences)
+            paths, report = _recording(
+                source, path, params, topic, options, reference, differences, said
+            )
             recordings.extend(paths)
             reports.append(report)
     return recordings
@@ -211,6 +251,7 @@ def _recording(
     options: RecordingOptions,
     reference: str | None,
     differences: list[tuple[str, list[float], list[float]]],
+    said: _Said,
 ) -> tuple[list[_Path], ConditioningReport]:
     """The odometry path of the recording named ``source`` and read from ``path`` (standard
     input's copy for ``-``), then its true path and its reference's, when it has them; and what
@@ -240,12 +281,14 @@ def _recording(
             f"('diffbot odom {source}' says why)"
         )
     stamps, x, y, rx, ry = sink.arrays()
-    paths: list[_Path] = [(source, x, y)]
+    implausible = run.conditioning.implausible_steps
+    paths = [said.path(source, "odometry", (source, x, y), implausible_steps=implausible)]
     truth = _true_path(source, path)
     if truth is not None:
-        paths.append(truth)
+        paths.append(said.path(source, TRUE_PATH, truth))
     if comparison is not None:
-        paths.append(_reference(source, comparison, (stamps, x, y, rx, ry), differences))
+        kept = (stamps, x, y, rx, ry)
+        paths.append(_reference(source, comparison, kept, differences, said))
     return paths, run.conditioning
 
 
@@ -293,6 +336,7 @@ def _reference(
     comparison: ReferenceComparison,
     kept: _Kept,
     differences: list[tuple[str, list[float], list[float]]],
+    said: _Said,
 ) -> _Path:
     """The reference's path in the odometry's frame, its distance from the odometry over time
     appended to ``differences``, and the comparison said on stdout.
@@ -313,12 +357,12 @@ def _reference(
     distance = np.hypot(x[inside] - rx[inside], y[inside] - ry[inside])
     label = f"{source} {comparison.topic}"
     differences.append((label, seconds.tolist(), distance.tolist()))
-    click.echo(
+    said.echo(
         f"{label}: final {fmt(result.final_position_error, 3)} m, max "
         f"{fmt(result.max_position_error, 3)} m, RMS {fmt(result.rms_position_error, 3)} m "
         "from the odometry"
     )
-    return label, rx[inside], ry[inside]
+    return said.path(source, "reference", (label, rx[inside], ry[inside]), **result.as_dict())
 
 
 @click.command(context_settings=NUMBERS)
@@ -346,6 +390,13 @@ def _reference(
 )
 @click.option("--force", is_flag=True, help="Overwrite --output if it exists.")
 @click.option("--show", is_flag=True, help="Open the figure in a window (needs a display).")
+@click.option(
+    "--json",
+    "as_json",
+    is_flag=True,
+    help="Machine-readable summary on stdout: the robot, the plan, the output and where each "
+    "path drawn ends.",
+)
 def plot(
     robot: RobotOptions,
     plan_options: PlanOptions,
@@ -357,6 +408,7 @@ def plot(
     output: str | None,
     force: bool,
     show: bool,
+    as_json: bool,
 ) -> None:
     """A figure of a plan's path and wheel speeds, with recordings over it.
 
@@ -383,6 +435,7 @@ def plot(
       diffbot plot --example B --fastest -o b.pdf
     """
     rest, xacro_args = split_xacro_args(tokens)
+    said = _Said(as_json)
     if output is None and not show:
         fail("nothing to do: give -o FILE (.png, .svg or .pdf) to write the figure, or --show")
     if output is not None and not output.strip():
@@ -393,7 +446,7 @@ def plot(
         fail("--feedback says how --odom recordings are read: give one with --odom")
     if odom_inputs and not rest and plan_options.example is None and plan_options.goal is None:
         _recordings_only(
-            robot, xacro_args, odom_inputs, topic, recording, reference, output, force, show
+            robot, xacro_args, odom_inputs, topic, recording, reference, output, force, show, said
         )
         return
     request = plan_options.request(robot, tokens)
@@ -409,19 +462,21 @@ def plot(
     p = made
     if odom_inputs:
         recording.check_robot(robot, params)
-        click.echo(f"robot {robot_label(robot)}")
+        said.echo(f"robot {robot_label(robot)}")
     reports: list[ConditioningReport] = []
-    recordings = _odometry(odom_inputs, params, topic, recording, reports, reference)
+    recordings = _odometry(odom_inputs, params, topic, recording, reports, said, reference)
     figure = plotting.plan_figure(p, params, recordings=recordings, window=show)
-    for label, xs, ys in recordings:
+    for entry, (label, xs, ys) in zip(said.paths, recordings, strict=True):
         miss = plotting.end_distance(p, xs[-1], ys[-1])
+        entry["plan_end_distance"] = miss
         what = "ends" if label.endswith(TRUE_PATH) else "odometry ends"
-        click.echo(f"{label}: {what} {fmt(miss, 3)} m from the plan's end")
+        said.echo(f"{label}: {what} {fmt(miss, 3)} m from the plan's end")
     for found in sorted({v.index for v in p.violations()}):
         segment = p.segments[found]
         warn(f"segment {found + 1} ({segment.kind}) is over the motor limit: shaded in the figure")
     if output is not None:
         plotting.save(figure, output, force=force, inputs=inputs)
+    said.emit(robot_label(robot), source.label, output)
     if show:
         plotting.show()
     exit_if_implausible(reports)
