@@ -12,6 +12,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from diffbot.conditioning import Conditioner, Conditioning
+from diffbot.errors import ParameterError
 from diffbot.io.bag import is_bag, read_bag
 from diffbot.io.csv_chunks import open_csv_chunks
 from diffbot.io.recordings import csv_layout, existing_recording
@@ -35,6 +36,8 @@ def read_recording(
     topic: str | None = None,
     *,
     conditioning: Conditioning | None = None,
+    counts_per_rev: float | None = None,
+    wrap: float | None = None,
     time_column: str | None = None,
     left_column: str | Sequence[str] | None = None,
     right_column: str | Sequence[str] | None = None,
@@ -58,6 +61,10 @@ def read_recording(
         conditioning: the positions' units and wrap (default: radians, wraps detected); the
             samples hold the wheel angles, and ``conditioning`` of the result says what was
             done.
+        counts_per_rev: the positions are encoder counts, this many per wheel revolution
+            (``--counts-per-rev``; instead of ``conditioning``).
+        wrap: the modulus of a counter that wraps, in the recorded units; 0 for none and no
+            detection (``--wrap``; instead of ``conditioning``).
         time_column: a CSV's time column (default: ``time``, ``stamp``, ``t`` or ``__time``).
         left_column: a CSV's left wheel position column(s) (default: named by the joints).
         right_column: a CSV's right wheel position column(s).
@@ -71,9 +78,14 @@ def read_recording(
 
     Raises:
         RecordingError: missing, empty or unreadable input; missing columns or topic.
-        ParameterError: an unknown ``feedback``.
+        ParameterError: an unknown ``feedback``; ``counts_per_rev`` or ``wrap`` beside
+            ``conditioning``, or out of range.
     """
     velocity = check_feedback(feedback) == "velocity"
+    if counts_per_rev is not None or wrap is not None:
+        if conditioning is not None:
+            raise ParameterError("give counts_per_rev and wrap, or conditioning=, not both")
+        conditioning = Conditioning(counts_per_rev=counts_per_rev, wrap=wrap)
     counts_per_rev = None if conditioning is None else conditioning.counts_per_rev
     p = existing_recording(path)
     if is_bag(p):

@@ -93,7 +93,11 @@ class RecordingOptions:
             topic,
             feedback=self.feedback_for(params),
             conditioning=self.conditioning(),
-            **self.csv(),
+            time_column=self.time_column,
+            left_column=self.left_column,
+            right_column=self.right_column,
+            delimiter=self.delimiter,
+            time_unit=self.time_unit,
         )
         warn_notes(recording.notes, source)
         skipped = sum(recording.skipped.values())
