@@ -145,12 +145,9 @@ def _report(
     """Print a calibration and write the calibrated copy of --apply-to."""
     from diffbot.calibration.apply import apply_to
     from diffbot.calibration.checks import check_geometry
-    from diffbot.calibration.results import multiplier_base
     from diffbot.io.outputs import write_text_atomic
 
     check_geometry(result, "the calibration gives")
-    nominal = (*params.radii, params.wheel_separation)
-    base = multiplier_base(params)
     written: str | None = None
     if output.apply_to is not None:
         source = Path(output.apply_to)
@@ -163,13 +160,13 @@ def _report(
     if output.as_json:
         emit_json(
             {
-                **calibration_data(result, nominal, base, params.xacro_arguments),
+                **calibration_data(result, params),
                 **(extra or {}),
                 "applied_to": written,
             }
         )
         return
-    for line in calibration_lines(result, nominal, base, params.xacro_arguments):
+    for line in calibration_lines(result, params):
         click.echo(line)
     if written is not None:
         click.echo(f"wrote {written} (a calibrated copy of {output.apply_to})")

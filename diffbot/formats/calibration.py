@@ -3,20 +3,27 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Collection
 from typing import Any
 
 from diffbot.calibration.fit import FitResult
 from diffbot.calibration.results import (
     WheelGeometry,
     controller_yaml_lines,
+    multiplier_base,
     params_json,
     xacro_arguments,
 )
 from diffbot.calibration.umbmark import UmbmarkResult
 from diffbot.formats.text import fmt
+from diffbot.kinematics import DiffDriveParams
 
 __all__ = ["calibration_data", "calibration_lines"]
+
+
+def _nominal(robot: DiffDriveParams) -> tuple[float, float, float]:
+    """The robot's left radius, right radius and separation (m), before the calibration."""
+    left, right = robot.radii
+    return left, right, robot.wheel_separation
 
 
 def _geometry_rows(
@@ -32,21 +39,17 @@ def _geometry_rows(
     return rows
 
 
-def calibration_lines(
-    result: UmbmarkResult | FitResult,
-    nominal: tuple[float, float, float],
-    base: tuple[float, float],
-    declared: Collection[str] | None = None,
-) -> list[str]:
+def calibration_lines(result: UmbmarkResult | FitResult, robot: DiffDriveParams) -> list[str]:
     """The report of a calibration: the errors, the geometry and how to apply it.
 
     Args:
         result: the calibration.
-        nominal: the robot's left radius, right radius and separation before it (m).
-        base: the radius and separation the controller's multipliers scale (m).
-        declared: the xacro arguments the description declares (see
-            :func:`~diffbot.calibration.results.xacro_arguments`); None: both suggested.
+        robot: the robot before it: its radii and separation are the nominal ones, its
+            controller's radius and separation what the multipliers scale
+            (:func:`~diffbot.calibration.results.multiplier_base`), its description's xacro
+            arguments those suggested (:func:`~diffbot.calibration.results.xacro_arguments`).
     """
+    nominal, base = _nominal(robot), multiplier_base(robot)
     rows: list[tuple[str, str]] = []
     stderr: tuple[float, ...] | None = None
     if isinstance(result, UmbmarkResult):
@@ -79,7 +82,7 @@ def calibration_lines(
     lines = [f"{label:<13} {value}" for label, value in rows]
     lines.append("diff_drive_controller (ros__parameters):")
     lines += [f"  {line}" for line in controller_yaml_lines(result, *base)]
-    arguments = xacro_arguments(result, declared=declared)
+    arguments = xacro_arguments(result, declared=robot.xacro_arguments)
     if arguments.arguments is not None:
         lines.append(f"xacro arguments: {arguments.arguments}")
     if arguments.note is not None:
@@ -87,15 +90,11 @@ def calibration_lines(
     return lines
 
 
-def calibration_data(
-    result: UmbmarkResult | FitResult,
-    nominal: tuple[float, float, float],
-    base: tuple[float, float],
-    declared: Collection[str] | None = None,
-) -> dict[str, Any]:
+def calibration_data(result: UmbmarkResult | FitResult, robot: DiffDriveParams) -> dict[str, Any]:
     """The calibration as JSON-ready data: the ``params`` keys first, then the details (the
     arguments as for :func:`calibration_lines`; ``xacro_arguments`` null when the description
     declares neither)."""
+    nominal, base = _nominal(robot), multiplier_base(robot)
     data: dict[str, Any] = dict(params_json(result))
     if isinstance(result, UmbmarkResult):
         data.update(
@@ -119,7 +118,7 @@ def calibration_data(
                 "heading_rms_after": result.heading_rms_after,
             },
         )
-    arguments = xacro_arguments(result, declared=declared)
+    arguments = xacro_arguments(result, declared=robot.xacro_arguments)
     data.update(
         nominal={
             "left_wheel_radius": nominal[0],
