@@ -162,7 +162,8 @@ class LoopOutcome:
         most_samples: the most samples the run can take (the run gives up by then).
         samples: the samples made so far.
         peak_limit_fraction: the largest commanded wheel speed over the motor limit so far (or
-            None without one).
+            None without one), to 12 significant digits: a command scaled to the limit is 1.0,
+            not the last bit over it that the wheel speeds' rounding gives.
         arrived: whether the controller said done (open loop: whether the plan ran out).
         duration: the time until arrival, or the run's last sample without it (s).
         final_truth: the last sample's true pose x, y (m), theta (rad).
@@ -372,7 +373,7 @@ def _chunks(
                 break
             if len(rows) >= chunk:
                 outcome.samples = sample
-                outcome.peak_limit_fraction = peak if limit else None
+                outcome.peak_limit_fraction = _fraction(peak) if limit else None
                 yield _table(rows, params)
                 rows = []
         if t_control <= t:
@@ -402,7 +403,7 @@ def _chunks(
                 stop = t + _settle(s)
     last = _table(rows, params)
     outcome.samples = sample
-    outcome.peak_limit_fraction = peak if limit else None
+    outcome.peak_limit_fraction = _fraction(peak) if limit else None
     outcome.arrived = arrived
     outcome.duration = float(finish if finish is not None else t)
     truth = last[2]
@@ -445,3 +446,8 @@ def path_distance(
         best = np.minimum(best, distance)
         heading = planned.end_heading
     return best
+
+
+def _fraction(peak: float) -> float:
+    """A share of the motor limit without the last-bit noise of the wheel speeds' rounding."""
+    return float(f"{peak:.12g}")

@@ -61,6 +61,15 @@ def test_wrong_radii_throw_the_open_loop_off_and_a_true_pose_source_corrects_it(
     assert closed.peak_limit_fraction <= 1.0 + 1e-9
 
 
+def test_a_follower_at_the_motor_limit_reports_the_whole_limit_not_a_bit_over() -> None:
+    # The follower scales its commands to the limit; the wheel speeds worked out from them
+    # round to a last bit over it, which a reader of the JSON would take for over the limit.
+    p = plan(parse_plan(EXAMPLES["A"]), ROBOT, fastest=True)
+    settings = LoopSettings(seed=1, disturbances=DISTURBED)
+    outcome = run(p, ROBOT, settings, Follower(ROBOT, p))
+    assert outcome.peak_limit_fraction == 1.0
+
+
 def test_closing_the_loop_on_odometry_ends_within_a_centimetre_and_a_degree() -> None:
     p = made(EXAMPLES["A"])
     settings = LoopSettings(ticks=4096, seed=1, disturbances=DISTURBED)
