@@ -297,6 +297,12 @@ class OdometryNode(Node):
             **skipped,
         }
 
+    def describe(self) -> str:
+        """:meth:`Node.describe`, then the frames of the odometry (``odom -> base_link``, the
+        controller's prefixed ones with a controllers file): what a tf tree must hold."""
+        frames = f"{self.settings.frame_id} -> {self.settings.child_frame_id}"
+        return f"{super().describe()}; frames {frames}"
+
     def status(self) -> str:
         """One line of counts for people: ``1200 joint states, 1198 used, 1198 published;
         skipped: 2 not finite``."""

@@ -82,7 +82,8 @@ def test_a_window_or_rate_past_what_a_node_can_run_is_one_error_line(
             ("node", "odom", "--no-tf"),
             "odom: reads /joint_states (sensor_msgs/msg/JointState); "
             "publishes /odom (nav_msgs/msg/Odometry); "
-            "serves /diffbot_odometry/set_odometry, /diffbot_odometry/reset_odometry",
+            "serves /diffbot_odometry/set_odometry, /diffbot_odometry/reset_odometry; "
+            "frames odom -> base_link",
         ),
         (
             ("node", "ik", "--stamped", "--cmd-vel", "~/cmd_vel"),

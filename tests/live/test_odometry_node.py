@@ -345,6 +345,9 @@ def test_what_the_controller_file_leaves_out_is_the_controller_s_default() -> No
         "a200_0000/base_link",
         1,
     )
+    with OdometryNode(BOT, settings) as node:
+        assert node.describe().endswith("; frames a200_0000/odom -> a200_0000/base_link")
+        assert "publishes /a200_0000/diff_cont/odom (nav_msgs/msg/Odometry)" in node.describe()
     # Without a controller the node keeps its own defaults.
     alone = OdometrySettings()
     assert (alone.frame_id, alone.window) == ("odom", 1)
