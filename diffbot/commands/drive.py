@@ -134,7 +134,9 @@ def drive(
         fail("--lead is the tracking follower's: add --follow (tracking)")
     built = plan_options.build(plan_options.request(robot, tokens))
     source, params = built.source, built.params
-    cmd_vel, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
+    cmd_vel, stamped = resolve_cmd_vel(
+        params, cmd_vel, stamped, distro, None if wheels else "--cmd-vel"
+    )
     from diffbot.ramps import sampled
 
     limit_lines = built.limit_lines()

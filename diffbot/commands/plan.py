@@ -212,7 +212,11 @@ def plan_command(
     writes = output is not None or as_bag or output_format != "table"
     built = plan_options.build(request, writes=writes)
     source, params, made = built.source, built.params, built.made
-    cmd_vel_topic, stamped = resolve_cmd_vel(params, cmd_vel_topic, stamped, distro)
+    # Checked only where the topic is written: a table or a wheel format names none.
+    sends_twist = as_bag or output_format == "twist" or (output_format == "ros2" and not per_wheel)
+    cmd_vel_topic, stamped = resolve_cmd_vel(
+        params, cmd_vel_topic, stamped, distro, "--cmd-vel-topic" if sends_twist else None
+    )
     ramped: RampedPlan | None = None
     p = made if isinstance(made, Plan) else made.summary
     if not isinstance(made, Plan):

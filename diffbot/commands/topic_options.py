@@ -12,6 +12,7 @@ import click
 
 from diffbot.commands.shown_defaults import name_option
 from diffbot.kinematics import DiffDriveParams
+from diffbot.numbers import shown
 from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
 
 __all__ = [
@@ -63,14 +64,20 @@ def wheel_topic_options(left_help: str, right_help: str) -> Callable[[_F], _F]:
 
 
 def resolve_cmd_vel(
-    params: DiffDriveParams, cmd_vel: str | None, stamped: bool, distro: str | None
+    params: DiffDriveParams,
+    cmd_vel: str | None,
+    stamped: bool,
+    distro: str | None,
+    option: str | None = "--cmd-vel",
 ) -> tuple[str, bool]:
     """The command topic and whether its messages are TwistStamped (``stamped`` can only add a
     stamp): the controller's topic and type when the robot has a diff-drive controller
     configuration, else the topic its description's Gazebo classic diff-drive plugin subscribes
     (Twist), else ``cmd_vel`` (the course's nodes, Twist). A ``cmd_vel`` given replaces the
     topic; with a controller configuration and ``distro`` given, the type stays the
-    controller's on that release, else it is Twist unless ``stamped``."""
+    controller's on that release, else it is Twist unless ``stamped``. A topic found that no
+    ROS node could take is a bad-input error naming the file and ``option`` (None: the caller
+    uses no topic, and takes any)."""
     from diffbot.controller_topics import command_topic, distro_of
 
     if cmd_vel is None and params.controller is not None:
@@ -85,8 +92,10 @@ def resolve_cmd_vel(
                 f"{str(release).capitalize()} (a Humble parameter): the controller takes "
                 f"TwistStamped on {found.topic}"
             )
-        return found.topic, stamped or found.stamped
+        return _valid(found.topic, params.controller.source, option), stamped or found.stamped
     topic = params.plugin_topics.get("cmd_vel", DEFAULT_CMD_VEL) if cmd_vel is None else cmd_vel
+    if cmd_vel is None:
+        topic = _valid(topic, "the description's diff-drive plugin", option)
     if distro is not None and params.controller is not None:  # its release named: its type
         stamped = stamped or command_topic(params.controller, distro_of(distro)).stamped
     return topic, stamped
@@ -96,9 +105,25 @@ def resolve_odom_topic(params: DiffDriveParams, given: str | None) -> str:
     """The nav_msgs/Odometry topic a reader of the robot's odometry takes: ``given``, else the
     diff-drive controller's own (``~/odom`` under its node's name) when the robot has a
     controller configuration, else the one its description's Gazebo classic diff-drive plugin
-    publishes, else ``odom``."""
+    publishes, else ``odom``; one found that no ROS node could take is a bad-input error."""
     if given is not None:
         return given
     if params.controller is not None:
-        return params.controller.odom_topic
-    return params.plugin_topics.get("odom", DEFAULT_ODOM)
+        return _valid(params.controller.odom_topic, params.controller.source, "--odom-topic")
+    topic = params.plugin_topics.get("odom", DEFAULT_ODOM)
+    return _valid(topic, "the description's diff-drive plugin", "--odom-topic")
+
+
+def _valid(topic: str, source: str, option: str | None) -> str:
+    """``topic``, found in ``source``, when it is a valid ROS topic name (or ``option`` is
+    None): else a bad-input error, as no publisher or subscriber could take it."""
+    if option is None:
+        return topic
+    from diffbot.live.names import topic_problem
+
+    problem = topic_problem(topic)
+    if problem is not None:
+        from diffbot.commands.messages import fail
+
+        fail(f"{source}: the topic {shown(topic)} it gives {problem}: give {option}")
+    return topic

@@ -178,3 +178,37 @@ def test_without_a_controller_the_gazebo_plugin_s_topic_is_the_default(
 @pytest.mark.parametrize("command", ["plan", "drive", "node ik"])
 def test_an_unknown_distro_is_one_error_line(runner: CliRunner, command: str) -> None:
     assert_one_error_line(run(runner, *command.split(), "--distro", "foxy"), "--distro")
+
+
+@pytest.mark.parametrize("fmt", ["twist", "ros2"])
+def test_a_controller_topic_no_node_could_take_is_one_error_line(
+    runner: CliRunner, tmp_path: Path, fmt: str
+) -> None:
+    # The controller's node in a namespace holding a space: /a b/base/cmd_vel is no topic.
+    path = tmp_path / "controllers.yaml"
+    path.write_text(bundled_controllers(name="/a b/base"))
+    result = run(runner, "plan", "--controllers", str(path), "--format", fmt, "straight 0.1")
+    assert_one_error_line(result, "controllers.yaml", "'/a b/base/cmd_vel'", "--cmd-vel-topic")
+    # A format that names no topic still reads the robot; a topic given replaces the file's.
+    table = run(runner, "plan", "--controllers", str(path), "straight 0.1")
+    assert table.exit_code == 0, table.output
+    given = run(runner, "plan", "--controllers", str(path), "--format", fmt, "--cmd-vel-topic", "c")
+    assert given.exit_code == 0, given.output
+
+
+def test_a_plugin_topic_no_node_could_take_is_a_bad_input_error() -> None:
+    from diffbot.commands.messages import InputError
+
+    topics = {"cmd_vel": "/demo/c-1", "odom": "/1/o"}
+    plain = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135, plugin_topics=topics)
+    with pytest.raises(InputError, match=r"'/demo/c-1'.*--cmd-vel$"):
+        resolve_cmd_vel(plain, None, False, None)
+    with pytest.raises(InputError, match=r"'/1/o'.*--odom-topic$"):
+        resolve_odom_topic(plain, None)
+    assert resolve_cmd_vel(plain, None, False, None, None) == ("/demo/c-1", False)
+    assert resolve_odom_topic(plain, "o") == "o"
+    controlled = plain.replace(
+        controller=ControllerConfig(name="b-1", source="c.yaml", ros_version=2)
+    )
+    with pytest.raises(InputError, match=r"c\.yaml: the topic '/b-1/odom'"):
+        resolve_odom_topic(controlled, None)
