@@ -187,7 +187,8 @@ class Odometry:
             y: y (m).
             theta: heading (rad).
             new_baseline: forget the last sample instead: the next sample sets a new baseline
-                and may carry any stamp (to replay a recording again from its start).
+                and may carry any stamp (to replay a recording again from its start); a side
+                of several wheels learns its encoders' offsets afresh.
 
         Raises:
             ParameterError: a value is NaN or infinite.
@@ -207,6 +208,8 @@ class Odometry:
         if new_baseline:
             self._stamp = None
             self._stamp_ns = None
+            if self._sides is not None:  # the encoders' offsets are the old baseline's too
+                self._sides = MessageSides(self.params.left_joints, self.params.right_joints)
         if self._steps is not None:
             self._steps.clear()
 

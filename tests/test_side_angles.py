@@ -165,3 +165,24 @@ def test_values_past_the_float_range_poison_no_offset() -> None:
     assert math.isnan(huge.angle([1e308, 1e308]) or 0.0)  # their sum overflows
     assert huge.offsets == [None, None]
     assert huge.angle([1.0, 3.0]) == 2.0
+
+
+def test_a_new_baseline_learns_the_encoders_offsets_afresh() -> None:
+    # Two runs of a straight drive, the second with encoders from other zeros, a rear left
+    # wheel missing from every third message: after reset(new_baseline=True) the second run's
+    # odometry is that of a fresh integrator, not one turned by the first run's offsets.
+    def drive(odom: Odometry, offsets: tuple[float, ...]) -> None:
+        joints = (*SKID.left_joints, *SKID.right_joints)
+        for k in range(20):
+            pairs = [(j, 0.1 * k + c) for j, c in zip(joints, offsets, strict=True)]
+            if k % 3 == 1:
+                del pairs[1]
+            odom.update_joint_state([j for j, _ in pairs], [v for _, v in pairs], k / 10)
+
+    again, fresh = Odometry(SKID), Odometry(SKID)
+    drive(again, (0.0, 100.0, 0.0, -30.0))
+    again.reset(new_baseline=True)
+    drive(again, (5.0, 0.0, 7.0, 0.0))
+    drive(fresh, (5.0, 0.0, 7.0, 0.0))
+    assert tuple(again.pose) == tuple(fresh.pose)
+    assert again.distance == fresh.distance
