@@ -117,6 +117,11 @@ class VelocityAngles:
         if not self._started[j]:
             usable[0] = True  # the wheel's first sample: its angle is 0, it starts the clock
         rows = candidates[usable]
+        if rows.size == 0:
+            # Every sample of the chunk is late (stamps gone back past the wheel's last usable
+            # one): the wheel stays where it was.
+            out[candidates] = self._angle[j]
+            return out
         dt = (t[usable] - before[usable]).astype(np.float64) / NS_PER_S
         steps = values[rows] * dt
         reached = self._angle[j] + np.cumsum(steps)

@@ -59,6 +59,35 @@ def test_a_stamp_not_after_the_last_usable_one_keeps_the_wheel_where_it_was() ->
     assert angles[:, 0].tolist() == [0.0, 2.0, 2.0, 2.0, 3.0]
 
 
+def test_a_chunk_whose_samples_all_go_back_in_time_keeps_the_wheel_where_it_was() -> None:
+    # A recording of two runs, the second's clock restarted: a chunk of it holds no sample
+    # after the wheel's last usable one.
+    angles = VelocityAngles(1)
+    first = angles.feed(np.array([0, S, 2 * S]), np.array([[1.0], [1.0], [1.0]]), np.ones((3, 1)))
+    assert first[:, 0].tolist() == [0.0, 1.0, 2.0]
+    late = angles.feed(np.array([0, S]), np.array([[5.0], [5.0]]), np.ones((2, 1), bool))
+    assert late[:, 0].tolist() == [2.0, 2.0]
+    after = angles.feed(np.array([3 * S]), np.array([[1.0]]), np.ones((1, 1), bool))
+    assert after[:, 0].tolist() == [3.0]  # 1 rad/s over the second since the last usable
+
+
+def test_odom_of_velocities_reads_a_restarted_clock_in_chunks_as_whole(tmp_path: Path) -> None:
+    import io
+
+    from diffbot.replay import csv_odometry
+
+    rows = [f"{t / 10!r},1.0,{0.5 + t / 100!r}" for t in [*range(20), *range(20)]]
+    text = "time,/left_wheel_joint/velocity,/right_wheel_joint/velocity\n" + "\n".join(rows)
+    robot = BOT.replace(left_joint="left_wheel_joint", right_joint="right_wheel_joint")
+    whole = csv_odometry(io.StringIO(text, newline=""), robot, feedback="velocity").summary
+    chunked = csv_odometry(
+        io.StringIO(text, newline=""), robot, feedback="velocity", chunk_bytes=64
+    ).summary
+    # Each chunk's sums start from the last one's angle: equal to rounding.
+    assert tuple(chunked.final_pose) == pytest.approx(tuple(whole.final_pose), abs=1e-12)
+    assert chunked.skipped == whole.skipped
+
+
 def test_feedback_names_are_checked() -> None:
     assert FEEDBACKS == ("position", "velocity")
     assert check_feedback("velocity") == "velocity"
