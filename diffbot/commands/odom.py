@@ -284,6 +284,8 @@ def odom(
         if not open_loop:  # commanded twists do not depend on the wheels' geometry
             recording.check_robot(robot, p)
             tell_open_loop(p)
+        if out.as_bag:
+            check_bag_frames(p)
         outputs = _outputs(sources, out)
         tasks = [task(source, output) for source, output in zip(sources, outputs, strict=True)]
         _many(
@@ -305,9 +307,29 @@ def odom(
     if not open_loop:
         recording.check_robot(robot, p)
         tell_open_loop(p)
+    if out.as_bag:
+        check_bag_frames(p)
     out_path = out.path([*inputs, *(Path(path) for path in p.description_files)])
     output = None if out_path is None else str(out_path)
     _one(task(source, output), quiet, as_json, out, robot_label(robot))
+
+
+def check_bag_frames(params: DiffDriveParams) -> None:
+    """Bad input when the frames the robot's controller publishes in (those --bag writes) are
+    no usable frame ids, as node odom refuses them."""
+    from diffbot.live.names import frame_problem
+    from diffbot.numbers import shown
+
+    controller = params.controller
+    if controller is None:
+        return
+    for frame in (controller.odom_frame, controller.base_frame):
+        problem = frame_problem(frame)
+        if problem is not None:
+            opt.fail(
+                f"{controller.source}: the frame {shown(frame)} its controller {controller.name} "
+                f"publishes in {problem}"
+            )
 
 
 def tell_open_loop(

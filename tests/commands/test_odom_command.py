@@ -186,6 +186,23 @@ def test_odom_bag_output_is_in_the_controller_s_frames_with_its_covariances(
     assert not message.twist.covariance.any()
 
 
+def test_odom_bag_refuses_frames_node_odom_would_refuse(
+    runner: CliRunner, tmp_path: Path, trajectory_a: Path
+) -> None:
+    # A prefix with a tab, and one past any frame's length: no bag is written with such frames.
+    for parameter, fragment in (
+        ('tf_frame_prefix: "a\\tb"', "control character"),
+        (f"tf_frame_prefix: {'x' * 300}", "longer than 255"),
+    ):
+        controllers = tmp_path / "controllers.yaml"
+        controllers.write_text(bundled_controllers(parameter), "utf-8")
+        out = tmp_path / "odom_bag"
+        args = ["odom", str(trajectory_a), "--controllers", str(controllers), "-o", str(out)]
+        assert_one_error_line(runner.invoke(main, [*args, "--bag"]), "controllers.yaml", fragment)
+        assert not out.exists()
+        assert runner.invoke(main, args[:4]).exit_code == 0  # no bag: the frames are not used
+
+
 def test_odom_bag_twist_spans_the_controller_s_rolling_window(
     runner: CliRunner, tmp_path: Path
 ) -> None:
