@@ -14,6 +14,12 @@ def test_equal_radii_are_one_radius() -> None:
     assert geometry_text(BOT) == "wheel radius 0.035 m, separation 0.135 m"
 
 
+def test_equal_multiplied_radii_are_the_radius_the_wheels_roll_with() -> None:
+    # Both multipliers 1.1: the rpm are those of 0.0385 m wheels, and so is the radius shown.
+    robot = BOT.replace(left_wheel_radius=0.0385, right_wheel_radius=0.0385)
+    assert geometry_text(robot) == "wheel radius 0.0385 m, separation 0.135 m"
+
+
 def test_unequal_radii_are_each_side_s() -> None:
     # A controller's radius multipliers: the wheels roll on 0.0501 m and 0.0499 m, and the
     # table's rpm are computed from those, not from the nominal 0.05 m.

@@ -29,10 +29,11 @@ __all__ = [
 
 def geometry_text(params: DiffDriveParams) -> str:
     """The robot's size for people: ``wheel radius R m, separation B m``, or each side's
-    radius when they differ (a controller's radius multipliers), as the commands use them."""
+    radius when they differ, as the commands use them (a controller's radius multipliers
+    applied, equal or not)."""
     left, right = params.radii
     radius = (
-        f"wheel radius {fmt(params.wheel_radius)} m"
+        f"wheel radius {fmt(left)} m"
         if left == right
         else f"wheel radii {fmt(left)} m left and {fmt(right)} m right"
     )
