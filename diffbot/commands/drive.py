@@ -23,6 +23,7 @@ from diffbot.commands.topic_options import (
     distro_option,
     resolve_cmd_vel,
     resolve_odom_topic,
+    resolve_wheel_topics,
     wheel_topic_options,
 )
 from diffbot.errors import EXIT_CHECK_FAILED
@@ -83,8 +84,8 @@ def drive(
     wheels: bool,
     cmd_vel: str | None,
     distro: str | None,
-    left_topic: str,
-    right_topic: str,
+    left_topic: str | None,
+    right_topic: str | None,
     wait: float,
     follow: str | None,
     odom_topic: str | None,
@@ -120,11 +121,12 @@ def drive(
           from localization's pose; exit code 2 likewise when none comes
     """
     for option, name in (
-        ("--cmd-vel", cmd_vel or "cmd_vel"),
+        ("--cmd-vel", cmd_vel),
         ("--left-topic", left_topic),
         ("--right-topic", right_topic),
     ):
-        checked_topic(option, name)
+        if name is not None:
+            checked_topic(option, name)
     checked_frame("--frame-id", frame_id)
     if stamped and wheels:
         warn("--stamped changes Twist commands only, and --wheels sends none")
@@ -136,6 +138,9 @@ def drive(
     source, params = built.source, built.params
     cmd_vel, stamped = resolve_cmd_vel(
         params, cmd_vel, stamped, distro, None if wheels else "--cmd-vel"
+    )
+    left_topic, right_topic = resolve_wheel_topics(
+        params, robot.controllers, (left_topic, right_topic), check=wheels
     )
     from diffbot.ramps import sampled
 
@@ -177,7 +182,9 @@ def drive(
 
     settings = from_options(
         DriveSettings,
-        "frame_id wheels left_topic right_topic",
+        "frame_id wheels",
+        left_topic=left_topic,
+        right_topic=right_topic,
         cmd_vel=cmd_vel,
         stamped=stamped,
         joints=(max(len(params.left_joints), 1), max(len(params.right_joints), 1)),

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
 
 import click
@@ -34,8 +33,12 @@ from diffbot.commands.options import (
 from diffbot.commands.recording_options import feedback_option
 from diffbot.commands.settings import from_options
 from diffbot.commands.shown_defaults import name_option
-from diffbot.commands.topic_options import CMD_VEL_HELP, distro_option, resolve_cmd_vel
-from diffbot.kinematics import DiffDriveParams
+from diffbot.commands.topic_options import (
+    CMD_VEL_HELP,
+    distro_option,
+    resolve_cmd_vel,
+    resolve_wheel_topics,
+)
 from diffbot.numbers import MAX_ROLLING_WINDOW
 
 if TYPE_CHECKING:
@@ -294,7 +297,7 @@ def ik(
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
 
     params = robot.with_tokens(tokens, "ROBOT").load()
-    left, right = command_topics(robot.controllers, params)
+    left, right = resolve_wheel_topics(params, robot.controllers)
     topic, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
     controller = params.controller
     settings = IkSettings(
@@ -322,28 +325,6 @@ def _spin(
         return live
 
     run_node(made, label, quiet=quiet, duration=duration, announce=announce)
-
-
-def command_topics(controllers: str | None, params: DiffDriveParams) -> tuple[str, str]:
-    """The command topics of the velocity controllers of each side's wheels in the controllers
-    file (given, else the one the robot's diff-drive controller came from), else the course's."""
-    from diffbot.urdf.controllers import load_command_controllers
-    from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
-
-    topics = [LEFT_TOPIC, RIGHT_TOPIC]
-    if controllers is None and params.controller is not None:
-        controllers = params.controller.source
-    if controllers is not None and Path(controllers).is_file():
-        found = load_command_controllers(controllers)
-        sides = (
-            params.left_joints or (params.left_joint,),
-            params.right_joints or (params.right_joint,),
-        )
-        for i, joints in enumerate(sides):
-            for name, commanded in found.items():
-                if set(commanded) == set(joints):
-                    topics[i] = f"{name}/commands"
-    return topics[0], topics[1]
 
 
 @node.command("robot")
@@ -447,7 +428,7 @@ def robot_command(
     params = options.load()
     if stamped and cmd_vel is None:
         warn("--stamped applies to --cmd-vel commands only")
-    left, right = command_topics(options.controllers, params)
+    left, right = resolve_wheel_topics(params, options.controllers)
     expansion = expand(options.robot, options.xacro_args, options.packages, trust=options.trust)
     from diffbot.live.robot import RobotNode, RobotSettings
     from diffbot.simulation import Disturbances

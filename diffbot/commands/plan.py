@@ -30,7 +30,12 @@ from diffbot.commands.plan_options import (
     plan_input_options,
 )
 from diffbot.commands.shown_defaults import choice_option
-from diffbot.commands.topic_options import distro_option, resolve_cmd_vel, wheel_topic_options
+from diffbot.commands.topic_options import (
+    distro_option,
+    resolve_cmd_vel,
+    resolve_wheel_topics,
+    wheel_topic_options,
+)
 from diffbot.errors import EXIT_CHECK_FAILED, OutputError
 from diffbot.formats.command_stream import write_stream_csv, write_stream_json
 from diffbot.formats.plan_data import plan_csv, plan_json
@@ -136,8 +141,8 @@ def plan_command(
     frame_id: str,
     cmd_vel_topic: str | None,
     distro: str | None,
-    left_topic: str,
-    right_topic: str,
+    left_topic: str | None,
+    right_topic: str | None,
     output: str | None,
     as_bag: bool,
     force: bool,
@@ -197,8 +202,9 @@ def plan_command(
         warn("--frame-id only applies to --stamped commands")
     if cmd_vel_topic is not None:
         check_topic("--cmd-vel-topic", cmd_vel_topic)
-    check_topic("--left-topic", left_topic)
-    check_topic("--right-topic", right_topic)
+    for option, given in (("--left-topic", left_topic), ("--right-topic", right_topic)):
+        if given is not None:
+            check_topic(option, given)
     request = plan_options.request(robot, tokens)
     source = request.source
     # Early, before any work, and in the plan's own words; write_text_atomic checks again.
@@ -216,6 +222,10 @@ def plan_command(
     sends_twist = as_bag or output_format == "twist" or (output_format == "ros2" and not per_wheel)
     cmd_vel_topic, stamped = resolve_cmd_vel(
         params, cmd_vel_topic, stamped, distro, "--cmd-vel-topic" if sends_twist else None
+    )
+    sends_wheels = as_bag or output_format == "wheels" or (output_format == "ros2" and per_wheel)
+    left_topic, right_topic = resolve_wheel_topics(
+        params, robot.controllers, (left_topic, right_topic), check=sends_wheels
     )
     ramped: RampedPlan | None = None
     p = made if isinstance(made, Plan) else made.summary

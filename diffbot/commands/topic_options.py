@@ -6,6 +6,7 @@ plain ``cmd_vel``."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import TypeVar
 
 import click
@@ -21,6 +22,7 @@ __all__ = [
     "distro_option",
     "resolve_cmd_vel",
     "resolve_odom_topic",
+    "resolve_wheel_topics",
     "wheel_topic_options",
 ]
 
@@ -50,17 +52,56 @@ distro_option = click.option(
 )
 
 
+#: Where the per-side command topics come from when not given.
+WHEEL_TOPICS_HELP = (
+    " [the controllers file's velocity controller of that side's wheels + /commands, else "
+    f"{LEFT_TOPIC} and {RIGHT_TOPIC}]"
+)
+
+
 def wheel_topic_options(left_help: str, right_help: str) -> Callable[[_F], _F]:
     """``--left-topic`` and ``--right-topic``: the per-side Float64MultiArray command topics,
-    by default the course's velocity controllers' (:mod:`diffbot.wheel_topics`)."""
+    by default those :func:`resolve_wheel_topics` finds."""
 
     def add(command: _F) -> _F:
-        sides = (("right", right_help, RIGHT_TOPIC), ("left", left_help, LEFT_TOPIC))
-        for side, text, topic in sides:
-            command = name_option(f"--{side}-topic", topic, text)(command)
+        sides = (("right", right_help), ("left", left_help + WHEEL_TOPICS_HELP))
+        for side, text in sides:
+            command = name_option(f"--{side}-topic", None, text)(command)
         return command
 
     return add
+
+
+def resolve_wheel_topics(
+    params: DiffDriveParams,
+    controllers: str | None,
+    given: tuple[str | None, str | None] = (None, None),
+    *,
+    check: bool = True,
+) -> tuple[str, str]:
+    """The left and right Float64MultiArray command topics: each given one, else that of the
+    velocity controller of the side's wheels in the controllers file (``controllers``, else
+    the one the robot's diff-drive controller came from), behind its namespace, else the
+    course's (:mod:`diffbot.wheel_topics`). With ``check`` (the caller uses them), a topic
+    found that no ROS node could take is a bad-input error naming the file."""
+    from diffbot.urdf.controllers import load_command_controllers
+
+    topics = [LEFT_TOPIC, RIGHT_TOPIC]
+    if controllers is None and params.controller is not None:
+        controllers = params.controller.source
+    if controllers is not None and Path(controllers).is_file():
+        found = load_command_controllers(controllers)
+        sides = (
+            params.left_joints or (params.left_joint,),
+            params.right_joints or (params.right_joint,),
+        )
+        options = ("--left-topic", "--right-topic")
+        for i, (joints, option) in enumerate(zip(sides, options, strict=True)):
+            for name, commanded in found.items():
+                if set(commanded) == set(joints):
+                    topics[i] = _valid(f"{name}/commands", controllers, option if check else None)
+    left, right = given
+    return left or topics[0], right or topics[1]
 
 
 def resolve_cmd_vel(

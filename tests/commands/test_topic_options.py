@@ -12,9 +12,14 @@ from click.testing import CliRunner, Result
 from robots import bundled_controllers
 
 from diffbot.cli import main
-from diffbot.commands.topic_options import resolve_cmd_vel, resolve_odom_topic
+from diffbot.commands.topic_options import (
+    resolve_cmd_vel,
+    resolve_odom_topic,
+    resolve_wheel_topics,
+)
 from diffbot.controller_config import ControllerConfig
 from diffbot.kinematics import DiffDriveParams
+from diffbot.urdf import load_params
 
 #: A ros2_control_demos-style controllers file for the bundled robot's joints, written for Humble.
 HUMBLE_CONTROLLERS = bundled_controllers("use_stamped_vel: false", update_rate=10)
@@ -173,6 +178,42 @@ def test_without_a_controller_the_gazebo_plugin_s_topic_is_the_default(
     assert resolve_odom_topic(controlled, None) == "/base/odom"
     bare = DiffDriveParams(wheel_radius=0.035, wheel_separation=0.135)
     assert resolve_odom_topic(bare, None) == "odom"
+
+
+def test_the_controllers_file_names_the_wheel_command_topics(tmp_path: Path) -> None:
+    controllers = tmp_path / "controllers.yaml"
+    controllers.write_text(
+        "/ns/controller_manager:\n  ros__parameters: {update_rate: 50}\n"
+        "/ns/left_side:\n  ros__parameters:\n    joints: [front_left_wheel_joint]\n"
+        "/ns/right_side:\n  ros__parameters:\n    joints: [front_right_wheel_joint]\n"
+    )
+    params = load_params()
+    found = ("ns/left_side/commands", "ns/right_side/commands")
+    assert resolve_wheel_topics(params, str(controllers)) == found
+    assert resolve_wheel_topics(params, str(controllers), ("l", None)) == ("l", found[1])
+    assert resolve_wheel_topics(params, None) == (
+        "left_wheel_velocity_controller/commands",
+        "right_wheel_velocity_controller/commands",
+    )
+    # plan's wheel formats publish where node ik does: the file's topics, not the course's.
+    controllers.write_text(
+        bundled_controllers()
+        + "left_side:\n  ros__parameters:\n    joints: [front_left_wheel_joint]\n"
+        + "right_side:\n  ros__parameters:\n    joints: [front_right_wheel_joint]\n"
+    )
+    for args in (["--format", "wheels"], ["--format", "ros2", "--wheels"]):
+        result = run(CliRunner(), "plan", "--controllers", str(controllers), *args, "straight 0.1")
+        assert result.exit_code == 0, result.output
+        assert "left_side/commands" in result.stdout
+        assert "left_wheel_velocity_controller" not in result.stdout
+    # A topic the file gives that no node could take is one error line naming the file.
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(controllers.read_text().replace("\nleft_side:", "\n/n s/left_side:"))
+    refused = run(
+        CliRunner(), "plan", "--controllers", str(bad), "--format", "wheels", "straight 0.1"
+    )
+    assert_one_error_line(refused, str(bad))
+    assert "--left-topic" in refused.stderr
 
 
 @pytest.mark.parametrize("command", ["plan", "drive", "node ik"])

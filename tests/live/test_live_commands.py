@@ -11,7 +11,6 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 from typing import Any
 
 import pytest
@@ -133,23 +132,6 @@ def test_a_plan_over_the_motor_limit_is_refused_before_anything_moves() -> None:
     assert done.stderr == (
         "error: segment 1 (straight 1 m, 1 s): left and right wheels at 272.8 rpm exceed the "
         "50 rpm limit; shortest duration that fits: 5.457 s\n"
-    )
-
-
-def test_the_controllers_file_names_the_command_topics(tmp_path: Path) -> None:
-    from diffbot.commands.node import command_topics
-    from diffbot.urdf import load_params
-
-    controllers = tmp_path / "controllers.yaml"
-    controllers.write_text(
-        "left_side:\n  ros__parameters:\n    joints: [front_left_wheel_joint]\n"
-        "right_side:\n  ros__parameters:\n    joints: [front_right_wheel_joint]\n"
-    )
-    params = load_params()
-    assert command_topics(str(controllers), params) == ("left_side/commands", "right_side/commands")
-    assert command_topics(None, params) == (
-        "left_wheel_velocity_controller/commands",
-        "right_wheel_velocity_controller/commands",
     )
 
 
