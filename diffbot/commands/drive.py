@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import click
 
 from diffbot.commands.follow_options import live_follow_options
-from diffbot.commands.live import RATE, WAIT, announce_option, checked_frame, checked_topic
+from diffbot.commands.live import RATE, WAIT, announce_option, checked_frame, checked_topics
 from diffbot.commands.options import (
     RobotOptions,
     fail,
@@ -120,13 +120,13 @@ def drive(
       diffbot drive --example A --follow pure-pursuit --pose-topic amcl_pose --wait 1
           from localization's pose; exit code 2 likewise when none comes
     """
-    for option, name in (
-        ("--cmd-vel", cmd_vel),
-        ("--left-topic", left_topic),
-        ("--right-topic", right_topic),
-    ):
-        if name is not None:
-            checked_topic(option, name)
+    checked_topics(
+        cmd_vel=cmd_vel,
+        left_topic=left_topic,
+        right_topic=right_topic,
+        odom_topic=odom_topic,
+        pose_topic=pose_topic,
+    )
     checked_frame("--frame-id", frame_id)
     if stamped and wheels:
         warn("--stamped changes Twist commands only, and --wheels sends none")
@@ -157,9 +157,7 @@ def drive(
             LiveFollow,
             "rate pose_timeout frame_id wait lead",
             law="pure-pursuit" if follow == "pure-pursuit" else "tracking",
-            pose_topic=checked_topic(
-                "--odom-topic" if pose_topic is None else "--pose-topic", pose
-            ),
+            pose_topic=pose,
             from_odometry=pose_topic is None,
             cmd_vel=cmd_vel,
             stamped=stamped,

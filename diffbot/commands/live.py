@@ -37,6 +37,7 @@ __all__ = [
     "WAIT",
     "checked_frame",
     "checked_topic",
+    "checked_topics",
     "duration_option",
     "run_node",
 ]
@@ -51,6 +52,14 @@ def checked_topic(option: str, name: str) -> str:
     if problem is not None:
         fail(f"{option} {shown(name)} is not a valid ROS topic name: it {problem}")
     return name
+
+
+def checked_topics(**given: str | None) -> None:
+    """Each topic given, by its option's name (``left_topic`` for ``--left-topic``), as
+    :func:`checked_topic` checks it; None: not given, found later."""
+    for name, topic in given.items():
+        if topic is not None:
+            checked_topic("--" + name.replace("_", "-"), topic)
 
 
 def checked_frame(option: str, name: str | None) -> str | None:

@@ -17,6 +17,7 @@ from diffbot.commands.live import (
     announce_option,
     checked_frame,
     checked_topic,
+    checked_topics,
     duration_option,
     run_node,
 )
@@ -417,13 +418,7 @@ def robot_command(
     """
     from diffbot.urdf.xacro import expand
 
-    for option, given in (
-        ("--cmd-vel", cmd_vel),
-        ("--left-topic", left_topic),
-        ("--right-topic", right_topic),
-    ):
-        if given is not None:
-            checked_topic(option, given)
+    checked_topics(cmd_vel=cmd_vel, left_topic=left_topic, right_topic=right_topic)
     options = robot.with_tokens(tokens, "ROBOT")
     params = options.load()
     if stamped and cmd_vel is None:
