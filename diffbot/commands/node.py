@@ -172,9 +172,7 @@ def odom(
       ROS_LOCALHOST_ONLY=1 diffbot node odom --controllers my_controllers.yaml
       diffbot node odom --open-loop --duration 1    from cmd_vel, as a controller's open loop
     """
-    checked_topic("--joint-states", joint_states)
-    if odom_topic is not None:
-        checked_topic("--odom-topic", odom_topic)
+    checked_topics(joint_states=joint_states, odom_topic=odom_topic)
     if open_loop and feedback is not None:
         fail("--open-loop integrates the commands, not the wheels' --feedback: choose one")
     if not open_loop and (cmd_vel is not None or stamped or distro is not None):
@@ -292,20 +290,19 @@ def ik(
       diffbot node ik --duration 1       listen for a second, then say what was counted
       ROS_LOCALHOST_ONLY=1 diffbot node ik --stamped
     """
-    if cmd_vel is not None:
-        checked_topic("--cmd-vel", cmd_vel)
+    checked_topics(cmd_vel=cmd_vel, left_topic=left_topic, right_topic=right_topic)
     from diffbot.body_limits import body_limits
     from diffbot.live.inverse_kinematics import IkSettings, InverseKinematicsNode
 
     params = robot.with_tokens(tokens, "ROBOT").load()
-    left, right = resolve_wheel_topics(params, robot.controllers)
+    left, right = resolve_wheel_topics(params, robot.controllers, (left_topic, right_topic))
     topic, stamped = resolve_cmd_vel(params, cmd_vel, stamped, distro)
     controller = params.controller
     settings = IkSettings(
         cmd_vel=topic,
         stamped=True if stamped else None,
-        left_topic=checked_topic("--left-topic", left_topic or left),
-        right_topic=checked_topic("--right-topic", right_topic or right),
+        left_topic=left,
+        right_topic=right,
         timeout=timeout,
         rate=rate or (controller.update_rate if controller and controller.update_rate else 100.0),
         use_limits=not no_limits,
@@ -423,7 +420,7 @@ def robot_command(
     params = options.load()
     if stamped and cmd_vel is None:
         warn("--stamped applies to --cmd-vel commands only")
-    left, right = resolve_wheel_topics(params, options.controllers)
+    left, right = resolve_wheel_topics(params, options.controllers, (left_topic, right_topic))
     expansion = expand(options.robot, options.xacro_args, options.packages, trust=options.trust)
     from diffbot.live.robot import RobotNode, RobotSettings
     from diffbot.simulation import Disturbances
@@ -431,9 +428,9 @@ def robot_command(
     settings = from_options(
         RobotSettings,
         "rate stamped timeout ticks noise seed true_radii true_separation limit_wheels",
-        cmd_vel=None if cmd_vel is None else checked_topic("--cmd-vel", cmd_vel),
-        left_topic=checked_topic("--left-topic", left_topic or left),
-        right_topic=checked_topic("--right-topic", right_topic or right),
+        cmd_vel=cmd_vel,
+        left_topic=left,
+        right_topic=right,
         disturbances=Disturbances(motor_lag, latency, drop, slip, seed=seed),
     )
     _spin(lambda: RobotNode(params, expansion.urdf, settings), "robot", duration, announce, quiet)
