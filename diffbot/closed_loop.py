@@ -15,9 +15,10 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Final, Literal, Protocol
+from typing import TYPE_CHECKING, Final, Protocol
 
 from diffbot.errors import ParameterError
+from diffbot.follow import POSE_SOURCES, PoseSource
 from diffbot.kinematics import DiffDriveParams, Pose, Twist
 from diffbot.numbers import finite_in_range
 from diffbot.simulation import (
@@ -95,7 +96,7 @@ class LoopSettings:
     seed: int | None = None
     disturbances: Disturbances = field(default_factory=Disturbances)
     true_params: DiffDriveParams | None = None
-    pose_source: Literal["odom", "truth"] = "odom"
+    pose_source: PoseSource = "odom"
     pose_noise: tuple[float, float] = (0.0, 0.0)
 
     def __post_init__(self) -> None:
@@ -108,8 +109,10 @@ class LoopSettings:
                 f"control_rate ({control:g} Hz) must not exceed the simulation rate "
                 f"({rate:g} Hz): the controller sees one pose a sample"
             )
-        if self.pose_source not in ("odom", "truth"):
-            raise ParameterError(f"pose_source must be odom or truth, got {self.pose_source!r}")
+        if self.pose_source not in POSE_SOURCES:
+            raise ParameterError(
+                f"pose_source must be one of {', '.join(POSE_SOURCES)}, got {self.pose_source!r}"
+            )
         metres, radians = self.pose_noise
         finite_in_range(metres, "pose_noise", 0.0, 1e3, unit="m")
         finite_in_range(radians, "pose_noise", 0.0, math.pi, unit="rad")

@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, get_args
 
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
@@ -58,7 +58,7 @@ __all__ = [
 ]
 
 Shape = Literal["fastest", "spin-straight-spin", "dubins", "reeds-shepp"]
-SHAPES: tuple[Shape, ...] = ("fastest", "spin-straight-spin", "dubins", "reeds-shepp")
+SHAPES: tuple[Shape, ...] = get_args(Shape)
 #: The origin, heading along x.
 ORIGIN = (0.0, 0.0, 0.0)
 _ORIGIN = Pose(*ORIGIN)

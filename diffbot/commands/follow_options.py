@@ -10,7 +10,7 @@ import click
 
 from diffbot.commands.options import MIN_COMMAND_RATE, FiniteFloat, NumberPair
 from diffbot.commands.shown_defaults import choice_option, name_option
-from diffbot.follow import MAX_LEAD
+from diffbot.follow import MAX_LEAD, POSE_SOURCES
 from diffbot.simulation import MAX_DELAY
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -96,7 +96,7 @@ def follow_options(command: F) -> F:
     )(command)
     command = choice_option(
         "--pose-source",
-        choices=["odom", "truth"],
+        choices=POSE_SOURCES,
         default="odom",
         help="What the follower is given: the robot's wheel odometry, or its true pose (with "
         "--pose-noise), as motion capture or localization gives it.",

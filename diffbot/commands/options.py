@@ -54,6 +54,7 @@ from diffbot.numbers import (
     written_number,
 )
 from diffbot.urdf import load_params
+from diffbot.urdf.sources import SOURCE_MODES
 
 
 class CheckedNumber(click.ParamType):  # type: ignore[type-arg,unused-ignore]
@@ -432,7 +433,7 @@ _ROBOT_OPTIONS = [
     ),
     choice_option(
         "--source",
-        choices=["auto", "description", "controllers", "plugin"],
+        choices=SOURCE_MODES,
         default="auto",
         help="Where the radius, separation and wheels come from: auto takes the controllers "
         "file, else the simulator's diff-drive plugin, else the geometry; the others are still "

@@ -30,6 +30,7 @@ from diffbot.commands.options import (
 from diffbot.commands.paths import InputPath, input_path
 from diffbot.commands.shown_defaults import choice_option, name_option
 from diffbot.formats.text import fmt
+from diffbot.goals import SHAPES
 from diffbot.kinematics import DiffDriveParams, Pose, norm_angle
 from diffbot.planfile import load_plan, parse_plan
 from diffbot.trajectory import EXAMPLES, Plan, Segment
@@ -467,7 +468,7 @@ _GOAL_OPTIONS = [
     ),
     choice_option(
         "--shape",
-        choices=["fastest", "spin-straight-spin", "dubins", "reeds-shepp"],
+        choices=SHAPES,
         default="fastest",
         help="fastest: the least time at the whole motor limit (turns in place and straights; "
         "at --speed and --spin-rate when either is given, and within --max-linear and "

@@ -43,3 +43,37 @@ def test_a_word_outside_the_choices_is_refused() -> None:
 def test_a_default_outside_the_choices_is_a_mistake_of_the_declaration() -> None:
     with pytest.raises(ValueError, match="'oval' is not one of"):
         choice_option("--shape", choices=["round"], default="oval", help="A shape.")
+
+
+def _choices(words: tuple[str, ...], flag: str) -> tuple[str, ...]:
+    from diffbot.cli import main
+
+    ctx = click.Context(main, info_name="diffbot")
+    command: click.Command | None = main
+    for word in words:
+        assert isinstance(command, click.Group)
+        command = command.get_command(ctx, word)
+    assert command is not None
+    (option,) = [p for p in command.params if flag in p.opts]
+    assert isinstance(option.type, click.Choice)
+    return tuple(option.type.choices)
+
+
+@pytest.mark.parametrize(
+    ("words", "flag", "library"),
+    [
+        (("params",), "--source", "diffbot.urdf.sources:SOURCE_MODES"),
+        (("plan",), "--shape", "diffbot.goals:SHAPES"),
+        (("simulate",), "--shape", "diffbot.goals:SHAPES"),
+        (("simulate",), "--pose-source", "diffbot.follow:POSE_SOURCES"),
+    ],
+)
+def test_a_choice_the_library_defines_offers_the_library_words(
+    words: tuple[str, ...], flag: str, library: str
+) -> None:
+    """The words a command takes are the ones its library call takes, from one list: a word
+    added to the library is offered at once, and none the library would refuse is."""
+    import importlib
+
+    module, name = library.split(":")
+    assert _choices(words, flag) == tuple(getattr(importlib.import_module(module), name))
