@@ -16,7 +16,7 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Final, TextIO
+from typing import TYPE_CHECKING, Any, Final, TextIO
 
 from diffbot.chunk_odometry import ChunkPoses
 from diffbot.conditioning import Conditioning
@@ -29,8 +29,9 @@ from diffbot.io.outputs import atomic_text, input_clash
 from diffbot.kinematics import DiffDriveParams, norm_angle
 from diffbot.odometry import Odometry
 from diffbot.processes import safe_starts
+from diffbot.reading import Progress, Reading
 from diffbot.reference import ReferenceComparison, ReferenceResult
-from diffbot.replay import Progress, RecordingOdometry, csv_odometry, recording_odometry
+from diffbot.replay import RecordingOdometry, csv_odometry, recording_odometry
 
 if TYPE_CHECKING:
     from concurrent.futures import Future
@@ -266,18 +267,17 @@ def run_task(
                 return open_loop_odometry(
                     task.input, task.params, task.topic, sink=sink, layout=task.layout
                 )
+            options: dict[str, Any] = {
+                "sink": sink,
+                "progress": progress,
+                "conditioning": task.conditioning,
+                "layout": task.layout,
+                "feedback": task.feedback,
+            }
             if task.input == "-":
                 assert stream is not None
-                read = functools.partial(csv_odometry, stream, task.params, source="-")
-            else:
-                read = functools.partial(recording_odometry, task.input, task.params, task.topic)
-            return read(
-                sink=sink,
-                progress=progress,
-                conditioning=task.conditioning,
-                layout=task.layout,
-                feedback=task.feedback,
-            )
+                return csv_odometry(stream, task.params, Reading(**options), source="-")
+            return recording_odometry(task.input, task.params, task.topic, **options)
 
         inputs = [] if task.input == "-" else [Path(task.input)]
         if task.output is None:

@@ -11,21 +11,20 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from diffbot.conditioning import Conditioner, Conditioning
+from diffbot.conditioning import Conditioning
 from diffbot.errors import ParameterError
 from diffbot.io.bag import is_bag, read_bag
 from diffbot.io.csv_chunks import open_csv_chunks
 from diffbot.io.recordings import csv_layout, existing_recording
 from diffbot.kinematics import DiffDriveParams
+from diffbot.reading import Reading
 from diffbot.samples import (
     ColumnSamples,
     JointSample,
     Recording,
     beyond_range,
     range_reason,
-    wheel_limit,
 )
-from diffbot.velocity_feedback import VelocityAngles, check_feedback
 
 __all__ = ["read_recording"]
 
@@ -81,52 +80,41 @@ def read_recording(
         ParameterError: an unknown ``feedback``; ``counts_per_rev`` or ``wrap`` beside
             ``conditioning``, or out of range.
     """
-    velocity = check_feedback(feedback) == "velocity"
     if counts_per_rev is not None or wrap is not None:
         if conditioning is not None:
             raise ParameterError("give counts_per_rev and wrap, or conditioning=, not both")
         conditioning = Conditioning(counts_per_rev=counts_per_rev, wrap=wrap)
-    counts_per_rev = None if conditioning is None else conditioning.counts_per_rev
+    reading = Reading(conditioning=conditioning, feedback=feedback)
     p = existing_recording(path)
     if is_bag(p):
-        wheels = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
-        limit = wheel_limit(feedback, counts_per_rev)
+        joints = {params.left_joint, params.right_joint, *params.left_joints, *params.right_joints}
         read = read_bag(p, topic, feedback, (params.left_joints, params.right_joints))
-        recording = _within_range(read, wheels, feedback, limit)
-        return _conditioned(recording, params, conditioning, velocity)
+        recording = _within_range(read, joints, feedback, reading.wheel_limit())
+        return _conditioned(recording, params, reading)
 
     layout = csv_layout(time_column, left_column, right_column, delimiter, time_unit)
-    layout = dataclasses.replace(layout, field=feedback, counts_per_rev=counts_per_rev)
+    reading = dataclasses.replace(reading, layout=layout)
     sides = (params.left_joints, params.right_joints)
     skipped: dict[str, int] = {}
-    with open_csv_chunks(p, sides, layout=layout) as chunks:
+    with open_csv_chunks(p, sides, layout=reading.csv_layout()) as chunks:
         samples = ColumnSamples(params.left_joints[0], params.right_joints[0])
-        conditioner = Conditioner.for_robot(params, chunks.joints, chunks.left_count, conditioning)
-        angles = VelocityAngles(len(chunks.joints)) if velocity else None
+        wheels = reading.wheel_angles(params, chunks.joints, chunks.left_count)
         for chunk in chunks:
             for reason, count in chunk.skipped.items():
                 skipped[reason] = skipped.get(reason, 0) + count
-            values = chunk.positions
-            if angles is not None:
-                values = angles.feed(chunk.stamp_ns, values, chunk.present)
-            positions = conditioner.feed(chunk.stamp_ns, values, chunk.present)
+            positions = wheels.feed(chunk.stamp_ns, chunk.positions, chunk.present)
             samples.add_chunk(chunk.stamp_ns, positions, chunk.present, chunks.left_count)
-        report = conditioner.report()
+        report = wheels.report()
         return Recording(
             chunks.source, "csv", samples, skipped, conditioning=report, notes=chunks.notes()
         )
 
 
-def _conditioned(
-    recording: Recording,
-    params: DiffDriveParams,
-    conditioning: Conditioning | None,
-    velocity: bool = False,
-) -> Recording:
-    """A bag's samples with their wheel joints' positions conditioned (other joints as read);
-    with ``velocity``, the wheel angles integrated from the velocities the samples hold."""
+def _conditioned(recording: Recording, params: DiffDriveParams, reading: Reading) -> Recording:
+    """A bag's samples with their wheel joints' values made wheel angles as ``reading`` says
+    (other joints as read)."""
     joints = [*params.left_joints, *params.right_joints]
-    conditioner = Conditioner.for_robot(params, joints, len(params.left_joints), conditioning)
+    wheels = reading.wheel_angles(params, joints, len(params.left_joints))
     samples = recording.samples
     n = len(samples)
     positions = np.zeros((n, len(joints)))
@@ -140,9 +128,8 @@ def _conditioned(
             if j is not None and not present[k, j]:  # a joint named twice: the first, as odometry
                 positions[k, j] = value
                 present[k, j] = True
-    wheels = VelocityAngles(len(joints)).feed(stamps, positions, present) if velocity else positions
-    conditioned = conditioner.feed(stamps, wheels, present)
-    report = conditioner.report()
+    conditioned = wheels.feed(stamps, positions, present)
+    report = wheels.report()
     if conditioned is positions:
         return dataclasses.replace(recording, conditioning=report)
     kept = []

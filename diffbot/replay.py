@@ -11,6 +11,8 @@ topic is stamped by one clock: the header stamps when every readable message wit
 each side has a non-zero one, otherwise the bag's receive times. A
 zero header stamp is seen only while reading, so a topic that turns out to need the receive
 times is read a second time: the sink is then told to start again (:meth:`PoseSink.restart`).
+The options it is given go, held in one :class:`~diffbot.reading.Reading`, to the step for its
+kind of input: :func:`bag_odometry`, or :func:`csv_odometry` (a file or a text stream).
 
 :func:`run_odometry` feeds a recording read whole to an :class:`Odometry`, the poses kept as
 compact columns.
@@ -21,15 +23,16 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import os
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from contextlib import closing
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Protocol, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
 from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
 from diffbot.kinematics import Pose
 from diffbot.odometry import SKIP_MISSING_JOINT, Odometry
+from diffbot.reading import PoseSink, Progress, Reading
 from diffbot.samples import (
     CLOCK_HEADER,
     CLOCK_RECEIVE,
@@ -42,17 +45,17 @@ from diffbot.samples import (
     beyond_ranges,
     each_side,
     range_reason,
-    wheel_limit,
 )
 
 if TYPE_CHECKING:
     from numpy.typing import NDArray
 
-    from diffbot.chunk_odometry import ChunkOdometry, ChunkPoses, OdometrySummary
-    from diffbot.conditioning import Conditioner, Conditioning, ConditioningReport
+    from diffbot.chunk_odometry import ChunkOdometry, OdometrySummary
+    from diffbot.conditioning import Conditioning, ConditioningReport
     from diffbot.io.bag_chunks import TopicChunks
     from diffbot.io.csv_chunks import CsvLayout
     from diffbot.kinematics import DiffDriveParams
+    from diffbot.reading import WheelAngles
 
 __all__ = [
     "OdometryRow",
@@ -157,20 +160,6 @@ def run_odometry(recording: Recording, odom: Odometry) -> OdometryRun:
 # Chunked odometry of a recording by path
 
 
-#: Called with how much of the input a chunk used (messages of a bag, characters of a CSV).
-Progress = Callable[[int], None]
-
-
-class PoseSink(Protocol):
-    """Where the poses of a run go as they come."""
-
-    def write(self, poses: ChunkPoses) -> None:
-        """Take the poses after the used samples of one chunk, in order."""
-
-    def restart(self) -> None:
-        """Drop every pose written so far: the run starts again from the first sample."""
-
-
 class RecordingOdometry:
     """The odometry of one recording.
 
@@ -212,94 +201,75 @@ class RecordingOdometry:
 def csv_odometry(
     path: str | os.PathLike[str] | TextIO,
     params: DiffDriveParams,
+    reading: Reading | None = None,
     *,
-    sink: PoseSink | None = None,
-    progress: Progress | None = None,
     source: str | None = None,
     chunk_bytes: int | None = None,
-    conditioning: Conditioning | None = None,
-    layout: CsvLayout | None = None,
-    feedback: str = "position",
 ) -> RecordingOdometry:
-    """The odometry of the wheel columns of a recording CSV (a file or a text stream).
+    """The odometry of the wheel columns of a recording CSV, a file or a text stream: the step
+    of :func:`recording_odometry` for a CSV, ``chunk_bytes`` characters at a time.
 
-    The positions go through a :class:`~diffbot.conditioning.Conditioner` (units, wraps,
-    implausible steps) as ``conditioning`` says before they are integrated. With ``feedback``
-    ``"velocity"`` the columns are wheel velocities (rad/s; ``/<joint>/velocity`` unless
-    ``layout`` names them), turned into angles by
-    :class:`~diffbot.velocity_feedback.VelocityAngles` first.
+    The wheel columns are read as ``reading`` says (``/<joint>/velocity`` columns for
+    velocities unless its ``layout`` names them) and made wheel angles
+    (:class:`~diffbot.reading.WheelAngles`) before they are integrated.
+
+    Args:
+        path: a CSV file, or a text stream of one.
+        params: the robot, whose wheel joints name the columns.
+        reading: how to read, and where the poses and the progress go (default: as
+            :class:`~diffbot.reading.Reading` says by itself).
+        source: the input's name in messages (default: the path, or the stream's name).
+        chunk_bytes: how many characters a chunk holds (default:
+            :data:`~diffbot.io.csv_chunks.CHUNK_BYTES`).
 
     Raises:
         RecordingError: missing, empty or non-text input, no time column, no column for a side,
             malformed CSV, or no usable sample.
     """
     from diffbot.chunk_odometry import ChunkOdometry
-    from diffbot.conditioning import Conditioner
-    from diffbot.io.csv_chunks import CHUNK_BYTES, CsvLayout, open_csv_chunks
+    from diffbot.io.csv_chunks import CHUNK_BYTES, open_csv_chunks
     from diffbot.side_angles import SideAngles
-    from diffbot.velocity_feedback import VelocityAngles, check_feedback
 
+    reading = reading or Reading()
     odom = ChunkOdometry(params)
     sides = (params.left_joints, params.right_joints)
-    velocity = check_feedback(feedback) == "velocity"
     with open_csv_chunks(
         path,
         sides,
         chunk_bytes=CHUNK_BYTES if chunk_bytes is None else chunk_bytes,
         source=source,
-        layout=dataclasses.replace(
-            layout or CsvLayout(),
-            field=feedback,
-            counts_per_rev=None if conditioning is None else conditioning.counts_per_rev,
-        ),
+        layout=reading.csv_layout(),
     ) as chunks:
-        conditioner = Conditioner.for_robot(params, chunks.joints, chunks.left_count, conditioning)
-        angles = VelocityAngles(len(chunks.joints)) if velocity else None
+        wheels = reading.wheel_angles(params, chunks.joints, chunks.left_count)
         wheel_sides = SideAngles(chunks.left_count, len(chunks.joints) - chunks.left_count)
         for chunk in chunks:
             for reason, count in chunk.skipped.items():
                 odom.skip(reason, count)
-            values = chunk.positions
-            if angles is not None:
-                values = angles.feed(chunk.stamp_ns, values, chunk.present)
-            positions = conditioner.feed(chunk.stamp_ns, values, chunk.present)
+            positions = wheels.feed(chunk.stamp_ns, chunk.positions, chunk.present)
             left, right, both = wheel_sides.chunk(positions, chunk.present)
-            poses = odom.feed(chunk.stamp_ns, left, right, both)
-            if sink is not None:
-                sink.write(poses)
-            if progress is not None:
-                progress(chunk.chars)
+            reading.deliver(odom.feed(chunk.stamp_ns, left, right, both), chunk.chars)
         summary = odom.summary(chunks.source)
-        report = conditioner.report()
+        report = wheels.report()
         return RecordingOdometry(chunks.source, "csv", summary, None, report, notes=chunks.notes())
 
 
 def _bag_pass(
-    topic: TopicChunks,
-    params: DiffDriveParams,
-    clock: str,
-    sink: PoseSink | None,
-    progress: Progress | None,
-    conditioning: Conditioning | None,
-    feedback: str = "position",
-) -> tuple[ChunkOdometry, Conditioner] | None:
+    topic: TopicChunks, params: DiffDriveParams, clock: str, reading: Reading
+) -> tuple[ChunkOdometry, WheelAngles] | None:
     """One pass over the topic; None when a zero header stamp asks for the receive clock."""
     import numpy as np
 
     from diffbot.chunk_odometry import ChunkOdometry
-    from diffbot.conditioning import Conditioner
     from diffbot.io.jointstate_cdr import decode_positions
     from diffbot.side_angles import SideAngles
-    from diffbot.velocity_feedback import VelocityAngles
 
     odom = ChunkOdometry(params)
     joints = (*params.left_joints, *params.right_joints)
-    conditioner = Conditioner.for_robot(params, joints, len(params.left_joints), conditioning)
-    angles = VelocityAngles(len(joints)) if feedback == "velocity" else None
+    wheels = reading.wheel_angles(params, joints, len(params.left_joints))
     sides = SideAngles(len(params.left_joints), len(params.right_joints))
-    limit = wheel_limit(feedback, None if conditioning is None else conditioning.counts_per_rev)
+    limit = reading.wheel_limit()
     for chunk in topic.chunks(receive_times=clock == CLOCK_RECEIVE):
-        decoded = decode_positions(chunk.blobs, joints, feedback)
+        decoded = decode_positions(chunk.blobs, joints, reading.feedback)
         readable = decoded.readable
         header = decoded.stamp_ns[readable]
         # the clock is chosen by the messages the odometry can use: a wheel of each side
@@ -321,38 +291,40 @@ def _bag_pass(
         if unreadable:
             positions, present = positions[readable], present[readable]
         if out_of_range.any():
-            odom.skip(range_reason(feedback), int(np.count_nonzero(out_of_range)))
+            odom.skip(range_reason(reading.feedback), int(np.count_nonzero(out_of_range)))
             keep = ~out_of_range
             positions, present, stamps = positions[keep], present[keep], stamps[keep]
-        if angles is not None:
-            positions = angles.feed(stamps, positions, present)
-        positions = conditioner.feed(stamps, positions, present)
+        positions = wheels.feed(stamps, positions, present)
         left, right, both = sides.chunk(positions, present)
-        poses = odom.feed(stamps, left, right, both)
-        if sink is not None:
-            sink.write(poses)
-        if progress is not None:
-            progress(len(chunk.blobs))
-    return odom, conditioner
+        reading.deliver(odom.feed(stamps, left, right, both), len(chunk.blobs))
+    return odom, wheels
 
 
 def bag_odometry(
     path: str | os.PathLike[str],
     params: DiffDriveParams,
     topic: str | None = None,
+    reading: Reading | None = None,
     *,
     chunk_size: int | None = None,
-    sink: PoseSink | None = None,
-    progress: Progress | None = None,
-    conditioning: Conditioning | None = None,
-    feedback: str = "position",
 ) -> RecordingOdometry:
-    """The odometry of the sensor_msgs/msg/JointState messages of one bag topic.
+    """The odometry of the sensor_msgs/msg/JointState messages of one bag topic: the step of
+    :func:`recording_odometry` for a bag, ``chunk_size`` messages at a time.
 
     Messages of a repeating layout are decoded in bulk (fixed byte offsets, NumPy over many
-    messages at once), any other one by rosbags' deserializer. With ``feedback``
-    ``"velocity"`` the messages' ``velocity`` fields are read and integrated instead of their
-    positions (see :mod:`diffbot.velocity_feedback`).
+    messages at once), any other one by rosbags' deserializer; their ``reading.feedback``
+    fields are made wheel angles (:class:`~diffbot.reading.WheelAngles`) before they are
+    integrated.
+
+    Args:
+        path: a bag: a rosbag2 directory, one of its storage files, or a ROS 1 ``.bag``.
+        params: the robot, whose wheel joints are looked up by name.
+        topic: the JointState topic (default: ``/joint_states``, or else the bag's only
+            JointState topic).
+        reading: how to read, and where the poses and the progress go (default: as
+            :class:`~diffbot.reading.Reading` says by itself; its ``layout`` is a CSV's).
+        chunk_size: how many messages a chunk holds (default:
+            :data:`~diffbot.io.bag_chunks.CHUNK_MESSAGES`).
 
     Raises:
         RecordingError: rosbags is missing (for storage it must read), the path is not a
@@ -361,9 +333,8 @@ def bag_odometry(
     """
     from diffbot.io.bag import JOINT_STATE
     from diffbot.io.bag_chunks import CHUNK_MESSAGES, BagError, TopicChunks
-    from diffbot.velocity_feedback import check_feedback
 
-    check_feedback(feedback)
+    reading = reading or Reading()
     size = CHUNK_MESSAGES if chunk_size is None else chunk_size
     with closing(TopicChunks(path, topic, chunk_size=size)) as chunks:
         if chunks.msgtype != JOINT_STATE:
@@ -372,18 +343,17 @@ def bag_odometry(
                 f"not {JOINT_STATE}"
             )
         clock = CLOCK_HEADER
-        done = _bag_pass(chunks, params, clock, sink, progress, conditioning, feedback)
+        done = _bag_pass(chunks, params, clock, reading)
         if done is None:
             clock = CLOCK_RECEIVE
-            if sink is not None:
-                sink.restart()
-            done = _bag_pass(chunks, params, clock, sink, progress, conditioning, feedback)
+            reading.restart()
+            done = _bag_pass(chunks, params, clock, reading)
         assert done is not None  # the receive clock never asks for another pass
-        odom, conditioner = done
+        odom, wheels = done
         hint = ""
         if odom.skipped.get(SKIP_MISSING_JOINT) and not odom.used:
             hint = _joints_hint(chunks, params)
-            if feedback == "velocity":
+            if reading.feedback == "velocity":
                 hint += (
                     "; the messages hold no velocity for a side's wheels (empty velocity "
                     "fields?): read the positions with {feedback} position"
@@ -394,7 +364,7 @@ def bag_odometry(
             "rosbag1" if chunks.ros1 else "rosbag2",
             summary,
             clock,
-            conditioner.report(),
+            wheels.report(),
             chunks.topic,
             chunks.topic_chosen,
             chunks.notes(),
@@ -466,7 +436,7 @@ def recording_odometry(
     layout: CsvLayout | None = None,
     feedback: str = "position",
 ) -> RecordingOdometry:
-    """The odometry of a CSV file or a rosbag2 recording, by what the path is.
+    """The odometry of a CSV file or a bag, by what the path is.
 
     A recording read for its positions whose wheel positions never move while its wheel
     velocities do (a robot that reports velocities only, as diff_drive_controller's
@@ -477,44 +447,29 @@ def recording_odometry(
         path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
         params: the robot, whose wheel joints are looked up by name.
         topic: the JointState topic of a bag.
-        sink: where the poses go as they come, if anywhere.
-        progress: called after each chunk with how much of the input it used (see
-            :func:`recording_size`).
-        conditioning: the positions' units and wrap (default: radians, wraps detected).
-        layout: a CSV's columns, delimiter and time unit, where not the defaults.
-        feedback: ``"position"`` (the wheel joints' positions) or ``"velocity"`` (their
-            velocities, integrated as diff_drive_controller does with
-            ``position_feedback: false``).
+        sink, progress, conditioning, layout, feedback: how the recording is read and where
+            the poses and the progress go, as the attributes of the same names of
+            :class:`~diffbot.reading.Reading` say; held in one, they go to the step that reads
+            the path (:func:`bag_odometry`, :func:`csv_odometry`).
 
     Raises:
         RecordingError: missing, empty or unreadable input; missing columns or topic; no
             usable sample; positions that never move beside velocities that do.
+        ParameterError: an unknown ``feedback``.
     """
     from diffbot.io.bag import is_bag
     from diffbot.io.recordings import existing_recording
 
+    reading = Reading(
+        sink=sink, progress=progress, conditioning=conditioning, layout=layout, feedback=feedback
+    )
     p = existing_recording(path)
     try:
-        if is_bag(p):
-            run = bag_odometry(
-                p,
-                params,
-                topic,
-                sink=sink,
-                progress=progress,
-                conditioning=conditioning,
-                feedback=feedback,
-            )
-        else:
-            run = csv_odometry(
-                p,
-                params,
-                sink=sink,
-                progress=progress,
-                conditioning=conditioning,
-                layout=layout,
-                feedback=feedback,
-            )
+        run = (
+            bag_odometry(p, params, topic, reading)
+            if is_bag(p)
+            else csv_odometry(p, params, reading)
+        )
     except RecordingError as err:
         if feedback == "position" and velocities_move(p, params, topic, layout):
             raise RecordingError(f"{err.template}; {_VELOCITY_HINT}", **err.fields) from None

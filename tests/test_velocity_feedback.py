@@ -74,15 +74,15 @@ def test_a_chunk_whose_samples_all_go_back_in_time_keeps_the_wheel_where_it_was(
 def test_odom_of_velocities_reads_a_restarted_clock_in_chunks_as_whole(tmp_path: Path) -> None:
     import io
 
+    from diffbot.reading import Reading
     from diffbot.replay import csv_odometry
 
     rows = [f"{t / 10!r},1.0,{0.5 + t / 100!r}" for t in [*range(20), *range(20)]]
     text = "time,/left_wheel_joint/velocity,/right_wheel_joint/velocity\n" + "\n".join(rows)
     robot = BOT.replace(left_joint="left_wheel_joint", right_joint="right_wheel_joint")
-    whole = csv_odometry(io.StringIO(text, newline=""), robot, feedback="velocity").summary
-    chunked = csv_odometry(
-        io.StringIO(text, newline=""), robot, feedback="velocity", chunk_bytes=64
-    ).summary
+    velocity = Reading(feedback="velocity")
+    whole = csv_odometry(io.StringIO(text, newline=""), robot, velocity).summary
+    chunked = csv_odometry(io.StringIO(text, newline=""), robot, velocity, chunk_bytes=64).summary
     # Each chunk's sums start from the last one's angle: equal to rounding.
     assert tuple(chunked.final_pose) == pytest.approx(tuple(whole.final_pose), abs=1e-12)
     assert chunked.skipped == whole.skipped

@@ -257,6 +257,7 @@ def _recording(
     input's copy for ``-``), then its true path and its reference's, when it has them; and what
     was done to its positions (warned about as ``diffbot odom`` warns)."""
     from diffbot.commands.recording_options import warn_conditioning, warn_notes
+    from diffbot.reading import Reading
     from diffbot.replay import csv_odometry, recording_odometry
 
     comparison = None if reference is None else _comparison(source, reference)
@@ -268,7 +269,7 @@ def _recording(
         "feedback": options.feedback_for(params),
     }
     if source == "-":
-        run = csv_odometry(path, params, source=source, **settings)
+        run = csv_odometry(path, params, Reading(**settings), source=source)
     else:
         run = recording_odometry(source, params, topic, **settings)
     warn_notes(run.notes, source)

@@ -21,6 +21,7 @@ from sinks import Collect
 from diffbot.errors import RecordingError
 from diffbot.io.bag_chunks import BagError, TopicChunks
 from diffbot.odometry import Odometry
+from diffbot.reading import Reading
 from diffbot.recordings import read_recording
 from diffbot.replay import bag_odometry, run_odometry
 from diffbot.samples import CLOCK_HEADER, CLOCK_RECEIVE, SKIP_UNREADABLE
@@ -107,7 +108,7 @@ def test_bag_odometry_equals_the_message_by_message_run_bit_for_bit(
             bag_odometry(path, NAMED, chunk_size=chunk_size)
         return
     sink = Collect()
-    got = bag_odometry(path, NAMED, chunk_size=chunk_size, sink=sink)
+    got = bag_odometry(path, NAMED, reading=Reading(sink=sink), chunk_size=chunk_size)
     assert got.clock == want_clock
     assert sink.restarts == (got.clock == CLOCK_RECEIVE)  # header pass dropped
     rows = sink.rows

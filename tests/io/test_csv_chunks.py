@@ -26,6 +26,7 @@ from diffbot.io.csv_chunks import (
     stamps_from_digits,
 )
 from diffbot.odometry import Odometry
+from diffbot.reading import Reading
 from diffbot.replay import csv_odometry
 
 Row = tuple[int, float, float, int]
@@ -195,7 +196,8 @@ def test_csv_odometry_equals_the_streaming_run_over_the_same_rows(text: str) -> 
         with pytest.raises(RecordingError, match="no usable sample"):
             csv_odometry(io.StringIO(text, newline=""), NAMED, chunk_bytes=64)
         return
-    got = csv_odometry(io.StringIO(text, newline=""), NAMED, chunk_bytes=64, sink=sink).summary
+    stream = io.StringIO(text, newline="")
+    got = csv_odometry(stream, NAMED, Reading(sink=sink), chunk_bytes=64).summary
     streamed = sink.rows
     assert [r[0] for r in streamed] == [r[0] for r in want_rows]
     for k in (1, 2, 3):
