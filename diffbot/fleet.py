@@ -260,12 +260,16 @@ def run_task(
         def odometry(output: _CsvSink | _BagSink | None) -> RecordingOdometry:
             sink = compared(output)
             if task.open_loop:
-                from diffbot.open_loop import open_loop_odometry
-
                 if task.input == "-":
                     raise RecordingError("{open_loop} reads a bag or a CSV file, not stdin")
-                return open_loop_odometry(
-                    task.input, task.params, task.topic, sink=sink, layout=task.layout
+                # Only the wheels have a conditioning and a feedback.
+                return recording_odometry(
+                    task.input,
+                    task.params,
+                    task.topic,
+                    sink=sink,
+                    layout=task.layout,
+                    open_loop=True,
                 )
             options: dict[str, Any] = {
                 "sink": sink,

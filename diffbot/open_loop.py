@@ -25,9 +25,10 @@ from typing import TYPE_CHECKING, Any, Final, NamedTuple
 
 import numpy as np
 
-from diffbot.errors import RecordingError
+from diffbot.errors import ParameterError, RecordingError
 from diffbot.numbers import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
 from diffbot.odometry import SKIP_NOT_FINITE, SKIP_STAMP_NOT_AFTER
+from diffbot.reading import Reading
 from diffbot.samples import (
     CLOCK_HEADER,
     CLOCK_RECEIVE,
@@ -42,7 +43,7 @@ if TYPE_CHECKING:
     from diffbot.chunk_odometry import ChunkOdometry
     from diffbot.io.csv_chunks import CsvLayout
     from diffbot.kinematics import DiffDriveParams
-    from diffbot.replay import PoseSink, Progress, RecordingOdometry
+    from diffbot.replay import RecordingOdometry
 
 __all__ = [
     "COMMAND_TOPIC",
@@ -127,44 +128,44 @@ def open_loop_odometry(
     path: str | os.PathLike[str],
     params: DiffDriveParams,
     topic: str | None = None,
-    *,
-    sink: PoseSink | None = None,
-    progress: Progress | None = None,
-    layout: CsvLayout | None = None,
+    reading: Reading | None = None,
 ) -> RecordingOdometry:
-    """The odometry of the commanded body velocities of a recording.
+    """The odometry of the commanded body velocities of a recording: the step of
+    :func:`~diffbot.replay.recording_odometry` with ``open_loop``.
 
     Args:
         path: a bag (its ``topic``: default ``/cmd_vel``, or else the bag's only Twist or
-            TwistStamped topic) or a CSV
-            of ``t,v,w`` columns (the layout's time column, delimiter and unit apply; its left
-            and right columns, if named, are the linear and angular ones).
+            TwistStamped topic) or a CSV of ``t,v,w`` columns (the layout's time column,
+            delimiter and unit apply; its left and right columns, if named, are the linear and
+            angular ones).
         params: the robot, whose wheels carry out the commands.
         topic: the command topic of a bag (Twist or TwistStamped).
-        sink: where the poses go.
-        progress: called once with the number of commands read.
-        layout: how to read a CSV, where not the defaults.
+        reading: the CSV's layout, and where the poses and the progress (once, the number of
+            commands read) go; the commands take no ``conditioning`` and no ``feedback``.
 
     Raises:
         RecordingError: missing or unreadable input, a topic of another type, a column that
             is missing or not a number, no command.
+        ParameterError: a ``reading`` with a ``conditioning`` or a velocity ``feedback``.
     """
     from diffbot.chunk_odometry import ChunkOdometry
     from diffbot.conditioning import Conditioner, Conditioning
     from diffbot.replay import RecordingOdometry
 
-    commands = read_commands(path, topic, layout)
+    reading = reading or Reading()
+    if reading.conditioning is not None or reading.feedback != "position":
+        raise ParameterError(
+            "commands are integrated as they are: conditioning= and {feedback} apply to the "
+            "wheel joints' values"
+        )
+    commands = read_commands(path, topic, reading.layout)
     odom = ChunkOdometry(params)
     stamps, linear, angular = _usable(commands, odom)
     left, right = command_angles(stamps, linear, angular, params)
     joints = (params.left_joint, params.right_joint)
     conditioner = Conditioner.for_robot(params, joints, 1, Conditioning(wrap=0))
     conditioner.feed(stamps, np.column_stack((left, right)))
-    poses = odom.feed(stamps, left, right)
-    if sink is not None:
-        sink.write(poses)
-    if progress is not None:
-        progress(stamps.size)
+    reading.deliver(odom.feed(stamps, left, right), stamps.size)
     summary = odom.summary(commands.source, " (no command)")
     return RecordingOdometry(
         commands.source,

@@ -1,7 +1,8 @@
 """How a recording is read and where what is read goes: :class:`Reading`, the options that
 :func:`~diffbot.replay.recording_odometry` takes once and hands to the step that reads its kind
-of input (:func:`~diffbot.replay.bag_odometry`, :func:`~diffbot.replay.csv_odometry`), and by
-which :func:`~diffbot.recordings.read_recording` reads a recording whole.
+of input (:func:`~diffbot.replay.bag_odometry`, :func:`~diffbot.replay.csv_odometry`,
+:func:`~diffbot.open_loop.open_loop_odometry`), and by which
+:func:`~diffbot.recordings.read_recording` reads a recording whole.
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ class Reading:
         sink: where the poses go as they come, if anywhere.
         progress: called after each chunk with how much of the input it used: messages of a
             bag, characters of a CSV (:func:`~diffbot.io.recordings.recording_size` says how
-            much in all).
+            much in all), or once the number of commands integrated open loop.
         conditioning: the recorded wheel positions' units and wrap (default: radians, wraps
             detected); a reader's result says what was done.
         layout: a CSV's columns, delimiter and time unit, where not the defaults.

@@ -12,7 +12,8 @@ each side has a non-zero one, otherwise the bag's receive times. A
 zero header stamp is seen only while reading, so a topic that turns out to need the receive
 times is read a second time: the sink is then told to start again (:meth:`PoseSink.restart`).
 The options it is given go, held in one :class:`~diffbot.reading.Reading`, to the step for its
-kind of input: :func:`bag_odometry`, or :func:`csv_odometry` (a file or a text stream).
+kind of input: :func:`bag_odometry`, :func:`csv_odometry` (a file or a text stream), or with
+``open_loop`` :func:`~diffbot.open_loop.open_loop_odometry`.
 
 :func:`run_odometry` feeds a recording read whole to an :class:`Odometry`, the poses kept as
 compact columns.
@@ -435,8 +436,10 @@ def recording_odometry(
     conditioning: Conditioning | None = None,
     layout: CsvLayout | None = None,
     feedback: str = "position",
+    open_loop: bool = False,
 ) -> RecordingOdometry:
-    """The odometry of a CSV file or a bag, by what the path is.
+    """The odometry of a CSV file or a bag, by what the path is: of its wheel joints, or with
+    ``open_loop`` of its commanded body velocities.
 
     A recording read for its positions whose wheel positions never move while its wheel
     velocities do (a robot that reports velocities only, as diff_drive_controller's
@@ -446,16 +449,22 @@ def recording_odometry(
     Args:
         path: a CSV file, a rosbag2 directory, or one of its ``.db3`` or ``.mcap`` files.
         params: the robot, whose wheel joints are looked up by name.
-        topic: the JointState topic of a bag.
+        topic: the JointState topic of a bag; with ``open_loop``, its Twist or TwistStamped
+            command topic.
         sink, progress, conditioning, layout, feedback: how the recording is read and where
             the poses and the progress go, as the attributes of the same names of
             :class:`~diffbot.reading.Reading` say; held in one, they go to the step that reads
-            the path (:func:`bag_odometry`, :func:`csv_odometry`).
+            the path (:func:`bag_odometry`, :func:`csv_odometry`,
+            :func:`~diffbot.open_loop.open_loop_odometry`).
+        open_loop: integrate the commanded body velocities instead, as diff_drive_controller
+            does with ``open_loop: true`` (see :mod:`diffbot.open_loop`); they take no
+            ``conditioning`` and no ``feedback``.
 
     Raises:
         RecordingError: missing, empty or unreadable input; missing columns or topic; no
             usable sample; positions that never move beside velocities that do.
-        ParameterError: an unknown ``feedback``.
+        ParameterError: an unknown ``feedback``; ``conditioning`` or ``feedback`` with
+            ``open_loop``.
     """
     from diffbot.io.bag import is_bag
     from diffbot.io.recordings import existing_recording
@@ -463,6 +472,10 @@ def recording_odometry(
     reading = Reading(
         sink=sink, progress=progress, conditioning=conditioning, layout=layout, feedback=feedback
     )
+    if open_loop:
+        from diffbot.open_loop import open_loop_odometry
+
+        return open_loop_odometry(path, params, topic, reading)
     p = existing_recording(path)
     try:
         run = (

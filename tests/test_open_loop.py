@@ -11,10 +11,12 @@ from bags import twist_message, write_bag, write_topics
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from robots import BOT
+from sinks import Collect
 from wheel_motion import assert_pose_close
 
 import diffbot
 from diffbot.chunk_odometry import ChunkOdometry
+from diffbot.conditioning import Conditioning
 from diffbot.errors import RecordingError
 from diffbot.odometry import SKIP_NOT_FINITE, SKIP_STAMP_NOT_AFTER
 from diffbot.open_loop import (
@@ -23,6 +25,7 @@ from diffbot.open_loop import (
     open_loop_odometry,
     read_commands,
 )
+from diffbot.replay import recording_odometry
 from diffbot.trajectory import Arc, Spin, Straight
 
 S = 1_000_000_000
@@ -197,3 +200,15 @@ def test_bag_commands_faster_than_any_robot_are_skipped_as_out_of_range(tmp_path
     run = open_loop_odometry(bag, BOT)
     assert run.summary.skipped == {SKIP_COMMAND_RANGE: 2}
     assert run.summary.final_pose.x == pytest.approx(3.0, abs=1e-12)
+
+
+def test_the_odometry_of_a_recording_integrates_its_commands_open_loop(tmp_path: Path) -> None:
+    path = csv(tmp_path / "c.csv", "t,v,w\n0,2,0.5\n1,0,0\n")
+    sink, used = Collect(), []
+    run = recording_odometry(path, BOT, sink=sink, progress=used.append, open_loop=True)
+    assert run.summary == open_loop_odometry(path, BOT).summary
+    assert ([row[0] for row in sink.rows], used) == ([0, S], [2])
+    with pytest.raises(diffbot.ParameterError, match="conditioning= and feedback= apply"):
+        recording_odometry(path, BOT, conditioning=Conditioning(wrap=0), open_loop=True)
+    with pytest.raises(diffbot.ParameterError, match="conditioning= and feedback= apply"):
+        recording_odometry(path, BOT, feedback="velocity", open_loop=True)
