@@ -15,10 +15,9 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Final, Protocol
+from typing import TYPE_CHECKING, Final, Literal, Protocol, get_args
 
 from diffbot.errors import ParameterError
-from diffbot.follow import POSE_SOURCES, PoseSource
 from diffbot.kinematics import DiffDriveParams, Pose, Twist
 from diffbot.numbers import finite_in_range
 from diffbot.simulation import (
@@ -38,11 +37,13 @@ if TYPE_CHECKING:
     from diffbot.trajectory import Plan
 
 __all__ = [
+    "POSE_SOURCES",
     "Controller",
     "LoopChunk",
     "LoopOutcome",
     "LoopResult",
     "LoopSettings",
+    "PoseSource",
     "longest_run",
     "path_distance",
     "run",
@@ -50,6 +51,11 @@ __all__ = [
     "run_size",
 ]
 
+#: Where the follower's pose comes from: the robot's wheel odometry, or its true pose (with
+#: noise), as motion capture or localization gives it.
+PoseSource = Literal["odom", "truth"]
+#: The pose sources, as :data:`PoseSource` spells them.
+POSE_SOURCES: Final[tuple[PoseSource, ...]] = get_args(PoseSource)
 #: Longest a run goes on past the plan's end waiting to arrive (s), at least.
 MIN_OVERTIME: Final = 10.0
 #: Longest a run goes on past its give-up time for a controller within its tolerances to say

@@ -108,7 +108,7 @@ import math
 from collections import deque
 from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
-from typing import TYPE_CHECKING, Final, Literal, get_args
+from typing import TYPE_CHECKING, Final
 
 from diffbot.arrival import Arrival
 from diffbot.errors import ParameterError
@@ -128,21 +128,14 @@ __all__ = [
     "LAWS",
     "MAX_LEAD",
     "MAX_MISMATCH",
-    "POSE_SOURCES",
     "Follower",
     "Gains",
-    "PoseSource",
     "default_gains",
     "delay_lead",
 ]
 
 #: The control laws :class:`Follower` offers.
 LAWS: Final = ("tracking", "pure-pursuit")
-#: Where a simulated follower's pose comes from: the robot's wheel odometry, or its true pose
-#: (with noise), as motion capture or localization gives it.
-PoseSource = Literal["odom", "truth"]
-#: The pose sources, as :data:`PoseSource` spells them.
-POSE_SOURCES: Final[tuple[PoseSource, ...]] = get_args(PoseSource)
 #: How long (s) the pose must stay within the tolerances before a follower is done.
 DWELL: Final = 1.0
 #: The longest lead time (s) a tracking follower takes: a robot slower than this to act on its

@@ -8,9 +8,10 @@ from typing import Any, TypeVar
 
 import click
 
+from diffbot.closed_loop import POSE_SOURCES
 from diffbot.commands.options import MIN_COMMAND_RATE, FiniteFloat, NumberPair
 from diffbot.commands.shown_defaults import choice_option, name_option
-from diffbot.follow import MAX_LEAD, POSE_SOURCES
+from diffbot.follow import MAX_LEAD
 from diffbot.simulation import MAX_DELAY
 
 F = TypeVar("F", bound=Callable[..., Any])

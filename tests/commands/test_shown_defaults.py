@@ -65,7 +65,7 @@ def _choices(words: tuple[str, ...], flag: str) -> tuple[str, ...]:
         (("params",), "--source", "diffbot.urdf.sources:SOURCE_MODES"),
         (("plan",), "--shape", "diffbot.goals:SHAPES"),
         (("simulate",), "--shape", "diffbot.goals:SHAPES"),
-        (("simulate",), "--pose-source", "diffbot.follow:POSE_SOURCES"),
+        (("simulate",), "--pose-source", "diffbot.closed_loop:POSE_SOURCES"),
     ],
 )
 def test_a_choice_the_library_defines_offers_the_library_words(
