@@ -34,6 +34,7 @@ __all__ = [
     "WHEEL_SIZE_RANGE",
     "as_number",
     "finite_in_range",
+    "flag",
     "motor_limits",
     "positive_finite",
     "positive_written",
@@ -223,6 +224,18 @@ def finite_in_range(
     if not (math.isfinite(number) and inside and number <= high):
         raise error(f"{what} must be {expected}, got {shown(value)}")
     return number
+
+
+def flag(value: object, what: str, error: type[DiffbotError] = ParameterError) -> bool:
+    """``value`` when it is ``True`` or ``False``, else ``error`` naming ``what``.
+
+    A switch is not taken by truthiness: ``"false"``, ``"no"`` or ``0.0`` given for one
+    (``trust``, which lets a description run code, first) would otherwise turn it on, or off,
+    against what was written.
+    """
+    if isinstance(value, bool):
+        return value
+    raise error(f"{what} must be True or False, got {shown(value)}")
 
 
 def positive_finite(value: object, what: str, error: type[DiffbotError] = ParameterError) -> float:

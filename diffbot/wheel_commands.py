@@ -28,6 +28,7 @@ from diffbot.kinematics import (
     saturate,
 )
 from diffbot.limiter import checked, limit
+from diffbot.numbers import flag
 from diffbot.wheel_topics import LEFT_TOPIC, RIGHT_TOPIC
 
 __all__ = ["LEFT_TOPIC", "RIGHT_TOPIC", "JointCommands", "WheelCommander"]
@@ -63,6 +64,7 @@ class WheelCommander:
     def __init__(
         self, params: DiffDriveParams, *, use_limits: bool = True, body: BodyLimits | None = None
     ) -> None:
+        use_limits = flag(use_limits, "use_limits")
         self.params = params
         controller = params.controller
         self._linear: AxisLimits | None = None

@@ -14,6 +14,7 @@ from diffbot.errors import ParameterError, RecordingError
 from diffbot.numbers import (
     as_number,
     finite_in_range,
+    flag,
     motor_limits,
     positive_finite,
     positive_written,
@@ -182,3 +183,15 @@ def test_a_text_with_another_scripts_digit_or_an_underscore_is_no_number_anywher
 )
 def test_a_positive_written_number_or_none(text: str, value: float | None) -> None:
     assert positive_written(text) == value
+
+
+@pytest.mark.parametrize("value", [True, False])
+def test_a_flag_is_a_bool_as_given(value: bool) -> None:
+    assert flag(value, "trust") is value
+
+
+@pytest.mark.parametrize("value", ["false", "no", "", 0, 1, 0.0, None, [], "True"])
+def test_a_flag_is_never_taken_by_truthiness(value: object) -> None:
+    """``"false"`` is truthy: taken as a switch it would turn on what it says off."""
+    with pytest.raises(ParameterError, match=r"^trust must be True or False, got "):
+        flag(value, "trust")

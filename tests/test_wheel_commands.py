@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 from robots import BOT, BOT_50_RPM
 
 from diffbot.controller_config import AxisLimits, ControllerConfig
+from diffbot.errors import ParameterError
 from diffbot.kinematics import inverse
 from diffbot.limiter import limit
 from diffbot.wheel_commands import WheelCommander
@@ -116,3 +117,8 @@ def test_given_body_limits_replace_the_files_velocity_limits_in_the_limiter() ->
     executed = [commander.step(2.0, 0.0, 0.1).linear for _ in range(3)]
     # 1 m/s per update of acceleration, then held at the given 0.3 m/s (the file says 1.0).
     assert executed == pytest.approx([0.3, 0.3, 0.3], abs=1e-12)
+
+
+def test_use_limits_is_a_bool_not_a_truthy_word() -> None:
+    with pytest.raises(ParameterError, match=r"^use_limits must be True or False, got 'no'"):
+        WheelCommander(BOT, use_limits="no")  # type: ignore[arg-type]

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Literal
 from diffbot.calibration.checks import check_geometry
 from diffbot.errors import CalibrationError, ParameterError
 from diffbot.kinematics import DiffDriveParams
-from diffbot.numbers import MAX_COORDINATE, finite_in_range
+from diffbot.numbers import MAX_COORDINATE, finite_in_range, flag
 from diffbot.trajectory import Spin, Straight
 
 if TYPE_CHECKING:
@@ -164,6 +164,7 @@ def umbmark(
         CalibrationError: errors too large for the method (a corner turn or a side's arc
             reversed: the runs do not look like squares).
     """
+    exact = flag(exact, "exact")
     length = finite_in_range(side, "side", 0.0, MAX_COORDINATE, unit="m", open_low=True)
     x_cw, y_cw = _centre("cw_ends", cw_ends, length)
     x_ccw, y_ccw = _centre("ccw_ends", ccw_ends, length)

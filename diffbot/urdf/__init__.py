@@ -24,6 +24,7 @@ from xml.etree import ElementTree
 
 from diffbot.errors import DescriptionError
 from diffbot.kinematics import DiffDriveParams
+from diffbot.numbers import flag
 from diffbot.urdf.cache import cached_fields
 from diffbot.urdf.meshes import finder_for, wheel_mesh_radius
 from diffbot.urdf.shipped import BUNDLED_LABEL, shipped_fields
@@ -105,6 +106,7 @@ def load_params(
             no or ambiguous drive wheels, wheels without a radius, a bad controllers file.
         ParameterError: an override or derived value is not a positive finite number.
     """
+    trust, no_controllers = flag(trust, "trust"), flag(no_controllers, "no_controllers")
     given = Overriding(left_joint, right_joint, wheel_radius, wheel_separation, max_wheel_speed)
     if path is None and None not in (left_joint, right_joint, wheel_radius, wheel_separation):
         return from_options(given, controllers, controller, args, no_controllers)

@@ -32,6 +32,7 @@ from diffbot.errors import DescriptionError, ExpansionLimitError, OutsideRootsEr
 from diffbot.formats.text import one_line
 from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import check_regular
+from diffbot.numbers import flag
 from diffbot.urdf.expression_limits import weight, yaml_weight
 from diffbot.urdf.expressions import SafeFunction, safe_eval, symbols
 from diffbot.urdf.include_glob import include_files
@@ -292,6 +293,7 @@ def sandboxed(
     import xacro
     import xacro.substitution_args as subst
 
+    trust = flag(trust, "trust")
     with XACRO_LOCK:
         allowed = _Roots([*description_roots(path), *roots])
         budget = _Budget(os.fspath(path), max_bytes, max_depth, max_elements, max_seconds)

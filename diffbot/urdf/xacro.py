@@ -22,6 +22,7 @@ from diffbot.formats.text import one_line
 from diffbot.io.pathnames import resolved
 from diffbot.io.textfile import read_text
 from diffbot.io.xmlhead import prolog_end
+from diffbot.numbers import flag
 from diffbot.urdf.packages import PackageFinder
 
 __all__ = ["BUNDLED_DESCRIPTION", "BUNDLED_PACKAGES", "Expansion", "check_xml", "expand"]
@@ -160,6 +161,7 @@ def expand(
         SandboxError: an untrusted description uses Python the sandbox refuses, reads a file
             outside its folders, or any description grows past the expansion limits.
     """
+    trust = flag(trust, "trust")
     source = Path(path) if path is not None else BUNDLED_DESCRIPTION
     given = {str(k): str(v) for k, v in (args or {}).items()}
     finder = PackageFinder(None if path is None else source, packages or {}, BUNDLED_PACKAGES)

@@ -230,3 +230,9 @@ def test_umbmark_corrects_each_sides_own_nominal_radius_when_they_differ() -> No
     assert result.right_wheel_radius == pytest.approx(0.0345 * 0.997, rel=1e-9)
     assert result.ed == pytest.approx((0.0345 * 0.997) / (0.0355 * 1.003), rel=1e-9)
     assert result.wheel_separation == pytest.approx(B0 * 1.01, rel=1e-9)
+
+
+def test_exact_is_a_bool_not_a_truthy_word() -> None:
+    ends = [(0.01, 0.02)]
+    with pytest.raises(ParameterError, match=r"^exact must be True or False, got 'no'"):
+        umbmark(4.0, ends, ends, BOT, exact="no")  # type: ignore[arg-type]

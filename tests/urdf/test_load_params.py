@@ -629,3 +629,9 @@ def test_a_cache_entry_with_wrong_types_is_recomputed(
         cached.write_text(json.dumps({**data, field: bad}))
         assert diffbot.load_params(path) == first
         assert diffbot.load_params(path).warnings == ()
+
+
+@pytest.mark.parametrize("switch", ["trust", "no_controllers"])
+def test_load_params_switches_are_bools_not_truthy_words(switch: str) -> None:
+    with pytest.raises(diffbot.ParameterError, match=f"^{switch} must be True or False"):
+        diffbot.load_params(**{switch: "false"})  # type: ignore[arg-type]

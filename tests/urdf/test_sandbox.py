@@ -778,3 +778,12 @@ def test_dirname_is_the_folder_of_the_file_being_read(
     expanded = process(Path("desc") / top.name, trust=trust)
     assert f'name="top_{top.parent}"' in expanded
     assert f'name="in_{part.parent}"' in expanded
+
+
+def test_sandboxed_takes_trust_only_as_a_bool(tmp_path: Path) -> None:
+    """A truthy word lifts no sandbox: it is refused before xacro is patched."""
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text('<robot name="r"/>')
+    refused = pytest.raises(diffbot.ParameterError, match=r"^trust must be True or False")
+    with refused, sandboxed(robot, trust="false"):  # type: ignore[arg-type]
+        pass

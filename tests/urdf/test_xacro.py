@@ -12,6 +12,7 @@ from robots import two_wheel_urdf
 
 import diffbot
 from diffbot.cli import main
+from diffbot.errors import ParameterError
 from diffbot.urdf.xacro import _is_sdf_text
 
 Write = Callable[[str, str], Path]
@@ -58,3 +59,12 @@ def test_a_generated_urdf_with_banner_comments_gives_its_parameters(
     assert params.wheel_separation == pytest.approx(0.2, abs=1e-12)
     assert result.exit_code == 0, result.output
     assert "0.05" in result.output
+
+
+@pytest.mark.parametrize("trust", ["false", "no", 0, None])
+def test_trust_is_a_bool_never_a_truthy_word(trust: object) -> None:
+    """``trust="false"`` is refused before anything is read: taken by truthiness it ran the
+    description's Python, which here reads /etc/passwd."""
+    untrusted = Path(__file__).resolve().parents[2] / "docs" / "examples" / "untrusted"
+    with pytest.raises(ParameterError, match=r"^trust must be True or False"):
+        diffbot.expand(untrusted / "etc.urdf.xacro", trust=trust)  # type: ignore[arg-type]
