@@ -32,6 +32,7 @@ from typing import TextIO
 
 from diffbot.errors import OutputError, OutputExistsError
 from diffbot.io.pathnames import resolved
+from diffbot.numbers import flag
 
 __all__ = [
     "BAG_FILES",
@@ -231,6 +232,7 @@ def output_target(path: Path, *, force: bool, inputs: Sequence[Path] = ()) -> Pa
         OutputError: it is not a regular file (a directory, a device), lies in a missing
             directory, is (or is inside) one of the ``inputs``, or is a loop of symbolic links.
     """
+    force = flag(force, "force", OutputError)
     target = resolved(path, OutputError) if path.is_symlink() else path
     # An input is never written, force or not: say so rather than offer force.
     check_not_input(path, target, inputs)
@@ -405,6 +407,7 @@ def check_bag_output(path: Path, force: bool) -> None:
         OutputError: its directory does not exist, it is a device, FIFO or socket, or it is,
             lies inside or contains an input.
     """
+    force = flag(force, "force", OutputError)
     check_not_input(path, path)
     if (path.exists() or path.is_symlink()) and not force:
         raise OutputExistsError(f"{path} exists: use {{force}} to overwrite it", path=str(path))

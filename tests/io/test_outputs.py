@@ -521,3 +521,20 @@ def test_a_file_name_is_taken(name: str) -> None:
     check_output_name(name, source=True)
     check_output_name(name, folder=True)
     check_output_name(f"{name}/", folder=True)
+
+
+@pytest.mark.parametrize("force", ["false", "no", 0, None])
+def test_force_is_a_bool_never_a_truthy_word(tmp_path: Path, force: object) -> None:
+    """``force="false"`` overwrote an existing file: every writer goes through this check."""
+    from diffbot.io.outputs import check_bag_output, output_target
+
+    kept = tmp_path / "kept.csv"
+    kept.write_text("mine\n")
+    for check in (
+        lambda: output_target(kept, force=force),  # type: ignore[arg-type]
+        lambda: check_bag_output(kept, force),  # type: ignore[arg-type]
+        lambda: write_text_atomic(kept, "theirs\n", force=force),  # type: ignore[arg-type]
+    ):
+        with pytest.raises(OutputError, match=r"^force must be True or False"):
+            check()
+    assert kept.read_text() == "mine\n"
