@@ -114,7 +114,7 @@ from diffbot.arrival import Arrival
 from diffbot.errors import ParameterError
 from diffbot.follow_plan import axis_brakes, axis_limits, body_share, controller_limits, pieces
 from diffbot.kinematics import DiffDriveParams, Pose, Twist
-from diffbot.numbers import finite_in_range, shown
+from diffbot.numbers import WHEEL_SIZE_RANGE, finite_in_range, positive_finite, shown
 
 if TYPE_CHECKING:
     from diffbot.body_limits import BodyLimits
@@ -212,6 +212,7 @@ def default_gains(params: DiffDriveParams, limit: float | None = None) -> Gains:
         limit: its motor limit (rad/s); ``params.max_wheel_speed`` when None.
     """
     lim = params.max_wheel_speed if limit is None else limit
+    lim = None if lim is None else positive_finite(lim, "the motor limit (rad/s)")
     v_max, w_max = _top_speeds(params, lim)
     scale = 0.75 * params.wheel_separation
     kspin = min(3.0, w_max / (math.pi / 4.0))
@@ -337,7 +338,7 @@ class Follower:
             self.lookahead = (
                 1.5 * 0.75 * params.wheel_separation
                 if lookahead is None
-                else finite_in_range(lookahead, "lookahead", 0.0, 1e3, open_low=True, unit="m")
+                else finite_in_range(lookahead, "lookahead", WHEEL_SIZE_RANGE[0], 1e3, unit="m")
             )
         self.lead = finite_in_range(lead, "lead", 0.0, MAX_LEAD, unit="s")
         #: How long (s) the pose must stay within the tolerances before it is done.

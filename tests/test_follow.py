@@ -609,3 +609,22 @@ def test_tracking_brings_a_perfect_robot_to_a_ramped_plans_end(known):
 def test_tracking_follows_any_ramped_plan_on_a_perfect_robot(text, linear, angular):
     made = follow_ramps.drawn(text, linear, angular)
     assert follow_ramps.within(follow_ramps.followed(made, "tracking")), (text, linear, angular)
+
+
+@pytest.mark.parametrize("limit", [0.0, 5e-324, -1.0, math.nan, "0"])
+def test_default_gains_refuse_a_motor_limit_no_rate_can_be_scaled_by(limit: object) -> None:
+    """A zero or subnormal limit divided by zero (ZeroDivisionError) when scaling the gains."""
+    with pytest.raises(ParameterError, match=r"^the motor limit \(rad/s\) must be a positive"):
+        default_gains(ROBOT, limit)  # type: ignore[arg-type]
+
+
+def test_default_gains_take_a_numeric_string_as_its_number() -> None:
+    assert default_gains(ROBOT, "5.0") == default_gains(ROBOT, 5.0)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("lookahead", [5e-324, 1e-9, 0.0])
+def test_a_lookahead_too_short_to_steer_by_is_refused(lookahead: float) -> None:
+    """A subnormal lookahead divided by zero in the legs' pursuit (ZeroDivisionError)."""
+    p = plan(parse_plan("straight 1"), ROBOT)
+    with pytest.raises(ParameterError, match=r"^lookahead must be a finite number >= 0\.0001"):
+        Follower(ROBOT, p, law="pure-pursuit", lookahead=lookahead)
