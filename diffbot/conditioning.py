@@ -33,7 +33,7 @@ import numpy as np
 
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
-from diffbot.numbers import finite_in_range
+from diffbot.numbers import as_number, finite_in_range, store_checked, store_number
 from diffbot.samples import NS_PER_S, later_than_before
 
 if TYPE_CHECKING:
@@ -89,12 +89,18 @@ class Conditioning:
     def __post_init__(self) -> None:
         # Sizes no encoder has are refused: 2*pi / 1e-320 is inf, and the positions NaN.
         low, high = ENCODER_SIZE_RANGE
-        if self.counts_per_rev is not None:
-            finite_in_range(
-                self.counts_per_rev, "{counts_per_rev} (encoder counts per revolution)", low, high
-            )
-        if self.wrap is not None and self.wrap != 0:
-            finite_in_range(self.wrap, "{wrap} (0 for none)", low, high)
+        what = "{counts_per_rev} (encoder counts per revolution)"
+        store_number(self, "counts_per_rev", low, high, what=what, optional=True)
+        store_checked(self, "wrap", _modulus, optional=True)
+
+
+def _modulus(value: object) -> float:
+    """A counter's modulus as :class:`Conditioning` takes it: 0 (none), or a size within
+    :data:`ENCODER_SIZE_RANGE`."""
+    what = "{wrap} (0 for none)"
+    if as_number(value, what) == 0.0:
+        return 0.0
+    return finite_in_range(value, what, *ENCODER_SIZE_RANGE)
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,8 @@ from __future__ import annotations
 import math
 import re
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
 from diffbot.errors import DiffbotError, ParameterError
 
@@ -40,6 +41,8 @@ __all__ = [
     "positive_written",
     "shorten_numerals",
     "shown",
+    "store_checked",
+    "store_number",
     "written_form",
     "written_number",
 ]
@@ -236,6 +239,44 @@ def flag(value: object, what: str, error: type[DiffbotError] = ParameterError) -
     if isinstance(value, bool):
         return value
     raise error(f"{what} must be True or False, got {shown(value)}")
+
+
+def store_checked(
+    instance: object, name: str, check: Callable[[Any], object], *, optional: bool = False
+) -> None:
+    """Set the field ``name`` of the dataclass ``instance`` (frozen or not) to what ``check``
+    returns for its value: the value as the maths takes it (a float for a numeric string, an
+    int of any size or a NumPy number), or the error ``check`` raises, which names the
+    parameter. With ``optional``, None stays None (unset) without being checked.
+
+    Each dataclass of the library checks its fields by this in ``__post_init__``, so that a
+    value is checked and converted once, where it is given, and never kept as given.
+    """
+    value = getattr(instance, name)
+    if value is None and optional:
+        return
+    object.__setattr__(instance, name, check(value))
+
+
+def store_number(
+    instance: object,
+    name: str,
+    low: float = -math.inf,
+    high: float = math.inf,
+    *,
+    what: str | None = None,
+    unit: str = "",
+    open_low: bool = False,
+    optional: bool = False,
+) -> None:
+    """:func:`store_checked` with :func:`finite_in_range`: the field ``name`` of ``instance``
+    becomes a finite float within ``[low, high]`` (``(low, high]`` with ``open_low``), or a
+    :class:`~diffbot.errors.ParameterError` names it (``what``, by default ``name``)."""
+
+    def check(value: object) -> float:
+        return finite_in_range(value, what or name, low, high, unit=unit, open_low=open_low)
+
+    store_checked(instance, name, check, optional=optional)
 
 
 def positive_finite(value: object, what: str, error: type[DiffbotError] = ParameterError) -> float:

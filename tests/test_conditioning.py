@@ -545,3 +545,50 @@ def test_the_report_gives_each_side_its_limit_and_the_counts_asked() -> None:
         pytest.approx(300.0, rel=1e-15),
     )
     assert report.counts_per_rev == 4096
+
+
+@pytest.mark.parametrize(
+    ("settings", "named"),
+    [
+        ({"counts_per_rev": math.nan}, "counts_per_rev="),
+        ({"counts_per_rev": math.inf}, "counts_per_rev="),
+        ({"counts_per_rev": -4096}, "counts_per_rev="),
+        ({"counts_per_rev": "-4096"}, "counts_per_rev="),
+        ({"counts_per_rev": 10**400}, "counts_per_rev="),
+        ({"counts_per_rev": "many"}, "counts_per_rev="),
+        ({"counts_per_rev": True}, "counts_per_rev="),
+        ({"counts_per_rev": [4096]}, "counts_per_rev="),
+        ({"wrap": math.nan}, "wrap="),
+        ({"wrap": "nan"}, "wrap="),
+        ({"wrap": -math.inf}, "wrap="),
+        ({"wrap": "-8192"}, "wrap="),
+        ({"wrap": 10**400}, "wrap="),
+        ({"wrap": "8_192"}, "wrap="),
+        ({"wrap": (8192,)}, "wrap="),
+        ({"wrap": np.array([0.0, 8192.0])}, "wrap="),
+        ({"counts_per_rev": np.array([4096.0, 4096.0])}, "counts_per_rev="),
+    ],
+)
+def test_hostile_settings_are_refused_naming_the_parameter(
+    settings: dict[str, object], named: str
+) -> None:
+    with pytest.raises(ParameterError) as caught:
+        Conditioning(**settings)  # type: ignore[arg-type]
+    assert str(caught.value).startswith(named)
+
+
+def test_numeric_strings_read_a_recording_as_their_numbers() -> None:
+    from diffbot import load_params
+    from diffbot.recordings import read_recording
+
+    given = Conditioning(counts_per_rev="4096", wrap="8192")  # type: ignore[arg-type]
+    assert given == Conditioning(counts_per_rev=4096, wrap=8192)
+    assert (type(given.counts_per_rev), type(given.wrap)) == (float, float)
+    assert Conditioning(wrap="0") == Conditioning(wrap=0)  # type: ignore[arg-type]
+    example = Path(__file__).parents[1] / "docs" / "examples" / "joints.csv"
+    robot = load_params()
+    as_text = read_recording(example, robot, counts_per_rev="4096", wrap="8192")  # type: ignore[arg-type]
+    as_numbers = read_recording(example, robot, counts_per_rev=4096, wrap=8192)
+    assert list(as_text.samples) == list(as_numbers.samples)
+    assert len(as_text.samples) > 10
+    assert as_text.conditioning == as_numbers.conditioning
