@@ -13,13 +13,21 @@ noise, beside the true pose, a chunk at a time (:func:`run` gives them all at on
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Final, Literal, Protocol, get_args
 
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams, Pose, Twist
-from diffbot.numbers import finite_in_range
+from diffbot.numbers import (
+    encoder_noise,
+    encoder_ticks,
+    finite_in_range,
+    noise_seed,
+    shown,
+    store_checked,
+    store_number,
+)
 from diffbot.simulation import (
     CHUNK_SAMPLES,
     MAX_RATE,
@@ -86,9 +94,9 @@ class LoopSettings:
     Attributes:
         rate: joint state sampling rate (Hz); the odometry and the pose source update at it.
         control_rate: commands per second (Hz), at most ``rate``.
-        ticks: encoder resolution (counts per revolution), or None.
-        noise: encoder noise (rad, standard deviation).
-        seed: seed of the encoder and pose noise.
+        ticks: encoder resolution (counts per revolution, an integer from 1 to 2**32), or None.
+        noise: encoder noise (rad, standard deviation, at most 2 pi).
+        seed: seed of the encoder and pose noise (an integer >= 0), or None.
         disturbances: the robot's disturbances.
         true_params: the real robot (other radii and separation), or None.
         pose_source: ``"odom"`` (wheel odometry) or ``"truth"`` (the true pose with noise).
@@ -106,22 +114,50 @@ class LoopSettings:
     pose_noise: tuple[float, float] = (0.0, 0.0)
 
     def __post_init__(self) -> None:
-        rate = finite_in_range(self.rate, "rate", 0.0, MAX_RATE, open_low=True, unit="Hz")
-        control = finite_in_range(
-            self.control_rate, "control_rate", 0.0, MAX_RATE, open_low=True, unit="Hz"
-        )
+        store_number(self, "rate", 0.0, MAX_RATE, open_low=True, unit="Hz")
+        store_number(self, "control_rate", 0.0, MAX_RATE, open_low=True, unit="Hz")
+        rate, control = self.rate, self.control_rate
         if control > rate:
             raise ParameterError(
                 f"control_rate ({control:g} Hz) must not exceed the simulation rate "
                 f"({rate:g} Hz): the controller sees one pose a sample"
             )
+        store_checked(self, "ticks", encoder_ticks, optional=True)
+        store_checked(self, "noise", encoder_noise)
+        store_checked(self, "seed", noise_seed, optional=True)
+        store_checked(self, "disturbances", _disturbances)
+        store_checked(self, "true_params", _true_params, optional=True)
         if self.pose_source not in POSE_SOURCES:
+            sources = ", ".join(POSE_SOURCES)
             raise ParameterError(
-                f"pose_source must be one of {', '.join(POSE_SOURCES)}, got {self.pose_source!r}"
+                f"pose_source must be one of {sources}, got {shown(self.pose_source)}"
             )
-        metres, radians = self.pose_noise
-        finite_in_range(metres, "pose_noise", 0.0, 1e3, unit="m")
-        finite_in_range(radians, "pose_noise", 0.0, math.pi, unit="rad")
+        store_checked(self, "pose_noise", _pose_noise)
+
+
+def _disturbances(value: object) -> Disturbances:
+    if not isinstance(value, Disturbances):
+        raise ParameterError(f"disturbances must be a Disturbances, got {shown(value)}")
+    return value
+
+
+def _true_params(value: object) -> DiffDriveParams:
+    if not isinstance(value, DiffDriveParams):
+        raise ParameterError(f"true_params must be a DiffDriveParams or None, got {shown(value)}")
+    return value
+
+
+def _pose_noise(value: object) -> tuple[float, float]:
+    """The true pose's noise as :class:`LoopSettings` takes it: (metres, radians)."""
+    if isinstance(value, str | bytes) or not isinstance(value, Sequence) or len(value) != 2:
+        raise ParameterError(
+            f"pose_noise must be a pair (m, rad) of standard deviations, got {shown(value)}"
+        )
+    metres, radians = value
+    return (
+        finite_in_range(metres, "pose_noise", 0.0, 1e3, unit="m"),
+        finite_in_range(radians, "pose_noise", 0.0, math.pi, unit="rad"),
+    )
 
 
 @dataclass(frozen=True)

@@ -34,9 +34,12 @@ __all__ = [
     "MOTOR_LIMIT_RANGE",
     "WHEEL_SIZE_RANGE",
     "as_number",
+    "encoder_noise",
+    "encoder_ticks",
     "finite_in_range",
     "flag",
     "motor_limits",
+    "noise_seed",
     "positive_finite",
     "positive_written",
     "shorten_numerals",
@@ -277,6 +280,37 @@ def store_number(
         return finite_in_range(value, what or name, low, high, unit=unit, open_low=open_low)
 
     store_checked(instance, name, check, optional=optional)
+
+
+def encoder_ticks(ticks: object) -> int:
+    """``ticks``, an encoder's resolution (counts per revolution): an integer from 1 to
+    :data:`MAX_COUNT`.
+
+    Raises:
+        ParameterError: anything else (a float, a string, a bool), naming ``ticks``.
+    """
+    if isinstance(ticks, bool) or not isinstance(ticks, int) or not 0 < ticks <= MAX_COUNT:
+        raise ParameterError(
+            f"ticks per revolution must be an integer from 1 to 2**32, got {shown(ticks)}"
+        )
+    return ticks
+
+
+def encoder_noise(noise: object) -> float:
+    """``noise``, the standard deviation of simulated encoder noise (rad), as a float from 0
+    to :data:`MAX_NOISE`, or a :class:`~diffbot.errors.ParameterError` naming it."""
+    return finite_in_range(noise, "noise", 0.0, MAX_NOISE, unit="rad")
+
+
+def noise_seed(seed: object) -> int:
+    """``seed``, the seed of simulated noise, drops and slip: an integer >= 0.
+
+    Raises:
+        ParameterError: anything else (a float, NaN, a string, a bool), naming ``seed``.
+    """
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ParameterError(f"seed must be an integer >= 0, got {shown(seed)}")
+    return seed
 
 
 def positive_finite(value: object, what: str, error: type[DiffbotError] = ParameterError) -> float:

@@ -17,7 +17,14 @@ from typing import TYPE_CHECKING, Final, NamedTuple, Protocol
 
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
-from diffbot.numbers import MAX_NOISE, finite_in_range
+from diffbot.numbers import (
+    MAX_COUNT,
+    encoder_noise,
+    encoder_ticks,
+    noise_seed,
+    store_checked,
+    store_number,
+)
 
 if TYPE_CHECKING:
     import numpy as np
@@ -47,7 +54,7 @@ MAX_RATE: Final = 1e6
 #: Most samples one simulation makes (about 0.3 GB of joint angles for the bundled robot).
 MAX_SAMPLES: Final = 10_000_000
 #: Highest encoder resolution (counts per revolution).
-MAX_TICKS: Final = 2**32
+MAX_TICKS: Final = MAX_COUNT
 
 #: Grid times closer than this to a segment boundary (s) give way to the boundary: stamps are in
 #: nanoseconds, and two samples within one would share a stamp.
@@ -143,13 +150,6 @@ def boundaries(plan: Plan | Motion) -> tuple[float, ...]:
     return tuple(ends)
 
 
-def _check_ticks(ticks: int) -> None:
-    if not isinstance(ticks, int) or not 0 < ticks <= MAX_TICKS:
-        raise ParameterError(
-            f"ticks per revolution must be an integer from 1 to 2**32, got {ticks!r}"
-        )
-
-
 def quantise(angles: NDArray[np.float64], ticks: int) -> NDArray[np.float64]:
     """Angles (rad) as an encoder with ``ticks`` counts per revolution reports them.
 
@@ -165,7 +165,7 @@ def quantise(angles: NDArray[np.float64], ticks: int) -> NDArray[np.float64]:
     """
     import numpy as np
 
-    _check_ticks(ticks)
+    encoder_ticks(ticks)
     step = 2.0 * math.pi / ticks
     return np.round(angles / step) * step
 
@@ -274,11 +274,11 @@ def simulate_chunks(
     from diffbot import trajectory
 
     rate, ticks, noise, seed = sampling.rate, sampling.ticks, sampling.noise, sampling.seed
-    noise = finite_in_range(noise, "noise", 0.0, MAX_NOISE, unit="rad")
-    if seed is not None and (not isinstance(seed, int) or seed < 0):
-        raise ParameterError(f"seed must be an integer >= 0, got {seed!r}")
+    noise = encoder_noise(noise)
+    if seed is not None:
+        noise_seed(seed)
     if ticks is not None:
-        _check_ticks(ticks)
+        encoder_ticks(ticks)
     ends = boundaries(plan)
 
     def times() -> Iterator[NDArray[np.float64]]:
@@ -400,17 +400,15 @@ class Disturbances:
     seed: int | None = None
 
     def __post_init__(self) -> None:
-        for name, high in (("motor_lag", MAX_DELAY), ("latency", MAX_DELAY)):
-            value = finite_in_range(getattr(self, name), name, 0.0, high, unit="s")
-            object.__setattr__(self, name, value)
+        for name in ("motor_lag", "latency"):
+            store_number(self, name, 0.0, MAX_DELAY, unit="s")
         for name in ("drop", "slip"):
-            value = finite_in_range(getattr(self, name), name, 0.0, 1.0)
-            if value >= 1.0:
-                raise ParameterError(f"{name} must be a fraction below 1, got {value!r}")
-            object.__setattr__(self, name, value)
-        seed = self.seed
-        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
-            raise ParameterError(f"seed must be an integer >= 0, got {seed!r}")
+            store_number(self, name, 0.0, 1.0)
+            if getattr(self, name) >= 1.0:
+                raise ParameterError(
+                    f"{name} must be a fraction below 1, got {getattr(self, name)!r}"
+                )
+        store_checked(self, "seed", noise_seed, optional=True)
 
     @property
     def any(self) -> bool:

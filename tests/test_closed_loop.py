@@ -179,6 +179,65 @@ def test_bad_settings_are_refused(kwargs) -> None:
         LoopSettings(**kwargs)
 
 
+@pytest.mark.parametrize(
+    ("kwargs", "named"),
+    [
+        ({"rate": "fast"}, "rate"),
+        ({"rate": math.inf}, "rate"),
+        ({"rate": 10**400}, "rate"),
+        ({"control_rate": "nan"}, "control_rate"),
+        ({"ticks": 2.5}, "ticks"),
+        ({"ticks": -5}, "ticks"),
+        ({"ticks": math.nan}, "ticks"),
+        ({"ticks": "4096"}, "ticks"),
+        ({"ticks": True}, "ticks"),
+        ({"ticks": 10**400}, "ticks"),
+        ({"noise": -1.0}, "noise"),
+        ({"noise": "-0.001"}, "noise"),
+        ({"noise": 1e308}, "noise"),
+        ({"noise": math.nan}, "noise"),
+        ({"noise": None}, "noise"),
+        ({"noise": [0.001]}, "noise"),
+        ({"seed": math.nan}, "seed"),
+        ({"seed": -1}, "seed"),
+        ({"seed": 1.5}, "seed"),
+        ({"seed": "1"}, "seed"),
+        ({"pose_noise": None}, "pose_noise"),
+        ({"pose_noise": (0.01,)}, "pose_noise"),
+        ({"pose_noise": "ab"}, "pose_noise"),
+        ({"pose_noise": ("0.01", "inf")}, "pose_noise"),
+        ({"pose_noise": (0.01, 10**400)}, "pose_noise"),
+        ({"pose_noise": (-0.01, 0.0)}, "pose_noise"),
+        ({"disturbances": None}, "disturbances"),
+        ({"disturbances": {"drop": 0.1}}, "disturbances"),
+        ({"true_params": "robot.urdf"}, "true_params"),
+        ({"pose_source": None}, "pose_source"),
+    ],
+)
+def test_hostile_settings_are_refused_naming_the_parameter(
+    kwargs: dict[str, object], named: str
+) -> None:
+    with pytest.raises(ParameterError) as caught:
+        LoopSettings(**kwargs)  # type: ignore[arg-type]
+    assert str(caught.value).startswith(named)
+
+
+def test_numeric_strings_run_as_their_numbers() -> None:
+    p = made(EXAMPLES["B"])
+    base = {"ticks": 4096, "seed": 2, "disturbances": DISTURBED, "pose_source": "truth"}
+    as_text = LoopSettings(
+        rate="50.0", control_rate="20", noise="0.001", pose_noise=("0.01", "0.02"), **base
+    )  # type: ignore[arg-type]
+    as_numbers = LoopSettings(
+        rate=50.0, control_rate=20, noise=0.001, pose_noise=(0.01, 0.02), **base
+    )  # type: ignore[arg-type]
+    assert as_text == as_numbers
+    closed, numbers = (run(p, ROBOT, s, Follower(ROBOT, p)) for s in (as_text, as_numbers))
+    for got, expected in ((closed.truth, numbers.truth), (closed.positions, numbers.positions)):
+        np.testing.assert_array_equal(got, expected)
+    assert (closed.arrived, closed.duration) == (numbers.arrived, numbers.duration)
+
+
 def test_the_distance_from_a_plans_path_in_closed_form() -> None:
     # A straight from (0, 0) to (1, 0), a ccw quarter circle about (1, 0.5) to (1.5, 0.5), a spin.
     p = made("straight 1; ccw 0.5 90; spin 90")
