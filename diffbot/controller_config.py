@@ -2,12 +2,27 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, fields
 from typing import Literal
+
+from diffbot.errors import ParameterError
+from diffbot.numbers import (
+    MAX_PLAN_DURATION,
+    MAX_ROLLING_WINDOW,
+    as_number,
+    finite_in_range,
+    shown,
+    store_checked,
+    store_number,
+)
 
 __all__ = [
     "CONTROLLER_COVARIANCE",
     "CONTROLLER_ROLLING_WINDOW",
+    "MAX_UPDATE_RATE",
+    "MAX_WHEELS_PER_SIDE",
     "AxisLimits",
     "ControllerConfig",
     "default_of",
@@ -19,6 +34,73 @@ __all__ = [
 CONTROLLER_COVARIANCE = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 #: The controller's ``velocity_rolling_window_size`` when its file leaves it out (steps).
 CONTROLLER_ROLLING_WINDOW = 10
+#: Fastest controller manager loop accepted (Hz): real ones run at tens to a few thousand.
+MAX_UPDATE_RATE = 1e6
+#: Largest wheels_per_side accepted.
+MAX_WHEELS_PER_SIDE = 1000
+
+
+def _limit_check(name: str) -> Callable[[object], float | None]:
+    """The check of the limit ``name`` of :class:`AxisLimits`: a finite number, or None for NaN
+    (the controller's "no limit")."""
+    expected = "a finite number, or NaN or None for no limit"
+
+    def check(value: object) -> float | None:
+        number = as_number(value, name, expected=expected)
+        if math.isnan(number):
+            return None
+        if math.isinf(number):
+            raise ParameterError(f"{name} must be {expected}, got {shown(value)}")
+        return number
+
+    return check
+
+
+def _multiplier_check(name: str) -> Callable[[object], float]:
+    """The check of a wheel radius multiplier: finite and not 0 (negative turns the wheels the
+    other way, as the controller divides by it)."""
+    expected = "a finite number other than 0 (negative: the wheels turn the other way)"
+
+    def check(value: object) -> float:
+        number = as_number(value, name, expected=expected)
+        if not math.isfinite(number) or number == 0.0:
+            raise ParameterError(f"{name} must be {expected}, got {shown(value)}")
+        return number
+
+    return check
+
+
+def _whole_check(name: str, low: int, high: int) -> Callable[[object], int]:
+    """The check of a count: an integer from ``low`` to ``high``."""
+
+    def check(value: object) -> int:
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+            raise ParameterError(
+                f"{name} must be an integer from {low} to {high}, got {shown(value)}"
+            )
+        return value
+
+    return check
+
+
+def _diagonal_check(name: str) -> Callable[[object], tuple[float, ...]]:
+    """The check of a covariance diagonal: 6 finite numbers."""
+
+    def check(value: object) -> tuple[float, ...]:
+        if isinstance(value, str | bytes) or not isinstance(value, Sequence) or len(value) != 6:
+            raise ParameterError(f"{name} must be 6 finite numbers, got {shown(value)}")
+        return tuple(finite_in_range(v, name) for v in value)
+
+    return check
+
+
+def _axis_check(name: str) -> Callable[[object], AxisLimits]:
+    def check(value: object) -> AxisLimits:
+        if not isinstance(value, AxisLimits):
+            raise ParameterError(f"{name} must be an AxisLimits, got {shown(value)}")
+        return value
+
+    return check
 
 
 @dataclass(frozen=True)
@@ -26,8 +108,9 @@ class AxisLimits:
     """Command limits of one axis (linear.x in m/s, m/s², m/s³; angular.z in rad/s, ...).
 
     Every field is None when the file leaves the limit out, sets it to NaN, or switches its group
-    off with a ``has_*_limits: false`` flag. Signs are those of the controller: ``min_*``,
-    ``max_deceleration`` and ``max_acceleration_reverse`` are <= 0.
+    off with a ``has_*_limits: false`` flag: a NaN given is kept as None, the controller's "no
+    limit"; an infinity is refused. Signs are those of the controller: ``min_*``,
+    ``max_deceleration`` and ``max_acceleration_reverse`` are <= 0 (the limiter checks them).
 
     Attributes:
         max_velocity: highest velocity.
@@ -50,6 +133,10 @@ class AxisLimits:
     max_deceleration_reverse: float | None = None
     max_jerk: float | None = None
     min_jerk: float | None = None
+
+    def __post_init__(self) -> None:
+        for item in fields(self):
+            store_checked(self, item.name, _limit_check(item.name), optional=True)
 
     @property
     def velocity_range(self) -> tuple[float, float] | None:
@@ -105,11 +192,13 @@ class ControllerConfig:
         ros_version: 1 or 2.
         left_wheel_names: the left wheel joints (``left_wheel_names``, ROS 1 ``left_wheel``).
         right_wheel_names: the right wheel joints.
-        wheel_separation: distance between the left and right wheels, before the multiplier.
-        wheel_radius: wheel radius, before the multipliers.
-        wheels_per_side: the ``wheels_per_side`` of older releases.
-        wheel_separation_multiplier: correction factor of the separation.
-        left_wheel_radius_multiplier: correction factor of the left radius.
+        wheel_separation: distance between the left and right wheels, before the multiplier
+            (> 0).
+        wheel_radius: wheel radius, before the multipliers (> 0).
+        wheels_per_side: the ``wheels_per_side`` of older releases (0 to 1000).
+        wheel_separation_multiplier: correction factor of the separation (> 0).
+        left_wheel_radius_multiplier: correction factor of the left radius (not 0; negative:
+            the wheels turn the other way).
         right_wheel_radius_multiplier: correction factor of the right radius.
         linear: limits of linear.x (m/s, m/s², m/s³).
         angular: limits of angular.z (rad/s, rad/s², rad/s³).
@@ -123,13 +212,13 @@ class ControllerConfig:
         tf_frame_prefix: what goes before both frame ids (``~`` standing for the namespace);
             empty or None: the namespace (see :attr:`frame_prefix`).
         tf_frame_prefix_enable: False: no prefix at all (older releases' switch).
-        pose_covariance_diagonal: diagonal of the published pose covariance (6 values).
-        twist_covariance_diagonal: diagonal of the published twist covariance (6 values).
-        publish_rate: odometry publishing rate (Hz).
+        pose_covariance_diagonal: diagonal of the published pose covariance (6 finite values).
+        twist_covariance_diagonal: diagonal of the published twist covariance (6 finite values).
+        publish_rate: odometry publishing rate (Hz, > 0).
         enable_odom_tf: whether the odom -> base transform is published.
-        velocity_rolling_window_size: samples averaged for the odometry velocity.
+        velocity_rolling_window_size: samples averaged for the odometry velocity (at least 1).
         cmd_vel_timeout: age after which a command is stale (s); 0 disables the timeout.
-        update_rate: the controller manager's update rate (Hz).
+        update_rate: the controller manager's update rate (Hz, 1e-6 to 1e6).
         warnings: things worth telling the user about the section, one sentence each.
         arguments: the names of the ``$(arg NAME)`` substitutions of its file (ROS 1).
     """
@@ -165,6 +254,32 @@ class ControllerConfig:
     update_rate: float | None = None
     warnings: tuple[str, ...] = field(default=(), compare=False)
     arguments: tuple[str, ...] = field(default=(), compare=False)
+
+    def __post_init__(self) -> None:
+        version = self.ros_version
+        if type(version) is not int or version not in (1, 2):
+            raise ParameterError(f"ros_version must be 1 or 2, got {shown(version)}")
+        for name in ("wheel_separation", "wheel_radius", "publish_rate"):
+            store_number(self, name, 0.0, open_low=True, optional=True)
+        store_number(self, "wheel_separation_multiplier", 0.0, open_low=True)
+        for name in ("left_wheel_radius_multiplier", "right_wheel_radius_multiplier"):
+            store_checked(self, name, _multiplier_check(name))
+        store_checked(
+            self,
+            "wheels_per_side",
+            _whole_check("wheels_per_side", 0, MAX_WHEELS_PER_SIDE),
+            optional=True,
+        )
+        window = "velocity_rolling_window_size"
+        store_checked(self, window, _whole_check(window, 1, MAX_ROLLING_WINDOW), optional=True)
+        store_number(self, "cmd_vel_timeout", 0.0, unit="s", optional=True)
+        store_number(
+            self, "update_rate", 1.0 / MAX_PLAN_DURATION, MAX_UPDATE_RATE, unit="Hz", optional=True
+        )
+        for name in ("pose_covariance_diagonal", "twist_covariance_diagonal"):
+            store_checked(self, name, _diagonal_check(name), optional=True)
+        for name in ("linear", "angular"):
+            store_checked(self, name, _axis_check(name))
 
     @property
     def node_name(self) -> str:

@@ -3,9 +3,13 @@ published in, prefixed as diff_drive_controller prefixes them."""
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
 import pytest
 
-from diffbot.controller_config import ControllerConfig
+from diffbot.controller_config import AxisLimits, ControllerConfig
+from diffbot.errors import ParameterError
 
 
 def controller(namespace: str = "", **values: object) -> ControllerConfig:
@@ -87,3 +91,100 @@ def test_the_odometry_topic_is_the_controller_s_private_one() -> None:
     # DEFAULT_ODOMETRY_TOPIC "~/odom" in diff_drive_controller.cpp: under the node's name.
     assert controller().odom_topic == "/diff_cont/odom"
     assert controller("a200_0000").odom_topic == "/a200_0000/diff_cont/odom"
+
+
+@pytest.mark.parametrize(
+    ("values", "named"),
+    [
+        ({"ros_version": 3}, "ros_version"),
+        ({"ros_version": "2"}, "ros_version"),
+        ({"ros_version": True}, "ros_version"),
+        ({"wheel_radius": math.nan}, "wheel_radius"),
+        ({"wheel_radius": "-0.05"}, "wheel_radius"),
+        ({"wheel_radius": 10**400}, "wheel_radius"),
+        ({"wheel_separation": math.inf}, "wheel_separation"),
+        ({"wheel_separation": "wide"}, "wheel_separation"),
+        ({"wheel_separation_multiplier": None}, "wheel_separation_multiplier"),
+        ({"wheel_separation_multiplier": 0.0}, "wheel_separation_multiplier"),
+        ({"left_wheel_radius_multiplier": "0"}, "left_wheel_radius_multiplier"),
+        ({"right_wheel_radius_multiplier": math.nan}, "right_wheel_radius_multiplier"),
+        ({"wheels_per_side": 2.5}, "wheels_per_side"),
+        ({"wheels_per_side": -1}, "wheels_per_side"),
+        ({"velocity_rolling_window_size": 0}, "velocity_rolling_window_size"),
+        ({"velocity_rolling_window_size": 10**400}, "velocity_rolling_window_size"),
+        ({"publish_rate": -50.0}, "publish_rate"),
+        ({"cmd_vel_timeout": "-0.5"}, "cmd_vel_timeout"),
+        ({"update_rate": "nan"}, "update_rate"),
+        ({"update_rate": 0.0}, "update_rate"),
+        ({"update_rate": [50.0]}, "update_rate"),
+        ({"pose_covariance_diagonal": (0.0,) * 5}, "pose_covariance_diagonal"),
+        ({"twist_covariance_diagonal": (0.0,) * 5 + (math.inf,)}, "twist_covariance_diagonal"),
+        ({"linear": None}, "linear"),
+        ({"angular": {"max_velocity": 1.0}}, "angular"),
+    ],
+)
+def test_hostile_values_are_refused_naming_the_parameter(
+    values: dict[str, object], named: str
+) -> None:
+    given = {"name": "diff_cont", "source": "c.yaml", "ros_version": 2} | values
+    with pytest.raises(ParameterError) as caught:
+        ControllerConfig(**given)  # type: ignore[arg-type]
+    assert str(caught.value).startswith(named)
+
+
+@pytest.mark.parametrize(
+    ("values", "named"),
+    [
+        ({"max_velocity": math.inf}, "max_velocity"),
+        ({"min_velocity": "-inf"}, "min_velocity"),
+        ({"max_acceleration": "fast"}, "max_acceleration"),
+        ({"max_jerk": 10**400}, "max_jerk"),
+        ({"min_jerk": True}, "min_jerk"),
+        ({"max_deceleration": [-1.0]}, "max_deceleration"),
+    ],
+)
+def test_hostile_limits_are_refused_naming_the_limit(values: dict[str, object], named: str) -> None:
+    with pytest.raises(ParameterError) as caught:
+        AxisLimits(**values)  # type: ignore[arg-type]
+    assert str(caught.value).startswith(named)
+
+
+def test_a_nan_limit_is_no_limit() -> None:
+    # The controller's own "no limit": kept as None, as the file reader keeps it.
+    assert AxisLimits(max_velocity=math.nan, max_jerk="nan") == AxisLimits()  # type: ignore[arg-type]
+    assert AxisLimits(max_velocity=math.nan).velocity_range is None
+
+
+def test_numeric_strings_plan_and_execute_as_their_numbers() -> None:
+    from robots import BOT
+
+    from diffbot.execution import estimated_updates, execute_plan
+    from diffbot.planfile import parse_plan
+    from diffbot.ramps import controller_limits, ramp
+    from diffbot.trajectory import plan
+
+    as_text = ControllerConfig(
+        name="diff_cont",
+        source="c.yaml",
+        ros_version=2,
+        wheel_radius="0.033",  # type: ignore[arg-type]
+        linear=AxisLimits(max_velocity="0.3", max_acceleration="0.5", max_jerk="2"),  # type: ignore[arg-type]
+        update_rate="50",  # type: ignore[arg-type]
+    )
+    as_numbers = ControllerConfig(
+        name="diff_cont",
+        source="c.yaml",
+        ros_version=2,
+        wheel_radius=0.033,
+        linear=AxisLimits(max_velocity=0.3, max_acceleration=0.5, max_jerk=2),
+        update_rate=50,
+    )
+    assert as_text == as_numbers
+    assert (type(as_text.update_rate), type(as_text.linear.max_jerk)) == (float, float)
+    steps = plan(parse_plan("straight 1; spin 90"), BOT)
+    ramped = [ramp(steps, controller_limits(c)) for c in (as_text, as_numbers)]
+    assert ramped[0].duration == ramped[1].duration
+    assert estimated_updates(ramped[0], as_text) == estimated_updates(ramped[1], as_numbers)
+    executed = [execute_plan(r, c) for r, c in zip(ramped, (as_text, as_numbers), strict=True)]
+    np.testing.assert_array_equal(executed[0].linear, executed[1].linear)
+    assert executed[0].final_pose == executed[1].final_pose

@@ -8,7 +8,14 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any, Literal
 
-from diffbot.controller_config import AxisLimits, ControllerConfig, default_of, first_of
+from diffbot.controller_config import (
+    MAX_UPDATE_RATE,
+    MAX_WHEELS_PER_SIDE,
+    AxisLimits,
+    ControllerConfig,
+    default_of,
+    first_of,
+)
 from diffbot.errors import DescriptionError
 from diffbot.numbers import (
     MAX_PLAN_DURATION,
@@ -25,11 +32,6 @@ __all__ = [
     "ControllerConfigError",
     "config_of",
 ]
-
-#: Fastest controller manager loop accepted (Hz): real ones run at tens to a few thousand.
-MAX_UPDATE_RATE = 1e6
-#: Largest wheels_per_side accepted.
-MAX_WHEELS_PER_SIDE = 1000
 
 
 class ControllerConfigError(DescriptionError):
