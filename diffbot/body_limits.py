@@ -18,13 +18,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
 from diffbot.controller_config import AxisLimits
 from diffbot.errors import ParameterError, PlanError
 from diffbot.kinematics import LIMIT_TOLERANCE, Twist
-from diffbot.numbers import as_number, positive_finite
+from diffbot.numbers import as_number, finite_in_range, positive_finite, shown, store_checked
 
 if TYPE_CHECKING:
     from diffbot.kinematics import DiffDriveParams
@@ -44,13 +45,38 @@ __all__ = [
 Range = tuple[float, float]
 
 
+def _range_check(name: str, unit: str) -> Callable[[object], Range]:
+    """The check of a velocity range of :class:`BodyLimits`: (lowest <= 0, highest >= 0),
+    finite."""
+    expected = f"(lowest <= 0, highest >= 0), finite numbers in {unit}, or None for no limit"
+
+    def check(value: object) -> Range:
+        refused = ParameterError(f"{name} must be {expected}, got {shown(value)}")
+        if isinstance(value, str | bytes) or not isinstance(value, Sequence) or len(value) != 2:
+            raise refused
+        try:
+            return (
+                finite_in_range(value[0], name, high=0.0),
+                finite_in_range(value[1], name, low=0.0),
+            )
+        except ParameterError:
+            raise refused from None
+
+    return check
+
+
 @dataclass(frozen=True)
 class BodyLimits:
     """The (lowest, highest) linear velocity (m/s) and angular velocity (rad/s); None where
-    there is no limit. Each range holds 0."""
+    there is no limit (:data:`UNLIMITED`: on neither axis). Each range holds 0, its bounds
+    finite: an infinite one is refused, as no limit is None."""
 
     linear: Range | None = None
     angular: Range | None = None
+
+    def __post_init__(self) -> None:
+        store_checked(self, "linear", _range_check("linear", "m/s"), optional=True)
+        store_checked(self, "angular", _range_check("angular", "rad/s"), optional=True)
 
     @property
     def unlimited(self) -> bool:

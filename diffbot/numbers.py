@@ -115,7 +115,10 @@ def shown(value: object) -> str:
         # Python refuses to print integers of more than 4300 digits: say how long it is.
         digits = int(value.bit_length() * math.log10(2.0)) + 1
         return f"an integer of about {digits} digits"
-    text = repr(value)
+    try:
+        text = repr(value)
+    except ValueError:  # a pair or list holding an integer of more than 4300 digits
+        return f"a {type(value).__name__} holding an integer too long to print"
     return text if len(text) <= _SHOWN else f"{text[: _SHOWN - 3]}..."
 
 

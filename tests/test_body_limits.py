@@ -155,3 +155,38 @@ def test_given_limits_replace_the_controllers_velocity_limits() -> None:
     )
     assert replaced.controller.angular == AxisLimits(max_velocity=2.0)
     assert with_velocity_limits(BOT, BodyLimits((-0.1, 0.4), None)) is BOT
+
+
+@pytest.mark.parametrize(
+    ("limits", "named"),
+    [
+        ({"linear": (-0.2, -math.inf)}, "linear"),
+        ({"linear": (-math.inf, math.inf)}, "linear"),
+        ({"linear": ("-0.2", "inf")}, "linear"),
+        ({"linear": (math.nan, 0.2)}, "linear"),
+        ({"linear": (0.1, 0.2)}, "linear"),
+        ({"linear": (-0.2, 10**400)}, "linear"),
+        ({"linear": (-0.2, 10**5000)}, "linear"),
+        ({"linear": (-0.2, None)}, "linear"),
+        ({"linear": "ab"}, "linear"),
+        ({"linear": 0.2}, "linear"),
+        ({"angular": (-1.0,)}, "angular"),
+        ({"angular": (-1.0, 0.0, 1.0)}, "angular"),
+        ({"angular": ("-1", "fast")}, "angular"),
+        ({"angular": (True, 1.0)}, "angular"),
+    ],
+)
+def test_hostile_ranges_are_refused_naming_the_axis(limits: dict[str, object], named: str) -> None:
+    with pytest.raises(ParameterError) as caught:
+        BodyLimits(**limits)  # type: ignore[arg-type]
+    assert str(caught.value).startswith(f"{named} must be (lowest <= 0, highest >= 0)")
+
+
+def test_numeric_strings_clamp_and_plan_as_their_numbers() -> None:
+    as_text = BodyLimits(linear=("-0.2", "0.2"), angular=["-1", "1.5"])  # type: ignore[arg-type]
+    as_numbers = BodyLimits(linear=(-0.2, 0.2), angular=(-1.0, 1.5))
+    assert as_text == as_numbers
+    assert clamp(Twist(5.0, -5.0), as_text) == clamp(Twist(5.0, -5.0), as_numbers)
+    p = plan(parse_plan("straight 1 1s; spin 180 1s"), BOT)
+    assert violations(p, as_text) == violations(p, as_numbers)
+    assert as_text.shortest_duration(1.0, 2.0) == as_numbers.shortest_duration(1.0, 2.0)

@@ -70,6 +70,7 @@ def test_integers_too_long_to_print_are_described_not_shown() -> None:
         as_number(10**5000, "x")
     with pytest.raises(ParameterError, match="about 5001 digits"):
         positive_finite(-(10**5000), "x")
+    assert shown((-0.2, 10**5000)) == "a tuple holding an integer too long to print"
 
 
 @pytest.mark.parametrize("value", [5e-324, 1e-310, sys.float_info.min / 2])
