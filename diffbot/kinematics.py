@@ -17,7 +17,7 @@ from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, NamedTuple, TypeVar, cast, overload
 
 from diffbot.errors import ParameterError
-from diffbot.numbers import as_number, positive_finite
+from diffbot.numbers import as_number, motor_limit, wheel_size
 
 if TYPE_CHECKING:
     from typing import TypeAlias
@@ -81,10 +81,6 @@ class Pose(NamedTuple):
     theta: float
 
 
-def _check_positive(name: str, value: float) -> float:
-    return positive_finite(value, name)
-
-
 class Disagreement(NamedTuple):
     """Sources that give one quantity different values.
 
@@ -102,6 +98,9 @@ class Disagreement(NamedTuple):
 @dataclass(frozen=True)
 class DiffDriveParams:
     """Geometry and limits of a differential-drive robot.
+
+    Sizes lie within :data:`~diffbot.numbers.WHEEL_SIZE_RANGE` and the motor limit is 0 or within
+    :data:`~diffbot.numbers.MOTOR_LIMIT_RANGE`; numeric strings are read as their numbers.
 
     Attributes:
         wheel_radius: radius of the drive wheels (m).
@@ -158,11 +157,14 @@ class DiffDriveParams:
     plugin_topics: Mapping[str, str] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "wheel_radius", _check_positive("wheel radius", self.wheel_radius))
+        # Sizes and the limit within the ranges a robot may have (diffbot.numbers): a radius of
+        # 1e308 made the odometry NaN, a separation of 1e-300 lost the turn of every command,
+        # a limit of 5e-324 put every moving wheel over it.
+        object.__setattr__(self, "wheel_radius", wheel_size(self.wheel_radius, "wheel_radius"))
         for side in ("left", "right"):
             name = f"{side}_wheel_radius"
             value = getattr(self, name)
-            radius = self.wheel_radius if value is None else _check_positive(name, value)
+            radius = self.wheel_radius if value is None else wheel_size(value, name)
             object.__setattr__(self, name, radius)
             joints = tuple(getattr(self, f"{side}_joints"))
             if joints:
@@ -173,15 +175,10 @@ class DiffDriveParams:
         object.__setattr__(self, "passive_joints", tuple(self.passive_joints))
         object.__setattr__(self, "sources", dict(self.sources))
         object.__setattr__(self, "disagreements", tuple(self.disagreements))
-        object.__setattr__(
-            self, "wheel_separation", _check_positive("wheel separation", self.wheel_separation)
-        )
+        separation = wheel_size(self.wheel_separation, "wheel_separation")
+        object.__setattr__(self, "wheel_separation", separation)
         if self.max_wheel_speed is not None:
-            limit = _to_float(self.max_wheel_speed)
-            if not math.isfinite(limit) or limit < 0.0:
-                raise ParameterError(
-                    f"max wheel speed must be a finite number >= 0, got {self.max_wheel_speed!r}"
-                )
+            limit = motor_limit(self.max_wheel_speed, "max_wheel_speed")
             object.__setattr__(self, "max_wheel_speed", limit)
         for name, sign in (("left_sign", self.left_sign), ("right_sign", self.right_sign)):
             if type(sign) is not int or sign not in (1, -1):

@@ -38,6 +38,7 @@ __all__ = [
     "encoder_ticks",
     "finite_in_range",
     "flag",
+    "motor_limit",
     "motor_limits",
     "noise_seed",
     "positive_finite",
@@ -46,6 +47,7 @@ __all__ = [
     "shown",
     "store_checked",
     "store_number",
+    "wheel_size",
     "written_form",
     "written_number",
 ]
@@ -314,6 +316,26 @@ def noise_seed(seed: object) -> int:
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ParameterError(f"seed must be an integer >= 0, got {shown(seed)}")
     return seed
+
+
+def wheel_size(value: object, what: str, error: type[DiffbotError] = ParameterError) -> float:
+    """``value`` as a wheel radius or separation (m) within :data:`WHEEL_SIZE_RANGE`, else
+    ``error`` naming ``what``."""
+    low, high = WHEEL_SIZE_RANGE
+    return finite_in_range(value, what, low, high, error=error, unit="m")
+
+
+def motor_limit(value: object, what: str, error: type[DiffbotError] = ParameterError) -> float:
+    """``value`` as a motor limit (rad/s): 0 (no wheel may turn) or within
+    :data:`MOTOR_LIMIT_RANGE`, else ``error`` naming ``what``. A placeholder limit of a file
+    (``1e6``) is no motor limit: its reader leaves it out (:func:`motor_limits`) before it comes
+    here."""
+    low, high = MOTOR_LIMIT_RANGE
+    expected = f"0 or a finite number >= {_bound(low)} and <= {_bound(high)} rad/s"
+    number = as_number(value, what, error, expected)
+    if number != 0.0 and not low <= number <= high:  # NaN fails both
+        raise error(f"{what} must be {expected}, got {shown(value)}")
+    return number
 
 
 def positive_finite(value: object, what: str, error: type[DiffbotError] = ParameterError) -> float:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 import pytest
@@ -211,12 +212,12 @@ def test_norm_angle_is_in_range_and_equivalent(angle: float) -> None:
 @pytest.mark.parametrize(
     ("field", "value", "match"),
     [
-        ("wheel_radius", 0.0, "wheel radius must be a positive finite number"),
-        ("wheel_radius", -0.1, "wheel radius must be a positive finite number"),
-        ("wheel_radius", math.nan, "wheel radius must be a positive finite number"),
-        ("wheel_separation", math.inf, "wheel separation must be a positive finite number"),
-        ("max_wheel_speed", -1.0, "max wheel speed must be a finite number >= 0"),
-        ("max_wheel_speed", math.nan, "max wheel speed must be a finite number >= 0"),
+        ("wheel_radius", 0.0, "wheel_radius must be a finite number >= 0.0001"),
+        ("wheel_radius", -0.1, "wheel_radius must be a finite number >= 0.0001"),
+        ("wheel_radius", math.nan, "wheel_radius must be a finite number >= 0.0001"),
+        ("wheel_separation", math.inf, "wheel_separation must be a finite number >= 0.0001"),
+        ("max_wheel_speed", -1.0, "max_wheel_speed must be 0 or a finite number"),
+        ("max_wheel_speed", math.nan, "max_wheel_speed must be 0 or a finite number"),
         ("left_sign", 0, "left_sign must be"),
         ("right_joint", "front_left_wheel_joint", "left and right joints are the same"),
     ],
@@ -264,8 +265,62 @@ def test_direction_signs_must_be_integers(sign: object) -> None:
 
 
 def test_a_missing_radius_is_a_parameter_error() -> None:
-    with pytest.raises(diffbot.ParameterError, match="wheel radius must be"):
+    with pytest.raises(diffbot.ParameterError, match="wheel_radius must be"):
         DiffDriveParams(None, 0.1)  # type: ignore[arg-type]
+
+
+#: Sizes and limits no robot has: the odometry of a 1e308 radius was NaN, a 1e-300 separation
+#: lost the turn of every command, a 5e-324 limit put every moving wheel infinitely over it.
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [
+        ("wheel_radius", 1e308),
+        ("wheel_radius", 1e-300),
+        ("wheel_radius", 5e-324),
+        ("wheel_radius", 10**400),
+        ("wheel_radius", "abc"),
+        ("wheel_radius", True),
+        ("wheel_radius", 1001.0),
+        ("wheel_separation", 1e-300),
+        ("wheel_separation", 9.9e-5),
+        ("wheel_separation", "1e308"),
+        ("left_wheel_radius", 1e308),
+        ("right_wheel_radius", 1e-5),
+        ("max_wheel_speed", 5e-324),
+        ("max_wheel_speed", 1e-310),
+        ("max_wheel_speed", 1e6),
+        ("max_wheel_speed", 10**400),
+        ("max_wheel_speed", math.inf),
+        ("max_wheel_speed", "fast"),
+    ],
+)
+def test_sizes_and_limits_no_robot_has_are_refused_by_name(field: str, value: object) -> None:
+    with pytest.raises(diffbot.ParameterError, match=rf"^{field} must be .*, got "):
+        SEED.replace(**{field: value})
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [
+        ("wheel_radius", 1e-4),
+        ("wheel_radius", 1e3),
+        ("wheel_separation", 1e-4),
+        ("wheel_separation", 1e3),
+        ("max_wheel_speed", 0.0),
+        ("max_wheel_speed", sys.float_info.min),
+        ("max_wheel_speed", 1e4),
+    ],
+)
+def test_the_ends_of_the_ranges_are_robots(field: str, value: float) -> None:
+    assert getattr(SEED.replace(**{field: value}), field) == value
+
+
+def test_numeric_strings_give_the_robot_of_their_numbers() -> None:
+    text = DiffDriveParams("0.035", "0.135", max_wheel_speed="5", left_wheel_radius="0.036")  # type: ignore[arg-type]
+    number = DiffDriveParams(0.035, 0.135, max_wheel_speed=5.0, left_wheel_radius=0.036)
+    assert text == number
+    assert diffbot.inverse(text, 0.1, 1.0) == diffbot.inverse(number, 0.1, 1.0)
+    assert diffbot.forward(text, 3.0, 2.0) == diffbot.forward(number, 3.0, 2.0)
 
 
 # --- saturation with body velocity ranges, with and without keeping the turning radius -----

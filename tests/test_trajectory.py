@@ -324,7 +324,9 @@ def test_cruise_speed_and_spin_rate_must_be_positive(
         plan([Straight(1.0)], params, speed=speed, spin_rate=spin_rate)
 
 
-HUGE_WHEELS = DiffDriveParams(wheel_radius=1e10, wheel_separation=1e-10, max_wheel_speed=1.0)
+#: The largest wheels on the narrowest axle a robot may have (WHEEL_SIZE_RANGE): the smallest
+#: wheel speeds for a given motion, so the poses overflow before the wheels do.
+HUGE_WHEELS = DiffDriveParams(wheel_radius=1e3, wheel_separation=1e-4, max_wheel_speed=1.0)
 
 
 @pytest.mark.parametrize(

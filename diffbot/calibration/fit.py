@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 from diffbot.calibration.checks import positive, vector
 from diffbot.errors import CalibrationError, ParameterError
 from diffbot.kinematics import DiffDriveParams, norm_angle
+from diffbot.numbers import WHEEL_SIZE_RANGE
 from diffbot.samples import NS_PER_S
 
 if TYPE_CHECKING:
@@ -431,7 +432,11 @@ def solve(
         )
 
     def errors(scale: NDArray[np.float64]) -> NDArray[np.float64]:
-        rl, rr, b = (float(v) for v in scale * start)
+        # The bounds of the scale reach past the sizes a robot may have from a start near
+        # their ends: such trial robots are held at the end of the range.
+        rl, rr, b = (
+            min(max(float(v), WHEEL_SIZE_RANGE[0]), WHEEL_SIZE_RANGE[1]) for v in scale * start
+        )
         robot = params.replace(
             left_wheel_radius=rl, right_wheel_radius=rr, wheel_separation=b, max_wheel_speed=None
         )

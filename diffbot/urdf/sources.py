@@ -21,7 +21,7 @@ from diffbot.controller_config import ControllerConfig
 from diffbot.errors import DescriptionError, DriveWheelError, OutsideRootsError
 from diffbot.io.pathnames import resolved
 from diffbot.kinematics import DiffDriveParams, Disagreement
-from diffbot.numbers import motor_limits
+from diffbot.numbers import motor_limit, motor_limits, wheel_size
 from diffbot.urdf.controllers import choose_controller, load_controller_files, load_controllers
 from diffbot.urdf.gazebo import GazeboDrive, gazebo_drives, ros2_control_parameter_files
 from diffbot.urdf.other_drives import note_other_drives, refusing_other_drives
@@ -58,13 +58,25 @@ SOURCE_MODES: Final = ("auto", "description", "controllers", "plugin")
 
 @dataclass(frozen=True)
 class Overriding:
-    """What the caller gives instead of what the sources say (None: not given)."""
+    """What the caller gives instead of what the sources say (None: not given), the numbers
+    read at once as the robot's own (:func:`~diffbot.numbers.wheel_size`,
+    :func:`~diffbot.numbers.motor_limit`): a numeric string is its number before any source
+    compares it."""
 
     left_joint: JointChoice = None
     right_joint: JointChoice = None
     wheel_radius: float | None = None
     wheel_separation: float | None = None
     max_wheel_speed: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("wheel_radius", "wheel_separation"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, wheel_size(value, name))
+        if self.max_wheel_speed is not None:
+            limit = motor_limit(self.max_wheel_speed, "max_wheel_speed")
+            object.__setattr__(self, "max_wheel_speed", limit)
 
 
 def _controller_source(config: ControllerConfig) -> str:

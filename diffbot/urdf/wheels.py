@@ -35,8 +35,8 @@ __all__ = [
 ]
 
 #: Wheel radius and separation a description may give (m). Outside, the value is taken for a unit
-#: mistake or a hostile file (a subnormal 1e-320, a 1e308) and refused; a caller who means it
-#: gives the value as an override, which only has to be positive and finite.
+#: mistake or a hostile file (a subnormal 1e-320, a 1e308) and refused; an override is held to
+#: the same range (:class:`~diffbot.kinematics.DiffDriveParams`).
 SIZE_RANGE = WHEEL_SIZE_RANGE
 
 #: Drive wheel joints as given: one name, a comma-separated list, a sequence, or None.
@@ -542,7 +542,7 @@ def _check_size(value: float, what: str, option: str, where: str, source: str) -
     if value > 0.0 and not low <= value <= high:
         raise DescriptionError(
             f"{source}: {what} {value:g} m (from {where}) is outside {low:g}..{high:g} m: "
-            f"refused as a unit mistake; give it with {{{option}}} if it is meant",
+            f"refused as a unit mistake; give the right one with {{{option}}}",
             path=source,
             value=value,
         )

@@ -28,7 +28,9 @@ def test_true_robot_keeps_the_joints_and_takes_the_real_geometry() -> None:
 
 
 def test_true_robot_rejects_a_radius_that_is_not_positive() -> None:
-    with pytest.raises(ParameterError, match="left_wheel_radius must be a positive"):
+    with pytest.raises(
+        ParameterError, match=r"left_wheel_radius must be a finite number >= 0\.0001"
+    ):
         true_robot(BOT, (-0.03, 0.035))
 
 

@@ -153,7 +153,7 @@ def test_the_fastest_motor_limit_help_names_is_taken_and_one_above_is_not(
         (["ik", "1", "1", "--max-rpm", "2e-307", "--saturate"], "too small to compute with"),
         (["plan", "straight 1", "--max-rpm", "1e308"], "at most 95492.96 rpm (10000 rad/s)"),
         (["params", "--max-rpm", "95493"], "'95493' is faster than any wheel turns"),
-        (["params", "wheel_radius:=0"], "wheel radius must be a positive finite number"),
+        (["params", "wheel_radius:=0"], "wheel_radius must be a finite number >= 0.0001"),
         (["params", "--package", "nodir"], "expected NAME=DIR"),
         (["params", "--bogus"], "No such option '--bogus'"),
         (["params", "a.urdf", "b.urdf"], "two robots given"),

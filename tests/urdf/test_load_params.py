@@ -464,8 +464,35 @@ def test_a_joint_with_an_unknown_link_is_rejected(write: Write) -> None:
 
 def test_a_zero_wheel_radius_in_the_description_is_rejected(write: Write) -> None:
     text = robot(wheel("l", "0 0.1 0", radius=0.0), wheel("r", "0 -0.1 0", radius=0.0))
-    with pytest.raises(diffbot.ParameterError, match="wheel radius must be a positive"):
+    with pytest.raises(diffbot.ParameterError, match="wheel_radius must be a finite number"):
         diffbot.load_params(write("zero.urdf", text))
+
+
+@pytest.mark.parametrize(
+    ("name", "value"),
+    [
+        ("wheel_radius", 1e308),
+        ("wheel_radius", "abc"),
+        ("wheel_radius", 10**400),
+        ("wheel_separation", 1e-300),
+        ("max_wheel_speed", 5e-324),
+        ("max_wheel_speed", 1e6),
+    ],
+)
+def test_an_override_no_robot_has_is_refused_by_name(name: str, value: object) -> None:
+    with pytest.raises(diffbot.ParameterError, match=rf"^{name} must be .*, got "):
+        diffbot.load_params(**{name: value})  # type: ignore[arg-type]
+
+
+def test_numeric_string_overrides_are_their_numbers() -> None:
+    text = diffbot.load_params(
+        wheel_radius="0.04",  # type: ignore[arg-type]
+        wheel_separation="0.2",  # type: ignore[arg-type]
+        max_wheel_speed="5",  # type: ignore[arg-type]
+    )
+    number = diffbot.load_params(wheel_radius=0.04, wheel_separation=0.2, max_wheel_speed=5.0)
+    assert text == number
+    assert text.radii == number.radii == (0.04, 0.04)
 
 
 def test_non_numeric_origin_is_an_invalid_urdf(write: Write) -> None:
