@@ -12,12 +12,13 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
+from diffbot.numbers import MAX_COORDINATE, MAX_RECORDED_ANGLE, finite_in_range
 
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["BLOCK", "PoseSeries", "advance", "integrate"]
+__all__ = ["BLOCK", "PoseSeries", "advance", "initial_pose", "integrate"]
 
 
 class PoseSeries(NamedTuple):
@@ -58,9 +59,11 @@ def integrate(
         left_positions: the left wheel joint's absolute angles (rad), shape (n,), or the left
             wheels' angles, shape (n, k).
         right_positions: the right wheel joint's angles (rad), shape (n,) or (n, k).
-        x0: x (m) at the first sample, which sets the encoder baseline.
-        y0: y (m) at the first sample.
-        theta0: heading (rad) at the first sample.
+        x0: x (m) at the first sample, which sets the encoder baseline; within
+            ±:data:`~diffbot.numbers.MAX_COORDINATE`.
+        y0: y (m) at the first sample, likewise.
+        theta0: heading (rad) at the first sample, within
+            ±:data:`~diffbot.numbers.MAX_RECORDED_ANGLE`.
 
     Returns:
         The pose at every sample, as float64 arrays of shape (n,). ``theta`` is the *unwrapped*
@@ -69,7 +72,8 @@ def integrate(
     Raises:
         ParameterError: the arrays are not of shape (n,) or (n, k) with one n, hold something
             other than real numbers (complex, text), or a value is NaN or infinite (the message
-            names the first such sample) or so large that a displacement overflows.
+            names the first such sample) or so large that a displacement overflows; a starting
+            pose that is no number, not finite or out of its range.
     """
     import numpy as np
 
@@ -82,9 +86,7 @@ def integrate(
             f"wheel positions must be two arrays of n samples, shape (n,) or (n, wheels), "
             f"got shapes {shapes[0]} and {shapes[1]}"
         )
-    start = (float(x0), float(y0), float(theta0))
-    if not all(math.isfinite(v) for v in start):
-        raise ParameterError(f"initial pose must be finite, got {start!r}")
+    start = initial_pose(x0, y0, theta0, ("x0", "y0", "theta0"))
     n = left.shape[0]
     x = np.empty(n)
     y = np.empty(n)
@@ -104,6 +106,20 @@ def integrate(
             "wheel positions too large: a displacement or the pose overflows to infinity"
         )
     return PoseSeries(x, y, theta)
+
+
+def initial_pose(
+    x: object, y: object, theta: object, names: tuple[str, str, str]
+) -> tuple[float, float, float]:
+    """A starting pose as floats: x and y (m) within ±:data:`~diffbot.numbers.MAX_COORDINATE`
+    (a pose beyond lies past any drive), the heading (rad) within
+    ±:data:`~diffbot.numbers.MAX_RECORDED_ANGLE` (the largest a recording or message gives);
+    ParameterError naming the parameter (``names``) otherwise."""
+    return (
+        finite_in_range(x, names[0], -MAX_COORDINATE, MAX_COORDINATE, unit="m"),
+        finite_in_range(y, names[1], -MAX_COORDINATE, MAX_COORDINATE, unit="m"),
+        finite_in_range(theta, names[2], -MAX_RECORDED_ANGLE, MAX_RECORDED_ANGLE, unit="rad"),
+    )
 
 
 def advance(

@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING, Final, NamedTuple
 
 import numpy as np
 
-from diffbot.batch_odometry import advance
-from diffbot.errors import ParameterError, RecordingError
+from diffbot.batch_odometry import advance, initial_pose
+from diffbot.errors import RecordingError
 from diffbot.kinematics import DiffDriveParams, Pose, Twist, norm_angle
 from diffbot.odometry import SKIP_MISSING_JOINT, SKIP_NOT_FINITE, SKIP_STAMP_NOT_AFTER
 from diffbot.samples import NS_PER_S, later_than_before, side_means
@@ -121,16 +121,15 @@ class ChunkOdometry:
         theta: initial heading (rad).
 
     Raises:
-        ParameterError: a non-finite initial pose.
+        ParameterError: an initial pose that is no number, not finite or out of its range (as
+            :class:`~diffbot.odometry.Odometry`'s).
     """
 
     def __init__(
         self, params: DiffDriveParams, x: float = 0.0, y: float = 0.0, theta: float = 0.0
     ) -> None:
         self._params = params
-        x, y, theta = float(x), float(y), float(theta)
-        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(theta)):
-            raise ParameterError(f"initial pose must be finite, got ({x!r}, {y!r}, {theta!r})")
+        x, y, theta = initial_pose(x, y, theta, ("x", "y", "theta"))
         self._x = x
         self._y = y
         self._heading = self._heading0 = theta

@@ -21,13 +21,14 @@ from __future__ import annotations
 
 import math
 import operator
+import sys
 from collections.abc import Mapping, Sequence
 from typing import Final
 
-from diffbot.batch_odometry import PoseSeries, integrate
+from diffbot.batch_odometry import PoseSeries, initial_pose, integrate
 from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams, Pose, Twist, norm_angle
-from diffbot.numbers import MAX_ROLLING_WINDOW, shown
+from diffbot.numbers import MAX_ROLLING_WINDOW, as_number, shown
 from diffbot.ros.messages import (
     Header,
     OdometryMessage,
@@ -76,6 +77,12 @@ _PI: Final = math.pi
 _TWO_PI: Final = 2.0 * math.pi
 #: Stamps in ns are ROS times: they fit in a signed 64-bit integer.
 _INT64: Final = 2**63
+#: The shortest step (s) a displacement is divided by: the smallest normal float. A step
+#: shorter than it (a subnormal, such as 5e-324 s) is too small to compute with (as
+#: :func:`diffbot.numbers.positive_finite` refuses it), and the velocity over it overflows to
+#: infinity: it is skipped as a stamp not after the previous one. (ros2_controllers'
+#: diff_drive_controller likewise skips an update whose period is too short to integrate.)
+_SHORTEST_STEP: Final = sys.float_info.min
 
 
 class Odometry:
@@ -90,8 +97,10 @@ class Odometry:
 
     A sample is skipped, counted in :attr:`skipped` under its reason and otherwise ignored when it
     lacks every wheel joint of a side, holds a NaN or infinite value, or is not stamped after the
-    previous used sample. Wheel positions are absolute, so the motion during skipped samples is
-    still accounted for by the next used one.
+    previous used sample (a float stamp after it by less than the smallest normal float, about
+    2.2e-308 s, counts as not after it: no velocity can be divided by such a step). Wheel
+    positions are absolute, so the motion during skipped samples is still accounted for by the
+    next used one.
 
     The velocity (:attr:`twist`) is the displacement over the time of the last
     ``velocity_rolling_window_size`` steps: with the default 1, over the last step alone; with
@@ -107,9 +116,9 @@ class Odometry:
 
     Args:
         params: the robot (radius, separation, joint names, direction signs).
-        x: initial x (m) in the odom frame.
-        y: initial y (m).
-        theta: initial heading (rad).
+        x: initial x (m) in the odom frame, within ±:data:`~diffbot.numbers.MAX_COORDINATE`.
+        y: initial y (m), likewise.
+        theta: initial heading (rad), within ±:data:`~diffbot.numbers.MAX_RECORDED_ANGLE`.
         frame_id: the fixed frame of the pose (REP-105 ``odom``).
         child_frame_id: the robot's frame (``base_link``).
         pose_covariance: diagonal of the pose covariance (x, y, z, roll, pitch, yaw).
@@ -122,8 +131,9 @@ class Odometry:
             velocity times the period since the last update (``position_feedback: false``).
 
     Raises:
-        ParameterError: a non-finite initial pose, a bad covariance diagonal, a window size
-            that is not a whole number >= 1, or an unknown ``feedback``.
+        ParameterError: an initial pose that is no number, not finite or out of its range, a bad
+            covariance diagonal, a window size that is not a whole number >= 1, or an unknown
+            ``feedback``.
     """
 
     def __init__(
@@ -147,8 +157,8 @@ class Odometry:
         self._velocity = feedback == "velocity"
         self.frame_id = frame_id
         self.child_frame_id = child_frame_id
-        self.pose_covariance = covariance_matrix(pose_covariance, "pose covariance")
-        self.twist_covariance = covariance_matrix(twist_covariance, "twist covariance")
+        self.pose_covariance = covariance_matrix(pose_covariance, "pose_covariance")
+        self.twist_covariance = covariance_matrix(twist_covariance, "twist_covariance")
         # Attributes read per message stay few (at most 30 in all): CPython keeps an instance's
         # attributes in a fast inline layout only up to that many.
         several = len(params.left_joints) > 1 or len(params.right_joints) > 1
@@ -191,11 +201,10 @@ class Odometry:
                 of several wheels learns its encoders' offsets afresh.
 
         Raises:
-            ParameterError: a value is NaN or infinite.
+            ParameterError: a value that is no number, NaN, infinite or out of its range (see
+                :class:`Odometry`).
         """
-        x, y, theta = float(x), float(y), float(theta)
-        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(theta)):
-            raise ParameterError(f"initial pose must be finite, got ({x!r}, {y!r}, {theta!r})")
+        x, y, theta = initial_pose(x, y, theta, ("x", "y", "theta"))
         self._x = x
         self._y = y
         self._heading = theta
@@ -243,15 +252,22 @@ class Odometry:
             was skipped (NaN or infinite value, or a stamp not after the previous used one).
 
         Raises:
-            ParameterError: neither or both of ``stamp`` and ``stamp_ns`` given, or a
-                ``stamp_ns`` that is not an integer.
+            ParameterError: neither or both of ``stamp`` and ``stamp_ns`` given, a
+                ``stamp_ns`` that is not an integer, or a position or ``stamp`` that is no
+                number (NaN and infinities are numbers: the sample is skipped).
         """
-        left = float(left_position)
-        right = float(right_position)
+        # Floats, the usual samples, pass as they are; anything else is read as a number once.
+        left = left_position
+        if type(left) is not float:
+            left = as_number(left, "left_position")
+        right = right_position
+        if type(right) is not float:
+            right = as_number(right, "right_position")
         if stamp_ns is None:
             if stamp is None:
                 raise ParameterError("give the sample's time: stamp (s) or stamp_ns (ns)")
-            stamp = float(stamp)
+            if type(stamp) is not float:
+                stamp = as_number(stamp, "stamp")
         else:
             stamp_ns = self._check_stamp_ns(stamp, stamp_ns)
             if stamp_ns is None:
@@ -278,10 +294,11 @@ class Odometry:
                 return False
             dt = (stamp_ns - self._stamp_ns) / 1_000_000_000  # exact, then rounded once
         else:
-            if stamp <= last:
+            # stamp - last is > 0 exactly when stamp > last (subtraction underflows gradually)
+            dt = stamp - last
+            if dt < _SHORTEST_STEP:
                 self._skip(SKIP_STAMP_NOT_AFTER)
                 return False
-            dt = stamp - last
         if self._velocity:
             left = self._left + left * dt
             right = self._right + right * dt

@@ -151,7 +151,7 @@ def test_an_empty_recording_has_no_usable_sample() -> None:
 
 
 def test_a_non_finite_start_pose_is_refused() -> None:
-    with pytest.raises(ParameterError, match="initial pose must be finite"):
+    with pytest.raises(ParameterError, match="theta must be a finite number"):
         ChunkOdometry(MIRRORED, theta=math.inf)
 
 

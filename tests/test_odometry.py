@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import itertools
 import math
+import sys
 from collections.abc import Sequence
 
 import numpy as np
@@ -365,8 +367,128 @@ def test_reset_with_a_new_baseline_moves_the_robot_and_forgets_the_last_sample()
 
 
 def test_a_non_finite_initial_pose_is_refused() -> None:
-    with pytest.raises(diffbot.ParameterError, match="initial pose must be finite"):
+    with pytest.raises(diffbot.ParameterError, match="x must be a finite number"):
         Odometry(BOT, x=math.nan)
+
+
+#: Starting poses that are no number or lie beyond any drive (MAX_COORDINATE, and
+#: MAX_RECORDED_ANGLE for the heading): 10**400 and None ended in an OverflowError and a
+#: TypeError, 1e308 was taken.
+HOSTILE_POSES = [
+    ({"x": 10**400}, "x"),
+    ({"x": None}, "x"),
+    ({"x": 1e308}, "x"),
+    ({"x": "abc"}, "x"),
+    ({"y": -1.1e9}, "y"),
+    ({"y": True}, "y"),
+    ({"theta": 1e13}, "theta"),
+    ({"theta": math.inf}, "theta"),
+]
+
+
+@pytest.mark.parametrize(("pose", "name"), HOSTILE_POSES)
+def test_a_starting_pose_beyond_any_drive_is_refused_by_name(
+    pose: dict[str, object], name: str
+) -> None:
+    with pytest.raises(diffbot.ParameterError, match=rf"^{name} must be a finite number"):
+        Odometry(BOT, **pose)  # type: ignore[arg-type]
+    odom = Odometry(BOT)
+    with pytest.raises(diffbot.ParameterError, match=rf"^{name} must be a finite number"):
+        odom.reset(**pose)  # type: ignore[arg-type]
+    with pytest.raises(diffbot.ParameterError, match=rf"^{name}0 must be a finite number"):
+        integrate(BOT, [0.0, 1.0], [0.0, 1.0], **{f"{k}0": v for k, v in pose.items()})  # type: ignore[arg-type]
+
+
+def test_a_starting_pose_of_numeric_strings_is_its_numbers() -> None:
+    text = Odometry(BOT, "1.5", "-2", "0.5")  # type: ignore[arg-type]
+    number = Odometry(BOT, 1.5, -2.0, 0.5)
+    for odom in (text, number):
+        run(odom, [0.0, 1.0, 2.0], [0.0, 3.0, 5.0], [0.0, 4.0, 9.0])
+    assert text.state == number.state
+    wheels = ([0.0, 3.0], [0.0, 4.0])
+    given = integrate(BOT, *wheels, "1e9", "-1e9", "1e12")  # type: ignore[arg-type]
+    for got, want in zip(given, integrate(BOT, *wheels, 1e9, -1e9, 1e12), strict=True):
+        assert got.tolist() == want.tolist()
+
+
+@pytest.mark.parametrize(
+    "diagonal",
+    [
+        "abc",
+        "abcdef",
+        b"abcdef",
+        [1.0] * 5,
+        [1.0] * 7,
+        itertools.repeat(1.0),
+        ["a"] * 6,
+        [-1] * 6,
+        3.0,
+    ],
+)
+def test_a_covariance_that_is_not_six_variances_is_refused_at_once(diagonal: object) -> None:
+    with pytest.raises(diffbot.ParameterError, match=r"^pose_covariance diagonal"):
+        Odometry(BOT, pose_covariance=diagonal)  # type: ignore[arg-type]
+    with pytest.raises(diffbot.ParameterError, match=r"^twist_covariance diagonal"):
+        Odometry(BOT, twist_covariance=diagonal)  # type: ignore[arg-type]
+
+
+def test_a_covariance_of_numeric_strings_is_its_numbers() -> None:
+    text = Odometry(BOT, pose_covariance=["1", "2", "3", "4", "5", "6"])  # type: ignore[list-item]
+    assert text.pose_covariance == Odometry(BOT, pose_covariance=range(1, 7)).pose_covariance
+
+
+@pytest.mark.parametrize(
+    ("sample", "name"),
+    [
+        ((None, 0.0, 1.0), "left_position"),
+        ((0.0, "abc", 1.0), "right_position"),
+        ((10**400, 0.0, 1.0), "left_position"),
+        ((0.0, 0.0, "soon"), "stamp"),
+        ((0.0, 0.0, 10**400), "stamp"),
+    ],
+)
+def test_a_sample_that_is_no_number_is_refused_by_name(
+    sample: tuple[object, object, object], name: str
+) -> None:
+    odom = Odometry(BOT)
+    odom.update(0.0, 0.0, 0.0)
+    with pytest.raises(diffbot.ParameterError, match=rf"^{name} must be a number"):
+        odom.update(*sample)  # type: ignore[arg-type]
+    with pytest.raises(diffbot.ParameterError, match=rf"^{name} must be a number"):
+        odom.update_joint_state([LEFT, RIGHT], sample[:2], sample[2])  # type: ignore[arg-type]
+
+
+def test_samples_of_numeric_strings_and_ints_are_their_numbers() -> None:
+    text, number = Odometry(BOT), Odometry(BOT)
+    text.update("0", 0, "0")  # type: ignore[arg-type]
+    number.update(0.0, 0.0, 0.0)
+    assert text.update("3.5", 4, "0.25")  # type: ignore[arg-type]
+    assert number.update(3.5, 4.0, 0.25)
+    assert text.state == number.state
+    assert text.message() == number.message()
+
+
+@pytest.mark.parametrize("step", [5e-324, 1e-310, sys.float_info.min / 2])
+def test_a_step_too_short_to_divide_by_is_skipped_as_a_stamp_not_after(step: float) -> None:
+    odom = Odometry(BOT)
+    odom.update(0.0, 0.0, 0.0)
+    assert not odom.update(1.0, 2.0, step)
+    assert odom.skipped == {SKIP_STAMP_NOT_AFTER: 1}
+    assert odom.twist == (0.0, 0.0)
+    assert odom.message().twist.linear == (0.0, 0.0, 0.0)
+    # nothing is lost: the next sample moves the robot by the wheels' turn since the baseline
+    assert odom.update(1.0, 2.0, 0.5)
+    whole = Odometry(BOT)
+    whole.update(0.0, 0.0, 0.0)
+    whole.update(1.0, 2.0, 0.5)
+    assert odom.state == whole.state
+
+
+def test_the_shortest_step_divided_by_is_the_smallest_normal_float() -> None:
+    odom = Odometry(BOT)
+    odom.update(0.0, 0.0, 0.0)
+    assert odom.update(1e-300, 1e-300, sys.float_info.min)
+    assert all(math.isfinite(v) for v in odom.state)
 
 
 def test_message_has_the_shape_of_nav_msgs_odometry() -> None:
@@ -408,7 +530,7 @@ def test_frames_and_covariances_are_configurable() -> None:
 
 @pytest.mark.parametrize(
     ("diagonal", "match"),
-    [([1.0] * 5, "needs 6 values, got 5"), ([1, 1, 1, 1, 1, -1], "finite and >= 0")],
+    [([1.0] * 5, "needs 6 values, got 5"), ([1, 1, 1, 1, 1, -1], "finite number >= 0")],
 )
 def test_bad_covariance_diagonals_are_refused(diagonal: list[float], match: str) -> None:
     with pytest.raises(diffbot.ParameterError, match=match):

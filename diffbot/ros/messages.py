@@ -7,12 +7,14 @@ The records mirror the messages' fields (SI units, stamps in seconds) without de
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 from collections.abc import Sequence
 from typing import NamedTuple
 
 from diffbot.errors import ParameterError
+from diffbot.numbers import finite_in_range, shown
 
 __all__ = [
     "Header",
@@ -108,14 +110,21 @@ def covariance_matrix(diagonal: Sequence[float], what: str = "covariance") -> tu
         36 floats, zero off the diagonal.
 
     Raises:
-        ParameterError: not six values, or one is negative, NaN or infinite.
+        ParameterError: not six values (text is none; an endless iterable is refused at its
+            seventh), or one is no number, negative, NaN or infinite.
     """
-    values = [float(v) for v in diagonal]
-    if len(values) != 6:
-        raise ParameterError(f"{what} diagonal needs 6 values, got {len(values)}")
-    for value in values:
-        if not math.isfinite(value) or value < 0.0:
-            raise ParameterError(f"{what} diagonal values must be finite and >= 0, got {value!r}")
+    if isinstance(diagonal, str | bytes | bytearray):
+        raise ParameterError(f"{what} diagonal needs 6 numbers, got {shown(diagonal)}")
+    try:
+        given = list(itertools.islice(diagonal, 7))
+    except TypeError:
+        raise ParameterError(f"{what} diagonal needs 6 numbers, got {shown(diagonal)}") from None
+    if len(given) != 6:
+        count = "more than 6" if len(given) > 6 else str(len(given))
+        raise ParameterError(f"{what} diagonal needs 6 values, got {count}")
+    values = [
+        finite_in_range(value, f"{what} diagonal value {i}", 0.0) for i, value in enumerate(given)
+    ]
     matrix = [0.0] * 36
     for i, value in enumerate(values):
         matrix[7 * i] = value
