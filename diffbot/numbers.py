@@ -27,6 +27,7 @@ __all__ = [
     "MAX_PLAN_TIME",
     "MAX_RECORDED_ANGLE",
     "MAX_ROLLING_WINDOW",
+    "MAX_SEGMENTS",
     "MAX_TIMER_RATE",
     "MAX_TURN",
     "MAX_WAYPOINTS",
@@ -61,6 +62,10 @@ MAX_PLAN_DURATION = 1e6
 MAX_PLAN_TIME = 2**63 / 1e9
 #: Most samples a plan may be cut into.
 MAX_PLAN_SAMPLES = 10_000_000
+#: Most segments a plan may have: a route through :data:`MAX_WAYPOINTS` waypoints takes at most
+#: five a leg (Reeds-Shepp), and 100,000 segments of 10 s fill :data:`MAX_PLAN_DURATION`. A
+#: plan of 100,000 segments plans in a few seconds; one of a million took half a minute.
+MAX_SEGMENTS = 100_000
 #: Most waypoints a goal plan may go through: 10,000 plan in seconds, 300,000 took minutes and
 #: gigabytes.
 MAX_WAYPOINTS = 10_000

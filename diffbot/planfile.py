@@ -18,7 +18,8 @@ from typing import Any, Literal
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
 from diffbot.io.textfile import read_text
-from diffbot.numbers import finite_in_range
+from diffbot.numbers import MAX_SEGMENTS, finite_in_range
+from diffbot.segments import too_many_segments
 from diffbot.trajectory import Arc, Segment, Spin, Straight
 
 __all__ = [
@@ -106,20 +107,23 @@ _USAGE = {
 
 
 def _segments_of(text: str) -> list[list[_Token]]:
-    """Split plan text into segments of tokens, dropping comments and empty segments."""
-    segments: list[list[_Token]] = []
+    """Split plan text into segments of tokens, dropping comments and empty segments; refused
+    (:func:`~diffbot.segments.too_many_segments`) when more than
+    :data:`~diffbot.numbers.MAX_SEGMENTS`, before any is read into tokens."""
+    pieces: list[tuple[int, int, str]] = []
     for line_number, line in enumerate(text.splitlines() or [""], start=1):
         code = line.split("#", 1)[0]
         start = 0
         for piece in code.split(";"):
-            tokens = [
-                _Token(m.group(), line_number, start + m.start() + 1)
-                for m in re.finditer(r"\S+", piece)
-            ]
-            if tokens:
-                segments.append(tokens)
+            if piece and not piece.isspace():
+                if len(pieces) == MAX_SEGMENTS:
+                    raise too_many_segments()
+                pieces.append((line_number, start, piece))
             start += len(piece) + 1
-    return segments
+    return [
+        [_Token(m.group(), line_number, start + m.start() + 1) for m in re.finditer(r"\S+", piece)]
+        for line_number, start, piece in pieces
+    ]
 
 
 def _written_nonzero(text: str) -> bool:
@@ -235,7 +239,8 @@ def parse_plan(text: str) -> list[Segment]:
         The segments (SI units).
 
     Raises:
-        PlanError: empty plan, unknown kind or unit, missing or extra values, a value that is not
+        PlanError: empty plan, more than :data:`~diffbot.numbers.MAX_SEGMENTS` segments,
+            unknown kind or unit, missing or extra values, a value that is not
             a finite number, or not positive (not zero, for spins); the message quotes the token
             and gives the segment number and column (and line, when the text has several).
     """
@@ -405,6 +410,8 @@ def segments_from_data(data: object, source: str = "plan") -> list[Segment]:
         raise PlanError(f"{source}: expected a list of segments, got {type(data).__name__}")
     if not data:
         raise PlanError(f"{source}: empty plan: no segments")
+    if len(data) > MAX_SEGMENTS:
+        raise PlanError(f"{source}: {too_many_segments()}")
     segments: list[Segment] = []
     for number, entry in enumerate(data, start=1):
         try:

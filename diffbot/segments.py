@@ -3,13 +3,15 @@ made (finite, non-zero, positive where it must be), and their geometry in closed
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, TypeVar
 
 from diffbot.errors import PlanError
 from diffbot.formats.text import brief
-from diffbot.numbers import written_form
+from diffbot.numbers import MAX_SEGMENTS, written_form
 
 if TYPE_CHECKING:
     from typing import TypeAlias
@@ -24,6 +26,8 @@ __all__ = [
     "geometry",
     "kind",
     "positive",
+    "too_many_segments",
+    "up_to_the_limit",
 ]
 
 
@@ -37,6 +41,26 @@ def as_float(value: object) -> float:
         return float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):
         return math.nan
+
+
+def too_many_segments() -> PlanError:
+    """The error of a plan of more than :data:`~diffbot.numbers.MAX_SEGMENTS` segments."""
+    return PlanError(
+        f"more than {MAX_SEGMENTS:,} segments, the most a plan may have "
+        "(MAX_SEGMENTS): split it into several plans"
+    )
+
+
+_Item = TypeVar("_Item")
+
+
+def up_to_the_limit(items: Iterable[_Item]) -> list[_Item]:
+    """``items`` as a list, taken one by one and refused (:func:`too_many_segments`) at the
+    first past :data:`~diffbot.numbers.MAX_SEGMENTS`: an endless iterator is not consumed."""
+    taken = list(itertools.islice(items, MAX_SEGMENTS + 1))
+    if len(taken) > MAX_SEGMENTS:
+        raise too_many_segments()
+    return taken
 
 
 def positive(value: float, what: str) -> float:

@@ -46,6 +46,7 @@ from diffbot.segments import (
     geometry,
     kind,
     positive,
+    up_to_the_limit,
 )
 
 if TYPE_CHECKING:
@@ -281,7 +282,8 @@ def plan(
     """Plan the velocity commands of a sequence of segments.
 
     Args:
-        segments: the path, starting at pose (0, 0, 0).
+        segments: the path, starting at pose (0, 0, 0): at most
+            :data:`~diffbot.numbers.MAX_SEGMENTS` of them.
         params: the robot.
         speed: cruise path speed (m/s) of straights and arcs without a duration.
         spin_rate: turn rate (rad/s) of spins without a duration (default 0.5 rad/s).
@@ -298,17 +300,19 @@ def plan(
         :meth:`Plan.violations`.
 
     Raises:
-        PlanError: no segments, a cruise speed or spin rate that is not positive, a negative or
-            zero limit (no duration satisfies it), ``fastest`` without a limit, or a segment whose
-            duration, velocity, wheel speeds, end pose or end time overflow (not finite, or a
-            duration that rounds to zero); the message names the segment.
+        PlanError: no segments or more than :data:`~diffbot.numbers.MAX_SEGMENTS` (an endless
+            iterable is refused there, not read to its end), a cruise speed or spin rate that
+            is not positive, a negative or zero limit (no duration satisfies it), ``fastest``
+            without a limit, or a segment whose duration, velocity, wheel speeds, end pose or
+            end time overflow (not finite, or a duration that rounds to zero); the message
+            names the segment.
     """
     if isinstance(segments, str):
         raise PlanError(
             f"plan() takes segments, not plan text ({brief(segments)}): "
             "read the text with diffbot.parse_plan first"
         )
-    items = list(segments)
+    items = up_to_the_limit(segments)
     if not items:
         raise PlanError("empty plan: no segments")
     for item in items:

@@ -34,7 +34,7 @@ from diffbot import (
     wheel_positions,
 )
 from diffbot.kinematics import rpm_from_rad_s
-from diffbot.numbers import MAX_PLAN_TIME
+from diffbot.numbers import MAX_PLAN_TIME, MAX_SEGMENTS
 from diffbot.planfile import format_segment, segments_from_data
 from diffbot.trajectory import DEFAULT_SPIN_RATE
 
@@ -1031,3 +1031,55 @@ def test_a_plan_of_exactly_the_longest_time_a_stamp_holds_is_planned(
     p = plan([Straight(1.0, first), Straight(1.0, MAX_PLAN_TIME - first)], params)
     assert p.duration == MAX_PLAN_TIME
     assert p.segments[1].twist.linear == pytest.approx(1.0 / first, rel=1e-15)
+
+
+# --- the number of segments -----------------------------------------------------------------
+
+TOO_MANY = r"more than 100,000 segments, the most a plan may have \(MAX_SEGMENTS\)"
+
+
+def test_a_plan_of_more_segments_than_the_cap_is_refused(params: DiffDriveParams) -> None:
+    with pytest.raises(PlanError, match=TOO_MANY):
+        plan([Straight(1.0)] * (MAX_SEGMENTS + 1), params)
+
+
+def test_an_endless_iterable_of_segments_is_refused_without_reading_it_whole(
+    params: DiffDriveParams,
+) -> None:
+    taken = itertools.count()
+    endless = (Straight(1.0) for _ in taken)
+    with pytest.raises(PlanError, match=TOO_MANY):
+        plan(endless, params)
+    assert next(taken) == MAX_SEGMENTS + 1  # one past the cap was read, no more
+
+
+@pytest.mark.parametrize(
+    "text",
+    ["straight 1;" * (MAX_SEGMENTS + 1), "spin 90\n" * (MAX_SEGMENTS + 1), "straight 1;" * 10**6],
+)
+def test_plan_text_of_more_segments_than_the_cap_is_refused(text: str) -> None:
+    with pytest.raises(PlanError, match=TOO_MANY):
+        parse_plan(text)
+
+
+def test_plan_data_of_more_segments_than_the_cap_is_refused() -> None:
+    with pytest.raises(PlanError, match=rf"^plan: {TOO_MANY}"):
+        segments_from_data([{"straight": 1.0}] * (MAX_SEGMENTS + 1))
+
+
+def test_plans_of_as_many_segments_as_the_cap_are_planned(
+    params: DiffDriveParams, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The cap lowered to 5 where the segments are counted: the count, not the speed, is tested.
+    import diffbot.planfile
+    import diffbot.segments
+
+    monkeypatch.setattr(diffbot.segments, "MAX_SEGMENTS", 5)
+    monkeypatch.setattr(diffbot.planfile, "MAX_SEGMENTS", 5)
+    assert len(plan(iter([Straight(1.0)] * 5), params).segments) == 5
+    assert parse_plan("straight 1; ; # no segment\n" * 5 + "#; straight 1") == [Straight(1.0)] * 5
+    assert len(segments_from_data(["straight 1"] * 5)) == 5
+    with pytest.raises(PlanError, match="more than 5 segments"):
+        plan([Straight(1.0)] * 6, params)
+    with pytest.raises(PlanError, match="more than 5 segments"):
+        parse_plan("straight 1\n" * 6)
