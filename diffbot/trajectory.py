@@ -35,7 +35,7 @@ from diffbot.kinematics import (
     rpm_from_rad_s,
     sinc,
 )
-from diffbot.numbers import MAX_COORDINATE, MAX_PLAN_TIME, MAX_TURN
+from diffbot.numbers import MAX_COORDINATE, MAX_PLAN_TIME, MAX_TURN, flag
 from diffbot.segments import (
     Arc,
     Segment,
@@ -312,6 +312,7 @@ def plan(
             f"plan() takes segments, not plan text ({brief(segments)}): "
             "read the text with diffbot.parse_plan first"
         )
+    fastest = flag(fastest, "fastest", PlanError)
     items = up_to_the_limit(segments)
     if not items:
         raise PlanError("empty plan: no segments")

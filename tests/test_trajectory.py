@@ -1083,3 +1083,9 @@ def test_plans_of_as_many_segments_as_the_cap_are_planned(
         plan([Straight(1.0)] * 6, params)
     with pytest.raises(PlanError, match="more than 5 segments"):
         parse_plan("straight 1\n" * 6)
+
+
+def test_fastest_is_a_bool_not_a_truthy_word() -> None:
+    """``fastest="False"`` planned the fastest plan: a switch is not read by truthiness."""
+    with pytest.raises(PlanError, match=r"^fastest must be True or False, got 'False'"):
+        plan([Straight(1.0)], DiffDriveParams(R, B), fastest="False")  # type: ignore[arg-type]
