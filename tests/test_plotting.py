@@ -148,9 +148,10 @@ def test_the_wheel_speeds_are_drawn_at_their_rpm(trajectory_a: Figure) -> None:
 def test_a_limit_far_above_the_speeds_is_named_and_the_speeds_keep_their_scale(
     limit: float,
 ) -> None:
-    # A limit near the largest float had no axis (NaN limits, or no room for the ticks).
-    params = BOT_50_RPM.replace(max_wheel_speed=limit)
-    figure = plan_figure(plan(parse_plan(EXAMPLES["A"]), params), params)
+    # A limit near the largest float had no axis (NaN limits, or no room for the ticks). A robot
+    # holds its limit within MOTOR_LIMIT_RANGE; a plan may be checked against any finite one.
+    steps = plan(parse_plan(EXAMPLES["A"]), BOT_50_RPM, limit=limit)
+    figure = plan_figure(steps, BOT_50_RPM)
     figure.canvas.draw()
     speeds = axes_labelled(figure, "wheel speeds")
     assert speeds.get_ylim()[1] < 40.0  # the fastest wheel turns at 27.3 rpm
