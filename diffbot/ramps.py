@@ -31,7 +31,16 @@ from diffbot.errors import PlanError
 from diffbot.kinematics import Pose, Twist, WheelSpeeds, inverse, joint_from_wheel, limit_fraction
 from diffbot.numbers import MAX_PLAN_DURATION, MAX_PLAN_SAMPLES
 from diffbot.profiles import Limits, PathLimits, Profile, path_limits, time_optimal, trapezoid
-from diffbot.trajectory import Plan, PlannedSegment, Spin, advance, geometry, reported_pose
+from diffbot.trajectory import (
+    Plan,
+    PlannedSegment,
+    Spin,
+    advance,
+    clipped_times,
+    geometry,
+    plan_time,
+    reported_pose,
+)
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike, NDArray
@@ -143,7 +152,7 @@ class RampedPlan:
         return self.steps.within_limit
 
     def _locate(self, times: ArrayLike) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
-        t = np.clip(np.asarray(times, dtype=np.float64), 0.0, self.duration)
+        t = clipped_times(times, self.duration)
         starts = np.array([run.start for run in self.runs])
         index = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(self.runs) - 1)
         return index, t - starts[index]
@@ -162,8 +171,7 @@ class RampedPlan:
 
     def pose_at(self, t: float) -> Pose:
         """The pose (m, m, rad in (-pi, pi]) at time ``t`` (s), in closed form."""
-        if math.isnan(t):
-            raise PlanError("pose_at: the time is NaN")
+        t = plan_time(t)
         if t >= self.duration:
             return self.final_pose
         index, tau = self._locate(t)

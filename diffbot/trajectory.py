@@ -69,8 +69,10 @@ __all__ = [
     "advance",
     "as_float",
     "built",
+    "clipped_times",
     "geometry",
     "plan",
+    "plan_time",
     "pose_at",
     "reported_pose",
     "wheel_positions",
@@ -473,9 +475,7 @@ def pose_at(p: Plan, t: float) -> Pose:
 
     Times before 0 give the start pose, times after the plan's duration its final pose.
     """
-    t = float(t)
-    if math.isnan(t):
-        raise PlanError("pose_at: the time is NaN")
+    t = plan_time(t)
     starts = p._starts
     i = max(0, bisect.bisect_right(starts, t) - 1)
     planned = p.segments[i]
@@ -494,6 +494,43 @@ def pose_at(p: Plan, t: float) -> Pose:
     return reported_pose(pose.x, pose.y, pose.theta)
 
 
+def _no_time(given: object) -> PlanError:
+    return PlanError(f"times must be numbers (s), not NaN, got {brief(given)}")
+
+
+def plan_time(t: object) -> float:
+    """``t`` (s) as a float.
+
+    Raises:
+        PlanError: a time that is NaN or no number: it has no place on a plan.
+    """
+    try:
+        number = float(t)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):
+        raise _no_time(t) from None
+    if math.isnan(number):
+        raise _no_time(t)
+    return number
+
+
+def clipped_times(times: ArrayLike, duration: float) -> NDArray[np.float64]:
+    """``times`` (s) as floats clamped to ``[0, duration]``.
+
+    Raises:
+        PlanError: a time that is NaN or no number: it has no place on a plan (clamping would
+            have turned NaN into poses and angles of NaN).
+    """
+    import numpy as np
+
+    try:
+        t = np.asarray(times, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        raise _no_time(times) from None
+    if np.isnan(t).any():
+        raise _no_time(times)
+    return np.clip(t, 0.0, duration)
+
+
 def wheel_positions(p: Plan, times: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Joint positions the plan commands: the integral of its joint velocity commands.
 
@@ -507,7 +544,7 @@ def wheel_positions(p: Plan, times: ArrayLike) -> tuple[NDArray[np.float64], NDA
     """
     import numpy as np
 
-    t = np.clip(np.asarray(times, dtype=np.float64), 0.0, p.duration)
+    t = clipped_times(times, p.duration)
     durations = np.array([s.duration for s in p.segments], dtype=np.float64)
     starts = np.concatenate(([0.0], np.cumsum(durations)[:-1]))
     index = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(durations) - 1)

@@ -256,3 +256,14 @@ def test_sampled_takes_a_step_plan_as_a_ramped_plan_without_ramps() -> None:
     assert stream.linear[:100].tolist() == pytest.approx([0.1] * 100, abs=1e-12)  # 10 s at 0.1 m/s
     ramped = ramp(steps, accel(0.3))
     assert sampled(ramped) is ramped
+
+
+@pytest.mark.parametrize("times", [[0.0, math.nan], None, "abc"])
+def test_a_ramped_plan_refuses_a_time_that_is_no_number(times: object) -> None:
+    """NaN gave speeds and wheel angles of NaN, where pose_at refused."""
+    ramped = ramp(plan(parse_plan("straight 1"), BOT), accel(0.5))
+    for at in (ramped.twist_at, ramped.wheel_positions):
+        with pytest.raises(PlanError, match=r"^times must be numbers \(s\), not NaN"):
+            at(times)  # type: ignore[arg-type]
+    with pytest.raises(PlanError, match=r"^times must be numbers \(s\), not NaN"):
+        ramped.pose_at(times)  # type: ignore[arg-type]

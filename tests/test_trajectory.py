@@ -1089,3 +1089,26 @@ def test_fastest_is_a_bool_not_a_truthy_word() -> None:
     """``fastest="False"`` planned the fastest plan: a switch is not read by truthiness."""
     with pytest.raises(PlanError, match=r"^fastest must be True or False, got 'False'"):
         plan([Straight(1.0)], DiffDriveParams(R, B), fastest="False")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("times", [[0.0, math.nan], None, "abc", [1.0, "x"], 10**400])
+def test_a_time_that_is_no_number_has_no_wheel_angles(times: object) -> None:
+    """NaN (and None, which NumPy reads as NaN) gave wheel angles of NaN, where pose_at refused."""
+    steps = plan([Straight(1.0)], DiffDriveParams(R, B))
+    with pytest.raises(PlanError, match=r"^times must be numbers \(s\), not NaN"):
+        wheel_positions(steps, times)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("t", [None, "abc", math.nan, [1.0, 2.0], 10**400])
+def test_pose_at_refuses_a_time_that_is_no_number(t: object) -> None:
+    steps = plan([Straight(1.0)], DiffDriveParams(R, B))
+    with pytest.raises(PlanError, match=r"^times must be numbers \(s\), not NaN"):
+        pose_at(steps, t)  # type: ignore[arg-type]
+
+
+def test_times_given_as_text_or_beyond_the_plan_are_its_numbers_clamped() -> None:
+    steps = plan([Straight(1.0)], DiffDriveParams(R, B))
+    assert pose_at(steps, "0.5") == pose_at(steps, 0.5)  # type: ignore[arg-type]
+    left, _ = wheel_positions(steps, [-math.inf, "1e9", math.inf])
+    end = wheel_positions(steps, steps.duration)[0].item()
+    assert left.tolist() == [0.0, end, end]
