@@ -79,10 +79,18 @@ def _number(value: object, what: str) -> float:
     return number
 
 
+def _count(value: object, what: str, expected: str) -> int:
+    """How many items ``value`` holds; not a sequence (None, a number), a :class:`PlanError`."""
+    try:
+        return len(value)  # type: ignore[arg-type]
+    except TypeError:
+        raise PlanError(f"{what} must be {expected}, got {brief(value)}") from None
+
+
 def _pose(value: Sequence[float], what: str) -> Pose:
     if value is ORIGIN:
         return _ORIGIN
-    if len(value) != 3:
+    if _count(value, what, "x, y and a heading") != 3:
         raise PlanError(f"{what} must be x, y and a heading, got {brief(value)}")
     x, y, heading = value
     # The named tuple's own __new__ is a Python function: tuple.__new__ builds the same.
@@ -91,7 +99,7 @@ def _pose(value: Sequence[float], what: str) -> Pose:
 
 def _waypoint(value: Sequence[float | None], number: int) -> Waypoint:
     what = f"waypoint {number}"
-    if len(value) not in (2, 3):
+    if _count(value, what, "x, y and an optional heading") not in (2, 3):
         raise PlanError(f"{what} must be x, y and an optional heading, got {brief(value)}")
     heading = value[2] if len(value) == 3 else None
     x, y = (_number(v, what) for v in value[:2])
@@ -340,7 +348,7 @@ def waypoint_poses(
 ) -> list[Pose]:
     """The waypoints as poses: one without a heading takes the direction of the next leg (the
     last one, of the leg that reaches it; where a leg has no length, the heading before)."""
-    if not waypoints:
+    if _count(waypoints, "waypoints", "a sequence of (x, y[, heading])") == 0:
         raise PlanError("no waypoints: give at least one")
     if len(waypoints) > MAX_WAYPOINTS:
         raise PlanError(

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -580,3 +581,27 @@ def test_slivers_are_measured_in_metres_and_radians_and_joined_neighbours_cancel
     # a turn and the turn back cancel, and what follows is kept
     back = [Piece("T", 0.5), Piece("S", 1e-17), Piece("T", -0.5), Piece("S", 1.0)]
     assert _joined(back, 1.0) == [Piece("S", 1.0)]
+
+
+def test_waypoints_as_a_numpy_array_plan_as_the_same_list() -> None:
+    """A NumPy array of rows was an ambiguous-truth ValueError."""
+    rows = [[0.5, 0.0, 0.0], [0.5, 0.5, math.pi / 2]]
+    assert plan_through(np.array(rows), ROBOT) == plan_through(rows, ROBOT)
+
+
+@pytest.mark.parametrize(
+    ("call", "said"),
+    [
+        (lambda: plan_to(None, ROBOT), "the goal must be x, y and a heading, got None"),
+        (lambda: plan_to((1.0, 0.0, 0.0), ROBOT, start=3.0), "the start must be x, y and a"),
+        (lambda: plan_through(None, ROBOT), "waypoints must be a sequence of (x, y[, heading])"),
+        (lambda: plan_through([None], ROBOT), "waypoint 1 must be x, y and an optional heading"),
+    ],
+)
+def test_a_pose_or_waypoint_that_is_no_sequence_is_a_plan_error(
+    call: Callable[[], object], said: str
+) -> None:
+    """None or a number where a pose is due was a bare TypeError (no len())."""
+    with pytest.raises(PlanError) as caught:
+        call()
+    assert str(caught.value).startswith(said)
