@@ -19,6 +19,7 @@ from diffbot.errors import ParameterError
 from diffbot.kinematics import DiffDriveParams
 from diffbot.numbers import (
     MAX_COUNT,
+    as_number,
     encoder_noise,
     encoder_ticks,
     noise_seed,
@@ -203,12 +204,13 @@ def sample_time_chunks(
     """
     import numpy as np
 
+    duration = as_number(duration, "duration", expected="finite and >= 0")
     if not math.isfinite(duration) or duration < 0.0:
         raise ParameterError(f"duration must be finite and >= 0, got {duration!r}")
+    expected = f"a positive number up to {MAX_RATE:g} (Hz)"
+    rate = as_number(rate, "rate", expected=expected)
     if not math.isfinite(rate) or not 0.0 < rate <= MAX_RATE:
-        raise ParameterError(
-            f"rate must be a positive number up to {MAX_RATE:g} (Hz), got {rate!r}"
-        )
+        raise ParameterError(f"rate must be {expected}, got {rate!r}")
     count = sample_count(duration, rate, len(boundaries))
     if count > max_samples:
         raise ParameterError(

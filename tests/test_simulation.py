@@ -720,3 +720,19 @@ def test_a_robot_stepped_rarely_costs_its_events_not_its_seconds(slip: float) ->
         # stop.
         assert robot.angles == pytest.approx([-5e5, 5e5], rel=1e-12)
     assert time.process_time() - start < 5.0
+
+
+def test_a_rate_or_duration_given_as_text_samples_as_its_number() -> None:
+    """rate="10.0" passed the check and then failed in a bare TypeError."""
+    steps = diffbot.plan(diffbot.parse_plan("straight 1"), BOT_50_RPM)
+    as_text = simulate(steps, BOT_50_RPM, "10.0")  # type: ignore[arg-type]
+    as_number = simulate(steps, BOT_50_RPM, 10.0)
+    assert np.array_equal(as_text.times, as_number.times)
+    assert np.array_equal(as_text.positions, as_number.positions)
+    assert np.array_equal(sample_times("2", 5), sample_times(2.0, 5.0))  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("rate", [None, "fast", True, [10.0]])
+def test_a_rate_that_is_no_number_is_refused_naming_it(rate: object) -> None:
+    with pytest.raises(ParameterError, match=r"^rate must be a positive number up to 1e\+06"):
+        sample_times(1.0, rate)  # type: ignore[arg-type]
