@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import operator
 import os
 import re
 from collections.abc import Iterable, Mapping
@@ -273,9 +274,29 @@ def _angle_text(angle: float, digits: int | None = None) -> str:
     return f"{_number_text(angle, digits)}rad"
 
 
+#: The most significant digits a float has to give (``repr`` gives at most 17).
+MAX_DIGITS = 17
+
+
+def _checked_digits(digits: object) -> int | None:
+    """``digits`` as a whole number of significant digits from 1 to :data:`MAX_DIGITS`."""
+    if digits is None:
+        return None
+    try:
+        count = operator.index(digits)  # type: ignore[arg-type]
+    except TypeError:
+        count = 0
+    if isinstance(digits, bool) or not 1 <= count <= MAX_DIGITS:
+        raise PlanError(
+            f"digits must be a whole number from 1 to {MAX_DIGITS}, got {brief(digits)}"
+        )
+    return int(count)
+
+
 def format_segment(segment: Segment, digits: int | None = None) -> str:
     """The text form of one segment; :func:`parse_plan` reads it back exactly, or, with
     ``digits``, to that many significant digits (angles in degrees): for people."""
+    digits = _checked_digits(digits)
     if isinstance(segment, Straight):
         words = ["straight", _number_text(segment.length, digits)]
     elif isinstance(segment, Arc):
@@ -298,6 +319,7 @@ def format_plan(segments: Iterable[Segment], digits: int | None = None) -> str:
     exactly: numbers keep every digit, and angles are written in degrees only when that converts
     back to the same radians (otherwise in ``rad``). With ``digits``, numbers are rounded to that
     many significant digits and angles written in degrees: a plan for people to read."""
+    digits = _checked_digits(digits)
     return "; ".join(format_segment(segment, digits) for segment in segments)
 
 

@@ -1112,3 +1112,16 @@ def test_times_given_as_text_or_beyond_the_plan_are_its_numbers_clamped() -> Non
     left, _ = wheel_positions(steps, [-math.inf, "1e9", math.inf])
     end = wheel_positions(steps, steps.duration)[0].item()
     assert left.tolist() == [0.0, end, end]
+
+
+@pytest.mark.parametrize("digits", [2.5, -1, 0, 18, "3", True, np.float64(3)])
+def test_format_plan_refuses_digits_that_are_no_count_of_digits(digits: object) -> None:
+    """2.5 or -1 ended in a bare format-specifier ValueError."""
+    with pytest.raises(PlanError, match=r"^digits must be a whole number from 1 to 17, got "):
+        format_plan([Straight(1.0)], digits=digits)  # type: ignore[arg-type]
+
+
+def test_format_plan_takes_a_numpy_integer_as_its_digits() -> None:
+    segments = [Straight(1.23456), Spin(1.0)]
+    assert format_plan(segments, digits=np.int64(3)) == format_plan(segments, digits=3)  # type: ignore[arg-type]
+    assert format_plan(segments, digits=3) == "straight 1.23; spin 57.3"
