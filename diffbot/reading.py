@@ -22,7 +22,7 @@ if TYPE_CHECKING:
     from diffbot.kinematics import DiffDriveParams
     from diffbot.velocity_feedback import VelocityAngles
 
-__all__ = ["PoseSink", "Progress", "Reading", "WheelAngles"]
+__all__ = ["PoseSink", "Progress", "ReadAgain", "Reading", "WheelAngles"]
 
 
 #: Called with how much of the input a chunk used (messages of a bag, characters of a CSV).
@@ -115,6 +115,28 @@ class Reading:
         """Tell ``sink`` that the run starts again from the first sample."""
         if self.sink is not None:
             self.sink.restart()
+
+
+class ReadAgain:
+    """A progress callback for an input that may be read a second time from its start: each
+    part of it is reported once, so a total of the input's size is reached once and never
+    passed (a bag topic whose zero header stamp turns up late is read twice)."""
+
+    def __init__(self, progress: Progress) -> None:
+        self.progress = progress
+        self.seen = 0
+        self.told = 0
+
+    def __call__(self, used: int) -> None:
+        """Count ``used`` more of the input; report what goes past what was reported."""
+        self.seen += used
+        if self.seen > self.told:
+            self.progress(self.seen - self.told)
+            self.told = self.seen
+
+    def again(self) -> None:
+        """The input is read again from its start."""
+        self.seen = 0
 
 
 class WheelAngles:

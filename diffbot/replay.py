@@ -33,7 +33,7 @@ from diffbot.errors import RecordingError
 from diffbot.formats.text import listing
 from diffbot.kinematics import Pose
 from diffbot.odometry import SKIP_MISSING_JOINT, Odometry
-from diffbot.reading import PoseSink, Progress, Reading
+from diffbot.reading import PoseSink, Progress, ReadAgain, Reading
 from diffbot.samples import (
     CLOCK_HEADER,
     CLOCK_RECEIVE,
@@ -336,6 +336,8 @@ def bag_odometry(
     from diffbot.io.bag_chunks import CHUNK_MESSAGES, BagError, TopicChunks
 
     reading = reading or Reading()
+    again = None if reading.progress is None else ReadAgain(reading.progress)
+    reading = dataclasses.replace(reading, progress=again)
     size = CHUNK_MESSAGES if chunk_size is None else chunk_size
     with closing(TopicChunks(path, topic, chunk_size=size)) as chunks:
         if chunks.msgtype != JOINT_STATE:
@@ -348,6 +350,8 @@ def bag_odometry(
         if done is None:
             clock = CLOCK_RECEIVE
             reading.restart()
+            if again is not None:
+                again.again()
             done = _bag_pass(chunks, params, clock, reading)
         assert done is not None  # the receive clock never asks for another pass
         odom, wheels = done

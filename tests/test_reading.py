@@ -62,3 +62,17 @@ def test_the_poses_and_the_progress_go_where_they_are_asked() -> None:
     assert (sink.rows, sink.restarts) == ([], 1)
     Reading().deliver(odom.feed(stamps + 2 * S, np.array([2.0, 3.0]), np.array([2.0, 3.0])), 7)
     Reading().restart()  # nowhere to go: nothing to do
+
+
+def test_an_input_read_again_reports_each_part_once() -> None:
+    from diffbot.reading import ReadAgain
+
+    told: list[int] = []
+    progress = ReadAgain(told.append)
+    for used in (3, 4, 2):
+        progress(used)
+    progress.again()  # read from the start again: nothing new until past the 9 reported
+    for used in (5, 3, 4, 6):
+        progress(used)
+    assert told == [3, 4, 2, 3, 6]
+    assert sum(told) == 18

@@ -108,9 +108,14 @@ def test_bag_odometry_equals_the_message_by_message_run_bit_for_bit(
             bag_odometry(path, NAMED, chunk_size=chunk_size)
         return
     sink = Collect()
-    got = bag_odometry(path, NAMED, reading=Reading(sink=sink), chunk_size=chunk_size)
+    told: list[int] = []
+    reading = Reading(sink=sink, progress=told.append)
+    got = bag_odometry(path, NAMED, reading=reading, chunk_size=chunk_size)
     assert got.clock == want_clock
     assert sink.restarts == (got.clock == CLOCK_RECEIVE)  # header pass dropped
+    # Read twice or once, each message is reported once: a progress bar ends at its total.
+    assert sum(told) == len(messages)
+    assert all(n > 0 for n in told)
     rows = sink.rows
     assert [r[0] for r in rows] == [r[0] for r in want_rows]
     for k in (1, 2, 3):
@@ -382,3 +387,24 @@ def test_a_write_ahead_log_left_beside_the_storage_is_said_not_read(tmp_path: Pa
     assert read_recording(crashed, NAMED).notes == got.notes
     assert {p.name: p.read_bytes() for p in crashed.iterdir()} == before  # nothing added
     assert bag_odometry(made, NAMED).notes == ()
+
+
+def test_a_topic_read_again_for_a_late_zero_stamp_reports_its_messages_once(
+    tmp_path: Path,
+) -> None:
+    """A zero header stamp found after chunks were reported reads the topic a second time: the
+    progress bar went to 36384/20000 on such a bag."""
+    messages: list[Message] = [
+        (s * 10**9, s * 10**9, ["left", "right"], [float(s), float(s)]) for s in range(1, 9)
+    ]
+    messages.append((0, 9 * 10**9, ["left", "right"], [9.0, 9.0]))
+    told: list[int] = []
+    got = bag_odometry(
+        write_bag(tmp_path / "rec", messages),
+        NAMED,
+        reading=Reading(progress=told.append),
+        chunk_size=2,
+    )
+    assert got.clock == CLOCK_RECEIVE
+    assert sum(told) == len(messages)
+    assert told == [2, 2, 2, 2, 1]
