@@ -18,14 +18,21 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
 from diffbot.controller_config import AxisLimits
 from diffbot.errors import ParameterError, PlanError
 from diffbot.kinematics import LIMIT_TOLERANCE, Twist
-from diffbot.numbers import as_number, finite_in_range, positive_finite, shown, store_checked
+from diffbot.numbers import (
+    as_number,
+    finite_in_range,
+    positive_finite,
+    shown,
+    sized,
+    store_checked,
+)
 
 if TYPE_CHECKING:
     from diffbot.kinematics import DiffDriveParams
@@ -52,12 +59,13 @@ def _range_check(name: str, unit: str) -> Callable[[object], Range]:
 
     def check(value: object) -> Range:
         refused = ParameterError(f"{name} must be {expected}, got {shown(value)}")
-        if isinstance(value, str | bytes) or not isinstance(value, Sequence) or len(value) != 2:
+        pair = sized(value, 2)
+        if pair is None:
             raise refused
         try:
             return (
-                finite_in_range(value[0], name, high=0.0),
-                finite_in_range(value[1], name, low=0.0),
+                finite_in_range(pair[0], name, high=0.0),
+                finite_in_range(pair[1], name, low=0.0),
             )
         except ParameterError:
             raise refused from None

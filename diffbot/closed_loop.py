@@ -13,7 +13,7 @@ noise, beside the true pose, a chunk at a time (:func:`run` gives them all at on
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Final, Literal, Protocol, get_args
 
@@ -25,6 +25,7 @@ from diffbot.numbers import (
     finite_in_range,
     noise_seed,
     shown,
+    sized,
     store_checked,
     store_number,
 )
@@ -149,11 +150,12 @@ def _true_params(value: object) -> DiffDriveParams:
 
 def _pose_noise(value: object) -> tuple[float, float]:
     """The true pose's noise as :class:`LoopSettings` takes it: (metres, radians)."""
-    if isinstance(value, str | bytes) or not isinstance(value, Sequence) or len(value) != 2:
+    pair = sized(value, 2)
+    if pair is None:
         raise ParameterError(
             f"pose_noise must be a pair (m, rad) of standard deviations, got {shown(value)}"
         )
-    metres, radians = value
+    metres, radians = pair
     return (
         finite_in_range(metres, "pose_noise", 0.0, 1e3, unit="m"),
         finite_in_range(radians, "pose_noise", 0.0, math.pi, unit="rad"),

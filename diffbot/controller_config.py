@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields
 from typing import Literal
 
@@ -14,8 +14,10 @@ from diffbot.numbers import (
     as_number,
     finite_in_range,
     shown,
+    sized,
     store_checked,
     store_number,
+    whole_number,
 )
 
 __all__ = [
@@ -72,24 +74,17 @@ def _multiplier_check(name: str) -> Callable[[object], float]:
 
 def _whole_check(name: str, low: int, high: int) -> Callable[[object], int]:
     """The check of a count: an integer from ``low`` to ``high``."""
-
-    def check(value: object) -> int:
-        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-            raise ParameterError(
-                f"{name} must be an integer from {low} to {high}, got {shown(value)}"
-            )
-        return value
-
-    return check
+    return lambda value: whole_number(value, name, low, high)
 
 
 def _diagonal_check(name: str) -> Callable[[object], tuple[float, ...]]:
     """The check of a covariance diagonal: 6 finite numbers."""
 
     def check(value: object) -> tuple[float, ...]:
-        if isinstance(value, str | bytes) or not isinstance(value, Sequence) or len(value) != 6:
+        diagonal = sized(value, 6)
+        if diagonal is None:
             raise ParameterError(f"{name} must be 6 finite numbers, got {shown(value)}")
-        return tuple(finite_in_range(v, name) for v in value)
+        return tuple(finite_in_range(v, name) for v in diagonal)
 
     return check
 

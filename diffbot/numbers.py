@@ -46,9 +46,11 @@ __all__ = [
     "positive_written",
     "shorten_numerals",
     "shown",
+    "sized",
     "store_checked",
     "store_number",
     "wheel_size",
+    "whole_number",
     "written_form",
     "written_number",
 ]
@@ -292,6 +294,25 @@ def store_number(
     store_checked(instance, name, check, optional=optional)
 
 
+def whole_number(
+    value: object, what: str, low: int, high: float = math.inf, *, shown_high: str = ""
+) -> int:
+    """``value`` when it is an integer (a bool is none) from ``low`` to ``high``, else a
+    :class:`~diffbot.errors.ParameterError` naming ``what`` (``high`` written as
+    ``shown_high`` when given)."""
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        span = f">= {low}" if math.isinf(high) else f"from {low} to {shown_high or high}"
+        raise ParameterError(f"{what} must be an integer {span}, got {shown(value)}")
+    return value
+
+
+def sized(value: object, count: int) -> Sequence[object] | None:
+    """``value`` when it is a sequence of ``count`` items (text is not one), else None."""
+    if isinstance(value, str | bytes) or not isinstance(value, Sequence) or len(value) != count:
+        return None
+    return value
+
+
 def encoder_ticks(ticks: object) -> int:
     """``ticks``, an encoder's resolution (counts per revolution): an integer from 1 to
     :data:`MAX_COUNT`.
@@ -299,11 +320,7 @@ def encoder_ticks(ticks: object) -> int:
     Raises:
         ParameterError: anything else (a float, a string, a bool), naming ``ticks``.
     """
-    if isinstance(ticks, bool) or not isinstance(ticks, int) or not 0 < ticks <= MAX_COUNT:
-        raise ParameterError(
-            f"ticks per revolution must be an integer from 1 to 2**32, got {shown(ticks)}"
-        )
-    return ticks
+    return whole_number(ticks, "ticks per revolution", 1, MAX_COUNT, shown_high="2**32")
 
 
 def encoder_noise(noise: object) -> float:
@@ -318,9 +335,7 @@ def noise_seed(seed: object) -> int:
     Raises:
         ParameterError: anything else (a float, NaN, a string, a bool), naming ``seed``.
     """
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise ParameterError(f"seed must be an integer >= 0, got {shown(seed)}")
-    return seed
+    return whole_number(seed, "seed", 0)
 
 
 def wheel_size(value: object, what: str, error: type[DiffbotError] = ParameterError) -> float:

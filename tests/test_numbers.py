@@ -21,6 +21,8 @@ from diffbot.numbers import (
     reads_as_number,
     shorten_numerals,
     shown,
+    sized,
+    whole_number,
     written_form,
     written_number,
 )
@@ -196,3 +198,35 @@ def test_a_flag_is_never_taken_by_truthiness(value: object) -> None:
     """``"false"`` is truthy: taken as a switch it would turn on what it says off."""
     with pytest.raises(ParameterError, match=r"^trust must be True or False, got "):
         flag(value, "trust")
+
+
+@pytest.mark.parametrize("value", [0, 7, 2**32])
+def test_a_whole_number_in_range_is_kept(value: int) -> None:
+    assert whole_number(value, "ticks", 0, 2**32) == value
+
+
+@pytest.mark.parametrize(
+    ("value", "high", "said"),
+    [
+        (-1, math.inf, "seed must be an integer >= 0, got -1"),
+        (True, math.inf, "seed must be an integer >= 0, got True"),
+        (3.0, 10, "seed must be an integer from 0 to 10, got 3.0"),
+        ("3", 10, "seed must be an integer from 0 to 10, got '3'"),
+        (11, 10, "seed must be an integer from 0 to 10, got 11"),
+    ],
+)
+def test_anything_but_a_whole_number_in_range_is_refused(
+    value: object, high: float, said: str
+) -> None:
+    with pytest.raises(ParameterError) as caught:
+        whole_number(value, "seed", 0, high)
+    assert str(caught.value) == said
+
+
+def test_sized_takes_sequences_of_the_count_and_not_text() -> None:
+    assert sized((1.0, 2.0), 2) == (1.0, 2.0)
+    assert sized([1, 2, 3], 2) is None
+    assert sized("ab", 2) is None
+    assert sized(b"ab", 2) is None
+    assert sized(None, 2) is None
+    assert sized({1, 2}, 2) is None
