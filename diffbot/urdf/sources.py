@@ -10,6 +10,7 @@ disagree by more than :data:`TOLERANCE`, or name other joints, are reported.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -21,7 +22,7 @@ from diffbot.controller_config import ControllerConfig
 from diffbot.errors import DescriptionError, DriveWheelError, OutsideRootsError
 from diffbot.io.pathnames import resolved
 from diffbot.kinematics import DiffDriveParams, Disagreement
-from diffbot.numbers import motor_limit, motor_limits, wheel_size
+from diffbot.numbers import motor_limit, motor_limits, store_checked, wheel_size
 from diffbot.urdf.controllers import choose_controller, load_controller_files, load_controllers
 from diffbot.urdf.gazebo import GazeboDrive, gazebo_drives, ros2_control_parameter_files
 from diffbot.urdf.other_drives import note_other_drives, refusing_other_drives
@@ -71,12 +72,9 @@ class Overriding:
 
     def __post_init__(self) -> None:
         for name in ("wheel_radius", "wheel_separation"):
-            value = getattr(self, name)
-            if value is not None:
-                object.__setattr__(self, name, wheel_size(value, name))
-        if self.max_wheel_speed is not None:
-            limit = motor_limit(self.max_wheel_speed, "max_wheel_speed")
-            object.__setattr__(self, "max_wheel_speed", limit)
+            store_checked(self, name, functools.partial(wheel_size, what=name), optional=True)
+        limit = functools.partial(motor_limit, what="max_wheel_speed")
+        store_checked(self, "max_wheel_speed", limit, optional=True)
 
 
 def _controller_source(config: ControllerConfig) -> str:
